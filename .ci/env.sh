@@ -1,0 +1,10 @@
+# Sourced by every project script. Debian's python3 must win over a pyenv one (rostest's scripts
+# use `env python3`), and the workspace's devel space is sourced when it exists.
+export PATH=/usr/sbin:/usr/bin:/sbin:/bin:$PATH
+WS_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+export WS_ROOT
+export ROS_PYTHON_VERSION=3
+if [ -f "${DEVEL_DIR:-$WS_ROOT/devel}/setup.bash" ]; then
+  # shellcheck disable=SC1091
+  source "${DEVEL_DIR:-$WS_ROOT/devel}/setup.bash"
+fi
