@@ -1,1 +1,19 @@
-# owned by the renderer engineer: assistive_sim_core, assistive_sim_nodelet, render_bag
+# Renderer engineer's part: assistive_sim_core (worlds, motion, Embree renderer; ROS-free),
+# assistive_sim_bag (stereo bag reader/writer), assistive_sim_nodelet (online renderer), render_bag.
+
+# ---- bag I/O (used by render_bag, import_dataset and every stage's benchmark)
+add_library(assistive_sim_bag src/stereo_bag.cpp)
+target_link_libraries(assistive_sim_bag ${catkin_LIBRARIES} ${OpenCV_LIBRARIES})
+add_dependencies(assistive_sim_bag ${catkin_EXPORTED_TARGETS})
+
+install(TARGETS assistive_sim_bag
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_stereo_bag test/test_stereo_bag.cpp)
+  if(TARGET test_stereo_bag)
+    target_link_libraries(test_stereo_bag assistive_sim_bag)
+  endif()
+endif()

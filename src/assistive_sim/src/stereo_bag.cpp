@@ -1,0 +1,384 @@
+#include <assistive_sim/stereo_bag.h>
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+
+#include <cv_bridge/cv_bridge.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/image_encodings.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_msgs/TFMessage.h>
+
+namespace assistive_sim
+{
+namespace
+{
+ros::Time toRos(double s)
+{
+  if (s <= 0.0) s = 1e-9;  // ros::Time(0) is "unset"; bags need positive times
+  return ros::Time(s);
+}
+
+sensor_msgs::CameraInfo makeInfo(const StereoCalib& c, double tx_px_m, const std::string& frame,
+                                 const ros::Time& t)
+{
+  sensor_msgs::CameraInfo info;
+  info.header.stamp = t;
+  info.header.frame_id = frame;
+  info.width = c.width;
+  info.height = c.height;
+  info.distortion_model = "plumb_bob";
+  info.D.assign(5, 0.0);
+  info.K = {c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1};
+  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  info.P = {c.fx, 0, c.cx, tx_px_m, 0, c.fy, c.cy, 0, 0, 0, 1, 0};
+  return info;
+}
+
+sensor_msgs::Image makeImage(const cv::Mat& img, const std::string& frame, const ros::Time& t)
+{
+  if (img.type() != CV_8UC1) throw std::runtime_error("StereoBagWriter: images must be CV_8UC1");
+  sensor_msgs::Image m;
+  m.header.stamp = t;
+  m.header.frame_id = frame;
+  m.height = img.rows;
+  m.width = img.cols;
+  m.encoding = sensor_msgs::image_encodings::MONO8;
+  m.is_bigendian = 0;
+  m.step = img.cols;
+  m.data.resize(static_cast<size_t>(img.rows) * img.cols);
+  for (int r = 0; r < img.rows; ++r)
+    std::copy(img.ptr<uint8_t>(r), img.ptr<uint8_t>(r) + img.cols, m.data.begin() + r * img.cols);
+  return m;
+}
+
+geometry_msgs::TransformStamped makeTf(const Eigen::Isometry3d& t, const std::string& parent,
+                                       const std::string& child, const ros::Time& stamp)
+{
+  geometry_msgs::TransformStamped ts = tf2::eigenToTransform(t);
+  ts.header.stamp = stamp;
+  ts.header.frame_id = parent;
+  ts.child_frame_id = child;
+  return ts;
+}
+
+int64_t key(const ros::Time& t) { return static_cast<int64_t>(t.toNSec()); }
+
+cv::Mat toMono(const sensor_msgs::ImageConstPtr& msg)
+{
+  if (msg->encoding == sensor_msgs::image_encodings::MONO8)
+    return cv_bridge::toCvCopy(msg)->image;
+  return cv_bridge::toCvCopy(msg, sensor_msgs::image_encodings::MONO8)->image;
+}
+
+StereoCalib calibFromInfos(const sensor_msgs::CameraInfo& l, const sensor_msgs::CameraInfo* r)
+{
+  StereoCalib c;
+  c.width = l.width;
+  c.height = l.height;
+  // Rectified images: the projection matrix P holds the intrinsics of the rectified camera.
+  const bool has_p = l.P[0] > 0.0;
+  c.fx = has_p ? l.P[0] : l.K[0];
+  c.fy = has_p ? l.P[5] : l.K[4];
+  c.cx = has_p ? l.P[2] : l.K[2];
+  c.cy = has_p ? l.P[6] : l.K[5];
+  if (r && r->P[0] > 0.0) c.baseline = -r->P[3] / r->P[0];
+  return c;
+}
+}  // namespace
+
+// ---------------------------------------------------------------------------------- writer
+StereoBagWriter::StereoBagWriter(const std::string& path, const StereoBagTopics& topics)
+  : bag_(new rosbag::Bag), topics_(topics), link_to_left_(linkToLeftOptical())
+{
+  try
+  {
+    bag_->open(path, rosbag::bagmode::Write);
+  }
+  catch (const rosbag::BagException& e)
+  {
+    throw std::runtime_error("cannot open bag '" + path + "' for writing: " + e.what());
+  }
+}
+
+StereoBagWriter::~StereoBagWriter() { close(); }
+
+void StereoBagWriter::close()
+{
+  if (bag_ && bag_->isOpen()) bag_->close();
+}
+
+void StereoBagWriter::writeFrame(const StereoFrame& f)
+{
+  const ros::Time t = toRos(f.stamp);
+  for (const ImuSample& s : f.imu) writeImu(s);
+  auto li = makeInfo(f.calib, 0.0, topics_.left_frame, t);
+  auto ri = makeInfo(f.calib, -f.calib.fx * f.calib.baseline, topics_.right_frame, t);
+  li.header.seq = ri.header.seq = seq_;
+  auto lm = makeImage(f.left, topics_.left_frame, t);
+  auto rm = makeImage(f.right, topics_.right_frame, t);
+  lm.header.seq = rm.header.seq = seq_;
+  ++seq_;
+  bag_->write(topics_.left_image, t, lm);
+  bag_->write(topics_.left_info, t, li);
+  bag_->write(topics_.right_image, t, rm);
+  bag_->write(topics_.right_info, t, ri);
+  if (f.has_gt_pose) writeGroundTruth(f.stamp, f.gt_pose, f.gt_velocity);
+}
+
+void StereoBagWriter::writeGroundTruth(double stamp, const Eigen::Isometry3d& T_wl,
+                                       const Eigen::Vector3d& velocity)
+{
+  const ros::Time t = toRos(stamp);
+  nav_msgs::Odometry odom;
+  odom.header.stamp = t;
+  odom.header.frame_id = topics_.gt_world_frame;
+  odom.child_frame_id = topics_.gt_left_frame;
+  odom.pose.pose = tf2::toMsg(T_wl);
+  // Twist is expressed in the child frame (nav_msgs/Odometry convention).
+  const Eigen::Vector3d v_child = T_wl.linear().transpose() * velocity;
+  odom.twist.twist.linear.x = v_child.x();
+  odom.twist.twist.linear.y = v_child.y();
+  odom.twist.twist.linear.z = v_child.z();
+  bag_->write(topics_.gt_odom, t, odom);
+
+  tf2_msgs::TFMessage tfm;
+  const Eigen::Isometry3d T_w_link = T_wl * link_to_left_.inverse();
+  tfm.transforms.push_back(makeTf(T_w_link, topics_.gt_world_frame, topics_.gt_link_frame, t));
+  tfm.transforms.push_back(makeTf(link_to_left_, topics_.gt_link_frame, topics_.gt_left_frame, t));
+  bag_->write(topics_.tf, t, tfm);
+}
+
+void StereoBagWriter::writeImu(const ImuSample& s)
+{
+  const ros::Time t = toRos(s.stamp);
+  sensor_msgs::Imu m;
+  m.header.stamp = t;
+  m.header.frame_id = topics_.imu_frame;
+  m.angular_velocity.x = s.gyro.x();
+  m.angular_velocity.y = s.gyro.y();
+  m.angular_velocity.z = s.gyro.z();
+  m.linear_acceleration.x = s.accel.x();
+  m.linear_acceleration.y = s.accel.y();
+  m.linear_acceleration.z = s.accel.z();
+  if (s.has_orientation)
+  {
+    m.orientation = tf2::toMsg(s.orientation);
+  }
+  else
+  {
+    m.orientation.w = 1.0;
+    m.orientation_covariance[0] = -1.0;  // orientation unknown (sensor_msgs/Imu convention)
+  }
+  bag_->write(topics_.imu, t, m);
+}
+
+void StereoBagWriter::writeOccupancy(const OccupancyGrid& g, double stamp)
+{
+  const ros::Time t = toRos(stamp);
+  nav_msgs::OccupancyGrid m;
+  m.header.stamp = t;
+  m.header.frame_id = topics_.gt_world_frame;
+  m.info.map_load_time = t;
+  m.info.resolution = static_cast<float>(g.resolution);
+  m.info.width = g.width;
+  m.info.height = g.height;
+  m.info.origin.position.x = g.origin_x;
+  m.info.origin.position.y = g.origin_y;
+  m.info.origin.orientation.w = 1.0;
+  m.data = g.data;
+  bag_->write(topics_.gt_occupancy, t, m);
+}
+
+// ---------------------------------------------------------------------------------- reader
+struct StereoBagReader::Impl
+{
+  rosbag::Bag bag;
+  std::unique_ptr<rosbag::View> view;
+  rosbag::View::iterator it;
+  std::map<int64_t, cv::Mat> pending_left, pending_right;
+};
+
+StereoBagReader::StereoBagReader(const std::string& path, const StereoBagTopics& topics)
+  : impl_(new Impl), topics_(topics)
+{
+  try
+  {
+    impl_->bag.open(path, rosbag::bagmode::Read);
+  }
+  catch (const rosbag::BagException& e)
+  {
+    throw std::runtime_error("cannot open bag '" + path + "': " + e.what());
+  }
+  {
+    rosbag::View left(impl_->bag, rosbag::TopicQuery(topics_.left_image));
+    n_left_ = left.size();
+  }
+  if (n_left_ == 0) throw std::runtime_error("bag '" + path + "' has no " + topics_.left_image);
+
+  // One pass over the small topics: camera infos, IMU and ground truth.
+  std::map<int64_t, sensor_msgs::CameraInfo> left_infos, right_infos;
+  rosbag::View small(impl_->bag, rosbag::TopicQuery({topics_.left_info, topics_.right_info,
+                                                     topics_.imu, topics_.gt_odom}));
+  for (const rosbag::MessageInstance& m : small)
+  {
+    if (m.getTopic() == topics_.left_info || m.getTopic() == topics_.right_info)
+    {
+      auto info = m.instantiate<sensor_msgs::CameraInfo>();
+      if (!info) continue;
+      (m.getTopic() == topics_.left_info ? left_infos : right_infos)[key(info->header.stamp)] = *info;
+    }
+    else if (m.getTopic() == topics_.imu)
+    {
+      auto imu = m.instantiate<sensor_msgs::Imu>();
+      if (!imu) continue;
+      ImuSample s;
+      s.stamp = imu->header.stamp.toSec();
+      s.gyro = {imu->angular_velocity.x, imu->angular_velocity.y, imu->angular_velocity.z};
+      s.accel = {imu->linear_acceleration.x, imu->linear_acceleration.y,
+                 imu->linear_acceleration.z};
+      s.has_orientation = imu->orientation_covariance[0] >= 0.0;
+      tf2::fromMsg(imu->orientation, s.orientation);
+      imu_.push_back(s);
+    }
+    else if (m.getTopic() == topics_.gt_odom)
+    {
+      auto od = m.instantiate<nav_msgs::Odometry>();
+      if (!od) continue;
+      Eigen::Isometry3d T;
+      tf2::fromMsg(od->pose.pose, T);
+      gt_.emplace_back(od->header.stamp.toSec(), T);
+      const Eigen::Vector3d v_child(od->twist.twist.linear.x, od->twist.twist.linear.y,
+                                    od->twist.twist.linear.z);
+      gt_vel_.push_back(T.linear() * v_child);
+    }
+  }
+  std::stable_sort(imu_.begin(), imu_.end(),
+                   [](const ImuSample& a, const ImuSample& b) { return a.stamp < b.stamp; });
+  {
+    std::vector<size_t> idx(gt_.size());
+    for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+    std::stable_sort(idx.begin(), idx.end(),
+                     [&](size_t a, size_t b) { return gt_[a].first < gt_[b].first; });
+    decltype(gt_) g;
+    decltype(gt_vel_) v;
+    for (size_t i : idx)
+    {
+      g.push_back(gt_[i]);
+      v.push_back(gt_vel_[i]);
+    }
+    gt_.swap(g);
+    gt_vel_.swap(v);
+  }
+  for (const auto& kv : left_infos)
+  {
+    auto r = right_infos.find(kv.first);
+    const sensor_msgs::CameraInfo* rp =
+        r != right_infos.end() ? &r->second : (right_infos.empty() ? nullptr : &right_infos.begin()->second);
+    calibs_.emplace_back(kv.first * 1e-9, calibFromInfos(kv.second, rp));
+  }
+  rewind();
+}
+
+StereoBagReader::~StereoBagReader() = default;
+
+void StereoBagReader::rewind()
+{
+  impl_->view.reset(new rosbag::View(impl_->bag,
+                                     rosbag::TopicQuery({topics_.left_image, topics_.right_image})));
+  impl_->it = impl_->view->begin();
+  impl_->pending_left.clear();
+  impl_->pending_right.clear();
+  imu_next_ = 0;
+  first_ = true;
+}
+
+bool StereoBagReader::next(StereoFrame& f)
+{
+  Impl& d = *impl_;
+  while (d.it != d.view->end())
+  {
+    const rosbag::MessageInstance& m = *d.it;
+    const bool is_left = m.getTopic() == topics_.left_image;
+    auto img = m.instantiate<sensor_msgs::Image>();
+    ++d.it;
+    if (!img) continue;
+    const int64_t k = key(img->header.stamp);
+    auto& mine = is_left ? d.pending_left : d.pending_right;
+    auto& other = is_left ? d.pending_right : d.pending_left;
+    auto o = other.find(k);
+    if (o == other.end())
+    {
+      mine[k] = toMono(img);
+      continue;
+    }
+    cv::Mat this_img = toMono(img);
+    f.left = is_left ? this_img : o->second;
+    f.right = is_left ? o->second : this_img;
+    // Frames come in stamp order: anything older never gets its partner.
+    other.erase(other.begin(), std::next(o));
+    mine.erase(mine.begin(), mine.lower_bound(k));
+    f.stamp = k * 1e-9;
+
+    // Calibration: the latest camera_info at or before the frame, else the first one.
+    if (!calibs_.empty())
+    {
+      auto c = std::upper_bound(calibs_.begin(), calibs_.end(), f.stamp + 1e-6,
+                                [](double s, const std::pair<double, StereoCalib>& p) { return s < p.first; });
+      f.calib = (c == calibs_.begin()) ? calibs_.front().second : std::prev(c)->second;
+    }
+    f.calib.width = f.left.cols;
+    f.calib.height = f.left.rows;
+
+    // Ground truth at the same stamp (within 1 ms).
+    f.has_gt_pose = false;
+    if (!gt_.empty())
+    {
+      auto g = std::lower_bound(gt_.begin(), gt_.end(), f.stamp - 1e-3,
+                                [](const std::pair<double, Eigen::Isometry3d>& p, double s) { return p.first < s; });
+      if (g != gt_.end() && std::abs(g->first - f.stamp) <= 1e-3)
+      {
+        f.has_gt_pose = true;
+        f.gt_pose = g->second;
+        f.gt_velocity = gt_vel_[g - gt_.begin()];
+      }
+    }
+
+    // IMU samples up to this frame.
+    f.imu.clear();
+    while (imu_next_ < imu_.size() && imu_[imu_next_].stamp <= f.stamp + 1e-9)
+      f.imu.push_back(imu_[imu_next_++]);
+    first_ = false;
+    return true;
+  }
+  return false;
+}
+
+bool StereoBagReader::readOccupancy(OccupancyGrid& g) const
+{
+  rosbag::View v(impl_->bag, rosbag::TopicQuery(topics_.gt_occupancy));
+  bool found = false;
+  for (const rosbag::MessageInstance& m : v)
+  {
+    auto msg = m.instantiate<nav_msgs::OccupancyGrid>();
+    if (!msg) continue;
+    g.origin_x = msg->info.origin.position.x;
+    g.origin_y = msg->info.origin.position.y;
+    g.resolution = msg->info.resolution;
+    g.width = msg->info.width;
+    g.height = msg->info.height;
+    g.data = msg->data;
+    found = true;
+  }
+  return found;
+}
+
+}  // namespace assistive_sim
