@@ -1,1 +1,27 @@
-# owned by the evaluation engineer: assistive_sim_eval, assistive_sim_bag, eval CLIs, import_dataset
+# owned by the evaluation engineer: assistive_sim_eval, eval CLIs, import_dataset
+# (assistive_sim_bag, the bag reader/writer, is built in render.cmake by the renderer engineer).
+
+# ---- ROS-free evaluation core (Eigen + OpenCV): trajectories, metrics, map scoring, plots
+add_library(assistive_sim_eval
+  src/eval/trajectory.cpp
+  src/eval/metrics.cpp
+  src/eval/map_score.cpp
+  src/eval/plots.cpp)
+target_link_libraries(assistive_sim_eval ${OpenCV_LIBRARIES})
+
+install(TARGETS assistive_sim_eval
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  # Real-data tests find the data here and GTEST_SKIP when it is absent.
+  set(ASSISTIVE_REAL_DATA_DIR "/work/shared/data/real" CACHE PATH "folder of the real camera data (issue 9)")
+  foreach(t test_trajectory_metrics test_map_score test_plots test_reference_numbers)
+    catkin_add_gtest(${t} test/eval/${t}.cpp)
+    if(TARGET ${t})
+      target_link_libraries(${t} assistive_sim_eval gtest_main)
+      target_compile_definitions(${t} PRIVATE ASSISTIVE_REAL_DATA_DIR="${ASSISTIVE_REAL_DATA_DIR}")
+    endif()
+  endforeach()
+endif()
