@@ -1,0 +1,57 @@
+#pragma once
+// Multi-level surface classification of one frame's elevation map (seed 4.2.2-4.2.3, Triebel 2006):
+// heights -> intervals split at gaps > G; an interval thicker than T is vertical -> obstacle;
+// horizontal cells form an 8-neighbour graph, cells with >= 5 compatible edges are traversable;
+// then a morphological closing of the obstacle mask.
+#include <vector>
+
+#include <assistive_obstacles/cell_values.h>
+#include <assistive_obstacles/elevation_map.h>
+#include <assistive_obstacles/params.h>
+
+namespace assistive_obstacles
+{
+/// One height interval of a cell.
+struct HeightInterval
+{
+  float bottom = 0.f, top = 0.f;  ///< m (trimmed extent)
+  float median = 0.f;             ///< m
+  int points = 0;
+};
+
+/// What one cell's heights say on their own.
+enum class CellKind : uint8_t
+{
+  EMPTY = 0,     ///< no (or only noise) points
+  HORIZONTAL,    ///< the lowest interval is thinner than T: a surface at height `ground`
+  VERTICAL,      ///< the lowest interval is thicker than T (within the wearer's height): obstacle
+};
+
+class MlsClassifier
+{
+public:
+  explicit MlsClassifier(const ObstaclesParams& p = ObstaclesParams()) : params_(p) {}
+  void setParams(const ObstaclesParams& p) { params_ = p; }
+
+  /// Splits sorted heights into intervals: sub-clusters at gaps > cluster_gap, sub-clusters with
+  /// fewer than min_cluster_points dropped, the rest merged while gaps are < G (gap_height).
+  void intervals(const float* h, int n, std::vector<HeightInterval>& out) const;
+  /// Kind of a cell from its sorted heights; `ground` = median of the lowest interval.
+  /// Intervals more than G above the lowest one's top are overhead (the wearer fits under).
+  CellKind analyse(const float* h, int n, float& ground) const;
+
+  /// Labels every cell of `map` (index = window-local); `feet_z` is the wearer's feet level.
+  void classify(const ElevationMap& map, float feet_z, std::vector<FrameLabel>& labels);
+
+  const std::vector<CellKind>& kinds() const { return kind_; }
+  const std::vector<float>& ground() const { return ground_; }
+
+private:
+  ObstaclesParams params_;
+  std::vector<CellKind> kind_;
+  std::vector<float> ground_;
+  mutable std::vector<HeightInterval> scratch_;
+  std::vector<uint8_t> mask_;
+};
+
+}  // namespace assistive_obstacles

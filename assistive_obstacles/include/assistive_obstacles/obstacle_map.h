@@ -1,0 +1,82 @@
+#pragma once
+// The obstacle stage's map: per frame, camera-frame points -> world -> elevation cells -> MLS
+// labels -> temporal filter, in a window that scrolls with the wearer; plus the dropout / glass
+// report and the OctoMap of what was seen. ROS-free.
+#include <memory>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include <assistive_obstacles/cell_values.h>
+#include <assistive_obstacles/disparity.h>
+#include <assistive_obstacles/elevation_map.h>
+#include <assistive_obstacles/mls_classifier.h>
+#include <assistive_obstacles/params.h>
+#include <assistive_obstacles/seen_octree.h>
+#include <assistive_obstacles/temporal_filter.h>
+
+namespace assistive_obstacles
+{
+/// A square grid of output codes (row-major, index = iy * width + ix), axis-aligned in the world.
+struct GridData
+{
+  double origin_x = 0.0, origin_y = 0.0;  ///< m, lower-left corner of cell (0, 0)
+  double resolution = 0.2;
+  int width = 0, height = 0;
+  std::vector<int8_t> data;
+};
+
+struct FrameStats
+{
+  size_t points_in = 0;      ///< points handed to update()
+  size_t points_binned = 0;  ///< points inside the window and below head clearance
+  int cells_observed = 0;    ///< cells with >= min_points_per_cell points
+  int obstacle_votes = 0, free_votes = 0;
+  int dropout_cells = 0;     ///< obstacle cells in view without depth this frame
+};
+
+class ObstacleMap
+{
+public:
+  explicit ObstacleMap(const ObstaclesParams& p = ObstaclesParams());
+  void setParams(const ObstaclesParams& p);
+  const ObstaclesParams& params() const { return params_; }
+
+  /// One frame: `points_cam` in the left optical frame, `T_world_cam` its pose in the world
+  /// (z up). `camera` + `disparity` (the matcher-scale CV_32F disparity the points came from;
+  /// both may be null) enable the dropout / glass policy: a cell mapped as obstacle whose depth
+  /// vanished or passes through it this frame is reported and takes no free vote.
+  /// Elevation + MLS + temporal only; the OctoMap is updated by insertOctomap().
+  void update(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Isometry3f& T_world_cam,
+              const StereoModel* camera = nullptr, const cv::Mat* disparity = nullptr);
+  /// Inserts the last frame's world points into the OctoMap.
+  void insertOctomap();
+
+  /// Traversability codes of the current window.
+  void grid(GridData& out) const;
+  /// Dropout / glass report of the last frame: OBSTACLE where a mapped obstacle is in view but
+  /// had no depth, UNKNOWN elsewhere (same geometry as grid()).
+  const GridData& dropout() const { return dropout_; }
+  const FrameStats& stats() const { return stats_; }
+  const Window& window() const { return window_; }
+  const std::vector<FrameLabel>& frameLabels() const { return labels_; }
+  const std::vector<Eigen::Vector3f>& worldPoints() const { return world_; }
+  const TemporalFilter& temporal() const { return temporal_; }
+  SeenOctree& octree() { return *octree_; }
+  void reset();
+
+private:
+  ObstaclesParams params_;
+  ElevationMap elevation_;
+  MlsClassifier mls_;
+  TemporalFilter temporal_;
+  std::unique_ptr<SeenOctree> octree_;
+  Window window_;
+  std::vector<Eigen::Vector3f> world_;
+  Eigen::Vector3f last_origin_ = Eigen::Vector3f::Zero();
+  std::vector<FrameLabel> labels_;
+  GridData dropout_;
+  FrameStats stats_;
+};
+
+}  // namespace assistive_obstacles

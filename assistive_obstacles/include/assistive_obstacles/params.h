@@ -1,0 +1,63 @@
+#pragma once
+// All parameters of the obstacle stage. The initializers are the only defaults (STYLE.md 4);
+// the nodelet reads every field as a ROS parameter of the same name and clamps it with clampParams().
+#include <string>
+#include <vector>
+
+namespace assistive_obstacles
+{
+struct ObstaclesParams
+{
+  // --- dense disparity -------------------------------------------------------------------
+  std::string disparity_method = "sgbm3way";  ///< "sgbm3way", "sgbm", "hh" or "bm"
+  double disparity_scale = 0.5;     ///< image scale the matcher runs at (1 = full resolution)
+  int max_disparity = 128;          ///< px at FULL resolution (min depth = fx*B/max_disparity)
+  int block_size = 5;               ///< px at the matcher's scale, odd
+  int uniqueness_ratio = 10;        ///< %
+  int speckle_window_size = 100;    ///< px^2 at the matcher's scale (0 disables)
+  int speckle_range = 2;            ///< disparity levels
+  int disp12_max_diff = 1;          ///< left-right check, px at the matcher's scale (<0 disables)
+
+  // --- points ----------------------------------------------------------------------------
+  double min_depth = 0.3;           ///< m, closer points are dropped
+  double max_depth = 6.0;           ///< m, farther points are dropped (disparity noise grows as z^2)
+  int point_stride = 1;             ///< take every n-th pixel of the scaled disparity in u and v
+
+  // --- elevation map / MLS (wearer-tied, not scene-tied) ----------------------------------
+  double cell_size = 0.2;           ///< m, elevation cell edge
+  double window_radius = 5.0;       ///< m, processed circle around the wearer (scrolls)
+  int min_points_per_cell = 10;     ///< cells with fewer points are dropped as noise
+  double gap_height = 1.9;          ///< G, m: intervals split at vertical gaps larger than this (wearer height + margin)
+  double step_height = 0.2;         ///< T, m: thicker intervals are vertical (obstacle); also max climbable height difference
+  double min_step = 0.08;           ///< m: a traversable cell whose neighbour differs by more is a step/curb
+  double head_clearance = 0.3;      ///< m above the camera: higher points cannot touch the wearer
+  double camera_height = 1.6;       ///< m, camera above the wearer's feet (feet level = camera z - this)
+  double max_surface_rise = 0.45;   ///< m: walkable surfaces lie at most this far above the feet ...
+  double max_surface_drop = 0.6;    ///< m: ... or this far below them (else obstacle / drop-off)
+  double cluster_gap = 0.1;         ///< m: heights closer than this form one sub-cluster (outlier rejection)
+  int min_cluster_points = 3;       ///< sub-clusters with fewer points are noise
+  double thickness_trim = 0.05;     ///< fraction of an interval's heights trimmed at each end for its thickness
+  int min_traversable_edges = 5;    ///< compatible 8-neighbours needed to be traversable
+  int closing_radius = 1;           ///< cells, morphological closing of the obstacle mask (0 disables)
+
+  // --- temporal filter ---------------------------------------------------------------------
+  int min_observations = 5;         ///< O+S before a cell is decided
+  double obstacle_ratio = 0.5;      ///< obstacle if O/(O+S) > this
+  int permanent_flips = 15;         ///< I at which a cell becomes an obstacle for good
+  int max_count = 40;               ///< O+S are halved above this (keeps the filter responsive)
+
+  // --- dropout / glass policy ----------------------------------------------------------------
+  double dropout_max_range = 4.0;   ///< m: obstacle cells in view this close but without depth are reported
+
+  // --- OctoMap of what was seen ------------------------------------------------------------
+  bool octomap_enabled = true;
+  double octomap_resolution = 0.1;  ///< m
+  double octomap_max_range = 5.0;   ///< m, ray length for insertion
+  int octomap_point_stride = 8;     ///< insert every n-th point (ray casting cost)
+  std::string octomap_save_path = "/tmp/assistive_obstacles.bt";
+};
+
+/// Clamps `p` into valid ranges; returns one message per changed field (for NODELET_WARN).
+std::vector<std::string> clampParams(ObstaclesParams& p);
+
+}  // namespace assistive_obstacles

@@ -1,0 +1,53 @@
+#pragma once
+// Temporal consistency per cell (seed 4.2.4): counters O (obstacle votes) and S (free votes);
+// no decision before O+S >= min_observations; obstacle if O/(O+S) > obstacle_ratio; label flips
+// counted in I; at I >= permanent_flips the cell is an obstacle for good.
+// Storage: a flat ring buffer of n x n slots addressed by global cell modulo n, each slot tagged
+// with its global cell, so the window scrolls with the wearer without moving memory; a slot
+// re-used for a new global cell starts unknown.
+#include <cstdint>
+#include <vector>
+
+#include <assistive_obstacles/cell_values.h>
+#include <assistive_obstacles/params.h>
+
+namespace assistive_obstacles
+{
+struct CellCounters
+{
+  int32_t gx = 0, gy = 0;   ///< global cell this slot holds
+  uint16_t o = 0, s = 0;    ///< obstacle / free votes
+  uint16_t step = 0;        ///< free votes that were steps
+  uint16_t flips = 0;       ///< I
+  int8_t state = UNKNOWN;   ///< UNKNOWN (undecided), FREE or OBSTACLE
+  bool used = false;
+  bool permanent = false;
+};
+
+class TemporalFilter
+{
+public:
+  explicit TemporalFilter(const ObstaclesParams& p = ObstaclesParams()) : params_(p) {}
+  void setParams(const ObstaclesParams& p) { params_ = p; }
+  /// Ring size (cells per side); clears everything when it changes.
+  void resize(int n);
+  int size() const { return n_; }
+
+  /// Adds one frame's vote for global cell (gx, gy).
+  void vote(int gx, int gy, FrameLabel label);
+  /// Output code of global cell (gx, gy): UNKNOWN, FREE, STEP or OBSTACLE.
+  int8_t code(int gx, int gy) const;
+  /// Counters of a cell (nullptr when the slot holds another cell or was never used).
+  const CellCounters* find(int gx, int gy) const;
+  void clear();
+  /// Forgets every cell outside [ox, ox+n) x [oy, oy+n) (the window scrolled away from it).
+  void retain(int ox, int oy, int n);
+
+private:
+  int slot(int gx, int gy) const;
+  ObstaclesParams params_;
+  int n_ = 0;
+  std::vector<CellCounters> cells_;
+};
+
+}  // namespace assistive_obstacles

@@ -1,0 +1,154 @@
+#include <assistive_obstacles/disparity.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+namespace assistive_obstacles
+{
+namespace
+{
+void toGrey(const cv::Mat& in, cv::Mat& out)
+{
+  if (in.channels() == 3)
+    cv::cvtColor(in, out, cv::COLOR_BGR2GRAY);
+  else if (in.channels() == 4)
+    cv::cvtColor(in, out, cv::COLOR_BGRA2GRAY);
+  else
+    out = in;
+}
+
+int sgbmMode(const std::string& m)
+{
+  if (m == "sgbm") return cv::StereoSGBM::MODE_SGBM;
+  if (m == "hh") return cv::StereoSGBM::MODE_HH;
+  return cv::StereoSGBM::MODE_SGBM_3WAY;
+}
+}  // namespace
+
+DisparityEstimator::DisparityEstimator(const ObstaclesParams& p) { setParams(p); }
+
+int DisparityEstimator::numDisparities() const
+{
+  const int n = static_cast<int>(std::ceil(params_.max_disparity * params_.disparity_scale / 16.0)) * 16;
+  return std::max(16, n);
+}
+
+void DisparityEstimator::setParams(const ObstaclesParams& p)
+{
+  params_ = p;
+  const int nd = numDisparities();
+  const int bs = params_.block_size | 1;
+  if (params_.disparity_method == "bm")
+  {
+    auto bm = cv::StereoBM::create(nd, std::max(5, bs));
+    bm->setUniquenessRatio(params_.uniqueness_ratio);
+    bm->setSpeckleWindowSize(params_.speckle_window_size);
+    bm->setSpeckleRange(params_.speckle_range);
+    bm->setDisp12MaxDiff(params_.disp12_max_diff);
+    bm->setTextureThreshold(10);
+    bm->setPreFilterCap(31);
+    matcher_ = bm;
+  }
+  else
+  {
+    auto sg = cv::StereoSGBM::create(0, nd, bs, 8 * bs * bs, 32 * bs * bs, params_.disp12_max_diff, 63,
+                                     params_.uniqueness_ratio, params_.speckle_window_size,
+                                     params_.speckle_range, sgbmMode(params_.disparity_method));
+    matcher_ = sg;
+  }
+}
+
+bool DisparityEstimator::compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& disp) const
+{
+  disp.release();
+  if (left.empty() || right.empty() || left.size() != right.size() || left.depth() != CV_8U ||
+      right.depth() != CV_8U)
+    return false;
+  toGrey(left, l_grey_);
+  toGrey(right, r_grey_);
+  const double s = params_.disparity_scale;
+  const cv::Mat* l = &l_grey_;
+  const cv::Mat* r = &r_grey_;
+  if (std::abs(s - 1.0) > 1e-6)
+  {
+    cv::resize(l_grey_, l_small_, cv::Size(), s, s, cv::INTER_AREA);
+    cv::resize(r_grey_, r_small_, cv::Size(), s, s, cv::INTER_AREA);
+    l = &l_small_;
+    r = &r_small_;
+  }
+  if (l->cols <= numDisparities() + params_.block_size) return false;
+  matcher_->compute(*l, *r, disp16_);
+  // 16 * disparity in CV_16S; invalid = (mindisp - 1) * 16 < 0.
+  disp16_.convertTo(disp, CV_32F, 1.0 / 16.0);
+  cv::threshold(disp, disp, 0.0, 0.0, cv::THRESH_TOZERO);  // invalid (negative) -> 0
+  // Mark 0 as invalid (-1): zero disparity means infinite depth, useless here.
+  disp.setTo(-1.0f, disp <= 0.0f);
+  return true;
+}
+
+bool DisparityEstimator::computeFullRes(const cv::Mat& left, const cv::Mat& right, cv::Mat& disp) const
+{
+  cv::Mat small;
+  if (!compute(left, right, small)) return false;
+  const double s = params_.disparity_scale;
+  if (std::abs(s - 1.0) <= 1e-6)
+  {
+    disp = small;
+    return true;
+  }
+  // Nearest neighbour keeps invalid pixels invalid at edges instead of blending them in.
+  cv::resize(small, disp, left.size(), 0, 0, cv::INTER_NEAREST);
+  cv::Mat valid = disp > 0.0f;
+  disp.convertTo(disp, CV_32F, 1.0 / s);
+  disp.setTo(-1.0f, ~valid);
+  return true;
+}
+
+void DisparityEstimator::toPoints(const cv::Mat& disp, const StereoModel& m,
+                                  std::vector<Eigen::Vector3f>& points) const
+{
+  points.clear();
+  if (disp.empty() || disp.type() != CV_32F) return;
+  const double sx = static_cast<double>(disp.cols) / m.width;
+  const double sy = static_cast<double>(disp.rows) / m.height;
+  const float fx = static_cast<float>(m.fx * sx), fy = static_cast<float>(m.fy * sy);
+  const float cx = static_cast<float>((m.cx + 0.5) * sx - 0.5), cy = static_cast<float>((m.cy + 0.5) * sy - 0.5);
+  const float fb = static_cast<float>(fx * m.baseline);
+  if (!(fb > 0.f) || !std::isfinite(fb)) return;
+  const float dmin = fb / static_cast<float>(params_.max_depth);
+  const float dmax = fb / static_cast<float>(params_.min_depth);
+  const int st = std::max(1, params_.point_stride);
+  points.reserve(static_cast<size_t>(disp.rows / st) * static_cast<size_t>(disp.cols / st));
+  for (int v = 0; v < disp.rows; v += st)
+  {
+    const float* row = disp.ptr<float>(v);
+    const float yn = (v - cy) / fy;
+    for (int u = 0; u < disp.cols; u += st)
+    {
+      const float d = row[u];
+      if (!(d >= dmin && d <= dmax)) continue;
+      const float z = fb / d;
+      points.emplace_back((u - cx) / fx * z, yn * z, z);
+    }
+  }
+}
+
+cv::Mat peerSgbm(const cv::Mat& left, const cv::Mat& right, int num_disparities)
+{
+  cv::Mat l, r;
+  toGrey(left, l);
+  toGrey(right, r);
+  const int bs = 5;
+  const int nd = std::max(16, (num_disparities + 15) / 16 * 16);
+  auto sg = cv::StereoSGBM::create(0, nd, bs, 8 * bs * bs, 32 * bs * bs, 1, 63, 10, 100, 2,
+                                   cv::StereoSGBM::MODE_SGBM);
+  cv::Mat d16, d;
+  sg->compute(l, r, d16);
+  d16.convertTo(d, CV_32F, 1.0 / 16.0);
+  d.setTo(-1.0f, d <= 0.0f);
+  return d;
+}
+
+}  // namespace assistive_obstacles

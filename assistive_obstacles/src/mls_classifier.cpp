@@ -1,0 +1,140 @@
+#include <assistive_obstacles/mls_classifier.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+namespace assistive_obstacles
+{
+void MlsClassifier::intervals(const float* h, int n, std::vector<HeightInterval>& out) const
+{
+  out.clear();
+  const float cgap = static_cast<float>(params_.cluster_gap);
+  const float G = static_cast<float>(params_.gap_height);
+  const double trim = std::clamp(params_.thickness_trim, 0.0, 0.45);
+  int cur_a = -1, cur_b = -1;  // index range [a, b) of the interval being built
+  auto flush = [&]() {
+    if (cur_a < 0) return;
+    const int cnt = cur_b - cur_a;
+    const int k = static_cast<int>(std::floor(trim * cnt));
+    HeightInterval iv;
+    iv.bottom = h[cur_a + k];
+    iv.top = h[cur_b - 1 - k];
+    iv.median = h[cur_a + cnt / 2];
+    iv.points = cnt;
+    out.push_back(iv);
+    cur_a = cur_b = -1;
+  };
+  int i = 0;
+  while (i < n)
+  {
+    int j = i + 1;
+    while (j < n && h[j] - h[j - 1] <= cgap) ++j;
+    // sub-cluster [i, j)
+    if (j - i >= params_.min_cluster_points)
+    {
+      if (cur_a >= 0 && h[i] - h[cur_b - 1] >= G) flush();
+      if (cur_a < 0) cur_a = i;
+      cur_b = j;
+    }
+    i = j;
+  }
+  flush();
+}
+
+CellKind MlsClassifier::analyse(const float* h, int n, float& ground) const
+{
+  if (n < params_.min_points_per_cell) return CellKind::EMPTY;
+  intervals(h, n, scratch_);
+  if (scratch_.empty()) return CellKind::EMPTY;
+  // Only the lowest interval can touch the wearer: every other one starts more than G above it.
+  const HeightInterval& low = scratch_.front();
+  ground = low.median;
+  if (low.top - low.bottom > static_cast<float>(params_.step_height)) return CellKind::VERTICAL;
+  return CellKind::HORIZONTAL;
+}
+
+void MlsClassifier::classify(const ElevationMap& map, float feet_z, std::vector<FrameLabel>& labels)
+{
+  const Window& w = map.window();
+  const int n = w.n, cells = n * n;
+  kind_.assign(cells, CellKind::EMPTY);
+  ground_.assign(cells, 0.f);
+  labels.assign(cells, FrameLabel::NONE);
+  const float rise = static_cast<float>(params_.max_surface_rise);
+  const float drop = static_cast<float>(params_.max_surface_drop);
+  for (int c = 0; c < cells; ++c)
+  {
+    const int cnt = map.count(c);
+    if (cnt == 0) continue;
+    float g = 0.f;
+    CellKind k = analyse(map.heights(c), cnt, g);
+    // A surface far above the feet (table top, sign seen without the floor under it) or far
+    // below them (drop-off) is not walkable.
+    if (k == CellKind::HORIZONTAL && (g > feet_z + rise || g < feet_z - drop)) k = CellKind::VERTICAL;
+    kind_[c] = k;
+    ground_[c] = g;
+  }
+  // Graph pass: compatible 8-neighbour edges between horizontal cells.
+  const float T = static_cast<float>(params_.step_height);
+  const float smin = static_cast<float>(params_.min_step);
+  const int need = params_.min_traversable_edges;
+  for (int ly = 0; ly < n; ++ly)
+    for (int lx = 0; lx < n; ++lx)
+    {
+      const int c = w.index(lx, ly);
+      if (kind_[c] == CellKind::EMPTY) continue;
+      if (kind_[c] == CellKind::VERTICAL)
+      {
+        labels[c] = FrameLabel::OBSTACLE;
+        continue;
+      }
+      int compat = 0, unobserved = 0;
+      bool step = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+        {
+          if (!dx && !dy) continue;
+          const int x = lx + dx, y = ly + dy;
+          if (x < 0 || y < 0 || x >= n || y >= n)
+          {
+            ++unobserved;
+            continue;
+          }
+          const int o = w.index(x, y);
+          if (kind_[o] == CellKind::EMPTY)
+            ++unobserved;
+          else if (kind_[o] == CellKind::HORIZONTAL)
+          {
+            const float d = std::abs(ground_[o] - ground_[c]);
+            if (d <= T)
+            {
+              ++compat;
+              if (d > smin) step = true;
+            }
+          }
+        }
+      if (compat >= need)
+        labels[c] = step ? FrameLabel::STEP : FrameLabel::FREE;
+      else if (compat + unobserved >= need)
+        labels[c] = FrameLabel::NONE;  // short of edges only because neighbours were not seen
+      else
+        labels[c] = FrameLabel::OBSTACLE;
+    }
+  // Morphological closing (dilate then erode) of the obstacle mask.
+  const int r = params_.closing_radius;
+  if (r > 0)
+  {
+    mask_.assign(cells, 0);
+    for (int c = 0; c < cells; ++c) mask_[c] = labels[c] == FrameLabel::OBSTACLE ? 255 : 0;
+    cv::Mat m(n, n, CV_8U, mask_.data());
+    cv::Mat closed;
+    const cv::Mat k = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1));
+    cv::morphologyEx(m, closed, cv::MORPH_CLOSE, k, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    for (int c = 0; c < cells; ++c)
+      if (closed.data[c]) labels[c] = FrameLabel::OBSTACLE;
+  }
+}
+
+}  // namespace assistive_obstacles

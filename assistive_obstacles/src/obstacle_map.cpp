@@ -1,0 +1,140 @@
+#include <assistive_obstacles/obstacle_map.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace assistive_obstacles
+{
+namespace
+{
+enum class DepthCheck
+{
+  OUTSIDE,     ///< not in the image or out of range
+  CONSISTENT,  ///< depth there matches the cell
+  OCCLUDED,    ///< something nearer hides the cell
+  VANISHED,    ///< no depth at that pixel
+  THROUGH,     ///< depth passes through the cell (glass?)
+};
+
+DepthCheck checkDepth(const Eigen::Vector3f& p_world, const Eigen::Isometry3f& T_cam_world,
+                      const StereoModel& m, const cv::Mat& disp, double min_z, double max_z, float tol)
+{
+  const Eigen::Vector3f pc = T_cam_world * p_world;
+  if (!(pc.z() >= min_z && pc.z() <= max_z)) return DepthCheck::OUTSIDE;
+  const double sx = static_cast<double>(disp.cols) / m.width, sy = static_cast<double>(disp.rows) / m.height;
+  const double u = (m.fx * pc.x() / pc.z() + m.cx + 0.5) * sx - 0.5;
+  const double v = (m.fy * pc.y() / pc.z() + m.cy + 0.5) * sy - 0.5;
+  const int iu = static_cast<int>(std::lround(u)), iv = static_cast<int>(std::lround(v));
+  if (iu < 2 || iv < 2 || iu >= disp.cols - 2 || iv >= disp.rows - 2) return DepthCheck::OUTSIDE;
+  const float d = disp.at<float>(iv, iu);
+  if (!(d > 0.f)) return DepthCheck::VANISHED;
+  const float z = static_cast<float>(m.fx * sx * m.baseline) / d;
+  // Compare along the ray: the measured point's distance vs the cell's.
+  if (z < pc.z() - tol) return DepthCheck::OCCLUDED;
+  if (z > pc.z() + tol) return DepthCheck::THROUGH;
+  return DepthCheck::CONSISTENT;
+}
+}  // namespace
+
+ObstacleMap::ObstacleMap(const ObstaclesParams& p) { setParams(p); }
+
+void ObstacleMap::setParams(const ObstaclesParams& p)
+{
+  params_ = p;
+  elevation_.setParams(p);
+  mls_.setParams(p);
+  temporal_.setParams(p);
+  const Window w = Window::around(0.0, 0.0, p.window_radius, p.cell_size);
+  temporal_.resize(w.n);
+  if (!octree_) octree_.reset(new SeenOctree(p));
+}
+
+void ObstacleMap::reset()
+{
+  temporal_.clear();
+  octree_.reset(new SeenOctree(params_));
+  world_.clear();
+}
+
+void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Isometry3f& T_world_cam,
+                         const StereoModel* camera, const cv::Mat* disparity)
+{
+  stats_ = FrameStats();
+  stats_.points_in = points_cam.size();
+  world_.resize(points_cam.size());
+  const Eigen::Matrix3f R = T_world_cam.linear();
+  const Eigen::Vector3f t = T_world_cam.translation();
+  for (size_t i = 0; i < points_cam.size(); ++i) world_[i] = R * points_cam[i] + t;
+  last_origin_ = t;
+
+  window_ = Window::around(t.x(), t.y(), params_.window_radius, params_.cell_size);
+  temporal_.resize(window_.n);
+  temporal_.retain(window_.ox, window_.oy, window_.n);
+  const float z_max = t.z() + static_cast<float>(params_.head_clearance);
+  const float feet = t.z() - static_cast<float>(params_.camera_height);
+  elevation_.build(world_, window_, z_max);
+  stats_.points_binned = elevation_.binnedPoints();
+  mls_.classify(elevation_, feet, labels_);
+
+  const int n = window_.n;
+  dropout_.origin_x = window_.ox * window_.res;
+  dropout_.origin_y = window_.oy * window_.res;
+  dropout_.resolution = window_.res;
+  dropout_.width = dropout_.height = n;
+  dropout_.data.assign(static_cast<size_t>(n) * n, UNKNOWN);
+  const bool check_depth = camera && disparity && !disparity->empty() && disparity->type() == CV_32F;
+  const Eigen::Isometry3f T_cam_world = T_world_cam.inverse();
+  const float tol = static_cast<float>(std::max(0.3, 1.5 * params_.cell_size));
+
+  for (int ly = 0; ly < n; ++ly)
+    for (int lx = 0; lx < n; ++lx)
+    {
+      if (!window_.inCircle(lx, ly)) continue;
+      const int c = window_.index(lx, ly);
+      const int gx = window_.ox + lx, gy = window_.oy + ly;
+      if (elevation_.count(c) > 0) ++stats_.cells_observed;
+      FrameLabel lab = labels_[c];
+      if (check_depth && temporal_.code(gx, gy) == OBSTACLE && lab != FrameLabel::OBSTACLE)
+      {
+        // Dropout / glass: a mapped obstacle seen "through" or without depth keeps its label.
+        int bad = 0, good = 0;
+        for (const float hz : {0.5f, 1.2f})
+        {
+          const Eigen::Vector3f p(static_cast<float>(window_.centerX(lx)), static_cast<float>(window_.centerY(ly)), feet + hz);
+          const DepthCheck dc = checkDepth(p, T_cam_world, *camera, *disparity, params_.min_depth,
+                                           params_.dropout_max_range, tol);
+          if (dc == DepthCheck::VANISHED || dc == DepthCheck::THROUGH) ++bad;
+          if (dc == DepthCheck::CONSISTENT || dc == DepthCheck::OCCLUDED) ++good;
+        }
+        if (bad > 0 && good == 0)
+        {
+          dropout_.data[c] = OBSTACLE;
+          ++stats_.dropout_cells;
+          lab = FrameLabel::NONE;
+          labels_[c] = FrameLabel::NONE;
+        }
+      }
+      if (lab == FrameLabel::OBSTACLE) ++stats_.obstacle_votes;
+      if (lab == FrameLabel::FREE || lab == FrameLabel::STEP) ++stats_.free_votes;
+      temporal_.vote(gx, gy, lab);
+    }
+}
+
+void ObstacleMap::insertOctomap()
+{
+  if (params_.octomap_enabled && !world_.empty()) octree_->insert(world_, last_origin_);
+}
+
+void ObstacleMap::grid(GridData& out) const
+{
+  const int n = window_.n;
+  out.origin_x = window_.ox * window_.res;
+  out.origin_y = window_.oy * window_.res;
+  out.resolution = window_.res;
+  out.width = out.height = n;
+  out.data.assign(static_cast<size_t>(n) * n, UNKNOWN);
+  for (int ly = 0; ly < n; ++ly)
+    for (int lx = 0; lx < n; ++lx) out.data[window_.index(lx, ly)] = temporal_.code(window_.ox + lx, window_.oy + ly);
+}
+
+}  // namespace assistive_obstacles

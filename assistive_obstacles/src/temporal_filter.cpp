@@ -1,0 +1,81 @@
+#include <assistive_obstacles/temporal_filter.h>
+
+#include <algorithm>
+
+namespace assistive_obstacles
+{
+void TemporalFilter::resize(int n)
+{
+  if (n == n_) return;
+  n_ = std::max(1, n);
+  cells_.assign(static_cast<size_t>(n_) * n_, CellCounters());
+}
+
+void TemporalFilter::clear() { cells_.assign(cells_.size(), CellCounters()); }
+
+void TemporalFilter::retain(int ox, int oy, int n)
+{
+  for (CellCounters& c : cells_)
+    if (c.used && (c.gx < ox || c.gy < oy || c.gx >= ox + n || c.gy >= oy + n)) c = CellCounters();
+}
+
+int TemporalFilter::slot(int gx, int gy) const
+{
+  const int x = ((gx % n_) + n_) % n_;
+  const int y = ((gy % n_) + n_) % n_;
+  return y * n_ + x;
+}
+
+const CellCounters* TemporalFilter::find(int gx, int gy) const
+{
+  if (n_ == 0) return nullptr;
+  const CellCounters& c = cells_[slot(gx, gy)];
+  return (c.used && c.gx == gx && c.gy == gy) ? &c : nullptr;
+}
+
+void TemporalFilter::vote(int gx, int gy, FrameLabel label)
+{
+  if (n_ == 0 || label == FrameLabel::NONE) return;
+  CellCounters& c = cells_[slot(gx, gy)];
+  if (!c.used || c.gx != gx || c.gy != gy)
+  {
+    c = CellCounters();
+    c.used = true;
+    c.gx = gx;
+    c.gy = gy;
+  }
+  if (c.permanent) return;
+  if (label == FrameLabel::OBSTACLE)
+    ++c.o;
+  else
+  {
+    ++c.s;
+    if (label == FrameLabel::STEP) ++c.step;
+  }
+  if (c.o + c.s > params_.max_count)
+  {
+    c.o = static_cast<uint16_t>((c.o + 1) / 2);
+    c.s = static_cast<uint16_t>((c.s + 1) / 2);
+    c.step = static_cast<uint16_t>((c.step + 1) / 2);
+  }
+  if (c.o + c.s < params_.min_observations) return;
+  const double ratio = static_cast<double>(c.o) / (c.o + c.s);
+  const int8_t next = ratio > params_.obstacle_ratio ? OBSTACLE : FREE;
+  if (c.state != UNKNOWN && next != c.state) ++c.flips;
+  c.state = next;
+  if (c.flips >= params_.permanent_flips)
+  {
+    c.permanent = true;
+    c.state = OBSTACLE;
+  }
+}
+
+int8_t TemporalFilter::code(int gx, int gy) const
+{
+  const CellCounters* c = find(gx, gy);
+  if (!c || c->state == UNKNOWN) return UNKNOWN;
+  if (c->state == OBSTACLE) return OBSTACLE;
+  return (2 * c->step > c->s) ? STEP : FREE;
+}
+
+}  // namespace assistive_obstacles

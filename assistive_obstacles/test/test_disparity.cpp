@@ -1,0 +1,59 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <opencv2/imgproc.hpp>
+
+#include <assistive_obstacles/disparity.h>
+
+using namespace assistive_obstacles;
+
+namespace
+{
+// Random texture; the right image is the left shifted by d px (a fronto-parallel plane).
+void makePair(int d, cv::Mat& l, cv::Mat& r)
+{
+  cv::Mat big(480, 640 + d, CV_8U);
+  cv::RNG rng(3);
+  rng.fill(big, cv::RNG::UNIFORM, 0, 255);
+  cv::GaussianBlur(big, big, cv::Size(3, 3), 0.8);
+  l = big(cv::Rect(0, 0, 640, 480)).clone();
+  r = big(cv::Rect(d, 0, 640, 480)).clone();  // right(x - d) = left(x)
+}
+}  // namespace
+
+TEST(Disparity, PlaneAtKnownDisparityAndDepth)
+{
+  cv::Mat l, r;
+  makePair(40, l, r);
+  ObstaclesParams p;  // half scale
+  DisparityEstimator est(p);
+  cv::Mat full;
+  ASSERT_TRUE(est.computeFullRes(l, r, full));
+  ASSERT_EQ(full.size(), l.size());
+  cv::Mat roi = full(cv::Rect(200, 100, 300, 280));
+  int good = 0;
+  for (int v = 0; v < roi.rows; ++v)
+    for (int u = 0; u < roi.cols; ++u) good += std::abs(roi.at<float>(v, u) - 40.f) < 1.0f;
+  EXPECT_GT(good, 0.95 * roi.total());
+
+  cv::Mat small;
+  ASSERT_TRUE(est.compute(l, r, small));
+  EXPECT_EQ(small.cols, 320);
+  StereoModel m;  // fx 500, B 0.12 -> z = 60 / 40 = 1.5 m
+  std::vector<Eigen::Vector3f> pts;
+  est.toPoints(small, m, pts);
+  ASSERT_GT(pts.size(), 40000u);
+  int near = 0;
+  for (const auto& q : pts) near += std::abs(q.z() - 1.5f) < 0.05f;
+  EXPECT_GT(near, 0.95 * pts.size());
+}
+
+TEST(Disparity, BadInputIsRejected)
+{
+  DisparityEstimator est;
+  cv::Mat d;
+  EXPECT_FALSE(est.compute(cv::Mat(), cv::Mat(), d));
+  EXPECT_FALSE(est.compute(cv::Mat(480, 640, CV_8U), cv::Mat(240, 320, CV_8U), d));
+  EXPECT_TRUE(d.empty());
+}

@@ -1,0 +1,202 @@
+// Full-pipeline scenarios on hand-built point sets: the wearer's camera at 1.6 m, looking along +x.
+#include <gtest/gtest.h>
+
+#include <assistive_obstacles/obstacle_map.h>
+
+#include "synthetic.h"
+
+using namespace assistive_obstacles;
+using synthetic::Points;
+
+namespace
+{
+int8_t codeAt(const ObstacleMap& m, double x, double y)
+{
+  GridData g;
+  m.grid(g);
+  const int ix = static_cast<int>(std::floor((x - g.origin_x) / g.resolution));
+  const int iy = static_cast<int>(std::floor((y - g.origin_y) / g.resolution));
+  if (ix < 0 || iy < 0 || ix >= g.width || iy >= g.height) return -2;
+  return g.data[iy * g.width + ix];
+}
+
+void run(ObstacleMap& m, const Points& world, int frames = 6, double cam_x = 0.0)
+{
+  const Eigen::Isometry3f T = synthetic::cameraAt(cam_x, 0.0, 1.6);
+  const Points cam = synthetic::toCamera(world, T);
+  for (int i = 0; i < frames; ++i) m.update(cam, T);
+}
+}  // namespace
+
+TEST(ObstacleMap, FlatFloorIsFreeAndUnseenIsUnknown)
+{
+  ObstacleMap m;
+  Points w;
+  synthetic::patch(w, 1.0, 3.0, -1.0, 1.0, 0.0, 5, 0.01);
+  run(m, w);
+  EXPECT_EQ(codeAt(m, 2.05, 0.05), FREE);
+  EXPECT_EQ(codeAt(m, 1.1, 0.1), FREE);   // edge cell: 5 compatible neighbours
+  EXPECT_EQ(codeAt(m, -2.0, 0.0), UNKNOWN);  // behind the wearer, never seen
+  EXPECT_EQ(codeAt(m, 4.0, 0.0), UNKNOWN);
+  // Only after 5 observations.
+  ObstacleMap m2;
+  run(m2, w, 4);
+  EXPECT_EQ(codeAt(m2, 2.05, 0.05), UNKNOWN);
+}
+
+TEST(ObstacleMap, DoorwayWithFloorAndLintelInOneCellIsFree)
+{
+  ObstaclesParams p;
+  p.head_clearance = 3.0;  // keep the lintel: the MLS gap G alone must make the door passable
+  ObstacleMap m(p);
+  Points w;
+  synthetic::patch(w, 1.0, 4.0, -1.6, 1.6, 0.0);
+  // Wall at x = 2.5 (inside cell 12) with a 0.8 m wide, 2.05 m high door for |y| < 0.4.
+  synthetic::wallX(w, 2.5, -1.6, -0.4, 0.0, 2.5);
+  synthetic::wallX(w, 2.5, 0.4, 1.6, 0.0, 2.5);
+  synthetic::wallX(w, 2.5, -0.4, 0.4, 2.05, 2.5);  // lintel
+  run(m, w);
+  EXPECT_EQ(codeAt(m, 2.5, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 2.5, -0.1), FREE);
+  EXPECT_EQ(codeAt(m, 2.5, 1.0), OBSTACLE);
+  EXPECT_EQ(codeAt(m, 2.5, -1.0), OBSTACLE);
+  EXPECT_EQ(codeAt(m, 1.7, 0.1), FREE);
+}
+
+TEST(ObstacleMap, StepIsItsOwnClassHighLedgeIsObstacle)
+{
+  ObstacleMap m;
+  Points w;
+  synthetic::patch(w, 0.6, 2.1, -1.0, 1.0, 0.0);
+  synthetic::patch(w, 2.1, 3.6, -1.0, 1.0, 0.15);  // a 15 cm curb at x = 2.1
+  synthetic::wallX(w, 2.1, -1.0, 1.0, 0.0, 0.15);
+  run(m, w);
+  EXPECT_EQ(codeAt(m, 2.1, 0.1), STEP);
+  EXPECT_EQ(codeAt(m, 1.9, 0.1), STEP);
+  EXPECT_EQ(codeAt(m, 1.1, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 3.1, 0.1), FREE);
+
+  ObstacleMap m2;
+  Points w2;
+  synthetic::patch(w2, 0.6, 2.1, -1.0, 1.0, 0.0);
+  synthetic::patch(w2, 2.1, 3.6, -1.0, 1.0, 0.4);  // 40 cm ledge: not a step
+  synthetic::wallX(w2, 2.1, -1.0, 1.0, 0.0, 0.4);
+  run(m2, w2);
+  EXPECT_EQ(codeAt(m2, 2.1, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m2, 1.1, 0.1), FREE);
+}
+
+TEST(ObstacleMap, OverhangAtHeadHeightIsObstacle)
+{
+  ObstacleMap m;
+  Points w;
+  synthetic::patch(w, 0.6, 4.0, -1.0, 1.0, 0.0);
+  synthetic::patch(w, 2.0, 2.6, -0.4, 0.4, 1.55);  // a sign board at 1.55 m over free floor
+  synthetic::patch(w, 3.0, 3.6, -1.0, -0.4, 0.75);  // a table top, floor seen below
+  run(m, w);
+  EXPECT_EQ(codeAt(m, 2.3, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m, 3.3, -0.7), OBSTACLE);
+  EXPECT_EQ(codeAt(m, 1.2, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 3.3, 0.7), FREE);
+
+  // Table top seen without the floor under it: still an obstacle (above the feet by > rise).
+  ObstacleMap m2;
+  Points w2;
+  synthetic::patch(w2, 0.6, 2.0, -1.0, 1.0, 0.0);
+  synthetic::patch(w2, 2.0, 3.0, -1.0, 1.0, 0.75);
+  run(m2, w2);
+  EXPECT_EQ(codeAt(m2, 2.5, 0.1), OBSTACLE);
+}
+
+TEST(ObstacleMap, ThinPoleIsObstacleNeighboursStayFree)
+{
+  ObstacleMap m;
+  Points w;
+  synthetic::patch(w, 0.6, 4.0, -1.0, 1.0, 0.0);
+  synthetic::pole(w, 2.3, 0.1, 0.025, 1.2);
+  run(m, w);
+  EXPECT_EQ(codeAt(m, 2.3, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m, 2.7, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 1.9, 0.1), FREE);
+}
+
+TEST(ObstacleMap, NoiseOnlyCellsAreDropped)
+{
+  ObstacleMap m;
+  Points w;
+  synthetic::patch(w, 0.6, 2.0, -1.0, 1.0, 0.0);
+  // Sparse noise beyond the floor: 6 points per cell at random heights.
+  for (int c = 0; c < 10; ++c)
+    for (int i = 0; i < 6; ++i) w.emplace_back(3.05f + 0.2f * c, 0.05f, 0.1f * i + 0.05f * c);
+  run(m, w);
+  for (int c = 0; c < 10; ++c) EXPECT_EQ(codeAt(m, 3.05 + 0.2 * c, 0.05), UNKNOWN) << c;
+  EXPECT_EQ(codeAt(m, 1.3, 0.05), FREE);
+}
+
+TEST(ObstacleMap, FlickeringCellBecomesPermanentObstacle)
+{
+  ObstacleMap m;
+  Points floor, box;
+  synthetic::patch(floor, 0.6, 4.0, -1.0, 1.0, 0.0);
+  box = floor;
+  synthetic::pole(box, 2.3, 0.1, 0.05, 1.0);  // something that comes and goes
+  const Eigen::Isometry3f T = synthetic::cameraAt(0.0, 0.0, 1.6);
+  const Points cf = synthetic::toCamera(floor, T), cb = synthetic::toCamera(box, T);
+  for (int i = 0; i < 3; ++i) m.update(cb, T);
+  for (int i = 0; i < 2; ++i) m.update(cf, T);
+  for (int i = 0; i < 40; ++i) m.update(i % 2 ? cb : cf, T);
+  const CellCounters* c = m.temporal().find(static_cast<int>(std::floor(2.3 / 0.2)), 0);
+  ASSERT_NE(c, nullptr);
+  EXPECT_TRUE(c->permanent);
+  for (int i = 0; i < 50; ++i) m.update(cf, T);
+  EXPECT_EQ(codeAt(m, 2.3, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m, 1.5, 0.1), FREE);
+}
+
+TEST(ObstacleMap, GlassDropoutKeepsObstacleAndIsReported)
+{
+  ObstacleMap m;
+  Points before, after;
+  synthetic::patch(before, 0.6, 4.0, -1.0, 1.0, 0.0);
+  after = before;                                      // later: only the floor, seen through glass
+  synthetic::wallX(before, 2.5, -1.0, 1.0, 0.0, 1.8);  // the panel's frame was seen at first
+  const Eigen::Isometry3f T = synthetic::cameraAt(0.0, 0.0, 1.6);
+  const Points cb = synthetic::toCamera(before, T), ca = synthetic::toCamera(after, T);
+  StereoModel cam;  // 640x480, fx 500, B 0.12
+  cv::Mat near_disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 2.5f));  // consistent with the wall
+  cv::Mat far_disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 8.0f));   // depth passes through
+  for (int i = 0; i < 6; ++i) m.update(cb, T, &cam, &near_disp);
+  ASSERT_EQ(codeAt(m, 2.5, 0.1), OBSTACLE);
+  EXPECT_EQ(m.stats().dropout_cells, 0);
+  for (int i = 0; i < 20; ++i) m.update(ca, T, &cam, &far_disp);
+  EXPECT_EQ(codeAt(m, 2.5, 0.1), OBSTACLE);
+  EXPECT_GT(m.stats().dropout_cells, 0);
+  const GridData& d = m.dropout();
+  const int ix = static_cast<int>(std::floor((2.5 - d.origin_x) / d.resolution));
+  const int iy = static_cast<int>(std::floor((0.1 - d.origin_y) / d.resolution));
+  EXPECT_EQ(d.data[iy * d.width + ix], OBSTACLE);
+  // Without the depth check (no camera model) the floor votes would have freed it.
+  ObstacleMap m2;
+  for (int i = 0; i < 6; ++i) m2.update(cb, T);
+  for (int i = 0; i < 20; ++i) m2.update(ca, T);
+  EXPECT_EQ(codeAt(m2, 2.5, 0.1), FREE);
+}
+
+TEST(ObstacleMap, WindowScrollsWithTheWearer)
+{
+  ObstacleMap m;
+  Points w;
+  synthetic::patch(w, 1.0, 3.0, -1.0, 1.0, 0.0);
+  run(m, w, 6, 0.0);
+  EXPECT_EQ(codeAt(m, 2.05, 0.05), FREE);
+  // Walk 20 m away: the old cells leave the window; the grid moves along.
+  const Eigen::Isometry3f T = synthetic::cameraAt(20.0, 0.0, 1.6);
+  m.update({}, T);
+  GridData g;
+  m.grid(g);
+  EXPECT_NEAR(g.origin_x + g.width * g.resolution / 2, 20.0, 0.3);
+  EXPECT_EQ(codeAt(m, 2.05, 0.05), -2);  // outside the grid
+  // Come back: they were forgotten (not stale).
+  run(m, {}, 1, 0.0);
+  EXPECT_EQ(codeAt(m, 2.05, 0.05), UNKNOWN);
+}

@@ -1,0 +1,73 @@
+#include <gtest/gtest.h>
+
+#include <assistive_obstacles/temporal_filter.h>
+
+using namespace assistive_obstacles;
+
+TEST(TemporalFilter, UndecidedUntilFiveObservations)
+{
+  TemporalFilter f;
+  f.resize(52);
+  EXPECT_EQ(f.code(3, 4), UNKNOWN);
+  for (int i = 0; i < 4; ++i) f.vote(3, 4, FrameLabel::FREE);
+  EXPECT_EQ(f.code(3, 4), UNKNOWN);
+  f.vote(3, 4, FrameLabel::NONE);  // no vote
+  EXPECT_EQ(f.code(3, 4), UNKNOWN);
+  f.vote(3, 4, FrameLabel::FREE);
+  EXPECT_EQ(f.code(3, 4), FREE);
+  // Majority rule: O/(O+S) > 0.5 -> obstacle.
+  for (int i = 0; i < 5; ++i) f.vote(3, 4, FrameLabel::OBSTACLE);
+  EXPECT_EQ(f.code(3, 4), FREE);  // 5/10 is not > 0.5
+  f.vote(3, 4, FrameLabel::OBSTACLE);
+  EXPECT_EQ(f.code(3, 4), OBSTACLE);
+  EXPECT_EQ(f.find(3, 4)->flips, 1);
+}
+
+TEST(TemporalFilter, StepVotesGiveStepCode)
+{
+  TemporalFilter f;
+  f.resize(10);
+  for (int i = 0; i < 6; ++i) f.vote(0, 0, FrameLabel::STEP);
+  EXPECT_EQ(f.code(0, 0), STEP);
+}
+
+TEST(TemporalFilter, FlickeringCellBecomesPermanentObstacleAfter15Flips)
+{
+  TemporalFilter f;
+  f.resize(52);
+  // Settle near 50 %, then alternate: every vote flips the label.
+  int votes = 0;
+  for (int i = 0; i < 3; ++i, ++votes) f.vote(7, -2, FrameLabel::OBSTACLE);
+  for (int i = 0; i < 2; ++i, ++votes) f.vote(7, -2, FrameLabel::FREE);
+  ASSERT_EQ(f.code(7, -2), OBSTACLE);
+  int flips_seen = 0;
+  bool alt = false;
+  while (!f.find(7, -2)->permanent && votes < 200)
+  {
+    f.vote(7, -2, alt ? FrameLabel::OBSTACLE : FrameLabel::FREE);
+    alt = !alt;
+    ++votes;
+    flips_seen = f.find(7, -2)->flips;
+    if (!f.find(7, -2)->permanent)
+    {
+      EXPECT_LT(flips_seen, 15);
+    }
+  }
+  ASSERT_TRUE(f.find(7, -2)->permanent);
+  EXPECT_EQ(f.find(7, -2)->flips, 15);
+  EXPECT_EQ(f.code(7, -2), OBSTACLE);
+  for (int i = 0; i < 100; ++i) f.vote(7, -2, FrameLabel::FREE);
+  EXPECT_EQ(f.code(7, -2), OBSTACLE);  // for good
+}
+
+TEST(TemporalFilter, RingSlotReusedForAnotherCellStartsUnknown)
+{
+  TemporalFilter f;
+  f.resize(10);
+  for (int i = 0; i < 6; ++i) f.vote(1, 1, FrameLabel::OBSTACLE);
+  EXPECT_EQ(f.code(1, 1), OBSTACLE);
+  EXPECT_EQ(f.code(11, 1), UNKNOWN);  // same slot, other cell: not inherited
+  f.vote(11, 1, FrameLabel::FREE);
+  EXPECT_EQ(f.code(1, 1), UNKNOWN);   // scrolled out
+  EXPECT_EQ(f.code(-9, 1), UNKNOWN);
+}
