@@ -1,1 +1,249 @@
-int main() { return 0; }
+// rosrun assistive_obstacles disparity_benchmark DIR
+// Scores the obstacle stage's DEFAULT disparity configuration on the real stereo pairs of DIR
+// (/work/shared/data/real/stereo_disparity: items 3-5 of its README) beside the peer,
+// full-resolution OpenCV SGBM, in the same run. KITTI D1 = % of valid GT px with |err| > 3 px and
+// > 5 % of GT; Middlebury bad-2.0 = % of valid GT px with |err| > 2 px. Pixels without an
+// estimate count as errors (no interpolation). Last stdout line: one JSON object.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <assistive_obstacles/disparity.h>
+
+using namespace assistive_obstacles;
+
+namespace
+{
+struct Item
+{
+  std::string name, folder, left, right;
+  std::string metric;  // "d1" or "bad2"
+};
+
+bool exists(const std::string& p) { return std::ifstream(p).good(); }
+
+cv::Mat readPfm(const std::string& path)
+{
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return {};
+  std::string magic;
+  int w = 0, h = 0;
+  double scale = 0;
+  f >> magic >> w >> h >> scale;
+  f.get();
+  if (magic != "Pf" || w <= 0 || h <= 0 || scale >= 0) return {};  // grey, little-endian only
+  cv::Mat m(h, w, CV_32F);
+  for (int r = h - 1; r >= 0; --r) f.read(reinterpret_cast<char*>(m.ptr<float>(r)), sizeof(float) * w);
+  if (!f) return {};
+  return m;
+}
+
+/// Ground truth as CV_32F with invalid = NaN.
+cv::Mat readGt(const Item& it)
+{
+  cv::Mat gt;
+  if (it.name == "kitti2015_000005")
+  {
+    cv::Mat raw = cv::imread(it.folder + "/gt_disparity.png", cv::IMREAD_UNCHANGED);
+    if (raw.empty() || raw.depth() != CV_16U) return {};
+    raw.convertTo(gt, CV_32F, 1.0 / 256.0);
+    gt.setTo(std::numeric_limits<float>::quiet_NaN(), raw == 0);
+  }
+  else if (it.name == "middlebury3_teddy_half")
+  {
+    gt = readPfm(it.folder + "/disp0GT.pfm");
+    if (gt.empty()) return {};
+    for (int r = 0; r < gt.rows; ++r)
+      for (int c = 0; c < gt.cols; ++c)
+        if (!std::isfinite(gt.at<float>(r, c))) gt.at<float>(r, c) = std::numeric_limits<float>::quiet_NaN();
+  }
+  else
+  {
+    cv::Mat raw = cv::imread(it.folder + "/Cones_LEFT_GT.tif", cv::IMREAD_UNCHANGED);
+    if (raw.empty()) return {};
+    raw.convertTo(gt, CV_32F);
+    gt.setTo(std::numeric_limits<float>::quiet_NaN(), gt <= 0.0f);
+  }
+  return gt;
+}
+
+struct Score
+{
+  double d1 = NAN, bad2 = NAN, density = NAN;
+};
+
+Score score(const cv::Mat& est, const cv::Mat& gt)
+{
+  size_t valid = 0, d1 = 0, bad2 = 0, have = 0;
+  for (int r = 0; r < gt.rows; ++r)
+    for (int c = 0; c < gt.cols; ++c)
+    {
+      const float g = gt.at<float>(r, c);
+      if (!std::isfinite(g)) continue;
+      ++valid;
+      const float e = est.at<float>(r, c);
+      if (!(e > 0.f))
+      {
+        ++d1;
+        ++bad2;
+        continue;
+      }
+      ++have;
+      const float err = std::abs(e - g);
+      if (err > 3.f && err > 0.05f * g) ++d1;
+      if (err > 2.f) ++bad2;
+    }
+  Score s;
+  if (valid == 0) return s;
+  s.d1 = 100.0 * d1 / valid;
+  s.bad2 = 100.0 * bad2 / valid;
+  s.density = 100.0 * have / valid;
+  return s;
+}
+
+template <typename F>
+double medianMs(F&& f, int reps)
+{
+  std::vector<double> t;
+  for (int i = 0; i < reps; ++i)
+  {
+    const auto a = std::chrono::steady_clock::now();
+    f();
+    t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - a).count());
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+std::string num(double v, int prec = 3)
+{
+  if (!std::isfinite(v)) return "null";
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(prec);
+  s << v;
+  return s.str();
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  std::string dir = argc > 1 ? argv[1] : "/work/shared/data/real/stereo_disparity";
+  int reps = 5;
+  for (int i = 2; i < argc; ++i)
+    if (std::string(argv[i]) == "--reps" && i + 1 < argc) reps = std::max(1, std::atoi(argv[++i]));
+  if (argc > 1 && (std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help"))
+  {
+    std::cout << "usage: disparity_benchmark DIR [--reps N]\n";
+    return 0;
+  }
+  const std::vector<Item> items = {
+      {"kitti2015_000005", dir + "/kitti2015_training_000005_10", "stereo_left.png", "stereo_right.png", "d1"},
+      {"middlebury3_teddy_half", dir + "/middlebury_eval3_teddy_half", "im0.png", "im1.png", "bad2"},
+      {"middlebury2003_cones_quarter", dir + "/middlebury2003_cones_quarter", "Cones_LEFT.tif", "Cones_RIGHT.tif", "bad2"},
+  };
+  const ObstaclesParams defaults;  // the stage's default configuration
+  DisparityEstimator ours(defaults);
+  const int peer_nd = defaults.max_disparity;
+
+  struct Row
+  {
+    std::string name;
+    Score ours, peer;
+    double ms = NAN, peer_ms = NAN;
+    int w = 0, h = 0;
+  };
+  std::vector<Row> rows;
+  for (const Item& it : items)
+  {
+    const std::string lp = it.folder + "/" + it.left, rp = it.folder + "/" + it.right;
+    if (!exists(lp) || !exists(rp))
+    {
+      std::cerr << "[disparity_benchmark] " << it.name << ": not found under " << it.folder << ", skipped\n";
+      continue;
+    }
+    cv::Mat l = cv::imread(lp, cv::IMREAD_GRAYSCALE), r = cv::imread(rp, cv::IMREAD_GRAYSCALE);
+    cv::Mat gt = readGt(it);
+    if (l.empty() || r.empty() || gt.empty() || gt.size() != l.size())
+    {
+      std::cerr << "[disparity_benchmark] " << it.name << ": unreadable or mismatched files, skipped\n";
+      continue;
+    }
+    std::cerr << "[disparity_benchmark] " << it.name << " " << l.cols << "x" << l.rows << " ...\n";
+    Row row;
+    row.name = it.name;
+    row.w = l.cols;
+    row.h = l.rows;
+    cv::Mat d_ours, d_peer;
+    ours.computeFullRes(l, r, d_ours);  // warm-up
+    row.ms = medianMs([&] { ours.computeFullRes(l, r, d_ours); }, reps);
+    row.peer_ms = medianMs([&] { d_peer = peerSgbm(l, r, peer_nd); }, reps);
+    row.ours = score(d_ours, gt);
+    row.peer = score(d_peer, gt);
+    rows.push_back(row);
+  }
+  if (rows.empty())
+  {
+    std::cout << "disparity_benchmark: no dataset found under " << dir << " (skipped)\n";
+    std::cout << "{\"d1_pct\": null, \"bad2_pct\": null, \"ms\": null, \"peer_d1_pct\": null, "
+                 "\"peer_bad2_pct\": null, \"peer_ms\": null, \"skipped\": true}"
+              << std::endl;
+    return 0;
+  }
+
+  std::printf("default configuration: %s, scale %.2f, %d disparities at that scale (max %d px full res), block %d\n",
+              defaults.disparity_method.c_str(), defaults.disparity_scale, ours.numDisparities(),
+              defaults.max_disparity, defaults.block_size);
+  std::printf("peer: OpenCV SGBM (MODE_SGBM), full resolution, %d disparities, block 5\n", peer_nd);
+  std::printf("%-30s %10s | %8s %8s %8s %8s | %8s %8s %8s %8s\n", "pair", "size", "D1 %", "bad2 %", "dens %", "ms",
+              "peer D1", "bad2", "dens", "ms");
+  double ms_sum = 0, pms_sum = 0;
+  std::vector<double> b2, pb2;
+  double d1 = NAN, pd1 = NAN;
+  std::ostringstream extra;
+  for (const Row& r : rows)
+  {
+    std::printf("%-30s %4dx%-5d | %8.2f %8.2f %8.1f %8.1f | %8.2f %8.2f %8.1f %8.1f\n", r.name.c_str(), r.w, r.h,
+                r.ours.d1, r.ours.bad2, r.ours.density, r.ms, r.peer.d1, r.peer.bad2, r.peer.density, r.peer_ms);
+    ms_sum += r.ms;
+    pms_sum += r.peer_ms;
+    if (r.name.rfind("kitti", 0) == 0)
+    {
+      d1 = r.ours.d1;
+      pd1 = r.peer.d1;
+    }
+    else
+    {
+      b2.push_back(r.ours.bad2);
+      pb2.push_back(r.peer.bad2);
+    }
+    extra << ", \"" << r.name << "_d1_pct\": " << num(r.ours.d1) << ", \"" << r.name << "_bad2_pct\": " << num(r.ours.bad2)
+          << ", \"" << r.name << "_ms\": " << num(r.ms) << ", \"" << r.name << "_peer_d1_pct\": " << num(r.peer.d1)
+          << ", \"" << r.name << "_peer_bad2_pct\": " << num(r.peer.bad2) << ", \"" << r.name
+          << "_peer_ms\": " << num(r.peer_ms);
+  }
+  auto mean = [](const std::vector<double>& v) -> double {
+    if (v.empty()) return NAN;
+    double s = 0;
+    for (double x : v) s += x;
+    return s / v.size();
+  };
+  const double bad2 = mean(b2), pbad2 = mean(pb2);
+  const double ms = ms_sum / rows.size(), pms = pms_sum / rows.size();
+  std::printf("\nd1_pct (KITTI) %.2f vs peer %.2f (ratio %.2f, target <= 1.5)\n", d1, pd1, d1 / pd1);
+  std::printf("bad2_pct (Middlebury mean) %.2f vs peer %.2f (ratio %.2f, target <= 1.5)\n", bad2, pbad2, bad2 / pbad2);
+  std::printf("ms per pair (mean) %.1f vs peer %.1f (speed-up %.1fx, target >= 3)\n", ms, pms, pms / ms);
+  std::cout << "{\"d1_pct\": " << num(d1) << ", \"bad2_pct\": " << num(bad2) << ", \"ms\": " << num(ms)
+            << ", \"peer_d1_pct\": " << num(pd1) << ", \"peer_bad2_pct\": " << num(pbad2) << ", \"peer_ms\": " << num(pms)
+            << ", \"speedup\": " << num(pms / ms) << extra.str() << "}" << std::endl;
+  return 0;
+}
