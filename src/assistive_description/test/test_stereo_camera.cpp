@@ -214,6 +214,14 @@ TEST(V4l2FrameSource, MissingDeviceFailsWithAClearMessage)
   EXPECT_FALSE(src.read(f, s));
 }
 
+TEST(V4l2FrameSource, NonCameraDeviceFailsWithAClearMessage)
+{
+  V4l2FrameSource src("/dev/null", 1280, 480, 30.0, "MJPG");  // exists, is not a camera
+  EXPECT_FALSE(src.open());
+  EXPECT_FALSE(src.isOpen());
+  EXPECT_NE(src.lastError().find("cannot be opened"), std::string::npos) << src.lastError();
+}
+
 int main(int argc, char** argv)
 {
   testing::InitGoogleTest(&argc, argv);
