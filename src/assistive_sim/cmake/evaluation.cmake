@@ -9,7 +9,11 @@ add_library(assistive_sim_eval
   src/eval/plots.cpp)
 target_link_libraries(assistive_sim_eval ${OpenCV_LIBRARIES})
 
-install(TARGETS assistive_sim_eval
+# ---- dataset readers for import_dataset (ROS-free: OpenCV, Eigen, yaml-cpp)
+add_library(assistive_sim_import src/eval/datasets.cpp)
+target_link_libraries(assistive_sim_import ${OpenCV_LIBRARIES} yaml-cpp)
+
+install(TARGETS assistive_sim_eval assistive_sim_import
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})
@@ -24,4 +28,9 @@ if(CATKIN_ENABLE_TESTING)
       target_compile_definitions(${t} PRIVATE ASSISTIVE_REAL_DATA_DIR="${ASSISTIVE_REAL_DATA_DIR}")
     endif()
   endforeach()
+  catkin_add_gtest(test_datasets test/eval/test_datasets.cpp)
+  if(TARGET test_datasets)
+    target_link_libraries(test_datasets assistive_sim_import gtest_main)
+    target_compile_definitions(test_datasets PRIVATE ASSISTIVE_REAL_DATA_DIR="${ASSISTIVE_REAL_DATA_DIR}")
+  endif()
 endif()
