@@ -1,15 +1,27 @@
 # Renderer engineer's part: assistive_sim_core (worlds, motion, Embree renderer; ROS-free),
 # assistive_sim_bag (stereo bag reader/writer), assistive_sim_nodelet (online renderer), render_bag.
 
+# ---- core (ROS-free)
+add_library(assistive_sim_core src/world.cpp src/texture.cpp src/motion.cpp src/renderer.cpp)
+target_link_libraries(assistive_sim_core ${OpenCV_LIBRARIES} ${YAML_CPP_LIBRARIES} yaml-cpp embree3)
+
 # ---- bag I/O (used by render_bag, import_dataset and every stage's benchmark)
 add_library(assistive_sim_bag src/stereo_bag.cpp)
 target_link_libraries(assistive_sim_bag ${catkin_LIBRARIES} ${OpenCV_LIBRARIES})
 add_dependencies(assistive_sim_bag ${catkin_EXPORTED_TARGETS})
 
-install(TARGETS assistive_sim_bag
+# ---- bag generator CLI
+add_executable(render_bag src/render_bag.cpp)
+target_link_libraries(render_bag assistive_sim_core assistive_sim_bag)
+target_compile_definitions(render_bag PRIVATE
+  ASSISTIVE_SIM_SOURCE_WORLDS="${CMAKE_CURRENT_SOURCE_DIR}/worlds"
+  ASSISTIVE_SIM_SHARE_WORLDS="${CMAKE_INSTALL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/worlds")
+
+install(TARGETS assistive_sim_core assistive_sim_bag
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})
+install(TARGETS render_bag RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_stereo_bag test/test_stereo_bag.cpp)

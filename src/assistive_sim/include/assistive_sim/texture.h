@@ -1,0 +1,62 @@
+#pragma once
+// Procedural texture tiles (OpenCV), precomputed once per material with a mip pyramid, looked up
+// by surface coordinates in metres. ROS-free.
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include <assistive_sim/world.h>
+
+namespace assistive_sim
+{
+class TextureTile
+{
+public:
+  static constexpr int SIZE = 1024;  ///< texels per tile side (power of two)
+
+  /// Generate the tile of a material (deterministic in material.seed).
+  explicit TextureTile(const Material& m);
+  TextureTile() = default;
+
+  /// Reflectance 0..1 at surface coordinates (u, v) in metres; `footprint` is the size of one
+  /// image pixel on the surface (m), choosing the mip level.
+  inline float sample(float u, float v, float footprint) const
+  {
+    float lod = std::log2(std::max(footprint * inv_texel_, 1.0f)) + 0.25f;
+    int l = static_cast<int>(lod);
+    if (l >= static_cast<int>(levels_.size())) l = static_cast<int>(levels_.size()) - 1;
+    const Level& L = levels_[l];
+    const float x = u * L.inv_texel - 0.5f, y = v * L.inv_texel - 0.5f;
+    const float fx = std::floor(x), fy = std::floor(y);
+    const float ax = x - fx, ay = y - fy;
+    const int mask = L.size - 1;
+    const int x0 = static_cast<int>(fx) & mask, y0 = static_cast<int>(fy) & mask;
+    const int x1 = (x0 + 1) & mask, y1 = (y0 + 1) & mask;
+    const uint8_t* r0 = L.data + (y0 << L.shift);
+    const uint8_t* r1 = L.data + (y1 << L.shift);
+    const float top = r0[x0] + ax * (r0[x1] - r0[x0]);
+    const float bot = r1[x0] + ax * (r1[x1] - r1[x0]);
+    return (top + ay * (bot - top)) * (1.0f / 255.0f);
+  }
+
+  double texelSize() const { return texel_; }
+  const cv::Mat& level(int i) const { return mats_[i]; }
+
+private:
+  struct Level
+  {
+    const uint8_t* data;
+    int size;
+    int shift;
+    float inv_texel;
+  };
+  void buildLevels();
+  std::vector<cv::Mat> mats_;
+  std::vector<Level> levels_;
+  double texel_ = 0.005;
+  float inv_texel_ = 200.0f;
+};
+
+}  // namespace assistive_sim

@@ -1,0 +1,138 @@
+#pragma once
+// Simulated worlds: materials, solids (boxes, cylinders, glass), the wearer's script, parsed from
+// a world YAML file (format in README.md "World files"). ROS-free.
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include <assistive_sim/types.h>
+
+namespace assistive_sim
+{
+/// Thrown for unreadable or malformed world files; what() names the file, line and field.
+class WorldError : public std::runtime_error
+{
+public:
+  explicit WorldError(const std::string& what) : std::runtime_error(what) {}
+};
+
+/// Procedural surface pattern.
+enum class Pattern
+{
+  PLAIN,   ///< uniform (bare wall); `contrast` adds faint noise
+  NOISE,   ///< multi-octave value noise
+  BRICKS,  ///< staggered bricks with mortar
+  TILES,   ///< square tiles with grout lines
+  POSTERS  ///< plain wall with scattered posters (blobs, letters, stripes)
+};
+
+struct Material
+{
+  std::string name;
+  Pattern pattern = Pattern::NOISE;
+  double albedo = 0.5;     ///< mean reflectance 0..1
+  double contrast = 0.5;   ///< amount of texture 0 (bare) .. 1
+  double scale = 0.2;      ///< m, typical feature size (brick length, tile size, noise blob)
+  uint32_t seed = 1;
+};
+
+/// A solid prism: a box (yawed rectangle footprint) or a vertical cylinder, from z0 to z1.
+struct Solid
+{
+  enum Shape { BOX, CYLINDER } shape = BOX;
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();  ///< m
+  Eigen::Vector2d half = Eigen::Vector2d(0.5, 0.5);  ///< m, box half sizes along its own x/y
+  double radius = 0.2;  ///< m (cylinder)
+  double yaw = 0.0;     ///< rad (box)
+  double z0 = 0.0, z1 = 1.0;  ///< m
+  int material = 0;
+  bool walkable = false;  ///< steps / curbs: raise the floor instead of blocking
+  bool glass = false;     ///< see-through panel (rendered as its mid plane)
+  double reflectance = 0.12;  ///< glass only
+  std::string source;     ///< e.g. "elements[3] (table)", for messages
+
+  /// Does the solid's footprint overlap the axis-aligned square [x0,x1]x[y0,y1]?
+  bool overlapsRect(double x0, double y0, double x1, double y1) const;
+  /// Is the ground point (x, y) inside the footprint?
+  bool containsXY(double x, double y, double inflate = 0.0) const;
+};
+
+/// Scripted head turn: the yaw offset of the head moves by `yaw` (rad) starting at `at` (s after
+/// the walk starts) with a smooth (quintic) profile whose peak rate is `rate` (rad/s).
+struct HeadTurn
+{
+  double at = 0.0;
+  double yaw = 0.0;
+  double rate = 0.1;
+};
+
+/// The wearer's script.
+struct TrajectoryScript
+{
+  std::vector<Eigen::Vector2d> waypoints;  ///< m, floor positions the walk follows in order
+  int loops = 1;                 ///< walk the (closed) waypoint loop this many times
+  double speed = 1.1;            ///< m/s cruise walking speed (0.8 .. 1.4)
+  double speed_variation = 0.06;  ///< relative +- modulation of the speed
+  double eye_height = 1.6;       ///< m, camera height above the floor
+  double start_still = 1.0;      ///< s standing still before walking
+  double corner_radius = 0.8;    ///< m, rounding of waypoint corners
+  double pitch_min = 10.0 * M_PI / 180.0;  ///< rad, head pitch down range
+  double pitch_max = 30.0 * M_PI / 180.0;
+  double scan_amplitude = 8.0 * M_PI / 180.0;  ///< rad, background yaw scanning
+  double scan_period = 7.0;                    ///< s
+  double bob_amplitude = 0.025;   ///< m, vertical gait bob
+  double sway_amplitude = 0.02;   ///< m, lateral gait sway
+  double step_length = 0.65;      ///< m per step
+  std::vector<HeadTurn> head_turns;  ///< explicit turns (rates in rad/s)
+  bool auto_head_turns = true;    ///< add seeded slow/medium/fast turns and jerks
+};
+
+/// A whole world.
+struct World
+{
+  std::string name;
+  std::string description;
+  std::vector<Material> materials;
+  std::vector<Solid> solids;
+  Eigen::Vector2d floor_min = Eigen::Vector2d(-5, -5), floor_max = Eigen::Vector2d(5, 5);
+  int floor_material = 0;
+  bool has_ceiling = false;
+  double ceiling_height = 2.7;
+  int ceiling_material = 0;
+  double sky_brightness = 0.75;  ///< radiance of rays that hit nothing
+  Eigen::Vector3d light_dir = Eigen::Vector3d(0.3, 0.2, 1.0).normalized();  ///< towards the light
+  TrajectoryScript trajectory;
+
+  /// Parse a world YAML file; throws WorldError "<file>:<line>: <field>: <problem>".
+  static World load(const std::string& path);
+  /// Parse YAML text (`origin` names it in messages).
+  static World parse(const std::string& yaml_text, const std::string& origin = "<string>");
+
+  /// Floor height under (x, y): the top of the highest walkable solid there, else 0.
+  double floorHeight(double x, double y) const;
+};
+
+/// Ground-truth occupancy options.
+struct OccupancyParams
+{
+  double resolution = 0.2;        ///< m
+  double head_margin = 0.15;      ///< m above the head that still counts
+  double head_above_eye = 0.12;   ///< m, top of the head above the eye height
+  double min_obstacle_height = 0.02;  ///< m above the floor below which nothing counts
+  double step_threshold = 0.05;   ///< m floor height change that marks a step (50)
+  double border = 1.0;            ///< m around the floor outside which cells are unknown
+};
+
+/// Rasterise the world into the README grid codes: 100 where any non-walkable solid overlaps
+/// the cell between floor + min_obstacle_height and eye_height + head_above_eye + head_margin,
+/// 50 where the floor height differs from a neighbour's by more than step_threshold, 0 on the
+/// floor, -1 outside it.
+OccupancyGrid computeOccupancy(const World& world, const OccupancyParams& p = {});
+
+/// Path to a shipped world: `name` is a file name stem/substring in `worlds_dir` (e.g. "course")
+/// or a path to a YAML file. Throws WorldError when nothing matches.
+std::string resolveWorldPath(const std::string& name, const std::string& worlds_dir);
+
+}  // namespace assistive_sim

@@ -1,0 +1,457 @@
+#include <assistive_sim/renderer.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+
+#include <embree3/rtcore.h>
+#include <opencv2/imgproc.hpp>
+
+namespace assistive_sim
+{
+namespace
+{
+/// Per-triangle surface data: texture frame, precomputed flat shading.
+struct Prim
+{
+  float o[3];   ///< uv origin (already shifted by the texture offset)
+  float tu[3];  ///< m -> u
+  float tv[3];  ///< m -> v
+  float n[3];   ///< unit normal
+  float shade;  ///< ambient + diffuse for the fixed light
+  int mat;      ///< texture index; -1 = glass
+  float refl;   ///< glass reflectance
+};
+
+constexpr int NOISE_BITS = 20;
+constexpr uint32_t NOISE_MASK = (1u << NOISE_BITS) - 1;
+
+uint64_t mix64(uint64_t x)
+{
+  x ^= x >> 33;
+  x *= 0xff51afd7ed558ccdULL;
+  x ^= x >> 33;
+  x *= 0xc4ceb9fe1a85ec53ULL;
+  x ^= x >> 33;
+  return x;
+}
+}  // namespace
+
+struct StereoRenderer::Impl
+{
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::vector<float> verts;  // xyz
+  std::vector<unsigned> tris;
+  std::vector<Prim> prims;
+  std::vector<TextureTile> textures;
+  std::vector<float> noise;
+  std::vector<float> radiance;  // W*H scratch
+  float sky = 0.75f;
+  Eigen::Vector3f light;
+  double texture_offset = 0.0;
+
+  void addTri(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Prim& p)
+  {
+    const unsigned base = static_cast<unsigned>(verts.size() / 3);
+    for (const auto* v : {&a, &b, &c})
+      for (int k = 0; k < 3; ++k) verts.push_back(static_cast<float>((*v)[k]));
+    tris.insert(tris.end(), {base, base + 1, base + 2});
+    prims.push_back(p);
+  }
+
+  /// Quad a-b-c-d (planar). `tu`/`tv` unit texture axes, uv = ((p - a) . tu + u0, (p - a) . tv + v0).
+  void addQuad(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& d,
+               const Eigen::Vector3d& n, const Eigen::Vector3d& tu, const Eigen::Vector3d& tv, double u0, double v0,
+               int mat, float refl = 0.f)
+  {
+    Prim p;
+    const Eigen::Vector3d o = a - tu * u0 - tv * v0;
+    for (int k = 0; k < 3; ++k)
+    {
+      p.o[k] = static_cast<float>(o[k]);
+      p.tu[k] = static_cast<float>(tu[k]);
+      p.tv[k] = static_cast<float>(tv[k]);
+      p.n[k] = static_cast<float>(n[k]);
+    }
+    p.shade = 0.5f + 0.5f * std::max(0.f, n.cast<float>().dot(light));
+    p.mat = mat;
+    p.refl = refl;
+    addTri(a, b, c, p);
+    addTri(a, c, d, p);
+  }
+
+  void addSolid(const Solid& s, size_t index)
+  {
+    const double off_u = std::fmod(index * 3.71, 17.0), off_v = std::fmod(index * 1.37, 11.0);
+    const Eigen::Vector3d Z(0, 0, 1);
+    if (s.glass)
+    {
+      const double c = std::cos(s.yaw), sn = std::sin(s.yaw);
+      const Eigen::Vector3d ax(c, sn, 0);
+      const Eigen::Vector3d A(s.center.x() - ax.x() * s.half.x(), s.center.y() - ax.y() * s.half.x(), 0);
+      const Eigen::Vector3d B(s.center.x() + ax.x() * s.half.x(), s.center.y() + ax.y() * s.half.x(), 0);
+      const Eigen::Vector3d n(-sn, c, 0);
+      addQuad(A + Z * s.z0, B + Z * s.z0, B + Z * s.z1, A + Z * s.z1, n, ax, Z, 0, 0, -1,
+              static_cast<float>(s.reflectance));
+      return;
+    }
+    std::vector<Eigen::Vector3d> ring;  // footprint, CCW seen from above
+    std::vector<double> ring_u;
+    if (s.shape == Solid::BOX)
+    {
+      const double c = std::cos(s.yaw), sn = std::sin(s.yaw);
+      const Eigen::Vector2d ax(c, sn), ay(-sn, c);
+      const double hx = s.half.x(), hy = s.half.y();
+      for (const auto& q : {Eigen::Vector2d(-hx, -hy), Eigen::Vector2d(hx, -hy), Eigen::Vector2d(hx, hy), Eigen::Vector2d(-hx, hy)})
+      {
+        const Eigen::Vector2d p = s.center + ax * q.x() + ay * q.y();
+        ring.emplace_back(p.x(), p.y(), 0.0);
+      }
+    }
+    else
+    {
+      const int n = std::max(12, std::min(48, static_cast<int>(s.radius * 80)));
+      for (int i = 0; i < n; ++i)
+      {
+        const double a = 2 * M_PI * i / n;
+        ring.emplace_back(s.center.x() + s.radius * std::cos(a), s.center.y() + s.radius * std::sin(a), 0.0);
+      }
+    }
+    // Sides.
+    double u = off_u;
+    for (size_t i = 0; i < ring.size(); ++i)
+    {
+      const Eigen::Vector3d& a = ring[i];
+      const Eigen::Vector3d& b = ring[(i + 1) % ring.size()];
+      const Eigen::Vector3d e = b - a;
+      const double len = e.norm();
+      if (len < 1e-9) continue;
+      const Eigen::Vector3d tu = e / len;
+      const Eigen::Vector3d n(tu.y(), -tu.x(), 0);  // outward for a CCW ring
+      addQuad(a + Z * s.z0, b + Z * s.z0, b + Z * s.z1, a + Z * s.z1, n, tu, Z, u, s.z0 + off_v, s.material);
+      u += len;
+    }
+    // Top (fan) and bottom when lifted.
+    const Eigen::Vector3d X(1, 0, 0), Y(0, 1, 0);
+    for (size_t i = 1; i + 1 < ring.size(); ++i)
+    {
+      Prim p;
+      const Eigen::Vector3d o = Eigen::Vector3d(off_u, off_v, 0) * -1.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        p.o[k] = static_cast<float>(o[k]);
+        p.tu[k] = static_cast<float>(X[k]);
+        p.tv[k] = static_cast<float>(Y[k]);
+        p.n[k] = static_cast<float>(Z[k]);
+      }
+      p.mat = s.material;
+      p.refl = 0.f;
+      p.shade = 0.5f + 0.5f * std::max(0.f, light.z());
+      addTri(ring[0] + Z * s.z1, ring[i] + Z * s.z1, ring[i + 1] + Z * s.z1, p);
+      if (s.z0 > 0.005)
+      {
+        for (int k = 0; k < 3; ++k) p.n[k] = static_cast<float>(-Z[k]);
+        p.shade = 0.5f + 0.5f * std::max(0.f, -light.z());
+        addTri(ring[0] + Z * s.z0, ring[i + 1] + Z * s.z0, ring[i] + Z * s.z0, p);
+      }
+    }
+  }
+
+  float shadeHit(const Prim& p, const float hx, const float hy, const float hz, float footprint) const
+  {
+    const float dx = hx - p.o[0], dy = hy - p.o[1], dz = hz - p.o[2];
+    const float u = dx * p.tu[0] + dy * p.tu[1] + dz * p.tu[2];
+    const float v = dx * p.tv[0] + dy * p.tv[1] + dz * p.tv[2];
+    return p.shade * textures[p.mat].sample(u, v, footprint);
+  }
+
+  float skyRadiance(float dz_over_norm) const { return sky * (0.85f + 0.15f * dz_over_norm); }
+
+  /// Radiance and depth (along the ray's parameter) for a single ray; follows glass.
+  float traceSingle(const Eigen::Vector3f& org, const Eigen::Vector3f& dir, float tnear, float inv_f, int depth,
+                    float& t_out, bool& through_glass) const
+  {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    rh.ray.org_x = org.x();
+    rh.ray.org_y = org.y();
+    rh.ray.org_z = org.z();
+    rh.ray.dir_x = dir.x();
+    rh.ray.dir_y = dir.y();
+    rh.ray.dir_z = dir.z();
+    rh.ray.tnear = tnear;
+    rh.ray.tfar = std::numeric_limits<float>::infinity();
+    rh.ray.mask = 0xFFFFFFFF;
+    rh.ray.flags = 0;
+    rh.ray.time = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &ctx, &rh);
+    const float dn = dir.norm();
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
+    {
+      t_out = 0.f;
+      return skyRadiance(dir.z() / dn);
+    }
+    const Prim& p = prims[rh.hit.primID];
+    const float t = rh.ray.tfar;
+    const Eigen::Vector3f h = org + t * dir;
+    if (p.mat < 0)
+    {
+      if (depth > 3)
+      {
+        t_out = t;
+        return sky;
+      }
+      through_glass = true;
+      const Eigen::Vector3f n(p.n[0], p.n[1], p.n[2]);
+      float t2 = 0.f;
+      bool dummy = false;
+      const float trans = traceSingle(org, dir, t * 1.0001f + 1e-4f, inv_f, depth + 1, t2, dummy);
+      float tr = 0.f;
+      const Eigen::Vector3f rdir = dir - 2.f * dir.dot(n) * n;
+      const float refl = traceSingle(h, rdir, 1e-3f, inv_f, 10, tr, dummy);
+      t_out = t2;
+      return (1.f - p.refl) * trans + p.refl * refl;
+    }
+    t_out = t;
+    const float cosi = std::max(std::abs(dir.x() * p.n[0] + dir.y() * p.n[1] + dir.z() * p.n[2]) / dn, 0.05f);
+    return shadeHit(p, h.x(), h.y(), h.z(), t * dn * inv_f / std::sqrt(cosi));
+  }
+};
+
+StereoRenderer::StereoRenderer(const World& world, const CameraParams& params)
+  : impl_(new Impl), params_(params)
+{
+  Impl& d = *impl_;
+  d.light = world.light_dir.cast<float>().normalized();
+  d.sky = static_cast<float>(world.sky_brightness);
+  for (const Material& m : world.materials) d.textures.emplace_back(m);
+
+  const Eigen::Vector3d X(1, 0, 0), Y(0, 1, 0), Z(0, 0, 1);
+  const Eigen::Vector3d f0(world.floor_min.x(), world.floor_min.y(), 0), f1(world.floor_max.x(), world.floor_min.y(), 0),
+      f2(world.floor_max.x(), world.floor_max.y(), 0), f3(world.floor_min.x(), world.floor_max.y(), 0);
+  d.addQuad(f0, f1, f2, f3, Z, X, Y, world.floor_min.x(), world.floor_min.y(), world.floor_material);
+  if (world.has_ceiling)
+  {
+    const Eigen::Vector3d h = Z * world.ceiling_height;
+    d.addQuad(f0 + h, f3 + h, f2 + h, f1 + h, -Z, X, Y, world.floor_min.x(), world.floor_min.y(), world.ceiling_material);
+  }
+  for (size_t i = 0; i < world.solids.size(); ++i) d.addSolid(world.solids[i], i);
+
+  d.device = rtcNewDevice("threads=1,set_affinity=0");
+  if (!d.device) throw std::runtime_error("Embree: cannot create device");
+  d.scene = rtcNewScene(d.device);
+  rtcSetSceneFlags(d.scene, RTC_SCENE_FLAG_NONE);
+  rtcSetSceneBuildQuality(d.scene, RTC_BUILD_QUALITY_HIGH);
+  RTCGeometry geom = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
+  const size_t nv = d.verts.size() / 3, nt = d.tris.size() / 3;
+  float* vb = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+  std::copy(d.verts.begin(), d.verts.end(), vb);
+  unsigned* ib = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
+  std::copy(d.tris.begin(), d.tris.end(), ib);
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(d.scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(d.scene);
+
+  // Gaussian noise table (deterministic in the seed); frames use seeded offsets into it.
+  d.noise.resize(1u << NOISE_BITS);
+  std::mt19937 rng(params_.seed * 7919u + 3u);
+  std::normal_distribution<float> N(0.f, static_cast<float>(params_.noise_sigma));
+  for (float& v : d.noise) v = N(rng);
+  d.radiance.resize(static_cast<size_t>(params_.calib.width) * params_.calib.height);
+}
+
+StereoRenderer::~StereoRenderer()
+{
+  if (impl_->scene) rtcReleaseScene(impl_->scene);
+  if (impl_->device) rtcReleaseDevice(impl_->device);
+}
+
+size_t StereoRenderer::triangleCount() const { return impl_->prims.size(); }
+
+double StereoRenderer::castRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const
+{
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  rh.ray.org_x = origin.x();
+  rh.ray.org_y = origin.y();
+  rh.ray.org_z = origin.z();
+  rh.ray.dir_x = dir.x();
+  rh.ray.dir_y = dir.y();
+  rh.ray.dir_z = dir.z();
+  rh.ray.tnear = 0;
+  rh.ray.tfar = std::numeric_limits<float>::infinity();
+  rh.ray.mask = 0xFFFFFFFF;
+  rh.ray.flags = 0;
+  rh.ray.time = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &ctx, &rh);
+  return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1.0 : rh.ray.tfar;
+}
+
+namespace
+{
+constexpr int TW = 4, TH = 4;  // 16-ray packet tile
+}
+
+void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_t frame_index, RenderOutput& out,
+                            const Eigen::Vector3d& omega)
+{
+  Impl& d = *impl_;
+  const StereoCalib& c = params_.calib;
+  const int W = c.width, H = c.height;
+  if (static_cast<int>(d.radiance.size()) != W * H) d.radiance.resize(static_cast<size_t>(W) * H);
+  const Eigen::Matrix3f R = T_wl.linear().cast<float>();
+  const float ifx = static_cast<float>(1.0 / c.fx), ify = static_cast<float>(1.0 / c.fy);
+  const float cx = static_cast<float>(c.cx), cy = static_cast<float>(c.cy);
+  const float inv_f = static_cast<float>(2.0 / (c.fx + c.fy));
+  const Eigen::Vector3f c0 = R.col(0), c1 = R.col(1), c2 = R.col(2);
+
+  // Exposure (gain) over time, shared by both cameras.
+  const double ev = params_.exposure_variation;
+  const double ph = (params_.seed % 97) * 0.1;
+  const double gain = params_.gain * (1.0 + ev * std::sin(2 * M_PI * stamp / params_.exposure_period + ph)) *
+                      (1.0 + 0.4 * ev * std::sin(2 * M_PI * stamp / (0.37 * params_.exposure_period) + 2 * ph));
+  const float scale = static_cast<float>(255.0 * gain);
+
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+
+  for (int cam = 0; cam < 2; ++cam)
+  {
+    cv::Mat& img = cam == 0 ? out.left : out.right;
+    cv::Mat& depth = cam == 0 ? out.depth_left : out.depth_right;
+    img.create(H, W, CV_8UC1);
+    depth.create(H, W, CV_32FC1);
+    if (cam == 0) out.glass_left.create(H, W, CV_8UC1);
+    const Eigen::Vector3d o_d = T_wl * Eigen::Vector3d(cam == 0 ? 0.0 : c.baseline, 0, 0);
+    const Eigen::Vector3f org = o_d.cast<float>();
+    float* rad = d.radiance.data();
+
+    alignas(64) RTCRayHit16 rh;
+    alignas(64) int valid[16];
+    for (int ty = 0; ty < H; ty += TH)
+      for (int tx = 0; tx < W; tx += TW)
+      {
+        for (int i = 0; i < 16; ++i)
+        {
+          const int u = tx + (i & 3), v = ty + (i >> 2);
+          valid[i] = (u < W && v < H) ? -1 : 0;
+          const float x = (u - cx) * ifx, y = (v - cy) * ify;
+          rh.ray.org_x[i] = org.x();
+          rh.ray.org_y[i] = org.y();
+          rh.ray.org_z[i] = org.z();
+          rh.ray.dir_x[i] = c0.x() * x + c1.x() * y + c2.x();
+          rh.ray.dir_y[i] = c0.y() * x + c1.y() * y + c2.y();
+          rh.ray.dir_z[i] = c0.z() * x + c1.z() * y + c2.z();
+          rh.ray.tnear[i] = 0.f;
+          rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
+          rh.ray.mask[i] = 0xFFFFFFFF;
+          rh.ray.flags[i] = 0;
+          rh.ray.time[i] = 0.f;
+          rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect16(valid, d.scene, &ctx, &rh);
+        for (int i = 0; i < 16; ++i)
+        {
+          if (!valid[i]) continue;
+          const int u = tx + (i & 3), v = ty + (i >> 2);
+          const size_t idx = static_cast<size_t>(v) * W + u;
+          const float dx = rh.ray.dir_x[i], dy = rh.ray.dir_y[i], dz = rh.ray.dir_z[i];
+          const float x = (u - cx) * ifx, y = (v - cy) * ify;
+          const float dn = std::sqrt(1.f + x * x + y * y);
+          uint8_t glass = 0;
+          float r, t;
+          if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID)
+          {
+            r = d.skyRadiance(dz / dn);
+            t = 0.f;
+          }
+          else
+          {
+            const Prim& p = d.prims[rh.hit.primID[i]];
+            t = rh.ray.tfar[i];
+            if (p.mat < 0)
+            {
+              bool through = false;
+              // Re-trace from the camera past the glass (same parametrisation: t stays Z).
+              float tt = 0.f;
+              const Eigen::Vector3f dir(dx, dy, dz);
+              const Eigen::Vector3f h = org + t * dir;
+              const Eigen::Vector3f n(p.n[0], p.n[1], p.n[2]);
+              const float trans = d.traceSingle(org, dir, t * 1.0001f + 1e-4f, inv_f, 1, tt, through);
+              float tr = 0.f;
+              const Eigen::Vector3f rdir = dir - 2.f * dir.dot(n) * n;
+              const float refl = d.traceSingle(h, rdir, 1e-3f, inv_f, 10, tr, through);
+              r = (1.f - p.refl) * trans + p.refl * refl;
+              t = tt;
+              glass = 255;
+            }
+            else
+            {
+              const float cosi = std::max(std::abs(dx * p.n[0] + dy * p.n[1] + dz * p.n[2]) / dn, 0.05f);
+              r = d.shadeHit(p, org.x() + t * dx, org.y() + t * dy, org.z() + t * dz,
+                             t * dn * inv_f / std::sqrt(cosi));
+            }
+          }
+          rad[idx] = r;
+          depth.at<float>(v, u) = t;
+          if (cam == 0) out.glass_left.at<uint8_t>(v, u) = glass;
+        }
+      }
+
+    // Motion blur: a line kernel along the image motion of the principal point during the exposure.
+    if (params_.exposure_time > 0.0)
+    {
+      const double du = -c.fx * omega.y() * params_.exposure_time;
+      const double dv = c.fy * omega.x() * params_.exposure_time;
+      const double len = std::hypot(du, dv);
+      if (len > 0.7)
+      {
+        const int k = 2 * static_cast<int>(std::ceil(len / 2)) + 1;
+        cv::Mat kernel = cv::Mat::zeros(k, k, CV_32F);
+        const int steps = 4 * k;
+        for (int s = 0; s <= steps; ++s)
+        {
+          const double a = static_cast<double>(s) / steps - 0.5;
+          const int px = static_cast<int>(std::lround(k / 2 + a * du));
+          const int py = static_cast<int>(std::lround(k / 2 + a * dv));
+          kernel.at<float>(std::clamp(py, 0, k - 1), std::clamp(px, 0, k - 1)) += 1.f;
+        }
+        kernel /= cv::sum(kernel)[0];
+        cv::Mat radm(H, W, CV_32F, rad);
+        cv::Mat blurred;
+        cv::filter2D(radm, blurred, -1, kernel, cv::Point(-1, -1), 0, cv::BORDER_REPLICATE);
+        blurred.copyTo(radm);
+      }
+    }
+
+    // Quantise with noise.
+    const uint32_t off = static_cast<uint32_t>(mix64(params_.seed * 1000003ULL + frame_index * 2 + cam));
+    const float* nz = d.noise.data();
+    const bool noisy = params_.noise_sigma > 0.0;
+    for (int v = 0; v < H; ++v)
+    {
+      uint8_t* row = img.ptr<uint8_t>(v);
+      const float* rr = rad + static_cast<size_t>(v) * W;
+      const uint32_t base = off + static_cast<uint32_t>(v) * W;
+      for (int u = 0; u < W; ++u)
+      {
+        float val = rr[u] * scale + (noisy ? nz[(base + u) & NOISE_MASK] : 0.f) + 0.5f;
+        row[u] = static_cast<uint8_t>(std::clamp(val, 0.f, 255.f));
+      }
+    }
+  }
+}
+
+}  // namespace assistive_sim
