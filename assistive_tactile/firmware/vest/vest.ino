@@ -1,0 +1,59 @@
+/*
+ * Tactile vest firmware (Arduino Duemilanove / Uno, ATmega328 @ 16 MHz).
+ *
+ * Four vibration motors on PWM pins (through a driver transistor each):
+ *   motor 0 left shoulder  -> pin 3  (Timer2)
+ *   motor 1 right shoulder -> pin 9  (Timer1)
+ *   motor 2 left waist     -> pin 10 (Timer1)
+ *   motor 3 right waist    -> pin 11 (Timer2)
+ * Serial (hardware UART, USB or XBee): 57600 baud 8N1, the packets of vest_protocol.h (the same
+ * file the ROS bridge compiles; here a symlink to include/assistive_tactile/vest_protocol.h).
+ *
+ * Behaviour (all of it in vest_protocol.h's vest_firmware_* functions, shared with the simulated
+ * vest, so what the tests check is what this sketch does):
+ *   - bytes are scanned for valid packets; bad CRC / truncated / garbage bytes are skipped;
+ *   - a valid COMMAND sets the four PWM duties and is answered with a STATUS packet;
+ *   - no valid COMMAND for 500 ms (VEST_WATCHDOG_MS) -> every motor off.
+ * Motors are off at power-up until the first valid COMMAND.
+ */
+#include "vest_protocol.h"
+
+static const uint8_t MOTOR_PINS[VEST_NUM_MOTORS] = { 3, 9, 10, 11 };
+static const long BAUD = 57600;
+
+static vest_firmware_t fw;
+
+static void applyOutputs()
+{
+  for (uint8_t i = 0; i < VEST_NUM_MOTORS; ++i)
+    analogWrite(MOTOR_PINS[i], fw.duty[i]);
+}
+
+void setup()
+{
+  for (uint8_t i = 0; i < VEST_NUM_MOTORS; ++i)
+  {
+    pinMode(MOTOR_PINS[i], OUTPUT);
+    digitalWrite(MOTOR_PINS[i], LOW);
+  }
+  Serial.begin(BAUD);
+  vest_firmware_init(&fw, millis());
+}
+
+void loop()
+{
+  while (Serial.available() > 0)
+  {
+    const uint8_t byte = (uint8_t)Serial.read();
+    vest_packet_t status;
+    if (vest_firmware_feed(&fw, byte, millis(), &status))
+    {
+      applyOutputs();
+      uint8_t out[VEST_PACKET_SIZE];
+      vest_encode(&status, out);
+      Serial.write(out, VEST_PACKET_SIZE);
+    }
+  }
+  if (vest_firmware_tick(&fw, millis()))
+    applyOutputs();  // watchdog: all motors off
+}

@@ -1,0 +1,1 @@
+../../include/assistive_tactile/vest_protocol.h

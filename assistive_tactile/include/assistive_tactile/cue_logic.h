@@ -1,0 +1,103 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "assistive_tactile/params.h"
+
+namespace assistive_tactile
+{
+/// Mirrors assistive_msgs/NavigationState status codes.
+enum class NavStatus : uint8_t
+{
+  OK = 0,
+  NO_POSE = 1,
+  NO_MAP = 2,
+  IN_UNKNOWN = 3,
+  NO_PATH = 4,
+  NO_WAYPOINT = 5
+};
+
+/// Mirrors assistive_msgs/TactileCue modes.
+enum class CueMode : uint8_t
+{
+  IDLE = 0,
+  GUIDANCE = 1,
+  PROXIMITY = 2,
+  ALERT = 3,
+  UNSURE = 4
+};
+
+enum Motor : int
+{
+  LEFT_SHOULDER = 0,
+  RIGHT_SHOULDER = 1,
+  LEFT_WAIST = 2,
+  RIGHT_WAIST = 3,
+  NUM_MOTORS = 4
+};
+
+/// What the cue logic needs from the planner state (SI units, radians).
+struct NavInput
+{
+  NavStatus status = NavStatus::NO_POSE;
+  std::string message;
+  double heading = 0.0;          ///< motion vector yaw
+  double path_heading = 0.0;     ///< yaw of the path segment ahead
+  double waypoint_distance = 0.0;
+  double free_ahead = 0.0;
+  double free_left = 0.0;
+  double free_right = 0.0;
+};
+
+struct Cue
+{
+  CueMode mode = CueMode::UNSURE;
+  std::array<float, NUM_MOTORS> intensity{ { 0.f, 0.f, 0.f, 0.f } };
+  std::string reason;
+};
+
+const char* modeName(CueMode m);
+
+/// Wraps an angle to (-pi, pi].
+double wrapAngle(double a);
+
+/**
+ * Guidance / proximity / alert / unsure decisions (seed 5.3), with two fixes from seed 5.5.3:
+ * intensity follows the turn still needed (falls to zero as the wearer lines up, so wearers do
+ * not over-turn), and every threshold has hysteresis so cues do not chatter. Stateful (the
+ * hysteresis); not thread-safe. Times are seconds on any monotonic clock.
+ */
+class CueLogic
+{
+public:
+  explicit CueLogic(const CueParams& p = CueParams()) : params_(p) {}
+
+  const CueParams& params() const { return params_; }
+
+  /// One planner state -> one cue. `now` is when the state arrived.
+  Cue update(const NavInput& in, double now);
+
+  /// True when no state arrived for state_timeout_s (or none ever).
+  bool stale(double now) const;
+
+  /// The cue to send while the planner state is stale (motors off, mode UNSURE).
+  Cue staleCue(double now);
+
+  /// Forget the hysteresis state (e.g. after a stale period).
+  void reset();
+
+private:
+  Cue decideProximity(const NavInput& in, bool have_path);
+  Cue decideGuidance(const NavInput& in);
+
+  CueParams params_;
+  CueMode last_mode_ = CueMode::UNSURE;
+  int turn_side_ = 0;   ///< +1 left shoulder active, -1 right, 0 none
+  int waist_side_ = 0;  ///< +1 left waist, -1 right, 0 none
+  double last_state_time_ = -1e300;
+  bool have_state_ = false;
+};
+
+}  // namespace assistive_tactile

@@ -1,0 +1,64 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "assistive_tactile/vest_protocol.h"
+
+namespace assistive_tactile
+{
+/**
+ * The simulated vest: the firmware's side of vest_protocol.h (the very vest_firmware_* code the
+ * sketch runs) on a pseudo-terminal. The bridge opens the pty's slave (or the symlink to it)
+ * like a USB serial port. close() makes the port disappear (the bridge sees a hang-up), open()
+ * brings a new one back under the same link.
+ */
+class SimVest
+{
+public:
+  SimVest() = default;
+  ~SimVest();
+  SimVest(const SimVest&) = delete;
+  SimVest& operator=(const SimVest&) = delete;
+
+  /// Opens a new pty (posix_openpt); when `link` is not empty, (re)points that symlink at it.
+  bool open(const std::string& link, uint32_t now_ms, std::string* error);
+  /// Closes the pty and removes the link: the port disappears.
+  void close();
+  bool isOpen() const { return master_ >= 0; }
+  const std::string& slavePath() const { return slave_path_; }
+
+  /// Waits up to timeout_ms for bytes, feeds them to the firmware, answers valid COMMANDs with a
+  /// STATUS, runs the watchdog. Returns the number of COMMANDs applied.
+  int poll(int timeout_ms, uint32_t now_ms);
+  /// Watchdog only (no bytes).
+  void tick(uint32_t now_ms);
+
+  /// Writes raw bytes towards the bridge (tests: garbage from the device).
+  bool inject(const uint8_t* data, size_t len);
+
+  const vest_firmware_t& firmware() const { return fw_; }
+  std::array<uint8_t, VEST_NUM_MOTORS> duty() const;
+  uint64_t commands() const { return commands_; }
+
+  /// Called with a one-line description whenever the motor outputs change.
+  std::function<void(uint32_t now_ms, const std::string& line)> on_change;
+  bool reply_status = true;
+
+  /// "L-sh 200  R-sh   0  L-w   0  R-w   0"
+  static std::string describe(const uint8_t* duty);
+
+private:
+  void reportIfChanged(uint32_t now_ms, const char* why);
+
+  int master_ = -1;
+  int slave_hold_ = -1;  ///< keeps the slave side open so reads never see EIO between clients
+  std::string slave_path_, link_;
+  vest_firmware_t fw_{};
+  std::array<uint8_t, VEST_NUM_MOTORS> reported_{ { 0, 0, 0, 0 } };
+  uint64_t commands_ = 0;
+};
+
+}  // namespace assistive_tactile

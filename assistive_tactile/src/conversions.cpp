@@ -1,0 +1,52 @@
+#include "assistive_tactile/conversions.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace assistive_tactile
+{
+NavInput fromMsg(const assistive_msgs::NavigationState& msg)
+{
+  NavInput in;
+  in.status = msg.status <= static_cast<uint8_t>(NavStatus::NO_WAYPOINT) ? static_cast<NavStatus>(msg.status) :
+                                                                           NavStatus::NO_POSE;
+  in.message = msg.message;
+  if (msg.status > static_cast<uint8_t>(NavStatus::NO_WAYPOINT))
+    in.message = "unknown planner status " + std::to_string(msg.status);
+  in.heading = msg.heading;
+  in.path_heading = msg.path_heading;
+  in.waypoint_distance = msg.waypoint_distance;
+  in.free_ahead = msg.free_distance_ahead;
+  in.free_left = msg.free_distance_left;
+  in.free_right = msg.free_distance_right;
+  return in;
+}
+
+assistive_msgs::TactileCue toMsg(const Cue& cue, const ros::Time& stamp, const ros::Time& source_stamp,
+                                 const std::string& frame_id)
+{
+  assistive_msgs::TactileCue m;
+  m.header.stamp = stamp;
+  m.header.frame_id = frame_id;
+  m.source_stamp = source_stamp;
+  m.mode = static_cast<uint8_t>(cue.mode);
+  for (int i = 0; i < NUM_MOTORS; ++i)
+    m.intensity[i] = cue.intensity[i];
+  m.reason = cue.reason;
+  return m;
+}
+
+Cue fromMsg(const assistive_msgs::TactileCue& msg)
+{
+  Cue c;
+  c.mode = msg.mode <= static_cast<uint8_t>(CueMode::UNSURE) ? static_cast<CueMode>(msg.mode) : CueMode::UNSURE;
+  for (int i = 0; i < NUM_MOTORS; ++i)
+  {
+    const float v = msg.intensity[i];
+    c.intensity[i] = std::isfinite(v) ? std::min(1.f, std::max(0.f, v)) : 0.f;
+  }
+  c.reason = msg.reason;
+  return c;
+}
+
+}  // namespace assistive_tactile

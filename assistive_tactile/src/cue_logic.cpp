@@ -1,0 +1,226 @@
+#include "assistive_tactile/cue_logic.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace assistive_tactile
+{
+namespace
+{
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+double clamp01(double v)
+{
+  return std::min(1.0, std::max(0.0, v));
+}
+
+std::string fmt(const char* f, double a)
+{
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), f, a);
+  return buf;
+}
+
+}  // namespace
+
+const char* modeName(CueMode m)
+{
+  switch (m)
+  {
+    case CueMode::IDLE:
+      return "IDLE";
+    case CueMode::GUIDANCE:
+      return "GUIDANCE";
+    case CueMode::PROXIMITY:
+      return "PROXIMITY";
+    case CueMode::ALERT:
+      return "ALERT";
+    case CueMode::UNSURE:
+      return "UNSURE";
+  }
+  return "?";
+}
+
+double wrapAngle(double a)
+{
+  a = std::fmod(a + M_PI, 2.0 * M_PI);
+  if (a <= 0.0)
+    a += 2.0 * M_PI;
+  return a - M_PI;
+}
+
+void CueLogic::reset()
+{
+  last_mode_ = CueMode::UNSURE;
+  turn_side_ = 0;
+  waist_side_ = 0;
+}
+
+bool CueLogic::stale(double now) const
+{
+  return !have_state_ || (now - last_state_time_) > params_.state_timeout_s;
+}
+
+Cue CueLogic::staleCue(double now)
+{
+  reset();
+  Cue c;
+  c.mode = CueMode::UNSURE;
+  c.reason = have_state_ ? fmt("planner state stale (%.1f s old)", now - last_state_time_) :
+                           std::string("no planner state yet");
+  return c;
+}
+
+Cue CueLogic::update(const NavInput& in, double now)
+{
+  have_state_ = true;
+  last_state_time_ = now;
+
+  Cue c;
+  const bool finite = std::isfinite(in.heading) && std::isfinite(in.path_heading) &&
+                      std::isfinite(in.waypoint_distance) && !std::isnan(in.free_ahead) &&
+                      !std::isnan(in.free_left) && !std::isnan(in.free_right);
+  const std::string suffix = in.message.empty() ? std::string() : ": " + in.message;
+  if (!finite)
+  {
+    reset();
+    c.mode = CueMode::UNSURE;
+    c.reason = "invalid planner state (NaN)";
+    return c;
+  }
+
+  switch (in.status)
+  {
+    case NavStatus::OK:
+    {
+      c = decideProximity(in, true);
+      if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
+        c = decideGuidance(in);
+      break;
+    }
+    case NavStatus::NO_PATH:
+    case NavStatus::NO_WAYPOINT:
+    {
+      // Map and pose are valid, so free distances are: still warn of what is close.
+      c = decideProximity(in, false);
+      if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
+      {
+        turn_side_ = 0;
+        c.mode = CueMode::UNSURE;
+        c.intensity.fill(0.f);
+        c.reason = std::string(in.status == NavStatus::NO_PATH ? "no path" : "no waypoint") + suffix;
+      }
+      break;
+    }
+    case NavStatus::NO_POSE:
+    case NavStatus::NO_MAP:
+    case NavStatus::IN_UNKNOWN:
+    default:
+    {
+      // The vest goes quiet rather than lying.
+      reset();
+      c.mode = CueMode::UNSURE;
+      const char* what = in.status == NavStatus::NO_POSE  ? "no pose" :
+                         in.status == NavStatus::NO_MAP   ? "no map" :
+                         in.status == NavStatus::IN_UNKNOWN ? "in unknown space" :
+                                                              "unknown planner status";
+      c.reason = what + suffix;
+      break;
+    }
+  }
+  last_mode_ = c.mode;
+  return c;
+}
+
+Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
+{
+  const CueParams& p = params_;
+  Cue c;
+  c.mode = CueMode::IDLE;
+  const bool was_alert = last_mode_ == CueMode::ALERT;
+  const bool was_close = was_alert || last_mode_ == CueMode::PROXIMITY;
+  const double d = in.free_ahead;
+  const bool alert = d < p.alert_m + (was_alert ? p.hysteresis_m : 0.0);
+  const bool close = d < p.proximity_m + (was_close ? p.hysteresis_m : 0.0);
+  if (!close)
+  {
+    waist_side_ = 0;
+    return c;
+  }
+  if (alert)
+  {
+    waist_side_ = 0;
+    c.mode = CueMode::ALERT;
+    c.intensity.fill(1.f);
+    c.reason = fmt("obstacle %.2f m ahead: stop", std::max(0.0, d));
+    return c;
+  }
+  // Room to side-step? The side in use keeps counting as free down to side_free_m - hysteresis.
+  const double left_need = p.side_free_m - (waist_side_ > 0 ? p.hysteresis_m : 0.0);
+  const double right_need = p.side_free_m - (waist_side_ < 0 ? p.hysteresis_m : 0.0);
+  const bool left_ok = in.free_left >= left_need;
+  const bool right_ok = in.free_right >= right_need;
+  int side = 0;
+  if (waist_side_ > 0 && left_ok)
+    side = (right_ok && in.free_right > in.free_left + p.side_switch_m) ? -1 : +1;
+  else if (waist_side_ < 0 && right_ok)
+    side = (left_ok && in.free_left > in.free_right + p.side_switch_m) ? +1 : -1;
+  else if (left_ok || right_ok)
+    side = (left_ok && (!right_ok || in.free_left >= in.free_right)) ? +1 : -1;
+  if (side == 0)
+  {
+    waist_side_ = 0;
+    c.mode = CueMode::ALERT;
+    c.intensity.fill(1.f);
+    c.reason = fmt("obstacle %.2f m ahead, no room left or right: stop", d);
+    return c;
+  }
+  waist_side_ = side;
+  const double span = std::max(1e-6, p.proximity_m - p.alert_m);
+  const double k = clamp01((p.proximity_m - d) / span);
+  const float level = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * k);
+  c.mode = CueMode::PROXIMITY;
+  c.intensity[side > 0 ? LEFT_WAIST : RIGHT_WAIST] = level;
+  c.reason = fmt(side > 0 ? "obstacle %.2f m ahead: step left" : "obstacle %.2f m ahead: step right", d);
+  turn_side_ = 0;
+  return c;
+}
+
+Cue CueLogic::decideGuidance(const NavInput& in)
+{
+  const CueParams& p = params_;
+  Cue c;
+  c.mode = CueMode::IDLE;
+  const bool guiding = last_mode_ == CueMode::GUIDANCE;
+  const double min_wp = p.guidance_min_waypoint_m - (guiding ? p.hysteresis_m : 0.0);
+  if (in.waypoint_distance < min_wp)
+  {
+    turn_side_ = 0;
+    c.reason = fmt("waypoint %.2f m away: walk on", in.waypoint_distance);
+    return c;
+  }
+  const double dev = wrapAngle(in.path_heading - in.heading) * kRadToDeg;  // + = turn left
+  const double a = std::fabs(dev);
+  const int sign = dev > 0.0 ? +1 : -1;
+  int side = 0;
+  if (turn_side_ != 0 && sign == turn_side_)
+    side = a > p.turn_off_deg ? turn_side_ : 0;  // keep turning until lined up
+  else
+    side = a > p.turn_on_deg ? sign : 0;  // new turn (or overshoot past turn_on to the other side)
+  turn_side_ = side;
+  if (side == 0)
+  {
+    c.reason = fmt("on course (%.0f deg off)", dev);
+    return c;
+  }
+  const double span = std::max(1e-6, p.turn_full_deg - p.turn_off_deg);
+  const double k = clamp01((a - p.turn_off_deg) / span);
+  const float level = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * k);
+  c.mode = CueMode::GUIDANCE;
+  c.intensity[side > 0 ? LEFT_SHOULDER : RIGHT_SHOULDER] = level;
+  c.reason = fmt(side > 0 ? "turn left %.0f deg" : "turn right %.0f deg", a);
+  return c;
+}
+
+}  // namespace assistive_tactile

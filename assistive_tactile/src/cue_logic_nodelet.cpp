@@ -1,0 +1,188 @@
+// Cue logic nodelet: planner/state -> tactile/cue (+ tactile/markers, /diagnostics). Glue only.
+#include <assistive_msgs/NavigationState.h>
+#include <assistive_msgs/TactileCue.h>
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/ros.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <mutex>
+
+#include "assistive_tactile/conversions.h"
+#include "assistive_tactile/cue_logic.h"
+
+namespace assistive_tactile
+{
+class CueLogicNodelet : public nodelet::Nodelet
+{
+public:
+  ~CueLogicNodelet() override
+  {
+    timer_.stop();
+  }
+
+private:
+  void onInit() override
+  {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    CueParams p;
+    pnh.param("guidance_min_waypoint_m", p.guidance_min_waypoint_m, p.guidance_min_waypoint_m);
+    pnh.param("turn_on_deg", p.turn_on_deg, p.turn_on_deg);
+    pnh.param("turn_off_deg", p.turn_off_deg, p.turn_off_deg);
+    pnh.param("turn_full_deg", p.turn_full_deg, p.turn_full_deg);
+    pnh.param("min_intensity", p.min_intensity, p.min_intensity);
+    pnh.param("proximity_m", p.proximity_m, p.proximity_m);
+    pnh.param("alert_m", p.alert_m, p.alert_m);
+    pnh.param("hysteresis_m", p.hysteresis_m, p.hysteresis_m);
+    pnh.param("side_free_m", p.side_free_m, p.side_free_m);
+    pnh.param("side_switch_m", p.side_switch_m, p.side_switch_m);
+    pnh.param("state_timeout_s", p.state_timeout_s, p.state_timeout_s);
+    pnh.param("heartbeat_hz", p.heartbeat_hz, p.heartbeat_hz);
+    pnh.param("body_frame", p.body_frame, p.body_frame);
+    auto warn = [this](bool clamped, const char* name, double v) {
+      if (clamped)
+        NODELET_WARN("cue_logic: %s out of range, clamped to %g", name, v);
+    };
+    warn(clampParam(p.turn_on_deg, 1.0, 170.0), "turn_on_deg", p.turn_on_deg);
+    warn(clampParam(p.turn_off_deg, 0.0, p.turn_on_deg), "turn_off_deg (<= turn_on_deg)", p.turn_off_deg);
+    warn(clampParam(p.turn_full_deg, p.turn_on_deg, 180.0), "turn_full_deg (>= turn_on_deg)", p.turn_full_deg);
+    warn(clampParam(p.min_intensity, 0.0, 1.0), "min_intensity", p.min_intensity);
+    warn(clampParam(p.alert_m, 0.0, 10.0), "alert_m", p.alert_m);
+    warn(clampParam(p.proximity_m, p.alert_m, 10.0), "proximity_m (>= alert_m)", p.proximity_m);
+    warn(clampParam(p.guidance_min_waypoint_m, 0.0, 20.0), "guidance_min_waypoint_m", p.guidance_min_waypoint_m);
+    warn(clampParam(p.hysteresis_m, 0.0, 1.0), "hysteresis_m", p.hysteresis_m);
+    warn(clampParam(p.side_free_m, 0.0, 10.0), "side_free_m", p.side_free_m);
+    warn(clampParam(p.side_switch_m, 0.0, 10.0), "side_switch_m", p.side_switch_m);
+    warn(clampParam(p.state_timeout_s, 0.05, 10.0), "state_timeout_s", p.state_timeout_s);
+    warn(clampParam(p.heartbeat_hz, 1.0, 100.0), "heartbeat_hz", p.heartbeat_hz);
+    NODELET_INFO("cue_logic: turn on/off/full %.0f/%.0f/%.0f deg, proximity %.2f m, alert %.2f m, "
+                 "hysteresis %.2f m, side free %.2f m, state timeout %.2f s, heartbeat %.1f Hz",
+                 p.turn_on_deg, p.turn_off_deg, p.turn_full_deg, p.proximity_m, p.alert_m, p.hysteresis_m,
+                 p.side_free_m, p.state_timeout_s, p.heartbeat_hz);
+    logic_ = CueLogic(p);
+
+    cue_pub_ = nh.advertise<assistive_msgs::TactileCue>("tactile/cue", 1);
+    marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("tactile/markers", 1);
+    state_sub_ = nh.subscribe("planner/state", 1, &CueLogicNodelet::stateCb, this);
+    updater_.reset(new diagnostic_updater::Updater(nh, pnh, getName()));
+    updater_->setHardwareID("cue_logic");
+    updater_->add("cue logic", this, &CueLogicNodelet::diagnose);
+    timer_ = nh.createTimer(ros::Duration(1.0 / p.heartbeat_hz), &CueLogicNodelet::timerCb, this);
+  }
+
+  void stateCb(const assistive_msgs::NavigationState::ConstPtr& msg)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const ros::Time now = ros::Time::now();
+    const Cue cue = logic_.update(fromMsg(*msg), now.toSec());
+    if (cue.reason.find("NaN") != std::string::npos)
+      NODELET_WARN_THROTTLE(5.0, "cue_logic: planner state with NaN fields, vest quiet");
+    publish(cue, now, msg->source_stamp);
+    ++states_;
+  }
+
+  void timerCb(const ros::TimerEvent&)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const ros::Time now = ros::Time::now();
+    if (logic_.stale(now.toSec()))
+    {
+      NODELET_WARN_THROTTLE(5.0, "cue_logic: no fresh planner/state (timeout %.2f s): vest quiet",
+                            logic_.params().state_timeout_s);
+      publish(logic_.staleCue(now.toSec()), now, last_source_stamp_);
+    }
+    else if ((now - last_pub_).toSec() >= 0.9 / logic_.params().heartbeat_hz)
+    {
+      publish(last_cue_, now, last_source_stamp_);  // heartbeat: the bridge's stale guard stays calm
+    }
+    updater_->update();
+  }
+
+  void publish(const Cue& cue, const ros::Time& now, const ros::Time& source_stamp)
+  {
+    last_cue_ = cue;
+    last_pub_ = now;
+    last_source_stamp_ = source_stamp;
+    cue_pub_.publish(boost::make_shared<assistive_msgs::TactileCue>(
+        toMsg(cue, now, source_stamp, logic_.params().body_frame)));
+    ++cues_;
+    if (marker_pub_.getNumSubscribers() > 0)
+      publishMarkers(cue, now);
+  }
+
+  void publishMarkers(const Cue& cue, const ros::Time& now)
+  {
+    static const char* frames[NUM_MOTORS] = { "motor_left_shoulder", "motor_right_shoulder", "motor_left_waist",
+                                              "motor_right_waist" };
+    auto arr = boost::make_shared<visualization_msgs::MarkerArray>();
+    for (int i = 0; i < NUM_MOTORS; ++i)
+    {
+      visualization_msgs::Marker m;
+      m.header.frame_id = frames[i];
+      m.header.stamp = ros::Time(0);  // latest tf: the motors are fixed on the wearer
+      m.ns = "tactile_motors";
+      m.id = i;
+      m.type = visualization_msgs::Marker::SPHERE;
+      m.action = visualization_msgs::Marker::ADD;
+      m.pose.orientation.w = 1.0;
+      const double k = cue.intensity[i];
+      m.scale.x = m.scale.y = m.scale.z = 0.06 + 0.08 * k;
+      m.color.r = static_cast<float>(0.4 + 0.6 * k);
+      m.color.g = static_cast<float>(0.4 * (1.0 - k));
+      m.color.b = static_cast<float>(0.4 * (1.0 - k));
+      m.color.a = k > 0.0 ? 1.0f : 0.5f;
+      arr->markers.push_back(m);
+    }
+    visualization_msgs::Marker t;
+    t.header.frame_id = logic_.params().body_frame;
+    t.header.stamp = ros::Time(0);
+    t.ns = "tactile_reason";
+    t.id = 0;
+    t.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+    t.action = visualization_msgs::Marker::ADD;
+    t.pose.position.z = 0.5;
+    t.pose.orientation.w = 1.0;
+    t.scale.z = 0.1;
+    t.color.r = t.color.g = t.color.b = t.color.a = 1.0f;
+    t.text = std::string(modeName(cue.mode)) + ": " + cue.reason;
+    arr->markers.push_back(t);
+    (void)now;
+    marker_pub_.publish(arr);
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
+  {
+    const double now = ros::Time::now().toSec();
+    if (logic_.stale(now))
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "planner state stale: vest quiet");
+    else if (last_cue_.mode == CueMode::UNSURE)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "unsure: " + last_cue_.reason);
+    else
+      stat.summary(diagnostic_msgs::DiagnosticStatus::OK, modeName(last_cue_.mode));
+    stat.add("mode", modeName(last_cue_.mode));
+    stat.add("reason", last_cue_.reason);
+    stat.add("intensity", std::to_string(last_cue_.intensity[0]) + " " + std::to_string(last_cue_.intensity[1]) +
+                              " " + std::to_string(last_cue_.intensity[2]) + " " +
+                              std::to_string(last_cue_.intensity[3]));
+    stat.add("planner states", states_);
+    stat.add("cues published", cues_);
+    if (!last_source_stamp_.isZero())
+      stat.add("source age (s)", ros::Time::now().toSec() - last_source_stamp_.toSec());
+  }
+
+  std::mutex mutex_;
+  CueLogic logic_;
+  Cue last_cue_;
+  ros::Time last_pub_, last_source_stamp_;
+  uint64_t states_ = 0, cues_ = 0;
+  ros::Publisher cue_pub_, marker_pub_;
+  ros::Subscriber state_sub_;
+  ros::Timer timer_;
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+};
+
+}  // namespace assistive_tactile
+
+PLUGINLIB_EXPORT_CLASS(assistive_tactile::CueLogicNodelet, nodelet::Nodelet)

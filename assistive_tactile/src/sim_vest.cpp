@@ -1,0 +1,154 @@
+#include "assistive_tactile/sim_vest.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <stdlib.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+
+namespace assistive_tactile
+{
+SimVest::~SimVest()
+{
+  close();
+}
+
+bool SimVest::open(const std::string& link, uint32_t now_ms, std::string* error)
+{
+  close();
+  auto fail = [&](const char* what) {
+    if (error)
+      *error = std::string(what) + ": " + std::strerror(errno);
+    close();
+    return false;
+  };
+  master_ = posix_openpt(O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (master_ < 0)
+    return fail("posix_openpt");
+  if (grantpt(master_) != 0 || unlockpt(master_) != 0)
+    return fail("grantpt/unlockpt");
+  char name[128];
+  if (ptsname_r(master_, name, sizeof(name)) != 0)
+    return fail("ptsname_r");
+  slave_path_ = name;
+  slave_hold_ = ::open(name, O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (slave_hold_ < 0)
+    return fail("open slave");
+  struct termios tio;
+  if (tcgetattr(slave_hold_, &tio) == 0)
+  {
+    cfmakeraw(&tio);  // no echo, no line editing before any client configures it
+    tcsetattr(slave_hold_, TCSANOW, &tio);
+  }
+  if (!link.empty())
+  {
+    const std::string tmp = link + ".tmp";
+    ::unlink(tmp.c_str());
+    if (::symlink(name, tmp.c_str()) != 0 || ::rename(tmp.c_str(), link.c_str()) != 0)
+      return fail("symlink");
+    link_ = link;
+  }
+  vest_firmware_init(&fw_, now_ms);
+  reported_.fill(0);
+  return true;
+}
+
+void SimVest::close()
+{
+  if (!link_.empty())
+    ::unlink(link_.c_str());
+  link_.clear();
+  if (slave_hold_ >= 0)
+    ::close(slave_hold_);
+  if (master_ >= 0)
+    ::close(master_);
+  slave_hold_ = master_ = -1;
+}
+
+std::array<uint8_t, VEST_NUM_MOTORS> SimVest::duty() const
+{
+  return { { fw_.duty[0], fw_.duty[1], fw_.duty[2], fw_.duty[3] } };
+}
+
+std::string SimVest::describe(const uint8_t* d)
+{
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), "L-sh %3u  R-sh %3u  L-w %3u  R-w %3u", d[0], d[1], d[2], d[3]);
+  return buf;
+}
+
+void SimVest::reportIfChanged(uint32_t now_ms, const char* why)
+{
+  bool changed = false;
+  for (unsigned i = 0; i < VEST_NUM_MOTORS; ++i)
+    changed = changed || reported_[i] != fw_.duty[i];
+  if (!changed)
+    return;
+  for (unsigned i = 0; i < VEST_NUM_MOTORS; ++i)
+    reported_[i] = fw_.duty[i];
+  if (on_change)
+    on_change(now_ms, describe(fw_.duty) + "  (" + why + ")");
+}
+
+bool SimVest::inject(const uint8_t* data, size_t len)
+{
+  if (master_ < 0)
+    return false;
+  return ::write(master_, data, len) == static_cast<ssize_t>(len);
+}
+
+void SimVest::tick(uint32_t now_ms)
+{
+  if (vest_firmware_tick(&fw_, now_ms))
+    reportIfChanged(now_ms, "watchdog: no valid packet for 500 ms");
+}
+
+int SimVest::poll(int timeout_ms, uint32_t now_ms)
+{
+  int applied = 0;
+  if (master_ >= 0)
+  {
+    struct pollfd p;
+    p.fd = master_;
+    p.events = POLLIN;
+    p.revents = 0;
+    if (::poll(&p, 1, timeout_ms) > 0 && (p.revents & POLLIN))
+    {
+      uint8_t buf[512];
+      const ssize_t n = ::read(master_, buf, sizeof(buf));
+      for (ssize_t i = 0; i < n; ++i)
+      {
+        vest_packet_t status;
+        if (vest_firmware_feed(&fw_, buf[i], now_ms, &status))
+        {
+          ++applied;
+          ++commands_;
+          char why[32];
+          std::snprintf(why, sizeof(why), "seq %u", status.seq);
+          reportIfChanged(now_ms, why);
+          if (reply_status)
+          {
+            uint8_t out[VEST_PACKET_SIZE];
+            vest_encode(&status, out);
+            if (::write(master_, out, sizeof(out)) < 0)
+            {
+              // the bridge is not reading; the vest does not care (like the real one)
+            }
+          }
+        }
+      }
+    }
+  }
+  else if (timeout_ms > 0)
+  {
+    ::usleep(static_cast<useconds_t>(timeout_ms) * 1000u);
+  }
+  tick(now_ms);
+  return applied;
+}
+
+}  // namespace assistive_tactile

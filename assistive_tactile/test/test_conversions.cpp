@@ -1,0 +1,82 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "assistive_tactile/conversions.h"
+
+using namespace assistive_tactile;
+
+TEST(Conversions, CueRoundTrip)
+{
+  Cue c;
+  c.mode = CueMode::PROXIMITY;
+  c.intensity = { { 0.f, 0.f, 0.7f, 0.f } };
+  c.reason = "obstacle 0.80 m ahead: step left";
+  const ros::Time stamp(12.5), source(12.25);
+  const assistive_msgs::TactileCue m = toMsg(c, stamp, source, "torso");
+  EXPECT_EQ(m.header.stamp, stamp);
+  EXPECT_EQ(m.source_stamp, source);
+  EXPECT_EQ(m.header.frame_id, "torso");
+  EXPECT_EQ(m.mode, assistive_msgs::TactileCue::PROXIMITY);
+  EXPECT_FLOAT_EQ(m.intensity[assistive_msgs::TactileCue::LEFT_WAIST], 0.7f);
+  const Cue back = fromMsg(m);
+  EXPECT_EQ(back.mode, c.mode);
+  EXPECT_EQ(back.intensity, c.intensity);
+  EXPECT_EQ(back.reason, c.reason);
+}
+
+TEST(Conversions, EnumsMatchTheMessage)
+{
+  EXPECT_EQ(static_cast<int>(CueMode::IDLE), assistive_msgs::TactileCue::IDLE);
+  EXPECT_EQ(static_cast<int>(CueMode::GUIDANCE), assistive_msgs::TactileCue::GUIDANCE);
+  EXPECT_EQ(static_cast<int>(CueMode::PROXIMITY), assistive_msgs::TactileCue::PROXIMITY);
+  EXPECT_EQ(static_cast<int>(CueMode::ALERT), assistive_msgs::TactileCue::ALERT);
+  EXPECT_EQ(static_cast<int>(CueMode::UNSURE), assistive_msgs::TactileCue::UNSURE);
+  EXPECT_EQ(LEFT_SHOULDER, assistive_msgs::TactileCue::LEFT_SHOULDER);
+  EXPECT_EQ(RIGHT_SHOULDER, assistive_msgs::TactileCue::RIGHT_SHOULDER);
+  EXPECT_EQ(LEFT_WAIST, assistive_msgs::TactileCue::LEFT_WAIST);
+  EXPECT_EQ(RIGHT_WAIST, assistive_msgs::TactileCue::RIGHT_WAIST);
+  EXPECT_EQ(static_cast<int>(NavStatus::NO_WAYPOINT), assistive_msgs::NavigationState::NO_WAYPOINT);
+  EXPECT_EQ(static_cast<int>(NavStatus::IN_UNKNOWN), assistive_msgs::NavigationState::IN_UNKNOWN);
+}
+
+TEST(Conversions, BadIntensitiesAreClamped)
+{
+  assistive_msgs::TactileCue m;
+  m.mode = 77;
+  m.intensity = { { std::nanf(""), -0.5f, 3.f, 0.5f } };
+  const Cue c = fromMsg(m);
+  EXPECT_EQ(c.mode, CueMode::UNSURE);
+  EXPECT_EQ(c.intensity[0], 0.f);
+  EXPECT_EQ(c.intensity[1], 0.f);
+  EXPECT_EQ(c.intensity[2], 1.f);
+  EXPECT_EQ(c.intensity[3], 0.5f);
+}
+
+TEST(Conversions, NavigationState)
+{
+  assistive_msgs::NavigationState s;
+  s.status = assistive_msgs::NavigationState::OK;
+  s.heading = 0.5f;
+  s.path_heading = 1.0f;
+  s.waypoint_distance = 2.5f;
+  s.free_distance_ahead = 0.9f;
+  s.free_distance_left = 1.2f;
+  s.free_distance_right = 0.3f;
+  s.message = "ok";
+  NavInput in = fromMsg(s);
+  EXPECT_EQ(in.status, NavStatus::OK);
+  EXPECT_FLOAT_EQ(in.heading, 0.5f);
+  EXPECT_FLOAT_EQ(in.path_heading, 1.0f);
+  EXPECT_FLOAT_EQ(in.waypoint_distance, 2.5f);
+  EXPECT_FLOAT_EQ(in.free_ahead, 0.9f);
+  EXPECT_FLOAT_EQ(in.free_left, 1.2f);
+  EXPECT_FLOAT_EQ(in.free_right, 0.3f);
+  EXPECT_EQ(in.message, "ok");
+  s.status = 42;  // a status this build does not know: treated as "cannot decide"
+  in = fromMsg(s);
+  EXPECT_EQ(in.status, NavStatus::NO_POSE);
+  EXPECT_NE(in.message.find("42"), std::string::npos);
+  CueLogic logic;
+  EXPECT_EQ(logic.update(in, 0.0).mode, CueMode::UNSURE);
+}

@@ -1,0 +1,282 @@
+// Table-driven tests of the cue logic: every mode switch, every intensity rule, hysteresis.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "assistive_tactile/cue_logic.h"
+
+using namespace assistive_tactile;
+
+namespace
+{
+constexpr double kDeg = M_PI / 180.0;
+const double kInf = std::numeric_limits<double>::infinity();
+
+/// On-course defaults: path straight ahead 3 m away, 5 m free ahead, 2 m free on both sides.
+NavInput base()
+{
+  NavInput in;
+  in.status = NavStatus::OK;
+  in.heading = 0.3;
+  in.path_heading = 0.3;
+  in.waypoint_distance = 3.0;
+  in.free_ahead = 5.0;
+  in.free_left = 2.0;
+  in.free_right = 2.0;
+  return in;
+}
+
+NavInput turn(double dev_deg, double heading = 0.3)
+{
+  NavInput in = base();
+  in.heading = heading;
+  in.path_heading = heading + dev_deg * kDeg;
+  return in;
+}
+
+NavInput close(double ahead, double left, double right, NavStatus st = NavStatus::OK)
+{
+  NavInput in = base();
+  in.status = st;
+  in.free_ahead = ahead;
+  in.free_left = left;
+  in.free_right = right;
+  return in;
+}
+
+NavInput status(NavStatus st, double ahead = 5.0)
+{
+  NavInput in = base();
+  in.status = st;
+  in.free_ahead = ahead;
+  return in;
+}
+
+// Default params: turn on 20, off 8, full 90 deg, min intensity 0.25, proximity 1.0, alert 0.5.
+float guidanceLevel(double dev_deg)
+{
+  const double k = std::min(1.0, (std::fabs(dev_deg) - 8.0) / (90.0 - 8.0));
+  return static_cast<float>(0.25 + 0.75 * k);
+}
+float proximityLevel(double ahead)
+{
+  return static_cast<float>(0.25 + 0.75 * (1.0 - ahead) / 0.5);
+}
+
+struct Row
+{
+  const char* name;
+  NavInput in;
+  CueMode mode;
+  std::array<float, 4> intensity;  // LS, RS, LW, RW
+  const char* reason_has;
+};
+
+void expectCue(const Cue& c, CueMode mode, const std::array<float, 4>& inten, const char* reason_has,
+               const std::string& what)
+{
+  EXPECT_EQ(modeName(c.mode), std::string(modeName(mode))) << what << " reason: " << c.reason;
+  for (int i = 0; i < 4; ++i)
+    EXPECT_NEAR(c.intensity[i], inten[i], 1e-4) << what << " motor " << i;
+  if (reason_has)
+  {
+    EXPECT_NE(c.reason.find(reason_has), std::string::npos) << what << ": '" << c.reason << "'";
+  }
+}
+
+}  // namespace
+
+// One decision from a fresh logic (no history): which mode, which motor, how strong.
+TEST(CueLogic, SingleDecisionTable)
+{
+  const float f = 1.f;
+  const std::vector<Row> rows = {
+    { "on course", base(), CueMode::IDLE, { 0, 0, 0, 0 }, "on course" },
+    { "5 deg off: idle", turn(5), CueMode::IDLE, { 0, 0, 0, 0 }, nullptr },
+    { "just under turn_on: idle", turn(19.9), CueMode::IDLE, { 0, 0, 0, 0 }, nullptr },
+    { "path 30 deg left", turn(30), CueMode::GUIDANCE, { guidanceLevel(30), 0, 0, 0 }, "turn left 30" },
+    { "path 30 deg right", turn(-30), CueMode::GUIDANCE, { 0, guidanceLevel(30), 0, 0 }, "turn right 30" },
+    { "path 60 deg left", turn(60), CueMode::GUIDANCE, { guidanceLevel(60), 0, 0, 0 }, nullptr },
+    { "90 deg: full", turn(90), CueMode::GUIDANCE, { f, 0, 0, 0 }, nullptr },
+    { "150 deg right: clamped full", turn(-150), CueMode::GUIDANCE, { 0, f, 0, 0 }, nullptr },
+    { "wrap: 170 -> -160 is 30 left", turn(30, 170 * kDeg), CueMode::GUIDANCE, { guidanceLevel(30), 0, 0, 0 },
+      nullptr },
+    { "wrap: 179 -> -179 is 2 left", turn(2, 179 * kDeg), CueMode::IDLE, { 0, 0, 0, 0 }, nullptr },
+    { "waypoint 0.8 m: no guidance", [] { NavInput in = turn(45); in.waypoint_distance = 0.8; return in; }(),
+      CueMode::IDLE, { 0, 0, 0, 0 }, "waypoint" },
+    { "waypoint exactly 1 m: guidance", [] { NavInput in = turn(45); in.waypoint_distance = 1.0; return in; }(),
+      CueMode::GUIDANCE, { guidanceLevel(45), 0, 0, 0 }, nullptr },
+    { "nothing ahead (inf)", [] { NavInput in = turn(30); in.free_ahead = kInf; return in; }(), CueMode::GUIDANCE,
+      { guidanceLevel(30), 0, 0, 0 }, nullptr },
+    { "free 1.0 m: not proximity", close(1.0, 2, 0.1), CueMode::IDLE, { 0, 0, 0, 0 }, nullptr },
+    { "0.8 m, free left", close(0.8, 1.5, 0.2), CueMode::PROXIMITY, { 0, 0, proximityLevel(0.8), 0 }, "step left" },
+    { "0.8 m, free right", close(0.8, 0.2, 1.5), CueMode::PROXIMITY, { 0, 0, 0, proximityLevel(0.8) },
+      "step right" },
+    { "0.8 m, both free, right freer", close(0.8, 1.0, 2.0), CueMode::PROXIMITY, { 0, 0, 0, proximityLevel(0.8) },
+      nullptr },
+    { "0.99 m: weakest waist cue", close(0.99, 1.0, 0.1), CueMode::PROXIMITY, { 0, 0, proximityLevel(0.99), 0 },
+      nullptr },
+    { "0.5 m: strongest waist cue", close(0.5, 1.0, 0.1), CueMode::PROXIMITY, { 0, 0, f, 0 }, nullptr },
+    { "0.8 m, nothing free: alert", close(0.8, 0.3, 0.3), CueMode::ALERT, { f, f, f, f }, "no room" },
+    { "0.45 m: alert", close(0.45, 2, 2), CueMode::ALERT, { f, f, f, f }, "stop" },
+    { "0 m: alert", close(0.0, 2, 2), CueMode::ALERT, { f, f, f, f }, nullptr },
+    { "proximity beats guidance",
+      [] { NavInput in = close(0.8, 1.5, 0.2); in.path_heading += 40 * kDeg; return in; }(), CueMode::PROXIMITY,
+      { 0, 0, proximityLevel(0.8), 0 }, nullptr },
+    { "no pose: quiet", status(NavStatus::NO_POSE, 0.3), CueMode::UNSURE, { 0, 0, 0, 0 }, "no pose" },
+    { "no map: quiet", status(NavStatus::NO_MAP, 0.3), CueMode::UNSURE, { 0, 0, 0, 0 }, "no map" },
+    { "in unknown: quiet", status(NavStatus::IN_UNKNOWN, 0.3), CueMode::UNSURE, { 0, 0, 0, 0 }, "unknown" },
+    { "no path, far: unsure", status(NavStatus::NO_PATH, 3.0), CueMode::UNSURE, { 0, 0, 0, 0 }, "no path" },
+    { "no waypoint, far: unsure", status(NavStatus::NO_WAYPOINT, 3.0), CueMode::UNSURE, { 0, 0, 0, 0 },
+      "no waypoint" },
+    { "no path, 0.3 m: alert", status(NavStatus::NO_PATH, 0.3), CueMode::ALERT, { f, f, f, f }, nullptr },
+    { "no waypoint, 0.8 m free left", close(0.8, 1.5, 0.1, NavStatus::NO_WAYPOINT), CueMode::PROXIMITY,
+      { 0, 0, proximityLevel(0.8), 0 }, nullptr },
+    { "NaN heading: quiet", [] { NavInput in = turn(30); in.heading = std::nan(""); return in; }(), CueMode::UNSURE,
+      { 0, 0, 0, 0 }, "NaN" },
+    { "NaN free distance: quiet", [] { NavInput in = base(); in.free_ahead = std::nan(""); return in; }(),
+      CueMode::UNSURE, { 0, 0, 0, 0 }, "NaN" },
+  };
+  for (const Row& r : rows)
+  {
+    CueLogic logic;
+    expectCue(logic.update(r.in, 0.0), r.mode, r.intensity, r.reason_has, r.name);
+  }
+}
+
+struct Step
+{
+  NavInput in;
+  CueMode mode;
+  int motor;  // active motor index, -1 none, 4 = all four
+};
+
+void runSequence(const char* name, const std::vector<Step>& steps)
+{
+  CueLogic logic;
+  double t = 0.0;
+  for (size_t i = 0; i < steps.size(); ++i)
+  {
+    const Cue c = logic.update(steps[i].in, t += 0.1);
+    const std::string what = std::string(name) + " step " + std::to_string(i) + " (" + c.reason + ")";
+    EXPECT_EQ(std::string(modeName(c.mode)), modeName(steps[i].mode)) << what;
+    for (int m = 0; m < 4; ++m)
+    {
+      const bool on = steps[i].motor == 4 || steps[i].motor == m;
+      EXPECT_EQ(c.intensity[m] > 0.f, on) << what << " motor " << m;
+    }
+  }
+}
+
+// Mode switches over time, including the hysteresis that keeps cues from chattering.
+TEST(CueLogic, SequenceTable)
+{
+  using M = CueMode;
+  runSequence("turn until lined up",
+              { { turn(30), M::GUIDANCE, 0 }, { turn(15), M::GUIDANCE, 0 }, { turn(9), M::GUIDANCE, 0 },
+                { turn(7), M::IDLE, -1 }, { turn(15), M::IDLE, -1 }, { turn(21), M::GUIDANCE, 0 } });
+  runSequence("noise at the turn threshold",
+              { { turn(19.5), M::IDLE, -1 }, { turn(20.5), M::GUIDANCE, 0 }, { turn(19.5), M::GUIDANCE, 0 },
+                { turn(20.5), M::GUIDANCE, 0 }, { turn(19.0), M::GUIDANCE, 0 } });
+  runSequence("overshoot a left turn",
+              { { turn(30), M::GUIDANCE, 0 }, { turn(-15), M::IDLE, -1 }, { turn(-25), M::GUIDANCE, 1 } });
+  runSequence("right turn",
+              { { turn(-45), M::GUIDANCE, 1 }, { turn(-10), M::GUIDANCE, 1 }, { turn(-5), M::IDLE, -1 } });
+  runSequence("waypoint hysteresis",
+              { { turn(45), M::GUIDANCE, 0 },
+                { [] { NavInput in = turn(45); in.waypoint_distance = 0.95; return in; }(), M::GUIDANCE, 0 },
+                { [] { NavInput in = turn(45); in.waypoint_distance = 0.85; return in; }(), M::IDLE, -1 },
+                { [] { NavInput in = turn(45); in.waypoint_distance = 0.95; return in; }(), M::IDLE, -1 } });
+  runSequence("proximity enter / leave",
+              { { close(1.05, 2, 0.1), M::IDLE, -1 }, { close(0.95, 2, 0.1), M::PROXIMITY, 2 },
+                { close(1.05, 2, 0.1), M::PROXIMITY, 2 }, { close(1.15, 2, 0.1), M::IDLE, -1 },
+                { close(1.05, 2, 0.1), M::IDLE, -1 } });
+  runSequence("alert enter / leave",
+              { { close(0.8, 2, 0.1), M::PROXIMITY, 2 }, { close(0.45, 2, 0.1), M::ALERT, 4 },
+                { close(0.55, 2, 0.1), M::ALERT, 4 }, { close(0.65, 2, 0.1), M::PROXIMITY, 2 },
+                { close(0.55, 2, 0.1), M::PROXIMITY, 2 } });
+  runSequence("waist side sticks unless the other is clearly freer",
+              { { close(0.8, 1.0, 0.9), M::PROXIMITY, 2 }, { close(0.8, 1.0, 1.1), M::PROXIMITY, 2 },
+                { close(0.8, 1.0, 1.3), M::PROXIMITY, 3 }, { close(0.8, 1.1, 1.3), M::PROXIMITY, 3 } });
+  runSequence("waist side kept down to side_free - hysteresis",
+              { { close(0.8, 0.7, 0.0), M::PROXIMITY, 2 }, { close(0.8, 0.55, 0.0), M::PROXIMITY, 2 },
+                { close(0.8, 0.45, 0.0), M::ALERT, 4 } });
+  runSequence("losing the pose silences a turn, and resets hysteresis",
+              { { turn(30), M::GUIDANCE, 0 }, { status(NavStatus::NO_POSE), M::UNSURE, -1 },
+                { turn(15), M::IDLE, -1 } });
+  runSequence("map lost during alert",
+              { { close(0.3, 1, 1), M::ALERT, 4 }, { status(NavStatus::NO_MAP, 0.3), M::UNSURE, -1 },
+                { close(0.55, 2, 0.1), M::PROXIMITY, 2 } });
+  runSequence("clear of the obstacle, then guided",
+              { { close(0.8, 2, 0.1), M::PROXIMITY, 2 },
+                { [] { NavInput in = turn(-40); in.free_ahead = 3; return in; }(), M::GUIDANCE, 1 } });
+}
+
+// The guidance cue fades as the wearer lines up (seed 5.5.3: constant buzz -> over-turning).
+TEST(CueLogic, IntensityFallsToZeroAsWearerLinesUp)
+{
+  CueLogic logic;
+  float prev = 2.f;
+  double t = 0.0;
+  for (double dev = 120.0; dev > 8.0; dev -= 4.0)
+  {
+    const Cue c = logic.update(turn(dev), t += 0.05);
+    ASSERT_EQ(c.mode, CueMode::GUIDANCE) << dev;
+    EXPECT_LE(c.intensity[LEFT_SHOULDER], prev) << dev;
+    if (dev < 90.0)
+    {
+      EXPECT_LT(c.intensity[LEFT_SHOULDER], prev) << dev;
+    }
+    EXPECT_NEAR(c.intensity[LEFT_SHOULDER], guidanceLevel(dev), 1e-4) << dev;
+    prev = c.intensity[LEFT_SHOULDER];
+  }
+  EXPECT_NEAR(prev, 0.25f + 0.75f * (12.f - 8.f) / 82.f, 1e-4);
+  const Cue lined_up = logic.update(turn(6.0), t += 0.05);
+  EXPECT_EQ(lined_up.mode, CueMode::IDLE);
+  EXPECT_FLOAT_EQ(lined_up.intensity[LEFT_SHOULDER], 0.f);
+}
+
+// The waist cue grows as the obstacle gets closer, up to full at the alert distance.
+TEST(CueLogic, ProximityIntensityGrowsWhenCloser)
+{
+  CueLogic logic;
+  float prev = 0.f;
+  double t = 0.0;
+  for (double d = 0.98; d > 0.5; d -= 0.04)
+  {
+    const Cue c = logic.update(close(d, 0.1, 2.0), t += 0.05);
+    ASSERT_EQ(c.mode, CueMode::PROXIMITY) << d;
+    EXPECT_GT(c.intensity[RIGHT_WAIST], prev) << d;
+    EXPECT_NEAR(c.intensity[RIGHT_WAIST], proximityLevel(d), 1e-4) << d;
+    prev = c.intensity[RIGHT_WAIST];
+  }
+}
+
+TEST(CueLogic, StaleStateGoesQuiet)
+{
+  CueParams p;
+  p.state_timeout_s = 0.5;
+  CueLogic logic(p);
+  EXPECT_TRUE(logic.stale(0.0));
+  EXPECT_NE(logic.staleCue(0.0).reason.find("no planner state"), std::string::npos);
+  EXPECT_EQ(logic.update(turn(30), 10.0).mode, CueMode::GUIDANCE);
+  EXPECT_FALSE(logic.stale(10.4));
+  EXPECT_TRUE(logic.stale(10.6));
+  const Cue c = logic.staleCue(10.6);
+  EXPECT_EQ(c.mode, CueMode::UNSURE);
+  for (float v : c.intensity)
+    EXPECT_EQ(v, 0.f);
+  EXPECT_NE(c.reason.find("stale"), std::string::npos);
+  // After a stale period the turn must be re-entered from scratch (no hysteresis carry-over).
+  EXPECT_EQ(logic.update(turn(15), 11.0).mode, CueMode::IDLE);
+}
+
+TEST(CueLogic, WrapAngle)
+{
+  const std::vector<std::pair<double, double>> table = { { 0, 0 },           { M_PI, M_PI },
+                                                         { -M_PI, M_PI },    { 3 * M_PI, M_PI },
+                                                         { 1.5 * M_PI, -0.5 * M_PI }, { -0.25, -0.25 } };
+  for (const auto& r : table)
+    EXPECT_NEAR(wrapAngle(r.first), r.second, 1e-12) << r.first;
+}
