@@ -1,0 +1,26 @@
+#pragma once
+// Message conversions (nodelet target only; the core stays ROS-free).
+
+#include <assistive_msgs/NavigationState.h>
+#include <geometry_msgs/PointStamped.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <nav_msgs/Path.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "assistive_planner/grid.h"
+#include "assistive_planner/planner.h"
+
+namespace assistive_planner
+{
+/// OccupancyGrid -> Grid. Returns false (and leaves `out` empty) if the grid is malformed or rotated
+/// (the planner needs a grid aligned with its frame).
+bool fromMsg(const nav_msgs::OccupancyGrid& msg, Grid& out);
+/// Grid -> OccupancyGrid (tests and tools).
+nav_msgs::OccupancyGrid toMsg(const Grid& grid, const std_msgs::Header& header);
+/// Planner output -> NavigationState (header: world frame and stamp; source_stamp: the grid's stamp).
+assistive_msgs::NavigationState toMsg(const PlanOutput& out, const std_msgs::Header& header, const ros::Time& source_stamp);
+nav_msgs::Path toPathMsg(const PlanOutput& out, const std_msgs::Header& header);
+geometry_msgs::PointStamped toWaypointMsg(const PlanOutput& out, const std_msgs::Header& header);
+/// Motion vector (arrow), search triangle (line strip), waypoint (sphere).
+visualization_msgs::MarkerArray toMarkers(const PlanOutput& out, const std_msgs::Header& header);
+}  // namespace assistive_planner

@@ -1,0 +1,83 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "assistive_planner/dstar_lite.h"
+#include "assistive_planner/grid.h"
+#include "assistive_planner/motion_vector.h"
+#include "assistive_planner/params.h"
+#include "assistive_planner/waypoint_selector.h"
+
+namespace assistive_planner
+{
+/// Same values as assistive_msgs/NavigationState.
+enum class PlanStatus : uint8_t
+{
+  OK = 0,
+  NO_POSE = 1,
+  NO_MAP = 2,
+  IN_UNKNOWN = 3,
+  NO_PATH = 4,
+  NO_WAYPOINT = 5
+};
+
+struct PlanOutput
+{
+  PlanStatus status = PlanStatus::NO_MAP;
+  std::string message;
+  Point2 wearer;
+  double heading = 0.0;    ///< motion vector yaw (rad)
+  double head_yaw = 0.0;   ///< rad
+  bool has_waypoint = false;
+  bool explicit_goal = false;  ///< the target is the explicit goal, not the automatic waypoint
+  Point2 waypoint;
+  double waypoint_distance = 0.0;
+  double path_heading = 0.0;
+  double path_length = 0.0;
+  double free_ahead = 0.0, free_left = 0.0, free_right = 0.0;
+  std::vector<Point2> path;   ///< cell centres, wearer -> waypoint
+  bool path_through_unknown = false;
+  std::array<Point2, 3> triangle;  ///< search triangle (apex, left, right)
+  Point2 motion_anchor;            ///< previous position of the motion vector
+  size_t expansions = 0;           ///< D* Lite expansions in this update
+  size_t changed_cells = 0;        ///< cells whose weight changed since the last update
+  bool scrolled = false;
+};
+
+/// The planning stage without ROS: grid + wearer pose in, waypoint, D* Lite path and free distances out.
+class Planner
+{
+public:
+  explicit Planner(const PlannerParams& p = PlannerParams());
+  /// One planning cycle on a new grid (or the same grid with a new pose).
+  PlanOutput update(const Grid& grid, const Point2& wearer, double head_yaw);
+  /// Explicit target (e.g. a tagged place); replaces the automatic waypoint until reached or cleared.
+  void setGoal(const Point2& goal);
+  void clearGoal() { has_goal_ = false; }
+  bool hasGoal() const { return has_goal_; }
+  const PlannerParams& params() const { return p_; }
+  const DStarLite& dstar() const { return dstar_; }
+  const MotionVector& motion() const { return motion_; }
+  const WaypointSelector& waypoints() const { return waypoints_; }
+
+  /// Free distance from `from` along `yaw` until a cell that is not free (obstacle, step, unknown) or the
+  /// grid edge, up to max_range (m).
+  static double freeDistance(const Grid& grid, const Point2& from, double yaw, double max_range);
+
+private:
+  void syncCosts(const Grid& grid, PlanOutput& out);
+
+  PlannerParams p_;
+  DStarLite dstar_;
+  MotionVector motion_;
+  WaypointSelector waypoints_;
+  bool have_grid_ = false;
+  Grid last_grid_;  // geometry only (data not kept)
+  bool ever_planned_ = false;
+  bool has_goal_ = false;
+  Point2 goal_;
+};
+}  // namespace assistive_planner

@@ -1,0 +1,158 @@
+#include "assistive_planner/conversions.h"
+
+#include <cmath>
+
+namespace assistive_planner
+{
+namespace
+{
+geometry_msgs::Point toPoint(const Point2& p, double z = 0.0)
+{
+  geometry_msgs::Point q;
+  q.x = p.x;
+  q.y = p.y;
+  q.z = z;
+  return q;
+}
+float finiteOr(double v, float fallback = 0.0f)
+{
+  return std::isfinite(v) ? float(v) : fallback;
+}
+}  // namespace
+
+bool fromMsg(const nav_msgs::OccupancyGrid& msg, Grid& out)
+{
+  out = Grid();
+  const auto& info = msg.info;
+  const auto& q = info.origin.orientation;
+  const bool identity = std::abs(q.x) < 1e-6 && std::abs(q.y) < 1e-6 && std::abs(q.z) < 1e-6;
+  if (info.width == 0 || info.height == 0 || !(info.resolution > 0.0f) || !std::isfinite(info.resolution) ||
+      msg.data.size() != size_t(info.width) * size_t(info.height) || !identity ||
+      !std::isfinite(info.origin.position.x) || !std::isfinite(info.origin.position.y))
+    return false;
+  out.width = int(info.width);
+  out.height = int(info.height);
+  out.resolution = info.resolution;
+  out.origin_x = info.origin.position.x;
+  out.origin_y = info.origin.position.y;
+  out.data = msg.data;
+  return true;
+}
+
+nav_msgs::OccupancyGrid toMsg(const Grid& grid, const std_msgs::Header& header)
+{
+  nav_msgs::OccupancyGrid m;
+  m.header = header;
+  m.info.map_load_time = header.stamp;
+  m.info.width = uint32_t(std::max(0, grid.width));
+  m.info.height = uint32_t(std::max(0, grid.height));
+  m.info.resolution = float(grid.resolution);
+  m.info.origin.position.x = grid.origin_x;
+  m.info.origin.position.y = grid.origin_y;
+  m.info.origin.orientation.w = 1.0;
+  m.data = grid.data;
+  return m;
+}
+
+assistive_msgs::NavigationState toMsg(const PlanOutput& out, const std_msgs::Header& header, const ros::Time& source_stamp)
+{
+  assistive_msgs::NavigationState s;
+  s.header = header;
+  s.source_stamp = source_stamp;
+  s.status = uint8_t(out.status);
+  s.message = out.message;
+  s.wearer = toPoint(out.wearer);
+  s.heading = finiteOr(out.heading);
+  s.head_yaw = finiteOr(out.head_yaw);
+  s.waypoint = out.has_waypoint ? toPoint(out.waypoint) : toPoint(out.wearer);
+  s.waypoint_distance = out.has_waypoint ? finiteOr(out.waypoint_distance) : 0.0f;
+  s.path_heading = out.status == PlanStatus::OK ? finiteOr(out.path_heading) : finiteOr(out.heading);
+  s.path_length = out.status == PlanStatus::OK ? finiteOr(out.path_length) : 0.0f;
+  s.free_distance_ahead = finiteOr(out.free_ahead);
+  s.free_distance_left = finiteOr(out.free_left);
+  s.free_distance_right = finiteOr(out.free_right);
+  return s;
+}
+
+nav_msgs::Path toPathMsg(const PlanOutput& out, const std_msgs::Header& header)
+{
+  nav_msgs::Path p;
+  p.header = header;
+  if (out.status != PlanStatus::OK)
+    return p;
+  p.poses.reserve(out.path.size());
+  for (size_t i = 0; i < out.path.size(); ++i)
+  {
+    geometry_msgs::PoseStamped ps;
+    ps.header = header;
+    ps.pose.position = toPoint(out.path[i]);
+    const size_t j = i + 1 < out.path.size() ? i + 1 : i;
+    const size_t k = j == i && i > 0 ? i - 1 : i;
+    const double yaw = (j != i) ? std::atan2(out.path[j].y - out.path[i].y, out.path[j].x - out.path[i].x)
+                                : std::atan2(out.path[i].y - out.path[k].y, out.path[i].x - out.path[k].x);
+    ps.pose.orientation.z = std::sin(0.5 * yaw);
+    ps.pose.orientation.w = std::cos(0.5 * yaw);
+    p.poses.push_back(ps);
+  }
+  return p;
+}
+
+geometry_msgs::PointStamped toWaypointMsg(const PlanOutput& out, const std_msgs::Header& header)
+{
+  geometry_msgs::PointStamped p;
+  p.header = header;
+  p.point = toPoint(out.waypoint);
+  return p;
+}
+
+visualization_msgs::MarkerArray toMarkers(const PlanOutput& out, const std_msgs::Header& header)
+{
+  visualization_msgs::MarkerArray ma;
+  visualization_msgs::Marker arrow;
+  arrow.header = header;
+  arrow.ns = "motion_vector";
+  arrow.id = 0;
+  arrow.type = visualization_msgs::Marker::ARROW;
+  arrow.action = visualization_msgs::Marker::ADD;
+  arrow.pose.orientation.w = 1.0;
+  arrow.points.push_back(toPoint(out.wearer, 0.05));
+  arrow.points.push_back(toPoint({ out.wearer.x + std::cos(out.heading), out.wearer.y + std::sin(out.heading) }, 0.05));
+  arrow.scale.x = 0.06;
+  arrow.scale.y = 0.12;
+  arrow.scale.z = 0.15;
+  arrow.color.r = 1.0f;
+  arrow.color.g = 0.8f;
+  arrow.color.a = 1.0f;
+  ma.markers.push_back(arrow);
+
+  visualization_msgs::Marker tri;
+  tri.header = header;
+  tri.ns = "search_triangle";
+  tri.id = 1;
+  tri.type = visualization_msgs::Marker::LINE_STRIP;
+  tri.action = visualization_msgs::Marker::ADD;
+  tri.pose.orientation.w = 1.0;
+  for (int i = 0; i < 4; ++i)
+    tri.points.push_back(toPoint(out.triangle[size_t(i % 3)], 0.03));
+  tri.scale.x = 0.03;
+  tri.color.b = 1.0f;
+  tri.color.g = 0.6f;
+  tri.color.a = 0.8f;
+  ma.markers.push_back(tri);
+
+  visualization_msgs::Marker wp;
+  wp.header = header;
+  wp.ns = "waypoint";
+  wp.id = 2;
+  wp.type = visualization_msgs::Marker::SPHERE;
+  wp.action = out.has_waypoint ? visualization_msgs::Marker::ADD : visualization_msgs::Marker::DELETE;
+  wp.pose.position = toPoint(out.waypoint, 0.1);
+  wp.pose.orientation.w = 1.0;
+  wp.scale.x = wp.scale.y = wp.scale.z = 0.25;
+  wp.color.r = 1.0f;
+  wp.color.b = 0.8f;
+  wp.color.a = 1.0f;
+  ma.markers.push_back(wp);
+  return ma;
+}
+}  // namespace assistive_planner

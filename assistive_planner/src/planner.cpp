@@ -1,0 +1,205 @@
+#include "assistive_planner/planner.h"
+
+#include <cmath>
+
+#include "assistive_planner/cost_model.h"
+
+namespace assistive_planner
+{
+Planner::Planner(const PlannerParams& p) : p_(p), motion_(p), waypoints_(p) {}
+
+void Planner::setGoal(const Point2& goal)
+{
+  has_goal_ = true;
+  goal_ = goal;
+}
+
+double Planner::freeDistance(const Grid& grid, const Point2& from, double yaw, double max_range)
+{
+  int x0, y0;
+  if (grid.empty() || !grid.worldToCell(from.x, from.y, x0, y0))
+    return 0.0;
+  const double step = 0.25 * grid.resolution, c = std::cos(yaw), s = std::sin(yaw);
+  double d = 0.0;
+  while (d + step <= max_range)
+  {
+    const double nd = d + step;
+    int x, y;
+    if (!grid.worldToCell(from.x + nd * c, from.y + nd * s, x, y))
+      return d;
+    if (!(x == x0 && y == y0) && grid.at(x, y) != CELL_FREE)
+      return d;
+    d = nd;
+  }
+  return d;
+}
+
+void Planner::syncCosts(const Grid& grid, PlanOutput& out)
+{
+  const std::vector<double> w = cellWeights(grid, p_);
+  const bool same_shape = have_grid_ && grid.width == last_grid_.width && grid.height == last_grid_.height &&
+                          std::abs(grid.resolution - last_grid_.resolution) < 1e-9;
+  int dx = 0, dy = 0;
+  bool aligned = false;
+  if (same_shape)
+  {
+    const double fx = (grid.origin_x - last_grid_.origin_x) / grid.resolution;
+    const double fy = (grid.origin_y - last_grid_.origin_y) / grid.resolution;
+    dx = int(std::lround(fx));
+    dy = int(std::lround(fy));
+    aligned = std::abs(fx - dx) < 1e-3 && std::abs(fy - dy) < 1e-3 && std::abs(dx) < grid.width &&
+              std::abs(dy) < grid.height;
+  }
+  if (!aligned)
+  {
+    CostGrid cg(grid.width, grid.height);
+    cg.w = w;
+    dstar_.reset(cg);
+    out.changed_cells = w.size();
+  }
+  else if (dx != 0 || dy != 0)
+  {
+    dstar_.scroll(dx, dy, w);  // new cell (x, y) = old (x + dx, y + dy)
+    out.scrolled = true;
+  }
+  else
+  {
+    out.changed_cells = dstar_.setCosts(w);
+  }
+  have_grid_ = true;
+  last_grid_.width = grid.width;
+  last_grid_.height = grid.height;
+  last_grid_.resolution = grid.resolution;
+  last_grid_.origin_x = grid.origin_x;
+  last_grid_.origin_y = grid.origin_y;
+}
+
+PlanOutput Planner::update(const Grid& grid, const Point2& wearer, double head_yaw)
+{
+  PlanOutput out;
+  out.wearer = wearer;
+  out.head_yaw = wrapAngle(head_yaw);
+  if (grid.empty() || !(grid.resolution > 0.0) || !std::isfinite(wearer.x) || !std::isfinite(wearer.y) ||
+      !std::isfinite(head_yaw))
+  {
+    out.status = grid.empty() ? PlanStatus::NO_MAP : PlanStatus::NO_POSE;
+    out.message = grid.empty() ? "no traversability grid" : "invalid wearer pose";
+    return out;
+  }
+  syncCosts(grid, out);
+  const bool motion_changed = motion_.update(wearer, head_yaw);
+  out.heading = motion_.heading();
+  out.motion_anchor = motion_.anchor();
+  const double h = out.heading;
+  out.free_ahead = freeDistance(grid, wearer, h, p_.free_ray_max);
+  out.free_left = freeDistance(grid, wearer, h + M_PI_2, p_.free_ray_max);
+  out.free_right = freeDistance(grid, wearer, h - M_PI_2, p_.free_ray_max);
+
+  int wx, wy;
+  if (!grid.worldToCell(wearer.x, wearer.y, wx, wy))
+  {
+    out.status = PlanStatus::NO_MAP;
+    out.message = "the wearer is outside the traversability grid";
+    return out;
+  }
+  const int8_t here = grid.at(wx, wy);
+  if (isUnknownCode(here) && !ever_planned_)
+  {
+    out.status = PlanStatus::IN_UNKNOWN;
+    out.message = "the wearer stands in unmapped space: no path until a mapped region is reached";
+    return out;
+  }
+
+  // target: explicit goal, else the automatic waypoint
+  int gx = -1, gy = -1;
+  if (has_goal_ && std::hypot(goal_.x - wearer.x, goal_.y - wearer.y) <= p_.reached_distance)
+    has_goal_ = false;  // reached
+  if (has_goal_)
+  {
+    out.explicit_goal = true;
+    int cx, cy;
+    if (grid.worldToCell(goal_.x, goal_.y, cx, cy) && isTraversableCode(grid.at(cx, cy)))
+    {
+      gx = cx;
+      gy = cy;
+    }
+    else
+    {
+      // goal outside the window or not traversable: the reachable free cell nearest to it
+      const TriangleSearch all = searchTriangle(grid, wearer, 0.0, 0.0, 0.0);
+      double best = 1e300;
+      for (int y = 0; y < grid.height; ++y)
+        for (int x = 0; x < grid.width; ++x)
+          if (all.reached[size_t(grid.index(x, y))] && grid.at(x, y) == CELL_FREE)
+          {
+            const double d = std::hypot(grid.cellX(x) - goal_.x, grid.cellY(y) - goal_.y);
+            if (d < best)
+            {
+              best = d;
+              gx = x;
+              gy = y;
+            }
+          }
+    }
+    out.triangle = { wearer, wearer, wearer };
+  }
+  else
+  {
+    waypoints_.update(grid, wearer, h, motion_changed || !waypoints_.has());
+    out.triangle = waypoints_.lastSearch().corners;
+    if (waypoints_.has())
+      grid.worldToCell(waypoints_.waypoint().x, waypoints_.waypoint().y, gx, gy);
+  }
+  if (gx < 0)
+  {
+    out.status = PlanStatus::NO_WAYPOINT;
+    out.message = has_goal_ ? "no reachable free cell near the goal" : "nothing traversable inside the search triangle";
+    return out;
+  }
+  out.has_waypoint = true;
+  out.waypoint = { grid.cellX(gx), grid.cellY(gy) };
+  out.waypoint_distance = std::hypot(out.waypoint.x - wearer.x, out.waypoint.y - wearer.y);
+
+  // D* Lite: a new goal restarts the search, otherwise the repaired search continues
+  dstar_.resetExpansions();
+  dstar_.setGoal(gx, gy);
+  dstar_.setStart(wx, wy);
+  const bool ok = dstar_.plan();
+  out.expansions = dstar_.expansions();
+  if (!ok)
+  {
+    out.status = PlanStatus::NO_PATH;
+    out.message = isObstacleCode(here) ? "the wearer's cell is an obstacle" : "no free path to the waypoint";
+    return out;
+  }
+  const std::vector<int> cells = dstar_.path();
+  out.path.reserve(cells.size() + 1);
+  out.path.push_back(wearer);
+  for (size_t i = 1; i < cells.size(); ++i)
+  {
+    const int x = cells[i] % grid.width, y = cells[i] / grid.width;
+    out.path.push_back({ grid.cellX(x), grid.cellY(y) });
+    if (isUnknownCode(grid.at(x, y)))
+      out.path_through_unknown = true;
+  }
+  if (out.path.size() < 2)
+    out.path.push_back(out.waypoint);
+  double len = 0.0;
+  bool heading_set = false;
+  for (size_t i = 1; i < out.path.size(); ++i)
+  {
+    len += std::hypot(out.path[i].x - out.path[i - 1].x, out.path[i].y - out.path[i - 1].y);
+    if (!heading_set && (len >= p_.path_lookahead || i + 1 == out.path.size()))
+    {
+      const double dx = out.path[i].x - wearer.x, dy = out.path[i].y - wearer.y;
+      out.path_heading = (std::hypot(dx, dy) > 1e-6) ? std::atan2(dy, dx) : h;
+      heading_set = true;
+    }
+  }
+  out.path_length = len;
+  ever_planned_ = true;
+  out.status = PlanStatus::OK;
+  out.message = out.path_through_unknown ? "path crosses unmapped cells (no known free path)" : "ok";
+  return out;
+}
+}  // namespace assistive_planner

@@ -1,0 +1,187 @@
+// Motion vector and waypoint rules (seed 4.3.1).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "assistive_planner/motion_vector.h"
+#include "assistive_planner/waypoint_selector.h"
+
+using namespace assistive_planner;
+
+namespace
+{
+constexpr double DEG = M_PI / 180.0;
+
+// 10 m x 10 m free grid at 0.2 m, origin (-5, -5): the wearer at (0, 0) is the centre.
+Grid freeGrid()
+{
+  Grid g;
+  g.width = g.height = 50;
+  g.resolution = 0.2;
+  g.origin_x = g.origin_y = -5.0;
+  g.data.assign(2500, CELL_FREE);
+  return g;
+}
+
+void fillRect(Grid& g, double x0, double y0, double x1, double y1, int8_t code)
+{
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x)
+      if (g.cellX(x) >= x0 && g.cellX(x) <= x1 && g.cellY(y) >= y0 && g.cellY(y) <= y1)
+        g.data[size_t(g.index(x, y))] = code;
+}
+}  // namespace
+
+TEST(MotionVector, SmallHeadTurnKeepsHeadingLargeTurnMovesIt)
+{
+  MotionVector mv;
+  mv.update({ 0, 0 }, 0.0);
+  EXPECT_NEAR(mv.heading(), 0.0, 1e-12);
+  EXPECT_FALSE(mv.update({ 0, 0 }, 14.0 * DEG));
+  EXPECT_NEAR(mv.heading(), 0.0, 1e-12);
+  EXPECT_FALSE(mv.update({ 0, 0 }, -14.0 * DEG));
+  EXPECT_NEAR(mv.heading(), 0.0, 1e-12);
+  EXPECT_TRUE(mv.update({ 0, 0 }, 16.0 * DEG));
+  EXPECT_NEAR(mv.heading(), 16.0 * DEG, 1e-12);
+  EXPECT_TRUE(mv.update({ 0, 0 }, M_PI));
+  EXPECT_NEAR(std::abs(mv.heading()), M_PI, 1e-12);
+}
+
+TEST(MotionVector, PositionMovesOnlyAfterOneMetre)
+{
+  MotionVector mv;
+  mv.update({ 0, 0 }, 0.0);
+  mv.update({ 0.7, 0.7 }, 0.0);  // 0.99 m: anchor stays
+  EXPECT_NEAR(mv.anchor().x, 0.0, 1e-12);
+  EXPECT_NEAR(mv.heading(), 0.0, 1e-12);
+  mv.update({ 0.0, 1.1 }, 0.0);  // 1.1 m to the left: heading follows the travel
+  EXPECT_NEAR(mv.anchor().y, 1.1, 1e-12);
+  EXPECT_NEAR(mv.heading(), M_PI_2, 1e-9);
+}
+
+TEST(Triangle, FarthestFreeCellAndUnknownIsNotFree)
+{
+  Grid g = freeGrid();
+  const auto s = searchTriangle(g, { 0.1, 0.1 }, 0.0, 3.0, 30.0 * DEG);
+  ASSERT_TRUE(s.found);
+  EXPECT_NEAR(g.cellX(s.x), 3.1, 0.11);
+  EXPECT_NEAR(g.cellY(s.y), 0.1, 0.11);
+  // unknown beyond 1.5 m ahead: the waypoint stays in known free space
+  fillRect(g, 1.5, -5, 5, 5, CELL_UNKNOWN);
+  const auto u = searchTriangle(g, { 0.1, 0.1 }, 0.0, 3.0, 30.0 * DEG);
+  ASSERT_TRUE(u.found);
+  EXPECT_LT(g.cellX(u.x), 1.5);
+  EXPECT_LT(u.area, s.area);
+}
+
+TEST(WaypointSelector, HeadTurnUnder15DegreesDoesNotMoveWaypoint)
+{
+  Grid g = freeGrid();
+  PlannerParams p;
+  MotionVector mv(p);
+  WaypointSelector ws(p);
+  const Point2 w{ 0.1, 0.1 };
+  mv.update(w, 0.0);
+  ASSERT_TRUE(ws.update(g, w, mv.heading()));
+  const Point2 first = ws.waypoint();
+  EXPECT_GT(first.x, 3.5);
+  for (double yaw : { 5.0, 10.0, 14.5, -14.5 })
+  {
+    mv.update(w, yaw * DEG);
+    ASSERT_TRUE(ws.update(g, w, mv.heading()));
+    EXPECT_FALSE(ws.switched()) << yaw;
+    EXPECT_DOUBLE_EQ(ws.waypoint().x, first.x);
+    EXPECT_DOUBLE_EQ(ws.waypoint().y, first.y);
+  }
+}
+
+TEST(WaypointSelector, TurnAroundMovesWaypoint)
+{
+  Grid g = freeGrid();
+  // a corridor along x: walls at |y| > 0.7
+  fillRect(g, -5, 0.8, 5, 5, CELL_OBSTACLE);
+  fillRect(g, -5, -5, 5, -0.8, CELL_OBSTACLE);
+  PlannerParams p;
+  MotionVector mv(p);
+  WaypointSelector ws(p);
+  const Point2 w{ 0.1, 0.1 };
+  mv.update(w, 0.0);
+  ASSERT_TRUE(ws.update(g, w, mv.heading()));
+  EXPECT_GT(ws.waypoint().x, 3.0);
+  mv.update(w, M_PI);  // turn around
+  ASSERT_TRUE(ws.update(g, w, mv.heading()));
+  EXPECT_TRUE(ws.switched());
+  EXPECT_LT(ws.waypoint().x, -3.0);
+}
+
+TEST(WaypointSelector, SmallerFreeAreaDoesNotReplaceWaypoint)
+{
+  Grid g = freeGrid();
+  PlannerParams p;
+  MotionVector mv(p);
+  WaypointSelector ws(p);
+  const Point2 w{ 0.1, 0.1 };
+  // wide open ahead (+x); to the left (+y) a narrow 0.4 m slot between obstacles
+  fillRect(g, -5, 0.5, -0.5, 5, CELL_OBSTACLE);
+  fillRect(g, 0.7, 0.5, 5, 5, CELL_OBSTACLE);
+  mv.update(w, 0.0);
+  ASSERT_TRUE(ws.update(g, w, mv.heading()));
+  const Point2 first = ws.waypoint();
+  const double first_area = ws.area();
+  EXPECT_GT(first.x, 3.0);
+  // the wearer turns 60 degrees left: the heading moves (> 15 deg), the candidate lies in the slot
+  mv.update(w, 60.0 * DEG);
+  EXPECT_NEAR(mv.heading(), 60.0 * DEG, 1e-12);
+  ASSERT_TRUE(ws.update(g, w, mv.heading()));
+  const auto& cand = ws.lastSearch();
+  ASSERT_TRUE(cand.found);
+  EXPECT_GT(g.cellY(cand.y), 1.0);  // the candidate is up the slot...
+  EXPECT_FALSE(ws.switched());      // ...but its free area is smaller: the waypoint stays
+  EXPECT_DOUBLE_EQ(ws.waypoint().x, first.x);
+  EXPECT_DOUBLE_EQ(ws.waypoint().y, first.y);
+  EXPECT_NEAR(ws.area(), first_area, 1e-9);
+  // and a larger area does replace it: open the slot wide
+  fillRect(g, -5, 0.5, 5, 5, CELL_FREE);
+  fillRect(g, -5, -5, 5, -0.3, CELL_OBSTACLE);
+  ASSERT_TRUE(ws.update(g, w, mv.heading()));
+  EXPECT_TRUE(ws.switched());
+  EXPECT_GT(ws.waypoint().y, 1.5);
+}
+
+TEST(WaypointSelector, ReachedWaypointIsReplaced)
+{
+  Grid g = freeGrid();
+  WaypointSelector ws;
+  ASSERT_TRUE(ws.update(g, { 0.1, 0.1 }, 0.0));
+  const Point2 wp = ws.waypoint();
+  ASSERT_TRUE(ws.update(g, { wp.x - 0.2, wp.y }, 0.0));  // 0.2 m short: reached; the next one is ahead/inside
+  EXPECT_TRUE(ws.switched());
+}
+
+TEST(WaypointSelector, KeptUntilTheWearerMovesOneMetre)
+{
+  Grid g = freeGrid();
+  PlannerParams p;
+  MotionVector mv(p);
+  WaypointSelector ws(p);
+  ASSERT_TRUE(ws.update(g, { 0.1, 0.1 }, mv.heading(), mv.update({ 0.1, 0.1 }, 0.0)));
+  const Point2 first = ws.waypoint();
+  // 0.6 m forward: the motion vector does not update, the waypoint stays although a farther one exists
+  const bool moved = mv.update({ 0.7, 0.1 }, 0.0);
+  EXPECT_FALSE(moved);
+  ASSERT_TRUE(ws.update(g, { 0.7, 0.1 }, mv.heading(), moved));
+  EXPECT_FALSE(ws.switched());
+  EXPECT_DOUBLE_EQ(ws.waypoint().x, first.x);
+  // 1.2 m forward: the motion vector updates and the farther waypoint with the larger free area wins
+  const bool moved2 = mv.update({ 1.3, 0.1 }, 0.0);
+  EXPECT_TRUE(moved2);
+  ASSERT_TRUE(ws.update(g, { 1.3, 0.1 }, mv.heading(), moved2));
+  EXPECT_TRUE(ws.switched());
+  EXPECT_GT(ws.waypoint().x, first.x + 0.5);
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
