@@ -1,0 +1,33 @@
+#pragma once
+#include <deque>
+#include <Eigen/Geometry>
+
+namespace assistive_vo
+{
+/// Recent IMU samples (camera_link axes): integrates the gyro between two frame stamps (the
+/// rotation prior for fast head turns) and averages the accelerometer for the initial gravity.
+class ImuBuffer
+{
+public:
+  explicit ImuBuffer(double keep_s = 2.0) : keep_s_(keep_s) {}
+  /// Samples must come in stamp order; an older one (bag loop) clears the buffer first.
+  void add(double stamp, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel);
+  void clear() { s_.clear(); }
+  bool empty() const { return s_.empty(); }
+  /// Rotation R_t0_t1 of camera_link (maps t1 coords to t0 coords) from the gyro, trapezoidal
+  /// per sample interval. False when the samples do not cover [t0, t1] (to within `slack` s).
+  bool integrate(double t0, double t1, Eigen::Quaterniond& R, double slack = 0.02) const;
+  /// Mean accelerometer reading over the samples up to `t` (at most `window` s back);
+  /// false without samples.
+  bool meanAccel(double t, double window, Eigen::Vector3d& a) const;
+
+private:
+  struct Sample
+  {
+    double t;
+    Eigen::Vector3d w, a;
+  };
+  std::deque<Sample> s_;
+  double keep_s_;
+};
+}  // namespace assistive_vo

@@ -1,0 +1,69 @@
+#pragma once
+// Parameters of the visual odometry core. The initializers are the only defaults (STYLE.md 4);
+// the nodelet and the benchmark read/override them, README.md lists them.
+
+namespace assistive_vo
+{
+struct VoParams
+{
+  // --- FAST detection with adaptive threshold (seed 2.2.1.1) ---
+  int fast_threshold = 40;        // start threshold (intensity levels)
+  int fast_threshold_min = 5;
+  int fast_threshold_max = 120;
+  int fast_threshold_step = 4;    // change per replenishment
+  int target_features = 250;      // features wanted after a replenishment
+  int grid_cols = 8;              // bucketing grid (one best corner per cell slot)
+  int grid_rows = 6;
+  int border_px = 12;             // no features this close to the image border
+  double min_feature_distance_px = 12.0;  // new corners this far from existing tracks
+  double replenish_ratio = 0.35;  // re-detect when tracks alive < ratio * tracks started
+  int min_tracks = 40;            // ... or when fewer than this many tracks are alive
+
+  // --- sparse stereo along the rectified row ---
+  int stereo_half_window = 4;     // SAD window (2h+1)^2
+  double min_disparity_px = 0.5;
+  int max_disparity_px = 128;
+  double stereo_max_mean_sad = 18.0;     // mean absolute difference per pixel
+  double stereo_uniqueness = 0.85;       // best cost < uniqueness * second best (outside +-1)
+  double min_depth_m = 0.2;
+  double max_depth_m = 30.0;
+
+  // --- KLT tracking ---
+  int klt_window = 21;
+  int klt_levels = 3;
+  int klt_iterations = 20;
+  double klt_epsilon = 0.03;
+  double klt_min_eigen = 1e-4;
+
+  // --- RANSAC on the epipolar constraint (keyframe -> current left image) ---
+  bool epipolar_filter = true;
+  double epipolar_threshold_px = 1.0;
+  double epipolar_min_flow_px = 2.0;     // below this mean flow F is degenerate: skip the filter
+
+  // --- P3P in RANSAC with LMedS scoring (eq. 2.18) ---
+  double ransac_probability = 0.99;
+  int ransac_max_trials = 300;
+  int ransac_min_trials = 10;
+  double inlier_threshold_px = 2.0;      // upper cap on the LMedS-derived inlier threshold
+  double inlier_threshold_min_px = 0.7;  // lower cap
+  int min_inliers = 12;
+
+  // --- two-frame sparse bundle adjustment (Levenberg-Marquardt, Schur complement) ---
+  int ba_iterations = 8;
+  double ba_huber_px = 1.0;
+  double pixel_sigma_px = 0.5;           // for the published covariance
+
+  // --- failure handling and motion limits ---
+  double max_speed_mps = 4.0;            // larger frame-to-frame translation = failure
+  double max_angular_speed_dps = 400.0;  // larger frame-to-frame rotation = failure
+  double max_frame_gap_s = 1.0;          // a larger stamp gap re-initialises
+  double min_image_stddev = 4.0;         // black / saturated / flat frame detection
+  double max_rotation_from_keyframe_deg = 25.0;  // new keyframe beyond this
+
+  // --- IMU (gyro prior) and odom frame ---
+  bool use_imu = true;
+  double camera_height_m = 1.6;          // origin of odom on the floor under the camera start
+  double initial_roll_deg = 0.0;         // camera_link roll/pitch at start when no IMU
+  double initial_pitch_deg = 0.0;
+};
+}  // namespace assistive_vo

@@ -1,0 +1,123 @@
+#pragma once
+#include <string>
+#include <vector>
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+#include "assistive_vo/bundle_adjustment.h"
+#include "assistive_vo/feature_detector.h"
+#include "assistive_vo/p3p_ransac.h"
+#include "assistive_vo/params.h"
+#include "assistive_vo/sparse_stereo.h"
+#include "assistive_vo/stereo_camera.h"
+
+namespace assistive_vo
+{
+enum class TrackingState
+{
+  INITIALISING,    ///< no keyframe yet
+  TRACKING,
+  LOST,            ///< this frame gave no motion estimate (pose predicted)
+  REINITIALISING   ///< a new keyframe was started after a failure (pose chain kept)
+};
+const char* toString(TrackingState s);
+
+/// Per-frame timings (ms) and counters.
+struct FrameStats
+{
+  double ms_total = 0, ms_pyramid = 0, ms_klt = 0, ms_epipolar = 0, ms_stereo = 0, ms_ransac = 0,
+         ms_ba = 0, ms_detect = 0;
+  int tracks = 0, inliers = 0, ransac_trials = 0, new_features = 0, fast_threshold = 0;
+  bool keyframe = false, reset = false;
+};
+
+struct VoOutput
+{
+  TrackingState state = TrackingState::INITIALISING;
+  bool pose_valid = false;                                 ///< false only before the first frame
+  Eigen::Isometry3d T_odom_link = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_odom_optical = Eigen::Isometry3d::Identity();
+  Eigen::Matrix<double, 6, 6> pose_covariance = Eigen::Matrix<double, 6, 6>::Zero();   ///< odom axes
+  Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();   ///< camera_link axes, m/s
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< camera_link axes, rad/s
+  Eigen::Matrix<double, 6, 6> twist_covariance = Eigen::Matrix<double, 6, 6>::Identity();
+  FrameStats stats;
+  std::string message;  ///< why the frame was rejected / lost, empty when fine
+};
+
+/// The visual odometry pipeline of seed 2.2.1 (fig. 2.5): FAST corners with stereo depth, KLT
+/// frame to frame, RANSAC on the epipolar constraint, P3P-RANSAC (LMedS) against the keyframe's
+/// 3D points, two-frame sparse bundle adjustment, replenishment below 35 % of started tracks.
+/// Motion is always estimated against the keyframe (the frame the tracks were (re)started in), so
+/// drift only accumulates at keyframe changes. On failure the pose is predicted (gyro / constant
+/// velocity), a new keyframe is started and the pose chain continues.
+class VisualOdometry
+{
+public:
+  explicit VisualOdometry(const VoParams& p = VoParams(), const StereoCamera& cam = StereoCamera());
+  void setParams(const VoParams& p);
+  const VoParams& params() const { return p_; }
+  /// Changing the camera re-initialises tracking (the pose chain is kept).
+  void setCamera(const StereoCamera& cam);
+  const StereoCamera& camera() const { return cam_; }
+  /// Gravity direction at start ("up", camera_link axes, e.g. the mean accelerometer reading);
+  /// used only before the first frame is processed.
+  void setInitialUp(const Eigen::Vector3d& up_link);
+  /// Forgets everything, including the pose (next frame is the new origin).
+  void reset();
+
+  /// One stereo pair (mono8, rectified, same size). `gyro_link` (optional): rotation of
+  /// camera_link from the previous frame to this one (R_prev_cur), integrated from the gyro.
+  VoOutput process(const cv::Mat& left, const cv::Mat& right, double stamp,
+                   const Eigen::Quaterniond* gyro_link = nullptr);
+
+  /// Flow vectors of the last frame over the left image (BGR): green = inlier, red = rejected.
+  cv::Mat drawOverlay(const cv::Mat& left) const;
+  int resets() const { return resets_; }
+  bool started() const { return have_pose_; }
+
+private:
+  struct Track
+  {
+    Eigen::Vector3d X_kf;       ///< 3D point in the keyframe's optical frame
+    StereoObservation kf_obs;   ///< its stereo observation in the keyframe
+    cv::Point2f prev, cur;
+    float cur_disp = -1.f;
+    bool inlier = true;
+  };
+  void startKeyframe(const cv::Mat& left, const cv::Mat& right, bool from_current_tracks, FrameStats& st);
+  VoOutput fail(const std::string& why, const cv::Mat* left, const cv::Mat* right,
+                const Eigen::Isometry3d& T_prev_cur_pred, double stamp, FrameStats& st);
+  VoOutput makeOutput(TrackingState s, const FrameStats& st, const Eigen::Isometry3d& T_prev_cur, double dt);
+  bool imageUsable(const cv::Mat& img, std::string& why) const;
+
+  VoParams p_;
+  StereoCamera cam_;
+  FeatureDetector detector_;
+  SparseStereo stereo_;
+  P3PRansac ransac_;
+  TwoFrameBundleAdjuster ba_;
+
+  bool have_pose_ = false;       ///< T_w_cur_ is meaningful
+  bool have_keyframe_ = false;   ///< tracks_ and prev_pyr_ are meaningful
+  Eigen::Isometry3d T_odom_o0_ = Eigen::Isometry3d::Identity();  ///< first optical frame in odom
+  Eigen::Vector3d up_link_ = Eigen::Vector3d::UnitZ();
+  bool have_up_ = false;
+  Eigen::Isometry3d T_w_kf_ = Eigen::Isometry3d::Identity();     ///< w = first optical frame
+  Eigen::Isometry3d T_w_cur_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_kf_prev_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d last_T_prev_cur_ = Eigen::Isometry3d::Identity();
+  double last_dt_ = 0.0;
+  Eigen::Matrix<double, 6, 6> cov_kf_ = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 6> cov_cur_ = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 6> cov_rel_ = Eigen::Matrix<double, 6, 6>::Identity();
+  double last_stamp_ = 0.0;
+  std::vector<cv::Mat> prev_pyr_, cur_pyr_;
+  std::vector<Track> tracks_;
+  int tracks_started_ = 0;
+  int resets_ = 0;
+  // last frame's flow for the overlay
+  std::vector<cv::Point2f> ov_from_, ov_to_;
+  std::vector<uint8_t> ov_inlier_;
+  TrackingState last_state_ = TrackingState::INITIALISING;
+};
+}  // namespace assistive_vo

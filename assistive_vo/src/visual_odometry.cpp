@@ -1,0 +1,566 @@
+#include "assistive_vo/visual_odometry.h"
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+#include "assistive_vo/frames.h"
+
+namespace assistive_vo
+{
+namespace
+{
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0)
+{
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+double angleOf(const Eigen::Matrix3d& R)
+{
+  return Eigen::AngleAxisd(R).angle();
+}
+Eigen::Matrix<double, 6, 6> rotateCov(const Eigen::Matrix<double, 6, 6>& c, const Eigen::Matrix3d& R)
+{
+  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+  A.topLeftCorner<3, 3>() = R;
+  A.bottomRightCorner<3, 3>() = R;
+  return A * c * A.transpose();
+}
+}  // namespace
+
+const char* toString(TrackingState s)
+{
+  switch (s)
+  {
+    case TrackingState::INITIALISING: return "initialising";
+    case TrackingState::TRACKING: return "tracking";
+    case TrackingState::LOST: return "lost";
+    case TrackingState::REINITIALISING: return "re-initialising";
+  }
+  return "?";
+}
+
+VisualOdometry::VisualOdometry(const VoParams& p, const StereoCamera& cam)
+  : p_(p), cam_(cam), detector_(p), stereo_(p)
+{
+}
+
+void VisualOdometry::setParams(const VoParams& p)
+{
+  p_ = p;
+  detector_.setParams(p);
+  stereo_.setParams(p);
+}
+
+void VisualOdometry::setCamera(const StereoCamera& cam)
+{
+  cam_ = cam;
+  have_keyframe_ = false;
+  tracks_.clear();
+}
+
+void VisualOdometry::setInitialUp(const Eigen::Vector3d& up_link)
+{
+  if (up_link.allFinite() && up_link.norm() > 1e-6)
+  {
+    up_link_ = up_link;
+    have_up_ = true;
+  }
+}
+
+void VisualOdometry::reset()
+{
+  have_pose_ = false;
+  have_keyframe_ = false;
+  tracks_.clear();
+  T_w_kf_ = T_w_cur_ = T_kf_prev_ = last_T_prev_cur_ = Eigen::Isometry3d::Identity();
+  cov_kf_.setZero();
+  cov_cur_.setZero();
+  resets_ = 0;
+  last_dt_ = 0;
+  ov_from_.clear();
+  ov_to_.clear();
+  ov_inlier_.clear();
+}
+
+bool VisualOdometry::imageUsable(const cv::Mat& img, std::string& why) const
+{
+  // Subsampled mean / stddev: black, saturated or flat frames carry no motion information.
+  double s = 0, s2 = 0;
+  int n = 0;
+  for (int y = 0; y < img.rows; y += 8)
+  {
+    const uint8_t* r = img.ptr<uint8_t>(y);
+    for (int x = 0; x < img.cols; x += 8)
+    {
+      s += r[x];
+      s2 += r[x] * r[x];
+      ++n;
+    }
+  }
+  if (n == 0)
+  {
+    why = "empty image";
+    return false;
+  }
+  const double mean = s / n, sd = std::sqrt(std::max(0.0, s2 / n - mean * mean));
+  if (sd < p_.min_image_stddev)
+  {
+    why = mean < 20 ? "image black" : (mean > 235 ? "image saturated" : "image without texture");
+    return false;
+  }
+  return true;
+}
+
+void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bool from_current_tracks,
+                                   FrameStats& st)
+{
+  const auto t0 = Clock::now();
+  std::vector<Track> kept;
+  std::vector<cv::Point2f> existing;
+  if (from_current_tracks)
+  {
+    for (auto& tr : tracks_)
+    {
+      if (tr.cur_disp <= 0)
+        continue;
+      Track n;
+      n.X_kf = cam_.triangulate(tr.cur.x, tr.cur.y, tr.cur_disp);
+      n.kf_obs = StereoObservation{tr.cur.x, tr.cur.y, tr.cur.x - tr.cur_disp};
+      n.prev = n.cur = tr.cur;
+      n.cur_disp = tr.cur_disp;
+      kept.push_back(n);
+      existing.push_back(tr.cur);
+    }
+  }
+  const int wanted = std::max(0, p_.target_features - static_cast<int>(kept.size()));
+  std::vector<cv::Point2f> fresh = detector_.detect(left, existing, wanted);
+  st.fast_threshold = detector_.threshold();
+  const double max_d = std::min<double>(p_.max_disparity_px, cam_.fx * cam_.baseline / p_.min_depth_m);
+  std::vector<float> disp = stereo_.match(left, right, fresh, max_d);
+  int added = 0;
+  for (size_t i = 0; i < fresh.size(); ++i)
+  {
+    if (disp[i] <= 0)
+      continue;
+    const Eigen::Vector3d X = cam_.triangulate(fresh[i].x, fresh[i].y, disp[i]);
+    if (X.z() > p_.max_depth_m || X.z() < p_.min_depth_m)
+      continue;
+    Track n;
+    n.X_kf = X;
+    n.kf_obs = StereoObservation{fresh[i].x, fresh[i].y, fresh[i].x - disp[i]};
+    n.prev = n.cur = fresh[i];
+    n.cur_disp = disp[i];
+    kept.push_back(n);
+    ++added;
+  }
+  tracks_.swap(kept);
+  tracks_started_ = static_cast<int>(tracks_.size());
+  st.new_features = added;
+  st.keyframe = true;
+  T_w_kf_ = T_w_cur_;
+  T_kf_prev_ = Eigen::Isometry3d::Identity();
+  cov_kf_ = cov_cur_;
+  have_keyframe_ = tracks_started_ >= std::max(4, p_.min_inliers);
+  st.ms_detect += msSince(t0);
+}
+
+VoOutput VisualOdometry::makeOutput(TrackingState s, const FrameStats& st, const Eigen::Isometry3d& T_prev_cur,
+                                    double dt)
+{
+  VoOutput o;
+  o.state = s;
+  o.pose_valid = have_pose_;
+  o.stats = st;
+  o.stats.tracks = static_cast<int>(tracks_.size());
+  const Eigen::Matrix3d R_lo = R_link_optical();
+  o.T_odom_optical = T_odom_o0_ * T_w_cur_;
+  Eigen::Isometry3d T_opt_link = Eigen::Isometry3d::Identity();
+  T_opt_link.linear() = R_lo.transpose();
+  o.T_odom_link = o.T_odom_optical * T_opt_link;
+  o.pose_covariance = rotateCov(cov_cur_, o.T_odom_optical.linear());
+  if (dt > 1e-6)
+  {
+    o.linear_velocity = R_lo * T_prev_cur.translation() / dt;
+    o.angular_velocity = R_lo * (Eigen::AngleAxisd(T_prev_cur.linear()).angle() *
+                                 Eigen::AngleAxisd(T_prev_cur.linear()).axis()) / dt;
+    o.twist_covariance = rotateCov(cov_rel_, R_lo) / (dt * dt);
+  }
+  if (!o.T_odom_link.matrix().allFinite())
+  {
+    // never publish NaN: fall back to the last keyframe (should not happen)
+    o.pose_valid = false;
+  }
+  last_state_ = s;
+  return o;
+}
+
+VoOutput VisualOdometry::fail(const std::string& why, const cv::Mat* left, const cv::Mat* right,
+                              const Eigen::Isometry3d& T_prev_cur_pred, double stamp, FrameStats& st)
+{
+  // Keep the pose chain: predicted motion (gyro rotation, damped velocity), then a new keyframe
+  // in this frame if it is usable, else wait for a usable frame.
+  T_w_cur_ = T_w_cur_ * T_prev_cur_pred;
+  last_T_prev_cur_ = T_prev_cur_pred;
+  cov_cur_ += Eigen::Matrix<double, 6, 6>::Identity() * 1e-2;
+  if (have_keyframe_)  // count the transition tracking -> lost once
+  {
+    ++resets_;
+    st.reset = true;
+  }
+  have_keyframe_ = false;
+  tracks_.clear();
+  TrackingState s = TrackingState::LOST;
+  if (left && right)
+  {
+    startKeyframe(*left, *right, false, st);
+    if (have_keyframe_)
+    {
+      s = TrackingState::REINITIALISING;
+      std::swap(prev_pyr_, cur_pyr_);
+    }
+  }
+  last_stamp_ = stamp;
+  VoOutput o = makeOutput(s, st, T_prev_cur_pred, last_dt_);
+  o.message = why;
+  return o;
+}
+
+VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, double stamp,
+                                 const Eigen::Quaterniond* gyro_link)
+{
+  const auto t_start = Clock::now();
+  FrameStats st;
+  st.fast_threshold = detector_.threshold();
+  auto finish = [&](VoOutput o) {
+    o.stats.ms_total = msSince(t_start);
+    return o;
+  };
+
+  // ---- input checks: nothing here may throw or produce NaN ----
+  std::string why;
+  if (!cam_.valid())
+  {
+    VoOutput o = makeOutput(TrackingState::LOST, st, Eigen::Isometry3d::Identity(), 0);
+    o.message = "invalid stereo calibration (fx, baseline, size)";
+    return finish(o);
+  }
+  if (left.empty() || right.empty() || left.type() != CV_8UC1 || right.type() != CV_8UC1 ||
+      left.size() != right.size() || left.cols != cam_.width || left.rows != cam_.height)
+  {
+    VoOutput o = makeOutput(have_pose_ ? TrackingState::LOST : TrackingState::INITIALISING, st,
+                            Eigen::Isometry3d::Identity(), 0);
+    o.message = "stereo images empty, not mono8, or of a size different from camera_info";
+    return finish(o);
+  }
+
+  if (!have_pose_)
+  {
+    const Eigen::Isometry3d T_odom_link0 =
+        have_up_ && p_.use_imu ? startPoseFromUp(up_link_, p_.camera_height_m)
+                               : startPoseFromRollPitch(p_.initial_roll_deg * M_PI / 180.0,
+                                                        p_.initial_pitch_deg * M_PI / 180.0, p_.camera_height_m);
+    Eigen::Isometry3d T_link_opt = Eigen::Isometry3d::Identity();
+    T_link_opt.linear() = R_link_optical();
+    T_odom_o0_ = T_odom_link0 * T_link_opt;
+    T_w_cur_ = T_w_kf_ = Eigen::Isometry3d::Identity();
+    have_pose_ = true;
+    last_stamp_ = stamp;
+  }
+
+  double dt = stamp - last_stamp_;
+  bool gap = false;
+  if (have_keyframe_ && (dt <= 0.0 || dt > p_.max_frame_gap_s))
+  {
+    why = dt <= 0.0 ? "time went backwards or repeated stamp: re-initialising"
+                    : "gap in the image stream: re-initialising";
+    gap = true;
+    dt = last_dt_ > 0 ? last_dt_ : 1.0 / 15.0;
+  }
+
+  // Predicted motion prev -> cur in the optical frame.
+  Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();
+  const Eigen::Matrix3d R_lo = R_link_optical();
+  if (!gap && last_dt_ > 1e-6)
+  {
+    const double s = std::clamp(dt / last_dt_, 0.0, 3.0);
+    T_pred.translation() = last_T_prev_cur_.translation() * s * 0.9;
+    Eigen::AngleAxisd aa(last_T_prev_cur_.linear());
+    T_pred.linear() = Eigen::AngleAxisd(aa.angle() * s, aa.axis()).toRotationMatrix();
+  }
+  if (gyro_link && p_.use_imu && gyro_link->coeffs().allFinite())
+    T_pred.linear() = R_lo.transpose() * gyro_link->normalized().toRotationMatrix() * R_lo;
+  if (gap)
+    T_pred.translation().setZero();
+
+  if (!imageUsable(left, why) || !imageUsable(right, why))
+  {
+    last_dt_ = dt;
+    VoOutput o = fail(why, nullptr, nullptr, T_pred, stamp, st);
+    o.state = TrackingState::LOST;
+    return finish(o);
+  }
+
+  // ---- pyramid of the current left image ----
+  auto t0 = Clock::now();
+  const cv::Size win(p_.klt_window, p_.klt_window);
+  cv::buildOpticalFlowPyramid(left, cur_pyr_, win, p_.klt_levels, true);
+  st.ms_pyramid = msSince(t0);
+
+  if (!have_keyframe_ || gap)
+  {
+    // First frame, a frame after a failure, or a stream gap: start a keyframe here, keeping the
+    // pose chain (the pose is predicted over the gap).
+    const bool first = last_state_ == TrackingState::INITIALISING;
+    if (gap)
+    {
+      ++resets_;
+      st.reset = true;
+    }
+    if (!first)
+    {
+      T_w_cur_ = T_w_cur_ * T_pred;
+      last_T_prev_cur_ = T_pred;
+    }
+    last_dt_ = dt;
+    startKeyframe(left, right, false, st);
+    std::swap(prev_pyr_, cur_pyr_);
+    last_stamp_ = stamp;
+    const TrackingState s = have_keyframe_ ? (first ? TrackingState::TRACKING : TrackingState::REINITIALISING)
+                                           : (first ? TrackingState::INITIALISING : TrackingState::LOST);
+    VoOutput o = makeOutput(s, st, first ? Eigen::Isometry3d::Identity() : T_pred, dt);
+    o.message = why;
+    if (!have_keyframe_)
+      o.message = "too few features with stereo depth to start tracking";
+    return finish(o);
+  }
+
+  // ---- KLT from the previous frame, initial guess from the predicted motion ----
+  t0 = Clock::now();
+  const Eigen::Isometry3d T_kf_pred = T_kf_prev_ * T_pred;
+  const Eigen::Isometry3d T_pred_kf = T_kf_pred.inverse();
+  std::vector<cv::Point2f> p0(tracks_.size()), p1(tracks_.size());
+  for (size_t i = 0; i < tracks_.size(); ++i)
+  {
+    p0[i] = tracks_[i].cur;
+    const Eigen::Vector3d Xc = T_pred_kf * tracks_[i].X_kf;
+    if (Xc.z() > 0.05)
+    {
+      const Eigen::Vector2d q = cam_.projectLeft(Xc);
+      p1[i] = cv::Point2f(static_cast<float>(q.x()), static_cast<float>(q.y()));
+      if (!(q.allFinite()) || q.x() < 0 || q.y() < 0 || q.x() >= cam_.width || q.y() >= cam_.height)
+        p1[i] = p0[i];
+    }
+    else
+      p1[i] = p0[i];
+  }
+  std::vector<uint8_t> status;
+  std::vector<float> err;
+  if (!p0.empty())
+    cv::calcOpticalFlowPyrLK(prev_pyr_, cur_pyr_, p0, p1, status, err, win, p_.klt_levels,
+                             cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, p_.klt_iterations,
+                                              p_.klt_epsilon),
+                             cv::OPTFLOW_USE_INITIAL_FLOW, p_.klt_min_eigen);
+  ov_from_.clear();
+  ov_to_.clear();
+  ov_inlier_.clear();
+  {
+    std::vector<Track> alive;
+    alive.reserve(tracks_.size());
+    const float b = 2.f;
+    for (size_t i = 0; i < tracks_.size(); ++i)
+    {
+      if (!status[i] || !(p1[i].x >= b && p1[i].y >= b && p1[i].x < cam_.width - b && p1[i].y < cam_.height - b))
+        continue;
+      Track t = tracks_[i];
+      t.prev = p0[i];
+      t.cur = p1[i];
+      alive.push_back(t);
+    }
+    tracks_.swap(alive);
+  }
+  st.ms_klt = msSince(t0);
+
+  // ---- RANSAC on the epipolar constraint (keyframe -> current) ----
+  t0 = Clock::now();
+  if (p_.epipolar_filter && tracks_.size() >= 15)
+  {
+    std::vector<cv::Point2f> a(tracks_.size()), c(tracks_.size());
+    double flow = 0;
+    for (size_t i = 0; i < tracks_.size(); ++i)
+    {
+      a[i] = cv::Point2f(static_cast<float>(tracks_[i].kf_obs.u), static_cast<float>(tracks_[i].kf_obs.v));
+      c[i] = tracks_[i].cur;
+      flow += cv::norm(a[i] - c[i]);
+    }
+    flow /= static_cast<double>(tracks_.size());
+    if (flow > p_.epipolar_min_flow_px)
+    {
+      std::vector<uint8_t> mask;
+      cv::Mat F = cv::findFundamentalMat(a, c, cv::FM_RANSAC, p_.epipolar_threshold_px, 0.99, 200, mask);
+      if (!F.empty() && mask.size() == tracks_.size())
+      {
+        size_t nin = 0;
+        for (uint8_t m : mask)
+          nin += m != 0;
+        // Only trust F when it explains most tracks (near-degenerate motion can fit nonsense).
+        if (nin >= tracks_.size() / 2)
+        {
+          std::vector<Track> keep;
+          keep.reserve(nin);
+          for (size_t i = 0; i < tracks_.size(); ++i)
+            if (mask[i])
+              keep.push_back(tracks_[i]);
+            else
+            {
+              ov_from_.push_back(tracks_[i].prev);
+              ov_to_.push_back(tracks_[i].cur);
+              ov_inlier_.push_back(0);
+            }
+          tracks_.swap(keep);
+        }
+      }
+    }
+  }
+  st.ms_epipolar = msSince(t0);
+
+  // ---- sparse stereo for the tracked points ----
+  t0 = Clock::now();
+  {
+    std::vector<cv::Point2f> pts(tracks_.size());
+    for (size_t i = 0; i < tracks_.size(); ++i)
+      pts[i] = tracks_[i].cur;
+    const double max_d = std::min<double>(p_.max_disparity_px, cam_.fx * cam_.baseline / p_.min_depth_m);
+    const std::vector<float> d = stereo_.match(left, right, pts, max_d);
+    for (size_t i = 0; i < tracks_.size(); ++i)
+      tracks_[i].cur_disp = d[i];
+  }
+  st.ms_stereo = msSince(t0);
+
+  // ---- P3P RANSAC (LMedS) against the keyframe's 3D points ----
+  t0 = Clock::now();
+  Vec3List X(tracks_.size());
+  Vec2List x(tracks_.size());
+  for (size_t i = 0; i < tracks_.size(); ++i)
+  {
+    X[i] = tracks_[i].X_kf;
+    x[i] = Eigen::Vector2d(tracks_[i].cur.x, tracks_[i].cur.y);
+  }
+  RansacOptions ro;
+  ro.probability = p_.ransac_probability;
+  ro.max_trials = p_.ransac_max_trials;
+  ro.min_trials = p_.ransac_min_trials;
+  ro.threshold_max_px = p_.inlier_threshold_px;
+  ro.threshold_min_px = p_.inlier_threshold_min_px;
+  const RansacResult rr = ransac_.estimate(cam_, X, x, ro, &T_kf_pred);
+  st.ransac_trials = rr.trials;
+  st.ms_ransac = msSince(t0);
+  last_dt_ = dt;
+  if (!rr.ok || static_cast<int>(rr.inliers.size()) < p_.min_inliers)
+  {
+    st.inliers = static_cast<int>(rr.inliers.size());
+    return finish(fail("too few inliers (" + std::to_string(rr.inliers.size()) + "): re-initialising", &left,
+                       &right, T_pred, stamp, st));
+  }
+
+  // ---- two-frame sparse bundle adjustment over the inliers ----
+  t0 = Clock::now();
+  Vec3List Xin;
+  std::vector<StereoObservation> oref, ocur;
+  Xin.reserve(rr.inliers.size());
+  for (int i : rr.inliers)
+  {
+    const Track& t = tracks_[static_cast<size_t>(i)];
+    Xin.push_back(t.X_kf);
+    oref.push_back(t.kf_obs);
+    ocur.push_back(StereoObservation{t.cur.x, t.cur.y, t.cur_disp > 0 ? t.cur.x - t.cur_disp : -1.0});
+  }
+  TwoFrameBundleAdjuster::Options bo;
+  bo.iterations = p_.ba_iterations;
+  bo.huber_px = p_.ba_huber_px;
+  bo.pixel_sigma_px = p_.pixel_sigma_px;
+  const BundleAdjustmentResult br = ba_.optimize(cam_, rr.T_ref_cur, Xin, oref, ocur, bo);
+  st.ms_ba = msSince(t0);
+  const Eigen::Isometry3d T_kf_cur = br.ok ? br.T_ref_cur : rr.T_ref_cur;
+
+  // ---- plausibility: no jumps ----
+  const Eigen::Isometry3d T_prev_cur = T_kf_prev_.inverse() * T_kf_cur;
+  const double max_t = p_.max_speed_mps * dt + 0.02;
+  const double max_r = p_.max_angular_speed_dps * M_PI / 180.0 * dt + 0.02;
+  std::string bad;
+  if (!T_kf_cur.matrix().allFinite())
+    bad = "non-finite motion";
+  else if (T_prev_cur.translation().norm() > max_t)
+    bad = "implausible translation";
+  else if (angleOf(T_prev_cur.linear()) > max_r)
+    bad = "implausible rotation";
+  else if (gyro_link && p_.use_imu &&
+           angleOf(T_prev_cur.linear().transpose() * T_pred.linear()) > 0.05 + 0.5 * angleOf(T_pred.linear()))
+    bad = "rotation disagrees with the gyro";
+  if (!bad.empty())
+    return finish(fail(bad + ": re-initialising", &left, &right, T_pred, stamp, st));
+
+  // ---- accept ----
+  std::vector<uint8_t> is_in(tracks_.size(), 0);
+  for (size_t k = 0; k < rr.inliers.size(); ++k)
+  {
+    const size_t i = static_cast<size_t>(rr.inliers[k]);
+    is_in[i] = 1;
+    tracks_[i].X_kf = Xin[k];  // refined by the bundle adjustment
+  }
+  {
+    std::vector<Track> keep;
+    keep.reserve(rr.inliers.size());
+    for (size_t i = 0; i < tracks_.size(); ++i)
+    {
+      ov_from_.push_back(tracks_[i].prev);
+      ov_to_.push_back(tracks_[i].cur);
+      ov_inlier_.push_back(is_in[i]);
+      if (is_in[i])
+        keep.push_back(tracks_[i]);
+    }
+    tracks_.swap(keep);
+  }
+  st.inliers = static_cast<int>(rr.inliers.size());
+  T_w_cur_ = T_w_kf_ * T_kf_cur;
+  T_kf_prev_ = T_kf_cur;
+  last_T_prev_cur_ = T_prev_cur;
+  // BA covariance is of the current frame relative to the keyframe (current-frame axes).
+  cov_rel_ = br.ok ? br.covariance : Eigen::Matrix<double, 6, 6>::Identity() * 1e-2;
+  cov_cur_ = cov_kf_ + rotateCov(cov_rel_, T_kf_cur.linear());
+
+  // ---- replenish (new keyframe) ----
+  if (static_cast<int>(tracks_.size()) < p_.replenish_ratio * tracks_started_ ||
+      static_cast<int>(tracks_.size()) < p_.min_tracks ||
+      angleOf(T_kf_cur.linear()) > p_.max_rotation_from_keyframe_deg * M_PI / 180.0)
+    startKeyframe(left, right, true, st);
+
+  std::swap(prev_pyr_, cur_pyr_);
+  last_stamp_ = stamp;
+  return finish(makeOutput(TrackingState::TRACKING, st, T_prev_cur, dt));
+}
+
+cv::Mat VisualOdometry::drawOverlay(const cv::Mat& left) const
+{
+  cv::Mat out;
+  if (left.empty())
+    return out;
+  if (left.channels() == 1)
+    cv::cvtColor(left, out, cv::COLOR_GRAY2BGR);
+  else
+    out = left.clone();
+  for (size_t i = 0; i < ov_from_.size(); ++i)
+  {
+    const cv::Scalar c = ov_inlier_[i] ? cv::Scalar(0, 220, 0) : cv::Scalar(0, 0, 255);
+    cv::line(out, ov_from_[i], ov_to_[i], c, 1, cv::LINE_AA);
+    cv::circle(out, ov_to_[i], 2, c, -1, cv::LINE_AA);
+  }
+  for (const auto& t : tracks_)
+    if (t.prev == t.cur)  // fresh corners of a new keyframe
+      cv::circle(out, t.cur, 2, cv::Scalar(255, 160, 0), -1, cv::LINE_AA);
+  cv::putText(out, std::string(toString(last_state_)) + "  tracks " + std::to_string(tracks_.size()),
+              cv::Point(8, 20), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 255, 255), 1, cv::LINE_AA);
+  return out;
+}
+}  // namespace assistive_vo

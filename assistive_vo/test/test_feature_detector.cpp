@@ -1,0 +1,62 @@
+#include <gtest/gtest.h>
+#include "assistive_vo/feature_detector.h"
+#include "synthetic.h"
+
+using namespace assistive_vo;
+
+TEST(FeatureDetector, SpreadAndKeepsAwayFromExisting)
+{
+  cv::Mat img = test::randomTexture(640, 4)(cv::Rect(0, 0, 640, 480)).clone();
+  VoParams p;
+  FeatureDetector d(p);
+  const std::vector<cv::Point2f> existing{cv::Point2f(320, 240), cv::Point2f(100, 100)};
+  const std::vector<cv::Point2f> f = d.detect(img, existing, 150);
+  EXPECT_GT(f.size(), 100u);
+  EXPECT_LE(f.size(), 150u);
+  for (const auto& q : f)
+  {
+    EXPECT_GE(q.x, p.border_px);
+    EXPECT_GE(q.y, p.border_px);
+    EXPECT_LT(q.x, img.cols - p.border_px);
+    EXPECT_LT(q.y, img.rows - p.border_px);
+    for (const auto& e : existing)
+      EXPECT_GE(cv::norm(q - e), p.min_feature_distance_px * 0.99);
+  }
+  // every grid row of the image gets corners
+  std::vector<int> rows(static_cast<size_t>(p.grid_rows), 0);
+  for (const auto& q : f)
+    ++rows[static_cast<size_t>(q.y * p.grid_rows / img.rows)];
+  for (int r : rows)
+    EXPECT_GT(r, 0);
+}
+
+TEST(FeatureDetector, ThresholdAdaptsToTexture)
+{
+  VoParams p;
+  FeatureDetector d(p);
+  EXPECT_EQ(d.threshold(), 40);
+  // low-contrast image: few corners at 40 -> threshold goes down one step per call
+  cv::Mat tex = test::randomTexture(640, 5)(cv::Rect(0, 0, 640, 480)).clone();
+  cv::Mat low;
+  tex.convertTo(low, CV_8U, 0.15, 100);
+  d.detect(low, {}, p.target_features);
+  EXPECT_EQ(d.threshold(), 40 - p.fast_threshold_step);
+  for (int i = 0; i < 20; ++i)
+    d.detect(low, {}, p.target_features);
+  EXPECT_LT(d.threshold(), 20);
+  EXPECT_GE(d.threshold(), p.fast_threshold_min);
+  // noise image: thousands of corners -> threshold goes up
+  cv::Mat noise(480, 640, CV_8UC1);
+  cv::randu(noise, 0, 255);
+  const int before = d.threshold();
+  d.detect(noise, {}, p.target_features);
+  EXPECT_EQ(d.threshold(), before + p.fast_threshold_step);
+  // wrong type: nothing, no crash
+  EXPECT_TRUE(d.detect(cv::Mat(10, 10, CV_32F), {}, 10).empty());
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}

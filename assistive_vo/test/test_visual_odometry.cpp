@@ -1,0 +1,154 @@
+#include <gtest/gtest.h>
+#include "assistive_vo/frames.h"
+#include "assistive_vo/visual_odometry.h"
+#include "synthetic.h"
+
+using namespace assistive_vo;
+
+namespace
+{
+/// Walk forward (optical z) at 0.06 m/frame while yawing 0.4 deg/frame, 15 Hz.
+Eigen::Isometry3d truePose(int k)
+{
+  return test::makePose(0, 0.4 * M_PI / 180 * k, 0, 0.004 * k, 0, 0.06 * k);
+}
+
+struct Sequence
+{
+  StereoCamera cam = test::makeCamera();
+  test::PlaneWorld world;
+  VisualOdometry vo{VoParams(), cam};
+  Eigen::Isometry3d T_odom_o0;
+
+  VoOutput step(int k, double stamp)
+  {
+    const Eigen::Isometry3d T = truePose(k);
+    return vo.process(world.render(cam, T, false), world.render(cam, T, true), stamp);
+  }
+  /// estimated pose of the optical frame relative to the first one
+  Eigen::Isometry3d rel(const VoOutput& o) const { return T_odom_o0.inverse() * o.T_odom_optical; }
+};
+
+void expectFinite(const VoOutput& o)
+{
+  EXPECT_TRUE(o.T_odom_link.matrix().allFinite());
+  EXPECT_TRUE(o.pose_covariance.allFinite());
+  EXPECT_TRUE(o.twist_covariance.allFinite());
+  EXPECT_TRUE(o.linear_velocity.allFinite());
+  EXPECT_TRUE(o.angular_velocity.allFinite());
+}
+}  // namespace
+
+TEST(Frames, OpticalToLinkAndGravity)
+{
+  const Eigen::Matrix3d R = R_link_optical();
+  EXPECT_TRUE((R * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitX()));   // z_opt = x_link
+  EXPECT_TRUE((R * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitY()));  // x_opt = -y_link
+  EXPECT_TRUE((R * Eigen::Vector3d::UnitY()).isApprox(-Eigen::Vector3d::UnitZ()));  // y_opt = -z_link
+  // camera pitched down by 20 degrees: "up" in camera_link tilts towards -x
+  const double p = 20 * M_PI / 180;
+  const Eigen::Vector3d up(-std::sin(p), 0, std::cos(p));
+  const Eigen::Isometry3d T = startPoseFromUp(up * 9.81, 1.6);
+  EXPECT_TRUE((T.linear() * up).isApprox(Eigen::Vector3d::UnitZ(), 1e-12));
+  EXPECT_NEAR(T.translation().z(), 1.6, 1e-12);
+  EXPECT_NEAR((T.linear() * Eigen::Vector3d::UnitX()).y(), 0.0, 1e-12);  // no yaw
+  EXPECT_LT((T.linear() * Eigen::Vector3d::UnitX()).z(), -0.3);           // looks down
+}
+
+TEST(VisualOdometry, TracksRenderedSequence)
+{
+  Sequence r;
+  VoOutput o = r.step(0, 0.0);
+  ASSERT_TRUE(o.pose_valid);
+  EXPECT_EQ(o.state, TrackingState::TRACKING);
+  EXPECT_GT(o.stats.tracks, 100);
+  // first pose: camera_link at (0, 0, camera_height), level, yaw 0
+  EXPECT_TRUE(o.T_odom_link.translation().isApprox(Eigen::Vector3d(0, 0, 1.6), 1e-12));
+  EXPECT_TRUE(o.T_odom_link.linear().isApprox(Eigen::Matrix3d::Identity(), 1e-12));
+  r.T_odom_o0 = o.T_odom_optical;
+  const int N = 40;
+  for (int k = 1; k <= N; ++k)
+  {
+    o = r.step(k, k / 15.0);
+    expectFinite(o);
+    EXPECT_EQ(o.state, TrackingState::TRACKING) << "frame " << k << " " << o.message;
+    EXPECT_GE(o.stats.inliers, 50);
+  }
+  const Eigen::Isometry3d est = r.rel(o), gt = truePose(N);
+  const double dist = 0.06 * N;
+  EXPECT_LT((est.translation() - gt.translation()).norm(), 0.01 * dist);
+  EXPECT_LT(Eigen::AngleAxisd(est.linear().transpose() * gt.linear()).angle() * 180 / M_PI, 0.2);
+  // forward in the optical frame is +x in odom; no vertical drift
+  EXPECT_NEAR(o.T_odom_link.translation().x(), 0.06 * N, 0.03);
+  EXPECT_NEAR(o.T_odom_link.translation().y(), -0.004 * N, 0.03);
+  EXPECT_NEAR(o.T_odom_link.translation().z(), 1.6, 0.03);
+  EXPECT_GT(o.linear_velocity.x(), 0.7);  // 0.9 m/s forward in camera_link
+  EXPECT_EQ(r.vo.resets(), 0);
+}
+
+TEST(VisualOdometry, BadFramesNeverJumpAndRecover)
+{
+  Sequence r;
+  VoOutput o = r.step(0, 0.0);
+  r.T_odom_o0 = o.T_odom_optical;
+  Eigen::Vector3d last = o.T_odom_link.translation();
+  int k = 1;
+  for (; k <= 10; ++k)
+  {
+    o = r.step(k, k / 15.0);
+    last = o.T_odom_link.translation();
+  }
+  // black frame: lost, pose predicted, no NaN, no jump
+  cv::Mat black(480, 640, CV_8UC1, cv::Scalar(0));
+  o = r.vo.process(black, black, k / 15.0);
+  EXPECT_EQ(o.state, TrackingState::LOST);
+  EXPECT_FALSE(o.message.empty());
+  expectFinite(o);
+  EXPECT_LT((o.T_odom_link.translation() - last).norm(), 0.1);
+  ++k;
+  // saturated right image
+  cv::Mat white(480, 640, CV_8UC1, cv::Scalar(255));
+  o = r.vo.process(r.world.render(r.cam, truePose(k), false), white, k / 15.0);
+  EXPECT_EQ(o.state, TrackingState::LOST);
+  expectFinite(o);
+  ++k;
+  // usable again: re-initialised at once, tracking on the next frame (recovery within 3 frames)
+  o = r.step(k, k / 15.0);
+  EXPECT_EQ(o.state, TrackingState::REINITIALISING);
+  ++k;
+  o = r.step(k, k / 15.0);
+  EXPECT_EQ(o.state, TrackingState::TRACKING);
+  // mismatched sizes: rejected with a message, pose unchanged
+  const Eigen::Vector3d before = o.T_odom_link.translation();
+  o = r.vo.process(cv::Mat(240, 320, CV_8UC1, cv::Scalar(5)), cv::Mat(480, 640, CV_8UC1), (k + 0.5) / 15.0);
+  EXPECT_FALSE(o.message.empty());
+  expectFinite(o);
+  EXPECT_TRUE(o.T_odom_link.translation().isApprox(before));
+  // time going backwards (bag loop): reset counted, no crash, pose continuous
+  ++k;
+  o = r.step(k, 0.0);
+  EXPECT_EQ(o.state, TrackingState::REINITIALISING);
+  expectFinite(o);
+  EXPECT_LT((o.T_odom_link.translation() - before).norm(), 0.1);
+  EXPECT_GE(r.vo.resets(), 2);
+  // the trajectory over the whole sequence is still close: errors only from the 2 predicted frames
+  for (int j = 1; j <= 5; ++j)
+    o = r.step(k + j, j / 15.0);
+  EXPECT_EQ(o.state, TrackingState::TRACKING);
+  EXPECT_LT((r.rel(o).translation() - truePose(k + 5).translation()).norm(), 0.15);
+}
+
+TEST(VisualOdometry, InvalidCameraIsReported)
+{
+  VisualOdometry vo;
+  cv::Mat img(480, 640, CV_8UC1, cv::Scalar(100));
+  const VoOutput o = vo.process(img, img, 1.0);
+  EXPECT_FALSE(o.message.empty());
+  EXPECT_TRUE(o.T_odom_link.matrix().allFinite());
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
