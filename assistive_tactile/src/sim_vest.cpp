@@ -74,6 +74,15 @@ std::array<uint8_t, VEST_NUM_MOTORS> SimVest::duty() const
   return { { fw_.duty[0], fw_.duty[1], fw_.duty[2], fw_.duty[3] } };
 }
 
+std::array<double, VEST_NUM_MOTORS> SimVest::onSeconds(uint32_t now_ms) const
+{
+  std::array<double, VEST_NUM_MOTORS> out = on_s_;
+  for (unsigned i = 0; i < VEST_NUM_MOTORS; ++i)
+    if (reported_[i] > 0)
+      out[i] += static_cast<uint32_t>(now_ms - on_since_ms_[i]) / 1000.0;
+  return out;
+}
+
 std::string SimVest::describe(const uint8_t* d)
 {
   char buf[96];
@@ -89,7 +98,16 @@ void SimVest::reportIfChanged(uint32_t now_ms, const char* why)
   if (!changed)
     return;
   for (unsigned i = 0; i < VEST_NUM_MOTORS; ++i)
+  {
+    if (reported_[i] == 0 && fw_.duty[i] > 0)
+    {
+      onsets_[i]++;
+      on_since_ms_[i] = now_ms;
+    }
+    else if (reported_[i] > 0 && fw_.duty[i] == 0)
+      on_s_[i] += static_cast<uint32_t>(now_ms - on_since_ms_[i]) / 1000.0;
     reported_[i] = fw_.duty[i];
+  }
   if (on_change)
     on_change(now_ms, describe(fw_.duty) + "  (" + why + ")");
 }

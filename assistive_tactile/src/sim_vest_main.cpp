@@ -88,6 +88,13 @@ int main(int argc, char** argv)
   std::printf("sim_vest: %llu commands, %llu output changes, %u bad packets, %u stray bytes, %u watchdog trips\n",
               static_cast<unsigned long long>(vest.commands()), static_cast<unsigned long long>(changes),
               fw.parser.rejected, fw.parser.skipped, fw.timeouts);
+  const auto on = vest.onSeconds(nowMs());
+  const auto n = vest.onsets();
+  static const char* names[4] = { "left shoulder (turn left)", "right shoulder (turn right)",
+                                  "left waist (step left)", "right waist (step right)" };
+  for (int i = 0; i < 4; ++i)
+    std::printf("sim_vest: %-28s %5u cues, %8.1f s on\n", names[i], n[i], on[i]);
+  std::fflush(stdout);
   vest.close();
   return 0;
 }

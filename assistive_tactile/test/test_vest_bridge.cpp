@@ -100,6 +100,11 @@ TEST(VestBridge, RightMotorsForACueSequence)
     EXPECT_TRUE(rig.bridge->linkUp(rig.t));
   }
   EXPECT_EQ(rig.bridge->stats().garbage_bytes, 0u);
+  // What the wearer felt: right waist stayed on from "step right" into the alert.
+  EXPECT_EQ(rig.vest.onsets(), (std::array<uint32_t, 4>{ { 2, 2, 2, 1 } }));
+  const auto on = rig.vest.onSeconds(rig.ms());
+  EXPECT_NEAR(on[0], 0.10, 1e-3);  // 50 ms turn left + 50 ms alert (simulated clock)
+  EXPECT_NEAR(on[3], 0.10, 1e-3);  // step right straight into the alert
 }
 
 TEST(VestBridge, ResendsAtFixedRate)

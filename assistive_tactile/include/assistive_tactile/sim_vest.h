@@ -42,6 +42,9 @@ public:
   const vest_firmware_t& firmware() const { return fw_; }
   std::array<uint8_t, VEST_NUM_MOTORS> duty() const;
   uint64_t commands() const { return commands_; }
+  /// Per motor: times it switched on (cues felt) and total on-time up to now_ms.
+  std::array<uint32_t, VEST_NUM_MOTORS> onsets() const { return onsets_; }
+  std::array<double, VEST_NUM_MOTORS> onSeconds(uint32_t now_ms) const;
 
   /// Called with a one-line description whenever the motor outputs change.
   std::function<void(uint32_t now_ms, const std::string& line)> on_change;
@@ -59,6 +62,9 @@ private:
   vest_firmware_t fw_{};
   std::array<uint8_t, VEST_NUM_MOTORS> reported_{ { 0, 0, 0, 0 } };
   uint64_t commands_ = 0;
+  std::array<uint32_t, VEST_NUM_MOTORS> onsets_{ { 0, 0, 0, 0 } };
+  std::array<double, VEST_NUM_MOTORS> on_s_{ { 0, 0, 0, 0 } };
+  std::array<uint32_t, VEST_NUM_MOTORS> on_since_ms_{ { 0, 0, 0, 0 } };
 };
 
 }  // namespace assistive_tactile
