@@ -69,22 +69,34 @@ Grid makeGrid(int n, std::mt19937& rng)
 struct SizeResult
 {
   int n = 0;
-  double first_ms = 0, first_astar_ms = 0;
-  size_t first_exp = 0, first_astar_exp = 0;
-  std::vector<double> r1_ms, r1_exp, r1_near_ms, r1_near_exp, a1_exp, a1_near_exp, a1_ms, r50_ms, r50_exp, a50_exp,
+  std::vector<double> first_ms_v, first_exp_v, first_astar_ms_v, first_astar_exp_v;
+  std::vector<double> r1_5m_exp, a1_5m_exp, r1_ms, r1_exp, r1_near_ms, r1_near_exp, a1_exp, a1_near_exp, a1_ms, r50_ms, r50_exp, a50_exp,
       scroll_ms, scroll_exp, ascroll_exp;
   int mismatches = 0, checks = 0;
 };
 
-SizeResult runSize(int n, int trials, unsigned seed)
+void runGrid(SizeResult& R, int n, int trials, std::mt19937& rng, int done, int total);
+
+SizeResult runSize(int n, int trials, int grids, unsigned seed)
 {
   SizeResult R;
   R.n = n;
   std::mt19937 rng(seed);
+  const int per_grid = std::max(1, trials / grids);
+  for (int k = 0; k < grids; ++k)
+    runGrid(R, n, per_grid, rng, k * per_grid, grids * per_grid);
+  fprintf(stderr, "\n");
+  return R;
+}
+
+void runGrid(SizeResult& R, int n, int trials, std::mt19937& rng, int done, int total)
+{
   PlannerParams p;
   Grid grid;
   CostGrid cg;
   DStarLite base;
+  double first_ms = 0.0;
+  size_t first_exp = 0;
   // a grid whose corners are connected
   for (int attempt = 0; attempt < 50; ++attempt)
   {
@@ -97,15 +109,17 @@ SizeResult runSize(int n, int trials, unsigned seed)
     base.resetExpansions();
     const auto t0 = Clock::now();
     const bool ok = base.plan();
-    R.first_ms = ms(t0, Clock::now());
-    R.first_exp = base.expansions();
+    first_ms = ms(t0, Clock::now());
+    first_exp = base.expansions();
     if (ok)
       break;
   }
+  R.first_ms_v.push_back(first_ms);
+  R.first_exp_v.push_back(double(first_exp));
   const auto t1 = Clock::now();
   const SearchResult a0 = astar(cg, 1, 1, n - 2, n - 2);
-  R.first_astar_ms = ms(t1, Clock::now());
-  R.first_astar_exp = a0.expansions;
+  R.first_astar_ms_v.push_back(ms(t1, Clock::now()));
+  R.first_astar_exp_v.push_back(double(a0.expansions));
   ++R.checks;
   R.mismatches += !same(base.startCost(), a0.cost);
   const std::vector<int> path0 = base.path();
@@ -120,12 +134,15 @@ SizeResult runSize(int n, int trials, unsigned seed)
 
   for (int t = 0; t < trials; ++t)
   {
-    fprintf(stderr, "\r%dx%d trial %d/%d", n, n, t + 1, trials);
+    fprintf(stderr, "\r%dx%d trial %d/%d", n, n, done + t + 1, total);
     // (a) one cell on the current path, anywhere between start and goal, becomes an obstacle
-    for (int variant = 0; variant < 2; ++variant)
+    // variant 0: anywhere on the path; 1: within 10 cells (2 m) of the wearer; 2: within 25 cells (5 m,
+    // the obstacle window's radius: where the camera adds and removes obstacles)
+    for (int variant = 0; variant < 3; ++variant)
     {
       DStarLite d = base;
-      const size_t lo = 1, hi = variant == 0 ? path0.size() - 2 : std::min<size_t>(path0.size() - 2, 10);
+      const size_t lo = 1;
+      const size_t hi = variant == 0 ? path0.size() - 2 : std::min<size_t>(path0.size() - 2, variant == 1 ? 10 : 25);
       std::uniform_int_distribution<size_t> pick(lo, hi);
       const int cell = path0[pick(rng)];
       d.resetExpansions();
@@ -142,6 +159,11 @@ SizeResult runSize(int n, int trials, unsigned seed)
         R.r1_exp.push_back(double(d.expansions()));
         R.a1_exp.push_back(double(a.expansions));
         R.a1_ms.push_back(a_ms);
+      }
+      else if (variant == 2)
+      {
+        R.r1_5m_exp.push_back(double(d.expansions()));
+        R.a1_5m_exp.push_back(double(a.expansions));
       }
       else
       {
@@ -196,8 +218,6 @@ SizeResult runSize(int n, int trials, unsigned seed)
         R.ascroll_exp.push_back(double(check(d).expansions));
     }
   }
-  fprintf(stderr, "\n");
-  return R;
 }
 
 std::string num(double v, int prec = 4)
@@ -212,30 +232,32 @@ std::string num(double v, int prec = 4)
 
 int main(int argc, char** argv)
 {
-  int trials100 = 200, trials400 = 40;
+  int trials100 = 1000, trials400 = 60;
   for (int i = 1; i + 1 < argc; ++i)
     if (std::string(argv[i]) == "--trials")
     {
       trials100 = std::max(1, std::atoi(argv[i + 1]));
-      trials400 = std::max(1, trials100 / 5);
+      trials400 = std::max(1, trials100 / 16);
     }
-  const SizeResult a = runSize(100, trials100, 7);
-  const SizeResult b = runSize(400, trials400, 11);
+  const SizeResult a = runSize(100, trials100, 50, 7);
+  const SizeResult b = runSize(400, trials400, 20, 11);
   printf("D* Lite vs A* from scratch (synthetic grids, ~20%% obstacles, clearance + step costs, 8-connected)\n");
   printf("%-34s %14s %14s\n", "", "100x100", "400x400");
   auto row = [](const char* name, const std::string& x, const std::string& y) {
     printf("%-34s %14s %14s\n", name, x.c_str(), y.c_str());
   };
-  row("trials", std::to_string(a.r1_ms.size()), std::to_string(b.r1_ms.size()));
-  row("first plan ms", num(a.first_ms), num(b.first_ms));
-  row("first plan expansions", std::to_string(a.first_exp), std::to_string(b.first_exp));
-  row("A* from scratch ms (first)", num(a.first_astar_ms), num(b.first_astar_ms));
-  row("A* from scratch expansions", std::to_string(a.first_astar_exp), std::to_string(b.first_astar_exp));
+  row("grids / change trials", std::to_string(a.first_ms_v.size()) + " / " + std::to_string(a.r1_ms.size()),
+      std::to_string(b.first_ms_v.size()) + " / " + std::to_string(b.r1_ms.size()));
+  row("first plan ms median", num(median(a.first_ms_v)), num(median(b.first_ms_v)));
+  row("first plan expansions median", num(median(a.first_exp_v), 0), num(median(b.first_exp_v), 0));
+  row("A* from scratch ms median (first)", num(median(a.first_astar_ms_v)), num(median(b.first_astar_ms_v)));
+  row("A* from scratch expansions median", num(median(a.first_astar_exp_v), 0), num(median(b.first_astar_exp_v), 0));
   row("replan 1 cell on path ms median", num(median(a.r1_ms)), num(median(b.r1_ms)));
   row("replan 1 cell expansions median", num(median(a.r1_exp), 0), num(median(b.r1_exp), 0));
   row("A* after 1 cell expansions median", num(median(a.a1_exp), 0), num(median(b.a1_exp), 0));
   row("A* after 1 cell ms median", num(median(a.a1_ms)), num(median(b.a1_ms)));
-  row("replan 1 cell near wearer ms med", num(median(a.r1_near_ms)), num(median(b.r1_near_ms)));
+ row("replan 1 cell <= 5 m ahead exp med", num(median(a.r1_5m_exp), 0), num(median(b.r1_5m_exp), 0));
+  row("replan 1 cell <= 2 m ahead ms med", num(median(a.r1_near_ms)), num(median(b.r1_near_ms)));
   row("  expansions median", num(median(a.r1_near_exp), 0), num(median(b.r1_near_exp), 0));
   row("replan 50 cells ms median", num(median(a.r50_ms)), num(median(b.r50_ms)));
   row("replan 50 cells expansions median", num(median(a.r50_exp), 0), num(median(b.r50_exp), 0));
@@ -245,20 +267,30 @@ int main(int argc, char** argv)
   const double ratio100 = median(a.a1_exp) / std::max(1.0, median(a.r1_exp));
   const double ratio400 = median(b.a1_exp) / std::max(1.0, median(b.r1_exp));
   const double near100 = median(a.a1_near_exp) / std::max(1.0, median(a.r1_near_exp));
-  row("expansion ratio A*/D* (1 cell)", num(ratio100, 2), num(ratio400, 2));
-  row("  same, cell near the wearer", num(near100, 2),
+  const double r5m100 = median(a.a1_5m_exp) / std::max(1.0, median(a.r1_5m_exp));
+  const double r5m400 = median(b.a1_5m_exp) / std::max(1.0, median(b.r1_5m_exp));
+  row("expansion ratio A*/D* (1 cell on path)", num(ratio100, 2), num(ratio400, 2));
+  row("  same, cell <= 5 m ahead", num(r5m100, 2), num(r5m400, 2));
+  row("  same, cell <= 2 m ahead", num(near100, 2),
       num(median(b.a1_near_exp) / std::max(1.0, median(b.r1_near_exp)), 2));
+  auto share10 = [](const SizeResult& r) {
+    size_t k = 0;
+    for (size_t i = 0; i < r.r1_exp.size(); ++i)
+      k += r.a1_exp[i] >= 10.0 * std::max(1.0, r.r1_exp[i]);
+    return r.r1_exp.empty() ? -1.0 : 100.0 * double(k) / double(r.r1_exp.size());
+  };
+  row("  trials with ratio >= 10 (%)", num(share10(a), 1), num(share10(b), 1));
   row("optimal cost mismatches", std::to_string(a.mismatches) + "/" + std::to_string(a.checks),
       std::to_string(b.mismatches) + "/" + std::to_string(b.checks));
   printf("{\"optimal_mismatches\": %d, \"optimal_checks\": %d, \"replan1_ms_median_100\": %s, "
          "\"replan1_ms_median_400\": %s, \"expansion_ratio_100\": %s, \"expansion_ratio_400\": %s, "
-         "\"expansion_ratio_near_100\": %s, \"first_plan_ms_100\": %s, \"first_plan_ms_400\": %s, "
+         "\"expansion_ratio_near_100\": %s, \"expansion_ratio_5m_100\": %s, \"expansion_ratio_5m_400\": %s, \"first_plan_ms_100\": %s, \"first_plan_ms_400\": %s, "
          "\"replan50_ms_median_100\": %s, \"replan50_ms_median_400\": %s, \"astar_ms_median_100\": %s, "
-         "\"astar_ms_median_400\": %s, \"scroll1_ms_median_100\": %s, \"scroll1_ms_median_400\": %s}\n",
+         "\"astar_ms_median_400\": %s, \"scroll1_ms_median_100\": %s, \"scroll1_ms_median_400\": %s, \"ratio_ge10_pct_100\": %s}\n",
          a.mismatches + b.mismatches, a.checks + b.checks, num(median(a.r1_ms)).c_str(), num(median(b.r1_ms)).c_str(),
-         num(ratio100, 2).c_str(), num(ratio400, 2).c_str(), num(near100, 2).c_str(), num(a.first_ms).c_str(),
-         num(b.first_ms).c_str(), num(median(a.r50_ms)).c_str(), num(median(b.r50_ms)).c_str(),
+         num(ratio100, 2).c_str(), num(ratio400, 2).c_str(), num(near100, 2).c_str(), num(r5m100, 2).c_str(), num(r5m400, 2).c_str(), num(median(a.first_ms_v)).c_str(),
+         num(median(b.first_ms_v)).c_str(), num(median(a.r50_ms)).c_str(), num(median(b.r50_ms)).c_str(),
          num(median(a.a1_ms)).c_str(), num(median(b.a1_ms)).c_str(), num(median(a.scroll_ms)).c_str(),
-         num(median(b.scroll_ms)).c_str());
+         num(median(b.scroll_ms)).c_str(), num(share10(a), 1).c_str());
   return 0;
 }
