@@ -1,0 +1,141 @@
+// rostest: tactile/cue -> vest_bridge nodelet -> pty -> simulated vest (in this process).
+#include <gtest/gtest.h>
+
+#include <assistive_msgs/TactileCue.h>
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <ros/ros.h>
+
+#include <chrono>
+#include <functional>
+#include <map>
+
+#include "assistive_tactile/sim_vest.h"
+
+using assistive_tactile::SimVest;
+using Duty = std::array<uint8_t, 4>;
+
+namespace
+{
+const char* kLink = "/tmp/assistive_vest_rostest_bridge";
+std::map<std::string, std::string> g_diag;
+int g_level = -1;
+std::string g_message;
+
+void diagCb(const diagnostic_msgs::DiagnosticArray::ConstPtr& m)
+{
+  for (const auto& s : m->status)
+    if (s.name.find("vest link") != std::string::npos)
+    {
+      g_level = s.level;
+      g_message = s.message;
+      for (const auto& kv : s.values)
+        g_diag[kv.key] = kv.value;
+    }
+}
+
+uint32_t nowMs()
+{
+  static const auto t0 = std::chrono::steady_clock::now();
+  return static_cast<uint32_t>(
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count());
+}
+
+struct Harness
+{
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<assistive_msgs::TactileCue>("/tactile/cue", 1);
+  ros::Subscriber sub = nh.subscribe("/diagnostics", 50, diagCb);
+  SimVest vest;
+  std::array<float, 4> cue{ { 0, 0, 0, 0 } };
+  bool publishing = false;
+
+  /// Runs vest + ROS at ~20 Hz cue rate until pred() or timeout.
+  bool runUntil(const std::function<bool()>& pred, double timeout)
+  {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+    ros::WallTime next;
+    while (ros::ok() && ros::WallTime::now() < end)
+    {
+      if (publishing && ros::WallTime::now() >= next)
+      {
+        assistive_msgs::TactileCue m;
+        m.header.stamp = ros::Time::now();
+        m.mode = assistive_msgs::TactileCue::GUIDANCE;
+        for (int i = 0; i < 4; ++i)
+          m.intensity[i] = cue[i];
+        pub.publish(m);
+        next = ros::WallTime::now() + ros::WallDuration(0.05);
+      }
+      vest.poll(5, nowMs());
+      ros::spinOnce();
+      if (pred())
+        return true;
+    }
+    return pred();
+  }
+};
+}  // namespace
+
+TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
+{
+  Harness h;
+  std::string err;
+  ASSERT_TRUE(h.vest.open(kLink, nowMs(), &err)) << err;
+
+  // The bridge (re)opens the port and talks to the vest.
+  ASSERT_TRUE(h.runUntil([] { return g_level >= 0 && g_diag["link up"] == "True"; }, 30.0)) << g_message;
+
+  // Cue sequence -> the right motors.
+  h.publishing = true;
+  const std::vector<std::pair<std::array<float, 4>, Duty>> seq = {
+    { { { 1.f, 0, 0, 0 } }, { { 255, 0, 0, 0 } } },
+    { { { 0, 0.5f, 0, 0 } }, { { 0, 128, 0, 0 } } },
+    { { { 0, 0, 0, 0.25f } }, { { 0, 0, 0, 64 } } },
+    { { { 1.f, 1.f, 1.f, 1.f } }, { { 255, 255, 255, 255 } } },
+  };
+  for (const auto& s : seq)
+  {
+    h.cue = s.first;
+    const Duty want = s.second;
+    ASSERT_TRUE(h.runUntil([&] { return h.vest.duty() == want; }, 10.0)) << SimVest::describe(want.data());
+  }
+
+  // Cues stop: the bridge itself sends all-off (the vest's own watchdog does not have to).
+  const uint16_t trips = h.vest.firmware().timeouts;
+  h.publishing = false;
+  ASSERT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 0, 0, 0 } }; }, 10.0));
+  EXPECT_EQ(h.vest.firmware().timeouts, trips);
+  EXPECT_TRUE(h.runUntil([] { return g_diag["cue stale"] == "True"; }, 10.0));
+
+  // Unplug: the nodelet reports it and keeps running.
+  h.vest.close();
+  ASSERT_TRUE(h.runUntil([] { return g_level == diagnostic_msgs::DiagnosticStatus::ERROR; }, 10.0)) << g_message;
+  EXPECT_NE(g_message.find("port closed"), std::string::npos) << g_message;
+
+  // Plug back in: reopened, cues flow again.
+  ASSERT_TRUE(h.vest.open(kLink, nowMs(), &err)) << err;
+  h.cue = { { 0, 0, 0.5f, 0 } };
+  h.publishing = true;
+  ASSERT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 0, 128, 0 } }; }, 20.0));
+  EXPECT_TRUE(h.runUntil([] { return g_diag["opens"] == "2" && g_diag["losses"] == "1"; }, 10.0))
+      << g_diag["opens"] << " " << g_diag["losses"];
+
+  // Garbage from the device: counted, ignored, link stays up.
+  std::vector<uint8_t> junk(2000);
+  for (size_t i = 0; i < junk.size(); ++i)
+    junk[i] = static_cast<uint8_t>(i % 13 == 0 ? VEST_SYNC : (i * 37u + 11u) & 0xFF);
+  ASSERT_TRUE(h.vest.inject(junk.data(), junk.size()));
+  EXPECT_TRUE(h.runUntil([] { return !g_diag["garbage bytes"].empty() && g_diag["garbage bytes"] != "0"; }, 10.0));
+  h.cue = { { 0, 1.f, 0, 0 } };
+  EXPECT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 255, 0, 0 } }; }, 10.0));
+  EXPECT_TRUE(h.runUntil([] { return g_diag["link up"] == "True" && g_level == 0; }, 10.0)) << g_message;
+  h.vest.close();
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_vest_bridge_nodelet");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}
