@@ -16,7 +16,6 @@ using Duty = std::array<uint8_t, 4>;
 
 namespace
 {
-const char* kLink = "/tmp/assistive_vest_rostest_bridge";
 std::map<std::string, std::string> g_diag;
 int g_level = -1;
 std::string g_message;
@@ -79,8 +78,10 @@ struct Harness
 TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
 {
   Harness h;
+  std::string link;
+  ASSERT_TRUE(ros::NodeHandle("~").getParam("link", link));
   std::string err;
-  ASSERT_TRUE(h.vest.open(kLink, nowMs(), &err)) << err;
+  ASSERT_TRUE(h.vest.open(link, nowMs(), &err)) << err;
 
   // The bridge (re)opens the port and talks to the vest.
   ASSERT_TRUE(h.runUntil([] { return g_level >= 0 && g_diag["link up"] == "True"; }, 30.0)) << g_message;
@@ -113,7 +114,7 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
   EXPECT_NE(g_message.find("port closed"), std::string::npos) << g_message;
 
   // Plug back in: reopened, cues flow again.
-  ASSERT_TRUE(h.vest.open(kLink, nowMs(), &err)) << err;
+  ASSERT_TRUE(h.vest.open(link, nowMs(), &err)) << err;
   h.cue = { { 0, 0, 0.5f, 0 } };
   h.publishing = true;
   ASSERT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 0, 128, 0 } }; }, 20.0));
