@@ -510,6 +510,12 @@ bool Solid::containsXY(double x, double y, double inflate) const
 
 bool Solid::overlapsRect(double x0, double y0, double x1, double y1) const
 {
+  // Touching is not overlapping (a curb edge on a cell border belongs to one side only).
+  constexpr double EPS = 1e-6;
+  x0 += EPS;
+  y0 += EPS;
+  x1 -= EPS;
+  y1 -= EPS;
   if (shape == CYLINDER)
   {
     const double px = std::clamp(center.x(), x0, x1), py = std::clamp(center.y(), y0, y1);

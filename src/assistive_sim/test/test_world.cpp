@@ -1,0 +1,190 @@
+// World files: parsing, error messages with line and field, ground-truth occupancy.
+#include <assistive_sim/world.h>
+
+#include <gtest/gtest.h>
+
+using namespace assistive_sim;
+
+namespace
+{
+const char* MINIMAL = R"(name: t
+materials:
+  m: {pattern: noise, albedo: 0.5, contrast: 0.5}
+floor: {min: [0, 0], max: [10, 6], material: m}
+elements:
+  - {type: box, center: [3.0, 3.0], size: [1.0, 1.0, 1.0], material: m}
+  - {type: overhang, center: [6.0, 1.0], size: [1.0, 0.4], bottom: 1.5, top: 1.9, material: m}
+  - {type: overhang, center: [6.0, 5.0], size: [1.0, 0.4], bottom: 2.3, top: 2.6, material: m}
+  - {type: curb, center: [9.0, 3.0], size: [2.0, 6.0], height: 0.15, material: m}
+  - {type: glass, from: [1.0, 5.5], to: [4.0, 5.5]}
+  - {type: wall, from: [0.0, 0.1], to: [5.0, 0.1], height: 2.5, openings: [{at: 2.5, width: 1.0, height: 2.1}]}
+  - {type: table, center: [6.0, 3.0], size: [1.2, 0.6]}
+trajectory:
+  eye_height: 1.6
+  waypoints: [[1, 2], [8, 2]]
+)";
+
+std::string errorOf(const std::string& text)
+{
+  try
+  {
+    World::parse(text, "test.yaml");
+  }
+  catch (const WorldError& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(World, ParsesMinimal)
+{
+  const World w = World::parse(MINIMAL, "min");
+  EXPECT_EQ(w.name, "t");
+  ASSERT_EQ(w.materials.size(), 2u);  // default + m
+  // box, 2 overhangs, curb, glass, wall split into 2 segments + lintel, table top + 4 legs
+  EXPECT_EQ(w.solids.size(), 1u + 2u + 1u + 1u + 3u + 5u);
+  EXPECT_TRUE(w.solids[3].walkable);
+  EXPECT_TRUE(w.solids[4].glass);
+  EXPECT_NEAR(w.floorHeight(9.0, 3.0), 0.15, 1e-12);
+  EXPECT_NEAR(w.floorHeight(2.0, 3.0), 0.0, 1e-12);
+  ASSERT_EQ(w.trajectory.waypoints.size(), 2u);
+  EXPECT_DOUBLE_EQ(w.trajectory.eye_height, 1.6);
+}
+
+TEST(World, WrongTypeNamesLineAndField)
+{
+  std::string text = MINIMAL;
+  text.replace(text.find("size: [1.0, 1.0, 1.0]"), 21, "size: [1.0, one, 1.0]");
+  const std::string e = errorOf(text);
+  EXPECT_NE(e.find("test.yaml:6:"), std::string::npos) << e;
+  EXPECT_NE(e.find("elements[0](box).size"), std::string::npos) << e;
+}
+
+TEST(World, MissingFieldNamesLineAndField)
+{
+  std::string text = MINIMAL;
+  text.replace(text.find("bottom: 1.5, "), 13, "");
+  const std::string e = errorOf(text);
+  EXPECT_NE(e.find("test.yaml:7:"), std::string::npos) << e;
+  EXPECT_NE(e.find("elements[1](overhang).bottom"), std::string::npos) << e;
+  EXPECT_NE(e.find("missing"), std::string::npos) << e;
+}
+
+TEST(World, UnknownTypeAndFieldAndMaterial)
+{
+  std::string a = MINIMAL;
+  a.replace(a.find("type: table"), 11, "type: tabel");
+  std::string e = errorOf(a);
+  EXPECT_NE(e.find("test.yaml:12:"), std::string::npos) << e;
+  EXPECT_NE(e.find("unknown element type 'tabel'"), std::string::npos) << e;
+
+  std::string b = MINIMAL;
+  b.replace(b.find("eye_height: 1.6"), 15, "eye_hieght: 1.6");
+  e = errorOf(b);
+  EXPECT_NE(e.find("test.yaml:14:"), std::string::npos) << e;
+  EXPECT_NE(e.find("trajectory.eye_hieght"), std::string::npos) << e;
+
+  std::string c = MINIMAL;
+  c.replace(c.find("material: m}\n  - {type: overhang"), 11, "material: x");
+  e = errorOf(c);
+  EXPECT_NE(e.find("test.yaml:6:"), std::string::npos) << e;
+  EXPECT_NE(e.find("unknown material 'x'"), std::string::npos) << e;
+}
+
+TEST(World, OutOfRangeAndSyntaxError)
+{
+  std::string a = MINIMAL;
+  a.replace(a.find("albedo: 0.5"), 11, "albedo: 7.5");
+  std::string e = errorOf(a);
+  EXPECT_NE(e.find("test.yaml:3:"), std::string::npos) << e;
+  EXPECT_NE(e.find("materials.m.albedo"), std::string::npos) << e;
+
+  std::string b = MINIMAL;
+  b.replace(b.find("waypoints: [[1, 2], [8, 2]]"), 27, "waypoints: [[1, 2], [8, 2]");
+  e = errorOf(b);
+  EXPECT_NE(e.find("test.yaml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("syntax"), std::string::npos) << e;
+
+  EXPECT_THROW(World::load("/nonexistent/world.yaml"), WorldError);
+}
+
+TEST(World, SolidGeometry)
+{
+  Solid s;
+  s.center = {0, 0};
+  s.half = {1.0, 0.1};
+  s.yaw = M_PI / 2;
+  EXPECT_TRUE(s.containsXY(0.0, 0.9));
+  EXPECT_FALSE(s.containsXY(0.9, 0.0));
+  EXPECT_TRUE(s.overlapsRect(-0.05, 0.95, 0.05, 1.2));
+  EXPECT_FALSE(s.overlapsRect(0.15, -0.5, 0.3, 0.5));
+  // A 45-degree box: the bounding boxes overlap, the shapes do not (separating axis).
+  s.yaw = M_PI / 4;
+  s.half = {1.0, 0.05};
+  EXPECT_FALSE(s.overlapsRect(0.5, -0.8, 0.8, -0.5));
+  EXPECT_TRUE(s.overlapsRect(0.3, 0.3, 0.45, 0.45));
+  Solid c;
+  c.shape = Solid::CYLINDER;
+  c.center = {1, 1};
+  c.radius = 0.3;
+  EXPECT_TRUE(c.overlapsRect(1.2, 1.2, 1.4, 1.4));
+  EXPECT_FALSE(c.overlapsRect(1.25, 1.25, 1.4, 1.4));
+}
+
+TEST(Occupancy, KnownCells)
+{
+  const World w = World::parse(MINIMAL, "min");
+  const OccupancyGrid g = computeOccupancy(w);
+  EXPECT_NEAR(g.resolution, 0.2, 1e-12);
+  EXPECT_EQ(g.atWorld(3.0, 3.0), CELL_OBSTACLE);   // box
+  EXPECT_EQ(g.atWorld(3.45, 2.55), CELL_OBSTACLE);  // box corner cell
+  EXPECT_EQ(g.atWorld(3.7, 3.0), CELL_FREE);       // beside the box
+  EXPECT_EQ(g.atWorld(2.0, 2.0), CELL_FREE);       // open floor
+  EXPECT_EQ(g.atWorld(6.0, 1.0), CELL_OBSTACLE);   // overhang at head height
+  EXPECT_EQ(g.atWorld(6.0, 5.0), CELL_FREE);       // overhang above head + margin (2.3 m)
+  EXPECT_EQ(g.atWorld(8.0, 3.0), CELL_STEP);       // curb edge (x = 8), both sides
+  EXPECT_EQ(g.atWorld(7.9, 3.0), CELL_STEP);
+  EXPECT_EQ(g.atWorld(9.0, 3.0), CELL_FREE);       // on top of the curb
+  EXPECT_EQ(g.atWorld(2.5, 5.5), CELL_OBSTACLE);   // glass
+  EXPECT_EQ(g.atWorld(2.5, 0.1), CELL_FREE);       // doorway (lintel at 2.1 m is above the head)
+  EXPECT_EQ(g.atWorld(1.0, 0.1), CELL_OBSTACLE);   // wall beside the doorway
+  EXPECT_EQ(g.atWorld(6.0, 3.0), CELL_OBSTACLE);   // table top
+  EXPECT_EQ(g.atWorld(-0.5, 3.0), CELL_UNKNOWN);   // outside the floor
+  EXPECT_EQ(g.atWorld(100.0, 3.0), CELL_UNKNOWN);  // outside the grid
+
+  // Head height follows the wearer: a shorter wearer passes under the overhang.
+  World low = w;
+  low.trajectory.eye_height = 1.0;
+  EXPECT_EQ(computeOccupancy(low).atWorld(6.0, 1.0), CELL_FREE);
+}
+
+TEST(World, ShippedWorldsLoad)
+{
+  for (const char* name : {"course", "corridor", "parking", "glass", "plaza"})
+  {
+    const std::string path = resolveWorldPath(name, ASSISTIVE_SIM_SOURCE_WORLDS);
+    EXPECT_NE(path.find(name), std::string::npos);
+    const World w = World::load(path);
+    EXPECT_FALSE(w.solids.empty()) << name;
+    EXPECT_GE(w.trajectory.waypoints.size(), 2u) << name;
+  }
+  EXPECT_THROW(resolveWorldPath("nowhere", ASSISTIVE_SIM_SOURCE_WORLDS), WorldError);
+}
+
+TEST(World, CourseMatchesTheSeed)
+{
+  const World w = World::load(resolveWorldPath("course", ASSISTIVE_SIM_SOURCE_WORLDS));
+  const OccupancyGrid g = computeOccupancy(w);
+  // 12.2 m long (x 0 .. 12.2 free inside), 3 m wide (side walls' inner faces 3 m apart).
+  EXPECT_EQ(g.atWorld(0.1, 0.0), CELL_FREE);
+  EXPECT_EQ(g.atWorld(12.1, 0.0), CELL_FREE);
+  EXPECT_EQ(g.atWorld(1.0, 1.3), CELL_FREE);
+  EXPECT_EQ(g.atWorld(1.0, 1.6), CELL_OBSTACLE);
+  EXPECT_EQ(g.atWorld(1.0, -1.6), CELL_OBSTACLE);
+  // The 2 m wall in the middle.
+  EXPECT_EQ(g.atWorld(6.1, -1.0), CELL_OBSTACLE);
+  EXPECT_EQ(g.atWorld(6.1, 0.4), CELL_OBSTACLE);
+  EXPECT_EQ(g.atWorld(6.1, 1.0), CELL_FREE);
+}
