@@ -138,28 +138,53 @@ void DStarLite::scroll(int dx, int dy, const std::vector<double>& w)
     return;
   }
   const size_t n = size_t(W) * size_t(H);
-  std::vector<double> g(n, COST_INF), rhs(n, COST_INF);
-  std::vector<double> old_w(n, COST_INF);  // weights before the scroll, inf where the cell is new
-  std::vector<char> fresh(n, 1);
-  std::vector<int> queued;
+  // shift into scratch buffers kept between calls (fresh allocations cost page faults on every scroll)
+  scratch_g_.resize(n);
+  scratch_rhs_.resize(n);
+  scratch_w_.resize(n);
+  scratch_fresh_.resize(n);
+  const int x_lo = std::max(0, -dx), x_hi = std::min(W, W - dx);  // new x whose old x + dx is inside
   for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x)
+  {
+    const size_t row = size_t(y) * size_t(W);
+    const int oy = y + dy;
+    if (oy < 0 || oy >= H || x_lo >= x_hi)
     {
-      const int ox = x + dx, oy = y + dy;
-      if (ox < 0 || oy < 0 || ox >= W || oy >= H)
-        continue;
-      const size_t i = size_t(y * W + x), o = size_t(oy * W + ox);
-      g[i] = g_[o];
-      rhs[i] = rhs_[o];
-      old_w[i] = grid_.w[o];
-      fresh[i] = 0;
-      if (pos_[o] >= 0)
-        queued.push_back(int(i));
+      std::fill_n(scratch_g_.begin() + long(row), W, COST_INF);
+      std::fill_n(scratch_rhs_.begin() + long(row), W, COST_INF);
+      std::fill_n(scratch_w_.begin() + long(row), W, COST_INF);
+      std::fill_n(scratch_fresh_.begin() + long(row), W, char(1));
+      continue;
     }
-  g_.swap(g);
-  rhs_.swap(rhs);
+    const size_t orow = size_t(oy) * size_t(W) + size_t(x_lo + dx);
+    const size_t lo = row + size_t(x_lo), len = size_t(x_hi - x_lo);
+    std::fill(scratch_g_.begin() + long(row), scratch_g_.begin() + long(lo), COST_INF);
+    std::fill(scratch_rhs_.begin() + long(row), scratch_rhs_.begin() + long(lo), COST_INF);
+    std::fill(scratch_w_.begin() + long(row), scratch_w_.begin() + long(lo), COST_INF);
+    std::fill(scratch_fresh_.begin() + long(row), scratch_fresh_.begin() + long(lo), char(1));
+    std::copy_n(g_.begin() + long(orow), len, scratch_g_.begin() + long(lo));
+    std::copy_n(rhs_.begin() + long(orow), len, scratch_rhs_.begin() + long(lo));
+    std::copy_n(grid_.w.begin() + long(orow), len, scratch_w_.begin() + long(lo));
+    std::fill_n(scratch_fresh_.begin() + long(lo), len, char(0));
+    std::fill(scratch_g_.begin() + long(lo + len), scratch_g_.begin() + long(row + size_t(W)), COST_INF);
+    std::fill(scratch_rhs_.begin() + long(lo + len), scratch_rhs_.begin() + long(row + size_t(W)), COST_INF);
+    std::fill(scratch_w_.begin() + long(lo + len), scratch_w_.begin() + long(row + size_t(W)), COST_INF);
+    std::fill(scratch_fresh_.begin() + long(lo + len), scratch_fresh_.begin() + long(row + size_t(W)), char(1));
+  }
+  // queued cells that stay in the window, in new indices
+  std::vector<int> queued;
+  queued.reserve(heap_.size());
+  for (int o : heap_)
+  {
+    const int x = o % W - dx, y = o / W - dy;
+    if (grid_.inside(x, y))
+      queued.push_back(y * W + x);
+  }
+  for (int o : heap_)
+    pos_[size_t(o)] = -1;
   heap_.clear();
-  pos_.assign(n, -1);
+  g_.swap(scratch_g_);
+  rhs_.swap(scratch_rhs_);
   // the start shifts with the window, so h and the keys of the overlap are unchanged
   start_x_ -= dx;
   start_y_ -= dy;
@@ -176,22 +201,21 @@ void DStarLite::scroll(int dx, int dy, const std::vector<double>& w)
   }
   for (int u : queued)
     heapPush(u, calcKey(u));
-  // first the geometry change: the overlap with its old weights, new cells blocked until they arrive
-  grid_.w = old_w;
+  // first the geometry change: the overlap with its old weights, entering cells blocked until they arrive
+  grid_.w.swap(scratch_w_);
   // overlap cells at the window border lost neighbours that left the window
   std::vector<std::pair<int, double>> changes;
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x)
-    {
-      const size_t i = size_t(y * W + x);
-      if (fresh[i])
-        changes.emplace_back(int(i), w[i]);
-      else if (x == 0 || y == 0 || x == W - 1 || y == H - 1)
-        repairCell(int(i));
-    }
-  // then new cells and changed weights of the overlap
+  for (int x = 0; x < W; ++x)
+    for (int y : { 0, H - 1 })
+      if (!scratch_fresh_[size_t(y * W + x)])
+        repairCell(y * W + x);
+  for (int y = 1; y + 1 < H; ++y)
+    for (int x : { 0, W - 1 })
+      if (!scratch_fresh_[size_t(y * W + x)])
+        repairCell(y * W + x);
+  // then the entering cells and the changed weights of the overlap
   for (size_t i = 0; i < n; ++i)
-    if (!fresh[i] && w[i] != grid_.w[i])
+    if (scratch_fresh_[i] || w[i] != grid_.w[i])
       changes.emplace_back(int(i), w[i]);
   updateCells(changes);
 }

@@ -198,24 +198,30 @@ void runGrid(SizeResult& R, int n, int trials, std::mt19937& rng, int done, int 
       R.r50_exp.push_back(double(d.expansions()));
       R.a50_exp.push_back(double(check(d).expansions));
     }
-    // (c) the window scrolls one cell with the wearer (new row of random cells enters)
+    // (c) the window scrolls one cell with the wearer (a new column of random cells enters); the first
+    // scroll of the copied planner warms its reusable buffers and is not timed (the nodelet keeps one planner)
     {
       DStarLite d = base;
-      std::vector<double> w(d.costs().w.size());
       std::uniform_real_distribution<double> u(0, 1);
-      for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x)
-          w[size_t(y * n + x)] =
-              (x + 1 < n) ? d.costs().w[size_t(y * n + x + 1)] : (u(rng) < 0.2 ? COST_INF : 1.0);
-      d.resetExpansions();
-      const auto s = Clock::now();
-      d.scroll(1, 0, w);  // new (x, y) = old (x + 1, y): the wearer moved one cell in +x
-      d.setStart(d.startX() + 1, d.startY());
-      d.plan();
-      R.scroll_ms.push_back(ms(s, Clock::now()));
-      R.scroll_exp.push_back(double(d.expansions()));
-      if (d.hasGoal())
-        R.ascroll_exp.push_back(double(check(d).expansions));
+      for (int k = 0; k < 2; ++k)
+      {
+        std::vector<double> w(d.costs().w.size());
+        for (int y = 0; y < n; ++y)
+          for (int x = 0; x < n; ++x)
+            w[size_t(y * n + x)] =
+                (x + 1 < n) ? d.costs().w[size_t(y * n + x + 1)] : (u(rng) < 0.2 ? COST_INF : 1.0);
+        d.resetExpansions();
+        const auto s = Clock::now();
+        d.scroll(1, 0, w);  // new (x, y) = old (x + 1, y): the wearer moved one cell in +x
+        d.setStart(d.startX() + 1, d.startY());
+        d.plan();
+        if (k == 0)
+          continue;
+        R.scroll_ms.push_back(ms(s, Clock::now()));
+        R.scroll_exp.push_back(double(d.expansions()));
+        if (d.hasGoal())
+          R.ascroll_exp.push_back(double(check(d).expansions));
+      }
     }
   }
 }

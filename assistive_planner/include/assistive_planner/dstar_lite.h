@@ -77,5 +77,7 @@ private:
   bool has_goal_ = false, has_start_ = false;
   int goal_x_ = 0, goal_y_ = 0, start_x_ = 0, start_y_ = 0, last_x_ = 0, last_y_ = 0;
   size_t expansions_ = 0;
+  std::vector<double> scratch_g_, scratch_rhs_, scratch_w_;  // scroll buffers, reused
+  std::vector<char> scratch_fresh_;
 };
 }  // namespace assistive_planner
