@@ -1,0 +1,326 @@
+// vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N]
+// Runs the VO core on every stereo frame of a bag (no roscore), and on the same frames the peer:
+// OpenCV contrib's cv::rgbd::RgbdOdometry fed with StereoSGBM depth. Prints per-stage times,
+// trajectory errors against the bag's ground truth (assistive_sim_eval), then one JSON line.
+// Times are CPU time of this thread (one core; OpenCV threading off), wall times reported too.
+#include <time.h>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/rgbd.hpp>
+#include <assistive_sim/eval/metrics.h>
+#include <assistive_sim/eval/plots.h>
+#include <assistive_sim/stereo_bag.h>
+#include "assistive_vo/imu_buffer.h"
+#include "assistive_vo/visual_odometry.h"
+
+using namespace assistive_vo;
+namespace ev = assistive_sim::eval;
+
+namespace
+{
+double cpuMs()
+{
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+double wallMs()
+{
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+double percentile(std::vector<double> v, double q)
+{
+  if (v.empty())
+    return std::numeric_limits<double>::quiet_NaN();
+  std::sort(v.begin(), v.end());
+  const double pos = q * (v.size() - 1);
+  const size_t i = static_cast<size_t>(pos);
+  const double f = pos - i;
+  return i + 1 < v.size() ? v[i] * (1 - f) + v[i + 1] * f : v[i];
+}
+std::string num(double v, int prec = 4)
+{
+  return ev::jsonNumber(v, prec);
+}
+
+/// The peer: SGBM depth + RgbdOdometry, pose chained frame to frame.
+struct Peer
+{
+  cv::Ptr<cv::StereoSGBM> sgbm;
+  cv::Ptr<cv::rgbd::RgbdOdometry> odo;
+  cv::Mat prev_img, prev_depth;
+  Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();
+  int failures = 0;
+
+  void init(const StereoCamera& cam)
+  {
+    sgbm = cv::StereoSGBM::create(0, 128, 5, 8 * 25, 32 * 25, 1, 0, 10, 100, 2, cv::StereoSGBM::MODE_SGBM);
+    const cv::Mat K = (cv::Mat_<float>(3, 3) << cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
+    odo = cv::rgbd::RgbdOdometry::create(K, 0.3f, 20.f);
+  }
+  void process(const StereoCamera& cam, const cv::Mat& left, const cv::Mat& right)
+  {
+    cv::Mat disp16;
+    sgbm->compute(left, right, disp16);
+    cv::Mat depth(left.size(), CV_32F, cv::Scalar(0));
+    const float fb = static_cast<float>(cam.fx * cam.baseline);
+    for (int y = 0; y < disp16.rows; ++y)
+    {
+      const int16_t* d = disp16.ptr<int16_t>(y);
+      float* z = depth.ptr<float>(y);
+      for (int x = 0; x < disp16.cols; ++x)
+        z[x] = d[x] > 0 ? fb * 16.f / d[x] : 0.f;
+    }
+    if (!prev_img.empty())
+    {
+      cv::Mat Rt;
+      const cv::Mat mask;
+      bool ok = false;
+      try
+      {
+        ok = odo->compute(prev_img, prev_depth, mask, left, depth, mask, Rt);
+      }
+      catch (const cv::Exception&)
+      {
+        ok = false;
+      }
+      if (ok && !Rt.empty())
+      {
+        Eigen::Matrix4d M;
+        for (int r = 0; r < 4; ++r)
+          for (int c = 0; c < 4; ++c)
+            M(r, c) = Rt.at<double>(r, c);
+        // Rt maps points of the source (previous) frame into the destination (current) frame.
+        Eigen::Isometry3d T_cur_prev(M);
+        T_w_c = T_w_c * T_cur_prev.inverse();
+      }
+      else
+        ++failures;
+    }
+    prev_img = left;
+    prev_depth = depth;
+  }
+};
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  std::string bag, plot;
+  bool peer_on = true, imu_on = true;
+  long max_frames = -1;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    if (a == "--plot" && i + 1 < argc)
+      plot = argv[++i];
+    else if (a == "--no-peer")
+      peer_on = false;
+    else if (a == "--no-imu")
+      imu_on = false;
+    else if (a == "--frames" && i + 1 < argc)
+      max_frames = std::stol(argv[++i]);
+    else if (a == "-h" || a == "--help")
+    {
+      std::cout << "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N]\n";
+      return 0;
+    }
+    else
+      bag = a;
+  }
+  if (bag.empty())
+  {
+    std::cerr << "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N]\n";
+    return 2;
+  }
+  if (plot.empty())
+  {
+    const size_t dot = bag.rfind(".bag");
+    plot = (dot == std::string::npos ? bag : bag.substr(0, dot)) + "_vo_trajectory.png";
+  }
+  cv::setNumThreads(1);
+
+  std::unique_ptr<assistive_sim::StereoBagReader> reader;
+  try
+  {
+    reader = std::make_unique<assistive_sim::StereoBagReader>(bag);
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "vo_benchmark: cannot read " << bag << ": " << e.what() << "\n";
+    return 1;
+  }
+
+  VoParams params;
+  params.use_imu = imu_on;
+  VisualOdometry vo(params);
+  ImuBuffer imu(5.0);
+  Peer peer;
+  ev::Trajectory gt, est, peer_est;
+  std::map<std::string, std::vector<double>> ms;
+  std::vector<double> wall, peer_ms, peer_wall;
+  int lost = 0, max_bad_run = 0, bad_run = 0, frames = 0;
+  double prev_stamp = -1;
+  Eigen::Isometry3d peer_T_odom_o0 = Eigen::Isometry3d::Identity();
+  assistive_sim::StereoFrame f;
+  while (reader->next(f) && (max_frames < 0 || frames < max_frames))
+  {
+    StereoCamera cam;
+    cam.fx = f.calib.fx;
+    cam.fy = f.calib.fy;
+    cam.cx = f.calib.cx;
+    cam.cy = f.calib.cy;
+    cam.baseline = f.calib.baseline;
+    cam.width = f.calib.width;
+    cam.height = f.calib.height;
+    if (frames == 0)
+    {
+      vo.setCamera(cam);
+      if (peer_on)
+        peer.init(cam);
+    }
+    for (const auto& s : f.imu)
+      imu.add(s.stamp, s.gyro, s.accel);
+    Eigen::Quaterniond gyro;
+    bool have_gyro = false;
+    if (imu_on)
+    {
+      if (frames == 0)
+      {
+        Eigen::Vector3d a;
+        if (imu.meanAccel(f.stamp, 0.5, a))
+          vo.setInitialUp(a);
+      }
+      else
+        have_gyro = imu.integrate(prev_stamp, f.stamp, gyro);
+    }
+    prev_stamp = f.stamp;
+
+    const double c0 = cpuMs(), w0 = wallMs();
+    const VoOutput o = vo.process(f.left, f.right, f.stamp, have_gyro ? &gyro : nullptr);
+    const double c1 = cpuMs(), w1 = wallMs();
+    ms["total"].push_back(c1 - c0);
+    wall.push_back(w1 - w0);
+    ms["pyramid"].push_back(o.stats.ms_pyramid);
+    ms["klt"].push_back(o.stats.ms_klt);
+    ms["epipolar"].push_back(o.stats.ms_epipolar);
+    ms["stereo"].push_back(o.stats.ms_stereo);
+    ms["p3p_ransac"].push_back(o.stats.ms_ransac);
+    ms["bundle_adj"].push_back(o.stats.ms_ba);
+    ms["detect"].push_back(o.stats.ms_detect);
+    if (o.state != TrackingState::TRACKING)
+    {
+      ++lost;
+      max_bad_run = std::max(max_bad_run, ++bad_run);
+    }
+    else
+      bad_run = 0;
+    if (!o.message.empty())
+      std::cerr << "frame " << frames << " t=" << std::fixed << std::setprecision(3) << f.stamp << " "
+                << toString(o.state) << ": " << o.message << "\n";
+
+    if (f.has_gt_pose && o.pose_valid)
+    {
+      gt.push_back({f.stamp, f.gt_pose});
+      est.push_back({f.stamp, o.T_odom_optical});
+      if (peer_on)
+      {
+        const double p0 = cpuMs(), pw0 = wallMs();
+        peer.process(cam, f.left, f.right);
+        peer_ms.push_back(cpuMs() - p0);
+        peer_wall.push_back(wallMs() - pw0);
+        if (peer_est.empty())
+          peer_T_odom_o0 = o.T_odom_optical;  // same start pose as ours (gravity from the IMU)
+        peer_est.push_back({f.stamp, peer_T_odom_o0 * peer.T_w_c});
+      }
+    }
+    ++frames;
+    if (frames % 50 == 0)
+      std::cerr << "[vo_benchmark] " << frames << " frames\n";
+  }
+  if (frames == 0)
+  {
+    std::cerr << "vo_benchmark: no stereo frames in " << bag << "\n";
+    return 1;
+  }
+
+  // ---- report ----
+  std::cout << "assistive_vo benchmark: " << bag << "  (" << frames << " frames, "
+            << (imu_on ? "gyro prior on" : "no IMU") << ")\n";
+  std::cout << "stage          ms_median   ms_p95   (thread CPU time, one core)\n";
+  for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect", "total"})
+    std::cout << "  " << std::left << std::setw(12) << k << std::right << std::fixed << std::setprecision(3)
+              << std::setw(10) << percentile(ms[k], 0.5) << std::setw(9) << percentile(ms[k], 0.95) << "\n";
+  std::cout << "  total (wall)" << std::setw(10) << percentile(wall, 0.5) << std::setw(9) << percentile(wall, 0.95)
+            << "\n";
+  std::cout << "resets " << vo.resets() << ", frames not tracking " << lost << ", longest non-tracking run "
+            << max_bad_run << " frames\n";
+
+  ev::TrajectoryReport rep, prep;
+  const bool have_gt = gt.size() >= 3;
+  if (have_gt)
+  {
+    rep = ev::evaluateTrajectory(gt, est);
+    std::cout << "\n--- ours (assistive_vo) vs ground truth ---\n" << ev::reportTable(rep);
+    if (peer_on && peer_est.size() == gt.size())
+    {
+      prep = ev::evaluateTrajectory(gt, peer_est);
+      std::cout << "\n--- peer (SGBM + cv::rgbd::RgbdOdometry) vs ground truth ---\n" << ev::reportTable(prep);
+      std::cout << "peer ms median " << percentile(peer_ms, 0.5) << "  p95 " << percentile(peer_ms, 0.95)
+                << "  (wall p95 " << percentile(peer_wall, 0.95) << "), failures " << peer.failures << "\n";
+    }
+    // Trajectory plot: ground truth, ours and the peer, top-down over the floor plan.
+    std::vector<ev::PlotSeries> series{{"ground truth", ev::positions(gt), cv::Scalar(0, 0, 0)}};
+    const ev::Alignment al = rep.alignment;
+    series.push_back({"assistive_vo", ev::positions(ev::applyAlignment(est, al)), cv::Scalar(0, 0, 230)});
+    if (prep.ate.n > 0)
+      series.push_back({"peer RgbdOdometry", ev::positions(ev::applyAlignment(peer_est, prep.alignment)),
+                        cv::Scalar(230, 120, 0)});
+    assistive_sim::OccupancyGrid floor;
+    const bool have_floor = reader->readOccupancy(floor);
+    ev::PlotOptions po;
+    po.title = "VO trajectory (SE3-aligned): " + bag;
+    std::string err;
+    if (ev::writePng(plot, ev::plotTopDown(series, have_floor ? &floor : nullptr, po), &err))
+      std::cout << "trajectory plot: " << plot << "\n";
+    else
+      std::cerr << "vo_benchmark: plot not written: " << err << "\n";
+  }
+  else
+    std::cout << "no ground truth in the bag: trajectory errors are null\n";
+
+  std::ostringstream js;
+  js << "{\"frames\": " << frames << ", \"ms_median\": " << num(percentile(ms["total"], 0.5))
+     << ", \"ms_p95\": " << num(percentile(ms["total"], 0.95))
+     << ", \"ms_p95_wall\": " << num(percentile(wall, 0.95));
+  if (have_gt)
+    js << ", \"drift_pct\": " << num(rep.drift.drift_pct) << ", \"drift_deg_per_m\": " << num(rep.drift.drift_deg_per_m, 6)
+       << ", \"ate_rmse_m\": " << num(rep.ate.rmse) << ", \"max_jump_m\": " << num(rep.max_jump_m)
+       << ", \"endpoint_drift_pct\": " << num(rep.endpoint_drift_pct) << ", \"path_length_m\": " << num(rep.path_length_m);
+  else
+    js << ", \"drift_pct\": null, \"drift_deg_per_m\": null, \"ate_rmse_m\": null, \"max_jump_m\": null";
+  js << ", \"resets\": " << vo.resets() << ", \"frames_not_tracking\": " << lost
+     << ", \"max_recovery_frames\": " << max_bad_run;
+  for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect"})
+    js << ", \"ms_p95_" << k << "\": " << num(percentile(ms[k], 0.95));
+  if (have_gt)
+    for (const auto& b : rep.yaw_bands)
+      js << ", \"yaw_err_deg_" << b.name << "\": " << num(b.mean_err_deg, 5);
+  const bool peer_ok = peer_on && have_gt && prep.ate.n > 0;
+  js << ", \"peer_ms_median\": " << (peer_on ? num(percentile(peer_ms, 0.5)) : "null")
+     << ", \"peer_ms_p95\": " << (peer_on ? num(percentile(peer_ms, 0.95)) : "null")
+     << ", \"peer_drift_pct\": " << (peer_ok ? num(prep.drift.drift_pct) : "null")
+     << ", \"peer_drift_deg_per_m\": " << (peer_ok ? num(prep.drift.drift_deg_per_m, 6) : "null")
+     << ", \"peer_ate_rmse_m\": " << (peer_ok ? num(prep.ate.rmse) : "null")
+     << ", \"peer_failures\": " << (peer_on ? std::to_string(peer.failures) : "null") << "}";
+  std::cout << js.str() << std::endl;
+  return 0;
+}
