@@ -34,3 +34,28 @@ if(CATKIN_ENABLE_TESTING)
     target_compile_definitions(test_datasets PRIVATE ASSISTIVE_REAL_DATA_DIR="${ASSISTIVE_REAL_DATA_DIR}")
   endif()
 endif()
+
+# ---- CLIs (rosrun assistive_sim <name>): bag glue in tools/eval_ros.cpp
+add_library(assistive_sim_eval_ros STATIC tools/eval_ros.cpp)
+target_link_libraries(assistive_sim_eval_ros assistive_sim_eval ${catkin_LIBRARIES})
+add_dependencies(assistive_sim_eval_ros ${catkin_EXPORTED_TARGETS})
+set_target_properties(assistive_sim_eval_ros PROPERTIES POSITION_INDEPENDENT_CODE ON)
+
+add_executable(evaluate_trajectory tools/evaluate_trajectory.cpp)
+target_link_libraries(evaluate_trajectory assistive_sim_eval_ros assistive_sim_eval ${catkin_LIBRARIES})
+add_executable(evaluate_map tools/evaluate_map.cpp)
+target_link_libraries(evaluate_map assistive_sim_eval_ros assistive_sim_eval ${catkin_LIBRARIES})
+add_executable(import_dataset tools/import_dataset.cpp)
+target_link_libraries(import_dataset assistive_sim_import assistive_sim_bag ${catkin_LIBRARIES} ${OpenCV_LIBRARIES})
+add_dependencies(import_dataset ${catkin_EXPORTED_TARGETS})
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_eval_cli test/eval/test_eval_cli.cpp)
+  if(TARGET test_eval_cli)
+    target_link_libraries(test_eval_cli assistive_sim_eval ${catkin_LIBRARIES} gtest_main)
+    add_dependencies(test_eval_cli evaluate_trajectory evaluate_map)
+  endif()
+endif()
+
+install(TARGETS evaluate_trajectory evaluate_map import_dataset
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -265,7 +265,8 @@ TrajectoryReport evaluateTrajectory(const Trajectory& gt, const Trajectory& est,
   r.drift = segmentDrift(g, e, p.drift_lengths_m);
   r.endpoint_drift_pct = endpointDriftPct(g, e);
   r.max_jump_m = maxErrorJump(g, e);
-  r.yaw_bands = yawErrorByBand(g, e, p.yaw);
+  // yaw about the truth's up axis: the estimate brought into the truth's world first
+  r.yaw_bands = yawErrorByBand(g, applyAlignment(e, r.alignment), p.yaw);
   return r;
 }
 
@@ -281,7 +282,7 @@ std::string jsonNumber(double v, int precision)
 std::string reportTable(const TrajectoryReport& r)
 {
   std::ostringstream os;
-  os << std::fixed << std::setprecision(4);
+  os << std::fixed << std::setprecision(6);
   os << "poses                 " << r.poses << "\n";
   os << "path length           " << r.path_length_m << " m\n";
   os << "ATE (APE translation) n=" << r.ate.n << "  rmse " << r.ate.rmse << "  mean " << r.ate.mean << "  median "

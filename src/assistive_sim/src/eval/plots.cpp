@@ -84,16 +84,16 @@ struct Axes
     {
       const cv::Point p = px(x, y0);
       cv::line(img, cv::Point(p.x, H - bottom), cv::Point(p.x, H - bottom + 5), BLACK, 1);
-      cv::putText(img, fmt(x, prec), cv::Point(p.x - 12, H - bottom + 20), cv::FONT_HERSHEY_SIMPLEX, 0.4, BLACK, 1,
+      cv::putText(img, fmt(std::abs(x) < 1e-6 * xs ? 0.0 : x, prec), cv::Point(p.x - 12, H - bottom + 20), cv::FONT_HERSHEY_SIMPLEX, 0.4, BLACK, 1,
                   cv::LINE_AA);
     }
     for (double y = std::ceil(y0 / ys) * ys; y <= y1; y += ys)
     {
       const cv::Point p = px(x0, y);
       cv::line(img, cv::Point(left - 5, p.y), cv::Point(left, p.y), BLACK, 1);
-      cv::putText(img, fmt(y, precy), cv::Point(5, p.y + 4), cv::FONT_HERSHEY_SIMPLEX, 0.4, BLACK, 1, cv::LINE_AA);
+      cv::putText(img, fmt(std::abs(y) < 1e-6 * ys ? 0.0 : y, precy), cv::Point(5, p.y + 4), cv::FONT_HERSHEY_SIMPLEX, 0.4, BLACK, 1, cv::LINE_AA);
     }
-    cv::putText(img, xlabel, cv::Point(W / 2 - 40, H - 15), cv::FONT_HERSHEY_SIMPLEX, 0.5, BLACK, 1, cv::LINE_AA);
+    cv::putText(img, xlabel, cv::Point(W / 2 - 40, H - 12), cv::FONT_HERSHEY_SIMPLEX, 0.5, BLACK, 1, cv::LINE_AA);
     cv::putText(img, ylabel, cv::Point(5, top - 10), cv::FONT_HERSHEY_SIMPLEX, 0.5, BLACK, 1, cv::LINE_AA);
     if (!title.empty())
       cv::putText(img, title, cv::Point(left + 150, top - 12), cv::FONT_HERSHEY_SIMPLEX, 0.55, BLACK, 1, cv::LINE_AA);
@@ -225,9 +225,13 @@ cv::Mat plotSideView(const std::vector<PlotSeries>& series, const PlotOptions& o
   {
     std::vector<std::pair<double, double>> v;
     double d = 0.0;
+    // index-aligned series share the first series' distances (so they line up); others use their own
+    const bool shared = !xy.empty() && s.points.size() == xy[0].size();
     for (size_t i = 0; i < s.points.size(); ++i)
     {
-      if (i > 0)
+      if (shared)
+        d = xy[0][i].first;
+      else if (i > 0)
         d += (s.points[i] - s.points[i - 1]).norm();
       const double h = o.up_sign * s.points[i][o.axis_up];
       v.emplace_back(d, h);
@@ -269,13 +273,22 @@ cv::Mat plotMapScore(const Grid& gt, const Grid& est, const Eigen::Vector2d& wea
 {
   if (gt.width <= 0 || gt.height <= 0)
     return cv::Mat(100, 100, CV_8UC3, WHITE);
+  // the window: the scoring circle plus 2 m, clipped to the grid
+  const double reach = radius_m + 2.0;
+  const int x0 = std::max(0, static_cast<int>(std::floor((wearer_gt.x() - reach - gt.origin_x) / gt.resolution)));
+  const int y0 = std::max(0, static_cast<int>(std::floor((wearer_gt.y() - reach - gt.origin_y) / gt.resolution)));
+  const int x1 = std::min(gt.width - 1, static_cast<int>(std::floor((wearer_gt.x() + reach - gt.origin_x) / gt.resolution)));
+  const int y1 = std::min(gt.height - 1, static_cast<int>(std::floor((wearer_gt.y() + reach - gt.origin_y) / gt.resolution)));
+  if (x1 < x0 || y1 < y0)
+    return cv::Mat(100, 100, CV_8UC3, WHITE);
+  const int W = x1 - x0 + 1, H = y1 - y0 + 1;
   if (cell_px <= 0)
-    cell_px = std::max(2, std::min(12, 900 / std::max(gt.width, gt.height)));
-  const int margin = 30, legend_h = 110;
-  cv::Mat img(gt.height * cell_px + 2 * margin + legend_h, gt.width * cell_px + 2 * margin, CV_8UC3, WHITE);
+    cell_px = std::max(2, std::min(16, 700 / std::max(W, H)));
+  const int margin = 30, legend_h = 150;
+  cv::Mat img(H * cell_px + 2 * margin + legend_h, std::max(W * cell_px + 2 * margin, 320), CV_8UC3, WHITE);
   const cv::Scalar TP(60, 180, 60), FP(0, 140, 255), FN(40, 40, 220), TN(215, 215, 215), UNK(250, 220, 180);
-  for (int cy = 0; cy < gt.height; ++cy)
-    for (int cx = 0; cx < gt.width; ++cx)
+  for (int cy = y0; cy <= y1; ++cy)
+    for (int cx = x0; cx <= x1; ++cx)
     {
       const int8_t g = gt.at(cx, cy);
       const Eigen::Vector2d c = gt.cellCenter(cx, cy);
@@ -293,18 +306,18 @@ cv::Mat plotMapScore(const Grid& gt, const Grid& est, const Eigen::Vector2d& wea
       }
       else
         col = col * 0.5 + WHITE * 0.5;
-      // grid row 0 at the bottom of the image (y up)
-      const int px = margin + cx * cell_px, py = margin + (gt.height - 1 - cy) * cell_px;
+      // grid y up: row y1 at the top of the image
+      const int px = margin + (cx - x0) * cell_px, py = margin + (y1 - cy) * cell_px;
       cv::rectangle(img, cv::Rect(px, py, cell_px, cell_px), col, cv::FILLED);
     }
-  // wearer and radius
-  const double gx = (wearer_gt.x() - gt.origin_x) / gt.resolution, gy = (wearer_gt.y() - gt.origin_y) / gt.resolution;
-  const cv::Point wp(margin + static_cast<int>(gx * cell_px), margin + static_cast<int>((gt.height - gy) * cell_px));
+  const double gx = (wearer_gt.x() - gt.origin_x) / gt.resolution - x0;
+  const double gy = (wearer_gt.y() - gt.origin_y) / gt.resolution - y0;
+  const cv::Point wp(margin + static_cast<int>(std::lround(gx * cell_px)),
+                     margin + static_cast<int>(std::lround((H - gy) * cell_px)));
   cv::circle(img, wp, static_cast<int>(radius_m / gt.resolution * cell_px), BLACK, 1, cv::LINE_AA);
   cv::circle(img, wp, 4, cv::Scalar(200, 0, 200), cv::FILLED);
-  // scale bar: 1 m
-  const int ybar = margin + gt.height * cell_px + 20;
-  const int bar = static_cast<int>(1.0 / gt.resolution * cell_px);
+  const int ybar = margin + H * cell_px + 20;
+  const int bar = static_cast<int>(std::lround(1.0 / gt.resolution * cell_px));
   cv::line(img, cv::Point(margin, ybar), cv::Point(margin + bar, ybar), BLACK, 3);
   cv::putText(img, "1 m", cv::Point(margin + bar + 6, ybar + 4), cv::FONT_HERSHEY_SIMPLEX, 0.45, BLACK, 1,
               cv::LINE_AA);
@@ -313,9 +326,11 @@ cv::Mat plotMapScore(const Grid& gt, const Grid& est, const Eigen::Vector2d& wea
   drawLegend(img,
              {{"TP obstacle found", TP},
               {"FP free marked obstacle", FP},
-              {"FN obstacle marked free", FN},
+              {"FN obstacle marked free / not obstacle", FN},
               {"TN free", TN},
-              {"unknown in estimate", UNK}},
+              {"unknown in estimate", UNK},
+              {"truth outside the radius (obstacle / step)", truthColor(CELL_OBSTACLE) * 0.5 + WHITE * 0.5},
+              {"wearer (magenta) and scoring radius", cv::Scalar(200, 0, 200)}},
              margin, ybar + 24, true);
   return img;
 }

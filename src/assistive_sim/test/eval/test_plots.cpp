@@ -63,6 +63,7 @@ TEST(Plots, ScoredMapColoursTpFpFn)
   const int px = 10;
   const cv::Mat img = plotMapScore(gt, est, Eigen::Vector2d(5.0, 5.0), 4.0, Eigen::Isometry2d::Identity(), px);
   ASSERT_FALSE(img.empty());
+  // the window (radius + 2 m around (5, 5)) covers the whole 10 x 10 grid
   const int margin = 30;
   auto colourAt = [&](int cx, int cy) {
     return img.at<cv::Vec3b>(margin + (10 - 1 - cy) * px + px / 2, margin + cx * px + px / 2);

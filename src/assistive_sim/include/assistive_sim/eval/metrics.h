@@ -113,7 +113,7 @@ struct TrajectoryReport
   DriftResult drift;       ///< segment drift (drift_pct / drift_deg_per_m)
   double endpoint_drift_pct = std::numeric_limits<double>::quiet_NaN();
   double max_jump_m = std::numeric_limits<double>::quiet_NaN();
-  std::vector<YawBand> yaw_bands;
+  std::vector<YawBand> yaw_bands;  ///< on the estimate aligned as for the ATE (p.ate_align)
 };
 TrajectoryReport evaluateTrajectory(const Trajectory& gt, const Trajectory& est,
                                     const TrajectoryEvalParams& p = TrajectoryEvalParams());

@@ -33,10 +33,12 @@ struct PlotOptions
 /// Top-down view. `floor_plan` (may be null) is drawn under the paths: obstacles dark, steps
 /// brown, free light, unknown white (only when axis_h/axis_v are the grid's x/y).
 cv::Mat plotTopDown(const std::vector<PlotSeries>& series, const Grid* floor_plan, const PlotOptions& o);
-/// Side view: distance along the first series' path (m) against height.
+/// Side view: distance along the first series' path (m) against height; series with as many
+/// points as the first (index-aligned) are drawn at the first series' distances.
 cv::Mat plotSideView(const std::vector<PlotSeries>& series, const PlotOptions& o);
 /// Ground truth vs estimate within the radius around the wearer: TP green, FP orange, FN red,
-/// TN light grey, estimate unknown pale blue, outside the radius the truth dimmed.
+/// TN light grey, estimate unknown pale blue, outside the radius the truth dimmed; the image
+/// shows the window of radius + 2 m around the wearer.
 cv::Mat plotMapScore(const Grid& gt, const Grid& est, const Eigen::Vector2d& wearer_gt, double radius_m,
                      const Eigen::Isometry2d& T_est_gt = Eigen::Isometry2d::Identity(), int cell_px = 0,
                      const std::string& title = "");

@@ -1,0 +1,32 @@
+#pragma once
+// ROS glue of the evaluation CLIs: nav_msgs/Odometry and nav_msgs/OccupancyGrid from bags into
+// the ROS-free evaluation types.
+#include <assistive_sim/eval/map_score.h>
+#include <assistive_sim/eval/trajectory.h>
+
+#include <string>
+#include <vector>
+
+namespace assistive_sim
+{
+namespace cli
+{
+/// All nav_msgs/Odometry of `topic`, in bag order. `child_frame` receives the first message's
+/// child_frame_id. Throws when the bag cannot be opened or the topic is absent / of another type.
+eval::Trajectory readOdometry(const std::string& bag, const std::string& topic, std::string* child_frame = nullptr);
+
+/// A grid message with its stamp, frame, and the full pose of its origin.
+struct StampedGrid
+{
+  double stamp = 0.0;
+  std::string frame_id;
+  Eigen::Isometry2d origin = Eigen::Isometry2d::Identity();  ///< pose of cell (0,0)'s corner in frame_id
+  eval::Grid grid;  ///< origin_x = origin_y = 0: coordinates relative to `origin`
+};
+/// All nav_msgs/OccupancyGrid of `topic` (at most `max_count` evenly spaced ones when > 0).
+std::vector<StampedGrid> readGrids(const std::string& bag, const std::string& topic, size_t max_count = 0);
+/// Topics of a bag with their types.
+std::vector<std::pair<std::string, std::string>> bagTopics(const std::string& bag);
+
+}  // namespace cli
+}  // namespace assistive_sim
