@@ -150,6 +150,12 @@ PlanOutput Planner::update(const Grid& grid, const Point2& wearer, double head_y
     if (waypoints_.has())
       grid.worldToCell(waypoints_.waypoint().x, waypoints_.waypoint().y, gx, gy);
   }
+  if (gx < 0 && !has_goal_ && waypoints_.lastSearch().unreachable_free > 0)
+  {
+    out.status = PlanStatus::NO_PATH;
+    out.message = "free space ahead but no free path to it";
+    return out;
+  }
   if (gx < 0)
   {
     out.status = PlanStatus::NO_WAYPOINT;
@@ -161,9 +167,31 @@ PlanOutput Planner::update(const Grid& grid, const Point2& wearer, double head_y
   out.waypoint_distance = std::hypot(out.waypoint.x - wearer.x, out.waypoint.y - wearer.y);
 
   // D* Lite: a new goal restarts the search, otherwise the repaired search continues
+  // a wearer standing on an obstacle cell (map noise, closing at a wall) starts from the nearest
+  // passable cell within 2 cells instead of getting no path at all
+  int sx = wx, sy = wy;
+  if (isObstacleCode(here))
+  {
+    double best = 1e300;
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx)
+      {
+        const int x = wx + dx, y = wy + dy;
+        if (!grid.inside(x, y) || isObstacleCode(grid.at(x, y)))
+          continue;
+        const double d = std::hypot(grid.cellX(x) - wearer.x, grid.cellY(y) - wearer.y) +
+                         (isUnknownCode(grid.at(x, y)) ? 100.0 : 0.0);
+        if (d < best)
+        {
+          best = d;
+          sx = x;
+          sy = y;
+        }
+      }
+  }
   dstar_.resetExpansions();
   dstar_.setGoal(gx, gy);
-  dstar_.setStart(wx, wy);
+  dstar_.setStart(sx, sy);
   const bool ok = dstar_.plan();
   out.expansions = dstar_.expansions();
   if (!ok)
@@ -199,7 +227,9 @@ PlanOutput Planner::update(const Grid& grid, const Point2& wearer, double head_y
   out.path_length = len;
   ever_planned_ = true;
   out.status = PlanStatus::OK;
-  out.message = out.path_through_unknown ? "path crosses unmapped cells (no known free path)" : "ok";
+  out.message = out.path_through_unknown ? "path crosses unmapped cells (no known free path)"
+                : isObstacleCode(here)   ? "the wearer's cell is an obstacle: path from the nearest free cell"
+                                         : "ok";
   return out;
 }
 }  // namespace assistive_planner

@@ -56,8 +56,13 @@ TriangleSearch searchTriangle(const Grid& grid, const Point2& apex, double yaw, 
     for (int x = 0; x < grid.width; ++x)
     {
       const int u = grid.index(x, y);
-      if (!r.reached[size_t(u)] || !inside(x, y))
+      if (!inside(x, y))
         continue;
+      if (!r.reached[size_t(u)])
+      {
+        r.unreachable_free += grid.at(x, y) == CELL_FREE;
+        continue;
+      }
       if (isTraversableCode(grid.at(x, y)))
         ++r.cells;
       if (u == a || grid.at(x, y) != CELL_FREE)

@@ -155,6 +155,23 @@ TEST(Planner, ClearanceCostKeepsPathOffWalls)
   EXPECT_LT(meanY(ob), meanY(oa) - 0.1);  // further from the wall
 }
 
+TEST(Planner, WearerOnObstacleCellStartsFromNearestFreeCell)
+{
+  Planner pl;
+  Grid g = makeGrid(-5, -5);
+  ASSERT_EQ(pl.update(g, { 0.1, 0.1 }, 0.0).status, PlanStatus::OK);
+  fillRect(g, 0.0, 0.0, 0.2, 0.2, CELL_OBSTACLE);  // the wearer's own cell
+  const PlanOutput o = pl.update(g, { 0.1, 0.1 }, 0.0);
+  ASSERT_EQ(o.status, PlanStatus::OK) << o.message;
+  ASSERT_GE(o.path.size(), 3u);
+  int x, y;
+  ASSERT_TRUE(g.worldToCell(o.path[1].x, o.path[1].y, x, y));
+  EXPECT_NE(g.at(x, y), CELL_OBSTACLE);
+  // walled in completely: no path
+  fillRect(g, -0.6, -0.6, 0.8, 0.8, CELL_OBSTACLE);
+  EXPECT_EQ(pl.update(g, { 0.1, 0.1 }, 0.0).status, PlanStatus::NO_PATH);
+}
+
 int main(int argc, char** argv)
 {
   testing::InitGoogleTest(&argc, argv);
