@@ -85,8 +85,11 @@ private:
     std::lock_guard<std::mutex> lock(mutex_);
     const double now = steadyNow();
     const bool was_open = bridge_->stats().open;
+    const bool was_stale = bridge_->stats().cue_stale;
     bridge_->spinOnce(now);
     const LinkStats& s = bridge_->stats();
+    if (!was_stale && s.cue_stale)
+      NODELET_WARN("vest_bridge: no tactile/cue for %.3f s: all motors off", bridge_->params().stale_s);
     if (was_open && !s.open)
       NODELET_ERROR("vest_bridge: lost %s (%s), reopening every %.1f s", bridge_->params().port.c_str(),
                     s.last_error.c_str(), bridge_->params().reopen_s);
