@@ -3,6 +3,7 @@
 // obstacle grids in the odom frame with one known false positive and one known miss.
 #include <assistive_sim/eval/map_score.h>
 #include <assistive_sim/eval/trajectory.h>
+#include <assistive_sim/stereo_bag.h>
 
 #include <gtest/gtest.h>
 #include <nav_msgs/OccupancyGrid.h>
@@ -15,6 +16,8 @@
 #include <fstream>
 #include <memory>
 #include <unistd.h>
+
+#include "real_data.h"
 
 using namespace assistive_sim;
 using namespace assistive_sim::eval;
@@ -189,4 +192,58 @@ TEST(EvalCli, EvaluateMapPlacesOdomGridsAndCountsTheKnownErrors)
   EXPECT_GT(jsonValue(j, "misclassified_3m"), 0.0);
   std::ifstream png(testing::TempDir() + "/cli_map_map.png");
   EXPECT_TRUE(png.good());
+}
+
+TEST(ImportDataset, KittiBagHasTheRenderBagLayoutAndReadsBack)
+{
+  const std::string rel = "stereo_sequence/kitti_raw_2011_09_26_drive_0001_sync_f000-059";
+  REQUIRE_REAL_DATA(rel);
+  const std::string bag = testing::TempDir() + "/import_kitti_test.bag";
+  std::string out;
+  ASSERT_EQ(run(exeDir() + "/import_dataset kitti " + realDataDir() + "/" + rel + " --out " + bag +
+                    " --max-frames 20",
+                out),
+            0)
+      << out;
+  const std::string j = lastLine(out);
+  EXPECT_NE(j.find("\"frames\": 20"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"has_ground_truth\": true"), std::string::npos) << j;
+  // the renderer engineer's reader sees rectified mono8 pairs, the calibration and the truth
+  StereoBagReader reader(bag);
+  EXPECT_TRUE(reader.hasGroundTruth());
+  EXPECT_EQ(reader.groundTruth().size(), 20u);
+  StereoFrame f;
+  size_t n = 0;
+  Eigen::Isometry3d first = Eigen::Isometry3d::Identity(), last = first;
+  while (reader.next(f))
+  {
+    if (n == 0)
+    {
+      EXPECT_EQ(f.left.cols, 1242);
+      EXPECT_EQ(f.left.type(), CV_8UC1);
+      EXPECT_NEAR(f.calib.fx, 721.5377, 1e-3);
+      EXPECT_NEAR(f.calib.baseline, 0.53715, 1e-5);
+      first = f.gt_pose;
+    }
+    ASSERT_TRUE(f.has_gt_pose) << n;
+    last = f.gt_pose;
+    ++n;
+  }
+  EXPECT_EQ(n, 20u);
+  // README: frame 19 is 24.48 m ahead of frame 0 along the camera axis, 0.53 m to the right
+  const Eigen::Isometry3d rel19 = first.inverse() * last;
+  EXPECT_NEAR(rel19.translation().z(), 24.48, 0.01);
+  EXPECT_NEAR(rel19.translation().x(), 0.53, 0.01);
+  // and evaluate_trajectory reads the imported truth (against itself: zero error)
+  ASSERT_EQ(run(exeDir() + "/evaluate_trajectory " + bag + " --est-topic /ground_truth/odom --no-plot", out), 0);
+  EXPECT_NEAR(jsonValue(lastLine(out), "ate_rmse_m"), 0.0, 1e-6);
+  EXPECT_NEAR(jsonValue(lastLine(out), "path_length_m"), 24.49, 0.01);
+  std::remove(bag.c_str());
+}
+
+TEST(ImportDataset, MissingFolderIsAClearErrorWithNonZeroExit)
+{
+  std::string out;
+  EXPECT_EQ(run(exeDir() + "/import_dataset euroc /nonexistent/euroc --out " + testing::TempDir() + "/x.bag", out), 1);
+  EXPECT_EQ(run(exeDir() + "/import_dataset kitti", out), 2);  // usage
 }
