@@ -1,0 +1,153 @@
+#include <assistive_obstacles/conversions.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <cv_bridge/cv_bridge.h>
+#include <sensor_msgs/image_encodings.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+
+namespace assistive_obstacles
+{
+nav_msgs::OccupancyGrid toMsg(const GridData& g, const std::string& frame, const ros::Time& stamp)
+{
+  nav_msgs::OccupancyGrid m;
+  m.header.frame_id = frame;
+  m.header.stamp = stamp;
+  m.info.map_load_time = stamp;
+  m.info.resolution = static_cast<float>(g.resolution);
+  m.info.width = static_cast<uint32_t>(g.width);
+  m.info.height = static_cast<uint32_t>(g.height);
+  m.info.origin.position.x = g.origin_x;
+  m.info.origin.position.y = g.origin_y;
+  m.info.origin.orientation.w = 1.0;
+  m.data = g.data;
+  return m;
+}
+
+GridData fromMsg(const nav_msgs::OccupancyGrid& m)
+{
+  GridData g;
+  g.origin_x = m.info.origin.position.x;
+  g.origin_y = m.info.origin.position.y;
+  g.resolution = m.info.resolution;
+  g.width = static_cast<int>(m.info.width);
+  g.height = static_cast<int>(m.info.height);
+  g.data = m.data;
+  if (g.data.size() != static_cast<size_t>(g.width) * g.height) g.data.resize(static_cast<size_t>(g.width) * g.height, -1);
+  return g;
+}
+
+bool fromMsg(const sensor_msgs::CameraInfo& l, const sensor_msgs::CameraInfo& r, StereoModel& m)
+{
+  const double fx = l.P[0], fy = l.P[5];
+  if (!(fx > 0.0) || !(fy > 0.0) || l.width == 0 || l.height == 0 || l.width != r.width || l.height != r.height)
+    return false;
+  const double b = -r.P[3] / r.P[0];
+  if (!(b > 0.0) || !std::isfinite(b)) return false;
+  m.width = static_cast<int>(l.width);
+  m.height = static_cast<int>(l.height);
+  m.fx = fx;
+  m.fy = fy;
+  m.cx = l.P[2];
+  m.cy = l.P[6];
+  m.baseline = b;
+  return true;
+}
+
+stereo_msgs::DisparityImage toDisparityMsg(const cv::Mat& disp, const StereoModel& model, int nd,
+                                           const std_msgs::Header& header)
+{
+  stereo_msgs::DisparityImage d;
+  d.header = header;
+  const double s = model.width > 0 ? static_cast<double>(disp.cols) / model.width : 1.0;
+  d.f = static_cast<float>(model.fx * s);
+  d.T = static_cast<float>(model.baseline);
+  d.min_disparity = 0.f;
+  d.max_disparity = static_cast<float>(nd - 1);
+  d.delta_d = 1.f / 16.f;
+  d.valid_window.x_offset = 0;
+  d.valid_window.y_offset = 0;
+  d.valid_window.width = static_cast<uint32_t>(disp.cols);
+  d.valid_window.height = static_cast<uint32_t>(disp.rows);
+  cv_bridge::CvImage img(header, sensor_msgs::image_encodings::TYPE_32FC1, disp);
+  img.toImageMsg(d.image);
+  return d;
+}
+
+sensor_msgs::PointCloud2 toCloudMsg(const std::vector<Eigen::Vector3f>& pts, const std_msgs::Header& header)
+{
+  sensor_msgs::PointCloud2 c;
+  c.header = header;
+  sensor_msgs::PointCloud2Modifier mod(c);
+  mod.setPointCloud2FieldsByString(1, "xyz");
+  mod.resize(pts.size());
+  c.height = 1;
+  c.width = static_cast<uint32_t>(pts.size());
+  c.is_dense = true;
+  sensor_msgs::PointCloud2Iterator<float> x(c, "x"), y(c, "y"), z(c, "z");
+  for (const auto& p : pts)
+  {
+    *x = p.x();
+    *y = p.y();
+    *z = p.z();
+    ++x;
+    ++y;
+    ++z;
+  }
+  return c;
+}
+
+std::vector<Eigen::Vector3f> fromCloudMsg(const sensor_msgs::PointCloud2& c)
+{
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(static_cast<size_t>(c.width) * c.height);
+  sensor_msgs::PointCloud2ConstIterator<float> x(c, "x"), y(c, "y"), z(c, "z");
+  for (; x != x.end(); ++x, ++y, ++z) out.emplace_back(*x, *y, *z);
+  return out;
+}
+
+visualization_msgs::MarkerArray toMarkers(const std::vector<Eigen::Vector3f>& centers, const std::vector<float>& sizes,
+                                          const std::string& frame, const ros::Time& stamp)
+{
+  visualization_msgs::MarkerArray arr;
+  std::map<int, size_t> by_size;  // leaf size in mm -> marker index
+  float zmin = 0.f, zmax = 2.f;
+  for (size_t i = 0; i < centers.size(); ++i)
+  {
+    const int key = static_cast<int>(std::lround(sizes[i] * 1000.f));
+    auto it = by_size.find(key);
+    if (it == by_size.end())
+    {
+      visualization_msgs::Marker m;
+      m.header.frame_id = frame;
+      m.header.stamp = stamp;
+      m.ns = "octomap";
+      m.id = static_cast<int>(arr.markers.size());
+      m.type = visualization_msgs::Marker::CUBE_LIST;
+      m.action = visualization_msgs::Marker::ADD;
+      m.pose.orientation.w = 1.0;
+      m.scale.x = m.scale.y = m.scale.z = sizes[i];
+      m.color.a = 1.0f;
+      arr.markers.push_back(m);
+      it = by_size.emplace(key, arr.markers.size() - 1).first;
+    }
+    visualization_msgs::Marker& m = arr.markers[it->second];
+    geometry_msgs::Point p;
+    p.x = centers[i].x();
+    p.y = centers[i].y();
+    p.z = centers[i].z();
+    m.points.push_back(p);
+    const float t = std::min(1.f, std::max(0.f, (centers[i].z() - zmin) / (zmax - zmin)));
+    std_msgs::ColorRGBA c;
+    c.r = t;
+    c.g = 1.f - std::abs(2.f * t - 1.f);
+    c.b = 1.f - t;
+    c.a = 1.f;
+    m.colors.push_back(c);
+  }
+  return arr;
+}
+
+}  // namespace assistive_obstacles

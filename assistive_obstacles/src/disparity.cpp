@@ -120,15 +120,26 @@ void DisparityEstimator::toPoints(const cv::Mat& disp, const StereoModel& m,
   const float dmin = fb / static_cast<float>(params_.max_depth);
   const float dmax = fb / static_cast<float>(params_.min_depth);
   const int st = std::max(1, params_.point_stride);
+  const bool edges = params_.edge_filter > 0.0;
+  if (edges)
+  {
+    const cv::Mat k = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3));
+    cv::dilate(disp, dmax_, k);
+    cv::erode(disp, dmin_, k);  // invalid (-1) neighbours make the range large: dropped too
+  }
+  const float jump = static_cast<float>(params_.edge_filter);
   points.reserve(static_cast<size_t>(disp.rows / st) * static_cast<size_t>(disp.cols / st));
   for (int v = 0; v < disp.rows; v += st)
   {
     const float* row = disp.ptr<float>(v);
+    const float* hi = edges ? dmax_.ptr<float>(v) : nullptr;
+    const float* lo = edges ? dmin_.ptr<float>(v) : nullptr;
     const float yn = (v - cy) / fy;
     for (int u = 0; u < disp.cols; u += st)
     {
       const float d = row[u];
       if (!(d >= dmin && d <= dmax)) continue;
+      if (edges && hi[u] - lo[u] > jump) continue;
       const float z = fb / d;
       points.emplace_back((u - cx) / fx * z, yn * z, z);
     }

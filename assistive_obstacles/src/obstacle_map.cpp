@@ -116,7 +116,14 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
       }
       if (lab == FrameLabel::OBSTACLE) ++stats_.obstacle_votes;
       if (lab == FrameLabel::FREE || lab == FrameLabel::STEP) ++stats_.free_votes;
-      temporal_.vote(gx, gy, lab);
+      int weight = 1;
+      if (params_.full_weight_range > 0.0)
+      {
+        const double dx = window_.centerX(lx) - t.x(), dy = window_.centerY(ly) - t.y();
+        const double r2 = std::max(1e-6, dx * dx + dy * dy), r02 = params_.full_weight_range * params_.full_weight_range;
+        weight = static_cast<int>(std::lround(TemporalFilter::MAX_VOTE_WEIGHT * std::min(1.0, r02 / r2)));
+      }
+      temporal_.vote(gx, gy, lab, weight);
     }
 }
 

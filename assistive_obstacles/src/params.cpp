@@ -45,6 +45,7 @@ std::vector<std::string> clampParams(ObstaclesParams& p)
   clampField(m, "min_depth", p.min_depth, 0.05, 10.0);
   clampField(m, "max_depth", p.max_depth, p.min_depth + 0.1, 50.0);
   clampField(m, "point_stride", p.point_stride, 1, 16);
+  clampField(m, "edge_filter", p.edge_filter, 0.0, 1000.0);
   clampField(m, "cell_size", p.cell_size, 0.02, 2.0);
   clampField(m, "window_radius", p.window_radius, 2 * p.cell_size, 50.0);
   clampField(m, "min_points_per_cell", p.min_points_per_cell, 1, 100000);
@@ -64,6 +65,7 @@ std::vector<std::string> clampParams(ObstaclesParams& p)
   clampField(m, "obstacle_ratio", p.obstacle_ratio, 0.0, 1.0);
   clampField(m, "permanent_flips", p.permanent_flips, 1, 60000);
   clampField(m, "max_count", p.max_count, p.min_observations, 60000);
+  clampField(m, "full_weight_range", p.full_weight_range, 0.0, 50.0);
   clampField(m, "dropout_max_range", p.dropout_max_range, 0.0, 50.0);
   clampField(m, "octomap_resolution", p.octomap_resolution, 0.01, 2.0);
   clampField(m, "octomap_max_range", p.octomap_max_range, 0.1, 50.0);

@@ -33,7 +33,7 @@ const CellCounters* TemporalFilter::find(int gx, int gy) const
   return (c.used && c.gx == gx && c.gy == gy) ? &c : nullptr;
 }
 
-void TemporalFilter::vote(int gx, int gy, FrameLabel label)
+void TemporalFilter::vote(int gx, int gy, FrameLabel label, int weight)
 {
   if (n_ == 0 || label == FrameLabel::NONE) return;
   CellCounters& c = cells_[slot(gx, gy)];
@@ -45,20 +45,22 @@ void TemporalFilter::vote(int gx, int gy, FrameLabel label)
     c.gy = gy;
   }
   if (c.permanent) return;
+  const uint16_t w = static_cast<uint16_t>(std::clamp(weight, 1, MAX_VOTE_WEIGHT));
   if (label == FrameLabel::OBSTACLE)
-    ++c.o;
+    c.o = static_cast<uint16_t>(c.o + w);
   else
   {
-    ++c.s;
-    if (label == FrameLabel::STEP) ++c.step;
+    c.s = static_cast<uint16_t>(c.s + w);
+    if (label == FrameLabel::STEP) c.step = static_cast<uint16_t>(c.step + w);
   }
-  if (c.o + c.s > params_.max_count)
+  if (c.votes < 60000) ++c.votes;
+  if (c.o + c.s > params_.max_count * MAX_VOTE_WEIGHT)
   {
     c.o = static_cast<uint16_t>((c.o + 1) / 2);
     c.s = static_cast<uint16_t>((c.s + 1) / 2);
     c.step = static_cast<uint16_t>((c.step + 1) / 2);
   }
-  if (c.o + c.s < params_.min_observations) return;
+  if (c.votes < params_.min_observations) return;
   const double ratio = static_cast<double>(c.o) / (c.o + c.s);
   const int8_t next = ratio > params_.obstacle_ratio ? OBSTACLE : FREE;
   if (c.state != UNKNOWN && next != c.state) ++c.flips;

@@ -40,13 +40,14 @@ public:
   int numDisparities() const;
 
   /// 3D points (left optical frame: x right, y down, z forward) from a disparity at the
-  /// matcher's scale; keeps min_depth <= z <= max_depth and every point_stride-th pixel.
+  /// matcher's scale; keeps min_depth <= z <= max_depth and every point_stride-th pixel, and
+  /// drops pixels on depth discontinuities (3x3 disparity range > edge_filter).
   void toPoints(const cv::Mat& disp, const StereoModel& model, std::vector<Eigen::Vector3f>& points) const;
 
 private:
   ObstaclesParams params_;
   cv::Ptr<cv::StereoMatcher> matcher_;
-  mutable cv::Mat l_small_, r_small_, l_grey_, r_grey_, disp16_;
+  mutable cv::Mat l_small_, r_small_, l_grey_, r_grey_, disp16_, dmax_, dmin_;
 };
 
 /// Full-resolution OpenCV SGBM with the usual settings: the peer of the disparity benchmark.

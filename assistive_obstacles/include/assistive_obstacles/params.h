@@ -22,6 +22,8 @@ struct ObstaclesParams
   double min_depth = 0.3;           ///< m, closer points are dropped
   double max_depth = 6.0;           ///< m, farther points are dropped (disparity noise grows as z^2)
   int point_stride = 1;             ///< take every n-th pixel of the scaled disparity in u and v
+  double edge_filter = 1.0;         ///< px at the matcher's scale: pixels whose 3x3 disparity range exceeds this
+                                    ///< lie on a depth discontinuity ("flying pixels") and give no point (0 disables)
 
   // --- elevation map / MLS (wearer-tied, not scene-tied) ----------------------------------
   double cell_size = 0.2;           ///< m, elevation cell edge
@@ -44,7 +46,9 @@ struct ObstaclesParams
   int min_observations = 5;         ///< O+S before a cell is decided
   double obstacle_ratio = 0.5;      ///< obstacle if O/(O+S) > this
   int permanent_flips = 15;         ///< I at which a cell becomes an obstacle for good
-  int max_count = 40;               ///< O+S are halved above this (keeps the filter responsive)
+  int max_count = 40;               ///< O+S are halved above this many full-weight votes (keeps the filter responsive)
+  double full_weight_range = 2.5;   ///< m: votes of cells nearer than this weigh 4, farther ones 4*(r0/r)^2 (>= 1),
+                                    ///< as stereo depth noise grows with r^2 (0: every vote weighs 1, as in the seed)
 
   // --- dropout / glass policy ----------------------------------------------------------------
   double dropout_max_range = 4.0;   ///< m: obstacle cells in view this close but without depth are reported

@@ -16,8 +16,9 @@ namespace assistive_obstacles
 struct CellCounters
 {
   int32_t gx = 0, gy = 0;   ///< global cell this slot holds
-  uint16_t o = 0, s = 0;    ///< obstacle / free votes
-  uint16_t step = 0;        ///< free votes that were steps
+  uint16_t o = 0, s = 0;    ///< obstacle / free votes (weighted)
+  uint16_t step = 0;        ///< free votes that were steps (weighted)
+  uint16_t votes = 0;       ///< number of votes (unweighted, saturating): decide after min_observations
   uint16_t flips = 0;       ///< I
   int8_t state = UNKNOWN;   ///< UNKNOWN (undecided), FREE or OBSTACLE
   bool used = false;
@@ -33,8 +34,10 @@ public:
   void resize(int n);
   int size() const { return n_; }
 
-  /// Adds one frame's vote for global cell (gx, gy).
-  void vote(int gx, int gy, FrameLabel label);
+  /// Adds one frame's vote for global cell (gx, gy). `weight` (1..MAX_VOTE_WEIGHT) lets near,
+  /// precise observations count more than far, noisy ones; the seed's rule is weight 1.
+  void vote(int gx, int gy, FrameLabel label, int weight = 1);
+  static constexpr int MAX_VOTE_WEIGHT = 4;
   /// Output code of global cell (gx, gy): UNKNOWN, FREE, STEP or OBSTACLE.
   int8_t code(int gx, int gy) const;
   /// Counters of a cell (nullptr when the slot holds another cell or was never used).

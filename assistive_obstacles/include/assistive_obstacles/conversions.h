@@ -1,0 +1,39 @@
+#pragma once
+// Message conversions of the obstacle stage (nodelet target only; the core stays ROS-free).
+#include <string>
+#include <vector>
+
+#include <nav_msgs/OccupancyGrid.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <stereo_msgs/DisparityImage.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <assistive_obstacles/disparity.h>
+#include <assistive_obstacles/obstacle_map.h>
+
+namespace assistive_obstacles
+{
+/// Grid -> nav_msgs/OccupancyGrid (identity orientation, z = 0).
+nav_msgs::OccupancyGrid toMsg(const GridData& grid, const std::string& frame, const ros::Time& stamp);
+/// nav_msgs/OccupancyGrid -> grid (orientation ignored: our grids are axis-aligned).
+GridData fromMsg(const nav_msgs::OccupancyGrid& msg);
+
+/// Rectified left + right camera_info -> stereo model; false when the infos are unusable
+/// (fx <= 0, no baseline, size mismatch).
+bool fromMsg(const sensor_msgs::CameraInfo& left, const sensor_msgs::CameraInfo& right, StereoModel& model);
+
+/// Matcher-scale disparity (CV_32F, invalid < 0) -> stereo_msgs/DisparityImage (f and T at that
+/// scale, invalid = -1, min/max from the matcher's range).
+stereo_msgs::DisparityImage toDisparityMsg(const cv::Mat& disp, const StereoModel& model, int num_disparities,
+                                           const std_msgs::Header& header);
+
+/// Points -> sensor_msgs/PointCloud2 with float32 x, y, z (unorganised).
+sensor_msgs::PointCloud2 toCloudMsg(const std::vector<Eigen::Vector3f>& points, const std_msgs::Header& header);
+/// PointCloud2 with float32 x, y, z -> points (for the round-trip test and tools).
+std::vector<Eigen::Vector3f> fromCloudMsg(const sensor_msgs::PointCloud2& msg);
+
+/// Occupied OctoMap leaves -> one CUBE_LIST marker per leaf size, coloured by height.
+visualization_msgs::MarkerArray toMarkers(const std::vector<Eigen::Vector3f>& centers, const std::vector<float>& sizes,
+                                          const std::string& frame, const ros::Time& stamp);
+}  // namespace assistive_obstacles
