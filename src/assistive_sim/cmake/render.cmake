@@ -6,9 +6,16 @@ add_library(assistive_sim_core src/world.cpp src/texture.cpp src/motion.cpp src/
 target_link_libraries(assistive_sim_core ${OpenCV_LIBRARIES} ${YAML_CPP_LIBRARIES} yaml-cpp embree3)
 
 # ---- bag I/O (used by render_bag, import_dataset and every stage's benchmark)
-add_library(assistive_sim_bag src/stereo_bag.cpp)
+add_library(assistive_sim_bag src/stereo_bag.cpp src/conversions.cpp)
 target_link_libraries(assistive_sim_bag ${catkin_LIBRARIES} ${OpenCV_LIBRARIES})
 add_dependencies(assistive_sim_bag ${catkin_EXPORTED_TARGETS})
+
+# ---- online renderer nodelet (glue only)
+add_library(assistive_sim_nodelet src/renderer_nodelet.cpp)
+target_link_libraries(assistive_sim_nodelet assistive_sim_core assistive_sim_bag ${catkin_LIBRARIES})
+target_compile_definitions(assistive_sim_nodelet PRIVATE
+  ASSISTIVE_SIM_SOURCE_WORLDS="${CMAKE_CURRENT_SOURCE_DIR}/worlds"
+  ASSISTIVE_SIM_SHARE_WORLDS="${CMAKE_INSTALL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/worlds")
 
 # ---- bag generator CLI
 add_executable(render_bag src/render_bag.cpp)
@@ -17,7 +24,7 @@ target_compile_definitions(render_bag PRIVATE
   ASSISTIVE_SIM_SOURCE_WORLDS="${CMAKE_CURRENT_SOURCE_DIR}/worlds"
   ASSISTIVE_SIM_SHARE_WORLDS="${CMAKE_INSTALL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/worlds")
 
-install(TARGETS assistive_sim_core assistive_sim_bag
+install(TARGETS assistive_sim_core assistive_sim_bag assistive_sim_nodelet
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})

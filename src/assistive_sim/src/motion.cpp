@@ -280,11 +280,11 @@ ImuSimulator::ImuSimulator(const ImuParams& p, uint32_t seed) : p_(p), rng_(seed
   for (int i = 0; i < 3; ++i) ba_[i] = p_.accel_bias_initial * n_(rng_);
 }
 
-ImuSample ImuSimulator::next(const WearerMotion& motion, double t0)
+ImuSample ImuSimulator::next(const WearerMotion& motion, double t0, double motion_time)
 {
   const double t = k_ / p_.rate;
   ++k_;
-  ImuSample s = motion.idealImu(t);
+  ImuSample s = motion.idealImu(motion_time >= 0.0 ? motion_time : t);
   const double dt = 1.0 / p_.rate;
   const double sg = p_.gyro_noise_density * std::sqrt(p_.rate), sa = p_.accel_noise_density * std::sqrt(p_.rate);
   for (int i = 0; i < 3; ++i)

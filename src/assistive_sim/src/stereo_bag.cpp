@@ -1,5 +1,7 @@
 #include <assistive_sim/stereo_bag.h>
 
+#include <assistive_sim/conversions.h>
+
 #include <algorithm>
 #include <map>
 #include <stdexcept>
@@ -27,39 +29,6 @@ ros::Time toRos(double s)
   return ros::Time(s);
 }
 
-sensor_msgs::CameraInfo makeInfo(const StereoCalib& c, double tx_px_m, const std::string& frame,
-                                 const ros::Time& t)
-{
-  sensor_msgs::CameraInfo info;
-  info.header.stamp = t;
-  info.header.frame_id = frame;
-  info.width = c.width;
-  info.height = c.height;
-  info.distortion_model = "plumb_bob";
-  info.D.assign(5, 0.0);
-  info.K = {c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1};
-  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  info.P = {c.fx, 0, c.cx, tx_px_m, 0, c.fy, c.cy, 0, 0, 0, 1, 0};
-  return info;
-}
-
-sensor_msgs::Image makeImage(const cv::Mat& img, const std::string& frame, const ros::Time& t)
-{
-  if (img.type() != CV_8UC1) throw std::runtime_error("StereoBagWriter: images must be CV_8UC1");
-  sensor_msgs::Image m;
-  m.header.stamp = t;
-  m.header.frame_id = frame;
-  m.height = img.rows;
-  m.width = img.cols;
-  m.encoding = sensor_msgs::image_encodings::MONO8;
-  m.is_bigendian = 0;
-  m.step = img.cols;
-  m.data.resize(static_cast<size_t>(img.rows) * img.cols);
-  for (int r = 0; r < img.rows; ++r)
-    std::copy(img.ptr<uint8_t>(r), img.ptr<uint8_t>(r) + img.cols, m.data.begin() + r * img.cols);
-  return m;
-}
-
 geometry_msgs::TransformStamped makeTf(const Eigen::Isometry3d& t, const std::string& parent,
                                        const std::string& child, const ros::Time& stamp)
 {
@@ -79,20 +48,6 @@ cv::Mat toMono(const sensor_msgs::ImageConstPtr& msg)
   return cv_bridge::toCvCopy(msg, sensor_msgs::image_encodings::MONO8)->image;
 }
 
-StereoCalib calibFromInfos(const sensor_msgs::CameraInfo& l, const sensor_msgs::CameraInfo* r)
-{
-  StereoCalib c;
-  c.width = l.width;
-  c.height = l.height;
-  // Rectified images: the projection matrix P holds the intrinsics of the rectified camera.
-  const bool has_p = l.P[0] > 0.0;
-  c.fx = has_p ? l.P[0] : l.K[0];
-  c.fy = has_p ? l.P[5] : l.K[4];
-  c.cx = has_p ? l.P[2] : l.K[2];
-  c.cy = has_p ? l.P[6] : l.K[5];
-  if (r && r->P[0] > 0.0) c.baseline = -r->P[3] / r->P[0];
-  return c;
-}
 }  // namespace
 
 // ---------------------------------------------------------------------------------- writer
@@ -120,11 +75,13 @@ void StereoBagWriter::writeFrame(const StereoFrame& f)
 {
   const ros::Time t = toRos(f.stamp);
   for (const ImuSample& s : f.imu) writeImu(s);
-  auto li = makeInfo(f.calib, 0.0, topics_.left_frame, t);
-  auto ri = makeInfo(f.calib, -f.calib.fx * f.calib.baseline, topics_.right_frame, t);
+  auto li = toCameraInfo(f.calib, false, topics_.left_frame, t);
+  auto ri = toCameraInfo(f.calib, true, topics_.right_frame, t);
   li.header.seq = ri.header.seq = seq_;
-  auto lm = makeImage(f.left, topics_.left_frame, t);
-  auto rm = makeImage(f.right, topics_.right_frame, t);
+  if (f.left.type() != CV_8UC1 || f.right.type() != CV_8UC1)
+    throw std::runtime_error("StereoBagWriter: images must be CV_8UC1");
+  auto lm = toImageMsg(f.left, topics_.left_frame, t);
+  auto rm = toImageMsg(f.right, topics_.right_frame, t);
   lm.header.seq = rm.header.seq = seq_;
   ++seq_;
   bag_->write(topics_.left_image, t, lm);
@@ -159,43 +116,15 @@ void StereoBagWriter::writeGroundTruth(double stamp, const Eigen::Isometry3d& T_
 
 void StereoBagWriter::writeImu(const ImuSample& s)
 {
-  const ros::Time t = toRos(s.stamp);
-  sensor_msgs::Imu m;
-  m.header.stamp = t;
-  m.header.frame_id = topics_.imu_frame;
-  m.angular_velocity.x = s.gyro.x();
-  m.angular_velocity.y = s.gyro.y();
-  m.angular_velocity.z = s.gyro.z();
-  m.linear_acceleration.x = s.accel.x();
-  m.linear_acceleration.y = s.accel.y();
-  m.linear_acceleration.z = s.accel.z();
-  if (s.has_orientation)
-  {
-    m.orientation = tf2::toMsg(s.orientation);
-  }
-  else
-  {
-    m.orientation.w = 1.0;
-    m.orientation_covariance[0] = -1.0;  // orientation unknown (sensor_msgs/Imu convention)
-  }
-  bag_->write(topics_.imu, t, m);
+  ImuSample c = s;
+  c.stamp = toRos(s.stamp).toSec();
+  bag_->write(topics_.imu, toRos(s.stamp), toMsg(c, topics_.imu_frame));
 }
 
 void StereoBagWriter::writeOccupancy(const OccupancyGrid& g, double stamp)
 {
   const ros::Time t = toRos(stamp);
-  nav_msgs::OccupancyGrid m;
-  m.header.stamp = t;
-  m.header.frame_id = topics_.gt_world_frame;
-  m.info.map_load_time = t;
-  m.info.resolution = static_cast<float>(g.resolution);
-  m.info.width = g.width;
-  m.info.height = g.height;
-  m.info.origin.position.x = g.origin_x;
-  m.info.origin.position.y = g.origin_y;
-  m.info.origin.orientation.w = 1.0;
-  m.data = g.data;
-  bag_->write(topics_.gt_occupancy, t, m);
+  bag_->write(topics_.gt_occupancy, t, toMsg(g, topics_.gt_world_frame, t));
 }
 
 // ---------------------------------------------------------------------------------- reader
@@ -240,14 +169,7 @@ StereoBagReader::StereoBagReader(const std::string& path, const StereoBagTopics&
     {
       auto imu = m.instantiate<sensor_msgs::Imu>();
       if (!imu) continue;
-      ImuSample s;
-      s.stamp = imu->header.stamp.toSec();
-      s.gyro = {imu->angular_velocity.x, imu->angular_velocity.y, imu->angular_velocity.z};
-      s.accel = {imu->linear_acceleration.x, imu->linear_acceleration.y,
-                 imu->linear_acceleration.z};
-      s.has_orientation = imu->orientation_covariance[0] >= 0.0;
-      tf2::fromMsg(imu->orientation, s.orientation);
-      imu_.push_back(s);
+      imu_.push_back(fromMsg(*imu));
     }
     else if (m.getTopic() == topics_.gt_odom)
     {
@@ -283,7 +205,7 @@ StereoBagReader::StereoBagReader(const std::string& path, const StereoBagTopics&
     auto r = right_infos.find(kv.first);
     const sensor_msgs::CameraInfo* rp =
         r != right_infos.end() ? &r->second : (right_infos.empty() ? nullptr : &right_infos.begin()->second);
-    calibs_.emplace_back(kv.first * 1e-9, calibFromInfos(kv.second, rp));
+    calibs_.emplace_back(kv.first * 1e-9, fromCameraInfos(kv.second, rp));
   }
   rewind();
 }
@@ -370,12 +292,7 @@ bool StereoBagReader::readOccupancy(OccupancyGrid& g) const
   {
     auto msg = m.instantiate<nav_msgs::OccupancyGrid>();
     if (!msg) continue;
-    g.origin_x = msg->info.origin.position.x;
-    g.origin_y = msg->info.origin.position.y;
-    g.resolution = msg->info.resolution;
-    g.width = msg->info.width;
-    g.height = msg->info.height;
-    g.data = msg->data;
+    g = fromMsg(*msg);
     found = true;
   }
   return found;

@@ -1,4 +1,5 @@
 // Round trip through StereoBagWriter / StereoBagReader (no roscore).
+#include <assistive_sim/conversions.h>
 #include <assistive_sim/stereo_bag.h>
 
 #include <cstdio>
@@ -103,6 +104,56 @@ TEST(StereoBag, RoundTrip)
 TEST(StereoBag, MissingBagThrows)
 {
   EXPECT_THROW(StereoBagReader("/nonexistent/x.bag"), std::runtime_error);
+}
+
+TEST(Conversions, RoundTrip)
+{
+  StereoCalib c;
+  c.width = 320;
+  c.height = 240;
+  c.fx = 251.0;
+  c.fy = 252.0;
+  c.cx = 160.5;
+  c.cy = 120.25;
+  c.baseline = 0.095;
+  const auto li = toCameraInfo(c, false, "l", ros::Time(5.0));
+  const auto ri = toCameraInfo(c, true, "r", ros::Time(5.0));
+  EXPECT_DOUBLE_EQ(ri.P[3], -251.0 * 0.095);
+  const StereoCalib b = fromCameraInfos(li, &ri);
+  EXPECT_DOUBLE_EQ(b.fx, c.fx);
+  EXPECT_DOUBLE_EQ(b.fy, c.fy);
+  EXPECT_DOUBLE_EQ(b.cx, c.cx);
+  EXPECT_DOUBLE_EQ(b.cy, c.cy);
+  EXPECT_NEAR(b.baseline, c.baseline, 1e-12);
+  EXPECT_EQ(b.width, 320);
+
+  OccupancyGrid g;
+  g.origin_x = 1.0;
+  g.origin_y = -3.0;
+  g.width = 2;
+  g.height = 2;
+  g.data = {0, 50, 100, -1};
+  const OccupancyGrid g2 = fromMsg(toMsg(g, "gt_world", ros::Time(1.0)));
+  EXPECT_EQ(g2.data, g.data);
+  EXPECT_DOUBLE_EQ(g2.origin_y, -3.0);
+  EXPECT_NEAR(g2.resolution, 0.2, 1e-6);
+
+  ImuSample s;
+  s.stamp = 12.5;
+  s.gyro = {0.1, -0.2, 0.3};
+  s.accel = {0.0, 0.5, 9.7};
+  const ImuSample s2 = fromMsg(toMsg(s, "camera_link"));
+  EXPECT_NEAR(s2.stamp, 12.5, 1e-9);
+  EXPECT_EQ(s2.gyro, s.gyro);
+  EXPECT_EQ(s2.accel, s.accel);
+  EXPECT_FALSE(s2.has_orientation);
+
+  cv::Mat img(3, 4, CV_8UC1);
+  for (int i = 0; i < 12; ++i) img.data[i] = static_cast<uint8_t>(i * 20);
+  const auto m = toImageMsg(img, "l", ros::Time(1.0));
+  EXPECT_EQ(m.encoding, "mono8");
+  EXPECT_EQ(m.data[7], 140);
+  EXPECT_THROW(toImageMsg(cv::Mat(2, 2, CV_32F), "l", ros::Time(1.0)), std::invalid_argument);
 }
 
 int main(int argc, char** argv)

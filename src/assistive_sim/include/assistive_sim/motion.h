@@ -76,8 +76,9 @@ class ImuSimulator
 {
 public:
   ImuSimulator(const ImuParams& p, uint32_t seed);
-  /// Next sample (stamps 0, 1/rate, 2/rate, ...; `t0` is added to the stamp).
-  ImuSample next(const WearerMotion& motion, double t0 = 0.0);
+  /// Next sample (stamps 0, 1/rate, 2/rate, ...; `t0` is added to the stamp). `motion_time` >= 0
+  /// reads the motion at that time instead of the sample's own (a looping online walk).
+  ImuSample next(const WearerMotion& motion, double t0 = 0.0, double motion_time = -1.0);
   /// Time of the next sample (relative).
   double nextTime() const { return k_ / p_.rate; }
   const Eigen::Vector3d& gyroBias() const { return bg_; }
