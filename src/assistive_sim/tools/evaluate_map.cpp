@@ -10,7 +10,6 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
-#include <set>
 #include <sstream>
 
 #include "cli_common.h"
@@ -60,12 +59,6 @@ bool nearestPose(const Trajectory& t, double stamp, double tol, Eigen::Isometry3
   return best <= tol;
 }
 
-/// 2D rigid transform (x, y, heading of the optical z axis) of a 3D camera pose.
-Eigen::Isometry2d planar(const Eigen::Isometry3d& T, const Eigen::Vector3d& forward_body)
-{
-  const Eigen::Vector3d f = T.linear() * forward_body;
-  return Eigen::Translation2d(T.translation().x(), T.translation().y()) * Eigen::Rotation2Dd(std::atan2(f.y(), f.x()));
-}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -124,13 +117,12 @@ int main(int argc, char** argv)
       est_odom.clear();  // optional: fall back to the first-pose convention
     }
     // odom per the README: floor under the camera's start, x = the initial heading
-    const Eigen::Isometry2d T_gt_odom0 = planar(gt_odom.front().pose, gt_forward);
+    const Eigen::Isometry2d T_gt_odom0 = planarPose(gt_odom.front().pose, gt_forward);
 
     const size_t max_grids = static_cast<size_t>(std::max(0.0, args.getDouble("max-grids", 0)));
     const auto grids = cli::readGrids(est_bag, est_topic, max_grids);
 
-    std::vector<MapScore> total(radii.size());
-    std::set<size_t> fwo_cells;
+    std::vector<MapScoreAccumulator> acc(radii.size());
     size_t scored_grids = 0, skipped = 0;
     MapScore last_plot_score;
     Eigen::Vector2d last_wearer = Eigen::Vector2d::Zero();
@@ -157,7 +149,7 @@ int main(int argc, char** argv)
           ++skipped;
           continue;
         }
-        T_gt_frame = planar(wearer3, gt_forward) * planar(est3, est_forward).inverse();
+        T_gt_frame = planarPose(wearer3, gt_forward) * planarPose(est3, est_forward).inverse();
       }
       else
         T_gt_frame = T_gt_odom0;
@@ -168,20 +160,9 @@ int main(int argc, char** argv)
         MapScoreParams p;
         p.radius_m = radii[i];
         const MapScore s = scoreMap(gt, g.grid, wearer, p, T_est_gt);
-        MapScore& t = total[i];
-        t.gt_known += s.gt_known;
-        t.scored += s.scored;
-        t.est_unknown += s.est_unknown;
-        t.tp += s.tp;
-        t.fp += s.fp;
-        t.fn += s.fn;
-        t.tn += s.tn;
-        t.free_where_obstacle += s.free_where_obstacle;
+        acc[i].add(s);
         if (i + 1 == radii.size())
-        {
-          fwo_cells.insert(s.free_where_obstacle_cells.begin(), s.free_where_obstacle_cells.end());
           last_plot_score = s;
-        }
       }
       last_wearer = wearer;
       last_T = T_est_gt;
@@ -201,15 +182,7 @@ int main(int argc, char** argv)
                 "est_unknown\n");
     for (size_t i = 0; i < radii.size(); ++i)
     {
-      MapScore& t = total[i];
-      if (t.tp + t.fp)
-        t.precision = double(t.tp) / double(t.tp + t.fp);
-      if (t.tp + t.fn)
-        t.recall = double(t.tp) / double(t.tp + t.fn);
-      if (t.scored)
-        t.misclassified = double(t.fp + t.fn) / double(t.scored);
-      if (t.gt_known)
-        t.coverage = double(t.scored) / double(t.gt_known);
+      const MapScore t = acc[i].total();
       std::printf("%4.1f m  %10s %8s %15s %10s %9zu %9zu %9zu %9zu %12zu\n", radii[i], jsonNumber(t.precision, 4).c_str(),
                   jsonNumber(t.recall, 4).c_str(), jsonNumber(t.misclassified, 4).c_str(),
                   jsonNumber(t.coverage, 4).c_str(), t.tp, t.fp, t.fn, t.tn, t.est_unknown);
@@ -219,8 +192,8 @@ int main(int argc, char** argv)
          << ", \"coverage_" << r << "m\": " << jsonNumber(t.coverage);
     }
     std::printf("free_where_obstacle_cells  %zu (distinct truth cells ever reported free within %.1f m)\n",
-                fwo_cells.size(), radii.back());
-    js << ", \"free_where_obstacle_cells\": " << fwo_cells.size();
+                acc.back().freeWhereObstacleCells(), radii.back());
+    js << ", \"free_where_obstacle_cells\": " << acc.back().freeWhereObstacleCells();
     std::string plot;
     if (!args.has("no-plot") && last_grid)
     {

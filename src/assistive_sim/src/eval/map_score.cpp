@@ -1,6 +1,8 @@
 #include <assistive_sim/eval/map_score.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace assistive_sim
 {
@@ -56,6 +58,49 @@ MapScore scoreMap(const Grid& gt, const Grid& est, const Eigen::Vector2d& wearer
   if (s.gt_known > 0)
     s.coverage = static_cast<double>(s.scored) / static_cast<double>(s.gt_known);
   return s;
+}
+
+void MapScoreAccumulator::add(const MapScore& s)
+{
+  sum_.radius_m = s.radius_m;
+  sum_.gt_known += s.gt_known;
+  sum_.scored += s.scored;
+  sum_.est_unknown += s.est_unknown;
+  sum_.tp += s.tp;
+  sum_.fp += s.fp;
+  sum_.fn += s.fn;
+  sum_.tn += s.tn;
+  sum_.free_where_obstacle += s.free_where_obstacle;
+  if (!s.free_where_obstacle_cells.empty())
+  {
+    std::vector<size_t> add = s.free_where_obstacle_cells, merged;
+    std::sort(add.begin(), add.end());
+    std::set_union(fwo_cells_.begin(), fwo_cells_.end(), add.begin(), add.end(), std::back_inserter(merged));
+    fwo_cells_.swap(merged);
+  }
+  ++grids_;
+}
+
+MapScore MapScoreAccumulator::total() const
+{
+  MapScore t = sum_;
+  t.free_where_obstacle_cells = fwo_cells_;
+  if (t.tp + t.fp > 0)
+    t.precision = static_cast<double>(t.tp) / static_cast<double>(t.tp + t.fp);
+  if (t.tp + t.fn > 0)
+    t.recall = static_cast<double>(t.tp) / static_cast<double>(t.tp + t.fn);
+  if (t.scored > 0)
+    t.misclassified = static_cast<double>(t.fp + t.fn) / static_cast<double>(t.scored);
+  if (t.gt_known > 0)
+    t.coverage = static_cast<double>(t.scored) / static_cast<double>(t.gt_known);
+  return t;
+}
+
+Eigen::Isometry2d planarPose(const Eigen::Isometry3d& pose, const Eigen::Vector3d& forward)
+{
+  const Eigen::Vector3d f = pose.linear() * forward;
+  return Eigen::Translation2d(pose.translation().x(), pose.translation().y()) *
+         Eigen::Rotation2Dd(std::atan2(f.y(), f.x()));
 }
 
 }  // namespace eval

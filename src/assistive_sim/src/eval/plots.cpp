@@ -135,10 +135,10 @@ cv::Scalar truthColor(int8_t v)
   return cv::Scalar(235, 235, 235);
 }
 
-void drawPolyline(cv::Mat& img, const std::vector<cv::Point>& pts, const cv::Scalar& c)
+void drawPolyline(cv::Mat& img, const std::vector<cv::Point>& pts, const cv::Scalar& c, int thickness = 2)
 {
   if (pts.size() >= 2)
-    cv::polylines(img, std::vector<std::vector<cv::Point>>{pts}, false, c, 2, cv::LINE_AA);
+    cv::polylines(img, std::vector<std::vector<cv::Point>>{pts}, false, c, thickness, cv::LINE_AA);
   if (!pts.empty())
     cv::circle(img, pts.front(), 5, c, 2, cv::LINE_AA);
 }
@@ -201,7 +201,7 @@ cv::Mat plotTopDown(const std::vector<PlotSeries>& series, const Grid* floor_pla
     std::vector<cv::Point> pts;
     for (const auto& p : s.points)
       pts.push_back(ax.px(p[o.axis_h], p[o.axis_v]));
-    drawPolyline(img, pts, s.color);
+    drawPolyline(img, pts, s.color, &s == &series.front() ? 5 : 2);  // the truth wider, under the rest
     legend.emplace_back(s.name, s.color);
   }
   if (draw_grid)
@@ -259,7 +259,7 @@ cv::Mat plotSideView(const std::vector<PlotSeries>& series, const PlotOptions& o
     std::vector<cv::Point> pts;
     for (const auto& p : xy[k])
       pts.push_back(ax.px(p.first, p.second));
-    drawPolyline(img, pts, series[k].color);
+    drawPolyline(img, pts, series[k].color, k == 0 ? 5 : 2);
     legend.emplace_back(series[k].name, series[k].color);
   }
   ax.drawFrame(img, "distance along path [m]", "height [m]",

@@ -113,3 +113,46 @@ TEST(MapScore, EstimateInAnotherFrameIsLookedUpThroughTheTransform)
   const MapScore w = scoreMap(gt, est, Eigen::Vector2d(5.0, 5.0), p);
   EXPECT_GT(w.fp + w.fn, 0u);
 }
+
+TEST(MapScore, AccumulatorSumsCountsAndKeepsDistinctFreeWhereObstacleCells)
+{
+  MapScore a, b;
+  a.tp = 3;
+  a.fp = 1;
+  a.fn = 1;
+  a.tn = 5;
+  a.scored = 10;
+  a.gt_known = 12;
+  a.free_where_obstacle_cells = {7, 3};
+  b.tp = 1;
+  b.fn = 1;
+  b.tn = 8;
+  b.scored = 10;
+  b.gt_known = 10;
+  b.free_where_obstacle_cells = {3, 9};
+  MapScoreAccumulator acc;
+  acc.add(a);
+  acc.add(b);
+  const MapScore t = acc.total();
+  EXPECT_EQ(acc.grids(), 2u);
+  EXPECT_EQ(t.tp, 4u);
+  EXPECT_DOUBLE_EQ(t.precision, 4.0 / 5.0);
+  EXPECT_DOUBLE_EQ(t.recall, 4.0 / 6.0);
+  EXPECT_DOUBLE_EQ(t.misclassified, 3.0 / 20.0);
+  EXPECT_DOUBLE_EQ(t.coverage, 20.0 / 22.0);
+  EXPECT_EQ(acc.freeWhereObstacleCells(), 3u);  // {3, 7, 9}
+}
+
+TEST(MapScore, PlanarPoseOfAnOpticalFrame)
+{
+  // optical frame looking along +y of the world (heading 90 deg), at (1, 2, 1.6)
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() << 1, 0, 0,  //
+      0, 0, 1,            //
+      0, -1, 0;           // columns: x (right) = +x, y (down) = -z, z (forward) = +y
+  T.translation() = Eigen::Vector3d(1.0, 2.0, 1.6);
+  const Eigen::Isometry2d p = planarPose(T, Eigen::Vector3d::UnitZ());
+  EXPECT_NEAR(p.translation().x(), 1.0, 1e-12);
+  EXPECT_NEAR(p.translation().y(), 2.0, 1e-12);
+  EXPECT_NEAR(std::atan2(p.linear()(1, 0), p.linear()(0, 0)), M_PI / 2, 1e-12);
+}

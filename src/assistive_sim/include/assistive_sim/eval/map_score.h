@@ -48,5 +48,28 @@ MapScore scoreMap(const Grid& gt, const Grid& est, const Eigen::Vector2d& wearer
                   const MapScoreParams& p = MapScoreParams(),
                   const Eigen::Isometry2d& T_est_gt = Eigen::Isometry2d::Identity());
 
+/// Sums scores over many grids / frames (micro-average) and keeps the distinct truth cells ever
+/// reported free while obstacle (SPEC `free_where_obstacle_cells`).
+class MapScoreAccumulator
+{
+public:
+  void add(const MapScore& s);
+  /// Totals with precision / recall / misclassified / coverage recomputed from the summed counts.
+  MapScore total() const;
+  size_t freeWhereObstacleCells() const { return fwo_cells_.size(); }
+  size_t grids() const { return grids_; }
+
+private:
+  MapScore sum_;
+  std::vector<size_t> fwo_cells_;  ///< sorted, unique
+  size_t grids_ = 0;
+};
+
+/// Planar pose (x, y, heading of the body's `forward` axis) of a 3D pose in a z-up world. To score
+/// a grid kept in the pipeline's `odom` frame: T_gt_odom = planarPose(gt_cam, z) *
+/// planarPose(odom_cam_link, x).inverse(), and T_est_gt = T_gt_odom.inverse() (shift it by the
+/// grid origin when the estimate grid's cells are indexed from an origin, as Grid does).
+Eigen::Isometry2d planarPose(const Eigen::Isometry3d& pose, const Eigen::Vector3d& forward);
+
 }  // namespace eval
 }  // namespace assistive_sim
