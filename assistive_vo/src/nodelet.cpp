@@ -197,7 +197,11 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     last_left_ = n_left_;
     last_right_ = n_right_;
     last_processed_ = n_processed_;
-    diag_.update();
+    if (input_problem_ != last_problem_)
+      diag_.force_update();
+    else
+      diag_.update();
+    last_problem_ = input_problem_;
   }
 
   bool toMono(const sensor_msgs::ImageConstPtr& m, cv_bridge::CvImageConstPtr& out, const char* side)
@@ -352,7 +356,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
 
   VoOutput last_;
   double last_stamp_ = -1.0;
-  std::string input_problem_;
+  std::string input_problem_, last_problem_;
   uint64_t n_left_ = 0, n_right_ = 0, n_left_info_ = 0, n_right_info_ = 0, n_imu_ = 0, n_processed_ = 0;
   uint64_t last_left_ = 0, last_right_ = 0, last_processed_ = 0;
 };
