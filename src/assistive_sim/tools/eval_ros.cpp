@@ -2,11 +2,14 @@
 
 #include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <tf2_eigen/tf2_eigen.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace assistive_sim
@@ -80,6 +83,52 @@ eval::Trajectory readOdometry(const std::string& path, const std::string& topic,
     out.push_back(sp);
   }
   return out;
+}
+
+void collectLive(int argc, char** argv, const std::string& gt_topic, const std::string& est_topic, double duration_s,
+                 eval::Trajectory& gt, eval::Trajectory& est, std::string* gt_child, std::string* est_child)
+{
+  ros::init(argc, argv, "evaluate_trajectory", ros::init_options::AnonymousName);
+  if (!ros::master::check())
+    throw std::runtime_error("live mode: no ROS master at " + ros::master::getURI());
+  ros::NodeHandle nh;
+  double first = -1.0;  // wall time of the first message
+  auto make = [&](eval::Trajectory& out, std::string* child) {
+    return [&out, child, &first](const nav_msgs::Odometry::ConstPtr& m) {
+      Eigen::Isometry3d T;
+      tf2::fromMsg(m->pose.pose, T);
+      if (!T.matrix().allFinite())
+        return;
+      if (child && out.empty())
+        *child = m->child_frame_id;
+      if (first < 0)
+        first = ros::WallTime::now().toSec();
+      eval::StampedPose sp;
+      sp.t = m->header.stamp.toSec();
+      sp.pose = T;
+      out.push_back(sp);
+    };
+  };
+  const boost::function<void(const nav_msgs::Odometry::ConstPtr&)> fa = make(gt, gt_child), fb = make(est, est_child);
+  ros::Subscriber a = nh.subscribe<nav_msgs::Odometry>(gt_topic, 1000, fa);
+  ros::Subscriber b = nh.subscribe<nav_msgs::Odometry>(est_topic, 1000, fb);
+  std::fprintf(stderr, "live: collecting %s and %s (%s)\n", gt_topic.c_str(), est_topic.c_str(),
+               duration_s > 0 ? (std::to_string(duration_s) + " s").c_str() : "until Ctrl-C");
+  ros::WallRate r(50);
+  size_t tick = 0;
+  while (ros::ok())
+  {
+    ros::spinOnce();
+    if (duration_s > 0 && first >= 0 && ros::WallTime::now().toSec() - first >= duration_s)
+      break;
+    if (++tick % 50 == 0)  // once a second
+      std::fprintf(stderr, "\rlive: %zu truth, %zu estimate poses", gt.size(), est.size());
+    r.sleep();
+  }
+  std::fprintf(stderr, "\n");
+  ros::shutdown();
+  std::sort(gt.begin(), gt.end(), [](const eval::StampedPose& x, const eval::StampedPose& y) { return x.t < y.t; });
+  std::sort(est.begin(), est.end(), [](const eval::StampedPose& x, const eval::StampedPose& y) { return x.t < y.t; });
 }
 
 std::vector<StampedGrid> readGrids(const std::string& path, const std::string& topic, size_t max_count)

@@ -15,6 +15,12 @@ namespace cli
 /// child_frame_id. Throws when the bag cannot be opened or the topic is absent / of another type.
 eval::Trajectory readOdometry(const std::string& bag, const std::string& topic, std::string* child_frame = nullptr);
 
+/// Live mode: subscribes to two nav_msgs/Odometry topics (needs a ROS master) and collects poses
+/// until `duration_s` of wall time passed since the first message (<= 0: until Ctrl-C). Calls
+/// ros::init itself. Child frames are returned like readOdometry's.
+void collectLive(int argc, char** argv, const std::string& gt_topic, const std::string& est_topic, double duration_s,
+                 eval::Trajectory& gt, eval::Trajectory& est, std::string* gt_child, std::string* est_child);
+
 /// A grid message with its stamp, frame, and the full pose of its origin.
 struct StampedGrid
 {

@@ -23,6 +23,7 @@ namespace
 {
 const char* USAGE =
     "usage: evaluate_trajectory GT [EST] [options]\n"
+    "       evaluate_trajectory --live [--duration S] [options]   (subscribes to --gt-topic and --est-topic)\n"
     "  GT, EST            a .bag (nav_msgs/Odometry) or a TUM ('t x y z qx qy qz qw') / KITTI (12 numbers) file;\n"
     "                     with a single bag both trajectories are read from it\n"
     "  --gt-topic T       ground-truth topic in a bag (default /ground_truth/odom)\n"
@@ -39,7 +40,9 @@ const char* USAGE =
     "  --up AX            world up axis x|y|z|-x|-y|-z|auto (default: z for bags, auto for text files)\n"
     "  --forward AX       body forward axis (default z: optical / KITTI camera frame)\n"
     "  --plot PREFIX      write PREFIX_topdown.png and PREFIX_side.png (default ./<EST name>)\n"
-    "  --no-plot          no PNG\n";
+    "  --no-plot          no PNG\n"
+    "  --live             read the two topics from a running ROS graph instead of files (needs a master);\n"
+    "                     stops --duration S (wall clock) after the first message, else on Ctrl-C\n";
 
 bool isBag(const std::string& p) { return p.size() > 4 && p.substr(p.size() - 4) == ".bag"; }
 
@@ -141,26 +144,52 @@ int main(int argc, char** argv)
     const cli::Args args(argc, argv,
                          {"gt-topic", "est-topic", "gt-format", "est-format", "gt-times", "est-times", "gt-body",
                           "est-body", "assoc", "max-diff", "align", "rpe-delta", "drift-lengths", "up", "forward",
-                          "plot"},
-                         {"no-plot", "help"});
+                          "plot", "duration"},
+                         {"no-plot", "help", "live"});
     if (args.has("help"))
     {
       std::cout << USAGE;
       return 0;
     }
-    if (args.positional.empty() || args.positional.size() > 2)
+    const bool live = args.has("live");
+    if ((!live && (args.positional.empty() || args.positional.size() > 2)) || (live && !args.positional.empty()))
     {
       std::cerr << USAGE;
       return 2;
     }
-    const std::string gt_path = args.positional[0];
-    const std::string est_path = args.positional.size() == 2 ? args.positional[1] : gt_path;
-    if (args.positional.size() == 1 && !isBag(gt_path))
-      throw std::runtime_error("with a single argument it must be a bag holding both trajectories");
-    const Source gt = load(gt_path, args.get("gt-topic", "/ground_truth/odom"), args.get("gt-format", "auto"),
-                           args.get("gt-times"), args.get("gt-body", "auto"));
-    const Source est = load(est_path, args.get("est-topic", "/vo/odom"), args.get("est-format", "auto"),
-                            args.get("est-times"), args.get("est-body", "auto"));
+    Source gt, est;
+    std::string gt_path, est_path;
+    if (live)
+    {
+      gt_path = "live";
+      est_path = "live_" + cli::baseName(args.get("est-topic", "/vo/odom"));
+      std::string gc, ec;
+      cli::collectLive(argc, argv, args.get("gt-topic", "/ground_truth/odom"), args.get("est-topic", "/vo/odom"),
+                       args.getDouble("duration", 0.0), gt.traj, est.traj, &gc, &ec);
+      auto toOptical = [](Source& s, const std::string& body, const std::string& child, const std::string& topic) {
+        const bool link = body == "link" || (body == "auto" && child.find("optical") == std::string::npos);
+        if (link)
+          for (auto& sp : s.traj)
+            sp.pose = sp.pose * linkToOptical();
+        s.description = "live " + topic + " (child " + child + (link ? ", camera_link -> optical" : "") + ")";
+      };
+      toOptical(gt, args.get("gt-body", "auto"), gc, args.get("gt-topic", "/ground_truth/odom"));
+      toOptical(est, args.get("est-body", "auto"), ec, args.get("est-topic", "/vo/odom"));
+      for (char& c : est_path)
+        if (c == '/')
+          c = '_';
+    }
+    else
+    {
+      gt_path = args.positional[0];
+      est_path = args.positional.size() == 2 ? args.positional[1] : gt_path;
+      if (args.positional.size() == 1 && !isBag(gt_path))
+        throw std::runtime_error("with a single argument it must be a bag holding both trajectories");
+      gt = load(gt_path, args.get("gt-topic", "/ground_truth/odom"), args.get("gt-format", "auto"),
+                args.get("gt-times"), args.get("gt-body", "auto"));
+      est = load(est_path, args.get("est-topic", "/vo/odom"), args.get("est-format", "auto"), args.get("est-times"),
+                 args.get("est-body", "auto"));
+    }
 
     // association
     std::string assoc = args.get("assoc", "auto");
@@ -196,7 +225,7 @@ int main(int argc, char** argv)
     if (args.has("drift-lengths"))
       p.drift_lengths_m = parseList(args.get("drift-lengths"));
     // up axis: bags follow the README (gt_world z up); text files: the axis the truth moves least along
-    std::string up = args.get("up", isBag(gt_path) ? "z" : "auto");
+    std::string up = args.get("up", (live || isBag(gt_path)) ? "z" : "auto");
     if (up == "auto")
     {
       Eigen::Vector3d lo = m.gt[0].pose.translation(), hi = lo;
