@@ -32,8 +32,13 @@ bool Window::inCircle(int lx, int ly) const
   return dx * dx + dy * dy <= radius * radius;
 }
 
-void ElevationMap::build(const std::vector<Eigen::Vector3f>& points, const Window& window, float z_max)
+void ElevationMap::build(const std::vector<Eigen::Vector3f>& points, const Window& window, float z_max,
+                         float z_elevated)
 {
+  fine_ = std::max(1, params_.fine_factor);
+  const int fs = window.n * fine_;
+  fine_count_.assign(static_cast<size_t>(fs) * fs, 0);
+  const float finv = static_cast<float>(fine_ / window.res);
   window_ = window;
   const int cells = window.n * window.n;
   raw_count_.assign(cells, 0);
@@ -57,6 +62,13 @@ void ElevationMap::build(const std::vector<Eigen::Vector3f>& points, const Windo
     const int idx = ly * window.n + lx;
     cell_of_point_[i] = idx;
     ++raw_count_[idx];
+    if (p.z() > z_elevated)
+    {
+      const int fx = std::min(fs - 1, std::max(0, static_cast<int>(std::floor(p.x() * finv)) - window.ox * fine_));
+      const int fy = std::min(fs - 1, std::max(0, static_cast<int>(std::floor(p.y() * finv)) - window.oy * fine_));
+      uint16_t& fc = fine_count_[static_cast<size_t>(fy) * fs + fx];
+      if (fc < 65535) ++fc;
+    }
   }
   // Pass 2: prefix sums, scatter heights, sort each cell.
   for (int c = 0; c < cells; ++c) offset_[c + 1] = offset_[c] + raw_count_[c];

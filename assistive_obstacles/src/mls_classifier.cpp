@@ -76,6 +76,44 @@ void MlsClassifier::classify(const ElevationMap& map, float feet_z, std::vector<
     kind_[c] = k;
     ground_[c] = g;
   }
+  // Sub-cell check of vertical cells: keep only those holding a local density peak of elevated
+  // points (the surface itself), not the tail of a neighbour's depth noise.
+  if (params_.peak_fraction > 0.0)
+  {
+    const int f = map.fine(), fs = map.fineSide();
+    const std::vector<uint16_t>& fc = map.fineCounts();
+    const int R = 2;
+    for (int ly = 0; ly < n; ++ly)
+      for (int lx = 0; lx < n; ++lx)
+      {
+        const int c = w.index(lx, ly);
+        if (kind_[c] != CellKind::VERTICAL) continue;
+        bool peak = false;
+        for (int fy = ly * f; fy < (ly + 1) * f && !peak; ++fy)
+          for (int fx = lx * f; fx < (lx + 1) * f && !peak; ++fx)
+          {
+            const int v = fc[static_cast<size_t>(fy) * fs + fx];
+            if (v == 0) continue;
+            int mx = 0;
+            for (int y = std::max(0, fy - R); y <= std::min(fs - 1, fy + R); ++y)
+              for (int x = std::max(0, fx - R); x <= std::min(fs - 1, fx + R); ++x)
+                mx = std::max<int>(mx, fc[static_cast<size_t>(y) * fs + x]);
+            peak = v >= params_.peak_fraction * mx;
+          }
+        if (!peak)
+        {
+          // Re-analyse the cell without its elevated points: the floor under the spill.
+          const float* h = map.heights(c);
+          int cnt = map.count(c);
+          const float elev = feet_z + static_cast<float>(params_.step_height);
+          while (cnt > 0 && h[cnt - 1] > elev) --cnt;
+          float g = 0.f;
+          const CellKind k = cnt >= params_.min_points_per_cell ? analyse(h, cnt, g) : CellKind::EMPTY;
+          kind_[c] = (k == CellKind::HORIZONTAL && g <= feet_z + rise && g >= feet_z - drop) ? k : CellKind::EMPTY;
+          ground_[c] = g;
+        }
+      }
+  }
   // Graph pass: compatible 8-neighbour edges between horizontal cells.
   const float T = static_cast<float>(params_.step_height);
   const float smin = static_cast<float>(params_.min_step);

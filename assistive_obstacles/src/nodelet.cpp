@@ -111,6 +111,8 @@ private:
     param(pnh, "thickness_trim", p.thickness_trim);
     param(pnh, "min_traversable_edges", p.min_traversable_edges);
     param(pnh, "closing_radius", p.closing_radius);
+    param(pnh, "fine_factor", p.fine_factor);
+    param(pnh, "peak_fraction", p.peak_fraction);
     param(pnh, "min_observations", p.min_observations);
     param(pnh, "obstacle_ratio", p.obstacle_ratio);
     param(pnh, "permanent_flips", p.permanent_flips);

@@ -72,7 +72,7 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   temporal_.retain(window_.ox, window_.oy, window_.n);
   const float z_max = t.z() + static_cast<float>(params_.head_clearance);
   const float feet = t.z() - static_cast<float>(params_.camera_height);
-  elevation_.build(world_, window_, z_max);
+  elevation_.build(world_, window_, z_max, feet + static_cast<float>(params_.step_height));
   stats_.points_binned = elevation_.binnedPoints();
   mls_.classify(elevation_, feet, labels_);
 

@@ -61,6 +61,8 @@ std::vector<std::string> clampParams(ObstaclesParams& p)
   clampField(m, "thickness_trim", p.thickness_trim, 0.0, 0.45);
   clampField(m, "min_traversable_edges", p.min_traversable_edges, 0, 8);
   clampField(m, "closing_radius", p.closing_radius, 0, 5);
+  clampField(m, "fine_factor", p.fine_factor, 1, 10);
+  clampField(m, "peak_fraction", p.peak_fraction, 0.0, 1.0);
   clampField(m, "min_observations", p.min_observations, 1, 1000);
   clampField(m, "obstacle_ratio", p.obstacle_ratio, 0.0, 1.0);
   clampField(m, "permanent_flips", p.permanent_flips, 1, 60000);

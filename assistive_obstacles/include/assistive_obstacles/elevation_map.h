@@ -4,6 +4,7 @@
 // Flat arrays indexed by window-local cell (counting sort): no per-point allocation, no hashing
 // into a tree. Cells with fewer than min_points_per_cell points are dropped as noise.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -40,7 +41,9 @@ public:
 
   /// Bins `points` (world frame, z up) into `window`; points outside the circle or above
   /// `z_max` are ignored. Replaces the previous frame's content.
-  void build(const std::vector<Eigen::Vector3f>& points, const Window& window, float z_max);
+  /// Points above `z_elevated` are also counted on a grid fine_factor times finer.
+  void build(const std::vector<Eigen::Vector3f>& points, const Window& window, float z_max,
+             float z_elevated = std::numeric_limits<float>::infinity());
 
   const Window& window() const { return window_; }
   /// Points binned into local cell `idx` this frame before the noise cut.
@@ -49,6 +52,10 @@ public:
   int count(int idx) const { return raw_count_[idx] >= params_.min_points_per_cell ? raw_count_[idx] : 0; }
   /// Sorted (ascending) heights of the cell's points; valid for count(idx) entries.
   const float* heights(int idx) const { return heights_.data() + offset_[idx]; }
+  /// Fine grid of elevated-point counts: (n * fine) cells per side, index fy * n * fine + fx.
+  int fineSide() const { return window_.n * fine_; }
+  int fine() const { return fine_; }
+  const std::vector<uint16_t>& fineCounts() const { return fine_count_; }
   /// Points binned this frame (all cells, before the noise cut).
   size_t binnedPoints() const { return binned_; }
 
@@ -58,6 +65,8 @@ private:
   std::vector<int32_t> cell_of_point_;
   std::vector<int32_t> raw_count_, offset_, fill_;
   std::vector<float> heights_;
+  std::vector<uint16_t> fine_count_;
+  int fine_ = 1;
   size_t binned_ = 0;
 };
 

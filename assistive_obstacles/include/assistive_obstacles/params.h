@@ -41,6 +41,10 @@ struct ObstaclesParams
   double thickness_trim = 0.05;     ///< fraction of an interval's heights trimmed at each end for its thickness
   int min_traversable_edges = 5;    ///< compatible 8-neighbours needed to be traversable
   int closing_radius = 1;           ///< cells, morphological closing of the obstacle mask (0 disables)
+  int fine_factor = 4;              ///< elevated points are also counted on a grid this many times finer (5 cm) ...
+  double peak_fraction = 0.5;       ///< ... and a vertical cell stays an obstacle only if one of its fine bins holds at
+                                    ///< least this fraction of the densest fine bin within 2 fine bins (suppresses the
+                                    ///< depth-noise spill of a wall into the cell in front of it; 0 disables)
 
   // --- temporal filter ---------------------------------------------------------------------
   int min_observations = 5;         ///< O+S before a cell is decided
