@@ -3,6 +3,7 @@
 // by surface coordinates in metres. ROS-free.
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -24,8 +25,11 @@ public:
   /// image pixel on the surface (m), choosing the mip level.
   inline float sample(float u, float v, float footprint) const
   {
-    float lod = std::log2(std::max(footprint * inv_texel_, 1.0f)) + 0.25f;
-    int l = static_cast<int>(lod);
+    // Mip level = floor(log2(footprint / texel) + 0.25), from the float's exponent bits.
+    const float q = std::max(footprint * inv_texel_ * 1.189207f, 1.0f);
+    uint32_t bits;
+    std::memcpy(&bits, &q, sizeof bits);
+    int l = static_cast<int>((bits >> 23) & 0xFF) - 127;
     if (l >= static_cast<int>(levels_.size())) l = static_cast<int>(levels_.size()) - 1;
     const Level& L = levels_[l];
     const float x = u * L.inv_texel - 0.5f, y = v * L.inv_texel - 0.5f;

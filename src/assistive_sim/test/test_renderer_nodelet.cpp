@@ -1,0 +1,103 @@
+// rostest: the assistive_sim/renderer nodelet publishes the stereo topics in script mode and
+// renders for a pose given on a topic.
+#include <geometry_msgs/PoseStamped.h>
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <ros/master.h>
+#include <ros/topic.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
+
+namespace
+{
+/// Wait until the master knows a publisher of `topic` (subscribing before it exists is racy).
+bool waitForPublisher(const std::string& topic, double timeout)
+{
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (ros::WallTime::now() < end)
+  {
+    ros::master::V_TopicInfo topics;
+    if (ros::master::getTopics(topics))
+      for (const auto& t : topics)
+        if (t.name == topic) return true;
+    ros::WallDuration(0.2).sleep();
+  }
+  return false;
+}
+
+template <class M>
+boost::shared_ptr<const M> waitFor(const std::string& topic, double timeout)
+{
+  if (!waitForPublisher(topic, timeout)) return nullptr;
+  return ros::topic::waitForMessage<M>(topic, ros::Duration(timeout));
+}
+}  // namespace
+
+TEST(RendererNodelet, ScriptModePublishesStereoBagTopics)
+{
+  auto left = waitFor<sensor_msgs::Image>("/stereo/left/image_rect", 40.0);
+  ASSERT_TRUE(left);
+  EXPECT_EQ(left->encoding, "mono8");
+  EXPECT_EQ(left->header.frame_id, "camera_left_optical_frame");
+  auto right = waitFor<sensor_msgs::Image>("/stereo/right/image_rect", 10.0);
+  ASSERT_TRUE(right);
+  EXPECT_EQ(right->width, left->width);
+  auto info = waitFor<sensor_msgs::CameraInfo>("/stereo/right/camera_info", 10.0);
+  ASSERT_TRUE(info);
+  EXPECT_NEAR(info->P[3], -info->P[0] * 0.12, 1e-9);
+  auto imu = waitFor<sensor_msgs::Imu>("/imu/data", 10.0);
+  ASSERT_TRUE(imu);
+  EXPECT_EQ(imu->header.frame_id, "camera_link");
+  EXPECT_NEAR(std::hypot(imu->linear_acceleration.x, std::hypot(imu->linear_acceleration.y, imu->linear_acceleration.z)),
+              9.81, 3.0);
+  auto odom = waitFor<nav_msgs::Odometry>("/ground_truth/odom", 10.0);
+  ASSERT_TRUE(odom);
+  EXPECT_EQ(odom->header.frame_id, "gt_world");
+  EXPECT_GT(odom->pose.pose.position.z, 1.3);
+  auto occ = waitFor<nav_msgs::OccupancyGrid>("/ground_truth/occupancy", 10.0);
+  ASSERT_TRUE(occ);
+  EXPECT_NEAR(occ->info.resolution, 0.2, 1e-6);
+  EXPECT_NE(std::count(occ->data.begin(), occ->data.end(), 100), 0);
+}
+
+TEST(RendererNodelet, TopicModeRendersForTheGivenPose)
+{
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<geometry_msgs::PoseStamped>("/topic_mode/pose", 1, true);
+  // Before any pose: nothing is rendered.
+  ASSERT_TRUE(waitForPublisher("/topic_mode/left/image_rect", 40.0));
+  EXPECT_FALSE(ros::topic::waitForMessage<sensor_msgs::Image>("/topic_mode/left/image_rect", ros::Duration(1.5)));
+  geometry_msgs::PoseStamped p;
+  p.header.frame_id = "gt_world";
+  p.header.stamp = ros::Time::now();
+  // Left optical frame at (1, 0, 1.6) looking along +x: rotation with columns (0,-1,0), (0,0,-1), (1,0,0).
+  p.pose.position.x = 1.0;
+  p.pose.position.z = 1.6;
+  p.pose.orientation.w = 0.5;
+  p.pose.orientation.x = -0.5;
+  p.pose.orientation.y = 0.5;
+  p.pose.orientation.z = -0.5;
+  pub.publish(p);
+  auto img = waitFor<sensor_msgs::Image>("/topic_mode/left/image_rect", 20.0);
+  ASSERT_TRUE(img);
+  EXPECT_EQ(img->width, 96u);
+  EXPECT_EQ(img->height, 72u);
+  // A textured room: the image is not flat.
+  const auto mm = std::minmax_element(img->data.begin(), img->data.end());
+  EXPECT_GT(*mm.second - *mm.first, 30);
+}
+
+int main(int argc, char** argv)
+{
+  ::testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_renderer_nodelet");
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
