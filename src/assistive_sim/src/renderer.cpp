@@ -51,6 +51,14 @@ struct StereoRenderer::Impl
   std::vector<float> radiance;  // W*H scratch
   float sky = 0.75f;
   Eigen::Vector3f light;
+  struct GlassRay
+  {
+    uint32_t idx;
+    float t;
+    float dx, dy, dz;
+    unsigned prim;
+  };
+  std::vector<GlassRay> pending;  // primary rays that hit glass (capacity kept across frames)
   double texture_offset = 0.0;
 
   void addTri(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Prim& p)
@@ -168,6 +176,96 @@ struct StereoRenderer::Impl
     return p.shade * textures[p.mat].sample(u, v, footprint);
   }
 
+  /// Transmitted and reflected rays for the pending glass pixels, 16 at a time.
+  void resolveGlass(const Eigen::Vector3f& org, float inv_f, float* rad, float* depth, int /*W*/,
+                    RTCIntersectContext* ctx) const
+  {
+    alignas(64) RTCRayHit16 tr, rf;
+    alignas(64) int valid[16];
+    for (size_t base = 0; base < pending.size(); base += 16)
+    {
+      const int n = static_cast<int>(std::min<size_t>(16, pending.size() - base));
+      for (int i = 0; i < 16; ++i)
+      {
+        valid[i] = i < n ? -1 : 0;
+        const GlassRay& g = pending[base + std::min(i, n - 1)];
+        const Prim& p = prims[g.prim];
+        const Eigen::Vector3f dir(g.dx, g.dy, g.dz);
+        const Eigen::Vector3f nrm(p.n[0], p.n[1], p.n[2]);
+        const Eigen::Vector3f h = org + g.t * dir;
+        const Eigen::Vector3f rd = dir - 2.f * dir.dot(nrm) * nrm;
+        tr.ray.org_x[i] = org.x();
+        tr.ray.org_y[i] = org.y();
+        tr.ray.org_z[i] = org.z();
+        tr.ray.dir_x[i] = dir.x();
+        tr.ray.dir_y[i] = dir.y();
+        tr.ray.dir_z[i] = dir.z();
+        tr.ray.tnear[i] = g.t * 1.0001f + 1e-4f;
+        rf.ray.org_x[i] = h.x();
+        rf.ray.org_y[i] = h.y();
+        rf.ray.org_z[i] = h.z();
+        rf.ray.dir_x[i] = rd.x();
+        rf.ray.dir_y[i] = rd.y();
+        rf.ray.dir_z[i] = rd.z();
+        rf.ray.tnear[i] = 1e-3f;
+        for (RTCRayHit16* r : {&tr, &rf})
+        {
+          r->ray.tfar[i] = std::numeric_limits<float>::infinity();
+          r->ray.mask[i] = 0xFFFFFFFF;
+          r->ray.flags[i] = 0;
+          r->ray.time[i] = 0.f;
+          r->hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        }
+      }
+      rtcIntersect16(valid, scene, ctx, &tr);
+      rtcIntersect16(valid, scene, ctx, &rf);
+      for (int i = 0; i < n; ++i)
+      {
+        const GlassRay& g = pending[base + i];
+        const Prim& gp = prims[g.prim];
+        const Eigen::Vector3f dir(g.dx, g.dy, g.dz);
+        const float dn = dir.norm();
+        // Transmitted.
+        float trans, t2;
+        if (tr.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID)
+        {
+          trans = skyRadiance(dir.z() / dn);
+          t2 = 0.f;
+        }
+        else if (prims[tr.hit.primID[i]].mat < 0)
+        {
+          bool through = false;
+          trans = traceSingle(org, dir, g.t * 1.0001f + 1e-4f, inv_f, 1, t2, through);  // another panel
+        }
+        else
+        {
+          const Prim& p = prims[tr.hit.primID[i]];
+          t2 = tr.ray.tfar[i];
+          const float cosi = std::max(std::abs(dir.x() * p.n[0] + dir.y() * p.n[1] + dir.z() * p.n[2]) / dn, 0.05f);
+          trans = shadeHit(p, org.x() + t2 * dir.x(), org.y() + t2 * dir.y(), org.z() + t2 * dir.z(),
+                           t2 * dn * inv_f / std::sqrt(cosi));
+        }
+        // Reflected (a glass panel seen in the reflection shows the sky).
+        float refl;
+        const Eigen::Vector3f rd(rf.ray.dir_x[i], rf.ray.dir_y[i], rf.ray.dir_z[i]);
+        if (rf.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID || prims[rf.hit.primID[i]].mat < 0)
+        {
+          refl = skyRadiance(rd.z() / rd.norm());
+        }
+        else
+        {
+          const Prim& p = prims[rf.hit.primID[i]];
+          const float tt = rf.ray.tfar[i];
+          const float path = g.t * dn + tt * rd.norm();
+          refl = shadeHit(p, rf.ray.org_x[i] + tt * rd.x(), rf.ray.org_y[i] + tt * rd.y(),
+                          rf.ray.org_z[i] + tt * rd.z(), path * inv_f * 2.f);
+        }
+        rad[g.idx] = (1.f - gp.refl) * trans + gp.refl * refl;
+        depth[g.idx] = t2;
+      }
+    }
+  }
+
   float skyRadiance(float dz_over_norm) const { return sky * (0.85f + 0.15f * dz_over_norm); }
 
   /// Radiance and depth (along the ray's parameter) for a single ray; follows glass.
@@ -267,6 +365,7 @@ StereoRenderer::StereoRenderer(const World& world, const CameraParams& params)
   std::normal_distribution<float> N(0.f, static_cast<float>(params_.noise_sigma));
   for (float& v : d.noise) v = N(rng);
   d.radiance.resize(static_cast<size_t>(params_.calib.width) * params_.calib.height);
+  d.pending.reserve(d.radiance.size());
 }
 
 StereoRenderer::~StereoRenderer()
@@ -337,6 +436,7 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
     const Eigen::Vector3d o_d = T_wl * Eigen::Vector3d(cam == 0 ? 0.0 : c.baseline, 0, 0);
     const Eigen::Vector3f org = o_d.cast<float>();
     float* rad = d.radiance.data();
+    d.pending.clear();
 
     alignas(64) RTCRayHit16 rh;
     alignas(64) int valid[16];
@@ -383,18 +483,9 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
             t = rh.ray.tfar[i];
             if (p.mat < 0)
             {
-              bool through = false;
-              // Re-trace from the camera past the glass (same parametrisation: t stays Z).
-              float tt = 0.f;
-              const Eigen::Vector3f dir(dx, dy, dz);
-              const Eigen::Vector3f h = org + t * dir;
-              const Eigen::Vector3f n(p.n[0], p.n[1], p.n[2]);
-              const float trans = d.traceSingle(org, dir, t * 1.0001f + 1e-4f, inv_f, 1, tt, through);
-              float tr = 0.f;
-              const Eigen::Vector3f rdir = dir - 2.f * dir.dot(n) * n;
-              const float refl = d.traceSingle(h, rdir, 1e-3f, inv_f, 10, tr, through);
-              r = (1.f - p.refl) * trans + p.refl * refl;
-              t = tt;
+              // Through glass: traced afterwards in packets (transmitted + reflected rays).
+              d.pending.push_back({static_cast<uint32_t>(idx), t, dx, dy, dz, rh.hit.primID[i]});
+              r = 0.f;
               glass = 255;
             }
             else
@@ -409,6 +500,9 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
           if (cam == 0) out.glass_left.at<uint8_t>(v, u) = glass;
         }
       }
+
+    if (!d.pending.empty()) d.resolveGlass(org, inv_f, rad, depth.ptr<float>(), W, &ctx);
+    d.pending.clear();
 
     // Motion blur: a line kernel along the image motion of the principal point during the exposure.
     if (params_.exposure_time > 0.0)
