@@ -21,7 +21,7 @@ namespace
 void usage()
 {
   std::cerr << "usage: render_bag --world WORLD --out FILE.bag [--seed N] [--frames N] [--width W --height H]\n"
-               "                  [--rate HZ] [--noise SIGMA] [--exposure-time S] [--imu-rate HZ]\n"
+               "                  [--rate HZ] [--noise SIGMA] [--exposure-time S] [--exposure-variation X] [--imu-rate HZ]\n"
                "  WORLD: a shipped world (course, corridor, parking, glass, plaza) or a world YAML path\n";
 }
 
@@ -88,6 +88,7 @@ int main(int argc, char** argv)
       else if (a == "--rate") rate = std::stod(val());
       else if (a == "--noise") cam.noise_sigma = std::stod(val());
       else if (a == "--exposure-time") cam.exposure_time = std::stod(val());
+      else if (a == "--exposure-variation") cam.exposure_variation = std::stod(val());
       else if (a == "--imu-rate") imu_p.rate = std::stod(val());
       else if (a == "-h" || a == "--help")
       {
@@ -112,9 +113,10 @@ int main(int argc, char** argv)
     usage();
     return 2;
   }
-  if (cam.calib.width < 8 || cam.calib.height < 8 || rate <= 0 || imu_p.rate <= 0 || cam.noise_sigma < 0)
+  if (cam.calib.width < 8 || cam.calib.height < 8 || rate <= 0 || imu_p.rate <= 0 || cam.noise_sigma < 0 ||
+      cam.exposure_time < 0 || cam.exposure_variation < 0 || cam.exposure_variation >= 1)
   {
-    std::cerr << "render_bag: width/height >= 8, rate > 0, noise >= 0 required\n";
+    std::cerr << "render_bag: width/height >= 8, rate > 0, noise >= 0, exposure time >= 0, exposure variation in [0, 1) required\n";
     return 2;
   }
   // Keep the principal point at the image centre and the focal length at 500 px per 640 px.
