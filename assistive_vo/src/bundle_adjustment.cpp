@@ -116,7 +116,15 @@ BundleAdjustmentResult TwoFrameBundleAdjuster::optimize(const StereoCamera& cam,
     T.translation() = -Rc.transpose() * tc;
     return T;
   };
-  double cur_cost = cost(cam, T_ref_cur_init, points_ref, obs_ref, obs_cur, k);
+  // Rotation prior on R_cur_ref (the state's rotation): residual log(Rp_cur_ref * R^T).
+  const Eigen::Matrix3d Rp_cur_ref = opt.rotation_prior.transpose();
+  const double wp = opt.use_rotation_prior ? std::max(0.0, opt.rotation_prior_weight) : 0.0;
+  auto priorResidual = [&](const Eigen::Matrix3d& Rc) {
+    const Eigen::AngleAxisd aa(Rp_cur_ref * Rc.transpose());
+    return Eigen::Vector3d(aa.angle() * aa.axis());
+  };
+  auto priorCost = [&](const Eigen::Matrix3d& Rc) { return wp > 0 ? wp * priorResidual(Rc).squaredNorm() : 0.0; };
+  double cur_cost = cost(cam, T_ref_cur_init, points_ref, obs_ref, obs_cur, k) + priorCost(R);
   res.initial_cost = cur_cost;
   double lambda = 1e-4;
 
@@ -173,6 +181,11 @@ BundleAdjustmentResult TwoFrameBundleAdjuster::optimize(const StereoCamera& cam,
       }
     }
 
+    if (wp > 0)
+    {
+      Hcc.bottomRightCorner<3, 3>() += wp * Eigen::Matrix3d::Identity();
+      gc.tail<3>() += wp * priorResidual(R);
+    }
     // LM inner loop: try the step, raise lambda until the cost drops.
     bool improved = false;
     for (int tries = 0; tries < 6 && !improved; ++tries)
@@ -206,7 +219,7 @@ BundleAdjustmentResult TwoFrameBundleAdjuster::optimize(const StereoCamera& cam,
       else
         new_pts = points_ref;
       const Eigen::Isometry3d T_new = makeT(R_new, t_new);
-      const double c = cost(cam, T_new, new_pts, obs_ref, obs_cur, k);
+      const double c = cost(cam, T_new, new_pts, obs_ref, obs_cur, k) + priorCost(R_new);
       if (std::isfinite(c) && c < cur_cost)
       {
         const double rel = (cur_cost - c) / std::max(cur_cost, 1e-12);

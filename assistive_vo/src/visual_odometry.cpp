@@ -79,6 +79,8 @@ void VisualOdometry::reset()
   cov_cur_.setZero();
   resets_ = 0;
   last_dt_ = 0;
+  gyro_bias_link_.setZero();
+  gyro_bias_var_ = -1.0;
   ov_from_.clear();
   ov_to_.clear();
   ov_inlier_.clear();
@@ -161,6 +163,9 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
   st.keyframe = true;
   T_w_kf_ = T_w_cur_;
   T_kf_prev_ = Eigen::Isometry3d::Identity();
+  R_kf_gyro_.setIdentity();
+  gyro_since_kf_ = true;
+  t_kf_ = last_stamp_pending_;
   cov_kf_ = cov_cur_;
   have_keyframe_ = tracks_started_ >= std::max(4, p_.min_inliers);
   st.ms_detect += msSince(t0);
@@ -289,8 +294,21 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
     Eigen::AngleAxisd aa(last_T_prev_cur_.linear());
     T_pred.linear() = Eigen::AngleAxisd(aa.angle() * s, aa.axis()).toRotationMatrix();
   }
-  if (gyro_link && p_.use_imu && gyro_link->coeffs().allFinite())
-    T_pred.linear() = R_lo.transpose() * gyro_link->normalized().toRotationMatrix() * R_lo;
+  last_stamp_pending_ = stamp;
+  if (gyro_bias_var_ < 0)
+    gyro_bias_var_ = p_.gyro_bias_sigma * p_.gyro_bias_sigma;
+  const bool have_gyro = gyro_link && p_.use_imu && gyro_link->coeffs().allFinite() && dt > 0;
+  Eigen::Matrix3d R_gyro_opt = Eigen::Matrix3d::Identity();
+  if (have_gyro)
+  {
+    // bias-corrected: R = R_meas * exp(-b dt) (body frame)
+    const Eigen::Vector3d bdt = gyro_bias_link_ * dt;
+    const Eigen::Matrix3d Rl = gyro_link->normalized().toRotationMatrix() *
+                               (bdt.norm() > 0 ? Eigen::AngleAxisd(-bdt.norm(), bdt.normalized()).toRotationMatrix()
+                                               : Eigen::Matrix3d::Identity());
+    R_gyro_opt = R_lo.transpose() * Rl * R_lo;
+    T_pred.linear() = R_gyro_opt;
+  }
   if (gap)
     T_pred.translation().setZero();
 
@@ -480,7 +498,28 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   bo.iterations = p_.ba_iterations;
   bo.huber_px = p_.ba_huber_px;
   bo.pixel_sigma_px = p_.pixel_sigma_px;
-  const BundleAdjustmentResult br = ba_.optimize(cam_, rr.T_ref_cur, Xin, oref, ocur, bo);
+  BundleAdjustmentResult br = ba_.optimize(cam_, rr.T_ref_cur, Xin, oref, ocur, bo);
+  // Vision-only rotation (kept for the online gyro bias estimate).
+  const Eigen::Matrix3d R_vision = br.ok ? Eigen::Matrix3d(br.T_ref_cur.linear()) : Eigen::Matrix3d(rr.T_ref_cur.linear());
+  const Eigen::Matrix<double, 6, 6> cov_vision = br.covariance;
+  if (have_gyro)
+    R_kf_gyro_ = R_kf_gyro_ * R_gyro_opt;
+  else
+    gyro_since_kf_ = false;
+  const double dt_kf = stamp - t_kf_;
+  if (br.ok && gyro_since_kf_ && p_.gyro_rotation_prior && dt_kf > 0)
+  {
+    // Second pass with the integrated (bias-corrected) gyro as a rotation prior: angle random
+    // walk + bias uncertainty over the keyframe span.
+    const double var_g = p_.gyro_noise_density * p_.gyro_noise_density * dt_kf + gyro_bias_var_ * dt_kf * dt_kf + 1e-10;
+    bo.use_rotation_prior = true;
+    bo.rotation_prior = R_kf_gyro_;
+    bo.rotation_prior_weight = p_.pixel_sigma_px * p_.pixel_sigma_px / var_g;
+    bo.iterations = std::max(2, p_.ba_iterations / 2);
+    const BundleAdjustmentResult b2 = ba_.optimize(cam_, br.T_ref_cur, Xin, oref, ocur, bo);
+    if (b2.ok)
+      br = b2;
+  }
   st.ms_ba = msSince(t0);
   const Eigen::Isometry3d T_kf_cur = br.ok ? br.T_ref_cur : rr.T_ref_cur;
 
@@ -534,7 +573,24 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   if (static_cast<int>(tracks_.size()) < p_.replenish_ratio * tracks_started_ ||
       static_cast<int>(tracks_.size()) < p_.min_tracks ||
       angleOf(T_kf_cur.linear()) > p_.max_rotation_from_keyframe_deg * M_PI / 180.0)
+  {
+    // Online gyro bias: vision rotation over the keyframe span vs the integrated gyro,
+    // scalar Kalman update (R_vision^T R_gyro ~ exp((b - b_est) dt)).
+    if (gyro_since_kf_ && br.ok && dt_kf > 0.3)
+    {
+      const Eigen::AngleAxisd aa(R_vision.transpose() * R_kf_gyro_);
+      const Eigen::Vector3d b_err = R_lo * (aa.angle() * aa.axis()) / dt_kf;
+      const double s_vo = std::max(p_.vo_rotation_sigma, std::sqrt(std::max(0.0, cov_vision.bottomRightCorner<3, 3>().trace() / 3)));
+      const double var_m = s_vo * s_vo / (dt_kf * dt_kf);
+      const double K = gyro_bias_var_ / (gyro_bias_var_ + var_m);
+      if (b_err.allFinite() && b_err.norm() < 0.1)
+      {
+        gyro_bias_link_ += K * b_err;
+        gyro_bias_var_ = (1 - K) * gyro_bias_var_ + p_.gyro_bias_walk * p_.gyro_bias_walk * dt_kf;
+      }
+    }
     startKeyframe(left, right, true, st);
+  }
 
   std::swap(prev_pyr_, cur_pyr_);
   last_stamp_ = stamp;

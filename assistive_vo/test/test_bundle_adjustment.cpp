@@ -114,6 +114,35 @@ TEST(BundleAdjustment, MotionOnlyWithoutRightObservations)
   EXPECT_EQ(X, p.X_true);  // points untouched
 }
 
+TEST(BundleAdjustment, RotationPriorPullsTowardsTheGyro)
+{
+  const StereoCamera cam = test::makeCamera();
+  const Eigen::Isometry3d T = test::makePose(-0.02, 0.08, 0.0, -0.2, 0.0, 0.4);
+  Problem p = makeProblem(cam, T, 0.5, 11);
+  TwoFrameBundleAdjuster ba;
+  TwoFrameBundleAdjuster::Options o;
+  o.iterations = 20;
+  Vec3List X = p.X_init;
+  const BundleAdjustmentResult free_r = ba.optimize(cam, T, X, p.ref, p.cur, o);
+  // exact prior with a strong weight: the rotation lands on it
+  o.use_rotation_prior = true;
+  o.rotation_prior = T.linear();
+  o.rotation_prior_weight = 1e12;
+  X = p.X_init;
+  const BundleAdjustmentResult prior_r = ba.optimize(cam, T, X, p.ref, p.cur, o);
+  ASSERT_TRUE(free_r.ok && prior_r.ok);
+  EXPECT_GT(rotErr(free_r.T_ref_cur, T), 1e-4);
+  EXPECT_LT(rotErr(prior_r.T_ref_cur, T), 1e-6);
+  // translation is still estimated from the images and gets better with the right rotation
+  EXPECT_LT((prior_r.T_ref_cur.translation() - T.translation()).norm(),
+            (free_r.T_ref_cur.translation() - T.translation()).norm());
+  // weight 0: identical to no prior
+  o.rotation_prior_weight = 0.0;
+  X = p.X_init;
+  const BundleAdjustmentResult zero_r = ba.optimize(cam, T, X, p.ref, p.cur, o);
+  EXPECT_TRUE(zero_r.T_ref_cur.isApprox(free_r.T_ref_cur, 1e-12));
+}
+
 TEST(BundleAdjustment, RejectsDegenerateInput)
 {
   TwoFrameBundleAdjuster ba;

@@ -35,6 +35,11 @@ public:
     double huber_px = 1.0;
     double pixel_sigma_px = 0.5;
     bool refine_points = true;
+    /// Optional rotation prior (e.g. the integrated gyro): R_ref_cur ~ rotation_prior with
+    /// information rotation_prior_weight (px^2 / rad^2, i.e. pixel_sigma^2 / sigma_rot^2).
+    bool use_rotation_prior = false;
+    Eigen::Matrix3d rotation_prior = Eigen::Matrix3d::Identity();
+    double rotation_prior_weight = 0.0;
   };
 
   /// points_ref are refined in place when refine_points.

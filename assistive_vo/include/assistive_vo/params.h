@@ -62,6 +62,11 @@ struct VoParams
 
   // --- IMU (gyro prior) and odom frame ---
   bool use_imu = true;
+  bool gyro_rotation_prior = true;       // fuse the integrated gyro into the bundle adjustment
+  double gyro_noise_density = 2.0e-4;    // rad/s/sqrt(Hz)
+  double gyro_bias_sigma = 5.0e-3;       // rad/s, initial bias uncertainty (bias estimated online)
+  double gyro_bias_walk = 2.0e-5;        // rad/s^2/sqrt(Hz)
+  double vo_rotation_sigma = 3.0e-4;     // rad, floor on the vision rotation error (bias update)
   double camera_height_m = 1.6;          // origin of odom on the floor under the camera start
   double initial_roll_deg = 0.0;         // camera_link roll/pitch at start when no IMU
   double initial_pitch_deg = 0.0;

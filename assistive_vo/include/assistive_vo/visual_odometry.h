@@ -73,6 +73,8 @@ public:
   /// Flow vectors of the last frame over the left image (BGR): green = inlier, red = rejected.
   cv::Mat drawOverlay(const cv::Mat& left) const;
   int resets() const { return resets_; }
+  /// Current gyro bias estimate (camera_link axes, rad/s).
+  const Eigen::Vector3d& gyroBias() const { return gyro_bias_link_; }
   bool started() const { return have_pose_; }
 
 private:
@@ -119,5 +121,12 @@ private:
   std::vector<cv::Point2f> ov_from_, ov_to_;
   std::vector<uint8_t> ov_inlier_;
   TrackingState last_state_ = TrackingState::INITIALISING;
+  // gyro since the keyframe (bias-corrected, optical axes) and the online bias estimate
+  Eigen::Matrix3d R_kf_gyro_ = Eigen::Matrix3d::Identity();
+  bool gyro_since_kf_ = false;
+  double t_kf_ = 0.0;
+  Eigen::Vector3d gyro_bias_link_ = Eigen::Vector3d::Zero();
+  double gyro_bias_var_ = -1.0;  // < 0: not initialised
+  double last_stamp_pending_ = 0.0;
 };
 }  // namespace assistive_vo
