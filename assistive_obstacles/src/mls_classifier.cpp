@@ -170,8 +170,10 @@ void MlsClassifier::classify(const ElevationMap& map, float feet_z, std::vector<
     cv::Mat closed;
     const cv::Mat k = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1));
     cv::morphologyEx(m, closed, cv::MORPH_CLOSE, k, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    // The closing fills holes of the depth map between obstacles (seed 4.2.3): cells without a
+    // vote this frame. A cell seen as floor this very frame keeps its label.
     for (int c = 0; c < cells; ++c)
-      if (closed.data[c]) labels[c] = FrameLabel::OBSTACLE;
+      if (closed.data[c] && labels[c] == FrameLabel::NONE) labels[c] = FrameLabel::OBSTACLE;
   }
 }
 

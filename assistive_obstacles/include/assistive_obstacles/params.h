@@ -31,7 +31,7 @@ struct ObstaclesParams
   int min_points_per_cell = 10;     ///< cells with fewer points are dropped as noise
   double gap_height = 1.9;          ///< G, m: intervals split at vertical gaps larger than this (wearer height + margin)
   double step_height = 0.2;         ///< T, m: thicker intervals are vertical (obstacle); also max climbable height difference
-  double min_step = 0.08;           ///< m: a traversable cell whose neighbour differs by more is a step/curb
+  double min_step = 0.065;          ///< m: a traversable cell whose neighbour differs by more is a step/curb
   double head_clearance = 0.3;      ///< m above the camera: higher points cannot touch the wearer
   double camera_height = 1.6;       ///< m, camera above the wearer's feet (feet level = camera z - this)
   double max_surface_rise = 0.45;   ///< m: walkable surfaces lie at most this far above the feet ...
@@ -40,7 +40,7 @@ struct ObstaclesParams
   int min_cluster_points = 3;       ///< sub-clusters with fewer points are noise
   double thickness_trim = 0.05;     ///< fraction of an interval's heights trimmed at each end for its thickness
   int min_traversable_edges = 5;    ///< compatible 8-neighbours needed to be traversable
-  int closing_radius = 1;           ///< cells, morphological closing of the obstacle mask (0 disables)
+  int closing_radius = 1;           ///< cells, morphological closing of the obstacle mask, filling cells without a vote (0 disables)
   int fine_factor = 4;              ///< elevated points are also counted on a grid this many times finer (5 cm) ...
   double peak_fraction = 0.5;       ///< ... and a vertical cell stays an obstacle only if one of its fine bins holds at
                                     ///< least this fraction of the densest fine bin within 2 fine bins (suppresses the
