@@ -1,6 +1,6 @@
 #include "assistive_vo/visual_odometry.h"
 #include <algorithm>
-#include <chrono>
+#include <time.h>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -11,10 +11,21 @@ namespace assistive_vo
 {
 namespace
 {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0)
+/// Stage timers: CPU time of the calling thread (what one core spends on the frame, not
+/// inflated by other processes on a shared machine).
+struct Clock
 {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  using time_point = double;
+  static double now()
+  {
+    timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+  }
+};
+double msSince(double t0)
+{
+  return Clock::now() - t0;
 }
 double angleOf(const Eigen::Matrix3d& R)
 {

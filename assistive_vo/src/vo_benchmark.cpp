@@ -1,4 +1,4 @@
-// vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N]
+// vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--set name=value ...]
 // Runs the VO core on every stereo frame of a bag (no roscore), and on the same frames the peer:
 // OpenCV contrib's cv::rgbd::RgbdOdometry fed with StereoSGBM depth. Prints per-stage times,
 // trajectory errors against the bag's ground truth (assistive_sim_eval), then one JSON line.
@@ -116,6 +116,7 @@ int main(int argc, char** argv)
 {
   std::string bag, plot;
   bool peer_on = true, imu_on = true;
+  std::vector<std::string> overrides;
   long max_frames = -1;
   for (int i = 1; i < argc; ++i)
   {
@@ -128,6 +129,8 @@ int main(int argc, char** argv)
       imu_on = false;
     else if (a == "--frames" && i + 1 < argc)
       max_frames = std::stol(argv[++i]);
+    else if (a == "--set" && i + 1 < argc)
+      overrides.push_back(argv[++i]);
     else if (a == "-h" || a == "--help")
     {
       std::cout << "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N]\n";
@@ -161,6 +164,44 @@ int main(int argc, char** argv)
 
   VoParams params;
   params.use_imu = imu_on;
+  {
+    // --set name=value for the numeric VoParams fields (experiments)
+    std::map<std::string, double*> d{{"pixel_sigma_px", &params.pixel_sigma_px},
+                                     {"gyro_noise_density", &params.gyro_noise_density},
+                                     {"gyro_bias_sigma", &params.gyro_bias_sigma},
+                                     {"vo_rotation_sigma", &params.vo_rotation_sigma},
+                                     {"inlier_threshold_px", &params.inlier_threshold_px},
+                                     {"ba_huber_px", &params.ba_huber_px},
+                                     {"replenish_ratio", &params.replenish_ratio},
+                                     {"max_rotation_from_keyframe_deg", &params.max_rotation_from_keyframe_deg},
+                                     {"epipolar_threshold_px", &params.epipolar_threshold_px}};
+    std::map<std::string, int*> n{{"target_features", &params.target_features},
+                                  {"min_tracks", &params.min_tracks},
+                                  {"klt_window", &params.klt_window},
+                                  {"klt_levels", &params.klt_levels},
+                                  {"ba_iterations", &params.ba_iterations},
+                                  {"stereo_half_window", &params.stereo_half_window},
+                                  {"fast_threshold", &params.fast_threshold}};
+    for (const std::string& o : overrides)
+    {
+      const size_t eq = o.find('=');
+      const std::string k = o.substr(0, eq);
+      const double v = eq == std::string::npos ? 0.0 : std::atof(o.c_str() + eq + 1);
+      if (d.count(k))
+        *d[k] = v;
+      else if (n.count(k))
+        *n[k] = static_cast<int>(v);
+      else if (k == "gyro_rotation_prior")
+        params.gyro_rotation_prior = v != 0;
+      else if (k == "epipolar_filter")
+        params.epipolar_filter = v != 0;
+      else
+      {
+        std::cerr << "vo_benchmark: unknown --set parameter " << k << "\n";
+        return 2;
+      }
+    }
+  }
   VisualOdometry vo(params);
   ImuBuffer imu(5.0);
   Peer peer;

@@ -21,7 +21,7 @@ enum class TrackingState
 };
 const char* toString(TrackingState s);
 
-/// Per-frame timings (ms) and counters.
+/// Per-frame timings (ms of CPU time of the calling thread) and counters.
 struct FrameStats
 {
   double ms_total = 0, ms_pyramid = 0, ms_klt = 0, ms_epipolar = 0, ms_stereo = 0, ms_ransac = 0,
