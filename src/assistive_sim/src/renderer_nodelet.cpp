@@ -104,6 +104,7 @@ private:
                                            << " B " << p.baseline << " at " << p.rate << " Hz, pose from "
                                            << p.pose_source);
 
+    start_ = ros::Time::now();  // before any timer can fire
     pub_left_ = nh.advertise<sensor_msgs::Image>("left/image_rect", 2);
     pub_right_ = nh.advertise<sensor_msgs::Image>("right/image_rect", 2);
     pub_left_info_ = nh.advertise<sensor_msgs::CameraInfo>("left/camera_info", 2);
@@ -138,7 +139,6 @@ private:
         diagnostic_updater::FrequencyStatusParam(&min_freq_, &max_freq_, 0.2, 10)));
     updater_->add(*freq_);
     updater_->add("pose input", this, &RendererNodelet::poseDiag);
-    start_ = ros::Time::now();
     timer_ = nh.createTimer(ros::Duration(1.0 / p.rate), &RendererNodelet::tick, this);
   }
 
@@ -153,6 +153,11 @@ private:
   {
     // Publish the IMU samples due by now (script mode), stamped on the ROS clock.
     const double t = (ros::Time::now() - start_).toSec();
+    if (t - imu_->nextTime() > 1.0)
+    {
+      NODELET_WARN_THROTTLE(5.0, "renderer: IMU fell %.1f s behind; skipping ahead", t - imu_->nextTime());
+      imu_->skipTo(t);
+    }
     while (imu_->nextTime() <= t)
     {
       const double ti = imu_->nextTime();

@@ -2,6 +2,8 @@
 // The simulated wearer: a C2 walk along the world's waypoint script (arc-length parametrised
 // cubic B-spline, smooth speed profile), gait bob and sway, head yaw scans, pitch down, scripted
 // and seeded head turns; and an IMU derived from that motion. ROS-free.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -81,6 +83,8 @@ public:
   ImuSample next(const WearerMotion& motion, double t0 = 0.0, double motion_time = -1.0);
   /// Time of the next sample (relative).
   double nextTime() const { return k_ / p_.rate; }
+  /// Skip samples so the next one is the first at or after time t (s).
+  void skipTo(double t) { k_ = std::max<uint64_t>(k_, static_cast<uint64_t>(std::ceil(t * p_.rate))); }
   const Eigen::Vector3d& gyroBias() const { return bg_; }
   const Eigen::Vector3d& accelBias() const { return ba_; }
 
