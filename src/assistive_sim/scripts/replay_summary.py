@@ -37,7 +37,7 @@ def write_png(path, width, height, rows):
         f.write(chunk(b"IEND", b""))
 
 
-def render_map(path, grid, trajectory, plan, scale=4):
+def render_map(path, grid, trajectory, plan, scale=8):
     w, h = grid.info.width, grid.info.height
     res = grid.info.resolution
     ox, oy = grid.info.origin.position.x, grid.info.origin.position.y
