@@ -18,98 +18,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include <assistive_obstacles/disparity.h>
+#include <assistive_obstacles/disparity_eval.h>
 
 using namespace assistive_obstacles;
 
 namespace
 {
-struct Item
-{
-  std::string name, folder, left, right;
-  std::string metric;  // "d1" or "bad2"
-};
-
-bool exists(const std::string& p) { return std::ifstream(p).good(); }
-
-cv::Mat readPfm(const std::string& path)
-{
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return {};
-  std::string magic;
-  int w = 0, h = 0;
-  double scale = 0;
-  f >> magic >> w >> h >> scale;
-  f.get();
-  if (magic != "Pf" || w <= 0 || h <= 0 || scale >= 0) return {};  // grey, little-endian only
-  cv::Mat m(h, w, CV_32F);
-  for (int r = h - 1; r >= 0; --r) f.read(reinterpret_cast<char*>(m.ptr<float>(r)), sizeof(float) * w);
-  if (!f) return {};
-  return m;
-}
-
-/// Ground truth as CV_32F with invalid = NaN.
-cv::Mat readGt(const Item& it)
-{
-  cv::Mat gt;
-  if (it.name == "kitti2015_000005")
-  {
-    cv::Mat raw = cv::imread(it.folder + "/gt_disparity.png", cv::IMREAD_UNCHANGED);
-    if (raw.empty() || raw.depth() != CV_16U) return {};
-    raw.convertTo(gt, CV_32F, 1.0 / 256.0);
-    gt.setTo(std::numeric_limits<float>::quiet_NaN(), raw == 0);
-  }
-  else if (it.name == "middlebury3_teddy_half")
-  {
-    gt = readPfm(it.folder + "/disp0GT.pfm");
-    if (gt.empty()) return {};
-    for (int r = 0; r < gt.rows; ++r)
-      for (int c = 0; c < gt.cols; ++c)
-        if (!std::isfinite(gt.at<float>(r, c))) gt.at<float>(r, c) = std::numeric_limits<float>::quiet_NaN();
-  }
-  else
-  {
-    cv::Mat raw = cv::imread(it.folder + "/Cones_LEFT_GT.tif", cv::IMREAD_UNCHANGED);
-    if (raw.empty()) return {};
-    raw.convertTo(gt, CV_32F);
-    gt.setTo(std::numeric_limits<float>::quiet_NaN(), gt <= 0.0f);
-  }
-  return gt;
-}
-
-struct Score
-{
-  double d1 = NAN, bad2 = NAN, density = NAN;
-};
-
-Score score(const cv::Mat& est, const cv::Mat& gt)
-{
-  size_t valid = 0, d1 = 0, bad2 = 0, have = 0;
-  for (int r = 0; r < gt.rows; ++r)
-    for (int c = 0; c < gt.cols; ++c)
-    {
-      const float g = gt.at<float>(r, c);
-      if (!std::isfinite(g)) continue;
-      ++valid;
-      const float e = est.at<float>(r, c);
-      if (!(e > 0.f))
-      {
-        ++d1;
-        ++bad2;
-        continue;
-      }
-      ++have;
-      const float err = std::abs(e - g);
-      if (err > 3.f && err > 0.05f * g) ++d1;
-      if (err > 2.f) ++bad2;
-    }
-  Score s;
-  if (valid == 0) return s;
-  s.d1 = 100.0 * d1 / valid;
-  s.bad2 = 100.0 * bad2 / valid;
-  s.density = 100.0 * have / valid;
-  return s;
-}
-
 template <typename F>
 double medianMs(F&& f, int reps)
 {
@@ -146,11 +60,6 @@ int main(int argc, char** argv)
     std::cout << "usage: disparity_benchmark DIR [--reps N]\n";
     return 0;
   }
-  const std::vector<Item> items = {
-      {"kitti2015_000005", dir + "/kitti2015_training_000005_10", "stereo_left.png", "stereo_right.png", "d1"},
-      {"middlebury3_teddy_half", dir + "/middlebury_eval3_teddy_half", "im0.png", "im1.png", "bad2"},
-      {"middlebury2003_cones_quarter", dir + "/middlebury2003_cones_quarter", "Cones_LEFT.tif", "Cones_RIGHT.tif", "bad2"},
-  };
   const ObstaclesParams defaults;  // the stage's default configuration
   DisparityEstimator ours(defaults);
   const int peer_nd = defaults.max_disparity;
@@ -158,26 +67,17 @@ int main(int argc, char** argv)
   struct Row
   {
     std::string name;
-    Score ours, peer;
+    DisparityScore ours, peer;
     double ms = NAN, peer_ms = NAN;
     int w = 0, h = 0;
   };
   std::vector<Row> rows;
-  for (const Item& it : items)
+  std::vector<std::string> skipped;
+  const std::vector<RealPair> pairs = loadRealPairs(dir, &skipped);
+  for (const std::string& m : skipped) std::cerr << "[disparity_benchmark] skipped " << m << "\n";
+  for (const RealPair& it : pairs)
   {
-    const std::string lp = it.folder + "/" + it.left, rp = it.folder + "/" + it.right;
-    if (!exists(lp) || !exists(rp))
-    {
-      std::cerr << "[disparity_benchmark] " << it.name << ": not found under " << it.folder << ", skipped\n";
-      continue;
-    }
-    cv::Mat l = cv::imread(lp, cv::IMREAD_GRAYSCALE), r = cv::imread(rp, cv::IMREAD_GRAYSCALE);
-    cv::Mat gt = readGt(it);
-    if (l.empty() || r.empty() || gt.empty() || gt.size() != l.size())
-    {
-      std::cerr << "[disparity_benchmark] " << it.name << ": unreadable or mismatched files, skipped\n";
-      continue;
-    }
+    const cv::Mat &l = it.left, &r = it.right;
     std::cerr << "[disparity_benchmark] " << it.name << " " << l.cols << "x" << l.rows << " ...\n";
     Row row;
     row.name = it.name;
@@ -187,8 +87,8 @@ int main(int argc, char** argv)
     ours.computeFullRes(l, r, d_ours);  // warm-up
     row.ms = medianMs([&] { ours.computeFullRes(l, r, d_ours); }, reps);
     row.peer_ms = medianMs([&] { d_peer = peerSgbm(l, r, peer_nd); }, reps);
-    row.ours = score(d_ours, gt);
-    row.peer = score(d_peer, gt);
+    row.ours = scoreDisparity(d_ours, it.gt);
+    row.peer = scoreDisparity(d_peer, it.gt);
     rows.push_back(row);
   }
   if (rows.empty())
@@ -213,22 +113,22 @@ int main(int argc, char** argv)
   for (const Row& r : rows)
   {
     std::printf("%-30s %4dx%-5d | %8.2f %8.2f %8.1f %8.1f | %8.2f %8.2f %8.1f %8.1f\n", r.name.c_str(), r.w, r.h,
-                r.ours.d1, r.ours.bad2, r.ours.density, r.ms, r.peer.d1, r.peer.bad2, r.peer.density, r.peer_ms);
+                r.ours.d1_pct, r.ours.bad2_pct, r.ours.density_pct, r.ms, r.peer.d1_pct, r.peer.bad2_pct, r.peer.density_pct, r.peer_ms);
     ms_sum += r.ms;
     pms_sum += r.peer_ms;
     if (r.name.rfind("kitti", 0) == 0)
     {
-      d1 = r.ours.d1;
-      pd1 = r.peer.d1;
+      d1 = r.ours.d1_pct;
+      pd1 = r.peer.d1_pct;
     }
     else
     {
-      b2.push_back(r.ours.bad2);
-      pb2.push_back(r.peer.bad2);
+      b2.push_back(r.ours.bad2_pct);
+      pb2.push_back(r.peer.bad2_pct);
     }
-    extra << ", \"" << r.name << "_d1_pct\": " << num(r.ours.d1) << ", \"" << r.name << "_bad2_pct\": " << num(r.ours.bad2)
-          << ", \"" << r.name << "_ms\": " << num(r.ms) << ", \"" << r.name << "_peer_d1_pct\": " << num(r.peer.d1)
-          << ", \"" << r.name << "_peer_bad2_pct\": " << num(r.peer.bad2) << ", \"" << r.name
+    extra << ", \"" << r.name << "_d1_pct\": " << num(r.ours.d1_pct) << ", \"" << r.name << "_bad2_pct\": " << num(r.ours.bad2_pct)
+          << ", \"" << r.name << "_ms\": " << num(r.ms) << ", \"" << r.name << "_peer_d1_pct\": " << num(r.peer.d1_pct)
+          << ", \"" << r.name << "_peer_bad2_pct\": " << num(r.peer.bad2_pct) << ", \"" << r.name
           << "_peer_ms\": " << num(r.peer_ms);
   }
   auto mean = [](const std::vector<double>& v) -> double {

@@ -1,0 +1,34 @@
+#pragma once
+// Dense-stereo scoring on real image pairs with ground truth (disparity_benchmark, its gtest):
+// KITTI D1 = % of valid GT px with |err| > 3 px and > 5 % of GT; Middlebury bad-2.0 = % of valid
+// GT px with |err| > 2 px. Pixels without an estimate count as errors (no interpolation).
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace assistive_obstacles
+{
+/// One real pair of /work/shared/data/real/stereo_disparity (README items 3-5).
+struct RealPair
+{
+  std::string name;     ///< "kitti2015_000005", "middlebury3_teddy_half", "middlebury2003_cones_quarter"
+  std::string metric;   ///< "d1" (KITTI) or "bad2" (Middlebury)
+  cv::Mat left, right;  ///< CV_8UC1
+  cv::Mat gt;           ///< CV_32F disparity, NaN = no ground truth
+};
+
+/// The pairs found under `dir` (missing or unreadable ones are skipped, with a reason in `skipped`).
+std::vector<RealPair> loadRealPairs(const std::string& dir, std::vector<std::string>* skipped = nullptr);
+/// Little-endian grey PFM (rows bottom-to-top); empty on error.
+cv::Mat readPfm(const std::string& path);
+
+struct DisparityScore
+{
+  double d1_pct = 0.0, bad2_pct = 0.0;  ///< % of valid GT px
+  double density_pct = 0.0;             ///< % of valid GT px with an estimate
+  size_t valid = 0;
+};
+/// `est`: CV_32F, invalid <= 0; `gt`: CV_32F, NaN = unknown; same size.
+DisparityScore scoreDisparity(const cv::Mat& est, const cv::Mat& gt);
+}  // namespace assistive_obstacles

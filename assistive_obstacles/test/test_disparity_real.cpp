@@ -1,0 +1,50 @@
+// Issue 9 check on real camera data (skipped, with a message, when the folder is absent): the
+// stage's default disparity configuration against full-resolution OpenCV SGBM on the same pairs.
+// Accuracy only; speed is measured by disparity_benchmark.
+#include <gtest/gtest.h>
+
+#include <assistive_obstacles/disparity.h>
+#include <assistive_obstacles/disparity_eval.h>
+
+#ifndef ASSISTIVE_REAL_DATA_DIR
+#define ASSISTIVE_REAL_DATA_DIR "/work/shared/data/real"
+#endif
+
+using namespace assistive_obstacles;
+
+TEST(DisparityReal, DefaultNoWorseThanOneAndAHalfTimesFullResSgbm)
+{
+  const std::string dir = std::string(ASSISTIVE_REAL_DATA_DIR) + "/stereo_disparity";
+  const auto pairs = loadRealPairs(dir);
+  if (pairs.empty()) GTEST_SKIP() << "no real stereo pairs under " << dir;
+  const ObstaclesParams defaults;
+  DisparityEstimator est(defaults);
+  for (const RealPair& p : pairs)
+  {
+    cv::Mat ours;
+    ASSERT_TRUE(est.computeFullRes(p.left, p.right, ours)) << p.name;
+    const cv::Mat peer = peerSgbm(p.left, p.right, defaults.max_disparity);
+    const DisparityScore a = scoreDisparity(ours, p.gt), b = scoreDisparity(peer, p.gt);
+    ASSERT_GT(a.valid, 1000u) << p.name;
+    if (p.metric == "d1")
+      EXPECT_LE(a.d1_pct, 1.5 * b.d1_pct) << p.name;
+    else
+      EXPECT_LE(a.bad2_pct, 1.5 * b.bad2_pct) << p.name;
+    std::printf("%s: D1 %.2f %% (peer %.2f), bad-2.0 %.2f %% (peer %.2f)\n", p.name.c_str(), a.d1_pct, b.d1_pct,
+                a.bad2_pct, b.bad2_pct);
+  }
+}
+
+TEST(DisparityEval, KnownAnswers)
+{
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cv::Mat gt = (cv::Mat_<float>(1, 5) << 10.f, 100.f, 20.f, nan, 50.f);
+  cv::Mat est = (cv::Mat_<float>(1, 5) << 10.5f, 104.f, 23.5f, 7.f, -1.f);
+  // px 0: ok; px 1: err 4 > 3 but < 5 % of 100 -> not D1, > 2 -> bad2; px 2: err 3.5 -> D1 and bad2;
+  // px 3: no GT; px 4: no estimate -> error in both.
+  const DisparityScore s = scoreDisparity(est, gt);
+  EXPECT_EQ(s.valid, 4u);
+  EXPECT_DOUBLE_EQ(s.d1_pct, 50.0);
+  EXPECT_DOUBLE_EQ(s.bad2_pct, 75.0);
+  EXPECT_DOUBLE_EQ(s.density_pct, 75.0);
+}
