@@ -94,6 +94,9 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     pnh.param("max_speed", p.max_speed_mps, p.max_speed_mps);
     pnh.param("max_angular_speed", p.max_angular_speed_dps, p.max_angular_speed_dps);
     pnh.param("use_imu", p.use_imu, p.use_imu);
+    pnh.param("gyro_rotation_prior", p.gyro_rotation_prior, p.gyro_rotation_prior);
+    pnh.param("gyro_noise_density", p.gyro_noise_density, p.gyro_noise_density);
+    pnh.param("gyro_bias_sigma", p.gyro_bias_sigma, p.gyro_bias_sigma);
     pnh.param("camera_height", p.camera_height_m, p.camera_height_m);
     pnh.param("initial_roll", p.initial_roll_deg, p.initial_roll_deg);
     pnh.param("initial_pitch", p.initial_pitch_deg, p.initial_pitch_deg);
@@ -135,6 +138,8 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     clampD("max_speed", p.max_speed_mps, 0.1, 50.0);
     clampD("max_angular_speed", p.max_angular_speed_dps, 10.0, 5000.0);
     clampD("camera_height", p.camera_height_m, 0.0, 5.0);
+    clampD("gyro_noise_density", p.gyro_noise_density, 1e-6, 1e-1);
+    clampD("gyro_bias_sigma", p.gyro_bias_sigma, 1e-6, 1.0);
     clampI("queue_size", queue_size_, 1, 100);
     clampD("expected_rate", expected_rate_, 0.1, 200.0);
     min_freq_ = 0.5 * expected_rate_;
