@@ -22,6 +22,7 @@ void usage()
 {
   std::cerr << "usage: render_bag --world WORLD --out FILE.bag [--seed N] [--frames N] [--width W --height H]\n"
                "                  [--rate HZ] [--noise SIGMA] [--exposure-time S] [--exposure-variation X] [--imu-rate HZ]\n"
+               "                  [--depth]  (also write the left ground-truth depth, /ground_truth/left/depth)\n"
                "  WORLD: a shipped world (course, corridor, parking, glass, plaza) or a world YAML path\n";
 }
 
@@ -65,6 +66,7 @@ int main(int argc, char** argv)
   CameraParams cam;
   ImuParams imu_p;
   double rate = 15.0;
+  bool write_depth = false;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -90,6 +92,7 @@ int main(int argc, char** argv)
       else if (a == "--exposure-time") cam.exposure_time = std::stod(val());
       else if (a == "--exposure-variation") cam.exposure_variation = std::stod(val());
       else if (a == "--imu-rate") imu_p.rate = std::stod(val());
+      else if (a == "--depth") write_depth = true;
       else if (a == "-h" || a == "--help")
       {
         usage();
@@ -161,6 +164,7 @@ int main(int argc, char** argv)
       f.has_gt_pose = true;
       f.gt_pose = T;
       f.gt_velocity = motion.velocity(t);
+      if (write_depth) f.gt_depth = ro.depth_left;
       writer.writeFrame(f);
       if (k % 5 == 0 || k + 1 == n) progress(k + 1, n, (k + 1) / std::max(render_cpu_s, 1e-9));
     }

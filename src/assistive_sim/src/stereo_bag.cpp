@@ -88,6 +88,7 @@ void StereoBagWriter::writeFrame(const StereoFrame& f)
   bag_->write(topics_.left_info, t, li);
   bag_->write(topics_.right_image, t, rm);
   bag_->write(topics_.right_info, t, ri);
+  if (!f.gt_depth.empty()) bag_->write(topics_.gt_depth, t, toDepthMsg(f.gt_depth, topics_.left_frame, t));
   if (f.has_gt_pose) writeGroundTruth(f.stamp, f.gt_pose, f.gt_velocity);
 }
 
@@ -150,6 +151,8 @@ StereoBagReader::StereoBagReader(const std::string& path, const StereoBagTopics&
   {
     rosbag::View left(impl_->bag, rosbag::TopicQuery(topics_.left_image));
     n_left_ = left.size();
+    rosbag::View depth(impl_->bag, rosbag::TopicQuery(topics_.gt_depth));
+    has_depth_ = depth.size() > 0;
   }
   if (n_left_ == 0) throw std::runtime_error("bag '" + path + "' has no " + topics_.left_image);
 
@@ -271,6 +274,20 @@ bool StereoBagReader::next(StereoFrame& f)
         f.has_gt_pose = true;
         f.gt_pose = g->second;
         f.gt_velocity = gt_vel_[g - gt_.begin()];
+      }
+    }
+
+    // Optional depth at the same stamp.
+    f.gt_depth.release();
+    if (has_depth_)
+    {
+      const ros::Time t(f.stamp);
+      rosbag::View dv(d.bag, rosbag::TopicQuery(topics_.gt_depth), t - ros::Duration(1e-6), t + ros::Duration(1e-6));
+      for (const rosbag::MessageInstance& m : dv)
+      {
+        auto dm = m.instantiate<sensor_msgs::Image>();
+        if (dm && dm->encoding == sensor_msgs::image_encodings::TYPE_32FC1)
+          f.gt_depth = cv_bridge::toCvCopy(dm)->image;
       }
     }
 

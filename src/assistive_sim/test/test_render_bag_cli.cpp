@@ -55,6 +55,7 @@ TEST_P(RenderBagCli, WorldRendersToBag)
   EXPECT_NEAR(f.calib.baseline, 0.12, 1e-9);
   EXPECT_NEAR(f.calib.fx, 125.0, 1e-9);
   EXPECT_TRUE(f.has_gt_pose);
+  EXPECT_TRUE(f.gt_depth.empty());  // only with --depth
   std::remove(bag.c_str());
   std::remove(log.c_str());
 }
@@ -89,6 +90,35 @@ TEST(RenderBagCliDeterminism, SameSeedSameBag)
     EXPECT_GT(cv::norm(fa.left, fc.left, cv::NORM_L1), 0.0);
   }
   for (const auto& p : {a, b, c}) std::remove(p.c_str());
+}
+
+TEST(RenderBagCliDepth, DepthOptionWritesTrueDepth)
+{
+  const std::string bag = std::string(::testing::TempDir()) + "assistive_sim_cli_depth.bag";
+  const std::string cmd = std::string(RENDER_BAG_EXE) + " --world corridor --out " + bag +
+                          " --frames 2 --width 160 --height 120 --depth > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  StereoBagReader r(bag);
+  EXPECT_TRUE(r.hasDepth());
+  StereoFrame f;
+  int n = 0;
+  while (r.next(f))
+  {
+    ASSERT_EQ(f.gt_depth.type(), CV_32FC1);
+    ASSERT_EQ(f.gt_depth.size(), f.left.size());
+    // Looking down the corridor: the bottom row sees the floor ~1.6 m below at a few metres, the
+    // centre sees far away (the corridor is 28 m long).
+    double mn, mx;
+    cv::minMaxLoc(f.gt_depth, &mn, &mx);
+    EXPECT_GT(mx, 5.0);
+    EXPECT_GE(mn, 0.0);
+    // Indoors nearly every pixel hits a surface (only the far door opening shows the sky).
+    EXPECT_LT(cv::countNonZero(f.gt_depth <= 0.f), f.gt_depth.total() / 20);
+    EXPECT_LT(f.gt_depth.at<float>(119, 80), 5.0f);
+    ++n;
+  }
+  EXPECT_EQ(n, 2);
+  std::remove(bag.c_str());
 }
 
 TEST(RenderBagCliErrors, MalformedWorldNamesLine)

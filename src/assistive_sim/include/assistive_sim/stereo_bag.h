@@ -32,6 +32,7 @@ struct StereoBagTopics
   std::string imu = "/imu/data";
   std::string gt_odom = "/ground_truth/odom";
   std::string gt_occupancy = "/ground_truth/occupancy";
+  std::string gt_depth = "/ground_truth/left/depth";  ///< optional, 32FC1 (m)
   std::string tf = "/tf";
   std::string left_frame = "camera_left_optical_frame";
   std::string right_frame = "camera_right_optical_frame";
@@ -51,7 +52,7 @@ public:
   StereoBagWriter(const StereoBagWriter&) = delete;
   StereoBagWriter& operator=(const StereoBagWriter&) = delete;
 
-  /// Left/right mono8 images + both camera_infos (rectified: D = 0, R = I, right P[3] = -fx*B).
+  /// Left/right mono8 images + both camera_infos (+ frame.gt_depth on gt_depth when not empty) (rectified: D = 0, R = I, right P[3] = -fx*B).
   /// When frame.has_gt_pose, also writes /ground_truth/odom and the gt tf chain
   /// (gt_world -> gt_camera_link -> gt_camera_left_optical_frame). frame.imu is written too.
   void writeFrame(const StereoFrame& frame);
@@ -92,8 +93,9 @@ public:
   void rewind();
   /// Number of left images in the bag (an upper bound on the number of frames).
   size_t size() const { return n_left_; }
-  /// Whether the bag holds ground-truth odometry / occupancy.
+  /// Whether the bag holds ground-truth odometry / per-frame depth.
   bool hasGroundTruth() const { return !gt_.empty(); }
+  bool hasDepth() const { return has_depth_; }
   /// Reads the (last) ground-truth occupancy grid; false when the bag has none.
   bool readOccupancy(OccupancyGrid& grid) const;
   /// All IMU samples of the bag in stamp order.
@@ -111,6 +113,7 @@ private:
   std::vector<Eigen::Vector3d> gt_vel_;
   std::vector<std::pair<double, StereoCalib>> calibs_;
   size_t imu_next_ = 0;
+  bool has_depth_ = false;
   bool first_ = true;
 };
 

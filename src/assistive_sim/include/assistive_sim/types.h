@@ -45,6 +45,9 @@ struct StereoFrame
   Eigen::Isometry3d gt_pose = Eigen::Isometry3d::Identity();
   /// Ground-truth velocity of the left optical frame in gt_world (m/s), if known.
   Eigen::Vector3d gt_velocity = Eigen::Vector3d::Zero();
+  /// Optional ground-truth depth Z (m) of the left image, CV_32FC1, 0 = nothing (sky); empty when
+  /// the bag has none (render_bag --depth writes it).
+  cv::Mat gt_depth;
   /// IMU samples with stamp in (previous frame's stamp, this frame's stamp]; the first frame
   /// gets every sample up to its stamp.
   std::vector<ImuSample> imu;
