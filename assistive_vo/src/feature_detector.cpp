@@ -20,6 +20,7 @@ std::vector<cv::Point2f> FeatureDetector::detect(const cv::Mat& img,
   if (img.empty() || img.type() != CV_8UC1)
     return out;
   kps_.clear();
+  last_threshold_ = threshold_;
   cv::FAST(img, kps_, threshold_, true, cv::FastFeatureDetector::TYPE_9_16);
   last_raw_ = static_cast<int>(kps_.size());
 
@@ -75,7 +76,9 @@ std::vector<cv::Point2f> FeatureDetector::detect(const cv::Mat& img,
 
   // Adapt the threshold: too few raw corners -> lower it, far too many -> raise it.
   const int target = std::max(1, p_.target_features);
-  if (last_raw_ < target * 2)
+  if (last_raw_ < target)
+    threshold_ -= 2 * p_.fast_threshold_step;
+  else if (last_raw_ < target * 2)
     threshold_ -= p_.fast_threshold_step;
   else if (last_raw_ > target * 6)
     threshold_ += p_.fast_threshold_step;

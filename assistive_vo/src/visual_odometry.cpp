@@ -149,6 +149,11 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
   }
   const int wanted = std::max(0, p_.target_features - static_cast<int>(kept.size()));
   std::vector<cv::Point2f> fresh = detector_.detect(left, existing, wanted);
+  // Low texture: the threshold has just been lowered, try again (at most twice) before giving up.
+  for (int retry = 0; retry < 2 && static_cast<int>(fresh.size() + kept.size()) < p_.target_features / 2 &&
+                      detector_.threshold() < detector_.lastThresholdUsed();
+       ++retry)
+    fresh = detector_.detect(left, existing, wanted);
   st.fast_threshold = detector_.threshold();
   const double max_d = std::min<double>(p_.max_disparity_px, cam_.fx * cam_.baseline / p_.min_depth_m);
   std::vector<float> disp = stereo_.match(left, right, fresh, max_d);

@@ -20,11 +20,13 @@ public:
                                   int wanted);
   int threshold() const { return threshold_; }
   int lastRawCount() const { return last_raw_; }
+  int lastThresholdUsed() const { return last_threshold_; }
 
 private:
   VoParams p_;
   int threshold_;
   int last_raw_ = 0;
+  int last_threshold_ = 0;
   std::vector<cv::KeyPoint> kps_;
 };
 }  // namespace assistive_vo
