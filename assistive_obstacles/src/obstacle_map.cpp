@@ -94,6 +94,7 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
       const int gx = window_.ox + lx, gy = window_.oy + ly;
       if (elevation_.count(c) > 0) ++stats_.cells_observed;
       FrameLabel lab = labels_[c];
+      bool dropout = false;
       if (check_depth && temporal_.code(gx, gy) == OBSTACLE && lab != FrameLabel::OBSTACLE)
       {
         // Dropout / glass: a mapped obstacle seen "through" or without depth keeps its label.
@@ -110,8 +111,12 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
         {
           dropout_.data[c] = OBSTACLE;
           ++stats_.dropout_cells;
-          lab = FrameLabel::NONE;
-          labels_[c] = FrameLabel::NONE;
+          dropout = true;
+          if (params_.dropout_free_weight <= 0)
+          {
+            lab = FrameLabel::NONE;
+            labels_[c] = FrameLabel::NONE;
+          }
         }
       }
       if (lab == FrameLabel::OBSTACLE) ++stats_.obstacle_votes;
@@ -123,6 +128,9 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
         const double r2 = std::max(1e-6, dx * dx + dy * dy), r02 = params_.full_weight_range * params_.full_weight_range;
         weight = static_cast<int>(std::lround(TemporalFilter::MAX_VOTE_WEIGHT * std::min(1.0, r02 / r2)));
       }
+      // A mapped obstacle seen through / without depth takes only a weak free vote: glass stays an
+      // obstacle for a while, but a false obstacle on the floor is not locked for good.
+      if (dropout) weight = std::min(weight, params_.dropout_free_weight);
       temporal_.vote(gx, gy, lab, weight);
     }
 }

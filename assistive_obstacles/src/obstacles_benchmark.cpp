@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <set>
 #include <sstream>
@@ -20,6 +21,8 @@
 
 #include <assistive_obstacles/disparity.h>
 #include <assistive_obstacles/obstacle_map.h>
+
+#include <opencv2/imgproc.hpp>
 
 using namespace assistive_obstacles;
 namespace eval = assistive_sim::eval;
@@ -71,7 +74,7 @@ bool setParam(ObstaclesParams& p, const std::string& k, const std::string& v)
   I(disp12_max_diff) D(edge_filter) D(min_depth) D(max_depth) I(point_stride) D(cell_size) D(window_radius) I(min_points_per_cell)
   D(gap_height) D(step_height) D(min_step) D(head_clearance) D(camera_height) D(max_surface_rise) D(max_surface_drop)
   D(cluster_gap) I(min_cluster_points) D(thickness_trim) I(min_traversable_edges) I(closing_radius) I(fine_factor) D(peak_fraction)
-  I(min_observations) D(obstacle_ratio) I(permanent_flips) I(max_count) D(full_weight_range) D(dropout_max_range)
+  I(min_observations) D(obstacle_ratio) I(permanent_flips) I(max_count) D(full_weight_range) D(dropout_max_range) I(dropout_free_weight)
 #undef D
 #undef I
   if (k == "disparity_method") { p.disparity_method = v; return true; }
@@ -100,6 +103,7 @@ int main(int argc, char** argv)
   }
   const std::string bag = argv[1];
   int max_frames = -1, skip = 0;
+  bool gt_depth = false;  // --gt-depth: feed the bag's true depth instead of SGBM (isolates stereo noise)
   std::vector<std::string> overrides;  // --set name=value (tuning; the figures of record use the defaults)
   std::string png = bag.size() > 4 && bag.substr(bag.size() - 4) == ".bag" ? bag.substr(0, bag.size() - 4) + "_obstacles_map.png"
                                                                            : bag + "_obstacles_map.png";
@@ -112,6 +116,8 @@ int main(int argc, char** argv)
       png = argv[++i];
     else if (a == "--skip" && i + 1 < argc)
       skip = std::atoi(argv[++i]);
+    else if (a == "--gt-depth")
+      gt_depth = true;
     else if (a == "--set" && i + 1 < argc)
       overrides.push_back(argv[++i]);
     else
@@ -152,6 +158,7 @@ int main(int argc, char** argv)
   ObstacleMap map(params);
   std::vector<double> ms_disp, ms_map, npts;
   Sum s3, s5;
+  size_t fp_adjacent = 0, fp_isolated = 0, fp_step = 0;  // within 3 m, summed over frames
   std::set<size_t> free_where_obstacle;
   assistive_sim::StereoFrame f;
   int frames = 0, used = 0, no_pose = 0;
@@ -179,11 +186,57 @@ int main(int argc, char** argv)
     model.cy = f.calib.cy;
     model.baseline = f.calib.baseline;
     const auto t0 = std::chrono::steady_clock::now();
-    if (!disparity.compute(f.left, f.right, disp)) continue;
+    if (gt_depth)
+    {
+      if (f.gt_depth.empty()) continue;
+      // True depth -> disparity at the matcher's scale (nearest-neighbour downsampling).
+      const double sc = params.disparity_scale;
+      cv::Mat z;
+      cv::resize(f.gt_depth, z, cv::Size(), sc, sc, cv::INTER_NEAREST);
+      disp.create(z.size(), CV_32F);
+      const float k = static_cast<float>(model.fx * sc * model.baseline);
+      for (int v = 0; v < z.rows; ++v)
+        for (int u = 0; u < z.cols; ++u)
+        {
+          const float zz = z.at<float>(v, u);
+          disp.at<float>(v, u) = zz > 0.f ? k / zz : -1.f;
+        }
+    }
+    else if (!disparity.compute(f.left, f.right, disp))
+      continue;
     disparity.toPoints(disp, model, points);
     const auto t1 = std::chrono::steady_clock::now();
     map.update(points, f.gt_pose.cast<float>(), &model, &disp);
     const auto t2 = std::chrono::steady_clock::now();
+    if (const char* dc = std::getenv("OBST_CELL"))
+    {
+      int gx = 0, gy = 0;
+      std::sscanf(dc, "%d,%d", &gx, &gy);
+      const Window& w = map.window();
+      const int lx = gx - w.ox, ly = gy - w.oy;
+      if (lx >= 0 && ly >= 0 && lx < w.n && ly < w.n)
+      {
+        std::vector<float> zs;
+        double rng = 0;
+        for (size_t i = 0; i < map.worldPoints().size(); ++i)
+        {
+          const auto& q = map.worldPoints()[i];
+          if (std::floor(q.x() / w.res) == gx && std::floor(q.y() / w.res) == gy)
+          {
+            zs.push_back(q.z());
+            rng += points[i].z();
+          }
+        }
+        std::sort(zs.begin(), zs.end());
+        const float feet = f.gt_pose.translation().z() - params.camera_height;
+        std::fprintf(stderr, "frame %d cell label %d n=%zu zrange %s", frames, int(map.frameLabels()[w.index(lx, ly)]), zs.size(),
+                     zs.empty() ? "" : "");
+        if (!zs.empty())
+          std::fprintf(stderr, " z-feet: %.3f %.3f %.3f %.3f %.3f camZ %.2f", zs[0] - feet, zs[zs.size() / 10] - feet,
+                       zs[zs.size() / 2] - feet, zs[zs.size() * 9 / 10] - feet, zs.back() - feet, rng / zs.size());
+        std::fprintf(stderr, "\n");
+      }
+    }
     ms_disp.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     ms_map.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
     npts.push_back(static_cast<double>(points.size()));
@@ -197,6 +250,38 @@ int main(int argc, char** argv)
       p3.radius_m = 3.0;
       p5.radius_m = 5.0;
       s3.add(eval::scoreMap(truth, est, wearer, p3));
+      // False positives by class: next to a true obstacle (8-neighbour) or isolated; STEP code.
+      for (int cy = 0; cy < truth.height; ++cy)
+        for (int cx = 0; cx < truth.width; ++cx)
+        {
+          const int8_t g = truth.data[static_cast<size_t>(cy) * truth.width + cx];
+          if (g != 0) continue;
+          const double x = truth.origin_x + (cx + 0.5) * truth.resolution, y = truth.origin_y + (cy + 0.5) * truth.resolution;
+          if ((Eigen::Vector2d(x, y) - wearer).squaredNorm() > 9.0) continue;
+          const int ex = static_cast<int>(std::floor((x - est.origin_x) / est.resolution));
+          const int ey = static_cast<int>(std::floor((y - est.origin_y) / est.resolution));
+          if (ex < 0 || ey < 0 || ex >= est.width || ey >= est.height) continue;
+          const int8_t e = est.data[static_cast<size_t>(ey) * est.width + ex];
+          if (e != 50 && e != 100) continue;
+          if (e == 50) ++fp_step;
+          bool adj = false;
+          for (int dy = -1; dy <= 1 && !adj; ++dy)
+            for (int dx = -1; dx <= 1 && !adj; ++dx)
+            {
+              const int xx = cx + dx, yy = cy + dy;
+              if (xx < 0 || yy < 0 || xx >= truth.width || yy >= truth.height) continue;
+              adj = truth.data[static_cast<size_t>(yy) * truth.width + xx] == 100;
+            }
+          (adj ? fp_adjacent : fp_isolated)++;
+          if (!adj && std::getenv("OBST_DEBUG") && reader->size() == static_cast<size_t>(frames))
+          {
+            const int gx = static_cast<int>(std::floor(x / est.resolution)), gy = static_cast<int>(std::floor(y / est.resolution));
+            const CellCounters* cc = map.temporal().find(gx, gy);
+            if (cc)
+              std::fprintf(stderr, "FP %d %d r=%.2f o=%d s=%d votes=%d flips=%d perm=%d\n", gx, gy,
+                           (Eigen::Vector2d(x, y) - wearer).norm(), cc->o, cc->s, cc->votes, cc->flips, int(cc->permanent));
+          }
+        }
       const auto sc5 = eval::scoreMap(truth, est, wearer, p5);
       s5.add(sc5);
       free_where_obstacle.insert(sc5.free_where_obstacle_cells.begin(), sc5.free_where_obstacle_cells.end());
@@ -233,6 +318,8 @@ int main(int argc, char** argv)
               "coverage");
   std::printf("%-10s %9.3f %9.3f %13.3f %9.3f\n", "3 m", s3.recall(), s3.precision(), s3.misclassified(), s3.coverage());
   std::printf("%-10s %9.3f %9.3f %13.3f %9.3f\n", "5 m", s5.recall(), s5.precision(), s5.misclassified(), s5.coverage());
+  std::printf("false positives 3 m: %zu next to a true obstacle, %zu isolated, %zu of them STEP\n", fp_adjacent,
+              fp_isolated, fp_step);
   std::printf("ground-truth obstacle cells ever reported free (5 m): %zu\n", free_where_obstacle.size());
   if (has_truth) std::printf("map plot: %s\n", png.c_str());
   std::cout << "{\"ms_p95_map\": " << num(p95_map, 3) << ", \"ms_p95_disparity\": " << num(p95_disp, 3)
@@ -243,6 +330,8 @@ int main(int argc, char** argv)
             << ", \"frames\": " << used << ", \"ms_median_map\": " << num(percentile(ms_map, 0.5), 3)
             << ", \"ms_median_disparity\": " << num(percentile(ms_disp, 0.5), 3)
             << ", \"misclassified_5m\": " << num(s5.misclassified()) << ", \"coverage_3m\": " << num(s3.coverage())
-            << ", \"coverage_5m\": " << num(s5.coverage()) << "}" << std::endl;
+            << ", \"coverage_5m\": " << num(s5.coverage()) << ", \"fp_adjacent_3m\": " << fp_adjacent
+            << ", \"fp_isolated_3m\": " << fp_isolated << ", \"fp_step_3m\": " << fp_step
+            << ", \"gt_depth\": " << (gt_depth ? "true" : "false") << "}" << std::endl;
   return 0;
 }

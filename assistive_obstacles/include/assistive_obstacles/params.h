@@ -56,6 +56,9 @@ struct ObstaclesParams
 
   // --- dropout / glass policy ----------------------------------------------------------------
   double dropout_max_range = 4.0;   ///< m: obstacle cells in view this close but without depth are reported
+  int dropout_free_weight = 1;      ///< vote weight (0..4) of the free label such a cell still gets: 0 locks the cell
+                                    ///< (a false obstacle in front of the floor could then never be cleared), 1 lets
+                                    ///< seen-through cells fade after ~4x as many frames as made them obstacles
 
   // --- OctoMap of what was seen ------------------------------------------------------------
   bool octomap_enabled = true;
