@@ -120,6 +120,7 @@ private:
     param(pnh, "full_weight_range", p.full_weight_range);
     param(pnh, "dropout_max_range", p.dropout_max_range);
     param(pnh, "dropout_free_weight", p.dropout_free_weight);
+    param(pnh, "vote_max_range", p.vote_max_range);
     param(pnh, "octomap_enabled", p.octomap_enabled);
     param(pnh, "octomap_resolution", p.octomap_resolution);
     param(pnh, "octomap_max_range", p.octomap_max_range);

@@ -86,10 +86,16 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   const Eigen::Isometry3f T_cam_world = T_world_cam.inverse();
   const float tol = static_cast<float>(std::max(0.3, 1.5 * params_.cell_size));
 
+  const double vote_r2 = params_.vote_max_range * params_.vote_max_range;
   for (int ly = 0; ly < n; ++ly)
     for (int lx = 0; lx < n; ++lx)
     {
       if (!window_.inCircle(lx, ly)) continue;
+      if (vote_r2 > 0.0)
+      {
+        const double dx = window_.centerX(lx) - t.x(), dy = window_.centerY(ly) - t.y();
+        if (dx * dx + dy * dy > vote_r2) continue;
+      }
       const int c = window_.index(lx, ly);
       const int gx = window_.ox + lx, gy = window_.oy + ly;
       if (elevation_.count(c) > 0) ++stats_.cells_observed;

@@ -74,7 +74,7 @@ bool setParam(ObstaclesParams& p, const std::string& k, const std::string& v)
   I(disp12_max_diff) D(edge_filter) D(min_depth) D(max_depth) I(point_stride) D(cell_size) D(window_radius) I(min_points_per_cell)
   D(gap_height) D(step_height) D(min_step) D(head_clearance) D(camera_height) D(max_surface_rise) D(max_surface_drop)
   D(cluster_gap) I(min_cluster_points) D(thickness_trim) I(min_traversable_edges) I(closing_radius) I(fine_factor) D(peak_fraction)
-  I(min_observations) D(obstacle_ratio) I(permanent_flips) I(max_count) D(full_weight_range) D(dropout_max_range) I(dropout_free_weight)
+  I(min_observations) D(obstacle_ratio) I(permanent_flips) I(max_count) D(full_weight_range) D(dropout_max_range) I(dropout_free_weight) D(vote_max_range)
 #undef D
 #undef I
   if (k == "disparity_method") { p.disparity_method = v; return true; }
@@ -204,6 +204,31 @@ int main(int argc, char** argv)
     }
     else if (!disparity.compute(f.left, f.right, disp))
       continue;
+    if (!gt_depth && !f.gt_depth.empty() && std::getenv("OBST_BIAS"))
+    {
+      // Disparity error vs the true depth (matcher's scale), binned by true depth.
+      const double sc = static_cast<double>(disp.cols) / model.width;
+      cv::Mat z;
+      cv::resize(f.gt_depth, z, disp.size(), 0, 0, cv::INTER_NEAREST);
+      const double k = model.fx * sc * model.baseline;
+      std::vector<std::vector<float>> err(6);
+      for (int v = 0; v < z.rows; ++v)
+        for (int u = 0; u < z.cols; ++u)
+        {
+          const float zz = z.at<float>(v, u), d = disp.at<float>(v, u);
+          if (zz > 0.f && d > 0.f && zz < 6.f) err[static_cast<int>(zz)].push_back(d - static_cast<float>(k / zz));
+        }
+      std::fprintf(stderr, "bias frame %d:", frames);
+      for (auto& e : err)
+        if (e.size() > 50)
+        {
+          std::sort(e.begin(), e.end());
+          std::fprintf(stderr, " [%zu] med %.3f p10 %.3f p90 %.3f;", e.size(), e[e.size() / 2], e[e.size() / 10], e[e.size() * 9 / 10]);
+        }
+        else
+          std::fprintf(stderr, " - ;");
+      std::fprintf(stderr, "\n");
+    }
     disparity.toPoints(disp, model, points);
     const auto t1 = std::chrono::steady_clock::now();
     map.update(points, f.gt_pose.cast<float>(), &model, &disp);
@@ -255,7 +280,7 @@ int main(int argc, char** argv)
         for (int cx = 0; cx < truth.width; ++cx)
         {
           const int8_t g = truth.data[static_cast<size_t>(cy) * truth.width + cx];
-          if (g != 0) continue;
+          if (g != 0) continue;  // ground-truth free only (the scored false positives)
           const double x = truth.origin_x + (cx + 0.5) * truth.resolution, y = truth.origin_y + (cy + 0.5) * truth.resolution;
           if ((Eigen::Vector2d(x, y) - wearer).squaredNorm() > 9.0) continue;
           const int ex = static_cast<int>(std::floor((x - est.origin_x) / est.resolution));
@@ -270,7 +295,8 @@ int main(int argc, char** argv)
             {
               const int xx = cx + dx, yy = cy + dy;
               if (xx < 0 || yy < 0 || xx >= truth.width || yy >= truth.height) continue;
-              adj = truth.data[static_cast<size_t>(yy) * truth.width + xx] == 100;
+              const int8_t gn = truth.data[static_cast<size_t>(yy) * truth.width + xx];
+              adj = gn == 100 || gn == 50;
             }
           (adj ? fp_adjacent : fp_isolated)++;
           if (!adj && std::getenv("OBST_DEBUG") && reader->size() == static_cast<size_t>(frames))

@@ -69,6 +69,7 @@ std::vector<std::string> clampParams(ObstaclesParams& p)
   clampField(m, "max_count", p.max_count, p.min_observations, 60000);
   clampField(m, "full_weight_range", p.full_weight_range, 0.0, 50.0);
   clampField(m, "dropout_max_range", p.dropout_max_range, 0.0, 50.0);
+  clampField(m, "vote_max_range", p.vote_max_range, 0.0, 50.0);
   clampField(m, "dropout_free_weight", p.dropout_free_weight, 0, 4);
   clampField(m, "octomap_resolution", p.octomap_resolution, 0.01, 2.0);
   clampField(m, "octomap_max_range", p.octomap_max_range, 0.1, 50.0);

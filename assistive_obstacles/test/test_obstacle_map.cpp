@@ -212,6 +212,25 @@ TEST(ObstacleMap, FalseObstacleSeenThroughIsClearedEventually)
   }
 }
 
+TEST(ObstacleMap, NoVotesBeyondVoteRange)
+{
+  Points w;
+  synthetic::patch(w, 1.0, 4.8, -1.0, 1.0, 0.0);
+  synthetic::wallX(w, 4.5, -1.0, 1.0, 0.0, 1.8);
+  ObstaclesParams p;
+  p.vote_max_range = 3.5;
+  ObstacleMap m(p);
+  run(m, w);
+  EXPECT_EQ(codeAt(m, 2.05, 0.05), FREE);
+  EXPECT_EQ(codeAt(m, 3.9, 0.1), UNKNOWN);  // seen, but too far for a reliable vote
+  EXPECT_EQ(codeAt(m, 4.5, 0.1), UNKNOWN);
+  p.vote_max_range = 0.0;  // whole window
+  ObstacleMap m2(p);
+  run(m2, w);
+  EXPECT_EQ(codeAt(m2, 3.9, 0.1), FREE);
+  EXPECT_EQ(codeAt(m2, 4.5, 0.1), OBSTACLE);
+}
+
 TEST(ObstacleMap, WindowScrollsWithTheWearer)
 {
   ObstacleMap m;

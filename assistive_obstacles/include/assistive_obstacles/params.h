@@ -51,6 +51,9 @@ struct ObstaclesParams
   double obstacle_ratio = 0.5;      ///< obstacle if O/(O+S) > this
   int permanent_flips = 15;         ///< I at which a cell becomes an obstacle for good
   int max_count = 40;               ///< O+S are halved above this many full-weight votes (keeps the filter responsive)
+  double vote_max_range = 3.5;      ///< m: cells farther than this from the wearer take no vote (0 = whole window):
+                                    ///< depth error grows as Z^2; a cell behind a wall is otherwise only ever voted
+                                    ///< on from afar (by noise) and never corrected up close
   double full_weight_range = 2.5;   ///< m: votes of cells nearer than this weigh 4, farther ones 4*(r0/r)^2 (>= 1),
                                     ///< as stereo depth noise grows with r^2 (0: every vote weighs 1, as in the seed)
 
