@@ -22,7 +22,7 @@ struct ObstaclesParams
   double min_depth = 0.3;           ///< m, closer points are dropped
   double max_depth = 6.0;           ///< m, farther points are dropped (disparity noise grows as z^2)
   int point_stride = 1;             ///< take every n-th pixel of the scaled disparity in u and v
-  double edge_filter = 1.0;         ///< px at the matcher's scale: pixels whose 3x3 disparity range exceeds this
+  double edge_filter = 0.5;         ///< px at the matcher's scale: pixels whose 3x3 disparity range exceeds this
                                     ///< lie on a depth discontinuity ("flying pixels") and give no point (0 disables)
 
   // --- elevation map / MLS (wearer-tied, not scene-tied) ----------------------------------
