@@ -4,6 +4,11 @@
 // elevation + MLS + temporal update (timed separately); the map is scored against the bag's
 // ground-truth occupancy within 3 m and 5 m of the wearer at every frame (counts summed over
 // frames). Writes a PNG of the scored map at the last frame. Last stdout line: one JSON object.
+// --gt-depth feeds the bag's /ground_truth/left/depth (render_bag --depth) instead of SGBM, which
+// separates stereo errors from mapping errors. Diagnostics on stderr (environment variables):
+// OBST_DEBUG=1 temporal counters of the false-positive cells at the last frame; OBST_CELL=gx,gy
+// per-frame label and heights of one global cell; OBST_BIAS=1 per-frame SGBM disparity error vs
+// the true depth (needs a --depth bag), binned by metre of depth.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -299,12 +304,12 @@ int main(int argc, char** argv)
               adj = gn == 100 || gn == 50;
             }
           (adj ? fp_adjacent : fp_isolated)++;
-          if (!adj && std::getenv("OBST_DEBUG") && reader->size() == static_cast<size_t>(frames))
+          if (std::getenv("OBST_DEBUG") && reader->size() == static_cast<size_t>(frames))
           {
             const int gx = static_cast<int>(std::floor(x / est.resolution)), gy = static_cast<int>(std::floor(y / est.resolution));
             const CellCounters* cc = map.temporal().find(gx, gy);
             if (cc)
-              std::fprintf(stderr, "FP %d %d r=%.2f o=%d s=%d votes=%d flips=%d perm=%d\n", gx, gy,
+              std::fprintf(stderr, "FP adj=%d %d %d r=%.2f o=%d s=%d votes=%d flips=%d perm=%d\n", int(adj), gx, gy,
                            (Eigen::Vector2d(x, y) - wearer).norm(), cc->o, cc->s, cc->votes, cc->flips, int(cc->permanent));
           }
         }
