@@ -155,15 +155,20 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
        ++retry)
     fresh = detector_.detect(left, existing, wanted);
   st.fast_threshold = detector_.threshold();
-  const double max_d = std::min<double>(p_.max_disparity_px, cam_.fx * cam_.baseline / p_.min_depth_m);
+  st.detected += static_cast<int>(fresh.size());
+  const double max_d = maxDisparity();
   std::vector<float> disp = stereo_.match(left, right, fresh, max_d);
+  // Farthest useful depth: max_depth_m, or farther when the stereo rig still resolves the point
+  // with min_triangulation_disparity_px there (wide baseline / long focal length).
+  const double max_depth =
+      std::max(p_.max_depth_m, cam_.fx * cam_.baseline / std::max(0.5, p_.min_triangulation_disparity_px));
   int added = 0;
   for (size_t i = 0; i < fresh.size(); ++i)
   {
     if (disp[i] <= 0)
       continue;
     const Eigen::Vector3d X = cam_.triangulate(fresh[i].x, fresh[i].y, disp[i]);
-    if (X.z() > p_.max_depth_m || X.z() < p_.min_depth_m)
+    if (X.z() > max_depth || X.z() < p_.min_depth_m)
       continue;
     Track n;
     n.X_kf = X;
@@ -414,6 +419,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
     }
     tracks_.swap(alive);
   }
+  st.klt_tracked = static_cast<int>(tracks_.size());
   st.ms_klt = msSince(t0);
 
   // ---- RANSAC on the epipolar constraint (keyframe -> current) ----
@@ -457,6 +463,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
       }
     }
   }
+  st.epipolar_kept = static_cast<int>(tracks_.size());
   st.ms_epipolar = msSince(t0);
 
   // ---- sparse stereo for the tracked points ----
@@ -465,8 +472,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
     std::vector<cv::Point2f> pts(tracks_.size());
     for (size_t i = 0; i < tracks_.size(); ++i)
       pts[i] = tracks_[i].cur;
-    const double max_d = std::min<double>(p_.max_disparity_px, cam_.fx * cam_.baseline / p_.min_depth_m);
-    const std::vector<float> d = stereo_.match(left, right, pts, max_d);
+    const std::vector<float> d = stereo_.match(left, right, pts, maxDisparity());
     for (size_t i = 0; i < tracks_.size(); ++i)
       tracks_[i].cur_disp = d[i];
   }
@@ -541,12 +547,18 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
 
   // ---- plausibility: no jumps ----
   const Eigen::Isometry3d T_prev_cur = T_kf_prev_.inverse() * T_kf_cur;
+  // Translation: the change against the constant-velocity prediction is bounded by max_speed
+  // (a walking head cannot jump; a vehicle moving fast but steadily is fine). A solution that a
+  // clear majority of the tracks supports (>= 2 x min_inliers and >= half the tracks) is accepted
+  // even when it exceeds the bound: that is the start of tracking on a fast platform, not a jump.
   const double max_t = p_.max_speed_mps * dt + 0.02;
   const double max_r = p_.max_angular_speed_dps * M_PI / 180.0 * dt + 0.02;
+  const int n_in = static_cast<int>(rr.inliers.size());
+  const bool strong = n_in >= 2 * p_.min_inliers && 2 * n_in >= static_cast<int>(tracks_.size());
   std::string bad;
   if (!T_kf_cur.matrix().allFinite())
     bad = "non-finite motion";
-  else if (T_prev_cur.translation().norm() > max_t)
+  else if ((T_prev_cur.translation() - T_pred.translation()).norm() > max_t && !strong)
     bad = "implausible translation";
   else if (angleOf(T_prev_cur.linear()) > max_r)
     bad = "implausible rotation";

@@ -1,4 +1,5 @@
-// vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--set name=value ...]
+// vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--verbose] [--set name=value ...]
+// (--verbose: per-frame stage counts on stderr: KLT tracks, epipolar kept, P3P inliers, corners)
 // Runs the VO core on every stereo frame of a bag (no roscore), and on the same frames the peer:
 // OpenCV contrib's cv::rgbd::RgbdOdometry fed with StereoSGBM depth. Prints per-stage times,
 // trajectory errors against the bag's ground truth (assistive_sim_eval), then one JSON line.
@@ -118,7 +119,7 @@ struct Peer
 int main(int argc, char** argv)
 {
   std::string bag, plot;
-  bool peer_on = true, imu_on = true;
+  bool peer_on = true, imu_on = true, verbose = false;
   std::vector<std::string> overrides;
   long max_frames = -1;
   for (int i = 1; i < argc; ++i)
@@ -132,11 +133,13 @@ int main(int argc, char** argv)
       imu_on = false;
     else if (a == "--frames" && i + 1 < argc)
       max_frames = std::stol(argv[++i]);
+    else if (a == "--verbose")
+      verbose = true;
     else if (a == "--set" && i + 1 < argc)
       overrides.push_back(argv[++i]);
     else if (a == "-h" || a == "--help")
     {
-      std::cout << "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N]\n";
+      std::cout << "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--verbose] [--set name=value]\n";
       return 0;
     }
     else
@@ -144,7 +147,7 @@ int main(int argc, char** argv)
   }
   if (bag.empty())
   {
-    std::cerr << "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N]\n";
+    std::cerr << "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--verbose] [--set name=value]\n";
     return 2;
   }
   if (plot.empty())
@@ -177,14 +180,22 @@ int main(int argc, char** argv)
                                      {"ba_huber_px", &params.ba_huber_px},
                                      {"replenish_ratio", &params.replenish_ratio},
                                      {"max_rotation_from_keyframe_deg", &params.max_rotation_from_keyframe_deg},
-                                     {"epipolar_threshold_px", &params.epipolar_threshold_px}};
+                                     {"epipolar_threshold_px", &params.epipolar_threshold_px},
+                                     {"max_speed_mps", &params.max_speed_mps},
+                                     {"max_angular_speed_dps", &params.max_angular_speed_dps},
+                                     {"min_depth_m", &params.min_depth_m},
+                                     {"max_depth_m", &params.max_depth_m},
+                                     {"stereo_max_mean_sad", &params.stereo_max_mean_sad},
+                                     {"min_triangulation_disparity_px", &params.min_triangulation_disparity_px}};
     std::map<std::string, int*> n{{"target_features", &params.target_features},
                                   {"min_tracks", &params.min_tracks},
                                   {"klt_window", &params.klt_window},
                                   {"klt_levels", &params.klt_levels},
                                   {"ba_iterations", &params.ba_iterations},
                                   {"stereo_half_window", &params.stereo_half_window},
-                                  {"fast_threshold", &params.fast_threshold}};
+                                  {"fast_threshold", &params.fast_threshold},
+                                  {"max_disparity_px", &params.max_disparity_px},
+                                  {"min_inliers", &params.min_inliers}};
     for (const std::string& o : overrides)
     {
       const size_t eq = o.find('=');
@@ -267,6 +278,13 @@ int main(int argc, char** argv)
     }
     else
       bad_run = 0;
+    if (verbose)
+      std::cerr << "frame " << frames << " " << toString(o.state) << " klt " << o.stats.klt_tracked << " epipolar "
+                << o.stats.epipolar_kept << " p3p_inliers " << o.stats.inliers << " trials " << o.stats.ransac_trials
+                << (o.stats.keyframe ? " | keyframe: detected " + std::to_string(o.stats.detected) +
+                                           " with_depth " + std::to_string(o.stats.new_features)
+                                     : std::string())
+                << "\n";
     if (!o.message.empty())
       std::cerr << "frame " << frames << " t=" << std::fixed << std::setprecision(3) << f.stamp << " "
                 << toString(o.state) << ": " << o.message << "\n";

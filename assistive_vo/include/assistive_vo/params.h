@@ -26,7 +26,8 @@ struct VoParams
   double stereo_max_mean_sad = 18.0;     // mean absolute difference per pixel
   double stereo_uniqueness = 0.85;       // best cost < uniqueness * second best (outside +-1)
   double min_depth_m = 0.2;
-  double max_depth_m = 30.0;
+  double max_depth_m = 30.0;             // farthest feature depth ...
+  double min_triangulation_disparity_px = 5.0;  // ... or farther while the disparity stays above this
 
   // --- KLT tracking ---
   int klt_window = 21;

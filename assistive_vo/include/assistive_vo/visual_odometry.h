@@ -1,4 +1,5 @@
 #pragma once
+#include <algorithm>
 #include <string>
 #include <vector>
 #include <Eigen/Geometry>
@@ -27,6 +28,9 @@ struct FrameStats
   double ms_total = 0, ms_pyramid = 0, ms_klt = 0, ms_epipolar = 0, ms_stereo = 0, ms_ransac = 0,
          ms_ba = 0, ms_detect = 0;
   int tracks = 0, inliers = 0, ransac_trials = 0, new_features = 0, fast_threshold = 0;
+  // per-stage counts of this frame (diagnosis): corners detected, KLT tracks kept, tracks kept
+  // by the epipolar RANSAC (new_features = detected corners with stereo depth, inliers = P3P)
+  int detected = 0, klt_tracked = 0, epipolar_kept = 0;
   bool keyframe = false, reset = false;
 };
 
@@ -91,6 +95,12 @@ private:
                 const Eigen::Isometry3d& T_prev_cur_pred, double stamp, FrameStats& st);
   VoOutput makeOutput(TrackingState s, const FrameStats& st, const Eigen::Isometry3d& T_prev_cur, double dt);
   bool imageUsable(const cv::Mat& img, std::string& why) const;
+  /// Stereo search range: disparity of the nearest useful depth (fx * baseline / min_depth_m),
+  /// capped by max_disparity_px.
+  double maxDisparity() const
+  {
+    return std::min<double>(p_.max_disparity_px, cam_.fx * cam_.baseline / p_.min_depth_m);
+  }
 
   VoParams p_;
   StereoCamera cam_;
