@@ -61,6 +61,7 @@ struct Peer
   cv::Mat prev_img, prev_depth;
   Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();
   int failures = 0;
+  double max_translation_m = 0.15;  // per frame
 
   void init(const StereoCamera& cam)
   {
@@ -68,8 +69,12 @@ struct Peer
     const cv::Mat K = (cv::Mat_<float>(3, 3) << cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
     // Depth 0.3-8 m (SGBM depth beyond is too noisy at 0.12 m baseline), depth difference
     // 0.15 m, 20 % of the pixels: a little better than OpenCV's Kinect defaults on these bags.
-    odo = cv::rgbd::RgbdOdometry::create(K, 0.3f, 8.f, 0.15f);
+    // Wider rigs (KITTI 0.54 m at 721 px) resolve farther: up to the depth of an 8 px disparity.
+    // Its translation limit per frame: OpenCV's default 0.15 m unless --peer-max-translation M.
+    const double fb = cam.fx * cam.baseline;
+    odo = cv::rgbd::RgbdOdometry::create(K, 0.3f, static_cast<float>(std::max(8.0, fb / 8.0)), 0.15f);
     odo->setMaxPointsPart(0.2);
+    odo->setMaxTranslation(std::max(0.15, max_translation_m));
   }
   void process(const StereoCamera& cam, const cv::Mat& left, const cv::Mat& right)
   {
@@ -120,6 +125,7 @@ int main(int argc, char** argv)
 {
   std::string bag, plot;
   bool peer_on = true, imu_on = true, verbose = false;
+  double peer_max_t = 0.15;
   std::vector<std::string> overrides;
   long max_frames = -1;
   for (int i = 1; i < argc; ++i)
@@ -133,6 +139,8 @@ int main(int argc, char** argv)
       imu_on = false;
     else if (a == "--frames" && i + 1 < argc)
       max_frames = std::stol(argv[++i]);
+    else if (a == "--peer-max-translation" && i + 1 < argc)
+      peer_max_t = std::atof(argv[++i]);
     else if (a == "--verbose")
       verbose = true;
     else if (a == "--set" && i + 1 < argc)
@@ -219,6 +227,7 @@ int main(int argc, char** argv)
   VisualOdometry vo(params);
   ImuBuffer imu(5.0);
   Peer peer;
+  peer.max_translation_m = peer_max_t;
   ev::Trajectory gt, est, peer_est;
   std::map<std::string, std::vector<double>> ms;
   std::vector<double> wall, peer_ms, peer_wall;
@@ -369,6 +378,15 @@ int main(int argc, char** argv)
        << ", \"endpoint_drift_pct\": " << num(rep.endpoint_drift_pct) << ", \"path_length_m\": " << num(rep.path_length_m);
   else
     js << ", \"drift_pct\": null, \"drift_deg_per_m\": null, \"ate_rmse_m\": null, \"max_jump_m\": null";
+  // Net estimated motion first -> last pose (a still clip must stay near zero).
+  if (est.size() >= 2)
+  {
+    const Eigen::Isometry3d d = est.front().pose.inverse() * est.back().pose;
+    js << ", \"est_net_motion_m\": " << num(d.translation().norm(), 6)
+       << ", \"est_net_rotation_deg\": " << num(Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI, 6);
+  }
+  else
+    js << ", \"est_net_motion_m\": null, \"est_net_rotation_deg\": null";
   js << ", \"resets\": " << vo.resets() << ", \"frames_not_tracking\": " << lost
      << ", \"max_recovery_frames\": " << max_bad_run;
   for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect"})
