@@ -54,12 +54,13 @@ bool skipLine(const std::string& line)
   const auto p = line.find_first_not_of(" \t\r");
   return p == std::string::npos || line[p] == '#';
 }
-}  // namespace
 
-Trajectory readTum(const std::string& path)
+// Calls row(values) for every non-comment line of `path`; each must hold exactly `count` numbers
+// (`layout` names them in the error).
+template <typename Row>
+void forEachRow(const std::string& path, size_t count, const std::string& layout, Row row)
 {
   std::ifstream f = openOrThrow(path);
-  Trajectory out;
   std::string line;
   size_t no = 0;
   while (std::getline(f, line))
@@ -68,9 +69,18 @@ Trajectory readTum(const std::string& path)
     if (skipLine(line))
       continue;
     const auto v = parseNumbers(line, path, no);
-    if (v.size() != 8)
-      throw std::runtime_error(path + ":" + std::to_string(no) + ": expected 8 values (t tx ty tz qx qy qz qw), got " +
+    if (v.size() != count)
+      throw std::runtime_error(path + ":" + std::to_string(no) + ": expected " + layout + ", got " +
                                std::to_string(v.size()));
+    row(v, no);
+  }
+}
+}  // namespace
+
+Trajectory readTum(const std::string& path)
+{
+  Trajectory out;
+  forEachRow(path, 8, "8 values (t tx ty tz qx qy qz qw)", [&](const std::vector<double>& v, size_t no) {
     Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
     if (!(q.norm() > 1e-9) || !std::isfinite(q.norm()))
       throw std::runtime_error(path + ":" + std::to_string(no) + ": invalid quaternion");
@@ -79,7 +89,7 @@ Trajectory readTum(const std::string& path)
     sp.pose.linear() = q.normalized().toRotationMatrix();
     sp.pose.translation() = Eigen::Vector3d(v[1], v[2], v[3]);
     out.push_back(sp);
-  }
+  });
   if (out.empty())
     throw std::runtime_error("no poses in '" + path + "'");
   return out;
@@ -102,19 +112,8 @@ void writeTum(const std::string& path, const Trajectory& traj)
 
 Trajectory readKitti(const std::string& path, const std::string& times_path)
 {
-  std::ifstream f = openOrThrow(path);
   Trajectory out;
-  std::string line;
-  size_t no = 0;
-  while (std::getline(f, line))
-  {
-    ++no;
-    if (skipLine(line))
-      continue;
-    const auto v = parseNumbers(line, path, no);
-    if (v.size() != 12)
-      throw std::runtime_error(path + ":" + std::to_string(no) + ": expected 12 values (KITTI 3x4 pose), got " +
-                               std::to_string(v.size()));
+  forEachRow(path, 12, "12 values (KITTI 3x4 pose)", [&](const std::vector<double>& v, size_t) {
     StampedPose sp;
     sp.t = static_cast<double>(out.size());
     Eigen::Matrix3d R;
@@ -122,26 +121,17 @@ Trajectory readKitti(const std::string& path, const std::string& times_path)
     sp.pose.linear() = R;
     sp.pose.translation() = Eigen::Vector3d(v[3], v[7], v[11]);
     out.push_back(sp);
-  }
+  });
   if (out.empty())
     throw std::runtime_error("no poses in '" + path + "'");
   if (!times_path.empty())
   {
-    std::ifstream tf = openOrThrow(times_path);
     size_t i = 0;
-    no = 0;
-    while (std::getline(tf, line))
-    {
-      ++no;
-      if (skipLine(line))
-        continue;
-      const auto v = parseNumbers(line, times_path, no);
-      if (v.size() != 1)
-        throw std::runtime_error(times_path + ":" + std::to_string(no) + ": expected one time stamp");
+    forEachRow(times_path, 1, "one time stamp", [&](const std::vector<double>& v, size_t) {
       if (i >= out.size())
         throw std::runtime_error(times_path + ": more stamps than poses in " + path);
       out[i++].t = v[0];
-    }
+    });
     if (i != out.size())
       throw std::runtime_error(times_path + ": " + std::to_string(i) + " stamps for " + std::to_string(out.size()) +
                                " poses in " + path);
