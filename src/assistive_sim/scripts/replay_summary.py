@@ -90,13 +90,15 @@ def main():
                 last_grid = msg
             elif topic == "/planner/state":
                 counts["planner_states"] += 1
-                status[STATUS.get(msg.status, "other")] = status.get(STATUS.get(msg.status, "other"), 0) + 1
+                name = STATUS.get(msg.status, "other")
+                status[name] = status.get(name, 0) + 1
             elif topic == "/planner/path":
                 counts["paths"] += 1
                 last_path = [(ps.pose.position.x, ps.pose.position.y) for ps in msg.poses]
             elif topic == "/tactile/cue":
                 counts["cues"] += 1
-                modes[MODES.get(msg.mode, "other")] = modes.get(MODES.get(msg.mode, "other"), 0) + 1
+                name = MODES.get(msg.mode, "other")
+                modes[name] = modes.get(name, 0) + 1
                 for i, m in enumerate(MOTORS):
                     motor_on[m] += msg.intensity[i] > 0.0
                 if msg.source_stamp.to_sec() > 0:
