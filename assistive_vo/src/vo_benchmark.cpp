@@ -187,6 +187,7 @@ int main(int argc, char** argv)
                                      {"inlier_threshold_px", &params.inlier_threshold_px},
                                      {"ba_huber_px", &params.ba_huber_px},
                                      {"replenish_ratio", &params.replenish_ratio},
+                                     {"replenish_coverage_ratio", &params.replenish_coverage_ratio},
                                      {"max_rotation_from_keyframe_deg", &params.max_rotation_from_keyframe_deg},
                                      {"epipolar_threshold_px", &params.epipolar_threshold_px},
                                      {"max_speed_mps", &params.max_speed_mps},
@@ -203,7 +204,9 @@ int main(int argc, char** argv)
                                   {"stereo_half_window", &params.stereo_half_window},
                                   {"fast_threshold", &params.fast_threshold},
                                   {"max_disparity_px", &params.max_disparity_px},
-                                  {"min_inliers", &params.min_inliers}};
+                                  {"min_inliers", &params.min_inliers},
+                                  {"grid_cols", &params.grid_cols},
+                                  {"grid_rows", &params.grid_rows}};
     for (const std::string& o : overrides)
     {
       const size_t eq = o.find('=');

@@ -18,6 +18,8 @@ struct VoParams
   double min_feature_distance_px = 12.0;  // new corners this far from existing tracks
   double replenish_ratio = 0.35;  // re-detect when tracks alive < ratio * tracks started
   int min_tracks = 40;            // ... or when fewer than this many tracks are alive
+  double replenish_coverage_ratio = 0.8;  // ... or when the tracks hold fewer bucketing-grid cells than
+                                          // ratio x the cells held at the keyframe (0 = off)
 
   // --- sparse stereo along the rectified row ---
   int stereo_half_window = 4;     // SAD window (2h+1)^2
