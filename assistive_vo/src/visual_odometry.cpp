@@ -198,7 +198,8 @@ int VisualOdometry::occupiedCells() const
   // Image coverage of the tracks on the detector's bucketing grid. Tracks that crowd into part of
   // the image (forward motion: they leave at the edges and the far ones in the centre remain)
   // constrain the motion poorly even while many are left.
-  const int gc = std::max(1, p_.grid_cols), gr = std::max(1, p_.grid_rows);
+  const cv::Size grid = bucketGrid(p_, cam_.width, cam_.height);
+  const int gc = grid.width, gr = grid.height;
   std::vector<uint8_t> occ(static_cast<size_t>(gc * gr), 0);
   int n = 0;
   for (const auto& t : tracks_)

@@ -188,6 +188,7 @@ int main(int argc, char** argv)
                                      {"ba_huber_px", &params.ba_huber_px},
                                      {"replenish_ratio", &params.replenish_ratio},
                                      {"replenish_coverage_ratio", &params.replenish_coverage_ratio},
+                                     {"grid_cell_px", &params.grid_cell_px},
                                      {"max_rotation_from_keyframe_deg", &params.max_rotation_from_keyframe_deg},
                                      {"epipolar_threshold_px", &params.epipolar_threshold_px},
                                      {"max_speed_mps", &params.max_speed_mps},
@@ -204,9 +205,7 @@ int main(int argc, char** argv)
                                   {"stereo_half_window", &params.stereo_half_window},
                                   {"fast_threshold", &params.fast_threshold},
                                   {"max_disparity_px", &params.max_disparity_px},
-                                  {"min_inliers", &params.min_inliers},
-                                  {"grid_cols", &params.grid_cols},
-                                  {"grid_rows", &params.grid_rows}};
+                                  {"min_inliers", &params.min_inliers}};
     for (const std::string& o : overrides)
     {
       const size_t eq = o.find('=');

@@ -12,8 +12,8 @@ struct VoParams
   int fast_threshold_max = 120;
   int fast_threshold_step = 4;    // change per replenishment
   int target_features = 250;      // features wanted after a replenishment
-  int grid_cols = 8;              // bucketing grid (one best corner per cell slot)
-  int grid_rows = 6;
+  double grid_cell_px = 80.0;     // bucketing grid of about square cells of this side:
+                                  // round(width / cell) x round(height / cell) (8 x 6 at 640x480)
   int border_px = 12;             // no features this close to the image border
   double min_feature_distance_px = 12.0;  // new corners this far from existing tracks
   double replenish_ratio = 0.35;  // re-detect when tracks alive < ratio * tracks started

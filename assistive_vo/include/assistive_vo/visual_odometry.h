@@ -95,7 +95,7 @@ private:
                 const Eigen::Isometry3d& T_prev_cur_pred, double stamp, FrameStats& st);
   VoOutput makeOutput(TrackingState s, const FrameStats& st, const Eigen::Isometry3d& T_prev_cur, double dt);
   bool imageUsable(const cv::Mat& img, std::string& why) const;
-  /// Cells of the detector grid (grid_cols x grid_rows over the image) that hold a track.
+  /// Cells of the detector's bucketing grid (bucketGrid) that hold a track.
   int occupiedCells() const;
   /// Stereo search range: disparity of the nearest useful depth (fx * baseline / min_depth_m),
   /// capped by max_disparity_px.
