@@ -45,16 +45,17 @@ std::vector<cv::Point2f> FeatureDetector::detect(const cv::Mat& img,
   // Strongest first, bucketed: at most `per_cell` per grid cell.
   std::sort(kps_.begin(), kps_.end(),
             [](const cv::KeyPoint& a, const cv::KeyPoint& b) { return a.response > b.response; });
-  const int cells = std::max(1, p_.grid_cols * p_.grid_rows);
+  const cv::Size grid = bucketGrid(p_, img.cols, img.rows);
+  const int cells = grid.width * grid.height;
   const int per_cell = std::max(1, (wanted + static_cast<int>(existing.size())) / cells + 1);
   std::vector<int> count(static_cast<size_t>(cells), 0);
   for (const auto& q : existing)
   {
     if (q.x < 0 || q.y < 0 || q.x >= img.cols || q.y >= img.rows)
       continue;
-    const int gx = std::min(p_.grid_cols - 1, static_cast<int>(q.x * p_.grid_cols / img.cols));
-    const int gy = std::min(p_.grid_rows - 1, static_cast<int>(q.y * p_.grid_rows / img.rows));
-    ++count[static_cast<size_t>(gy * p_.grid_cols + gx)];
+    const int gx = std::min(grid.width - 1, static_cast<int>(q.x * grid.width / img.cols));
+    const int gy = std::min(grid.height - 1, static_cast<int>(q.y * grid.height / img.rows));
+    ++count[static_cast<size_t>(gy * grid.width + gx)];
   }
   const float b = static_cast<float>(p_.border_px);
   for (const auto& k : kps_)
@@ -64,9 +65,9 @@ std::vector<cv::Point2f> FeatureDetector::detect(const cv::Mat& img,
     const cv::Point2f& q = k.pt;
     if (q.x < b || q.y < b || q.x >= img.cols - b || q.y >= img.rows - b)
       continue;
-    const int gx = std::min(p_.grid_cols - 1, static_cast<int>(q.x * p_.grid_cols / img.cols));
-    const int gy = std::min(p_.grid_rows - 1, static_cast<int>(q.y * p_.grid_rows / img.rows));
-    int& c = count[static_cast<size_t>(gy * p_.grid_cols + gx)];
+    const int gx = std::min(grid.width - 1, static_cast<int>(q.x * grid.width / img.cols));
+    const int gy = std::min(grid.height - 1, static_cast<int>(q.y * grid.height / img.rows));
+    int& c = count[static_cast<size_t>(gy * grid.width + gx)];
     if (c >= per_cell || occupied(q))
       continue;
     ++c;

@@ -80,6 +80,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     pnh.param("target_features", p.target_features, p.target_features);
     pnh.param("replenish_ratio", p.replenish_ratio, p.replenish_ratio);
     pnh.param("min_tracks", p.min_tracks, p.min_tracks);
+    pnh.param("replenish_coverage_ratio", p.replenish_coverage_ratio, p.replenish_coverage_ratio);
     pnh.param("max_disparity", p.max_disparity_px, p.max_disparity_px);
     pnh.param("stereo_half_window", p.stereo_half_window, p.stereo_half_window);
     pnh.param("klt_window", p.klt_window, p.klt_window);
@@ -125,6 +126,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     clampI("target_features", p.target_features, 20, 2000);
     clampD("replenish_ratio", p.replenish_ratio, 0.05, 0.95);
     clampI("min_tracks", p.min_tracks, 8, 1000);
+    clampD("replenish_coverage_ratio", p.replenish_coverage_ratio, 0.0, 0.95);
     clampI("max_disparity", p.max_disparity_px, 8, 512);
     clampI("stereo_half_window", p.stereo_half_window, 1, 15);
     clampI("klt_window", p.klt_window, 5, 61);

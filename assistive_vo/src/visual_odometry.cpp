@@ -180,6 +180,7 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
   }
   tracks_.swap(kept);
   tracks_started_ = static_cast<int>(tracks_.size());
+  cells_started_ = occupiedCells();
   st.new_features = added;
   st.keyframe = true;
   T_w_kf_ = T_w_cur_;
@@ -190,6 +191,26 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
   cov_kf_ = cov_cur_;
   have_keyframe_ = tracks_started_ >= std::max(4, p_.min_inliers);
   st.ms_detect += msSince(t0);
+}
+
+int VisualOdometry::occupiedCells() const
+{
+  // Image coverage of the tracks on the detector's bucketing grid. Tracks that crowd into part of
+  // the image (forward motion: they leave at the edges and the far ones in the centre remain)
+  // constrain the motion poorly even while many are left.
+  const cv::Size grid = bucketGrid(p_, cam_.width, cam_.height);
+  const int gc = grid.width, gr = grid.height;
+  std::vector<uint8_t> occ(static_cast<size_t>(gc * gr), 0);
+  int n = 0;
+  for (const auto& t : tracks_)
+  {
+    const int x = std::clamp(static_cast<int>(t.cur.x * gc / std::max(1, cam_.width)), 0, gc - 1);
+    const int y = std::clamp(static_cast<int>(t.cur.y * gr / std::max(1, cam_.height)), 0, gr - 1);
+    uint8_t& o = occ[static_cast<size_t>(y * gc + x)];
+    n += o == 0;
+    o = 1;
+  }
+  return n;
 }
 
 VoOutput VisualOdometry::makeOutput(TrackingState s, const FrameStats& st, const Eigen::Isometry3d& T_prev_cur,
@@ -599,6 +620,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
 
   // ---- replenish (new keyframe) ----
   if (static_cast<int>(tracks_.size()) < p_.replenish_ratio * tracks_started_ ||
+      occupiedCells() < p_.replenish_coverage_ratio * cells_started_ ||
       static_cast<int>(tracks_.size()) < p_.min_tracks ||
       angleOf(T_kf_cur.linear()) > p_.max_rotation_from_keyframe_deg * M_PI / 180.0)
   {

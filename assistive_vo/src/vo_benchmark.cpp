@@ -187,6 +187,8 @@ int main(int argc, char** argv)
                                      {"inlier_threshold_px", &params.inlier_threshold_px},
                                      {"ba_huber_px", &params.ba_huber_px},
                                      {"replenish_ratio", &params.replenish_ratio},
+                                     {"replenish_coverage_ratio", &params.replenish_coverage_ratio},
+                                     {"grid_cell_px", &params.grid_cell_px},
                                      {"max_rotation_from_keyframe_deg", &params.max_rotation_from_keyframe_deg},
                                      {"epipolar_threshold_px", &params.epipolar_threshold_px},
                                      {"max_speed_mps", &params.max_speed_mps},

@@ -23,11 +23,36 @@ TEST(FeatureDetector, SpreadAndKeepsAwayFromExisting)
       EXPECT_GE(cv::norm(q - e), p.min_feature_distance_px * 0.99);
   }
   // every grid row of the image gets corners
-  std::vector<int> rows(static_cast<size_t>(p.grid_rows), 0);
+  const cv::Size grid = bucketGrid(p, img.cols, img.rows);
+  EXPECT_EQ(grid, cv::Size(8, 6));
+  std::vector<int> rows(static_cast<size_t>(grid.height), 0);
   for (const auto& q : f)
-    ++rows[static_cast<size_t>(q.y * p.grid_rows / img.rows)];
+    ++rows[static_cast<size_t>(q.y * grid.height / img.rows)];
   for (int r : rows)
     EXPECT_GT(r, 0);
+}
+
+TEST(FeatureDetector, SquareCellsOnAWideImage)
+{
+  // KITTI's 1242x375: about square 80 px cells (16 x 5), not 8 x 6 cells of 155 x 62 px. Corners
+  // then spread over every column band of the wide image, as many in the outer quarters (which
+  // constrain forward motion) as the texture allows.
+  VoParams p;
+  EXPECT_EQ(bucketGrid(p, 1242, 375), cv::Size(16, 5));
+  EXPECT_EQ(bucketGrid(p, 752, 480), cv::Size(9, 6));
+  cv::Mat img = test::randomTexture(1242, 6)(cv::Rect(0, 0, 1242, 375)).clone();
+  FeatureDetector d(p);
+  const std::vector<cv::Point2f> f = d.detect(img, {}, 250);
+  EXPECT_GT(f.size(), 200u);
+  std::vector<int> cols(16, 0);
+  for (const auto& q : f)
+    ++cols[static_cast<size_t>(q.x * 16 / img.cols)];
+  const int per_cell_max = 250 / 80 + 1;
+  for (int c : cols)
+  {
+    EXPECT_GT(c, 0);
+    EXPECT_LE(c, 5 * per_cell_max);  // at most the per-cell quota in each of the 5 cells
+  }
 }
 
 TEST(FeatureDetector, ThresholdAdaptsToTexture)

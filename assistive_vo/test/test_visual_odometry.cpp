@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <iostream>
 #include "assistive_vo/frames.h"
 #include "assistive_vo/visual_odometry.h"
 #include "synthetic.h"
@@ -105,6 +106,43 @@ TEST(VisualOdometry, TracksFastSteadyMotion)
   EXPECT_LT((est.translation() - gt.translation()).norm(), 0.01 * 0.06 * N);
   EXPECT_NEAR(o.linear_velocity.x(), 12.0, 1.0);
   EXPECT_EQ(r.vo.resets(), 0);
+}
+
+TEST(VisualOdometry, NewKeyframeWhenTracksCoverLessOfTheImage)
+{
+  // Sideways motion (0.1 m/frame, the wall 6 m away moves ~8 px/frame): the tracks slide off one
+  // side of the image. The count rule (35 % of the tracks left) fires late; the coverage rule
+  // starts a new keyframe as soon as the tracks hold fewer than replenish_coverage_ratio of the
+  // grid cells they held when the keyframe started, and the pose stays accurate.
+  auto pose = [](int k) { return test::makePose(0, 0, 0, 0.1 * k, 0, 0); };
+  int first_kf[2] = {-1, -1};
+  double err[2] = {0, 0};
+  for (int c = 0; c < 2; ++c)
+  {
+    VoParams p;
+    p.replenish_coverage_ratio = c == 0 ? 0.0 : 0.8;
+    const StereoCamera cam = test::makeCamera();
+    test::PlaneWorld world;
+    VisualOdometry vo(p, cam);
+    const int N = 30;
+    VoOutput o = vo.process(world.render(cam, pose(0), false), world.render(cam, pose(0), true), 0.0);
+    const Eigen::Isometry3d T0 = o.T_odom_optical;
+    for (int k = 1; k <= N; ++k)
+    {
+      o = vo.process(world.render(cam, pose(k), false), world.render(cam, pose(k), true), k / 15.0);
+      ASSERT_EQ(o.state, TrackingState::TRACKING) << "frame " << k << " " << o.message;
+      if (o.stats.keyframe && first_kf[c] < 0)
+        first_kf[c] = k;
+    }
+    err[c] = ((T0.inverse() * o.T_odom_optical).translation() - pose(N).translation()).norm();
+    EXPECT_EQ(vo.resets(), 0);
+  }
+  std::cout << "first new keyframe: frame " << first_kf[0] << " (count rule only), " << first_kf[1]
+            << " (coverage 0.8); end error " << err[0] << " / " << err[1] << " m\n";
+  ASSERT_GT(first_kf[1], 0);
+  EXPECT_LE(first_kf[1], 20);
+  EXPECT_TRUE(first_kf[0] < 0 || first_kf[0] > first_kf[1] + 3) << first_kf[0] << " vs " << first_kf[1];
+  EXPECT_LT(err[1], 0.01 * 0.1 * 30);
 }
 
 TEST(VisualOdometry, BadFramesNeverJumpAndRecover)

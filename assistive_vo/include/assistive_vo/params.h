@@ -12,12 +12,14 @@ struct VoParams
   int fast_threshold_max = 120;
   int fast_threshold_step = 4;    // change per replenishment
   int target_features = 250;      // features wanted after a replenishment
-  int grid_cols = 8;              // bucketing grid (one best corner per cell slot)
-  int grid_rows = 6;
+  double grid_cell_px = 80.0;     // bucketing grid of about square cells of this side:
+                                  // round(width / cell) x round(height / cell) (8 x 6 at 640x480)
   int border_px = 12;             // no features this close to the image border
   double min_feature_distance_px = 12.0;  // new corners this far from existing tracks
   double replenish_ratio = 0.35;  // re-detect when tracks alive < ratio * tracks started
   int min_tracks = 40;            // ... or when fewer than this many tracks are alive
+  double replenish_coverage_ratio = 0.8;  // ... or when the tracks hold fewer bucketing-grid cells than
+                                          // ratio x the cells held at the keyframe (0 = off)
 
   // --- sparse stereo along the rectified row ---
   int stereo_half_window = 4;     // SAD window (2h+1)^2

@@ -95,6 +95,8 @@ private:
                 const Eigen::Isometry3d& T_prev_cur_pred, double stamp, FrameStats& st);
   VoOutput makeOutput(TrackingState s, const FrameStats& st, const Eigen::Isometry3d& T_prev_cur, double dt);
   bool imageUsable(const cv::Mat& img, std::string& why) const;
+  /// Cells of the detector's bucketing grid (bucketGrid) that hold a track.
+  int occupiedCells() const;
   /// Stereo search range: disparity of the nearest useful depth (fx * baseline / min_depth_m),
   /// capped by max_disparity_px.
   double maxDisparity() const
@@ -126,6 +128,7 @@ private:
   std::vector<cv::Mat> prev_pyr_, cur_pyr_;
   std::vector<Track> tracks_;
   int tracks_started_ = 0;
+  int cells_started_ = 0;  ///< grid cells holding a track when the keyframe started
   int resets_ = 0;
   // last frame's flow for the overlay
   std::vector<cv::Point2f> ov_from_, ov_to_;
