@@ -15,6 +15,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <array>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -78,7 +80,7 @@ bool setParam(ObstaclesParams& p, const std::string& k, const std::string& v)
   D(disparity_scale) I(max_disparity) I(block_size) I(uniqueness_ratio) I(speckle_window_size) I(speckle_range)
   I(disp12_max_diff) D(edge_filter) D(min_depth) D(max_depth) I(point_stride) D(cell_size) D(window_radius) I(min_points_per_cell)
   D(gap_height) D(step_height) D(min_step) D(head_clearance) D(camera_height) D(max_surface_rise) D(max_surface_drop)
-  D(cluster_gap) I(min_cluster_points) D(thickness_trim) I(min_traversable_edges) I(closing_radius) I(fine_factor) D(peak_fraction)
+  D(cluster_gap) I(min_cluster_points) D(thickness_trim) I(min_traversable_edges) I(closing_radius) I(fine_factor) D(peak_fraction) D(ground_quantile) I(closing_weight) D(disparity_sigma) D(obstacle_max_sigma) I(sgbm_p1) I(sgbm_p2)
   I(min_observations) D(obstacle_ratio) I(permanent_flips) I(max_count) D(full_weight_range) D(dropout_max_range) I(dropout_free_weight) D(vote_max_range)
 #undef D
 #undef I
@@ -164,6 +166,7 @@ int main(int argc, char** argv)
   std::vector<double> ms_disp, ms_map, npts;
   Sum s3, s5;
   size_t fp_adjacent = 0, fp_isolated = 0, fp_step = 0;  // within 3 m, summed over frames
+  std::map<std::pair<int, int>, std::array<int, 2>> fp_cells;  // OBST_FPMAP: frames each cell was a FP (obstacle, step)
   std::set<size_t> free_where_obstacle;
   assistive_sim::StereoFrame f;
   int frames = 0, used = 0, no_pose = 0;
@@ -294,6 +297,7 @@ int main(int argc, char** argv)
           const int8_t e = est.data[static_cast<size_t>(ey) * est.width + ex];
           if (e != 50 && e != 100) continue;
           if (e == 50) ++fp_step;
+          if (std::getenv("OBST_FPMAP")) ++fp_cells[{cx, cy}][e == 50 ? 1 : 0];
           bool adj = false;
           for (int dy = -1; dy <= 1 && !adj; ++dy)
             for (int dx = -1; dx <= 1 && !adj; ++dx)
@@ -353,6 +357,18 @@ int main(int argc, char** argv)
               fp_isolated, fp_step);
   std::printf("ground-truth obstacle cells ever reported free (5 m): %zu\n", free_where_obstacle.size());
   if (has_truth) std::printf("map plot: %s\n", png.c_str());
+  if (std::getenv("OBST_FPMAP"))
+  {
+    std::vector<std::pair<int, std::pair<int, int>>> top;
+    for (const auto& kv : fp_cells) top.push_back({kv.second[0] + kv.second[1], kv.first});
+    std::sort(top.rbegin(), top.rend());
+    for (size_t i = 0; i < std::min<size_t>(top.size(), 60); ++i)
+    {
+      const auto& c = top[i].second;
+      std::fprintf(stderr, "FPCELL x %.2f y %.2f frames %d (step %d)\n", truth.origin_x + (c.first + 0.5) * truth.resolution,
+                   truth.origin_y + (c.second + 0.5) * truth.resolution, top[i].first, fp_cells[c][1]);
+    }
+  }
   std::cout << "{\"ms_p95_map\": " << num(p95_map, 3) << ", \"ms_p95_disparity\": " << num(p95_disp, 3)
             << ", \"points_per_frame\": " << num(mean(npts), 0) << ", \"recall_3m\": " << num(s3.recall())
             << ", \"precision_3m\": " << num(s3.precision()) << ", \"misclassified_3m\": " << num(s3.misclassified())
