@@ -166,7 +166,7 @@ int main(int argc, char** argv)
   std::vector<double> ms_disp, ms_map, npts;
   Sum s3, s5;
   size_t fp_adjacent = 0, fp_isolated = 0, fp_step = 0;  // within 3 m, summed over frames
-  std::map<std::pair<int, int>, std::array<int, 2>> fp_cells;  // OBST_FPMAP: frames each cell was a FP (obstacle, step)
+  std::map<std::pair<int, int>, std::array<int, 3>> fp_cells;  // OBST_FPMAP: frames each cell was a FP (obstacle, step) / FN
   std::set<size_t> free_where_obstacle;
   assistive_sim::StereoFrame f;
   int frames = 0, used = 0, no_pose = 0;
@@ -288,13 +288,18 @@ int main(int argc, char** argv)
         for (int cx = 0; cx < truth.width; ++cx)
         {
           const int8_t g = truth.data[static_cast<size_t>(cy) * truth.width + cx];
-          if (g != 0) continue;  // ground-truth free only (the scored false positives)
+          if (g != 0 && !(g > 0 && std::getenv("OBST_FPMAP"))) continue;  // ground-truth free only (the scored false positives)
           const double x = truth.origin_x + (cx + 0.5) * truth.resolution, y = truth.origin_y + (cy + 0.5) * truth.resolution;
           if ((Eigen::Vector2d(x, y) - wearer).squaredNorm() > 9.0) continue;
           const int ex = static_cast<int>(std::floor((x - est.origin_x) / est.resolution));
           const int ey = static_cast<int>(std::floor((y - est.origin_y) / est.resolution));
           if (ex < 0 || ey < 0 || ex >= est.width || ey >= est.height) continue;
           const int8_t e = est.data[static_cast<size_t>(ey) * est.width + ex];
+          if (g != 0)
+          {
+            if (e == 0) ++fp_cells[{cx, cy}][2];  // false negative (OBST_FPMAP only)
+            continue;
+          }
           if (e != 50 && e != 100) continue;
           if (e == 50) ++fp_step;
           if (std::getenv("OBST_FPMAP")) ++fp_cells[{cx, cy}][e == 50 ? 1 : 0];
@@ -360,7 +365,8 @@ int main(int argc, char** argv)
   if (std::getenv("OBST_FPMAP"))
   {
     std::vector<std::pair<int, std::pair<int, int>>> top;
-    for (const auto& kv : fp_cells) top.push_back({kv.second[0] + kv.second[1], kv.first});
+    for (const auto& kv : fp_cells)
+      if (kv.second[0] + kv.second[1] > 0) top.push_back({kv.second[0] + kv.second[1], kv.first});
     std::sort(top.rbegin(), top.rend());
     for (size_t i = 0; i < std::min<size_t>(top.size(), 60); ++i)
     {
@@ -368,6 +374,13 @@ int main(int argc, char** argv)
       std::fprintf(stderr, "FPCELL x %.2f y %.2f frames %d (step %d)\n", truth.origin_x + (c.first + 0.5) * truth.resolution,
                    truth.origin_y + (c.second + 0.5) * truth.resolution, top[i].first, fp_cells[c][1]);
     }
+    top.clear();
+    for (const auto& kv : fp_cells)
+      if (kv.second[2] > 0) top.push_back({kv.second[2], kv.first});
+    std::sort(top.rbegin(), top.rend());
+    for (size_t i = 0; i < std::min<size_t>(top.size(), 60); ++i)
+      std::fprintf(stderr, "FNCELL x %.2f y %.2f frames %d\n", truth.origin_x + (top[i].second.first + 0.5) * truth.resolution,
+                   truth.origin_y + (top[i].second.second + 0.5) * truth.resolution, top[i].first);
   }
   std::cout << "{\"ms_p95_map\": " << num(p95_map, 3) << ", \"ms_p95_disparity\": " << num(p95_disp, 3)
             << ", \"points_per_frame\": " << num(mean(npts), 0) << ", \"recall_3m\": " << num(s3.recall())
