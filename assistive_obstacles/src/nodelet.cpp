@@ -116,6 +116,7 @@ private:
     param(pnh, "fine_factor", p.fine_factor);
     param(pnh, "peak_fraction", p.peak_fraction);
     param(pnh, "ground_quantile", p.ground_quantile);
+    param(pnh, "surface_push", p.surface_push);
     param(pnh, "closing_weight", p.closing_weight);
     param(pnh, "disparity_sigma", p.disparity_sigma);
     param(pnh, "obstacle_max_sigma", p.obstacle_max_sigma);

@@ -73,6 +73,23 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   const Eigen::Vector3f t = T_world_cam.translation();
   for (size_t i = 0; i < points_cam.size(); ++i) world_[i] = R * points_cam[i] + t;
   last_origin_ = t;
+  if (params_.surface_push > 0.0)
+  {
+    // A camera sees the front face of a solid; the solid lies behind it. Elevated points are moved
+    // that far along the horizontal viewing ray, so a face on a cell border lands in the solid's cell.
+    const float push = static_cast<float>(params_.surface_push);
+    const float elev = t.z() - static_cast<float>(params_.camera_height) + static_cast<float>(params_.step_height);
+    for (Eigen::Vector3f& p : world_)
+    {
+      if (!(p.z() > elev)) continue;
+      const float dx = p.x() - t.x(), dy = p.y() - t.y(), d = std::sqrt(dx * dx + dy * dy);
+      if (d > 1e-3f)
+      {
+        p.x() += push * dx / d;
+        p.y() += push * dy / d;
+      }
+    }
+  }
 
   window_ = Window::around(t.x(), t.y(), params_.window_radius, params_.cell_size);
   temporal_.resize(window_.n);

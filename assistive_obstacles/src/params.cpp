@@ -60,6 +60,7 @@ std::vector<std::string> clampParams(ObstaclesParams& p)
   clampField(m, "max_surface_drop", p.max_surface_drop, 0.0, 5.0);
   clampField(m, "cluster_gap", p.cluster_gap, 0.0, 1.0);
   clampField(m, "min_cluster_points", p.min_cluster_points, 1, 1000);
+  clampField(m, "surface_push", p.surface_push, 0.0, 0.5);
   clampField(m, "ground_quantile", p.ground_quantile, 0.0, 1.0);
   clampField(m, "thickness_trim", p.thickness_trim, 0.0, 0.45);
   clampField(m, "min_traversable_edges", p.min_traversable_edges, 0, 8);

@@ -1,4 +1,6 @@
 // Full-pipeline scenarios on hand-built point sets: the wearer's camera at 1.6 m, looking along +x.
+#include <random>
+
 #include <gtest/gtest.h>
 
 #include <assistive_obstacles/obstacle_map.h>
@@ -302,6 +304,30 @@ TEST(ObstacleMap, ClosingNeverDecidesAnUnseenCell)
   EXPECT_EQ(codeAt(m, 2.7, 0.1), OBSTACLE);
   EXPECT_EQ(codeAt(m, 2.5, 0.1), UNKNOWN);
   EXPECT_EQ(m.temporal().find(12, 0)->o, 10);  // ten inferred obstacle votes of weight 1, none counted
+}
+
+// A wall whose face lies on a cell border (corridor and glass worlds: faces at y = +-1.0, -1.2):
+// depth noise puts half its points into the free cell in front. The face bounds a solid that
+// lies behind it, so elevated points are pushed surface_push away from the camera.
+TEST(ObstacleMap, WallFaceOnCellBorderStaysInItsCell)
+{
+  Points w;
+  synthetic::patch(w, 0.6, 2.4, -1.0, 1.0, 0.0);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.015);
+  for (double y = -0.98; y < 1.0; y += 0.04)
+    for (double z = 0.0; z <= 1.8; z += 0.04)
+      w.emplace_back(static_cast<float>(2.4 + noise(rng)), static_cast<float>(y), static_cast<float>(z));
+  ObstacleMap m;
+  run(m, w);
+  EXPECT_EQ(codeAt(m, 2.5, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m, 2.3, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 2.3, -0.5), FREE);
+  ObstaclesParams p;
+  p.surface_push = 0.0;
+  ObstacleMap m2(p);
+  run(m2, w);
+  EXPECT_EQ(codeAt(m2, 2.3, 0.1), OBSTACLE);  // without the push the face's noise makes it an obstacle
 }
 
 TEST(ObstacleMap, WindowScrollsWithTheWearer)

@@ -43,6 +43,10 @@ struct ObstaclesParams
   double max_surface_drop = 0.6;    ///< m: ... or this far below them (else obstacle / drop-off)
   double cluster_gap = 0.1;         ///< m: heights closer than this form one sub-cluster (outlier rejection)
   int min_cluster_points = 3;       ///< sub-clusters with fewer points are noise
+  double surface_push = 0.04;       ///< m: elevated points are moved this far away from the camera along the horizontal
+                                    ///< ray: a camera sees the front face of a solid, the solid lies behind it, so a face
+                                    ///< on a cell border (depth noise splits its points) lands in the solid's cell; keep it
+                                    ///< below the thinnest obstacle (0 disables)
   double ground_quantile = 0.7;     ///< quantile of the lowest interval's heights taken as the cell's ground height:
                                     ///< above the median, so a cell holding a curb edge takes the curb's height as
                                     ///< the ground truth does (highest walkable surface in the cell)
