@@ -65,6 +65,7 @@ void MlsClassifier::classify(const ElevationMap& map, float feet_z, std::vector<
   ground_.assign(cells, 0.f);
   labels.assign(cells, FrameLabel::NONE);
   filled_.assign(cells, 0);
+  spill_.assign(cells, 0);
   const float rise = static_cast<float>(params_.max_surface_rise);
   const float drop = static_cast<float>(params_.max_surface_drop);
   for (int c = 0; c < cells; ++c)
@@ -115,6 +116,7 @@ void MlsClassifier::classify(const ElevationMap& map, float feet_z, std::vector<
           const CellKind k = cnt >= params_.min_points_per_cell ? analyse(h, cnt, g, true) : CellKind::EMPTY;
           kind_[c] = (k == CellKind::HORIZONTAL && g <= feet_z + rise && g >= feet_z - drop) ? k : CellKind::EMPTY;
           ground_[c] = g;
+          spill_[c] = 1;
         }
       }
   }

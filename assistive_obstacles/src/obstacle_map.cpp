@@ -168,8 +168,10 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
       if (filled) weight = std::min(weight, params_.closing_weight);
       // Obstacle evidence only where stereo depth is precise enough to put a surface in the right
       // cell (sigma_Z = Z^2 sigma_d / (f B) grows with range^2: a wall seen from afar spills its
-      // points into the cells in front of and behind it).
-      if (lab == FrameLabel::OBSTACLE && obstacle_r2 > 0.0)
+      // points into the cells in front of and behind it). For the same reason a cell judged to
+      // hold only a neighbour's spill takes no free vote from there either (it may be the edge
+      // of the obstacle itself: parking's columns and cars).
+      if (obstacle_r2 > 0.0 && (lab == FrameLabel::OBSTACLE || mls_.spill()[c]))
       {
         const double dx = window_.centerX(lx) - t.x(), dy = window_.centerY(ly) - t.y();
         if (dx * dx + dy * dy > obstacle_r2) continue;

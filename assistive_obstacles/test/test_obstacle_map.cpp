@@ -286,6 +286,31 @@ TEST(ObstacleMap, ObstacleEvidenceOnlyWhereDepthIsPrecise)
   EXPECT_EQ(codeAt(m2, 3.1, 0.1), OBSTACLE);
 }
 
+// Beyond the obstacle evidence range a cell holding only a neighbour's spill (elevated points
+// without a density peak) takes no free vote either: from there the surface may be in it.
+TEST(ObstacleMap, SpillCellTakesNoFreeVoteFromAfar)
+{
+  const StereoModel cam;
+  Points w;
+  synthetic::patch(w, 0.6, 3.4, -1.0, 1.0, 0.0);
+  synthetic::wallX(w, 3.06, -1.0, 1.0, 0.0, 1.8, 0.02);   // dense wall in cell [3.0, 3.2)
+  synthetic::wallX(w, 2.98, -1.0, 1.0, 0.3, 1.5, 0.1);    // sparse spill in cell [2.8, 3.0)
+  const cv::Mat disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 3.0f));
+  const Eigen::Isometry3f T = synthetic::cameraAt(0.0, 0.0, 1.6);
+  const Points c = synthetic::toCamera(w, T);
+  ObstaclesParams p;
+  p.surface_push = 0.0;  // keep the points where they are
+  ObstacleMap m(p);
+  for (int i = 0; i < 6; ++i) m.update(c, T, &cam, &disp);
+  EXPECT_EQ(codeAt(m, 2.7, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 2.9, 0.1), UNKNOWN);
+  p.obstacle_max_sigma = 0.0;  // no range limit: the spill cell is judged floor
+  ObstacleMap m2(p);
+  for (int i = 0; i < 6; ++i) m2.update(c, T, &cam, &disp);
+  EXPECT_EQ(codeAt(m2, 2.9, 0.1), FREE);
+  EXPECT_EQ(codeAt(m2, 3.1, 0.1), OBSTACLE);
+}
+
 // The closing fills a cell without a vote between obstacles, but that label is inferred: a cell
 // never observed itself stays unknown (it used to become an obstacle, e.g. cells hidden behind
 // a wall's corner).

@@ -49,6 +49,9 @@ public:
   const std::vector<float>& ground() const { return ground_; }
   /// 1 where the last classify() labelled a cell OBSTACLE only because the closing filled it.
   const std::vector<uint8_t>& filled() const { return filled_; }
+  /// 1 where the last classify() found elevated points but no density peak of them (a neighbour's
+  /// depth spill) and labelled the cell by its floor alone.
+  const std::vector<uint8_t>& spill() const { return spill_; }
 
 private:
   ObstaclesParams params_;
@@ -57,6 +60,7 @@ private:
   mutable std::vector<HeightInterval> scratch_;
   std::vector<uint8_t> mask_;
   std::vector<uint8_t> filled_;
+  std::vector<uint8_t> spill_;
 };
 
 }  // namespace assistive_obstacles
