@@ -7,7 +7,8 @@
 // --gt-depth feeds the bag's /ground_truth/left/depth (render_bag --depth) instead of SGBM, which
 // separates stereo errors from mapping errors. Diagnostics on stderr (environment variables):
 // OBST_DEBUG=1 temporal counters of the false-positive cells at the last frame; OBST_CELL=gx,gy
-// per-frame label and heights of one global cell; OBST_BIAS=1 per-frame SGBM disparity error vs
+// per-frame label and heights of one global cell; OBST_FPMAP=1 the most frequent false-positive and
+// false-negative cells within 3 m; OBST_BIAS=1 per-frame SGBM disparity error vs
 // the true depth (needs a --depth bag), binned by metre of depth.
 #include <algorithm>
 #include <chrono>
