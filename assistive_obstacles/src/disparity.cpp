@@ -23,6 +23,7 @@ int sgbmMode(const std::string& m)
 {
   if (m == "sgbm") return cv::StereoSGBM::MODE_SGBM;
   if (m == "hh") return cv::StereoSGBM::MODE_HH;
+  if (m == "hh4") return cv::StereoSGBM::MODE_HH4;
   return cv::StereoSGBM::MODE_SGBM_3WAY;
 }
 }  // namespace
@@ -53,7 +54,7 @@ void DisparityEstimator::setParams(const ObstaclesParams& p)
   }
   else
   {
-    auto sg = cv::StereoSGBM::create(0, nd, bs, 8 * bs * bs, 32 * bs * bs, params_.disp12_max_diff, 63,
+    auto sg = cv::StereoSGBM::create(0, nd, bs, params_.sgbm_p1 * bs * bs, params_.sgbm_p2 * bs * bs, params_.disp12_max_diff, 63,
                                      params_.uniqueness_ratio, params_.speckle_window_size,
                                      params_.speckle_range, sgbmMode(params_.disparity_method));
     matcher_ = sg;

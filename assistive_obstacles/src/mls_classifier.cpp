@@ -13,6 +13,7 @@ void MlsClassifier::intervals(const float* h, int n, std::vector<HeightInterval>
   const float cgap = static_cast<float>(params_.cluster_gap);
   const float G = static_cast<float>(params_.gap_height);
   const double trim = std::clamp(params_.thickness_trim, 0.0, 0.45);
+  const double gq = std::clamp(params_.ground_quantile, 0.0, 1.0);
   int cur_a = -1, cur_b = -1;  // index range [a, b) of the interval being built
   auto flush = [&]() {
     if (cur_a < 0) return;
@@ -22,6 +23,7 @@ void MlsClassifier::intervals(const float* h, int n, std::vector<HeightInterval>
     iv.bottom = h[cur_a + k];
     iv.top = h[cur_b - 1 - k];
     iv.median = h[cur_a + cnt / 2];
+    iv.ground = h[cur_a + static_cast<int>(std::lround(gq * (cnt - 1)))];
     iv.points = cnt;
     out.push_back(iv);
     cur_a = cur_b = -1;
@@ -43,14 +45,14 @@ void MlsClassifier::intervals(const float* h, int n, std::vector<HeightInterval>
   flush();
 }
 
-CellKind MlsClassifier::analyse(const float* h, int n, float& ground) const
+CellKind MlsClassifier::analyse(const float* h, int n, float& ground, bool median) const
 {
   if (n < params_.min_points_per_cell) return CellKind::EMPTY;
   intervals(h, n, scratch_);
   if (scratch_.empty()) return CellKind::EMPTY;
   // Only the lowest interval can touch the wearer: every other one starts more than G above it.
   const HeightInterval& low = scratch_.front();
-  ground = low.median;
+  ground = median ? low.median : low.ground;
   if (low.top - low.bottom > static_cast<float>(params_.step_height)) return CellKind::VERTICAL;
   return CellKind::HORIZONTAL;
 }
@@ -62,6 +64,8 @@ void MlsClassifier::classify(const ElevationMap& map, float feet_z, std::vector<
   kind_.assign(cells, CellKind::EMPTY);
   ground_.assign(cells, 0.f);
   labels.assign(cells, FrameLabel::NONE);
+  filled_.assign(cells, 0);
+  spill_.assign(cells, 0);
   const float rise = static_cast<float>(params_.max_surface_rise);
   const float drop = static_cast<float>(params_.max_surface_drop);
   for (int c = 0; c < cells; ++c)
@@ -108,9 +112,11 @@ void MlsClassifier::classify(const ElevationMap& map, float feet_z, std::vector<
           const float elev = feet_z + static_cast<float>(params_.step_height);
           while (cnt > 0 && h[cnt - 1] > elev) --cnt;
           float g = 0.f;
-          const CellKind k = cnt >= params_.min_points_per_cell ? analyse(h, cnt, g) : CellKind::EMPTY;
+          // Median: the foot of the obstacle (up to T high) is still in the cell and would lift a higher quantile.
+          const CellKind k = cnt >= params_.min_points_per_cell ? analyse(h, cnt, g, true) : CellKind::EMPTY;
           kind_[c] = (k == CellKind::HORIZONTAL && g <= feet_z + rise && g >= feet_z - drop) ? k : CellKind::EMPTY;
           ground_[c] = g;
+          spill_[c] = 1;
         }
       }
   }
@@ -173,7 +179,11 @@ void MlsClassifier::classify(const ElevationMap& map, float feet_z, std::vector<
     // The closing fills holes of the depth map between obstacles (seed 4.2.3): cells without a
     // vote this frame. A cell seen as floor this very frame keeps its label.
     for (int c = 0; c < cells; ++c)
-      if (closed.data[c] && labels[c] == FrameLabel::NONE) labels[c] = FrameLabel::OBSTACLE;
+      if (closed.data[c] && labels[c] == FrameLabel::NONE)
+      {
+        labels[c] = FrameLabel::OBSTACLE;
+        filled_[c] = 1;
+      }
   }
 }
 

@@ -92,6 +92,8 @@ private:
     param(pnh, "speckle_window_size", p.speckle_window_size);
     param(pnh, "speckle_range", p.speckle_range);
     param(pnh, "disp12_max_diff", p.disp12_max_diff);
+    param(pnh, "sgbm_p1", p.sgbm_p1);
+    param(pnh, "sgbm_p2", p.sgbm_p2);
     param(pnh, "min_depth", p.min_depth);
     param(pnh, "max_depth", p.max_depth);
     param(pnh, "point_stride", p.point_stride);
@@ -113,6 +115,11 @@ private:
     param(pnh, "closing_radius", p.closing_radius);
     param(pnh, "fine_factor", p.fine_factor);
     param(pnh, "peak_fraction", p.peak_fraction);
+    param(pnh, "ground_quantile", p.ground_quantile);
+    param(pnh, "surface_push", p.surface_push);
+    param(pnh, "closing_weight", p.closing_weight);
+    param(pnh, "disparity_sigma", p.disparity_sigma);
+    param(pnh, "obstacle_max_sigma", p.obstacle_max_sigma);
     param(pnh, "min_observations", p.min_observations);
     param(pnh, "obstacle_ratio", p.obstacle_ratio);
     param(pnh, "permanent_flips", p.permanent_flips);

@@ -36,6 +36,13 @@ DepthCheck checkDepth(const Eigen::Vector3f& p_world, const Eigen::Isometry3f& T
 }
 }  // namespace
 
+double obstacleEvidenceRange(const ObstaclesParams& p, const StereoModel& m)
+{
+  const double fb = m.fx * m.baseline;  // full-resolution px * m
+  if (!(p.obstacle_max_sigma > 0.0) || !(p.disparity_sigma > 0.0) || !(fb > 0.0)) return 0.0;
+  return std::sqrt(p.obstacle_max_sigma * fb / p.disparity_sigma);
+}
+
 ObstacleMap::ObstacleMap(const ObstaclesParams& p) { setParams(p); }
 
 void ObstacleMap::setParams(const ObstaclesParams& p)
@@ -66,6 +73,23 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   const Eigen::Vector3f t = T_world_cam.translation();
   for (size_t i = 0; i < points_cam.size(); ++i) world_[i] = R * points_cam[i] + t;
   last_origin_ = t;
+  if (params_.surface_push > 0.0)
+  {
+    // A camera sees the front face of a solid; the solid lies behind it. Elevated points are moved
+    // that far along the horizontal viewing ray, so a face on a cell border lands in the solid's cell.
+    const float push = static_cast<float>(params_.surface_push);
+    const float elev = t.z() - static_cast<float>(params_.camera_height) + static_cast<float>(params_.step_height);
+    for (Eigen::Vector3f& p : world_)
+    {
+      if (!(p.z() > elev)) continue;
+      const float dx = p.x() - t.x(), dy = p.y() - t.y(), d = std::sqrt(dx * dx + dy * dy);
+      if (d > 1e-3f)
+      {
+        p.x() += push * dx / d;
+        p.y() += push * dy / d;
+      }
+    }
+  }
 
   window_ = Window::around(t.x(), t.y(), params_.window_radius, params_.cell_size);
   temporal_.resize(window_.n);
@@ -87,6 +111,8 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   const float tol = static_cast<float>(std::max(0.3, 1.5 * params_.cell_size));
 
   const double vote_r2 = params_.vote_max_range * params_.vote_max_range;
+  const double obstacle_r = camera ? obstacleEvidenceRange(params_, *camera) : 0.0;
+  const double obstacle_r2 = obstacle_r * obstacle_r;
   for (int ly = 0; ly < n; ++ly)
     for (int lx = 0; lx < n; ++lx)
     {
@@ -137,7 +163,20 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
       // A mapped obstacle seen through / without depth takes only a weak free vote: glass stays an
       // obstacle for a while, but a false obstacle on the floor is not locked for good.
       if (dropout) weight = std::min(weight, params_.dropout_free_weight);
-      temporal_.vote(gx, gy, lab, weight);
+      // The closing's label is inferred, not seen: a weak vote that never decides a cell on its own.
+      const bool filled = mls_.filled()[c] != 0;
+      if (filled) weight = std::min(weight, params_.closing_weight);
+      // Obstacle evidence only where stereo depth is precise enough to put a surface in the right
+      // cell (sigma_Z = Z^2 sigma_d / (f B) grows with range^2: a wall seen from afar spills its
+      // points into the cells in front of and behind it). For the same reason a cell judged to
+      // hold only a neighbour's spill takes no free vote from there either (it may be the edge
+      // of the obstacle itself: parking's columns and cars).
+      if (obstacle_r2 > 0.0 && (lab == FrameLabel::OBSTACLE || mls_.spill()[c]))
+      {
+        const double dx = window_.centerX(lx) - t.x(), dy = window_.centerY(ly) - t.y();
+        if (dx * dx + dy * dy > obstacle_r2) continue;
+      }
+      temporal_.vote(gx, gy, lab, weight, !filled);
     }
 }
 

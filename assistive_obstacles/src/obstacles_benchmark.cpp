@@ -7,7 +7,8 @@
 // --gt-depth feeds the bag's /ground_truth/left/depth (render_bag --depth) instead of SGBM, which
 // separates stereo errors from mapping errors. Diagnostics on stderr (environment variables):
 // OBST_DEBUG=1 temporal counters of the false-positive cells at the last frame; OBST_CELL=gx,gy
-// per-frame label and heights of one global cell; OBST_BIAS=1 per-frame SGBM disparity error vs
+// per-frame label and heights of one global cell; OBST_FPMAP=1 the most frequent false-positive and
+// false-negative cells within 3 m; OBST_BIAS=1 per-frame SGBM disparity error vs
 // the true depth (needs a --depth bag), binned by metre of depth.
 #include <algorithm>
 #include <chrono>
@@ -15,6 +16,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <array>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -78,7 +81,7 @@ bool setParam(ObstaclesParams& p, const std::string& k, const std::string& v)
   D(disparity_scale) I(max_disparity) I(block_size) I(uniqueness_ratio) I(speckle_window_size) I(speckle_range)
   I(disp12_max_diff) D(edge_filter) D(min_depth) D(max_depth) I(point_stride) D(cell_size) D(window_radius) I(min_points_per_cell)
   D(gap_height) D(step_height) D(min_step) D(head_clearance) D(camera_height) D(max_surface_rise) D(max_surface_drop)
-  D(cluster_gap) I(min_cluster_points) D(thickness_trim) I(min_traversable_edges) I(closing_radius) I(fine_factor) D(peak_fraction)
+  D(cluster_gap) I(min_cluster_points) D(thickness_trim) I(min_traversable_edges) I(closing_radius) I(fine_factor) D(peak_fraction) D(ground_quantile) D(surface_push) I(closing_weight) D(disparity_sigma) D(obstacle_max_sigma) I(sgbm_p1) I(sgbm_p2)
   I(min_observations) D(obstacle_ratio) I(permanent_flips) I(max_count) D(full_weight_range) D(dropout_max_range) I(dropout_free_weight) D(vote_max_range)
 #undef D
 #undef I
@@ -164,6 +167,7 @@ int main(int argc, char** argv)
   std::vector<double> ms_disp, ms_map, npts;
   Sum s3, s5;
   size_t fp_adjacent = 0, fp_isolated = 0, fp_step = 0;  // within 3 m, summed over frames
+  std::map<std::pair<int, int>, std::array<int, 3>> fp_cells;  // OBST_FPMAP: frames each cell was a FP (obstacle, step) / FN
   std::set<size_t> free_where_obstacle;
   assistive_sim::StereoFrame f;
   int frames = 0, used = 0, no_pose = 0;
@@ -285,15 +289,21 @@ int main(int argc, char** argv)
         for (int cx = 0; cx < truth.width; ++cx)
         {
           const int8_t g = truth.data[static_cast<size_t>(cy) * truth.width + cx];
-          if (g != 0) continue;  // ground-truth free only (the scored false positives)
+          if (g != 0 && !(g > 0 && std::getenv("OBST_FPMAP"))) continue;  // ground-truth free only (the scored false positives)
           const double x = truth.origin_x + (cx + 0.5) * truth.resolution, y = truth.origin_y + (cy + 0.5) * truth.resolution;
           if ((Eigen::Vector2d(x, y) - wearer).squaredNorm() > 9.0) continue;
           const int ex = static_cast<int>(std::floor((x - est.origin_x) / est.resolution));
           const int ey = static_cast<int>(std::floor((y - est.origin_y) / est.resolution));
           if (ex < 0 || ey < 0 || ex >= est.width || ey >= est.height) continue;
           const int8_t e = est.data[static_cast<size_t>(ey) * est.width + ex];
+          if (g != 0)
+          {
+            if (e == 0) ++fp_cells[{cx, cy}][2];  // false negative (OBST_FPMAP only)
+            continue;
+          }
           if (e != 50 && e != 100) continue;
           if (e == 50) ++fp_step;
+          if (std::getenv("OBST_FPMAP")) ++fp_cells[{cx, cy}][e == 50 ? 1 : 0];
           bool adj = false;
           for (int dy = -1; dy <= 1 && !adj; ++dy)
             for (int dx = -1; dx <= 1 && !adj; ++dx)
@@ -353,6 +363,26 @@ int main(int argc, char** argv)
               fp_isolated, fp_step);
   std::printf("ground-truth obstacle cells ever reported free (5 m): %zu\n", free_where_obstacle.size());
   if (has_truth) std::printf("map plot: %s\n", png.c_str());
+  if (std::getenv("OBST_FPMAP"))
+  {
+    std::vector<std::pair<int, std::pair<int, int>>> top;
+    for (const auto& kv : fp_cells)
+      if (kv.second[0] + kv.second[1] > 0) top.push_back({kv.second[0] + kv.second[1], kv.first});
+    std::sort(top.rbegin(), top.rend());
+    for (size_t i = 0; i < std::min<size_t>(top.size(), 60); ++i)
+    {
+      const auto& c = top[i].second;
+      std::fprintf(stderr, "FPCELL x %.2f y %.2f frames %d (step %d)\n", truth.origin_x + (c.first + 0.5) * truth.resolution,
+                   truth.origin_y + (c.second + 0.5) * truth.resolution, top[i].first, fp_cells[c][1]);
+    }
+    top.clear();
+    for (const auto& kv : fp_cells)
+      if (kv.second[2] > 0) top.push_back({kv.second[2], kv.first});
+    std::sort(top.rbegin(), top.rend());
+    for (size_t i = 0; i < std::min<size_t>(top.size(), 60); ++i)
+      std::fprintf(stderr, "FNCELL x %.2f y %.2f frames %d\n", truth.origin_x + (top[i].second.first + 0.5) * truth.resolution,
+                   truth.origin_y + (top[i].second.second + 0.5) * truth.resolution, top[i].first);
+  }
   std::cout << "{\"ms_p95_map\": " << num(p95_map, 3) << ", \"ms_p95_disparity\": " << num(p95_disp, 3)
             << ", \"points_per_frame\": " << num(mean(npts), 0) << ", \"recall_3m\": " << num(s3.recall())
             << ", \"precision_3m\": " << num(s3.precision()) << ", \"misclassified_3m\": " << num(s3.misclassified())

@@ -24,7 +24,7 @@ void clampField(std::vector<std::string>& msgs, const char* name, T& v, T lo, T 
 std::vector<std::string> clampParams(ObstaclesParams& p)
 {
   std::vector<std::string> m;
-  if (p.disparity_method != "sgbm3way" && p.disparity_method != "sgbm" && p.disparity_method != "hh" &&
+  if (p.disparity_method != "sgbm3way" && p.disparity_method != "sgbm" && p.disparity_method != "hh" && p.disparity_method != "hh4" &&
       p.disparity_method != "bm")
   {
     m.push_back("disparity_method '" + p.disparity_method + "' unknown, using sgbm3way");
@@ -42,6 +42,8 @@ std::vector<std::string> clampParams(ObstaclesParams& p)
   clampField(m, "speckle_window_size", p.speckle_window_size, 0, 1000);
   clampField(m, "speckle_range", p.speckle_range, 0, 64);
   clampField(m, "disp12_max_diff", p.disp12_max_diff, -1, 64);
+  clampField(m, "sgbm_p1", p.sgbm_p1, 0, 1000);
+  clampField(m, "sgbm_p2", p.sgbm_p2, p.sgbm_p1 + 1, 10000);
   clampField(m, "min_depth", p.min_depth, 0.05, 10.0);
   clampField(m, "max_depth", p.max_depth, p.min_depth + 0.1, 50.0);
   clampField(m, "point_stride", p.point_stride, 1, 16);
@@ -58,9 +60,12 @@ std::vector<std::string> clampParams(ObstaclesParams& p)
   clampField(m, "max_surface_drop", p.max_surface_drop, 0.0, 5.0);
   clampField(m, "cluster_gap", p.cluster_gap, 0.0, 1.0);
   clampField(m, "min_cluster_points", p.min_cluster_points, 1, 1000);
+  clampField(m, "surface_push", p.surface_push, 0.0, 0.5);
+  clampField(m, "ground_quantile", p.ground_quantile, 0.0, 1.0);
   clampField(m, "thickness_trim", p.thickness_trim, 0.0, 0.45);
   clampField(m, "min_traversable_edges", p.min_traversable_edges, 0, 8);
   clampField(m, "closing_radius", p.closing_radius, 0, 5);
+  clampField(m, "closing_weight", p.closing_weight, 1, 4);
   clampField(m, "fine_factor", p.fine_factor, 1, 10);
   clampField(m, "peak_fraction", p.peak_fraction, 0.0, 1.0);
   clampField(m, "min_observations", p.min_observations, 1, 1000);
@@ -70,6 +75,8 @@ std::vector<std::string> clampParams(ObstaclesParams& p)
   clampField(m, "full_weight_range", p.full_weight_range, 0.0, 50.0);
   clampField(m, "dropout_max_range", p.dropout_max_range, 0.0, 50.0);
   clampField(m, "vote_max_range", p.vote_max_range, 0.0, 50.0);
+  clampField(m, "disparity_sigma", p.disparity_sigma, 0.0, 100.0);
+  clampField(m, "obstacle_max_sigma", p.obstacle_max_sigma, 0.0, 100.0);
   clampField(m, "dropout_free_weight", p.dropout_free_weight, 0, 4);
   clampField(m, "octomap_resolution", p.octomap_resolution, 0.01, 2.0);
   clampField(m, "octomap_max_range", p.octomap_max_range, 0.1, 50.0);

@@ -33,7 +33,7 @@ const CellCounters* TemporalFilter::find(int gx, int gy) const
   return (c.used && c.gx == gx && c.gy == gy) ? &c : nullptr;
 }
 
-void TemporalFilter::vote(int gx, int gy, FrameLabel label, int weight)
+void TemporalFilter::vote(int gx, int gy, FrameLabel label, int weight, bool observed)
 {
   if (n_ == 0 || label == FrameLabel::NONE) return;
   CellCounters& c = cells_[slot(gx, gy)];
@@ -53,7 +53,7 @@ void TemporalFilter::vote(int gx, int gy, FrameLabel label, int weight)
     c.s = static_cast<uint16_t>(c.s + w);
     if (label == FrameLabel::STEP) c.step = static_cast<uint16_t>(c.step + w);
   }
-  if (c.votes < 60000) ++c.votes;
+  if (observed && c.votes < 60000) ++c.votes;
   if (c.o + c.s > params_.max_count * MAX_VOTE_WEIGHT)
   {
     c.o = static_cast<uint16_t>((c.o + 1) / 2);

@@ -1,4 +1,6 @@
 // Full-pipeline scenarios on hand-built point sets: the wearer's camera at 1.6 m, looking along +x.
+#include <random>
+
 #include <gtest/gtest.h>
 
 #include <assistive_obstacles/obstacle_map.h>
@@ -159,27 +161,28 @@ TEST(ObstacleMap, GlassDropoutKeepsObstacleAndIsReported)
   Points before, after;
   synthetic::patch(before, 0.6, 4.0, -1.0, 1.0, 0.0);
   after = before;                                      // later: only the floor, seen through glass
-  synthetic::wallX(before, 2.5, -1.0, 1.0, 0.0, 1.8);  // the panel's frame was seen at first
+  synthetic::wallX(before, 2.1, -1.0, 1.0, 0.0, 1.8);  // the panel's frame was seen at first (within
+                                                       // the obstacle evidence range, 2.45 m)
   const Eigen::Isometry3f T = synthetic::cameraAt(0.0, 0.0, 1.6);
   const Points cb = synthetic::toCamera(before, T), ca = synthetic::toCamera(after, T);
   StereoModel cam;  // 640x480, fx 500, B 0.12
-  cv::Mat near_disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 2.5f));  // consistent with the wall
+  cv::Mat near_disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 2.1f));  // consistent with the wall
   cv::Mat far_disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 8.0f));   // depth passes through
   for (int i = 0; i < 6; ++i) m.update(cb, T, &cam, &near_disp);
-  ASSERT_EQ(codeAt(m, 2.5, 0.1), OBSTACLE);
+  ASSERT_EQ(codeAt(m, 2.1, 0.1), OBSTACLE);
   EXPECT_EQ(m.stats().dropout_cells, 0);
   for (int i = 0; i < 20; ++i) m.update(ca, T, &cam, &far_disp);
-  EXPECT_EQ(codeAt(m, 2.5, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m, 2.1, 0.1), OBSTACLE);
   EXPECT_GT(m.stats().dropout_cells, 0);
   const GridData& d = m.dropout();
-  const int ix = static_cast<int>(std::floor((2.5 - d.origin_x) / d.resolution));
+  const int ix = static_cast<int>(std::floor((2.1 - d.origin_x) / d.resolution));
   const int iy = static_cast<int>(std::floor((0.1 - d.origin_y) / d.resolution));
   EXPECT_EQ(d.data[iy * d.width + ix], OBSTACLE);
   // Without the depth check (no camera model) the floor votes would have freed it.
   ObstacleMap m2;
   for (int i = 0; i < 6; ++i) m2.update(cb, T);
   for (int i = 0; i < 20; ++i) m2.update(ca, T);
-  EXPECT_EQ(codeAt(m2, 2.5, 0.1), FREE);
+  EXPECT_EQ(codeAt(m2, 2.1, 0.1), FREE);
 }
 
 // Regression: the dropout policy used to drop every free vote of a mapped obstacle whose depth
@@ -191,11 +194,11 @@ TEST(ObstacleMap, FalseObstacleSeenThroughIsClearedEventually)
   Points noisy, floor;
   synthetic::patch(floor, 0.6, 4.0, -1.0, 1.0, 0.0);
   noisy = floor;
-  synthetic::wallX(noisy, 2.5, -1.0, 1.0, 0.0, 1.8);  // a phantom surface for a few frames
+  synthetic::wallX(noisy, 2.1, -1.0, 1.0, 0.0, 1.8);  // a phantom surface for a few frames
   const Eigen::Isometry3f T = synthetic::cameraAt(0.0, 0.0, 1.6);
   const Points cn = synthetic::toCamera(noisy, T), cf = synthetic::toCamera(floor, T);
   StereoModel cam;
-  cv::Mat near_disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 2.5f));
+  cv::Mat near_disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 2.1f));
   cv::Mat far_disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 8.0f));  // the floor behind
   for (const int w : {0, 1})
   {
@@ -203,12 +206,12 @@ TEST(ObstacleMap, FalseObstacleSeenThroughIsClearedEventually)
     p.dropout_free_weight = w;
     ObstacleMap m(p);
     for (int i = 0; i < 6; ++i) m.update(cn, T, &cam, &near_disp);
-    ASSERT_EQ(codeAt(m, 2.5, 0.1), OBSTACLE);
+    ASSERT_EQ(codeAt(m, 2.1, 0.1), OBSTACLE);
     for (int i = 0; i < 20; ++i) m.update(cf, T, &cam, &far_disp);
-    EXPECT_EQ(codeAt(m, 2.5, 0.1), OBSTACLE) << "weight " << w;  // glass keeps its obstacle for a while
+    EXPECT_EQ(codeAt(m, 2.1, 0.1), OBSTACLE) << "weight " << w;  // glass keeps its obstacle for a while
     EXPECT_GT(m.stats().dropout_cells, 0);
     for (int i = 0; i < 40; ++i) m.update(cf, T, &cam, &far_disp);
-    EXPECT_EQ(codeAt(m, 2.5, 0.1), w == 0 ? OBSTACLE : FREE) << "weight " << w;
+    EXPECT_EQ(codeAt(m, 2.1, 0.1), w == 0 ? OBSTACLE : FREE) << "weight " << w;
   }
 }
 
@@ -229,6 +232,127 @@ TEST(ObstacleMap, NoVotesBeyondVoteRange)
   run(m2, w);
   EXPECT_EQ(codeAt(m2, 3.9, 0.1), FREE);
   EXPECT_EQ(codeAt(m2, 4.5, 0.1), OBSTACLE);
+}
+
+// A cell holding a curb's edge takes the curb's height (its highest walkable surface, as the
+// ground truth does), so the curb top beyond it is not a step; with the median the edge cell
+// sat between the two levels and both of its neighbours became steps (plaza: 5000 false STEP
+// codes along the curb).
+TEST(ObstacleMap, CellHoldingTheCurbEdgeTakesTheCurbHeight)
+{
+  Points w;
+  synthetic::patch(w, 0.6, 2.13, -1.0, 1.0, 0.0, 10);
+  synthetic::patch(w, 2.13, 3.6, -1.0, 1.0, 0.15, 10);  // curb edge 13 cm into cell [2.0, 2.2)
+  synthetic::wallX(w, 2.13, -1.0, 1.0, 0.0, 0.15);
+  ObstacleMap m;
+  run(m, w);
+  EXPECT_EQ(codeAt(m, 1.9, 0.1), STEP);
+  EXPECT_EQ(codeAt(m, 2.1, 0.1), STEP);
+  EXPECT_EQ(codeAt(m, 2.3, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 1.7, 0.1), FREE);
+  ObstaclesParams p;
+  p.ground_quantile = 0.5;
+  ObstacleMap m2(p);
+  run(m2, w);
+  EXPECT_EQ(codeAt(m2, 2.3, 0.1), STEP);  // the median's extra false step
+}
+
+// Obstacle votes only within the range where sigma_Z = Z^2 sigma_d / (f B) <= obstacle_max_sigma
+// (2.45 m for this rig); free votes still reach vote_max_range.
+TEST(ObstacleMap, ObstacleEvidenceOnlyWhereDepthIsPrecise)
+{
+  const StereoModel cam;  // fx 500, B 0.12
+  ObstaclesParams p;
+  EXPECT_NEAR(obstacleEvidenceRange(p, cam), std::sqrt(p.obstacle_max_sigma * 60.0 / p.disparity_sigma), 1e-9);
+  EXPECT_NEAR(obstacleEvidenceRange(p, cam), 2.449, 0.01);
+  Points w;
+  synthetic::patch(w, 0.6, 3.4, -1.0, 1.0, 0.0);
+  synthetic::wallX(w, 3.1, -1.0, 1.0, 0.0, 1.8);
+  const cv::Mat disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 3.1f));
+  auto runAt = [&](ObstacleMap& m, double cam_x) {
+    const Eigen::Isometry3f T = synthetic::cameraAt(cam_x, 0.0, 1.6);
+    const Points c = synthetic::toCamera(w, T);
+    for (int i = 0; i < 6; ++i) m.update(c, T, &cam, &disp);
+  };
+  ObstacleMap m(p);
+  runAt(m, 0.0);
+  EXPECT_EQ(codeAt(m, 3.1, 0.1), UNKNOWN);  // 3.1 m away: seen, but no obstacle evidence yet
+  EXPECT_EQ(codeAt(m, 2.1, 0.1), FREE);     // free votes from afar still count
+  runAt(m, 1.0);                            // 2.1 m away
+  EXPECT_EQ(codeAt(m, 3.1, 0.1), OBSTACLE);
+  p.obstacle_max_sigma = 0.0;  // no limit
+  ObstacleMap m2(p);
+  runAt(m2, 0.0);
+  EXPECT_EQ(codeAt(m2, 3.1, 0.1), OBSTACLE);
+}
+
+// Beyond the obstacle evidence range a cell holding only a neighbour's spill (elevated points
+// without a density peak) takes no free vote either: from there the surface may be in it.
+TEST(ObstacleMap, SpillCellTakesNoFreeVoteFromAfar)
+{
+  const StereoModel cam;
+  Points w;
+  synthetic::patch(w, 0.6, 3.4, -1.0, 1.0, 0.0);
+  synthetic::wallX(w, 3.06, -1.0, 1.0, 0.0, 1.8, 0.02);   // dense wall in cell [3.0, 3.2)
+  synthetic::wallX(w, 2.98, -1.0, 1.0, 0.3, 1.5, 0.1);    // sparse spill in cell [2.8, 3.0)
+  const cv::Mat disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 3.0f));
+  const Eigen::Isometry3f T = synthetic::cameraAt(0.0, 0.0, 1.6);
+  const Points c = synthetic::toCamera(w, T);
+  ObstaclesParams p;
+  p.surface_push = 0.0;  // keep the points where they are
+  ObstacleMap m(p);
+  for (int i = 0; i < 6; ++i) m.update(c, T, &cam, &disp);
+  EXPECT_EQ(codeAt(m, 2.7, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 2.9, 0.1), UNKNOWN);
+  p.obstacle_max_sigma = 0.0;  // no range limit: the spill cell is judged floor
+  ObstacleMap m2(p);
+  for (int i = 0; i < 6; ++i) m2.update(c, T, &cam, &disp);
+  EXPECT_EQ(codeAt(m2, 2.9, 0.1), FREE);
+  EXPECT_EQ(codeAt(m2, 3.1, 0.1), OBSTACLE);
+}
+
+// The closing fills a cell without a vote between obstacles, but that label is inferred: a cell
+// never observed itself stays unknown (it used to become an obstacle, e.g. cells hidden behind
+// a wall's corner).
+TEST(ObstacleMap, ClosingNeverDecidesAnUnseenCell)
+{
+  Points w;
+  synthetic::patch(w, 0.6, 2.4, -1.0, 1.0, 0.0);
+  synthetic::patch(w, 2.6, 3.4, -1.0, 1.0, 0.0);
+  synthetic::patch(w, 2.4, 2.6, -1.0, 0.0, 0.0);
+  synthetic::patch(w, 2.4, 2.6, 0.2, 1.0, 0.0);  // cell [2.4, 2.6) x [0, 0.2) has no points
+  synthetic::pole(w, 2.3, 0.1, 0.025, 1.2);
+  synthetic::pole(w, 2.7, 0.1, 0.025, 1.2);
+  ObstacleMap m;
+  run(m, w, 10);
+  EXPECT_EQ(codeAt(m, 2.3, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m, 2.7, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m, 2.5, 0.1), UNKNOWN);
+  EXPECT_EQ(m.temporal().find(12, 0)->o, 10);  // ten inferred obstacle votes of weight 1, none counted
+}
+
+// A wall whose face lies on a cell border (corridor and glass worlds: faces at y = +-1.0, -1.2):
+// depth noise puts half its points into the free cell in front. The face bounds a solid that
+// lies behind it, so elevated points are pushed surface_push away from the camera.
+TEST(ObstacleMap, WallFaceOnCellBorderStaysInItsCell)
+{
+  Points w;
+  synthetic::patch(w, 0.6, 2.4, -1.0, 1.0, 0.0);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.015);
+  for (double y = -0.98; y < 1.0; y += 0.04)
+    for (double z = 0.0; z <= 1.8; z += 0.04)
+      w.emplace_back(static_cast<float>(2.4 + noise(rng)), static_cast<float>(y), static_cast<float>(z));
+  ObstacleMap m;
+  run(m, w);
+  EXPECT_EQ(codeAt(m, 2.5, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m, 2.3, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 2.3, -0.5), FREE);
+  ObstaclesParams p;
+  p.surface_push = 0.0;
+  ObstacleMap m2(p);
+  run(m2, w);
+  EXPECT_EQ(codeAt(m2, 2.3, 0.1), OBSTACLE);  // without the push the face's noise makes it an obstacle
 }
 
 TEST(ObstacleMap, WindowScrollsWithTheWearer)

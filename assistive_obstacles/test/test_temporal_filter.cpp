@@ -23,6 +23,17 @@ TEST(TemporalFilter, UndecidedUntilFiveObservations)
   EXPECT_EQ(f.find(3, 4)->flips, 1);
 }
 
+TEST(TemporalFilter, InferredVotesNeverDecide)
+{
+  TemporalFilter f;
+  f.resize(10);
+  for (int i = 0; i < 20; ++i) f.vote(1, 1, FrameLabel::OBSTACLE, 1, false);
+  EXPECT_EQ(f.code(1, 1), UNKNOWN);
+  EXPECT_EQ(f.find(1, 1)->votes, 0);
+  for (int i = 0; i < 5; ++i) f.vote(1, 1, FrameLabel::FREE, 4);  // observed: 20 free vs 20 inferred obstacle
+  EXPECT_EQ(f.code(1, 1), FREE);
+}
+
 TEST(TemporalFilter, StepVotesGiveStepCode)
 {
   TemporalFilter f;

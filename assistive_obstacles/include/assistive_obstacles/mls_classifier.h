@@ -16,6 +16,7 @@ struct HeightInterval
 {
   float bottom = 0.f, top = 0.f;  ///< m (trimmed extent)
   float median = 0.f;             ///< m
+  float ground = 0.f;             ///< m, the ground_quantile of the heights
   int points = 0;
 };
 
@@ -36,15 +37,21 @@ public:
   /// Splits sorted heights into intervals: sub-clusters at gaps > cluster_gap, sub-clusters with
   /// fewer than min_cluster_points dropped, the rest merged while gaps are < G (gap_height).
   void intervals(const float* h, int n, std::vector<HeightInterval>& out) const;
-  /// Kind of a cell from its sorted heights; `ground` = median of the lowest interval.
-  /// Intervals more than G above the lowest one's top are overhead (the wearer fits under).
-  CellKind analyse(const float* h, int n, float& ground) const;
+  /// Kind of a cell from its sorted heights; `ground` = the ground_quantile (or, with `median`,
+  /// the median) of the lowest interval. Intervals more than G above the lowest one's top are
+  /// overhead (the wearer fits under).
+  CellKind analyse(const float* h, int n, float& ground, bool median = false) const;
 
   /// Labels every cell of `map` (index = window-local); `feet_z` is the wearer's feet level.
   void classify(const ElevationMap& map, float feet_z, std::vector<FrameLabel>& labels);
 
   const std::vector<CellKind>& kinds() const { return kind_; }
   const std::vector<float>& ground() const { return ground_; }
+  /// 1 where the last classify() labelled a cell OBSTACLE only because the closing filled it.
+  const std::vector<uint8_t>& filled() const { return filled_; }
+  /// 1 where the last classify() found elevated points but no density peak of them (a neighbour's
+  /// depth spill) and labelled the cell by its floor alone.
+  const std::vector<uint8_t>& spill() const { return spill_; }
 
 private:
   ObstaclesParams params_;
@@ -52,6 +59,8 @@ private:
   std::vector<float> ground_;
   mutable std::vector<HeightInterval> scratch_;
   std::vector<uint8_t> mask_;
+  std::vector<uint8_t> filled_;
+  std::vector<uint8_t> spill_;
 };
 
 }  // namespace assistive_obstacles

@@ -35,6 +35,10 @@ struct FrameStats
   int dropout_cells = 0;     ///< obstacle cells in view without depth this frame
 };
 
+/// Range (m) within which a cell may take an obstacle vote: where the stereo depth error
+/// sigma_Z = Z^2 * disparity_sigma / (fx * baseline) stays below obstacle_max_sigma (0 = no limit).
+double obstacleEvidenceRange(const ObstaclesParams& p, const StereoModel& m);
+
 class ObstacleMap
 {
 public:

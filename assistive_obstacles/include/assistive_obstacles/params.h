@@ -9,7 +9,8 @@ namespace assistive_obstacles
 struct ObstaclesParams
 {
   // --- dense disparity -------------------------------------------------------------------
-  std::string disparity_method = "sgbm3way";  ///< "sgbm3way", "sgbm", "hh" or "bm"
+  std::string disparity_method = "sgbm3way";  ///< "sgbm3way", "sgbm", "hh", "hh4" or "bm" (hh/hh4: fewer
+                                              ///< errors, but 10x slower than sgbm3way on 450x375 inputs)
   double disparity_scale = 0.5;     ///< image scale the matcher runs at (1 = full resolution)
   int max_disparity = 128;          ///< px at FULL resolution (min depth = fx*B/max_disparity)
   int block_size = 5;               ///< px at the matcher's scale, odd
@@ -17,6 +18,10 @@ struct ObstaclesParams
   int speckle_window_size = 100;    ///< px^2 at the matcher's scale (0 disables)
   int speckle_range = 2;            ///< disparity levels
   int disp12_max_diff = 1;          ///< left-right check, px at the matcher's scale (<0 disables)
+  int sgbm_p1 = 4;                  ///< SGBM smoothness penalty P1 (disparity change of 1) per pixel of the block:
+                                    ///< P1 = sgbm_p1 * block_size^2 (OpenCV's sample uses 8; 4 keeps slanted floors
+                                    ///< and walls from being pulled onto fronto-parallel planes)
+  int sgbm_p2 = 64;                 ///< P2 (larger disparity jumps) = sgbm_p2 * block_size^2 (must exceed sgbm_p1)
 
   // --- points ----------------------------------------------------------------------------
   double min_depth = 0.3;           ///< m, closer points are dropped
@@ -38,9 +43,18 @@ struct ObstaclesParams
   double max_surface_drop = 0.6;    ///< m: ... or this far below them (else obstacle / drop-off)
   double cluster_gap = 0.1;         ///< m: heights closer than this form one sub-cluster (outlier rejection)
   int min_cluster_points = 3;       ///< sub-clusters with fewer points are noise
+  double surface_push = 0.04;       ///< m: elevated points are moved this far away from the camera along the horizontal
+                                    ///< ray: a camera sees the front face of a solid, the solid lies behind it, so a face
+                                    ///< on a cell border (depth noise splits its points) lands in the solid's cell; keep it
+                                    ///< below the thinnest obstacle (0 disables)
+  double ground_quantile = 0.7;     ///< quantile of the lowest interval's heights taken as the cell's ground height:
+                                    ///< above the median, so a cell holding a curb edge takes the curb's height as
+                                    ///< the ground truth does (highest walkable surface in the cell)
   double thickness_trim = 0.05;     ///< fraction of an interval's heights trimmed at each end for its thickness
   int min_traversable_edges = 5;    ///< compatible 8-neighbours needed to be traversable
   int closing_radius = 1;           ///< cells, morphological closing of the obstacle mask, filling cells without a vote (0 disables)
+  int closing_weight = 1;           ///< vote weight (1..4) of a cell the closing filled; such votes never decide a cell
+                                    ///< on their own (a cell never seen itself stays unknown)
   int fine_factor = 4;              ///< elevated points are also counted on a grid this many times finer (5 cm) ...
   double peak_fraction = 0.5;       ///< ... and a vertical cell stays an obstacle only if one of its fine bins holds at
                                     ///< least this fraction of the densest fine bin within 2 fine bins (suppresses the
@@ -56,6 +70,12 @@ struct ObstaclesParams
                                     ///< on from afar (by noise) and never corrected up close
   double full_weight_range = 2.5;   ///< m: votes of cells nearer than this weigh 4, farther ones 4*(r0/r)^2 (>= 1),
                                     ///< as stereo depth noise grows with r^2 (0: every vote weighs 1, as in the seed)
+
+  double disparity_sigma = 0.3;     ///< px at FULL resolution: stereo disparity noise assumed for the depth error
+  double obstacle_max_sigma = 0.03; ///< m: cells take obstacle votes only within the range where the depth error
+                                    ///< sigma_Z = Z^2 * disparity_sigma / (fx * baseline) is at most this (2.45 m for
+                                    ///< the 12 cm, 500 px rig); free votes reach vote_max_range (0 disables; needs the
+                                    ///< camera model passed to ObstacleMap::update)
 
   // --- dropout / glass policy ----------------------------------------------------------------
   double dropout_max_range = 4.0;   ///< m: obstacle cells in view this close but without depth are reported

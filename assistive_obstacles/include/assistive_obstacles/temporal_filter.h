@@ -36,7 +36,9 @@ public:
 
   /// Adds one frame's vote for global cell (gx, gy). `weight` (1..MAX_VOTE_WEIGHT) lets near,
   /// precise observations count more than far, noisy ones; the seed's rule is weight 1.
-  void vote(int gx, int gy, FrameLabel label, int weight = 1);
+  /// `observed` = false: an inferred label (the closing filled the cell); it adds to the counters
+  /// but not to the number of votes, so a cell never observed itself is never decided.
+  void vote(int gx, int gy, FrameLabel label, int weight = 1, bool observed = true);
   static constexpr int MAX_VOTE_WEIGHT = 4;
   /// Output code of global cell (gx, gy): UNKNOWN, FREE, STEP or OBSTACLE.
   int8_t code(int gx, int gy) const;
