@@ -23,6 +23,7 @@
 #include <assistive_sim/eval/plots.h>
 #include <assistive_sim/stereo_bag.h>
 #include "assistive_vo/imu_buffer.h"
+#include "assistive_vo/recovery.h"
 #include "assistive_vo/visual_odometry.h"
 
 using namespace assistive_vo;
@@ -241,7 +242,8 @@ int main(int argc, char** argv)
   ev::Trajectory gt, est, peer_est;
   std::map<std::string, std::vector<double>> ms;
   std::vector<double> wall, peer_ms, peer_wall;
-  int lost = 0, max_bad_run = 0, bad_run = 0, frames = 0;
+  int lost = 0, max_bad_run = 0, bad_run = 0, frames = 0, unusable = 0;
+  RecoveryCounter recovery;
   double prev_stamp = -1;
   Eigen::Isometry3d peer_T_odom_o0 = Eigen::Isometry3d::Identity();
   std::ofstream dump_out;
@@ -293,6 +295,10 @@ int main(int argc, char** argv)
     ms["p3p_ransac"].push_back(o.stats.ms_ransac);
     ms["bundle_adj"].push_back(o.stats.ms_ba);
     ms["detect"].push_back(o.stats.ms_detect);
+    // Recovery counted in usable frames only (objective image test, outside the timed call).
+    const bool usable = stereoPairUsable(f.left, f.right);
+    unusable += !usable;
+    recovery.add(o.state == TrackingState::TRACKING, usable);
     if (o.state != TrackingState::TRACKING)
     {
       ++lost;
@@ -303,7 +309,7 @@ int main(int argc, char** argv)
     if (verbose)
       std::cerr << "frame " << frames << " " << toString(o.state) << " klt " << o.stats.klt_tracked << " epipolar "
                 << o.stats.epipolar_kept << " p3p_inliers " << o.stats.inliers << " trials " << o.stats.ransac_trials
-                << " step_m " << (est.empty() ? 0.0 : (est.back().pose.translation() - o.T_odom_optical.translation()).norm())
+                << (usable ? "" : " (unusable)") << " step_m " << (est.empty() ? 0.0 : (est.back().pose.translation() - o.T_odom_optical.translation()).norm())
                 << " gt_step_m " << (gt.empty() || !f.has_gt_pose ? 0.0 : (gt.back().pose.translation() - f.gt_pose.translation()).norm())
                 << (o.stats.keyframe ? " | keyframe: detected " + std::to_string(o.stats.detected) +
                                            " with_depth " + std::to_string(o.stats.new_features)
@@ -365,7 +371,8 @@ int main(int argc, char** argv)
   std::cout << "  total (wall)" << std::setw(10) << percentile(wall, 0.5) << std::setw(9) << percentile(wall, 0.95)
             << "\n";
   std::cout << "resets " << vo.resets() << ", frames not tracking " << lost << ", longest non-tracking run "
-            << max_bad_run << " frames\n";
+            << max_bad_run << " frames; usable frames needed to track again (recovery_frames_max) "
+            << recovery.maxUsableInRun() << ", unusable frames " << unusable << "\n";
 
   ev::TrajectoryReport rep, prep;
   const bool have_gt = gt.size() >= 3;
@@ -420,7 +427,8 @@ int main(int argc, char** argv)
   else
     js << ", \"est_net_motion_m\": null, \"est_net_rotation_deg\": null";
   js << ", \"resets\": " << vo.resets() << ", \"frames_not_tracking\": " << lost
-     << ", \"max_recovery_frames\": " << max_bad_run;
+     << ", \"max_recovery_frames\": " << max_bad_run << ", \"recovery_frames_max\": " << recovery.maxUsableInRun()
+     << ", \"unusable_frames\": " << unusable;
   for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect"})
     js << ", \"ms_p95_" << k << "\": " << num(percentile(ms[k], 0.95));
   if (have_gt)
