@@ -381,10 +381,13 @@ int main(int argc, char** argv)
                  << " " << o.stats.inliers;
         row(f.gt_pose);
         row(o.T_odom_optical);
-        // then the integrated gyro of this frame (camera_link, qx qy qz qw) and the bias estimate
+        // then the integrated gyro of this frame (camera_link, qx qy qz qw), the gyro bias estimate
+        // and the mean accelerometer reading over the frame interval (camera_link)
         const Eigen::Quaterniond g = have_gyro ? gyro : Eigen::Quaterniond::Identity();
+        Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+        imu.meanAccel(f.stamp, 1.0 / 15.0, acc);
         dump_out << " " << g.x() << " " << g.y() << " " << g.z() << " " << g.w() << " " << vo.gyroBias().transpose()
-                 << "\n";
+                 << " " << acc.transpose() << "\n";
       }
       gt.push_back({f.stamp, f.gt_pose});
       est.push_back({f.stamp, o.T_odom_optical});
