@@ -1,5 +1,6 @@
-// vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--verbose] [--set name=value ...]
-// (--verbose: per-frame stage counts on stderr: KLT tracks, epipolar kept, P3P inliers, corners)
+// vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--verbose] [--dump FILE] [--set name=value ...]
+// (--dump FILE: per-frame ground truth and estimated pose as text rows, for analysis;
+//  --verbose: per-frame stage counts on stderr: KLT tracks, epipolar kept, P3P inliers, corners)
 // Runs the VO core on every stereo frame of a bag (no roscore), and on the same frames the peer:
 // OpenCV contrib's cv::rgbd::RgbdOdometry fed with StereoSGBM depth. Prints per-stage times,
 // trajectory errors against the bag's ground truth (assistive_sim_eval), then one JSON line.
@@ -8,8 +9,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
@@ -21,6 +24,7 @@
 #include <assistive_sim/eval/plots.h>
 #include <assistive_sim/stereo_bag.h>
 #include "assistive_vo/imu_buffer.h"
+#include "assistive_vo/recovery.h"
 #include "assistive_vo/visual_odometry.h"
 
 using namespace assistive_vo;
@@ -53,12 +57,59 @@ std::string num(double v, int prec = 4)
   return ev::jsonNumber(v, prec);
 }
 
+/// The rotational segment drift (same segments as ev::segmentDrift) split into the part about the
+/// truth's up axis (yaw) and the part about horizontal axes (tilt: roll / pitch), deg/m: where
+/// the rotation error comes from (the gyro bounds yaw and tilt alike; gravity only tilt).
+struct RotationSplit
+{
+  double yaw_deg_per_m = std::numeric_limits<double>::quiet_NaN();
+  double tilt_deg_per_m = std::numeric_limits<double>::quiet_NaN();
+};
+RotationSplit rotationDriftSplit(const ev::Trajectory& gt, const ev::Trajectory& est, const std::vector<double>& lengths,
+                                 const Eigen::Vector3d& up)
+{
+  RotationSplit r;
+  const size_t n = std::min(gt.size(), est.size());
+  std::vector<double> dist(n, 0.0);
+  for (size_t i = 1; i < n; ++i)
+    dist[i] = dist[i - 1] + (gt[i].pose.translation() - gt[i - 1].pose.translation()).norm();
+  double yaw = 0, tilt = 0;
+  size_t segs = 0;
+  for (double L : lengths)
+  {
+    size_t j = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+      j = std::max(j, i + 1);
+      while (j < n && dist[j] - dist[i] < L)
+        ++j;
+      if (j >= n)
+        break;
+      const double d = dist[j] - dist[i];
+      const Eigen::Matrix3d E = (gt[i].pose.linear().transpose() * gt[j].pose.linear()).transpose() *
+                                (est[i].pose.linear().transpose() * est[j].pose.linear());
+      const Eigen::AngleAxisd aa(E);
+      const Eigen::Vector3d w = gt[j].pose.linear() * (aa.angle() * aa.axis());  // world axes
+      const double wz = w.dot(up.normalized());
+      yaw += std::abs(wz) * 180.0 / M_PI / d;
+      tilt += (w - wz * up.normalized()).norm() * 180.0 / M_PI / d;
+      ++segs;
+    }
+  }
+  if (segs > 0)
+  {
+    r.yaw_deg_per_m = yaw / static_cast<double>(segs);
+    r.tilt_deg_per_m = tilt / static_cast<double>(segs);
+  }
+  return r;
+}
+
 /// The peer: SGBM depth + RgbdOdometry, pose chained frame to frame.
 struct Peer
 {
   cv::Ptr<cv::StereoSGBM> sgbm;
-  cv::Ptr<cv::rgbd::RgbdOdometry> odo;
-  cv::Mat prev_img, prev_depth;
+  cv::Ptr<cv::rgbd::Odometry> odo;
+  cv::Mat prev_img, prev_depth, prev_Rt;
   Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();
   int failures = 0;
   double max_translation_m = 0.15;  // per frame
@@ -70,11 +121,13 @@ struct Peer
     // Depth 0.3-8 m (SGBM depth beyond is too noisy at 0.12 m baseline), depth difference
     // 0.15 m, 20 % of the pixels: a little better than OpenCV's Kinect defaults on these bags.
     // Wider rigs (KITTI 0.54 m at 721 px) resolve farther: up to the depth of an 8 px disparity.
+    // (RgbdICPOdometry and ICPOdometry were tried on the course: 4.5 % drift, worse.)
     // Its translation limit per frame: OpenCV's default 0.15 m unless --peer-max-translation M.
     const double fb = cam.fx * cam.baseline;
-    odo = cv::rgbd::RgbdOdometry::create(K, 0.3f, static_cast<float>(std::max(8.0, fb / 8.0)), 0.15f);
-    odo->setMaxPointsPart(0.2);
-    odo->setMaxTranslation(std::max(0.15, max_translation_m));
+    auto o = cv::rgbd::RgbdOdometry::create(K, 0.3f, static_cast<float>(std::max(8.0, fb / 8.0)), 0.15f);
+    o->setMaxPointsPart(0.2);
+    o->setMaxTranslation(std::max(0.15, max_translation_m));
+    odo = o;
   }
   void process(const StereoCamera& cam, const cv::Mat& left, const cv::Mat& right)
   {
@@ -96,7 +149,11 @@ struct Peer
       bool ok = false;
       try
       {
-        ok = odo->compute(prev_img, prev_depth, mask, left, depth, mask, Rt);
+        // The last frame's motion as the initial guess (OpenCV's compute(..., initRt)): the
+        // pyramid alignment starts at zero motion otherwise and often lands in a wrong minimum
+        // (course: 10.9 % drift without, 1.55 % with). After a failure it starts from zero motion
+        // again (a stale guess made failures cascade: plaza 61 % drift, 283 failures).
+        ok = odo->compute(prev_img, prev_depth, mask, left, depth, mask, Rt, prev_Rt);
       }
       catch (const cv::Exception&)
       {
@@ -110,10 +167,14 @@ struct Peer
             M(r, c) = Rt.at<double>(r, c);
         // Rt maps points of the source (previous) frame into the destination (current) frame.
         Eigen::Isometry3d T_cur_prev(M);
+        prev_Rt = Rt.clone();
         T_w_c = T_w_c * T_cur_prev.inverse();
       }
       else
+      {
         ++failures;
+        prev_Rt.release();  // a failed frame's guess is stale: start the next one from zero motion
+      }
     }
     prev_img = left;
     prev_depth = depth;
@@ -123,7 +184,7 @@ struct Peer
 
 int main(int argc, char** argv)
 {
-  std::string bag, plot;
+  std::string bag, plot, dump;
   bool peer_on = true, imu_on = true, verbose = false;
   double peer_max_t = 0.15;
   std::vector<std::string> overrides;
@@ -143,6 +204,8 @@ int main(int argc, char** argv)
       peer_max_t = std::atof(argv[++i]);
     else if (a == "--verbose")
       verbose = true;
+    else if (a == "--dump" && i + 1 < argc)
+      dump = argv[++i];
     else if (a == "--set" && i + 1 < argc)
       overrides.push_back(argv[++i]);
     else if (a == "-h" || a == "--help")
@@ -233,9 +296,13 @@ int main(int argc, char** argv)
   ev::Trajectory gt, est, peer_est;
   std::map<std::string, std::vector<double>> ms;
   std::vector<double> wall, peer_ms, peer_wall;
-  int lost = 0, max_bad_run = 0, bad_run = 0, frames = 0;
+  int lost = 0, max_bad_run = 0, bad_run = 0, frames = 0, unusable = 0;
+  RecoveryCounter recovery;
   double prev_stamp = -1;
   Eigen::Isometry3d peer_T_odom_o0 = Eigen::Isometry3d::Identity();
+  std::ofstream dump_out;
+  if (!dump.empty())
+    dump_out.open(dump);
   assistive_sim::StereoFrame f;
   while (reader->next(f) && (max_frames < 0 || frames < max_frames))
   {
@@ -282,6 +349,10 @@ int main(int argc, char** argv)
     ms["p3p_ransac"].push_back(o.stats.ms_ransac);
     ms["bundle_adj"].push_back(o.stats.ms_ba);
     ms["detect"].push_back(o.stats.ms_detect);
+    // Recovery counted in usable frames only (objective image test, outside the timed call).
+    const bool usable = stereoPairUsable(f.left, f.right);
+    unusable += !usable;
+    recovery.add(o.state == TrackingState::TRACKING, usable);
     if (o.state != TrackingState::TRACKING)
     {
       ++lost;
@@ -292,7 +363,7 @@ int main(int argc, char** argv)
     if (verbose)
       std::cerr << "frame " << frames << " " << toString(o.state) << " klt " << o.stats.klt_tracked << " epipolar "
                 << o.stats.epipolar_kept << " p3p_inliers " << o.stats.inliers << " trials " << o.stats.ransac_trials
-                << " step_m " << (est.empty() ? 0.0 : (est.back().pose.translation() - o.T_odom_optical.translation()).norm())
+                << (usable ? "" : " (unusable)") << " step_m " << (est.empty() ? 0.0 : (est.back().pose.translation() - o.T_odom_optical.translation()).norm())
                 << " gt_step_m " << (gt.empty() || !f.has_gt_pose ? 0.0 : (gt.back().pose.translation() - f.gt_pose.translation()).norm())
                 << (o.stats.keyframe ? " | keyframe: detected " + std::to_string(o.stats.detected) +
                                            " with_depth " + std::to_string(o.stats.new_features)
@@ -304,6 +375,26 @@ int main(int argc, char** argv)
 
     if (f.has_gt_pose && o.pose_valid)
     {
+      if (dump_out)
+      {
+        // one row per frame: stamp state keyframe inliers, then gt and estimate (x y z qx qy qz qw)
+        auto row = [&](const Eigen::Isometry3d& T) {
+          const Eigen::Quaterniond q(T.linear());
+          dump_out << " " << T.translation().x() << " " << T.translation().y() << " " << T.translation().z() << " "
+                   << q.x() << " " << q.y() << " " << q.z() << " " << q.w();
+        };
+        dump_out << std::setprecision(9) << f.stamp << " " << static_cast<int>(o.state) << " " << o.stats.keyframe
+                 << " " << o.stats.inliers;
+        row(f.gt_pose);
+        row(o.T_odom_optical);
+        // then the integrated gyro of this frame (camera_link, qx qy qz qw), the gyro bias estimate
+        // and the mean accelerometer reading over the frame interval (camera_link)
+        const Eigen::Quaterniond g = have_gyro ? gyro : Eigen::Quaterniond::Identity();
+        Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+        imu.meanAccel(f.stamp, 1.0 / 15.0, acc);
+        dump_out << " " << g.x() << " " << g.y() << " " << g.z() << " " << g.w() << " " << vo.gyroBias().transpose()
+                 << " " << acc.transpose() << "\n";
+      }
       gt.push_back({f.stamp, f.gt_pose});
       est.push_back({f.stamp, o.T_odom_optical});
       if (peer_on)
@@ -337,14 +428,20 @@ int main(int argc, char** argv)
   std::cout << "  total (wall)" << std::setw(10) << percentile(wall, 0.5) << std::setw(9) << percentile(wall, 0.95)
             << "\n";
   std::cout << "resets " << vo.resets() << ", frames not tracking " << lost << ", longest non-tracking run "
-            << max_bad_run << " frames\n";
+            << max_bad_run << " frames; usable frames needed to track again (recovery_frames_max) "
+            << recovery.maxUsableInRun() << ", unusable frames " << unusable << "\n";
 
   ev::TrajectoryReport rep, prep;
+  RotationSplit split;
   const bool have_gt = gt.size() >= 3;
   if (have_gt)
   {
     rep = ev::evaluateTrajectory(gt, est);
+    const ev::TrajectoryEvalParams ep;
+    split = rotationDriftSplit(gt, est, ep.drift_lengths_m, ep.yaw.up);
     std::cout << "\n--- ours (assistive_vo) vs ground truth ---\n" << ev::reportTable(rep);
+    std::cout << "rotational drift split  yaw " << split.yaw_deg_per_m << " deg/m  tilt (roll/pitch) "
+              << split.tilt_deg_per_m << " deg/m\n";
     if (peer_on && peer_est.size() == gt.size())
     {
       prep = ev::evaluateTrajectory(gt, peer_est);
@@ -378,7 +475,8 @@ int main(int argc, char** argv)
      << ", \"ms_p95_wall\": " << num(percentile(wall, 0.95));
   if (have_gt)
     js << ", \"drift_pct\": " << num(rep.drift.drift_pct) << ", \"drift_deg_per_m\": " << num(rep.drift.drift_deg_per_m, 6)
-       << ", \"ate_rmse_m\": " << num(rep.ate.rmse) << ", \"max_jump_m\": " << num(rep.max_jump_m)
+       << ", \"drift_deg_per_m_yaw\": " << num(split.yaw_deg_per_m, 6)
+       << ", \"drift_deg_per_m_tilt\": " << num(split.tilt_deg_per_m, 6) << ", \"ate_rmse_m\": " << num(rep.ate.rmse) << ", \"max_jump_m\": " << num(rep.max_jump_m)
        << ", \"endpoint_drift_pct\": " << num(rep.endpoint_drift_pct) << ", \"path_length_m\": " << num(rep.path_length_m);
   else
     js << ", \"drift_pct\": null, \"drift_deg_per_m\": null, \"ate_rmse_m\": null, \"max_jump_m\": null";
@@ -392,7 +490,8 @@ int main(int argc, char** argv)
   else
     js << ", \"est_net_motion_m\": null, \"est_net_rotation_deg\": null";
   js << ", \"resets\": " << vo.resets() << ", \"frames_not_tracking\": " << lost
-     << ", \"max_recovery_frames\": " << max_bad_run;
+     << ", \"max_recovery_frames\": " << max_bad_run << ", \"recovery_frames_max\": " << recovery.maxUsableInRun()
+     << ", \"unusable_frames\": " << unusable;
   for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect"})
     js << ", \"ms_p95_" << k << "\": " << num(percentile(ms[k], 0.95));
   if (have_gt)

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <iostream>
 #include "assistive_vo/frames.h"
+#include "assistive_vo/recovery.h"
 #include "assistive_vo/visual_odometry.h"
 #include "synthetic.h"
 
@@ -223,6 +224,96 @@ TEST(VisualOdometry, GyroPriorWithBiasKeepsRotationAndEstimatesBias)
   EXPECT_LT(Eigen::AngleAxisd(est.linear().transpose() * gt.linear()).angle() * 180 / M_PI, 0.5);
   // the bias estimate moved from 0 towards the true bias (keyframe changes every ~15-25 frames)
   EXPECT_LT((r.vo.gyroBias() - bias_link).norm(), 0.6 * bias_link.norm());
+}
+
+/// A bare wall: a smooth brightness ramp (contrast, no corners) with sensor-like noise.
+cv::Mat bareWall(unsigned seed)
+{
+  cv::Mat ramp(480, 640, CV_32F);
+  for (int v = 0; v < ramp.rows; ++v)
+    for (int u = 0; u < ramp.cols; ++u)
+      ramp.at<float>(v, u) = 60.f + 0.2f * u;
+  cv::Mat noise(480, 640, CV_32F);
+  cv::RNG(seed).fill(noise, cv::RNG::NORMAL, 0.0, 1.0);
+  cv::Mat out;
+  cv::Mat(ramp + noise).convertTo(out, CV_8U);
+  return out;
+}
+
+TEST(Recovery, UsableImageTestIsObjective)
+{
+  Sequence r;
+  const cv::Mat l = r.world.render(r.cam, truePose(0), false), rr = r.world.render(r.cam, truePose(0), true);
+  EXPECT_TRUE(stereoPairUsable(l, rr));
+  const cv::Mat black(480, 640, CV_8UC1, cv::Scalar(0));
+  EXPECT_FALSE(stereoPairUsable(black, black));
+  EXPECT_FALSE(stereoPairUsable(l, black));  // one camera blind
+  const cv::Mat wall = bareWall(3);
+  EXPECT_FALSE(stereoPairUsable(wall, wall));
+  // texture in one corner only (corners in fewer than 4 of the 48 cells): not usable
+  cv::Mat corner = wall.clone();
+  l(cv::Rect(0, 0, 80, 80)).copyTo(corner(cv::Rect(0, 0, 80, 80)));
+  EXPECT_FALSE(stereoPairUsable(corner, corner));
+  // the same texture over half the image is
+  cv::Mat half = wall.clone();
+  l(cv::Rect(0, 0, 320, 480)).copyTo(half(cv::Rect(0, 0, 320, 480)));
+  EXPECT_TRUE(stereoPairUsable(half, half));
+}
+
+TEST(Recovery, CounterCountsUsableFramesWithoutTracking)
+{
+  RecoveryCounter c;
+  // tracking, then 5 unusable frames, 2 usable ones without tracking, tracking again
+  c.add(true, true);
+  for (int i = 0; i < 5; ++i)
+    c.add(false, false);
+  c.add(false, true);
+  c.add(false, true);
+  c.add(true, true);
+  EXPECT_EQ(c.maxUsableInRun(), 2);
+  // a later, shorter failure does not lower the maximum; a longer one raises it
+  c.add(false, true);
+  c.add(true, true);
+  EXPECT_EQ(c.maxUsableInRun(), 2);
+  for (int i = 0; i < 4; ++i)
+    c.add(false, i != 1);
+  EXPECT_EQ(c.maxUsableInRun(), 3);  // still not tracking at the end: counted as it stands
+}
+
+TEST(VisualOdometry, RecoversWithinThreeUsableFramesAfterBareWall)
+{
+  Sequence r;
+  RecoveryCounter c;
+  int k = 0;
+  VoOutput o;
+  for (; k <= 8; ++k)
+  {
+    o = r.step(k, k / 15.0);
+    c.add(o.state == TrackingState::TRACKING, true);
+  }
+  const Eigen::Vector3d before = o.T_odom_link.translation();
+  // 6 frames facing a bare wall (contrast but no corners): unusable, the tracker is lost
+  for (int j = 0; j < 6; ++j, ++k)
+  {
+    const cv::Mat w = bareWall(10 + j);
+    ASSERT_FALSE(stereoPairUsable(w, w));
+    o = r.vo.process(w, w, k / 15.0);
+    EXPECT_NE(o.state, TrackingState::TRACKING);
+    expectFinite(o);
+    c.add(o.state == TrackingState::TRACKING, false);
+  }
+  EXPECT_LT((o.T_odom_link.translation() - before).norm(), 0.6);  // predicted, no jump
+  // texture again: tracking after at most 3 usable frames (here: re-initialised at once, tracked next)
+  for (int j = 0; j < 6; ++j, ++k)
+  {
+    o = r.step(k, k / 15.0);
+    const Eigen::Isometry3d T = truePose(k);
+    ASSERT_TRUE(stereoPairUsable(r.world.render(r.cam, T, false), r.world.render(r.cam, T, true)));
+    c.add(o.state == TrackingState::TRACKING, true);
+  }
+  EXPECT_EQ(o.state, TrackingState::TRACKING);
+  EXPECT_GE(c.maxUsableInRun(), 1);
+  EXPECT_LE(c.maxUsableInRun(), 3);
 }
 
 TEST(VisualOdometry, InvalidCameraIsReported)
