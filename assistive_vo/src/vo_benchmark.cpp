@@ -57,53 +57,6 @@ std::string num(double v, int prec = 4)
   return ev::jsonNumber(v, prec);
 }
 
-/// The rotational segment drift (same segments as ev::segmentDrift) split into the part about the
-/// truth's up axis (yaw) and the part about horizontal axes (tilt: roll / pitch), deg/m: where
-/// the rotation error comes from (the gyro bounds yaw and tilt alike; gravity only tilt).
-struct RotationSplit
-{
-  double yaw_deg_per_m = std::numeric_limits<double>::quiet_NaN();
-  double tilt_deg_per_m = std::numeric_limits<double>::quiet_NaN();
-};
-RotationSplit rotationDriftSplit(const ev::Trajectory& gt, const ev::Trajectory& est, const std::vector<double>& lengths,
-                                 const Eigen::Vector3d& up)
-{
-  RotationSplit r;
-  const size_t n = std::min(gt.size(), est.size());
-  std::vector<double> dist(n, 0.0);
-  for (size_t i = 1; i < n; ++i)
-    dist[i] = dist[i - 1] + (gt[i].pose.translation() - gt[i - 1].pose.translation()).norm();
-  double yaw = 0, tilt = 0;
-  size_t segs = 0;
-  for (double L : lengths)
-  {
-    size_t j = 0;
-    for (size_t i = 0; i < n; ++i)
-    {
-      j = std::max(j, i + 1);
-      while (j < n && dist[j] - dist[i] < L)
-        ++j;
-      if (j >= n)
-        break;
-      const double d = dist[j] - dist[i];
-      const Eigen::Matrix3d E = (gt[i].pose.linear().transpose() * gt[j].pose.linear()).transpose() *
-                                (est[i].pose.linear().transpose() * est[j].pose.linear());
-      const Eigen::AngleAxisd aa(E);
-      const Eigen::Vector3d w = gt[j].pose.linear() * (aa.angle() * aa.axis());  // world axes
-      const double wz = w.dot(up.normalized());
-      yaw += std::abs(wz) * 180.0 / M_PI / d;
-      tilt += (w - wz * up.normalized()).norm() * 180.0 / M_PI / d;
-      ++segs;
-    }
-  }
-  if (segs > 0)
-  {
-    r.yaw_deg_per_m = yaw / static_cast<double>(segs);
-    r.tilt_deg_per_m = tilt / static_cast<double>(segs);
-  }
-  return r;
-}
-
 /// The peer: SGBM depth + RgbdOdometry, pose chained frame to frame.
 struct Peer
 {
@@ -432,16 +385,13 @@ int main(int argc, char** argv)
             << recovery.maxUsableInRun() << ", unusable frames " << unusable << "\n";
 
   ev::TrajectoryReport rep, prep;
-  RotationSplit split;
   const bool have_gt = gt.size() >= 3;
   if (have_gt)
   {
     rep = ev::evaluateTrajectory(gt, est);
-    const ev::TrajectoryEvalParams ep;
-    split = rotationDriftSplit(gt, est, ep.drift_lengths_m, ep.yaw.up);
     std::cout << "\n--- ours (assistive_vo) vs ground truth ---\n" << ev::reportTable(rep);
-    std::cout << "rotational drift split  yaw " << split.yaw_deg_per_m << " deg/m  tilt (roll/pitch) "
-              << split.tilt_deg_per_m << " deg/m\n";
+    std::cout << "rotational drift split  yaw " << rep.drift.drift_deg_per_m_yaw << " deg/m  tilt (roll/pitch) "
+              << rep.drift.drift_deg_per_m_tilt << " deg/m\n";
     if (peer_on && peer_est.size() == gt.size())
     {
       prep = ev::evaluateTrajectory(gt, peer_est);
@@ -475,8 +425,8 @@ int main(int argc, char** argv)
      << ", \"ms_p95_wall\": " << num(percentile(wall, 0.95));
   if (have_gt)
     js << ", \"drift_pct\": " << num(rep.drift.drift_pct) << ", \"drift_deg_per_m\": " << num(rep.drift.drift_deg_per_m, 6)
-       << ", \"drift_deg_per_m_yaw\": " << num(split.yaw_deg_per_m, 6)
-       << ", \"drift_deg_per_m_tilt\": " << num(split.tilt_deg_per_m, 6) << ", \"ate_rmse_m\": " << num(rep.ate.rmse) << ", \"max_jump_m\": " << num(rep.max_jump_m)
+       << ", \"drift_deg_per_m_yaw\": " << num(rep.drift.drift_deg_per_m_yaw, 6)
+       << ", \"drift_deg_per_m_tilt\": " << num(rep.drift.drift_deg_per_m_tilt, 6) << ", \"ate_rmse_m\": " << num(rep.ate.rmse) << ", \"max_jump_m\": " << num(rep.max_jump_m)
        << ", \"endpoint_drift_pct\": " << num(rep.endpoint_drift_pct) << ", \"path_length_m\": " << num(rep.path_length_m);
   else
     js << ", \"drift_pct\": null, \"drift_deg_per_m\": null, \"ate_rmse_m\": null, \"max_jump_m\": null";

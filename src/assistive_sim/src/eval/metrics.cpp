@@ -107,15 +107,17 @@ std::vector<double> rpeTranslationErrors(const Trajectory& gt, const Trajectory&
   return e;
 }
 
-DriftResult segmentDrift(const Trajectory& gt, const Trajectory& est, const std::vector<double>& lengths_m, size_t step)
+DriftResult segmentDrift(const Trajectory& gt, const Trajectory& est, const std::vector<double>& lengths_m, size_t step,
+                         const Eigen::Vector3d& up)
 {
+  const Eigen::Vector3d u = up.normalized();
   DriftResult r;
   const size_t n = std::min(gt.size(), est.size());
   if (n < 2 || step == 0)
     return r;
   Trajectory g(gt.begin(), gt.begin() + static_cast<std::ptrdiff_t>(n));
   const std::vector<double> dist = pathDistances(g);
-  double t_all = 0.0, r_all = 0.0;
+  double t_all = 0.0, r_all = 0.0, yaw_all = 0.0, tilt_all = 0.0;
   for (double L : lengths_m)
   {
     if (!(L > 0.0))
@@ -135,6 +137,12 @@ DriftResult segmentDrift(const Trajectory& gt, const Trajectory& est, const std:
       const Eigen::Isometry3d E = relativeError(gt, est, i, j);
       t_sum += E.translation().norm() / d;
       r_sum += rotationAngle(E.linear()) * RAD2DEG / d;
+      // the error rotation as a vector in world axes (E is in gt frame j), split about `up`
+      const Eigen::AngleAxisd aa(E.linear());
+      const Eigen::Vector3d w = g[j].pose.linear() * (aa.angle() * aa.axis());
+      const double wz = w.dot(u);
+      yaw_all += std::abs(wz) * RAD2DEG / d;
+      tilt_all += (w - wz * u).norm() * RAD2DEG / d;
       ++sd.segments;
     }
     if (sd.segments == 0)
@@ -150,6 +158,8 @@ DriftResult segmentDrift(const Trajectory& gt, const Trajectory& est, const std:
   {
     r.drift_pct = t_all / static_cast<double>(r.segments);
     r.drift_deg_per_m = r_all / static_cast<double>(r.segments);
+    r.drift_deg_per_m_yaw = yaw_all / static_cast<double>(r.segments);
+    r.drift_deg_per_m_tilt = tilt_all / static_cast<double>(r.segments);
   }
   return r;
 }
@@ -262,7 +272,7 @@ TrajectoryReport evaluateTrajectory(const Trajectory& gt, const Trajectory& est,
   r.path_length_m = pathLength(g);
   r.ate = ape(g, e, p.ate_align, &r.alignment);
   r.rpe = computeStats(rpeTranslationErrors(g, e, p.rpe_delta_m));
-  r.drift = segmentDrift(g, e, p.drift_lengths_m);
+  r.drift = segmentDrift(g, e, p.drift_lengths_m, 1, p.yaw.up);
   r.endpoint_drift_pct = endpointDriftPct(g, e);
   r.max_jump_m = maxErrorJump(g, e);
   // yaw about the truth's up axis: the estimate brought into the truth's world first

@@ -154,6 +154,32 @@ TEST(Drift, KnownRotationDriftReadsDegPerMetre)
   const DriftResult d = segmentDrift(gt, est, {5.0});
   ASSERT_EQ(d.per_length.size(), 1u);
   EXPECT_NEAR(d.drift_deg_per_m, 0.5, 1e-6);
+  // all of it about the up axis
+  EXPECT_NEAR(d.drift_deg_per_m_yaw, 0.5, 1e-6);
+  EXPECT_NEAR(d.drift_deg_per_m_tilt, 0.0, 1e-9);
+}
+
+TEST(Drift, TiltDriftIsSplitFromYaw)
+{
+  // The estimate rolls 0.3 deg per metre about its forward axis (x): tilt, no yaw.
+  Trajectory gt, est;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (int i = 0; i < 200; ++i)
+  {
+    StampedPose sp;
+    sp.t = 0.1 * i;
+    sp.pose = makePose(Eigen::Vector3d(0.1 * i, 0.0, 0.0), 0.0);
+    gt.push_back(sp);
+    sp.pose = T;
+    est.push_back(sp);
+    Eigen::Isometry3d roll = Eigen::Isometry3d::Identity();
+    roll.linear() = Eigen::AngleAxisd(0.03 * DEG, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    T = T * makePose(Eigen::Vector3d(0.1, 0.0, 0.0), 0.0) * roll;
+  }
+  const DriftResult d = segmentDrift(gt, est, {5.0});
+  EXPECT_NEAR(d.drift_deg_per_m, 0.3, 1e-6);
+  EXPECT_NEAR(d.drift_deg_per_m_tilt, 0.3, 1e-6);
+  EXPECT_NEAR(d.drift_deg_per_m_yaw, 0.0, 1e-9);
 }
 
 TEST(MaxJump, SingleFrameJumpIsFound)

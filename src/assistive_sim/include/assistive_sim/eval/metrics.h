@@ -54,13 +54,19 @@ struct DriftResult
   size_t segments = 0;                   ///< over all lengths
   double drift_pct = std::numeric_limits<double>::quiet_NaN();        ///< mean over all segments
   double drift_deg_per_m = std::numeric_limits<double>::quiet_NaN();  ///< mean over all segments
+  /// drift_deg_per_m split into the rotation error about the world's up axis (yaw) and about the
+  /// horizontal axes (tilt: roll / pitch), each the mean over all segments: where rotation drift
+  /// comes from (a gyro bounds both, gravity only tilt).
+  double drift_deg_per_m_yaw = std::numeric_limits<double>::quiet_NaN();
+  double drift_deg_per_m_tilt = std::numeric_limits<double>::quiet_NaN();
 };
 /// For every start frame (step `step`) and each length L: the end frame is the first frame with
 /// gt path distance >= L from the start. Error pose E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j);
 /// t_err = |trans(E)| / d, r_err = angle(E) / d with d the true path length of the segment
-/// (>= L; so a pure k % scale error reads exactly k %).
+/// (>= L; so a pure k % scale error reads exactly k %). `up`: the world's up axis in gt's world
+/// frame, for the yaw / tilt split of the rotation error.
 DriftResult segmentDrift(const Trajectory& gt, const Trajectory& est, const std::vector<double>& lengths_m,
-                         size_t step = 1);
+                         size_t step = 1, const Eigen::Vector3d& up = Eigen::Vector3d::UnitZ());
 
 /// End-point drift: |p_est_end - p_gt_end| / true path length * 100, after FIRST_POSE alignment.
 double endpointDriftPct(const Trajectory& gt, const Trajectory& est);
