@@ -259,14 +259,7 @@ int main(int argc, char** argv)
   assistive_sim::StereoFrame f;
   while (reader->next(f) && (max_frames < 0 || frames < max_frames))
   {
-    StereoCamera cam;
-    cam.fx = f.calib.fx;
-    cam.fy = f.calib.fy;
-    cam.cx = f.calib.cx;
-    cam.cy = f.calib.cy;
-    cam.baseline = f.calib.baseline;
-    cam.width = f.calib.width;
-    cam.height = f.calib.height;
+    const StereoCamera cam = StereoCamera::from(f.calib);
     if (frames == 0)
     {
       vo.setCamera(cam);

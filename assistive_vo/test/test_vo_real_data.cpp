@@ -55,17 +55,7 @@ ClipRun runClip(const std::string& kind, const std::string& dir)
   {
     const assistive_sim::StereoFrame f = src->frame(i);
     if (i == 0)
-    {
-      StereoCamera cam;
-      cam.fx = f.calib.fx;
-      cam.fy = f.calib.fy;
-      cam.cx = f.calib.cx;
-      cam.cy = f.calib.cy;
-      cam.baseline = f.calib.baseline;
-      cam.width = f.calib.width;
-      cam.height = f.calib.height;
-      vo.setCamera(cam);
-    }
+      vo.setCamera(StereoCamera::from(f.calib));
     const VoOutput o = vo.process(f.left, f.right, f.stamp, nullptr);
     if (i > 0 && o.state != TrackingState::TRACKING)
       ++r.not_tracking;

@@ -32,5 +32,20 @@ struct StereoCamera
   {
     return Eigen::Vector3d((u - cx) / fx, (v - cy) / fy, 1.0).normalized();
   }
+  /// From any calibration record with the same field names (e.g. assistive_sim::StereoCalib, as
+  /// read from bags and datasets) without depending on its package.
+  template <class Calib>
+  static StereoCamera from(const Calib& c)
+  {
+    StereoCamera cam;
+    cam.fx = c.fx;
+    cam.fy = c.fy;
+    cam.cx = c.cx;
+    cam.cy = c.cy;
+    cam.baseline = c.baseline;
+    cam.width = c.width;
+    cam.height = c.height;
+    return cam;
+  }
 };
 }  // namespace assistive_vo
