@@ -73,15 +73,16 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   const Eigen::Vector3f t = T_world_cam.translation();
   for (size_t i = 0; i < points_cam.size(); ++i) world_[i] = R * points_cam[i] + t;
   last_origin_ = t;
+  const float feet = t.z() - static_cast<float>(params_.camera_height);
+  const float elevated = feet + static_cast<float>(params_.step_height);  // above this: not walkable
   if (params_.surface_push > 0.0)
   {
     // A camera sees the front face of a solid; the solid lies behind it. Elevated points are moved
     // that far along the horizontal viewing ray, so a face on a cell border lands in the solid's cell.
     const float push = static_cast<float>(params_.surface_push);
-    const float elev = t.z() - static_cast<float>(params_.camera_height) + static_cast<float>(params_.step_height);
     for (Eigen::Vector3f& p : world_)
     {
-      if (!(p.z() > elev)) continue;
+      if (!(p.z() > elevated)) continue;
       const float dx = p.x() - t.x(), dy = p.y() - t.y(), d = std::sqrt(dx * dx + dy * dy);
       if (d > 1e-3f)
       {
@@ -95,8 +96,7 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   temporal_.resize(window_.n);
   temporal_.retain(window_.ox, window_.oy, window_.n);
   const float z_max = t.z() + static_cast<float>(params_.head_clearance);
-  const float feet = t.z() - static_cast<float>(params_.camera_height);
-  elevation_.build(world_, window_, z_max, feet + static_cast<float>(params_.step_height));
+  elevation_.build(world_, window_, z_max, elevated);
   stats_.points_binned = elevation_.binnedPoints();
   mls_.classify(elevation_, feet, labels_);
 
