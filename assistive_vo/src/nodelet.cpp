@@ -85,6 +85,12 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     pnh.param("stereo_half_window", p.stereo_half_window, p.stereo_half_window);
     pnh.param("klt_window", p.klt_window, p.klt_window);
     pnh.param("klt_levels", p.klt_levels, p.klt_levels);
+    pnh.param("keyframe_alignment", p.keyframe_alignment, p.keyframe_alignment);
+    pnh.param("alignment_half_window", p.alignment_half_window, p.alignment_half_window);
+    pnh.param("alignment_iterations", p.alignment_iterations, p.alignment_iterations);
+    pnh.param("alignment_max_shift", p.alignment_max_shift_px, p.alignment_max_shift_px);
+    pnh.param("alignment_min_ncc", p.alignment_min_ncc, p.alignment_min_ncc);
+    pnh.param("alignment_min_eigen_ratio", p.alignment_min_eigen_ratio, p.alignment_min_eigen_ratio);
     pnh.param("epipolar_filter", p.epipolar_filter, p.epipolar_filter);
     pnh.param("epipolar_threshold", p.epipolar_threshold_px, p.epipolar_threshold_px);
     pnh.param("ransac_probability", p.ransac_probability, p.ransac_probability);
@@ -131,6 +137,11 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     clampI("stereo_half_window", p.stereo_half_window, 1, 15);
     clampI("klt_window", p.klt_window, 5, 61);
     clampI("klt_levels", p.klt_levels, 0, 6);
+    clampI("alignment_half_window", p.alignment_half_window, 2, 15);
+    clampI("alignment_iterations", p.alignment_iterations, 1, 50);
+    clampD("alignment_max_shift", p.alignment_max_shift_px, 0.1, 10.0);
+    clampD("alignment_min_ncc", p.alignment_min_ncc, -1.0, 1.0);
+    clampD("alignment_min_eigen_ratio", p.alignment_min_eigen_ratio, 0.0, 1.0);
     clampD("epipolar_threshold", p.epipolar_threshold_px, 0.1, 10.0);
     clampD("ransac_probability", p.ransac_probability, 0.5, 0.9999);
     clampI("ransac_max_trials", p.ransac_max_trials, 10, 10000);

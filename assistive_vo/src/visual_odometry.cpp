@@ -143,6 +143,8 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
       n.kf_obs = StereoObservation{tr.cur.x, tr.cur.y, tr.cur.x - tr.cur_disp};
       n.prev = n.cur = tr.cur;
       n.cur_disp = tr.cur_disp;
+      if (p_.keyframe_alignment)
+        n.patch = KeyframePatch::extract(left, tr.cur, p_.alignment_half_window, p_.alignment_min_eigen_ratio);
       kept.push_back(n);
       existing.push_back(tr.cur);
     }
@@ -175,6 +177,8 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
     n.kf_obs = StereoObservation{fresh[i].x, fresh[i].y, fresh[i].x - disp[i]};
     n.prev = n.cur = fresh[i];
     n.cur_disp = disp[i];
+    if (p_.keyframe_alignment)
+      n.patch = KeyframePatch::extract(left, fresh[i], p_.alignment_half_window, p_.alignment_min_eigen_ratio);
     kept.push_back(n);
     ++added;
   }
@@ -439,6 +443,22 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
       alive.push_back(t);
     }
     tracks_.swap(alive);
+  }
+  // Refine against the keyframe patch (affine): removes the frame-to-frame KLT drift.
+  for (auto& t : tracks_)
+  {
+    if (!t.patch)
+      continue;
+    cv::Point2f c = t.cur;
+    Eigen::Matrix2f A = t.warp;
+    float ncc = 0.f;
+    if (t.patch->align(left, c, A, p_.alignment_iterations, &ncc) && ncc >= p_.alignment_min_ncc &&
+        std::hypot(c.x - t.cur.x, c.y - t.cur.y) <= p_.alignment_max_shift_px)
+    {
+      t.cur = c;
+      t.warp = A;
+      ++st.aligned;
+    }
   }
   st.klt_tracked = static_cast<int>(tracks_.size());
   st.ms_klt = msSince(t0);

@@ -212,7 +212,10 @@ int main(int argc, char** argv)
                                      {"min_depth_m", &params.min_depth_m},
                                      {"max_depth_m", &params.max_depth_m},
                                      {"stereo_max_mean_sad", &params.stereo_max_mean_sad},
-                                     {"min_triangulation_disparity_px", &params.min_triangulation_disparity_px}};
+                                     {"min_triangulation_disparity_px", &params.min_triangulation_disparity_px},
+                                     {"alignment_max_shift_px", &params.alignment_max_shift_px},
+                                     {"alignment_min_ncc", &params.alignment_min_ncc},
+                                     {"alignment_min_eigen_ratio", &params.alignment_min_eigen_ratio}};
     std::map<std::string, int*> n{{"target_features", &params.target_features},
                                   {"min_tracks", &params.min_tracks},
                                   {"klt_window", &params.klt_window},
@@ -221,7 +224,9 @@ int main(int argc, char** argv)
                                   {"stereo_half_window", &params.stereo_half_window},
                                   {"fast_threshold", &params.fast_threshold},
                                   {"max_disparity_px", &params.max_disparity_px},
-                                  {"min_inliers", &params.min_inliers}};
+                                  {"min_inliers", &params.min_inliers},
+                                  {"alignment_half_window", &params.alignment_half_window},
+                                  {"alignment_iterations", &params.alignment_iterations}};
     for (const std::string& o : overrides)
     {
       const size_t eq = o.find('=');
@@ -235,6 +240,8 @@ int main(int argc, char** argv)
         params.gyro_rotation_prior = v != 0;
       else if (k == "epipolar_filter")
         params.epipolar_filter = v != 0;
+      else if (k == "keyframe_alignment")
+        params.keyframe_alignment = v != 0;
       else
       {
         std::cerr << "vo_benchmark: unknown --set parameter " << k << "\n";

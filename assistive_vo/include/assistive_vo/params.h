@@ -37,6 +37,15 @@ struct VoParams
   int klt_iterations = 20;
   double klt_epsilon = 0.03;
   double klt_min_eigen = 1e-4;
+  // Each KLT position is then refined by aligning the track's keyframe patch with an affine warp
+  // (patch_alignment.h): no error accumulates over the keyframe span.
+  bool keyframe_alignment = true;
+  int alignment_half_window = 7;         // patch (2h+1)^2
+  int alignment_iterations = 10;
+  double alignment_max_shift_px = 1.5;   // larger corrections of the KLT position are rejected
+  double alignment_min_ncc = 0.0;        // ... and so are alignments correlating less than this
+  double alignment_min_eigen_ratio = 0.01;  // patch Hessian: smallest / largest eigenvalue (flat or
+                                            // one-dimensional texture: no patch, KLT only)
 
   // --- RANSAC on the epipolar constraint (keyframe -> current left image) ---
   bool epipolar_filter = true;

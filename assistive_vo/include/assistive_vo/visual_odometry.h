@@ -8,6 +8,7 @@
 #include "assistive_vo/feature_detector.h"
 #include "assistive_vo/p3p_ransac.h"
 #include "assistive_vo/params.h"
+#include "assistive_vo/patch_alignment.h"
 #include "assistive_vo/sparse_stereo.h"
 #include "assistive_vo/stereo_camera.h"
 
@@ -31,6 +32,7 @@ struct FrameStats
   // per-stage counts of this frame (diagnosis): corners detected, KLT tracks kept, tracks kept
   // by the epipolar RANSAC (new_features = detected corners with stereo depth, inliers = P3P)
   int detected = 0, klt_tracked = 0, epipolar_kept = 0;
+  int aligned = 0;  ///< tracks refined against their keyframe patch
   bool keyframe = false, reset = false;
 };
 
@@ -89,6 +91,8 @@ private:
     cv::Point2f prev, cur;
     float cur_disp = -1.f;
     bool inlier = true;
+    std::shared_ptr<const KeyframePatch> patch;  ///< keyframe appearance (null: KLT only)
+    Eigen::Matrix2f warp = Eigen::Matrix2f::Identity();  ///< keyframe patch axes in the current image
   };
   void startKeyframe(const cv::Mat& left, const cv::Mat& right, bool from_current_tracks, FrameStats& st);
   VoOutput fail(const std::string& why, const cv::Mat* left, const cv::Mat* right,
