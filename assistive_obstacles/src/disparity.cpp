@@ -107,10 +107,11 @@ bool DisparityEstimator::computeFullRes(const cv::Mat& left, const cv::Mat& righ
   return true;
 }
 
-void DisparityEstimator::toPoints(const cv::Mat& disp, const StereoModel& m,
-                                  std::vector<Eigen::Vector3f>& points) const
+void DisparityEstimator::toPoints(const cv::Mat& disp, const StereoModel& m, std::vector<Eigen::Vector3f>& points,
+                                  std::vector<Eigen::Vector3f>* normals) const
 {
   points.clear();
+  if (normals) normals->clear();
   if (disp.empty() || disp.type() != CV_32F) return;
   const double sx = static_cast<double>(disp.cols) / m.width;
   const double sy = static_cast<double>(disp.rows) / m.height;
@@ -129,6 +130,8 @@ void DisparityEstimator::toPoints(const cv::Mat& disp, const StereoModel& m,
     cv::erode(disp, dmin_, k);  // invalid (-1) neighbours make the range large: dropped too
   }
   const float jump = static_cast<float>(params_.edge_filter);
+  // second difference over the normal's stencil: beyond this the pixel is on an edge
+  const float normal_max_curvature = static_cast<float>(edges ? params_.edge_filter : 0.5);
   points.reserve(static_cast<size_t>(disp.rows / st) * static_cast<size_t>(disp.cols / st));
   for (int v = 0; v < disp.rows; v += st)
   {
@@ -143,8 +146,41 @@ void DisparityEstimator::toPoints(const cv::Mat& disp, const StereoModel& m,
       if (edges && hi[u] - lo[u] > jump) continue;
       const float z = fb / d;
       points.emplace_back((u - cx) / fx * z, yn * z, z);
+      if (normals) normals->push_back(surfaceNormal(disp, u, v, fx, fy, cx, cy, points.back(), normal_max_curvature));
     }
   }
+}
+
+Eigen::Vector3f DisparityEstimator::surfaceNormal(const cv::Mat& disp, int u, int v, float fx, float fy, float cx,
+                                                  float cy, const Eigen::Vector3f& X, float max_curvature)
+{
+  // On a plane n.X = k the disparity is d = (fx B / k) (nx (u - cx) / fx + ny (v - cy) / fy + nz), so
+  // n ~ (dd/du, dd/dv fy / fx, (d - dd/du (u - cx) - dd/dv (v - cy)) / fx). Central differences
+  // over +-4 px (+-2, +-1 near invalid pixels; a wider stencil averages the matcher's noise).
+  const Eigen::Vector3f back = -X.normalized();
+  auto at = [&](int x, int y) { return disp.at<float>(y, x); };
+  auto diff = [&](int du, int dv, float& g) {
+    for (int h = 4; h >= 1; h /= 2)
+    {
+      const int x0 = u - h * du, y0 = v - h * dv, x1 = u + h * du, y1 = v + h * dv;
+      if (x0 < 0 || y0 < 0 || x1 >= disp.cols || y1 >= disp.rows) continue;
+      const float a = at(x0, y0), b = at(x1, y1), c = at(u, v);
+      if (!(a > 0.f && b > 0.f)) continue;
+      // Not planar across the stencil (an object's edge): no normal.
+      if (std::abs(a + b - 2.f * c) > max_curvature) return false;
+      g = (b - a) / (2.f * h);
+      return true;
+    }
+    return false;
+  };
+  float gu = 0.f, gv = 0.f;
+  if (!diff(1, 0, gu) || !diff(0, 1, gv)) return back;
+  const float d = at(u, v);
+  Eigen::Vector3f n(gu, gv * fy / fx, (d - gu * (u - cx) - gv * (v - cy)) / fx);
+  const float len = n.norm();
+  if (!(len > 0.f) || !std::isfinite(len)) return back;
+  n /= len;
+  return n.dot(X) > 0.f ? Eigen::Vector3f(-n) : n;
 }
 
 cv::Mat peerSgbm(const cv::Mat& left, const cv::Mat& right, int num_disparities)

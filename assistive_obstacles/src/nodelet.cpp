@@ -117,6 +117,7 @@ private:
     param(pnh, "peak_fraction", p.peak_fraction);
     param(pnh, "ground_quantile", p.ground_quantile);
     param(pnh, "surface_push", p.surface_push);
+    param(pnh, "surface_push_normal", p.surface_push_normal);
     param(pnh, "closing_weight", p.closing_weight);
     param(pnh, "disparity_sigma", p.disparity_sigma);
     param(pnh, "obstacle_max_sigma", p.obstacle_max_sigma);
@@ -188,7 +189,8 @@ private:
       ++bad_input_;
       return;
     }
-    disparity_->toPoints(disp, model, points_);
+    const bool want_normals = params_.surface_push > 0.0 && params_.surface_push_normal;
+    disparity_->toPoints(disp, model, points_, want_normals ? &normals_ : nullptr);
     const auto t1 = std::chrono::steady_clock::now();
     if (pub_disp_.getNumSubscribers() > 0)
       pub_disp_.publish(boost::make_shared<stereo_msgs::DisparityImage>(
@@ -210,7 +212,7 @@ private:
       ++tf_failures_;
       return;
     }
-    map_->update(points_, T_world_cam, &model, &disp);
+    map_->update(points_, T_world_cam, &model, &disp, want_normals ? &normals_ : nullptr);
     const auto t2 = std::chrono::steady_clock::now();
     GridData grid;
     map_->grid(grid);
@@ -280,7 +282,7 @@ private:
   int octomap_every_ = 5;
   std::unique_ptr<DisparityEstimator> disparity_;
   std::unique_ptr<ObstacleMap> map_;
-  std::vector<Eigen::Vector3f> points_;
+  std::vector<Eigen::Vector3f> points_, normals_;  // left optical frame
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   message_filters::Subscriber<Image> sub_l_, sub_r_;

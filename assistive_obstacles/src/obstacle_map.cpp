@@ -64,7 +64,8 @@ void ObstacleMap::reset()
 }
 
 void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Isometry3f& T_world_cam,
-                         const StereoModel* camera, const cv::Mat* disparity)
+                         const StereoModel* camera, const cv::Mat* disparity,
+                         const std::vector<Eigen::Vector3f>* normals_cam)
 {
   stats_ = FrameStats();
   stats_.points_in = points_cam.size();
@@ -77,13 +78,33 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   const float elevated = feet + static_cast<float>(params_.step_height);  // above this: not walkable
   if (params_.surface_push > 0.0)
   {
-    // A camera sees the front face of a solid; the solid lies behind it. Elevated points are moved
-    // that far along the horizontal viewing ray, so a face on a cell border lands in the solid's cell.
+    // A camera sees the front face of a solid; the solid lies behind it. Points are moved that far
+    // into it, so a face on a cell border lands in the solid's cell: points of steep surfaces along
+    // the surface's horizontal normal when known (a wall seen at a grazing angle: the ray runs along
+    // the wall and would not move the point off the border), else elevated points along the
+    // horizontal viewing ray.
     const float push = static_cast<float>(params_.surface_push);
-    for (Eigen::Vector3f& p : world_)
+    const bool use_normals = normals_cam && normals_cam->size() == points_cam.size();
+    for (size_t i = 0; i < world_.size(); ++i)
     {
-      if (!(p.z() > elevated)) continue;
-      const float dx = p.x() - t.x(), dy = p.y() - t.y(), d = std::sqrt(dx * dx + dy * dy);
+      Eigen::Vector3f& p = world_[i];
+      float dx = 0.f, dy = 0.f;
+      const Eigen::Vector3f into = use_normals ? Eigen::Vector3f(-(R * (*normals_cam)[i])) : Eigen::Vector3f::Zero();
+      // A steep surface (horizontal normal part >= 0.5) at any height, a wall's foot included; a
+      // table top or the floor is not pushed along its normal.
+      if (use_normals && into.head<2>().squaredNorm() >= 0.25f * into.squaredNorm())
+      {
+        dx = into.x();
+        dy = into.y();
+      }
+      else if (p.z() > elevated)
+      {
+        dx = p.x() - t.x();
+        dy = p.y() - t.y();
+      }
+      else
+        continue;
+      const float d = std::sqrt(dx * dx + dy * dy);
       if (d > 1e-3f)
       {
         p.x() += push * dx / d;

@@ -81,7 +81,7 @@ bool setParam(ObstaclesParams& p, const std::string& k, const std::string& v)
   D(disparity_scale) I(max_disparity) I(block_size) I(uniqueness_ratio) I(speckle_window_size) I(speckle_range)
   I(disp12_max_diff) D(edge_filter) D(min_depth) D(max_depth) I(point_stride) D(cell_size) D(window_radius) I(min_points_per_cell)
   D(gap_height) D(step_height) D(min_step) D(head_clearance) D(camera_height) D(max_surface_rise) D(max_surface_drop)
-  D(cluster_gap) I(min_cluster_points) D(thickness_trim) I(min_traversable_edges) I(closing_radius) I(fine_factor) D(peak_fraction) D(ground_quantile) D(surface_push) I(closing_weight) D(disparity_sigma) D(obstacle_max_sigma) I(sgbm_p1) I(sgbm_p2)
+  D(cluster_gap) I(min_cluster_points) D(thickness_trim) I(min_traversable_edges) I(closing_radius) I(fine_factor) D(peak_fraction) D(ground_quantile) D(surface_push) I(surface_push_normal) I(closing_weight) D(disparity_sigma) D(obstacle_max_sigma) I(sgbm_p1) I(sgbm_p2)
   I(min_observations) D(obstacle_ratio) I(permanent_flips) I(max_count) D(full_weight_range) D(dropout_max_range) I(dropout_free_weight) D(vote_max_range)
 #undef D
 #undef I
@@ -171,7 +171,7 @@ int main(int argc, char** argv)
   std::set<size_t> free_where_obstacle;
   assistive_sim::StereoFrame f;
   int frames = 0, used = 0, no_pose = 0;
-  std::vector<Eigen::Vector3f> points;
+  std::vector<Eigen::Vector3f> points, normals;
   cv::Mat disp;
   GridData grid;
   Eigen::Vector2d wearer(0, 0);
@@ -238,9 +238,10 @@ int main(int argc, char** argv)
           std::fprintf(stderr, " - ;");
       std::fprintf(stderr, "\n");
     }
-    disparity.toPoints(disp, model, points);
+    const bool want_normals = params.surface_push > 0.0 && params.surface_push_normal;
+    disparity.toPoints(disp, model, points, want_normals ? &normals : nullptr);
     const auto t1 = std::chrono::steady_clock::now();
-    map.update(points, f.gt_pose.cast<float>(), &model, &disp);
+    map.update(points, f.gt_pose.cast<float>(), &model, &disp, want_normals ? &normals : nullptr);
     const auto t2 = std::chrono::steady_clock::now();
     if (const char* dc = std::getenv("OBST_CELL"))
     {

@@ -49,6 +49,36 @@ TEST(Disparity, PlaneAtKnownDisparityAndDepth)
   EXPECT_GT(near, 0.95 * pts.size());
 }
 
+// Normals from the disparity gradient: a wall to the left (x = -0.8 m in the optical frame) seen
+// at grazing angles, and a fronto-parallel plane.
+TEST(Disparity, SurfaceNormalsFromTheDisparityGradient)
+{
+  StereoModel m;  // fx 500 at 640x480, B 0.12; disparity at half scale: fx 250, cx 159.5
+  ObstaclesParams p;
+  DisparityEstimator est(p);
+  cv::Mat wall(240, 320, CV_32F, cv::Scalar(-1.f));
+  for (int v = 0; v < 240; ++v)
+    for (int u = 0; u < 150; ++u) wall.at<float>(v, u) = 0.12f * (159.5f - u) / 0.8f;  // d = B (cx - u) / 0.8
+  std::vector<Eigen::Vector3f> pts, normals;
+  est.toPoints(wall, m, pts, &normals);
+  ASSERT_EQ(pts.size(), normals.size());
+  ASSERT_GT(pts.size(), 10000u);
+  int good = 0;
+  for (size_t i = 0; i < pts.size(); ++i)
+  {
+    EXPECT_NEAR(pts[i].x(), -0.8f, 1e-3f);
+    good += normals[i].dot(Eigen::Vector3f(1, 0, 0)) > 0.999f;
+  }
+  EXPECT_GT(good, 0.98 * pts.size());
+
+  const cv::Mat front(240, 320, CV_32F, cv::Scalar(20.f));
+  est.toPoints(front, m, pts, &normals);
+  ASSERT_EQ(pts.size(), normals.size());
+  good = 0;
+  for (size_t i = 0; i < pts.size(); ++i) good += normals[i].dot(Eigen::Vector3f(0, 0, -1)) > 0.999f;
+  EXPECT_GT(good, 0.95 * pts.size());  // all but a 4 px border, where the ray stands in
+}
+
 TEST(Disparity, BadInputIsRejected)
 {
   DisparityEstimator est;

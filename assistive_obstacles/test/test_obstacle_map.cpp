@@ -355,6 +355,47 @@ TEST(ObstacleMap, WallFaceOnCellBorderStaysInItsCell)
   EXPECT_EQ(codeAt(m2, 2.3, 0.1), OBSTACLE);  // without the push the face's noise makes it an obstacle
 }
 
+// A wall along the walking direction, seen at a grazing angle, its face on a cell border, with depth
+// noise along the viewing ray (8 cm: enough that the ray push leaves some points in the walkway's
+// cell, as on the corridor and glass worlds' walls): the ray runs almost along the wall, so pushing
+// along it barely moves points off the border; pushing along the surface normal puts them into the
+// wall's cell.
+TEST(ObstacleMap, GrazingWallFacePushedAlongItsNormal)
+{
+  const Eigen::Isometry3f T = synthetic::cameraAt(0.0, 0.0, 1.6);
+  Points w;
+  synthetic::patch(w, 0.6, 2.8, -0.98, 0.6, 0.0);
+  std::vector<Eigen::Vector3f> normals_world(w.size(), Eigen::Vector3f(0, 0, 1));
+  std::mt19937 rng(5);
+  std::normal_distribution<float> noise(0.f, 0.08f);
+  for (double x = 1.0; x < 2.8; x += 0.02)
+    for (double z = 0.0; z <= 1.8; z += 0.04)
+    {
+      const Eigen::Vector3f p(static_cast<float>(x), -1.f, static_cast<float>(z));
+      const Eigen::Vector3f ray = (p - T.translation()).normalized();
+      w.push_back(p + noise(rng) * ray);
+      normals_world.emplace_back(0, 1, 0);  // the wall faces the wearer
+    }
+  const Points cam = synthetic::toCamera(w, T);
+  std::vector<Eigen::Vector3f> normals(cam.size());
+  for (size_t i = 0; i < cam.size(); ++i) normals[i] = T.linear().transpose() * normals_world[i];
+  ObstacleMap along_normal, along_ray;
+  for (int i = 0; i < 6; ++i)
+  {
+    along_normal.update(cam, T, nullptr, nullptr, &normals);
+    along_ray.update(cam, T);
+  }
+  int spilled = 0;
+  for (double x : {1.7, 2.1, 2.5})
+  {
+    EXPECT_EQ(codeAt(along_normal, x, -1.1), OBSTACLE) << x;
+    EXPECT_EQ(codeAt(along_normal, x, -0.9), FREE) << x;
+    EXPECT_EQ(codeAt(along_ray, x, -1.1), OBSTACLE) << x;
+    spilled += codeAt(along_ray, x, -0.9) != FREE;
+  }
+  EXPECT_GT(spilled, 0);  // the ray push leaves the wall fattened into the walkway
+}
+
 TEST(ObstacleMap, WindowScrollsWithTheWearer)
 {
   ObstacleMap m;

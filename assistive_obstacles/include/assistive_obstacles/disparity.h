@@ -42,9 +42,15 @@ public:
   /// 3D points (left optical frame: x right, y down, z forward) from a disparity at the
   /// matcher's scale; keeps min_depth <= z <= max_depth and every point_stride-th pixel, and
   /// drops pixels on depth discontinuities (3x3 disparity range > edge_filter).
-  void toPoints(const cv::Mat& disp, const StereoModel& model, std::vector<Eigen::Vector3f>& points) const;
+  /// `normals` (optional): per point, the unit normal of the surface (left optical frame, facing
+  /// the camera) from the disparity gradient, which is linear in (u, v) on a plane; the viewing
+  /// ray reversed where the gradient is not available.
+  void toPoints(const cv::Mat& disp, const StereoModel& model, std::vector<Eigen::Vector3f>& points,
+                std::vector<Eigen::Vector3f>* normals = nullptr) const;
 
 private:
+  static Eigen::Vector3f surfaceNormal(const cv::Mat& disp, int u, int v, float fx, float fy, float cx, float cy,
+                                       const Eigen::Vector3f& X, float max_curvature);
   ObstaclesParams params_;
   cv::Ptr<cv::StereoMatcher> matcher_;
   mutable cv::Mat l_small_, r_small_, l_grey_, r_grey_, disp16_, dmax_, dmin_;

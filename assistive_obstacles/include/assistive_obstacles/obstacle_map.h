@@ -50,9 +50,12 @@ public:
   /// (z up). `camera` + `disparity` (the matcher-scale CV_32F disparity the points came from;
   /// both may be null) enable the dropout / glass policy: a cell mapped as obstacle whose depth
   /// vanished or passes through it this frame is reported and takes no free vote.
+  /// `normals_cam` (optional, one per point, facing the camera): elevated points are pushed into
+  /// the solid along the surface normal instead of the viewing ray (see surface_push).
   /// Elevation + MLS + temporal only; the OctoMap is updated by insertOctomap().
   void update(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Isometry3f& T_world_cam,
-              const StereoModel* camera = nullptr, const cv::Mat* disparity = nullptr);
+              const StereoModel* camera = nullptr, const cv::Mat* disparity = nullptr,
+              const std::vector<Eigen::Vector3f>* normals_cam = nullptr);
   /// Inserts the last frame's world points into the OctoMap.
   void insertOctomap();
 

@@ -47,6 +47,8 @@ struct ObstaclesParams
                                     ///< ray: a camera sees the front face of a solid, the solid lies behind it, so a face
                                     ///< on a cell border (depth noise splits its points) lands in the solid's cell; keep it
                                     ///< below the thinnest obstacle (0 disables)
+  bool surface_push_normal = true;  ///< push along the surface's horizontal normal (from the disparity gradient) where
+                                    ///< the surface is steep, instead of the viewing ray
   double ground_quantile = 0.7;     ///< quantile of the lowest interval's heights taken as the cell's ground height:
                                     ///< above the median, so a cell holding a curb edge takes the curb's height as
                                     ///< the ground truth does (highest walkable surface in the cell)
