@@ -113,6 +113,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     pnh.param("base_frame", base_frame_, base_frame_);
     pnh.param("publish_tf", publish_tf_, publish_tf_);
     pnh.param("expected_rate", expected_rate_, expected_rate_);
+    pnh.param("imu_wait", imu_wait_, imu_wait_);
 
     auto clampI = [this](const char* n, int& v, int lo, int hi) {
       if (v < lo || v > hi)
@@ -155,6 +156,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     clampD("gyro_bias_sigma", p.gyro_bias_sigma, 1e-6, 1.0);
     clampI("queue_size", queue_size_, 1, 100);
     clampD("expected_rate", expected_rate_, 0.1, 200.0);
+    clampD("imu_wait", imu_wait_, 0.0, 30.0);
     min_freq_ = 0.5 * expected_rate_;
     max_freq_ = 2.0 * expected_rate_;
     NODELET_INFO("stereo_odometry: fast_threshold %d, target_features %d, replenish %.2f, max_disparity %d, "
@@ -292,21 +294,36 @@ class StereoOdometryNodelet : public nodelet::Nodelet
                             last_stamp_, t);
       imu_.clear();
     }
+    if (p_.use_imu && !vo_->started())
+    {
+      // The odom frame takes gravity from the accelerometer at the first frame. The IMU and image
+      // subscriptions connect independently, so the first images can come before any IMU sample:
+      // wait for it (up to imu_wait of image time) rather than assume a level camera, which would
+      // tilt the whole map (a pitched-down head sees the floor as a slope, i.e. obstacles).
+      Eigen::Vector3d a;
+      if (imu_.meanAccel(t, 0.5, a) && a.norm() > 5.0 && a.norm() < 15.0)
+        vo_->setInitialUp(a);
+      else
+      {
+        if (imu_wait_start_ < 0 || t < imu_wait_start_)
+          imu_wait_start_ = t;
+        if (t - imu_wait_start_ < imu_wait_)
+        {
+          NODELET_INFO_THROTTLE(1.0, "stereo_odometry: waiting for the IMU (gravity) before starting (%.1f of %.1f s)",
+                                t - imu_wait_start_, imu_wait_);
+          input_problem_ = "waiting for the IMU";
+          return;
+        }
+        NODELET_WARN_ONCE("stereo_odometry: no IMU sample within %.1f s; gravity from initial_roll/initial_pitch "
+                          "(%.1f / %.1f deg), no gyro prior until it comes",
+                          imu_wait_, p_.initial_roll_deg, p_.initial_pitch_deg);
+      }
+      input_problem_.clear();
+    }
     Eigen::Quaterniond gyro;
     bool have_gyro = false;
-    if (p_.use_imu && !imu_.empty())
-    {
-      if (!vo_->started())
-      {
-        Eigen::Vector3d a;
-        if (imu_.meanAccel(t, 0.5, a) && a.norm() > 5.0 && a.norm() < 15.0)
-          vo_->setInitialUp(a);
-      }
-      if (last_stamp_ > 0 && t > last_stamp_)
-        have_gyro = imu_.integrate(last_stamp_, t, gyro);
-    }
-    else if (p_.use_imu && !vo_->started() && n_imu_ == 0)
-      NODELET_INFO_ONCE("stereo_odometry: no IMU yet; gravity from initial_roll/initial_pitch, no gyro prior");
+    if (p_.use_imu && !imu_.empty() && last_stamp_ > 0 && t > last_stamp_)
+      have_gyro = imu_.integrate(last_stamp_, t, gyro);
     last_stamp_ = t;
 
     const VoOutput o = vo_->process(lc->image, rc->image, t, have_gyro ? &gyro : nullptr);
@@ -374,6 +391,8 @@ class StereoOdometryNodelet : public nodelet::Nodelet
 
   VoOutput last_;
   double last_stamp_ = -1.0;
+  double imu_wait_start_ = -1.0;  // image stamp of the first frame that waited for the IMU
+  double imu_wait_ = 1.0;         // s of image time
   std::string input_problem_, last_problem_;
   uint64_t n_left_ = 0, n_right_ = 0, n_left_info_ = 0, n_right_info_ = 0, n_imu_ = 0, n_processed_ = 0;
   uint64_t last_left_ = 0, last_right_ = 0, last_processed_ = 0;

@@ -8,6 +8,9 @@
 #include <thread>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/Imu.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
@@ -174,6 +177,95 @@ TEST(VoNodelet, UnsynchronisedInputIsReportedWithoutCrash)
   EXPECT_TRUE(reported);
   std::lock_guard<std::mutex> l(mtx);
   EXPECT_EQ(nan_poses, 0);
+}
+
+// The IMU and image subscriptions connect independently, so the first images can arrive before any
+// IMU sample. A second nodelet instance (`late_imu_odometry`, on /late/...) gets 5 stereo frames of
+// a rendered walk without IMU, then the IMU and the rest: it must wait for the IMU rather than
+// start with a level camera (the head is pitched 10-30 deg down on the course), so its first pose
+// has the true gravity direction.
+std::mutex late_mtx;
+std::map<double, Eigen::Isometry3d> late_est;
+void lateOdomCb(const nav_msgs::OdometryConstPtr& m)
+{
+  std::lock_guard<std::mutex> l(late_mtx);
+  Eigen::Isometry3d T_link_opt = Eigen::Isometry3d::Identity();
+  T_link_opt.linear() = assistive_vo::R_link_optical();
+  late_est[m->header.stamp.toSec()] = poseOf(m->pose.pose) * T_link_opt;
+}
+
+TEST(VoNodelet, WaitsForTheImuBeforeFixingGravity)
+{
+  ros::NodeHandle nh;
+  char dir_tmpl[] = "/tmp/vo_rostest_XXXXXX";
+  ASSERT_NE(mkdtemp(dir_tmpl), nullptr);
+  const std::string bag_path = std::string(dir_tmpl) + "/late_imu.bag";
+  const std::string render = "rosrun assistive_sim render_bag --world course --frames 20 --out " + bag_path + " > " +
+                             std::string(dir_tmpl) + "/render.log 2>&1";
+  ASSERT_EQ(std::system(render.c_str()), 0) << "render_bag failed: " << render;
+  ros::Publisher li = nh.advertise<sensor_msgs::Image>("/late/left/image_rect", 5);
+  ros::Publisher ri = nh.advertise<sensor_msgs::Image>("/late/right/image_rect", 5);
+  ros::Publisher lc = nh.advertise<sensor_msgs::CameraInfo>("/late/left/camera_info", 5);
+  ros::Publisher rc = nh.advertise<sensor_msgs::CameraInfo>("/late/right/camera_info", 5);
+  ros::Publisher imu = nh.advertise<sensor_msgs::Imu>("/late/imu/data", 2000);
+  ros::Subscriber sub = nh.subscribe("/late/odom", 100, lateOdomCb);
+  for (int i = 0; i < 100 && (li.getNumSubscribers() == 0 || imu.getNumSubscribers() == 0); ++i)
+    ros::Duration(0.1).sleep();
+  ASSERT_GT(imu.getNumSubscribers(), 0u);
+  ros::Duration(0.5).sleep();
+
+  rosbag::Bag bag(bag_path);
+  std::vector<sensor_msgs::ImuConstPtr> imus;
+  std::map<double, std::vector<rosbag::MessageInstance>> frames;  // stamp -> left/right image + info
+  std::map<double, Eigen::Isometry3d> truth;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag))
+  {
+    if (auto i = m.instantiate<sensor_msgs::Imu>())
+      imus.push_back(i);
+    else if (auto o = m.instantiate<nav_msgs::Odometry>())
+      truth[o->header.stamp.toSec()] = poseOf(o->pose.pose);
+    else if (auto im = m.instantiate<sensor_msgs::Image>())
+      frames[im->header.stamp.toSec()].push_back(m);
+    else if (auto ci = m.instantiate<sensor_msgs::CameraInfo>())
+      frames[ci->header.stamp.toSec()].push_back(m);
+  }
+  ASSERT_GE(frames.size(), 15u);
+  double imu_from = -1;
+  size_t next_imu = 0, k = 0;
+  for (const auto& f : frames)
+  {
+    if (k++ == 5)
+      imu_from = f.first;
+    if (imu_from > 0)  // from the 6th frame: every IMU sample up to this frame first
+      for (; next_imu < imus.size() && imus[next_imu]->header.stamp.toSec() <= f.first + 1e-6; ++next_imu)
+        imu.publish(imus[next_imu]);
+    for (const auto& m : f.second)
+    {
+      const bool left = m.getTopic().find("left") != std::string::npos;
+      if (auto im = m.instantiate<sensor_msgs::Image>())
+        (left ? li : ri).publish(im);
+      else if (auto ci = m.instantiate<sensor_msgs::CameraInfo>())
+        (left ? lc : rc).publish(ci);
+    }
+    ros::Duration(0.1).sleep();
+  }
+  ros::Duration(1.0).sleep();
+
+  std::lock_guard<std::mutex> l(late_mtx);
+  ASSERT_FALSE(late_est.empty()) << "no odometry once the IMU came";
+  const double first = late_est.begin()->first;
+  EXPECT_GE(first, imu_from - 1e-6) << "odometry started before any IMU sample";
+  ASSERT_TRUE(truth.count(first));
+  // gravity (up) in the optical frame: estimate against truth; the start is already walking, so
+  // the accelerometer mean carries some forward acceleration (a few degrees)
+  const Eigen::Vector3d up_est = late_est.begin()->second.linear().transpose() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d up_true = truth[first].linear().transpose() * Eigen::Vector3d::UnitZ();
+  const double tilt_err = std::acos(std::clamp(up_est.dot(up_true), -1.0, 1.0)) * 180.0 / M_PI;
+  const double head_pitch = std::asin(std::clamp(-up_true.z(), -1.0, 1.0)) * 180.0 / M_PI;  // optical z forward: > 0 down
+  EXPECT_GT(std::abs(head_pitch), 8.0) << "the walk must start with the head pitched for this test to mean anything";
+  EXPECT_LT(tilt_err, 6.0) << "head pitch " << head_pitch << " deg down";
+  std::printf("late IMU start: first pose %.3f s after the first image, tilt error %.2f deg, head pitch %.1f deg\n",
+              first - frames.begin()->first, tilt_err, head_pitch);
 }
 
 int main(int argc, char** argv)
