@@ -80,6 +80,17 @@ bool DisparityEstimator::compute(const cv::Mat& left, const cv::Mat& right, cv::
     r = &r_small_;
   }
   if (l->cols <= numDisparities() + params_.block_size) return false;
+  if (params_.texture_max_depth_sigma > 0.0)
+  {
+    // Horizontal texture per matching block: what constrains a disparity (toPoints).
+    cv::Mat gx;
+    cv::Sobel(*l, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);  // grey levels per pixel
+    cv::multiply(gx, gx, gx);
+    const int bs = params_.block_size | 1;
+    cv::boxFilter(gx, texture_, CV_32F, cv::Size(bs, bs), cv::Point(-1, -1), false);
+  }
+  else
+    texture_.release();
   matcher_->compute(*l, *r, disp16_);
   // 16 * disparity in CV_16S; invalid = (mindisp - 1) * 16 < 0.
   disp16_.convertTo(disp, CV_32F, 1.0 / 16.0);
@@ -130,6 +141,11 @@ void DisparityEstimator::toPoints(const cv::Mat& disp, const StereoModel& m, std
     cv::erode(disp, dmin_, k);  // invalid (-1) neighbours make the range large: dropped too
   }
   const float jump = static_cast<float>(params_.edge_filter);
+  // Cramer-Rao bound of the disparity from the block's horizontal texture (both images noisy):
+  // sigma_d^2 >= 2 sigma_n^2 / sum(g_x^2); its depth error Z^2 sigma_d / fb must stay below the limit.
+  const bool texture_check = params_.texture_max_depth_sigma > 0.0 && texture_.size() == disp.size();
+  const float tex_limit = static_cast<float>(params_.texture_max_depth_sigma);
+  const float two_noise2 = static_cast<float>(2.0 * params_.image_noise_sigma * params_.image_noise_sigma);
   // second difference over the normal's stencil: beyond this the pixel is on an edge
   const float normal_max_curvature = static_cast<float>(edges ? params_.edge_filter : 0.5);
   points.reserve(static_cast<size_t>(disp.rows / st) * static_cast<size_t>(disp.cols / st));
@@ -145,6 +161,11 @@ void DisparityEstimator::toPoints(const cv::Mat& disp, const StereoModel& m, std
       if (!(d >= dmin && d <= dmax)) continue;
       if (edges && hi[u] - lo[u] > jump) continue;
       const float z = fb / d;
+      if (texture_check)
+      {
+        const float sigma_d = std::sqrt(two_noise2 / std::max(texture_.at<float>(v, u), 1e-6f));
+        if (z * z * sigma_d > tex_limit * fb) continue;
+      }
       points.emplace_back((u - cx) / fx * z, yn * z, z);
       if (normals) normals->push_back(surfaceNormal(disp, u, v, fx, fy, cx, cy, points.back(), normal_max_curvature));
     }

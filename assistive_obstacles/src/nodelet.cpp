@@ -98,6 +98,8 @@ private:
     param(pnh, "max_depth", p.max_depth);
     param(pnh, "point_stride", p.point_stride);
     param(pnh, "edge_filter", p.edge_filter);
+    param(pnh, "texture_max_depth_sigma", p.texture_max_depth_sigma);
+    param(pnh, "image_noise_sigma", p.image_noise_sigma);
     param(pnh, "cell_size", p.cell_size);
     param(pnh, "window_radius", p.window_radius);
     param(pnh, "min_points_per_cell", p.min_points_per_cell);

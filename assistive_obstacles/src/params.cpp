@@ -48,6 +48,8 @@ std::vector<std::string> clampParams(ObstaclesParams& p)
   clampField(m, "max_depth", p.max_depth, p.min_depth + 0.1, 50.0);
   clampField(m, "point_stride", p.point_stride, 1, 16);
   clampField(m, "edge_filter", p.edge_filter, 0.0, 1000.0);
+  clampField(m, "texture_max_depth_sigma", p.texture_max_depth_sigma, 0.0, 100.0);
+  clampField(m, "image_noise_sigma", p.image_noise_sigma, 0.01, 100.0);
   clampField(m, "cell_size", p.cell_size, 0.02, 2.0);
   clampField(m, "window_radius", p.window_radius, 2 * p.cell_size, 50.0);
   clampField(m, "min_points_per_cell", p.min_points_per_cell, 1, 100000);

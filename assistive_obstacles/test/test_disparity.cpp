@@ -79,6 +79,42 @@ TEST(Disparity, SurfaceNormalsFromTheDisparityGradient)
   EXPECT_GT(good, 0.95 * pts.size());  // all but a 4 px border, where the ray stands in
 }
 
+// A plane at 1.5 m whose right half has no texture: there the disparity is a guess (smoothness
+// fills it in), its Cramer-Rao bound is unbounded, and it gives no point.
+TEST(Disparity, TexturelessPixelsGiveNoPoint)
+{
+  cv::Mat l, r;
+  makePair(40, l, r);
+  l.colRange(330, 640).setTo(120);
+  r.colRange(290, 640).setTo(120);  // right(x - 40) = left(x): the flat part, shifted
+  StereoModel m;
+  ObstaclesParams p;
+  ASSERT_GT(p.texture_max_depth_sigma, 0.0);
+  std::vector<Eigen::Vector3f> pts;
+  auto count = [&](const ObstaclesParams& q, int& textured, int& flat) {
+    DisparityEstimator est(q);
+    cv::Mat d;
+    ASSERT_TRUE(est.compute(l, r, d));
+    est.toPoints(d, m, pts);
+    textured = flat = 0;
+    for (const auto& x : pts)
+    {
+      const double u = x.x() / x.z() * m.fx + m.cx;  // full-resolution column
+      textured += u < 300;
+      flat += u > 360;
+    }
+  };
+  int textured = 0, flat = 0;
+  count(p, textured, flat);
+  EXPECT_GT(textured, 20000);
+  EXPECT_EQ(flat, 0);
+  p.texture_max_depth_sigma = 0.0;  // off: the matcher's guesses on the flat half come through
+  int textured_off = 0, flat_off = 0;
+  count(p, textured_off, flat_off);
+  EXPECT_GT(flat_off, 1000);
+  EXPECT_NEAR(textured_off, textured, 0.02 * textured);  // textured pixels pass the bound
+}
+
 TEST(Disparity, BadInputIsRejected)
 {
   DisparityEstimator est;

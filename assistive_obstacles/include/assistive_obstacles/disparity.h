@@ -45,6 +45,9 @@ public:
   /// `normals` (optional): per point, the unit normal of the surface (left optical frame, facing
   /// the camera) from the disparity gradient, which is linear in (u, v) on a plane; the viewing
   /// ray reversed where the gradient is not available.
+  /// With texture_max_depth_sigma > 0 and `disp` from the last compute(), pixels whose depth error
+  /// by the Cramer-Rao bound of their block's texture, Z^2 sigma_d / (fx B) with
+  /// sigma_d = sqrt(2 image_noise_sigma^2 / sum(g_x^2)), exceeds it give no point.
   void toPoints(const cv::Mat& disp, const StereoModel& model, std::vector<Eigen::Vector3f>& points,
                 std::vector<Eigen::Vector3f>* normals = nullptr) const;
 
@@ -54,6 +57,7 @@ private:
   ObstaclesParams params_;
   cv::Ptr<cv::StereoMatcher> matcher_;
   mutable cv::Mat l_small_, r_small_, l_grey_, r_grey_, disp16_, dmax_, dmin_;
+  mutable cv::Mat texture_;  // sum of squared horizontal gradients over the block, of the last compute()'s left image
 };
 
 /// Full-resolution OpenCV SGBM with the usual settings: the peer of the disparity benchmark.

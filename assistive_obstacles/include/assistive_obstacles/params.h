@@ -29,6 +29,10 @@ struct ObstaclesParams
   int point_stride = 1;             ///< take every n-th pixel of the scaled disparity in u and v
   double edge_filter = 0.5;         ///< px at the matcher's scale: pixels whose 3x3 disparity range exceeds this
                                     ///< lie on a depth discontinuity ("flying pixels") and give no point (0 disables)
+  double texture_max_depth_sigma = 0.15;  ///< m: pixels whose depth is less precise than this by the Cramer-Rao bound
+                                         ///< of their block's horizontal texture give no point (0 disables): a
+                                         ///< near-textureless wall matches at +-1-2 px and scatters points in front of it
+  double image_noise_sigma = 2.0;   ///< grey levels: the camera's pixel noise, for that bound
 
   // --- elevation map / MLS (wearer-tied, not scene-tied) ----------------------------------
   double cell_size = 0.2;           ///< m, elevation cell edge
