@@ -361,6 +361,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     s.add("state", toString(last_.state));
     s.add("features", last_.stats.tracks);
     s.add("inliers", last_.stats.inliers);
+    s.add("aligned_to_keyframe", last_.stats.aligned);
     s.add("ransac_trials", last_.stats.ransac_trials);
     s.add("ms_per_frame", last_.stats.ms_total);
     s.add("fast_threshold", last_.stats.fast_threshold);

@@ -67,10 +67,12 @@ bool KeyframePatch::align(const cv::Mat& img, cv::Point2f& c_io, Eigen::Matrix2f
   Eigen::Matrix2f A = A_io;
   const size_t n = t_.size();
   std::vector<float> w(n);
-  const float reach = static_cast<float>(half_) * 1.5f + 2.f;
   for (int it = 0; it < iterations; ++it)
   {
-    const float ext = reach * std::max(1.f, A.cwiseAbs().maxCoeff());
+    // Keep 1.5 patch radii from the border (near it the track is about to leave anyway), and never
+    // less than the farthest sample from c (+2: bilinear neighbour and margin).
+    const float ext = std::max((1.5f * static_cast<float>(half_) + 2.f) * std::max(1.f, A.cwiseAbs().maxCoeff()),
+                               static_cast<float>(half_) * A.cwiseAbs().rowwise().sum().maxCoeff() + 2.f);
     if (!(c.x() > ext && c.y() > ext && c.x() < img.cols - ext - 1 && c.y() < img.rows - ext - 1))
       return false;
     double mean = 0;
