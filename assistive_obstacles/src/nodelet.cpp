@@ -191,7 +191,7 @@ private:
       ++bad_input_;
       return;
     }
-    const bool want_normals = params_.surface_push > 0.0 && params_.surface_push_normal;
+    const bool want_normals = map_->usesNormals();
     disparity_->toPoints(disp, model, points_, want_normals ? &normals_ : nullptr);
     const auto t1 = std::chrono::steady_clock::now();
     if (pub_disp_.getNumSubscribers() > 0)

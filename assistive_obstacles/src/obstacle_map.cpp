@@ -84,7 +84,7 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
     // the wall and would not move the point off the border), else elevated points along the
     // horizontal viewing ray.
     const float push = static_cast<float>(params_.surface_push);
-    const bool use_normals = normals_cam && normals_cam->size() == points_cam.size();
+    const bool use_normals = usesNormals() && normals_cam && normals_cam->size() == points_cam.size();
     for (size_t i = 0; i < world_.size(); ++i)
     {
       Eigen::Vector3f& p = world_[i];

@@ -238,7 +238,7 @@ int main(int argc, char** argv)
           std::fprintf(stderr, " - ;");
       std::fprintf(stderr, "\n");
     }
-    const bool want_normals = params.surface_push > 0.0 && params.surface_push_normal;
+    const bool want_normals = map.usesNormals();
     disparity.toPoints(disp, model, points, want_normals ? &normals : nullptr);
     const auto t1 = std::chrono::steady_clock::now();
     map.update(points, f.gt_pose.cast<float>(), &model, &disp, want_normals ? &normals : nullptr);

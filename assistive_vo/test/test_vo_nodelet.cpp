@@ -50,6 +50,17 @@ void gtCb(const nav_msgs::OdometryConstPtr& m)
   std::lock_guard<std::mutex> l(mtx);
   gt[m->header.stamp.toSec()] = poseOf(m->pose.pose);
 }
+/// Renders `frames` of `world` with render_bag into a fresh temporary directory; the bag's path.
+std::string renderBag(const std::string& world, int frames)
+{
+  char dir_tmpl[] = "/tmp/vo_rostest_XXXXXX";
+  if (!mkdtemp(dir_tmpl))
+    return "";
+  const std::string dir(dir_tmpl), bag = dir + "/" + world + ".bag";
+  const std::string render = "rosrun assistive_sim render_bag --world " + world + " --frames " + std::to_string(frames) +
+                             " --out " + bag + " > " + dir + "/render.log 2>&1";
+  return std::system(render.c_str()) == 0 ? bag : "";
+}
 void diagCb(const diagnostic_msgs::DiagnosticArrayConstPtr& m)
 {
   std::lock_guard<std::mutex> l(mtx);
@@ -68,12 +79,8 @@ TEST(VoNodelet, ReplayMatchesGroundTruth)
   pnh.param("world", world, world);
   pnh.param("frames", frames, frames);
   pnh.param("play_rate", rate, rate);
-  char dir_tmpl[] = "/tmp/vo_rostest_XXXXXX";
-  ASSERT_NE(mkdtemp(dir_tmpl), nullptr);
-  const std::string bag = std::string(dir_tmpl) + "/replay.bag";
-  const std::string render = "rosrun assistive_sim render_bag --world " + world + " --frames " + std::to_string(frames) +
-                             " --out " + bag + " > " + std::string(dir_tmpl) + "/render.log 2>&1";
-  ASSERT_EQ(std::system(render.c_str()), 0) << "render_bag failed: " << render;
+  const std::string bag = renderBag(world, frames);
+  ASSERT_FALSE(bag.empty()) << "render_bag failed (world " << world << ")";
 
   // wait until the nodelet subscribes to the images
   for (int i = 0; i < 200; ++i)
@@ -197,12 +204,8 @@ void lateOdomCb(const nav_msgs::OdometryConstPtr& m)
 TEST(VoNodelet, WaitsForTheImuBeforeFixingGravity)
 {
   ros::NodeHandle nh;
-  char dir_tmpl[] = "/tmp/vo_rostest_XXXXXX";
-  ASSERT_NE(mkdtemp(dir_tmpl), nullptr);
-  const std::string bag_path = std::string(dir_tmpl) + "/late_imu.bag";
-  const std::string render = "rosrun assistive_sim render_bag --world course --frames 20 --out " + bag_path + " > " +
-                             std::string(dir_tmpl) + "/render.log 2>&1";
-  ASSERT_EQ(std::system(render.c_str()), 0) << "render_bag failed: " << render;
+  const std::string bag_path = renderBag("course", 20);
+  ASSERT_FALSE(bag_path.empty()) << "render_bag failed";
   ros::Publisher li = nh.advertise<sensor_msgs::Image>("/late/left/image_rect", 5);
   ros::Publisher ri = nh.advertise<sensor_msgs::Image>("/late/right/image_rect", 5);
   ros::Publisher lc = nh.advertise<sensor_msgs::CameraInfo>("/late/left/camera_info", 5);

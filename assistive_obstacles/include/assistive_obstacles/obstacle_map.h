@@ -45,6 +45,8 @@ public:
   explicit ObstacleMap(const ObstaclesParams& p = ObstaclesParams());
   void setParams(const ObstaclesParams& p);
   const ObstaclesParams& params() const { return params_; }
+  /// Whether update() uses surface normals (surface_push along the normal): compute them then.
+  bool usesNormals() const { return params_.surface_push > 0.0 && params_.surface_push_normal; }
 
   /// One frame: `points_cam` in the left optical frame, `T_world_cam` its pose in the world
   /// (z up). `camera` + `disparity` (the matcher-scale CV_32F disparity the points came from;
