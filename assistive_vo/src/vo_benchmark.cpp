@@ -23,6 +23,7 @@
 #include <assistive_sim/eval/metrics.h>
 #include <assistive_sim/eval/plots.h>
 #include <assistive_sim/stereo_bag.h>
+#include "assistive_vo/frames.h"
 #include "assistive_vo/imu_buffer.h"
 #include "assistive_vo/recovery.h"
 #include "assistive_vo/visual_odometry.h"
@@ -254,6 +255,10 @@ int main(int argc, char** argv)
   Peer peer;
   peer.max_translation_m = peer_max_t;
   ev::Trajectory gt, est, peer_est;
+  // The bag's gyro per frame in the optical frame (for the gyro-alone floor); any frame without
+  // gyro (first frame aside) voids the floor.
+  std::vector<Eigen::Matrix3d> gyro_rel;
+  bool gyro_every_frame = imu_on;
   std::map<std::string, std::vector<double>> ms;
   std::vector<double> wall, peer_ms, peer_wall;
   int lost = 0, max_bad_run = 0, bad_run = 0, frames = 0, unusable = 0;
@@ -350,6 +355,11 @@ int main(int argc, char** argv)
       }
       gt.push_back({f.stamp, f.gt_pose});
       est.push_back({f.stamp, o.T_odom_optical});
+      if (gt.size() > 1 && !have_gyro)
+        gyro_every_frame = false;
+      gyro_rel.push_back(have_gyro ? Eigen::Matrix3d(R_link_optical().transpose() * gyro.toRotationMatrix() *
+                                                     R_link_optical())
+                                   : Eigen::Matrix3d::Identity());
       if (peer_on)
       {
         const double p0 = cpuMs(), pw0 = wallMs();
@@ -361,6 +371,8 @@ int main(int argc, char** argv)
         peer_est.push_back({f.stamp, peer_T_odom_o0 * peer.T_w_c});
       }
     }
+    else if (!gt.empty())
+      gyro_every_frame = false;  // a frame left out: the per-frame gyro no longer pairs with gt
     ++frames;
     if (frames % 50 == 0)
       std::cerr << "[vo_benchmark] " << frames << " frames\n";
@@ -385,6 +397,7 @@ int main(int argc, char** argv)
             << recovery.maxUsableInRun() << ", unusable frames " << unusable << "\n";
 
   ev::TrajectoryReport rep, prep;
+  ev::DriftResult gyro_floor;
   const bool have_gt = gt.size() >= 3;
   if (have_gt)
   {
@@ -392,6 +405,21 @@ int main(int argc, char** argv)
     std::cout << "\n--- ours (assistive_vo) vs ground truth ---\n" << ev::reportTable(rep);
     std::cout << "rotational drift split  yaw " << rep.drift.drift_deg_per_m_yaw << " deg/m  tilt (roll/pitch) "
               << rep.drift.drift_deg_per_m_tilt << " deg/m\n";
+    if (gyro_every_frame)
+    {
+      // The floor the gyro's angle random walk sets: the gyro alone, its bias fit to the truth.
+      const ev::Trajectory g = ev::gyroOnlyTrajectory(gt, gyro_rel);
+      if (!g.empty())
+      {
+        gyro_floor = ev::segmentDrift(gt, g, ev::TrajectoryEvalParams().drift_lengths_m, 1, ev::YawBandParams().up);
+        std::cout << std::setprecision(4) << "gyro alone, bias fit to ground truth (the angle random walk floor): "
+                  << gyro_floor.drift_deg_per_m << " deg/m (";
+        for (const auto& l : gyro_floor.per_length)
+          std::cout << std::setprecision(0) << l.length_m << " m: " << std::setprecision(4) << l.r_err_deg_per_m
+                    << (&l == &gyro_floor.per_length.back() ? "" : ", ");
+        std::cout << ")\n";
+      }
+    }
     if (peer_on && peer_est.size() == gt.size())
     {
       prep = ev::evaluateTrajectory(gt, peer_est);
@@ -427,6 +455,7 @@ int main(int argc, char** argv)
     js << ", \"drift_pct\": " << num(rep.drift.drift_pct) << ", \"drift_deg_per_m\": " << num(rep.drift.drift_deg_per_m, 6)
        << ", \"drift_deg_per_m_yaw\": " << num(rep.drift.drift_deg_per_m_yaw, 6)
        << ", \"drift_deg_per_m_tilt\": " << num(rep.drift.drift_deg_per_m_tilt, 6) << ", \"ate_rmse_m\": " << num(rep.ate.rmse) << ", \"max_jump_m\": " << num(rep.max_jump_m)
+       << ", \"gyro_floor_deg_per_m\": " << num(gyro_floor.drift_deg_per_m, 6)
        << ", \"endpoint_drift_pct\": " << num(rep.endpoint_drift_pct) << ", \"path_length_m\": " << num(rep.path_length_m);
   else
     js << ", \"drift_pct\": null, \"drift_deg_per_m\": null, \"ate_rmse_m\": null, \"max_jump_m\": null";

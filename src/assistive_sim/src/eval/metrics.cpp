@@ -164,6 +164,45 @@ DriftResult segmentDrift(const Trajectory& gt, const Trajectory& est, const std:
   return r;
 }
 
+Trajectory gyroOnlyTrajectory(const Trajectory& gt, const std::vector<Eigen::Matrix3d>& rel, Eigen::Vector3d* bias_out)
+{
+  const size_t n = gt.size();
+  if (n < 2 || rel.size() != n)
+    return {};
+  std::vector<double> b[3];
+  for (size_t i = 1; i < n; ++i)
+  {
+    const double dt = gt[i].t - gt[i - 1].t;
+    if (!(dt > 0.0))
+      return {};
+    const Eigen::AngleAxisd aa(rel[i].transpose() * (gt[i - 1].pose.linear().transpose() * gt[i].pose.linear()));
+    const Eigen::Vector3d w = -aa.angle() * aa.axis() / dt;
+    for (int k = 0; k < 3; ++k)
+      b[k].push_back(w[k]);
+  }
+  Eigen::Vector3d bias;
+  for (int k = 0; k < 3; ++k)
+  {
+    std::nth_element(b[k].begin(), b[k].begin() + static_cast<std::ptrdiff_t>(b[k].size() / 2), b[k].end());
+    bias[k] = b[k][b[k].size() / 2];
+  }
+  if (bias_out)
+    *bias_out = bias;
+  Trajectory out(gt);
+  Eigen::Matrix3d R = gt[0].pose.linear();
+  for (size_t i = 1; i < n; ++i)
+  {
+    const Eigen::Vector3d bdt = bias * (gt[i].t - gt[i - 1].t);
+    const Eigen::Matrix3d corr =
+        bdt.norm() > 0.0 ? Eigen::AngleAxisd(-bdt.norm(), bdt.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+    R = R * rel[i] * corr;
+    // re-orthonormalise (long chains of products drift off SO(3) at 1e-16 per step)
+    R = Eigen::Quaterniond(R).normalized().toRotationMatrix();
+    out[i].pose.linear() = R;
+  }
+  return out;
+}
+
 double endpointDriftPct(const Trajectory& gt, const Trajectory& est)
 {
   const size_t n = std::min(gt.size(), est.size());

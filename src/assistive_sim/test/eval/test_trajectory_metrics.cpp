@@ -182,6 +182,55 @@ TEST(Drift, TiltDriftIsSplitFromYaw)
   EXPECT_NEAR(d.drift_deg_per_m_yaw, 0.0, 1e-9);
 }
 
+TEST(GyroOnly, KnownBiasIsRecoveredAndRemoved)
+{
+  // A gyro that reads the true rotation plus a constant bias: the bias is found, and the chained,
+  // corrected gyro reproduces the true orientation (no drift). Without the correction it drifts.
+  const Trajectory gt = curvedWalk();
+  const Eigen::Vector3d b(0.003, -0.001, 0.002);  // rad/s, body frame
+  std::vector<Eigen::Matrix3d> rel(gt.size(), Eigen::Matrix3d::Identity());
+  for (size_t i = 1; i < gt.size(); ++i)
+  {
+    const Eigen::Vector3d bdt = b * (gt[i].t - gt[i - 1].t);
+    rel[i] = gt[i - 1].pose.linear().transpose() * gt[i].pose.linear() *
+             Eigen::AngleAxisd(bdt.norm(), bdt.normalized()).toRotationMatrix();
+  }
+  Eigen::Vector3d found;
+  const Trajectory g = gyroOnlyTrajectory(gt, rel, &found);
+  ASSERT_EQ(g.size(), gt.size());
+  EXPECT_LT((found - b).norm(), 1e-9);
+  EXPECT_LT(segmentDrift(gt, g, {1.0, 5.0}).drift_deg_per_m, 1e-6);
+  for (size_t i = 0; i < gt.size(); ++i)
+    EXPECT_LT((g[i].pose.translation() - gt[i].pose.translation()).norm(), 1e-12);
+
+  // Angle random walk on top: the floor is positive and grows with the noise.
+  std::vector<Eigen::Matrix3d> noisy(rel), noisier(rel);
+  uint32_t state = 12345;
+  auto gauss = [&state]() {  // Box-Muller on a small LCG: deterministic on every platform
+    auto u = [&state]() {
+      state = state * 1664525u + 1013904223u;
+      return (static_cast<double>(state >> 8) + 0.5) / 16777216.0;
+    };
+    const double u1 = u(), u2 = u();
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+  };
+  for (size_t i = 1; i < gt.size(); ++i)
+  {
+    const Eigen::Vector3d w(gauss(), gauss(), gauss());
+    const Eigen::Vector3d e = w * 1e-3;  // rad per frame
+    noisy[i] = rel[i] * Eigen::AngleAxisd(e.norm(), e.normalized()).toRotationMatrix();
+    noisier[i] = rel[i] * Eigen::AngleAxisd(3 * e.norm(), e.normalized()).toRotationMatrix();
+  }
+  const double d1 = segmentDrift(gt, gyroOnlyTrajectory(gt, noisy), {1.0, 5.0}).drift_deg_per_m;
+  const double d3 = segmentDrift(gt, gyroOnlyTrajectory(gt, noisier), {1.0, 5.0}).drift_deg_per_m;
+  EXPECT_GT(d1, 1e-3);
+  EXPECT_GT(d3, 2.0 * d1);
+
+  // Unusable input: sizes differ.
+  rel.pop_back();
+  EXPECT_TRUE(gyroOnlyTrajectory(gt, rel).empty());
+}
+
 TEST(MaxJump, SingleFrameJumpIsFound)
 {
   const Trajectory gt = curvedWalk();

@@ -101,6 +101,16 @@ std::vector<YawBand> yawErrorByBand(const Trajectory& gt, const Trajectory& est,
                                     const YawBandParams& p = YawBandParams());
 double headingDeg(const Eigen::Isometry3d& pose, const YawBandParams& p);
 
+/// What the gyro alone gives: `rel[i]` is the gyro's integrated rotation from frame i-1 to frame i
+/// in gt's body frame (rel[0] unused). Each is corrected by the constant bias that fits the ground
+/// truth best (per-axis median of log(rel_i^T dR_gt_i) / dt, so `bias_out` is the gyro's bias in the
+/// body frame: rel ~ dR_gt exp(b dt)) and chained from the first true pose; positions are the true
+/// ones. The rotational drift of this trajectory is the floor set by the gyro's angle random walk:
+/// vision must beat the gyro over a segment to bring the drift below it. Empty when gt and rel do
+/// not have the same size (>= 2) or a stamp step is not positive.
+Trajectory gyroOnlyTrajectory(const Trajectory& gt, const std::vector<Eigen::Matrix3d>& rel,
+                              Eigen::Vector3d* bias_out = nullptr);
+
 /// Everything the stage benchmarks need in one call.
 struct TrajectoryEvalParams
 {
