@@ -27,35 +27,48 @@ Eigen::Quaterniond expq(const Eigen::Vector3d& v)
 
 bool ImuBuffer::integrate(double t0, double t1, Eigen::Quaterniond& R, double slack) const
 {
+  Eigen::Vector3d dv;
+  return integrate(t0, t1, R, dv, slack);
+}
+
+bool ImuBuffer::integrate(double t0, double t1, Eigen::Quaterniond& R, Eigen::Vector3d& dv, double slack) const
+{
   R.setIdentity();
+  dv.setZero();
   if (s_.size() < 2 || t1 <= t0 || s_.front().t > t0 + slack || s_.back().t < t1 - slack)
     return false;
   // Piecewise-linear gyro between samples (clamped at the ends), integrated over [t0, t1].
-  auto rateAt = [&](double t) {
+  // Piecewise-linear gyro and accelerometer between samples (clamped at the ends).
+  auto at = [&](double t, bool gyro) {
     if (t <= s_.front().t)
-      return s_.front().w;
+      return gyro ? s_.front().w : s_.front().a;
     if (t >= s_.back().t)
-      return s_.back().w;
+      return gyro ? s_.back().w : s_.back().a;
     auto it = std::lower_bound(s_.begin(), s_.end(), t, [](const Sample& s, double x) { return s.t < x; });
     const Sample& b = *it;
     const Sample& a = *(it - 1);
     const double f = (t - a.t) / std::max(1e-9, b.t - a.t);
-    return Eigen::Vector3d((1 - f) * a.w + f * b.w);
+    return Eigen::Vector3d(gyro ? (1 - f) * a.w + f * b.w : (1 - f) * a.a + f * b.a);
   };
   double t = t0;
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  auto step = [&](double te) {
+    const Eigen::Vector3d w = 0.5 * (at(t, true) + at(te, true)) * (te - t);
+    // accelerometer rotated at the step's middle orientation
+    dv += (q * expq(0.5 * w)) * (0.5 * (at(t, false) + at(te, false))) * (te - t);
+    q = q * expq(w);
+    t = te;
+  };
   for (const Sample& s : s_)
   {
     if (s.t <= t)
       continue;
-    const double te = std::min(s.t, t1);
-    q = q * expq(0.5 * (rateAt(t) + rateAt(te)) * (te - t));
-    t = te;
+    step(std::min(s.t, t1));
     if (t >= t1)
       break;
   }
   if (t < t1)
-    q = q * expq(rateAt(t) * (t1 - t));
+    step(t1);
   R = q.normalized();
   return true;
 }

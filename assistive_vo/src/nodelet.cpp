@@ -104,6 +104,8 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     pnh.param("gyro_rotation_prior", p.gyro_rotation_prior, p.gyro_rotation_prior);
     pnh.param("gyro_noise_density", p.gyro_noise_density, p.gyro_noise_density);
     pnh.param("gyro_bias_sigma", p.gyro_bias_sigma, p.gyro_bias_sigma);
+    pnh.param("gravity_time_constant", p.gravity_time_constant_s, p.gravity_time_constant_s);
+    pnh.param("gravity_window", p.gravity_window_s, p.gravity_window_s);
     pnh.param("camera_height", p.camera_height_m, p.camera_height_m);
     pnh.param("initial_roll", p.initial_roll_deg, p.initial_roll_deg);
     pnh.param("initial_pitch", p.initial_pitch_deg, p.initial_pitch_deg);
@@ -154,6 +156,8 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     clampD("camera_height", p.camera_height_m, 0.0, 5.0);
     clampD("gyro_noise_density", p.gyro_noise_density, 1e-6, 1e-1);
     clampD("gyro_bias_sigma", p.gyro_bias_sigma, 1e-6, 1.0);
+    clampD("gravity_time_constant", p.gravity_time_constant_s, 0.0, 3600.0);
+    clampD("gravity_window", p.gravity_window_s, 0.5, 60.0);
     clampI("queue_size", queue_size_, 1, 100);
     clampD("expected_rate", expected_rate_, 0.1, 200.0);
     clampD("imu_wait", imu_wait_, 0.0, 30.0);
@@ -321,12 +325,14 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       input_problem_.clear();
     }
     Eigen::Quaterniond gyro;
+    Eigen::Vector3d dv;
     bool have_gyro = false;
     if (p_.use_imu && !imu_.empty() && last_stamp_ > 0 && t > last_stamp_)
-      have_gyro = imu_.integrate(last_stamp_, t, gyro);
+      have_gyro = imu_.integrate(last_stamp_, t, gyro, dv);
     last_stamp_ = t;
 
-    const VoOutput o = vo_->process(lc->image, rc->image, t, have_gyro ? &gyro : nullptr);
+    const VoOutput o =
+        vo_->process(lc->image, rc->image, t, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr);
     last_ = o;
     freq_->tick();
     if (!o.message.empty())
@@ -368,6 +374,12 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     s.add("resets", vo_ ? vo_->resets() : 0);
     s.add("frames", n_processed_);
     s.add("imu_samples", n_imu_);
+    if (vo_)
+    {
+      s.add("gravity_tilt_deg", vo_->gravity().lastTiltDeg());
+      s.add("gravity_windows_accepted", vo_->gravity().accepted());
+      s.add("gravity_windows_rejected", vo_->gravity().rejected());
+    }
   }
 
   VoParams p_;

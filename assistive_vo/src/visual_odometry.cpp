@@ -38,6 +38,13 @@ Eigen::Matrix<double, 6, 6> rotateCov(const Eigen::Matrix<double, 6, 6>& c, cons
   A.bottomRightCorner<3, 3>() = R;
   return A * c * A.transpose();
 }
+GravityAligner::Options gravityOptions(const VoParams& p)
+{
+  GravityAligner::Options o;
+  o.window_s = p.gravity_window_s;
+  o.time_constant_s = p.gravity_time_constant_s;
+  return o;
+}
 }  // namespace
 
 const char* toString(TrackingState s)
@@ -53,13 +60,14 @@ const char* toString(TrackingState s)
 }
 
 VisualOdometry::VisualOdometry(const VoParams& p, const StereoCamera& cam)
-  : p_(p), cam_(cam), detector_(p), stereo_(p)
+  : p_(p), cam_(cam), detector_(p), stereo_(p), gravity_(gravityOptions(p))
 {
 }
 
 void VisualOdometry::setParams(const VoParams& p)
 {
   p_ = p;
+  gravity_.setOptions(gravityOptions(p));
   detector_.setParams(p);
   stereo_.setParams(p);
 }
@@ -95,6 +103,7 @@ void VisualOdometry::reset()
   ov_from_.clear();
   ov_to_.clear();
   ov_inlier_.clear();
+  gravity_.clear();
 }
 
 bool VisualOdometry::imageUsable(const cv::Mat& img, std::string& why) const
@@ -262,6 +271,7 @@ VoOutput VisualOdometry::fail(const std::string& why, const cv::Mat* left, const
   }
   have_keyframe_ = false;
   tracks_.clear();
+  gravity_.clear();  // a predicted pose: no velocity to compare the accelerometer with
   TrackingState s = TrackingState::LOST;
   if (left && right)
   {
@@ -279,7 +289,7 @@ VoOutput VisualOdometry::fail(const std::string& why, const cv::Mat* left, const
 }
 
 VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, double stamp,
-                                 const Eigen::Quaterniond* gyro_link)
+                                 const Eigen::Quaterniond* gyro_link, const Eigen::Vector3d* dv_link)
 {
   const auto t_start = Clock::now();
   FrameStats st;
@@ -387,6 +397,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
       T_w_cur_ = T_w_cur_ * T_pred;
       last_T_prev_cur_ = T_pred;
     }
+    gravity_.clear();
     last_dt_ = dt;
     startKeyframe(left, right, false, st);
     std::swap(prev_pyr_, cur_pyr_);
@@ -661,6 +672,25 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
     }
     startKeyframe(left, right, true, st);
   }
+
+  // ---- gravity: keep the odom frame level (about the current position: no jump) ----
+  if (dv_link && p_.use_imu)
+  {
+    Eigen::Isometry3d T_opt_link = Eigen::Isometry3d::Identity();
+    T_opt_link.linear() = R_lo.transpose();
+    const Eigen::Isometry3d T_odom_link = T_odom_o0_ * T_w_cur_ * T_opt_link;
+    Eigen::Matrix3d C;
+    if (gravity_.add(stamp, T_odom_link, *dv_link, C))
+    {
+      const Eigen::Vector3d pos = T_odom_link.translation();
+      Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
+      M.linear() = C;
+      M.translation() = pos - C * pos;
+      T_odom_o0_ = M * T_odom_o0_;
+    }
+  }
+  else
+    gravity_.clear();
 
   std::swap(prev_pyr_, cur_pyr_);
   last_stamp_ = stamp;

@@ -201,6 +201,8 @@ int main(int argc, char** argv)
                                      {"gyro_noise_density", &params.gyro_noise_density},
                                      {"gyro_bias_sigma", &params.gyro_bias_sigma},
                                      {"vo_rotation_sigma", &params.vo_rotation_sigma},
+                                     {"gravity_time_constant_s", &params.gravity_time_constant_s},
+                                     {"gravity_window_s", &params.gravity_window_s},
                                      {"inlier_threshold_px", &params.inlier_threshold_px},
                                      {"ba_huber_px", &params.ba_huber_px},
                                      {"replenish_ratio", &params.replenish_ratio},
@@ -281,6 +283,7 @@ int main(int argc, char** argv)
     for (const auto& s : f.imu)
       imu.add(s.stamp, s.gyro, s.accel);
     Eigen::Quaterniond gyro;
+    Eigen::Vector3d dv;
     bool have_gyro = false;
     if (imu_on)
     {
@@ -291,12 +294,12 @@ int main(int argc, char** argv)
           vo.setInitialUp(a);
       }
       else
-        have_gyro = imu.integrate(prev_stamp, f.stamp, gyro);
+        have_gyro = imu.integrate(prev_stamp, f.stamp, gyro, dv);
     }
     prev_stamp = f.stamp;
 
     const double c0 = cpuMs(), w0 = wallMs();
-    const VoOutput o = vo.process(f.left, f.right, f.stamp, have_gyro ? &gyro : nullptr);
+    const VoOutput o = vo.process(f.left, f.right, f.stamp, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr);
     const double c1 = cpuMs(), w1 = wallMs();
     ms["total"].push_back(c1 - c0);
     wall.push_back(w1 - w0);
@@ -456,6 +459,7 @@ int main(int argc, char** argv)
        << ", \"drift_deg_per_m_yaw\": " << num(rep.drift.drift_deg_per_m_yaw, 6)
        << ", \"drift_deg_per_m_tilt\": " << num(rep.drift.drift_deg_per_m_tilt, 6) << ", \"ate_rmse_m\": " << num(rep.ate.rmse) << ", \"max_jump_m\": " << num(rep.max_jump_m)
        << ", \"gyro_floor_deg_per_m\": " << num(gyro_floor.drift_deg_per_m, 6)
+       << ", \"tilt_err_deg_mean\": " << num(rep.tilt_deg.mean) << ", \"tilt_err_deg_max\": " << num(rep.tilt_deg.max)
        << ", \"endpoint_drift_pct\": " << num(rep.endpoint_drift_pct) << ", \"path_length_m\": " << num(rep.path_length_m);
   else
     js << ", \"drift_pct\": null, \"drift_deg_per_m\": null, \"ate_rmse_m\": null, \"max_jump_m\": null";

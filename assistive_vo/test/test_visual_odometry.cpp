@@ -1,4 +1,6 @@
 #include <gtest/gtest.h>
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 #include "assistive_vo/frames.h"
 #include "assistive_vo/recovery.h"
@@ -224,6 +226,54 @@ TEST(VisualOdometry, GyroPriorWithBiasKeepsRotationAndEstimatesBias)
   EXPECT_LT(Eigen::AngleAxisd(est.linear().transpose() * gt.linear()).angle() * 180 / M_PI, 0.5);
   // the bias estimate moved from 0 towards the true bias (keyframe changes every ~15-25 frames)
   EXPECT_LT((r.vo.gyroBias() - bias_link).norm(), 0.6 * bias_link.norm());
+}
+
+TEST(VisualOdometry, GravityLevelsAnOdomFrameStartedTilted)
+{
+  // The accelerometer's start-up reading is 1 deg off (e.g. the head was accelerating): odom starts
+  // tilted. The walk has no acceleration, so the integrated accelerometer is gravity alone; the
+  // gravity alignment (one window, full correction) levels odom without moving the position.
+  const double dt = 1.0 / 15.0;
+  const Eigen::Matrix3d R_lo = R_link_optical();
+  const Eigen::Vector3d up_w(0, -1, 0);  // the truth's world is the first optical frame, level
+  auto R_w_link = [&](int k) { return Eigen::Matrix3d(truePose(k).linear() * R_lo.transpose()); };
+  auto tiltDeg = [&](const VoOutput& o, int k) {
+    const Eigen::Vector3d est = o.T_odom_link.linear().transpose() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d tru = R_w_link(k).transpose() * up_w;
+    return std::acos(std::clamp(est.dot(tru), -1.0, 1.0)) * 180 / M_PI;
+  };
+  for (const bool on : {false, true})
+  {
+    VoParams p;
+    p.gravity_window_s = 2.0;
+    p.gravity_time_constant_s = on ? 1e-3 : 0.0;
+    Sequence r;
+    r.vo.setParams(p);
+    const Eigen::Vector3d up_link = R_w_link(0).transpose() * up_w;
+    r.vo.setInitialUp(Eigen::AngleAxisd(1.0 * M_PI / 180, Eigen::Vector3d::UnitY()) * up_link);
+    VoOutput o = r.step(0, 0.0);
+    EXPECT_NEAR(tiltDeg(o, 0), 1.0, 1e-6);
+    Eigen::Vector3d last_p = o.T_odom_link.translation();
+    for (int k = 1; k <= 45; ++k)
+    {
+      const Eigen::Quaterniond gyro(Eigen::Matrix3d(R_w_link(k - 1).transpose() * R_w_link(k)));
+      const Eigen::Vector3d dv = R_w_link(k - 1).transpose() * up_w * 9.81 * dt;
+      const Eigen::Isometry3d T = truePose(k);
+      o = r.vo.process(r.world.render(r.cam, T, false), r.world.render(r.cam, T, true), k * dt, &gyro, &dv);
+      ASSERT_EQ(o.state, TrackingState::TRACKING) << "frame " << k << " " << o.message;
+      // the correction turns the frame about the current position: no jump
+      EXPECT_LT((o.T_odom_link.translation() - last_p).norm(), 0.1) << "frame " << k;
+      last_p = o.T_odom_link.translation();
+    }
+    if (on)
+    {
+      EXPECT_LT(tiltDeg(o, 45), 0.1);
+      EXPECT_GE(r.vo.gravity().accepted(), 1);
+      EXPECT_NEAR(r.vo.gravity().lastTiltDeg(), 1.0, 0.1);  // measured before it was corrected
+    }
+    else
+      EXPECT_GT(tiltDeg(o, 45), 0.9);
+  }
 }
 
 /// A bare wall: a smooth brightness ramp (contrast, no corners) with sensor-like noise.

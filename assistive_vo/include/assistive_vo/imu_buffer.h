@@ -17,6 +17,10 @@ public:
   /// Rotation R_t0_t1 of camera_link (maps t1 coords to t0 coords) from the gyro, trapezoidal
   /// per sample interval. False when the samples do not cover [t0, t1] (to within `slack` s).
   bool integrate(double t0, double t1, Eigen::Quaterniond& R, double slack = 0.02) const;
+  /// The same, and the accelerometer integrated over [t0, t1] in camera_link axes at t0:
+  /// dv = sum R_t0_s a_s ds (the velocity increment of IMU preintegration; specific force, so it
+  /// holds gravity's +g * dt as well as the motion).
+  bool integrate(double t0, double t1, Eigen::Quaterniond& R, Eigen::Vector3d& dv, double slack = 0.02) const;
   /// Mean accelerometer reading over the samples up to `t` (at most `window` s back);
   /// false without samples.
   bool meanAccel(double t, double window, Eigen::Vector3d& a) const;

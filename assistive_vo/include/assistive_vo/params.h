@@ -79,6 +79,10 @@ struct VoParams
   double gyro_bias_sigma = 5.0e-3;       // rad/s, initial bias uncertainty (bias estimated online)
   double gyro_bias_walk = 2.0e-5;        // rad/s^2/sqrt(Hz)
   double vo_rotation_sigma = 3.0e-4;     // rad, floor on the vision rotation error (bias update)
+  // Gravity keeps the odom frame level (gravity_alignment.h): the tilt measured over each window
+  // is corrected by window / time constant (0 = off; the odom frame then keeps the start's gravity).
+  double gravity_time_constant_s = 120.0;
+  double gravity_window_s = 4.0;
   double camera_height_m = 1.6;          // origin of odom on the floor under the camera start
   double initial_roll_deg = 0.0;         // camera_link roll/pitch at start when no IMU
   double initial_pitch_deg = 0.0;

@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 #include "assistive_vo/bundle_adjustment.h"
 #include "assistive_vo/feature_detector.h"
+#include "assistive_vo/gravity_alignment.h"
 #include "assistive_vo/p3p_ransac.h"
 #include "assistive_vo/params.h"
 #include "assistive_vo/patch_alignment.h"
@@ -73,8 +74,10 @@ public:
 
   /// One stereo pair (mono8, rectified, same size). `gyro_link` (optional): rotation of
   /// camera_link from the previous frame to this one (R_prev_cur), integrated from the gyro.
+  /// `dv_link` (optional): the accelerometer integrated over the same interval, in camera_link
+  /// axes at the previous frame (ImuBuffer::integrate); it keeps the odom frame level.
   VoOutput process(const cv::Mat& left, const cv::Mat& right, double stamp,
-                   const Eigen::Quaterniond* gyro_link = nullptr);
+                   const Eigen::Quaterniond* gyro_link = nullptr, const Eigen::Vector3d* dv_link = nullptr);
 
   /// Flow vectors of the last frame over the left image (BGR): green = inlier, red = rejected.
   cv::Mat drawOverlay(const cv::Mat& left) const;
@@ -82,6 +85,9 @@ public:
   /// Current gyro bias estimate (camera_link axes, rad/s).
   const Eigen::Vector3d& gyroBias() const { return gyro_bias_link_; }
   bool started() const { return have_pose_; }
+  /// Gravity alignment: tilt of the odom frame measured in the last window (deg) and the windows
+  /// accepted / rejected so far.
+  const GravityAligner& gravity() const { return gravity_; }
 
 private:
   struct Track
@@ -145,5 +151,6 @@ private:
   Eigen::Vector3d gyro_bias_link_ = Eigen::Vector3d::Zero();
   double gyro_bias_var_ = -1.0;  // < 0: not initialised
   double last_stamp_pending_ = 0.0;
+  GravityAligner gravity_;
 };
 }  // namespace assistive_vo

@@ -164,6 +164,20 @@ DriftResult segmentDrift(const Trajectory& gt, const Trajectory& est, const std:
   return r;
 }
 
+std::vector<double> tiltErrorsDeg(const Trajectory& gt, const Trajectory& est, const Eigen::Vector3d& up)
+{
+  const Eigen::Vector3d u = up.normalized();
+  std::vector<double> e;
+  const size_t n = std::min(gt.size(), est.size());
+  e.reserve(n);
+  for (size_t i = 0; i < n; ++i)
+  {
+    const double c = (gt[i].pose.linear().transpose() * u).dot(est[i].pose.linear().transpose() * u);
+    e.push_back(std::acos(std::clamp(c, -1.0, 1.0)) * RAD2DEG);
+  }
+  return e;
+}
+
 Trajectory gyroOnlyTrajectory(const Trajectory& gt, const std::vector<Eigen::Matrix3d>& rel, Eigen::Vector3d* bias_out)
 {
   const size_t n = gt.size();
@@ -314,6 +328,7 @@ TrajectoryReport evaluateTrajectory(const Trajectory& gt, const Trajectory& est,
   r.drift = segmentDrift(g, e, p.drift_lengths_m, 1, p.yaw.up);
   r.endpoint_drift_pct = endpointDriftPct(g, e);
   r.max_jump_m = maxErrorJump(g, e);
+  r.tilt_deg = computeStats(tiltErrorsDeg(g, e, p.yaw.up));
   // yaw about the truth's up axis: the estimate brought into the truth's world first
   r.yaw_bands = yawErrorByBand(g, applyAlignment(e, r.alignment), p.yaw);
   return r;
@@ -346,6 +361,7 @@ std::string reportTable(const TrajectoryReport& r)
   os << "drift (all segments)  " << r.drift.drift_pct << " %  " << r.drift.drift_deg_per_m << " deg/m\n";
   os << "end-point drift       " << r.endpoint_drift_pct << " % of distance\n";
   os << "max error jump        " << r.max_jump_m << " m\n";
+  os << "tilt vs gravity       mean " << r.tilt_deg.mean << "  max " << r.tilt_deg.max << " deg (no alignment)\n";
   os << "yaw band (deg/s)   pairs  true_rot_deg  mean_err_deg  rms_err_deg  err_%_of_rot\n";
   for (const auto& b : r.yaw_bands)
     os << "  " << std::left << std::setw(16) << b.name << std::right << std::setw(6) << b.pairs << std::setw(14)
@@ -364,7 +380,8 @@ std::string reportJson(const TrajectoryReport& r)
      << ", \"drift_pct\": " << jsonNumber(r.drift.drift_pct)
      << ", \"drift_deg_per_m\": " << jsonNumber(r.drift.drift_deg_per_m)
      << ", \"endpoint_drift_pct\": " << jsonNumber(r.endpoint_drift_pct)
-     << ", \"max_jump_m\": " << jsonNumber(r.max_jump_m);
+     << ", \"max_jump_m\": " << jsonNumber(r.max_jump_m) << ", \"tilt_err_deg_mean\": " << jsonNumber(r.tilt_deg.mean)
+     << ", \"tilt_err_deg_max\": " << jsonNumber(r.tilt_deg.max);
   for (const auto& b : r.yaw_bands)
     os << ", \"yaw_err_deg_" << b.name << "\": " << jsonNumber(b.mean_err_deg);
   os << "}";

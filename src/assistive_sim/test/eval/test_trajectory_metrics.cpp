@@ -182,6 +182,29 @@ TEST(Drift, TiltDriftIsSplitFromYaw)
   EXPECT_NEAR(d.drift_deg_per_m_yaw, 0.0, 1e-9);
 }
 
+TEST(Tilt, AbsoluteTiltIsSeenAndYawIsNot)
+{
+  // The estimate's world is tilted 0.4 deg about x and turned 30 deg about up: the tilt error is
+  // 0.4 deg on every frame, whatever the pose; a pure turn of the world gives none.
+  const Trajectory gt = curvedWalk();
+  Eigen::Isometry3d tilt = Eigen::Isometry3d::Identity(), turn = Eigen::Isometry3d::Identity();
+  tilt.linear() = Eigen::AngleAxisd(0.4 * DEG, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  turn.linear() = Eigen::AngleAxisd(30 * DEG, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  Trajectory tilted(gt), turned(gt);
+  for (size_t i = 0; i < gt.size(); ++i)
+  {
+    tilted[i].pose = tilt * turn * gt[i].pose;
+    turned[i].pose = turn * gt[i].pose;
+  }
+  for (double e : tiltErrorsDeg(gt, tilted))
+    EXPECT_NEAR(e, 0.4, 1e-9);
+  for (double e : tiltErrorsDeg(gt, turned))
+    EXPECT_NEAR(e, 0.0, 1e-6);
+  EXPECT_NEAR(evaluateTrajectory(gt, tilted).tilt_deg.max, 0.4, 1e-9);
+  // a segment metric does not see a constant tilt
+  EXPECT_LT(segmentDrift(gt, tilted, {1.0}).drift_deg_per_m, 1e-6);
+}
+
 TEST(GyroOnly, KnownBiasIsRecoveredAndRemoved)
 {
   // A gyro that reads the true rotation plus a constant bias: the bias is found, and the chained,

@@ -101,6 +101,14 @@ std::vector<YawBand> yawErrorByBand(const Trajectory& gt, const Trajectory& est,
                                     const YawBandParams& p = YawBandParams());
 double headingDeg(const Eigen::Isometry3d& pose, const YawBandParams& p);
 
+/// Tilt against gravity per frame, without any alignment: the angle (deg) between the up axis
+/// seen from the body in gt's world and in est's world, acos((R_gt^T up) . (R_est^T up)). Both
+/// worlds must be gravity-aligned with the same `up` (the odometry's odom frame and a simulated
+/// bag's world): it is how far the estimate's floor is from level, which a segment metric cannot
+/// show (it sees an absolute tilt only while it changes).
+std::vector<double> tiltErrorsDeg(const Trajectory& gt, const Trajectory& est,
+                                  const Eigen::Vector3d& up = Eigen::Vector3d::UnitZ());
+
 /// What the gyro alone gives: `rel[i]` is the gyro's integrated rotation from frame i-1 to frame i
 /// in gt's body frame (rel[0] unused). Each is corrected by the constant bias that fits the ground
 /// truth best (per-axis median of log(rel_i^T dR_gt_i) / dt, so `bias_out` is the gyro's bias in the
@@ -129,6 +137,7 @@ struct TrajectoryReport
   DriftResult drift;       ///< segment drift (drift_pct / drift_deg_per_m)
   double endpoint_drift_pct = std::numeric_limits<double>::quiet_NaN();
   double max_jump_m = std::numeric_limits<double>::quiet_NaN();
+  ErrorStats tilt_deg;             ///< tiltErrorsDeg about p.yaw.up (no alignment)
   std::vector<YawBand> yaw_bands;  ///< on the estimate aligned as for the ATE (p.ate_align)
 };
 TrajectoryReport evaluateTrajectory(const Trajectory& gt, const Trajectory& est,
