@@ -361,7 +361,8 @@ std::string reportTable(const TrajectoryReport& r)
   os << "drift (all segments)  " << r.drift.drift_pct << " %  " << r.drift.drift_deg_per_m << " deg/m\n";
   os << "end-point drift       " << r.endpoint_drift_pct << " % of distance\n";
   os << "max error jump        " << r.max_jump_m << " m\n";
-  os << "tilt vs gravity       mean " << r.tilt_deg.mean << "  max " << r.tilt_deg.max << " deg (no alignment)\n";
+  os << "tilt vs gravity       mean " << r.tilt_deg.mean << "  max " << r.tilt_deg.max
+     << " deg (no alignment; meaningful when both worlds are z-up)\n";
   os << "yaw band (deg/s)   pairs  true_rot_deg  mean_err_deg  rms_err_deg  err_%_of_rot\n";
   for (const auto& b : r.yaw_bands)
     os << "  " << std::left << std::setw(16) << b.name << std::right << std::setw(6) << b.pairs << std::setw(14)
