@@ -37,8 +37,8 @@ bool ImuBuffer::integrate(double t0, double t1, Eigen::Quaterniond& R, Eigen::Ve
   dv.setZero();
   if (s_.size() < 2 || t1 <= t0 || s_.front().t > t0 + slack || s_.back().t < t1 - slack)
     return false;
-  // Piecewise-linear gyro between samples (clamped at the ends), integrated over [t0, t1].
-  // Piecewise-linear gyro and accelerometer between samples (clamped at the ends).
+  // Piecewise-linear gyro and accelerometer between samples (clamped at the ends), integrated
+  // over [t0, t1].
   auto at = [&](double t, bool gyro) {
     if (t <= s_.front().t)
       return gyro ? s_.front().w : s_.front().a;
