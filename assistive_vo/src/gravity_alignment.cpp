@@ -1,4 +1,5 @@
 #include "assistive_vo/gravity_alignment.h"
+#include <algorithm>
 #include <cmath>
 
 namespace assistive_vo
@@ -26,24 +27,40 @@ bool GravityAligner::add(double stamp, const Eigen::Isometry3d& T_odom_link, con
       fr.dv = f_.back().R * dv_prev;
   }
   f_.push_back(fr);
-  // A window needs at least three intervals (first and last half-weighted) and window_s of time.
-  if (f_.size() < 4 || f_.back().t - f_.front().t < o_.window_s)
+  // A window needs window_s of time and room for both velocity ends (2 m + 1 intervals).
+  const size_t m = static_cast<size_t>(std::max(1, o_.velocity_intervals));
+  if (f_.size() < 2 * m + 2 || f_.back().t - f_.front().t < o_.window_s)
     return false;
 
-  const size_t n = f_.size() - 1;  // intervals 1..n
-  auto dt = [&](size_t k) { return f_[k].t - f_[k - 1].t; };
-  const Eigen::Vector3d v_first = (f_[1].p - f_[0].p) / dt(1);
-  const Eigen::Vector3d v_last = (f_[n].p - f_[n - 1].p) / dt(n);
-  Eigen::Vector3d sum = 0.5 * f_[1].dv + 0.5 * f_[n].dv;
-  for (size_t k = 2; k < n; ++k)
-    sum += f_[k].dv;
-  // The end intervals' weights ramp (up in the first, down in the last): with the acceleration's
-  // slope s over an interval, the ramp adds +-s dt^2 / 12 to the half-weighted increment. Left out,
-  // a walking bob's slope costs up to 0.01 deg of tilt per window (test_gravity_alignment).
-  const Eigen::Vector3d s_first = (f_[2].dv / dt(2) - f_[1].dv / dt(1)) / (0.5 * (dt(1) + dt(2)));
-  const Eigen::Vector3d s_last = (f_[n].dv / dt(n) - f_[n - 1].dv / dt(n - 1)) / (0.5 * (dt(n) + dt(n - 1)));
-  sum += (dt(1) * dt(1) * s_first - dt(n) * dt(n) * s_last) / 12.0;
-  const double T = 0.5 * (f_[n].t + f_[n - 1].t) - 0.5 * (f_[1].t + f_[0].t);
+  const size_t n = f_.size() - 1;  // intervals 1..n, interval i = (t_{i-1}, t_i]
+  auto mid = [&](size_t i) { return 0.5 * (f_[i - 1].t + f_[i].t); };
+  auto len = [&](size_t i) { return f_[i].t - f_[i - 1].t; };
+  auto mean = [&](size_t i) { return Eigen::Vector3d(f_[i].dv / len(i)); };
+  // Mean velocities over the first and the last m intervals (A, B): their difference is the
+  // acceleration weighted by w(u) = F_A(u) - F_B(u), ramping up over A and down over B (F: the
+  // fraction of the span before u). Per interval, with the acceleration linear in it (slope s):
+  // integral = mean * len * w(middle) +- s len^3 / (12 span).
+  const double tA0 = f_[0].t, tA1 = f_[m].t, tB0 = f_[n - m].t, tB1 = f_[n].t;
+  const Eigen::Vector3d v_first = (f_[m].p - f_[0].p) / (tA1 - tA0);
+  const Eigen::Vector3d v_last = (f_[n].p - f_[n - m].p) / (tB1 - tB0);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (size_t i = 1; i <= n; ++i)
+  {
+    const bool inA = i <= m, inB = i > n - m;
+    if (!inA && !inB)
+    {
+      sum += f_[i].dv;
+      continue;
+    }
+    const size_t lo = i > 1 ? i - 1 : i, hi = i < n ? i + 1 : i;
+    const Eigen::Vector3d slope = (mean(hi) - mean(lo)) / (mid(hi) - mid(lo));
+    const double l3 = len(i) * len(i) * len(i);
+    if (inA)
+      sum += f_[i].dv * (mid(i) - tA0) / (tA1 - tA0) + slope * l3 / (12.0 * (tA1 - tA0));
+    else
+      sum += f_[i].dv * (tB1 - mid(i)) / (tB1 - tB0) - slope * l3 / (12.0 * (tB1 - tB0));
+  }
+  const double T = 0.5 * (tB0 + tB1) - 0.5 * (tA0 + tA1);
   const Eigen::Vector3d g = (sum - (v_last - v_first)) / T;
 
   // The next window starts at this frame (its position does not move with a correction about it).

@@ -112,8 +112,9 @@ TEST(GravityAligner, CorrectsAFractionPerWindowSetByTheTimeConstant)
   }
   ASSERT_TRUE(closed);
   EXPECT_NEAR(g.lastTiltDeg(), 1.0, 0.005);
-  // the window spans 4 s less one frame between interval middles: about a tenth of the tilt
-  EXPECT_NEAR(Eigen::AngleAxisd(C).angle() / DEG, 1.0 * (4.0 - 1 / RATE) / 40.0 + 1.0 / RATE / 40.0, 0.01);
+  // T runs between the middles of the first and last 4 intervals: 4 s less 4 frames, so the
+  // correction is T / 40 s of the tilt
+  EXPECT_NEAR(Eigen::AngleAxisd(C).angle() / DEG, 1.0 * (4.0 - 4 / RATE) / 40.0, 0.001);
   // ... and it turns the frame back (about the x axis, the other way)
   EXPECT_LT(Eigen::AngleAxisd(C).axis().x() * Eigen::AngleAxisd(T_odom_world.linear()).axis().x(), 0.0);
 }

@@ -8,15 +8,16 @@ namespace assistive_vo
 /// the odom frame to drift; gravity does not. Over a window of tracked frames, the accelerometer
 /// rotated into odom and summed, minus the velocity change the odometry measured over the same
 /// window, is gravity as the odometry sees it:
-///   sum_i w_i R_i a_i dt_i = vbar_last - vbar_first + g z * T,
-/// with vbar_k = (p_k - p_{k-1}) / dt_k (the mean velocity over frame interval k), R_i a_i dt_i the
-/// accelerometer (specific force) integrated over interval i in odom axes (the IMU preintegration
-/// increment rotated by the orientation at the interval's start), and
-/// weights w = 1/2 on the first and last interval plus their ramp's slope term (exact for an
-/// acceleration linear within each of them), T = the time between their middles. The angle between that vector and odom's z
-/// is the tilt the odometry has accumulated (plus what the accelerometer bias adds, a constant in
-/// the head frame). A fraction T / time_constant of it is returned as a correction, so one window's
-/// noise moves the frame little and the tilt cannot run away. Yaw is not touched.
+///   sum_i w_i R_i a_i dt_i = vbar_B - vbar_A + g z T,
+/// with vbar_A, vbar_B the mean velocities over the window's first and last `velocity_intervals`
+/// frame intervals (from the positions), R_i a_i dt_i the accelerometer (specific force)
+/// integrated over interval i in odom axes (the IMU preintegration increment rotated by the
+/// orientation at the interval's start), w_i the weights that make the equation exact for an
+/// acceleration linear within each interval (ramping over A and B, 1 in between), and T the time
+/// between the middles of A and B. The angle between that vector and odom's z is the tilt the
+/// odometry has accumulated (plus what the accelerometer bias adds, a constant in the head frame).
+/// A fraction T / time_constant of it is returned as a correction, so one window's noise moves the
+/// frame little and the tilt cannot run away. Yaw is not touched.
 class GravityAligner
 {
 public:
@@ -27,6 +28,7 @@ public:
     double gravity = 9.81;          ///< m/s^2
     double max_residual = 0.3;      ///< | |g measured| - gravity | above this: window rejected, m/s^2
     double max_frame_gap_s = 0.2;   ///< a longer interval between frames restarts the window
+    int velocity_intervals = 4;     ///< frame intervals per end velocity (fewer: noisier velocities)
   };
   GravityAligner() = default;
   explicit GravityAligner(const Options& o) : o_(o) {}
