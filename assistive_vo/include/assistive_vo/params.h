@@ -11,8 +11,8 @@ struct VoParams
   int fast_threshold_min = 5;
   int fast_threshold_max = 120;
   int fast_threshold_step = 4;    // change per replenishment
-  int target_features = 400;      // features wanted after a replenishment (250 -> 400: 15 % less
-                                  // rotational drift over 5 seeds x 5 worlds, about 2 ms more per frame)
+  int target_features = 250;      // features wanted after a replenishment (400: 15 % less rotational
+                                  // drift over 5 seeds x 5 worlds, but 30-50 % more time at p95: README)
   double grid_cell_px = 80.0;     // bucketing grid of about square cells of this side:
                                   // round(width / cell) x round(height / cell) (8 x 6 at 640x480)
   int border_px = 12;             // no features this close to the image border
