@@ -23,12 +23,12 @@ class GravityAligner
 public:
   struct Options
   {
-    double window_s = 4.0;          ///< frames per gravity measurement
+    double window_s = 4.0;           ///< length of one gravity measurement, s
     double time_constant_s = 120.0;  ///< correction = tilt * window / time_constant (<= 0: off)
-    double gravity = 9.81;          ///< m/s^2
-    double max_residual = 0.3;      ///< | |g measured| - gravity | above this: window rejected, m/s^2
-    double max_frame_gap_s = 0.2;   ///< a longer interval between frames restarts the window
-    int velocity_intervals = 4;     ///< frame intervals per end velocity (fewer: noisier velocities)
+    double gravity = 9.81;           ///< m/s^2
+    double max_residual = 0.3;       ///< | |g measured| - gravity | above this: window rejected, m/s^2
+    double max_frame_gap_s = 0.2;    ///< a longer interval between frames restarts the window
+    int velocity_intervals = 4;      ///< frame intervals per end velocity (fewer: noisier velocities)
   };
   GravityAligner() = default;
   explicit GravityAligner(const Options& o) : o_(o) {}
