@@ -38,6 +38,13 @@ Eigen::Matrix<double, 6, 6> rotateCov(const Eigen::Matrix<double, 6, 6>& c, cons
   A.bottomRightCorner<3, 3>() = R;
   return A * c * A.transpose();
 }
+/// The same pose for camera_link instead of the optical frame.
+Eigen::Isometry3d linkPose(const Eigen::Isometry3d& T_x_optical)
+{
+  Eigen::Isometry3d T = T_x_optical;
+  T.linear() = T_x_optical.linear() * R_link_optical().transpose();
+  return T;
+}
 GravityAligner::Options gravityOptions(const VoParams& p)
 {
   GravityAligner::Options o;
@@ -236,9 +243,7 @@ VoOutput VisualOdometry::makeOutput(TrackingState s, const FrameStats& st, const
   o.stats.tracks = static_cast<int>(tracks_.size());
   const Eigen::Matrix3d R_lo = R_link_optical();
   o.T_odom_optical = T_odom_o0_ * T_w_cur_;
-  Eigen::Isometry3d T_opt_link = Eigen::Isometry3d::Identity();
-  T_opt_link.linear() = R_lo.transpose();
-  o.T_odom_link = o.T_odom_optical * T_opt_link;
+  o.T_odom_link = linkPose(o.T_odom_optical);
   o.pose_covariance = rotateCov(cov_cur_, o.T_odom_optical.linear());
   if (dt > 1e-6)
   {
@@ -676,9 +681,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   // ---- gravity: keep the odom frame level (about the current position: no jump) ----
   if (dv_link && p_.use_imu)
   {
-    Eigen::Isometry3d T_opt_link = Eigen::Isometry3d::Identity();
-    T_opt_link.linear() = R_lo.transpose();
-    const Eigen::Isometry3d T_odom_link = T_odom_o0_ * T_w_cur_ * T_opt_link;
+    const Eigen::Isometry3d T_odom_link = linkPose(T_odom_o0_ * T_w_cur_);
     Eigen::Matrix3d C;
     if (gravity_.add(stamp, T_odom_link, *dv_link, C))
     {
