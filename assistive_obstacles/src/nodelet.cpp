@@ -21,6 +21,7 @@
 
 #include <assistive_obstacles/conversions.h>
 #include <assistive_obstacles/disparity.h>
+#include <assistive_obstacles/frame_gate.h>
 #include <assistive_obstacles/obstacle_map.h>
 
 namespace assistive_obstacles
@@ -41,6 +42,7 @@ public:
     readParams(pnh);
     disparity_ = std::make_unique<DisparityEstimator>(params_);
     map_ = std::make_unique<ObstacleMap>(params_);
+    gate_ = FrameGate({ params_.max_frame_gap_s, params_.rebuild_frames, params_.min_fresh_points });
     tf_buffer_ = std::make_unique<tf2_ros::Buffer>(ros::Duration(10.0));
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);
 
@@ -136,6 +138,9 @@ private:
     param(pnh, "octomap_max_range", p.octomap_max_range);
     param(pnh, "octomap_point_stride", p.octomap_point_stride);
     param(pnh, "octomap_save_path", p.octomap_save_path);
+    param(pnh, "max_frame_gap_s", p.max_frame_gap_s);
+    param(pnh, "rebuild_frames", p.rebuild_frames);
+    param(pnh, "min_fresh_points", p.min_fresh_points);
     for (const std::string& w : clampParams(p)) NODELET_WARN("%s", w.c_str());
     pnh.param("world_frame", world_frame_, world_frame_);
     pnh.param("queue_size", queue_size_, queue_size_);
@@ -183,6 +188,13 @@ private:
       ++bad_input_;
       return;
     }
+    // A gap or a time jump (bag loop) makes the old map a guess about a place the wearer has left.
+    if (gate_.clearBefore(l->header.stamp.toSec()))
+    {
+      if (!gate_.reason().empty())
+        NODELET_WARN_THROTTLE(2.0, "obstacles: %s", gate_.reason().c_str());
+      map_->reset();
+    }
     cv::Mat disp;
     if (!disparity_->compute(cl->image, cr->image, disp))
     {
@@ -214,11 +226,29 @@ private:
       ++tf_failures_;
       return;
     }
+    // A frame without depth must not make the old map look fresh: no update, no grid (the planner
+    // then sees the grid's stamp fall behind the pose's and stops guiding).
+    const FrameGate::Verdict verdict = gate_.verdict(points_.size());
+    {
+      std::lock_guard<std::mutex> lock(stats_mutex_);
+      last_verdict_ = verdict;
+      gate_reason_ = gate_.reason();
+      gate_clears_ = gate_.clears();
+      gate_no_depth_ = gate_.noDepthFrames();
+    }
+    if (verdict == FrameGate::Verdict::NO_DEPTH)
+    {
+      NODELET_WARN_THROTTLE(2.0, "obstacles: %s", gate_.reason().c_str());
+      return;
+    }
     map_->update(points_, T_world_cam, &model, &disp, want_normals ? &normals_ : nullptr);
     const auto t2 = std::chrono::steady_clock::now();
     GridData grid;
-    map_->grid(grid);
-    pub_grid_.publish(boost::make_shared<nav_msgs::OccupancyGrid>(toMsg(grid, world_frame_, l->header.stamp)));
+    if (verdict == FrameGate::Verdict::FRESH)
+    {
+      map_->grid(grid);
+      pub_grid_.publish(boost::make_shared<nav_msgs::OccupancyGrid>(toMsg(grid, world_frame_, l->header.stamp)));
+    }
     if (pub_dropout_.getNumSubscribers() > 0)
       pub_dropout_.publish(boost::make_shared<nav_msgs::OccupancyGrid>(toMsg(map_->dropout(), world_frame_, l->header.stamp)));
     ++frames_;
@@ -261,6 +291,8 @@ private:
       st.summary(diagnostic_msgs::DiagnosticStatus::WARN, tf_failures_ ? "no pose from tf" : "waiting for stereo input");
     else if (idle > 2.0)
       st.summary(diagnostic_msgs::DiagnosticStatus::WARN, "stereo input stopped: map stale");
+    else if (last_verdict_ != FrameGate::Verdict::FRESH)
+      st.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "no grid: " + gate_reason_);
     else if (last_stats_.dropout_cells > 0)
       st.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%d mapped obstacle cells lost their depth (glass / dropout)",
                   last_stats_.dropout_cells);
@@ -274,6 +306,8 @@ private:
     st.add("dropout cells", last_stats_.dropout_cells);
     st.add("tf failures", tf_failures_);
     st.add("bad inputs", bad_input_);
+    st.add("map clears (gap / time jump)", gate_clears_);
+    st.add("frames without depth", gate_no_depth_);
   }
 
   ObstaclesParams params_;
@@ -284,6 +318,10 @@ private:
   int octomap_every_ = 5;
   std::unique_ptr<DisparityEstimator> disparity_;
   std::unique_ptr<ObstacleMap> map_;
+  FrameGate gate_;
+  FrameGate::Verdict last_verdict_ = FrameGate::Verdict::REBUILDING;  // these four under stats_mutex_
+  std::string gate_reason_;
+  long gate_clears_ = 0, gate_no_depth_ = 0;
   std::vector<Eigen::Vector3f> points_, normals_;  // left optical frame
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;

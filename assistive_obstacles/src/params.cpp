@@ -80,6 +80,9 @@ std::vector<std::string> clampParams(ObstaclesParams& p)
   clampField(m, "disparity_sigma", p.disparity_sigma, 0.0, 100.0);
   clampField(m, "obstacle_max_sigma", p.obstacle_max_sigma, 0.0, 100.0);
   clampField(m, "dropout_free_weight", p.dropout_free_weight, 0, 4);
+  clampField(m, "max_frame_gap_s", p.max_frame_gap_s, 0.05, 60.0);
+  clampField(m, "rebuild_frames", p.rebuild_frames, 1, 1000);
+  clampField(m, "min_fresh_points", p.min_fresh_points, 0, 10000000);
   clampField(m, "octomap_resolution", p.octomap_resolution, 0.01, 2.0);
   clampField(m, "octomap_max_range", p.octomap_max_range, 0.1, 50.0);
   clampField(m, "octomap_point_stride", p.octomap_point_stride, 1, 1000);

@@ -89,6 +89,12 @@ struct ObstaclesParams
                                     ///< (a false obstacle in front of the floor could then never be cleared), 1 lets
                                     ///< seen-through cells fade after ~4x as many frames as made them obstacles
 
+  // --- trust in the input ("never guide on a guess", FrameGate) ---------------------------
+  double max_frame_gap_s = 0.5;     ///< s: a longer gap between frames, or time going back, clears the map
+  int rebuild_frames = 5;           ///< fresh frames after a clear before the grid is published again
+  int min_fresh_points = 500;       ///< a frame with fewer 3D points yields no depth: it neither updates the map nor
+                                    ///< refreshes the grid's stamp (black, saturated, covered or textureless view)
+
   // --- OctoMap of what was seen ------------------------------------------------------------
   bool octomap_enabled = true;
   double octomap_resolution = 0.1;  ///< m

@@ -1,0 +1,51 @@
+#pragma once
+// Decides, per stereo frame, whether the map may be trusted ("never guide on a guess"): a frame
+// that yields no depth does not refresh the map, and after a gap or a time jump the map is
+// cleared and held back until it has been rebuilt from fresh frames. ROS-free.
+#include <cstddef>
+#include <string>
+
+namespace assistive_obstacles
+{
+struct FrameGateParams
+{
+  double max_frame_gap_s = 0.5;  ///< s: a longer gap between frames (or time going back) clears the map
+  int rebuild_frames = 5;        ///< fresh frames after a clear before the grid is published again
+  int min_fresh_points = 500;    ///< a frame with fewer 3D points "yields no depth" and refreshes nothing
+};
+
+class FrameGate
+{
+public:
+  enum class Verdict
+  {
+    FRESH,       ///< map updated from this frame: publish the grid with this frame's stamp
+    NO_DEPTH,    ///< too few points (black, saturated, textureless, covered lens): map untouched, no grid
+    REBUILDING,  ///< map updated but still too young after a clear: no grid
+  };
+
+  explicit FrameGate(const FrameGateParams& p = FrameGateParams()) : p_(p) {}
+  const FrameGateParams& params() const { return p_; }
+
+  /// Call first for every frame with its image stamp (s): true when the map must be cleared now
+  /// (the first frame, a gap longer than max_frame_gap_s, or time going backwards).
+  bool clearBefore(double stamp);
+  /// Call after the frame's points are known; says whether the map takes it and may be published.
+  Verdict verdict(std::size_t points);
+
+  /// Why the last frame was not FRESH (empty when it was).
+  const std::string& reason() const { return reason_; }
+  long clears() const { return clears_; }
+  long noDepthFrames() const { return no_depth_; }
+
+private:
+  FrameGateParams p_;
+  bool have_stamp_ = false;
+  double last_stamp_ = 0.0;
+  int fresh_since_clear_ = 0;
+  std::string reason_;
+  long clears_ = 0, no_depth_ = 0;
+};
+
+const char* toString(FrameGate::Verdict v);
+}  // namespace assistive_obstacles
