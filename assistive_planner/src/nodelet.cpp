@@ -6,6 +6,7 @@
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/Odometry.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
@@ -14,6 +15,7 @@
 #include <tf2_ros/transform_listener.h>
 
 #include "assistive_planner/conversions.h"
+#include "assistive_planner/input_monitor.h"
 #include "assistive_planner/planner.h"
 
 namespace assistive_planner
@@ -42,6 +44,9 @@ private:
     pnh.param("path_lookahead", p.path_lookahead, p.path_lookahead);
     pnh.param("free_ray_max", p.free_ray_max, p.free_ray_max);
     pnh.param("grid_timeout", p.grid_timeout, p.grid_timeout);
+    pnh.param("use_odom", p.use_odom, p.use_odom);
+    pnh.param("max_input_age_s", p.max_input_age_s, p.max_input_age_s);
+    pnh.param("max_frame_gap_s", p.max_frame_gap_s, p.max_frame_gap_s);
     clamp("motion_update_distance", p.motion_update_distance, 0.05, 10.0);
     clamp("heading_update_angle", p.heading_update_angle, 0.0, 180.0);
     clamp("triangle_length", p.triangle_length, 0.2, 20.0);
@@ -55,12 +60,15 @@ private:
     clamp("path_lookahead", p.path_lookahead, 0.05, 10.0);
     clamp("free_ray_max", p.free_ray_max, 0.1, 50.0);
     clamp("grid_timeout", p.grid_timeout, 0.05, 60.0);
+    clamp("max_input_age_s", p.max_input_age_s, 0.05, 10.0);
+    clamp("max_frame_gap_s", p.max_frame_gap_s, 0.05, 60.0);
     NODELET_INFO_STREAM("planner: world_frame " << world_frame_ << ", camera_frame " << camera_frame_
                         << ", triangle " << p.triangle_length << " m / +-" << p.triangle_half_angle
                         << " deg, motion " << p.motion_update_distance << " m / " << p.heading_update_angle
                         << " deg, step_cost " << p.step_cost << ", clearance " << p.clearance_weight << " within "
                         << p.clearance_radius << " m, unknown_traversable " << p.unknown_traversable);
     planner_ = std::make_unique<Planner>(p);
+    monitor_ = InputMonitor(p.max_input_age_s, p.max_frame_gap_s);
 
     tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
@@ -70,6 +78,8 @@ private:
     markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 1);
     grid_sub_ = nh.subscribe("traversability", 1, &PlannerNodelet::gridCb, this);
     goal_sub_ = nh.subscribe("goal", 1, &PlannerNodelet::goalCb, this);
+    if (p.use_odom)
+      odom_sub_ = nh.subscribe("odom", 5, &PlannerNodelet::odomCb, this);
 
     diag_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh);
     diag_->setHardwareID("none");
@@ -119,6 +129,44 @@ private:
     return std::isfinite(pos.x) && std::isfinite(pos.y) && std::isfinite(yaw);
   }
 
+  /// The VO's verdict on its own pose comes with every frame: an untrusted pose or a map that no
+  /// longer follows the camera stops the guidance at once, without waiting for a grid.
+  void odomCb(const nav_msgs::Odometry::ConstPtr& msg)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const bool trusted = poseTrusted(*msg);
+    if (monitor_.onPose(msg->header.stamp.toSec(), trusted))
+    {
+      NODELET_WARN_THROTTLE(2.0, "planner: %s in the pose stream: motion vector, waypoint and map forgotten",
+                            msg->header.stamp.toSec() < last_pose_stamp_ ? "time went back" : "gap");
+      const bool had_goal = planner_->hasGoal();
+      planner_ = std::make_unique<Planner>(params_);
+      if (had_goal)
+        NODELET_WARN("planner: explicit goal dropped after the gap (its position is no longer known)");
+    }
+    last_pose_stamp_ = msg->header.stamp.toSec();
+    const InputVerdict v = monitor_.check(true);
+    if (!v.ok())
+    {
+      std_msgs::Header h;
+      h.frame_id = world_frame_;
+      h.stamp = msg->header.stamp;
+      NODELET_WARN_THROTTLE(2.0, "planner: %s", v.reason.c_str());
+      publish(status(v.status, v.reason), h, msg->header.stamp);
+    }
+  }
+
+  /// vo/odom marks an untrusted pose with variances of 9999 (rtabmap's convention for a lost odometry).
+  static bool poseTrusted(const nav_msgs::Odometry& o)
+  {
+    constexpr double kUntrustedVariance = 9999.0;
+    for (int i : { 0, 7, 35 })
+      if (!std::isfinite(o.pose.covariance[i]) || o.pose.covariance[i] >= 0.5 * kUntrustedVariance)
+        return false;
+    const auto& p = o.pose.pose.position;
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+  }
+
   void gridCb(const nav_msgs::OccupancyGrid::ConstPtr& msg)
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -127,6 +175,18 @@ private:
     std_msgs::Header header;
     header.frame_id = world_frame_;
     header.stamp = msg->header.stamp;
+    if (!monitor_.onGrid(msg->header.stamp.toSec()))
+    {
+      NODELET_WARN_THROTTLE(2.0, "planner: grid from %.2f s ignored: built before a gap or a time jump",
+                            msg->header.stamp.toSec());
+      return;
+    }
+    const InputVerdict v = monitor_.check(params_.use_odom);
+    if (!v.ok())
+    {
+      publish(status(v.status, v.reason), header, msg->header.stamp);
+      return;
+    }
     Grid grid;
     if (!msg->header.frame_id.empty() && msg->header.frame_id != world_frame_)
     {
@@ -236,6 +296,8 @@ private:
     st.add("path_length_m", o.path_length);
     st.add("explicit_goal", o.explicit_goal);
     st.add("grid_age_s", have_grid_ ? (ros::WallTime::now() - last_grid_time_).toSec() : -1.0);
+    st.add("grid_lag_behind_newest_frame_s", monitor_.newest() - monitor_.gridStamp());
+    st.add("resets_after_gap", monitor_.resets());
   }
 
   std::string world_frame_ = "odom";
@@ -245,7 +307,9 @@ private:
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::Publisher state_pub_, path_pub_, waypoint_pub_, markers_pub_;
-  ros::Subscriber grid_sub_, goal_sub_;
+  ros::Subscriber grid_sub_, goal_sub_, odom_sub_;
+  InputMonitor monitor_;
+  double last_pose_stamp_ = 0.0;
   ros::Timer timer_;
   std::unique_ptr<diagnostic_updater::Updater> diag_;
   std::mutex mutex_;

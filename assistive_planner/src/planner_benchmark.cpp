@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <iostream>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -239,12 +241,42 @@ std::string num(double v, int prec = 4)
 int main(int argc, char** argv)
 {
   int trials100 = 1000, trials400 = 60;
-  for (int i = 1; i + 1 < argc; ++i)
-    if (std::string(argv[i]) == "--trials")
+  const char* usage =
+      "usage: planner_benchmark [--trials N]\n"
+      "  D* Lite vs A* from scratch on synthetic 100x100 and 400x400 grids; --trials change trials on the\n"
+      "  100x100 grids (default 1000; the 400x400 grids get N/16). Last stdout line: JSON.\n";
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    if (a == "-h" || a == "--help")
     {
-      trials100 = std::max(1, std::atoi(argv[i + 1]));
-      trials400 = std::max(1, trials100 / 16);
+      std::cout << usage;
+      return 0;
     }
+    if (a != "--trials")
+    {
+      std::cerr << "planner_benchmark: unknown argument " << a << "\n" << usage;
+      return 2;
+    }
+    const std::string v = i + 1 < argc ? argv[++i] : "";
+    size_t used = 0;
+    int n = 0;
+    try
+    {
+      n = std::stoi(v, &used);
+    }
+    catch (const std::exception&)
+    {
+      used = 0;
+    }
+    if (v.empty() || used != v.size() || n < 1)
+    {
+      std::cerr << "planner_benchmark: --trials needs a whole number >= 1, got '" << v << "'\n" << usage;
+      return 2;
+    }
+    trials100 = n;
+    trials400 = std::max(1, trials100 / 16);
+  }
   const SizeResult a = runSize(100, trials100, 50, 7);
   const SizeResult b = runSize(400, trials400, 20, 11);
   printf("D* Lite vs A* from scratch (synthetic grids, ~20%% obstacles, clearance + step costs, 8-connected)\n");

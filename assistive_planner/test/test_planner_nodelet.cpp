@@ -8,6 +8,7 @@
 #include <geometry_msgs/PointStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/OccupancyGrid.h>
+#include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -67,8 +68,10 @@ protected:
     path_sub_ = nh_.subscribe("planner/path", 10, &Recorder::onPath, &rec_);
     wp_sub_ = nh_.subscribe("planner/waypoint", 10, &Recorder::onWaypoint, &rec_);
     grid_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("obstacles/traversability", 1);
+    odom_pub_ = nh_.advertise<nav_msgs::Odometry>("vo/odom", 5);
     const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(20.0);
-    while (ros::ok() && grid_pub_.getNumSubscribers() == 0 && ros::WallTime::now() < until)
+    while (ros::ok() && (grid_pub_.getNumSubscribers() == 0 || odom_pub_.getNumSubscribers() == 0) &&
+           ros::WallTime::now() < until)
       ros::WallDuration(0.05).sleep();
   }
 
@@ -88,6 +91,7 @@ protected:
       t.transform.rotation.z = std::sin(0.5 * yaw);
       t.transform.rotation.w = std::cos(0.5 * yaw);
       tf_.sendTransform(t);
+      odom_pub_.publish(odom(x, y, stamp, true));
       ros::WallDuration(0.05).sleep();
       const auto g = makeGrid(x, y, unknown_around_wearer, stamp);
       grid_pub_.publish(g);
@@ -109,10 +113,41 @@ protected:
     return false;
   }
 
+  // vo/odom as the VO publishes it: an untrusted pose carries variances of 9999.
+  static nav_msgs::Odometry odom(double x, double y, const ros::Time& stamp, bool trusted)
+  {
+    nav_msgs::Odometry o;
+    o.header.stamp = stamp;
+    o.header.frame_id = "odom";
+    o.child_frame_id = "camera_link";
+    o.pose.pose.position.x = x;
+    o.pose.pose.position.y = y;
+    o.pose.pose.position.z = 1.6;
+    o.pose.pose.orientation.w = 1.0;
+    for (int i = 0; i < 6; ++i)
+      o.pose.covariance[size_t(i * 7)] = o.twist.covariance[size_t(i * 7)] = trusted ? 1e-4 : 9999.0;
+    return o;
+  }
+
+  // Publishes odometry alone and waits for the state the planner decides from it.
+  bool odomOnly(double x, double y, bool trusted, const ros::Time& stamp)
+  {
+    odom_pub_.publish(odom(x, y, stamp, trusted));
+    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(2.0);
+    while (ros::WallTime::now() < until)
+    {
+      ros::spinOnce();
+      if (rec_.state && rec_.state->source_stamp == stamp)
+        return true;
+      ros::WallDuration(0.01).sleep();
+    }
+    return false;
+  }
+
   ros::NodeHandle nh_;
   Recorder rec_;
   ros::Subscriber state_sub_, path_sub_, wp_sub_;
-  ros::Publisher grid_pub_;
+  ros::Publisher grid_pub_, odom_pub_;
   tf2_ros::TransformBroadcaster tf_;
 };
 }  // namespace
@@ -171,6 +206,30 @@ TEST_F(PlannerNodeletTest, UnknownAtStartUpThenPathAroundWall)
   ASSERT_TRUE(step(0.5, 0.1, M_PI, false));
   ASSERT_EQ(rec_.state->status, assistive_msgs::NavigationState::OK);
   EXPECT_LT(rec_.state->waypoint.x, -2.0);
+}
+
+TEST_F(PlannerNodeletTest, UntrustedPoseAndUnrefreshedMapStopTheGuidance)
+{
+  ASSERT_TRUE(step(0.1, 0.1, 0.0, false));
+  ASSERT_EQ(rec_.state->status, assistive_msgs::NavigationState::OK) << rec_.state->message;
+  const ros::Time grid_stamp = rec_.state->source_stamp;
+
+  // the VO says it cannot trust its pose: NO_POSE at once, decided on that frame
+  ASSERT_TRUE(odomOnly(0.1, 0.1, false, ros::Time::now()));
+  EXPECT_EQ(rec_.state->status, assistive_msgs::NavigationState::NO_POSE) << rec_.state->message;
+
+  // trusted poses again, but no new grid (frames without depth): NO_MAP once the grid lags the
+  // newest frame by more than max_input_age_s (0.5 s)
+  ros::WallDuration(0.6).sleep();
+  const ros::Time late = ros::Time::now();
+  ASSERT_GT((late - grid_stamp).toSec(), 0.5);
+  ASSERT_TRUE(odomOnly(0.1, 0.1, true, late));
+  EXPECT_EQ(rec_.state->status, assistive_msgs::NavigationState::NO_MAP) << rec_.state->message;
+  EXPECT_NE(rec_.state->message.find("not refreshed"), std::string::npos) << rec_.state->message;
+
+  // a fresh grid brings the guidance back
+  ASSERT_TRUE(step(0.1, 0.1, 0.0, false));
+  EXPECT_EQ(rec_.state->status, assistive_msgs::NavigationState::OK) << rec_.state->message;
 }
 
 int main(int argc, char** argv)

@@ -27,7 +27,10 @@ struct PlannerParams
   double free_ray_max = 5.0;             ///< m, longest free-distance ray
 
   // Node
-  double grid_timeout = 2.0;             ///< s, a grid older than this -> NO_MAP
+  double grid_timeout = 2.0;             ///< s of wall time without any grid -> NO_MAP (the last line of defence)
+  bool use_odom = true;                  ///< judge the VO's trust (vo/odom covariance) and freshness, not only tf's age
+  double max_input_age_s = 0.5;          ///< s: grid or pose lagging the newest camera frame by more -> NO_MAP / NO_POSE
+  double max_frame_gap_s = 0.5;          ///< s: a longer pause between poses, or time going back, resets the planner
   double camera_height = 1.6;            ///< m, informational: the pose is projected onto the ground (z = 0)
 };
 }  // namespace assistive_planner
