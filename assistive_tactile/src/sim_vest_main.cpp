@@ -88,6 +88,9 @@ int main(int argc, char** argv)
   std::printf("sim_vest: %llu commands, %llu output changes, %u bad packets, %u stray bytes, %u watchdog trips\n",
               static_cast<unsigned long long>(vest.commands()), static_cast<unsigned long long>(changes),
               fw.parser.rejected, fw.parser.skipped, fw.timeouts);
+  if (fw.parser.version_mismatch)
+    std::printf("sim_vest: %u packets of protocol version %u ignored (this vest speaks version %u)\n",
+                fw.parser.version_mismatch, fw.parser.peer_version, VEST_PROTOCOL_VERSION);
   const auto on = vest.onSeconds(nowMs());
   const auto n = vest.onsets();
   static const char* names[4] = { "left shoulder (turn left)", "right shoulder (turn right)",

@@ -124,7 +124,7 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
   // Garbage from the device: counted, ignored, link stays up.
   std::vector<uint8_t> junk(2000);
   for (size_t i = 0; i < junk.size(); ++i)
-    junk[i] = static_cast<uint8_t>(i % 13 == 0 ? VEST_SYNC : (i * 37u + 11u) & 0xFF);
+    junk[i] = static_cast<uint8_t>(i % 13 == 0 ? VEST_DELIMITER : (i * 37u + 11u) & 0xFF);
   ASSERT_TRUE(h.vest.inject(junk.data(), junk.size()));
   EXPECT_TRUE(h.runUntil([] { return !g_diag["garbage bytes"].empty() && g_diag["garbage bytes"] != "0"; }, 10.0));
   h.cue = { { 0, 1.f, 0, 0 } };

@@ -1,5 +1,5 @@
-// The packet codec, the streaming parser and the firmware behaviour of vest_protocol.h (the code
-// the Arduino sketch runs, compiled here on the host).
+// The packet codec, the COBS framing, the streaming parser and the firmware behaviour of
+// vest_protocol.h (the code the Arduino sketch runs, compiled here on the host).
 #include <gtest/gtest.h>
 
 #include <random>
@@ -29,6 +29,21 @@ std::vector<uint8_t> bytes(const vest_packet_t& p)
   return b;
 }
 
+/// The frame of a packet with hand-made raw bytes (VERSION .. before the CRC): CRC appended,
+/// COBS-encoded, between delimiters.
+std::vector<uint8_t> frameOf(std::vector<uint8_t> raw)
+{
+  const uint16_t crc = vest_crc16(raw.data(), static_cast<uint8_t>(raw.size()));
+  raw.push_back(static_cast<uint8_t>(crc >> 8));
+  raw.push_back(static_cast<uint8_t>(crc & 0xFF));
+  std::vector<uint8_t> out(raw.size() + 3);
+  out[0] = 0;
+  const uint8_t n = vest_cobs_encode(raw.data(), static_cast<uint8_t>(raw.size()), out.data() + 1);
+  out.resize(n + 2u);
+  out[n + 1u] = 0;
+  return out;
+}
+
 bool same(const vest_packet_t& a, const vest_packet_t& b)
 {
   return a.type == b.type && a.seq == b.seq && a.motors == b.motors &&
@@ -46,22 +61,79 @@ std::vector<vest_packet_t> feedAll(vest_parser_t* ps, const std::vector<uint8_t>
   }
   return out;
 }
+
+void append(std::vector<uint8_t>* s, const std::vector<uint8_t>& b)
+{
+  s->insert(s->end(), b.begin(), b.end());
+}
 }  // namespace
 
-TEST(VestProtocol, Crc8CheckValue)
+TEST(VestProtocol, Crc16CheckValue)
 {
-  // CRC-8/SMBUS (poly 0x07, init 0) catalogue check value.
+  // CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF) catalogue check value.
   const uint8_t msg[] = { '1', '2', '3', '4', '5', '6', '7', '8', '9' };
-  EXPECT_EQ(vest_crc8(msg, 9), 0xF4);
-  EXPECT_EQ(vest_crc8(msg, 0), 0x00);
+  EXPECT_EQ(vest_crc16(msg, 9), 0x29B1);
+  EXPECT_EQ(vest_crc16(msg, 0), 0xFFFF);
+}
+
+TEST(VestProtocol, CobsTable)
+{
+  // Wikipedia's COBS examples (frames under 254 bytes).
+  const std::vector<std::pair<std::vector<uint8_t>, std::vector<uint8_t>>> table = {
+    { { 0x00 }, { 0x01, 0x01 } },
+    { { 0x00, 0x00 }, { 0x01, 0x01, 0x01 } },
+    { { 0x00, 0x11, 0x00 }, { 0x01, 0x02, 0x11, 0x01 } },
+    { { 0x11, 0x22, 0x00, 0x33 }, { 0x03, 0x11, 0x22, 0x02, 0x33 } },
+    { { 0x11, 0x22, 0x33, 0x44 }, { 0x05, 0x11, 0x22, 0x33, 0x44 } },
+    { { 0x11, 0x00, 0x00, 0x00 }, { 0x02, 0x11, 0x01, 0x01, 0x01 } },
+  };
+  for (const auto& r : table)
+  {
+    std::vector<uint8_t> enc(r.first.size() + 1);
+    ASSERT_EQ(vest_cobs_encode(r.first.data(), static_cast<uint8_t>(r.first.size()), enc.data()), r.second.size());
+    EXPECT_EQ(enc, r.second);
+    std::vector<uint8_t> dec(r.second.size());
+    ASSERT_EQ(vest_cobs_decode(r.second.data(), static_cast<uint8_t>(r.second.size()), dec.data()),
+              static_cast<int>(r.first.size()));
+    dec.resize(r.first.size());
+    EXPECT_EQ(dec, r.first);
+  }
+  const uint8_t broken[] = { 0x05, 0x11, 0x22 };  // code says 4 data bytes, only 2 follow
+  uint8_t out[8];
+  EXPECT_EQ(vest_cobs_decode(broken, 3, out), -1);
 }
 
 TEST(VestProtocol, KnownEncoding)
 {
-  const std::vector<uint8_t> b = bytes(command(7, 0x5, 200, 0, 100, 0));
-  const std::vector<uint8_t> head = { 0xA5, 0x01, 0x07, 0x05, 200, 0, 100, 0 };
-  EXPECT_TRUE(std::equal(head.begin(), head.end(), b.begin()));
-  EXPECT_EQ(b[8], vest_crc8(b.data() + 1, 7));
+  // seq 7, motors 0x5, duties 200 0 100 0: raw 02 01 07 05 C8 00 64 00 CRC(hi lo).
+  const std::vector<uint8_t> raw = { 0x02, 0x01, 0x07, 0x05, 200, 0, 100, 0 };
+  const uint16_t crc = vest_crc16(raw.data(), 8);
+  std::vector<uint8_t> want = { 0x00, 0x06, 0x02, 0x01, 0x07, 0x05, 200, 0x02, 100 };
+  // The CRC bytes (never 0 here: check it) close the last COBS group.
+  ASSERT_NE(crc >> 8, 0);
+  ASSERT_NE(crc & 0xFF, 0);
+  want.push_back(0x03);
+  want.push_back(static_cast<uint8_t>(crc >> 8));
+  want.push_back(static_cast<uint8_t>(crc & 0xFF));
+  want.push_back(0x00);
+  EXPECT_EQ(bytes(command(7, 0x5, 200, 0, 100, 0)), want);
+  EXPECT_EQ(want.size(), VEST_PACKET_SIZE);
+}
+
+TEST(VestProtocol, NoDelimiterInsideAnyPacket)
+{
+  std::mt19937 rng(5);
+  for (int i = 0; i < 20000; ++i)
+  {
+    const uint32_t r = rng();
+    const std::vector<uint8_t> b = bytes(command(static_cast<uint8_t>(r), static_cast<uint8_t>(r >> 8) & 0xF,
+                                               static_cast<uint8_t>(r >> 12), static_cast<uint8_t>(r >> 20),
+                                               static_cast<uint8_t>(i % 3 ? 0 : r >> 24), 0));
+    ASSERT_EQ(b.front(), 0);
+    ASSERT_EQ(b.back(), 0);
+    for (size_t k = 1; k + 1 < b.size(); ++k)
+      ASSERT_NE(b[k], 0) << i;
+  }
 }
 
 TEST(VestProtocol, RoundTripTable)
@@ -69,7 +141,7 @@ TEST(VestProtocol, RoundTripTable)
   const std::vector<vest_packet_t> table = {
     command(0, 0x0, 0, 0, 0, 0),       command(1, 0x1, 255, 0, 0, 0),   command(2, 0x2, 0, 128, 0, 0),
     command(3, 0x4, 0, 0, 1, 0),       command(4, 0x8, 0, 0, 0, 77),    command(255, 0xF, 255, 255, 255, 255),
-    command(9, 0x3, 0xA5, 0xA5, 0, 0),  // SYNC values inside the payload
+    command(9, 0x3, 0xA5, 0xA5, 0, 0),  // old SYNC values inside the payload
   };
   for (const vest_packet_t& p : table)
   {
@@ -86,48 +158,154 @@ TEST(VestProtocol, RoundTripTable)
 
 TEST(VestProtocol, EveryCorruptedByteIsRejected)
 {
-  const std::vector<uint8_t> good = bytes(command(17, 0x9, 180, 0, 0, 60));
-  int tried = 0;
-  for (size_t pos = 0; pos < VEST_PACKET_SIZE; ++pos)
-    for (int v = 0; v < 256; ++v)
-    {
-      if (v == good[pos])
-        continue;
-      std::vector<uint8_t> bad = good;
-      bad[pos] = static_cast<uint8_t>(v);
-      vest_packet_t q;
-      EXPECT_FALSE(vest_decode(bad.data(), &q)) << "pos " << pos << " value " << v;
-      ++tried;
-    }
-  EXPECT_EQ(tried, 9 * 255);
+  // Every byte of the frame replaced by every other value (a 0x00 splits the frame: both halves
+  // must be rejected too): nothing decodes, neither whole nor through the streaming parser.
+  for (const vest_packet_t& pk : { command(17, 0x9, 180, 0, 0, 60), command(0, 0x0, 0, 0, 0, 0) })
+  {
+    const std::vector<uint8_t> good = bytes(pk);
+    int tried = 0;
+    for (size_t pos = 1; pos + 1 < VEST_PACKET_SIZE; ++pos)
+      for (int v = 0; v < 256; ++v)
+      {
+        if (v == good[pos])
+          continue;
+        std::vector<uint8_t> bad = good;
+        bad[pos] = static_cast<uint8_t>(v);
+        vest_packet_t q;
+        EXPECT_FALSE(vest_decode(bad.data(), &q)) << "pos " << pos << " value " << v;
+        vest_parser_t ps;
+        vest_parser_init(&ps);
+        EXPECT_TRUE(feedAll(&ps, bad).empty()) << "pos " << pos << " value " << v;
+        EXPECT_GE(ps.rejected, 1) << "pos " << pos << " value " << v;
+        ++tried;
+      }
+    EXPECT_EQ(tried, 11 * 255);
+  }
 }
 
-TEST(VestProtocol, ReservedBitsAndUnknownTypeRejected)
+TEST(VestProtocol, EveryBitFlipPairIsRejected)
 {
-  std::vector<uint8_t> b = bytes(command(1, 0x1, 9, 0, 0, 0));
-  b[3] = 0x11;
-  b[8] = vest_crc8(b.data() + 1, 7);  // valid CRC, invalid field
-  vest_packet_t q;
-  EXPECT_FALSE(vest_decode(b.data(), &q));
-  b = bytes(command(1, 0x1, 9, 0, 0, 0));
-  b[1] = 0x03;
-  b[8] = vest_crc8(b.data() + 1, 7);
-  EXPECT_FALSE(vest_decode(b.data(), &q));
+  // CRC-16/CCITT has Hamming distance 4 at this length: all 1-, 2- and 3-bit errors of the
+  // decoded bytes are caught; here all 2-bit flips of the wire frame (which COBS may turn into
+  // more damage) must be rejected.
+  const std::vector<uint8_t> good = bytes(command(99, 0xA, 0, 77, 0, 200));
+  const size_t bits = (VEST_PACKET_SIZE - 2) * 8;
+  for (size_t a = 0; a < bits; ++a)
+    for (size_t b = a; b < bits; ++b)
+    {
+      std::vector<uint8_t> bad = good;
+      bad[1 + a / 8] ^= static_cast<uint8_t>(1u << (a % 8));
+      if (b != a)
+        bad[1 + b / 8] ^= static_cast<uint8_t>(1u << (b % 8));
+      vest_parser_t ps;
+      vest_parser_init(&ps);
+      EXPECT_TRUE(feedAll(&ps, bad).empty()) << a << " " << b;
+    }
 }
 
-TEST(VestProtocol, ParserTruncatedPacketThenGoodOne)
+TEST(VestProtocol, BadFieldsAndOtherVersionsRejected)
+{
+  vest_packet_t q;
+  uint8_t version = 0;
+  // Valid CRC and framing, illegal field.
+  std::vector<uint8_t> f = frameOf({ 2, 0x01, 1, 0x11, 9, 0, 0, 0 });  // reserved motor bit
+  EXPECT_EQ(vest_decode_frame(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &q, nullptr), VEST_FRAME_FIELD);
+  f = frameOf({ 2, 0x03, 1, 0x01, 9, 0, 0, 0 });  // unknown type
+  EXPECT_EQ(vest_decode_frame(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &q, nullptr), VEST_FRAME_FIELD);
+  f = frameOf({ 2, 0x01, 1, 0x01, 9, 0, 0 });  // our version, one byte short
+  EXPECT_EQ(vest_decode_frame(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &q, nullptr), VEST_FRAME_LENGTH);
+  // Another version (same layout, and a longer future one): rejected, reported with its number.
+  for (const std::vector<uint8_t>& raw : { std::vector<uint8_t>{ 1, 0x01, 1, 0x01, 9, 0, 0, 0 },
+                                           std::vector<uint8_t>{ 3, 0x01, 1, 0x01, 9, 0, 0, 0, 5, 6, 7 } })
+  {
+    f = frameOf(raw);
+    EXPECT_EQ(vest_decode_frame(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &q, &version),
+              VEST_FRAME_VERSION);
+    EXPECT_EQ(version, raw[0]);
+    vest_firmware_t fw;
+    vest_firmware_init(&fw, 0);
+    vest_packet_t status;
+    for (uint8_t x : f)
+      EXPECT_EQ(vest_firmware_feed(&fw, x, 1, &status), 0);
+    EXPECT_EQ(fw.parser.version_mismatch, 1);
+    EXPECT_EQ(fw.parser.peer_version, raw[0]);
+    EXPECT_EQ(fw.duty[0], 0);
+  }
+  // A version-1 packet (SYNC 0xA5 + CRC-8; its zero bytes split it into frames) is garbage here.
+  const std::vector<uint8_t> v1 = { 0xA5, 0x01, 0x07, 0x05, 200, 0, 100, 0, 0x3C };
+  vest_parser_t ps;
+  vest_parser_init(&ps);
+  std::vector<uint8_t> s = { 0 };
+  append(&s, v1);
+  s.push_back(0);
+  EXPECT_TRUE(feedAll(&ps, s).empty());
+  EXPECT_GE(ps.rejected, 1);
+  EXPECT_EQ(ps.version_mismatch, 0);
+}
+
+// Resynchronisation: garbage, a truncated packet and shifted packets in one stream; exactly the
+// valid packets come out, in order.
+TEST(VestProtocol, ResyncDecodesExactlyTheValidPackets)
+{
+  std::vector<vest_packet_t> sent;
+  std::vector<uint8_t> stream;
+  auto good = [&](const vest_packet_t& p) {
+    sent.push_back(p);
+    append(&stream, bytes(p));
+  };
+  good(command(1, 0x1, 10, 0, 0, 0));
+  // garbage without delimiters, then one with delimiters and old SYNC bytes
+  append(&stream, { 0xA5, 0x13, 0xFF, 0x42, 0x07, 0xA5, 0xA5 });
+  good(command(2, 0x2, 0, 20, 0, 0));
+  append(&stream, { 0x00, 0x05, 0x00, 0xA5, 0x01, 0x02, 0x00, 0x00 });
+  good(command(3, 0x4, 0, 0, 30, 0));
+  // truncated packet: the first 7 bytes of one, then the next complete packet
+  const std::vector<uint8_t> cut = bytes(command(100, 0xF, 255, 255, 255, 255));
+  append(&stream, std::vector<uint8_t>(cut.begin(), cut.begin() + 7));
+  good(command(4, 0x8, 0, 0, 0, 40));
+  // shifted packets: one byte missing at the front of the frame / an extra byte in front of it /
+  // the tail of one packet glued to the head of another
+  std::vector<uint8_t> sh = bytes(command(101, 0xF, 255, 255, 255, 255));
+  append(&stream, { 0x00 });
+  append(&stream, std::vector<uint8_t>(sh.begin() + 2, sh.end()));
+  good(command(5, 0x3, 50, 50, 0, 0));
+  sh = bytes(command(102, 0xF, 255, 255, 255, 255));
+  append(&stream, { 0x00, 0x0B });
+  append(&stream, std::vector<uint8_t>(sh.begin() + 1, sh.end()));
+  good(command(6, 0x1, 60, 0, 0, 0));
+  const std::vector<uint8_t> h = bytes(command(103, 0xF, 255, 255, 255, 255));
+  const std::vector<uint8_t> t = bytes(command(104, 0xC, 0, 0, 255, 255));
+  append(&stream, std::vector<uint8_t>(h.begin(), h.begin() + 6));
+  append(&stream, std::vector<uint8_t>(t.begin() + 7, t.end()));
+  good(command(7, 0x2, 0, 70, 0, 0));
+  // an over-long frame (no delimiter for 100 bytes)
+  for (int i = 0; i < 100; ++i)
+    stream.push_back(static_cast<uint8_t>(1 + i % 255));
+  good(command(8, 0x4, 0, 0, 80, 0));
+
+  vest_parser_t ps;
+  vest_parser_init(&ps);
+  const std::vector<vest_packet_t> got = feedAll(&ps, stream);
+  ASSERT_EQ(got.size(), sent.size());
+  for (size_t i = 0; i < sent.size(); ++i)
+    EXPECT_TRUE(same(got[i], sent[i])) << i;
+  EXPECT_GE(ps.rejected, 7);
+  EXPECT_GT(ps.skipped, 100);
+}
+
+TEST(VestProtocol, EveryTruncationThenGoodPacket)
 {
   // Each prefix of a packet (a link drop mid-packet) followed by a complete one: only the
-  // complete one comes out, whatever the prefix length.
+  // complete one comes out, whatever the prefix length. (Cutting only the trailing delimiter
+  // leaves the packet whole: the next leading delimiter ends it.)
   const std::vector<uint8_t> first = bytes(command(1, 0x1, 50, 0, 0, 0));
   const vest_packet_t second = command(2, 0x2, 0, 99, 0, 0);
-  for (size_t cut = 1; cut < VEST_PACKET_SIZE; ++cut)
+  for (size_t cut = 1; cut + 1 < VEST_PACKET_SIZE; ++cut)
   {
     vest_parser_t ps;
     vest_parser_init(&ps);
     std::vector<uint8_t> stream(first.begin(), first.begin() + cut);
-    const std::vector<uint8_t> b2 = bytes(second);
-    stream.insert(stream.end(), b2.begin(), b2.end());
+    append(&stream, bytes(second));
     const std::vector<vest_packet_t> got = feedAll(&ps, stream);
     ASSERT_EQ(got.size(), 1u) << "cut " << cut;
     EXPECT_TRUE(same(got[0], second)) << "cut " << cut;
@@ -144,13 +322,12 @@ TEST(VestProtocol, ParserRecoversAllPacketsFromGarbage)
   {
     const int n = len(rng);
     for (int k = 0; k < n; ++k)
-      stream.push_back(static_cast<uint8_t>(k % 7 == 0 ? VEST_SYNC : byte(rng)));  // lots of false SYNCs
+      stream.push_back(static_cast<uint8_t>(k % 7 == 0 ? 0x00 : byte(rng)));  // lots of delimiters
     vest_packet_t p = command(static_cast<uint8_t>(i), static_cast<uint8_t>(byte(rng) & 0xF),
                               static_cast<uint8_t>(byte(rng)), static_cast<uint8_t>(byte(rng)),
                               static_cast<uint8_t>(byte(rng)), static_cast<uint8_t>(byte(rng)));
     sent.push_back(p);
-    const std::vector<uint8_t> b = bytes(p);
-    stream.insert(stream.end(), b.begin(), b.end());
+    append(&stream, bytes(p));
   }
   vest_parser_t ps;
   vest_parser_init(&ps);
@@ -195,7 +372,7 @@ TEST(VestFirmware, IgnoresStatusAndBadPackets)
   std::vector<uint8_t> stream = bytes(s);
   std::vector<uint8_t> bad = bytes(command(2, 0xF, 255, 255, 255, 255));
   bad[5] ^= 0x10;
-  stream.insert(stream.end(), bad.begin(), bad.end());
+  append(&stream, bad);
   vest_packet_t status;
   for (uint8_t x : stream)
     EXPECT_EQ(vest_firmware_feed(&fw, x, 10, &status), 0);
@@ -225,7 +402,7 @@ TEST(VestFirmware, WatchdogTable)
     if (r.bad_ms)
     {
       std::vector<uint8_t> bad = bytes(command(2, 0x1, 255, 0, 0, 0));
-      bad[8] ^= 1;
+      bad[VEST_PACKET_SIZE - 2] ^= 1;
       for (uint8_t x : bad)
         vest_firmware_feed(&fw, x, r.bad_ms, &status);
     }

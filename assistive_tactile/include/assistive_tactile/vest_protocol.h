@@ -5,28 +5,39 @@
  * Arduino sketch (firmware/vest/vest.ino includes it through the symlink
  * firmware/vest/vest_protocol.h). Change it here and both sides change.
  *
- * Packet (9 bytes, both directions, all fields uint8):
+ * Protocol version 2 (version 1 was SYNC 0xA5 + CRC-8; it let noise through as false COMMANDs).
  *
- *   byte 0  SYNC      0xA5
- *   byte 1  TYPE      0x01 = COMMAND (PC -> vest), 0x02 = STATUS (vest -> PC)
- *   byte 2  SEQ       sequence number, +1 per packet sent (wraps at 255); a STATUS echoes the SEQ
- *                     of the last COMMAND the vest accepted
- *   byte 3  MOTORS    bit i set = motor i on (bit 0 left shoulder, 1 right shoulder,
- *                     2 left waist, 3 right waist); bits 4..7 must be 0
- *   byte 4  I0        PWM duty of motor 0 (0..255), used only when its bit is set
- *   byte 5  I1        motor 1
- *   byte 6  I2        motor 2
- *   byte 7  I3        motor 3
- *   byte 8  CRC       CRC-8 (polynomial 0x07, init 0x00, no reflection, no final xor,
- *                     i.e. CRC-8/SMBUS) over bytes 1..7
+ * Packet (10 bytes before framing, both directions, all fields uint8):
+ *
+ *   byte 0    VERSION   VEST_PROTOCOL_VERSION (2); a receiver rejects and counts other versions
+ *   byte 1    TYPE      0x01 = COMMAND (PC -> vest), 0x02 = STATUS (vest -> PC)
+ *   byte 2    SEQ       sequence number, +1 per packet sent (wraps at 255); a STATUS echoes the
+ *                       SEQ of the last COMMAND the vest accepted
+ *   byte 3    MOTORS    bit i set = motor i on (bit 0 left shoulder, 1 right shoulder,
+ *                       2 left waist, 3 right waist); bits 4..7 must be 0
+ *   byte 4-7  I0..I3    PWM duty of motor i (0..255), used only when its bit is set
+ *   byte 8-9  CRC       CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF, no reflection, no final
+ *                       xor; check value 0x29B1) over bytes 0..7, high byte first
+ *
+ * Framing: COBS (Consistent Overhead Byte Stuffing). The 10 bytes are COBS-encoded (11 bytes, no
+ * 0x00 inside) and sent between two 0x00 delimiters: 13 bytes on the wire,
+ *
+ *   0x00  COBS(packet)  0x00
+ *
+ * A receiver collects the bytes between delimiters into a frame and accepts it only when the COBS
+ * structure is valid, the CRC matches, VERSION is ours, the decoded length is exactly 10 and the
+ * fields are legal. Since a frame starts only at a delimiter, a packet is never read at a shifted
+ * offset (the SYNC scan of version 1 could); garbage, a truncated or a shifted packet cost that
+ * frame only, and the next delimiter resynchronises. The leading delimiter ends any garbage
+ * before the packet, so the packet after a burst of noise still arrives. The CRC is checked
+ * before VERSION, so a counted version mismatch is a real peer of another version, not noise;
+ * the CRC sits at the end of every version's frame for that reason.
  *
  * Motor i is driven at  (MOTORS >> i) & 1 ? Ii : 0.
  * A COMMAND is the complete desired state (not a delta), so a lost packet is healed by the next
  * one. The PC re-sends it at a fixed rate (default 20 Hz). The vest switches every motor off when
  * no valid COMMAND arrived for VEST_WATCHDOG_MS, and answers every accepted COMMAND with a
  * STATUS carrying what the motors now do (the PC uses it as link proof and on diagnostics).
- * Receivers scan the byte stream for SYNC, and on a bad CRC or reserved bits resume scanning at
- * the byte after the rejected SYNC, so garbage and truncated packets cost at most one packet.
  */
 #ifndef ASSISTIVE_TACTILE_VEST_PROTOCOL_H
 #define ASSISTIVE_TACTILE_VEST_PROTOCOL_H
@@ -38,10 +49,14 @@
 extern "C" {
 #endif
 
-#define VEST_SYNC 0xA5u
+#define VEST_PROTOCOL_VERSION 2u
+#define VEST_DELIMITER 0x00u
 #define VEST_TYPE_COMMAND 0x01u
 #define VEST_TYPE_STATUS 0x02u
-#define VEST_PACKET_SIZE 9u
+#define VEST_RAW_SIZE 10u                       /* VERSION .. CRC, before COBS */
+#define VEST_COBS_SIZE (VEST_RAW_SIZE + 1u)     /* COBS adds one byte to frames under 254 bytes */
+#define VEST_PACKET_SIZE (VEST_COBS_SIZE + 2u)  /* on the wire, with both delimiters: 13 */
+#define VEST_MAX_FRAME 32u  /* longest frame a receiver buffers; longer = garbage, dropped */
 #define VEST_NUM_MOTORS 4u
 #define VEST_WATCHDOG_MS 500u
 
@@ -51,6 +66,15 @@ extern "C" {
 #define VEST_LEFT_WAIST 2u
 #define VEST_RIGHT_WAIST 3u
 
+/* Why a frame was rejected (vest_decode_frame's result). */
+#define VEST_FRAME_OK 0
+#define VEST_FRAME_COBS 1     /* COBS structure broken (a code byte points past the end) */
+#define VEST_FRAME_SHORT 2    /* too short to hold a CRC */
+#define VEST_FRAME_CRC 3      /* CRC mismatch */
+#define VEST_FRAME_VERSION 4  /* CRC fine, another protocol version */
+#define VEST_FRAME_LENGTH 5   /* our version, wrong length */
+#define VEST_FRAME_FIELD 6    /* unknown TYPE or reserved MOTORS bits set */
+
 typedef struct
 {
   uint8_t type;
@@ -59,51 +83,126 @@ typedef struct
   uint8_t intensity[VEST_NUM_MOTORS];   /* 0..255 */
 } vest_packet_t;
 
-/* CRC-8/SMBUS: poly 0x07, init 0x00. Bitwise: small enough for the ATmega (no table in RAM). */
-static inline uint8_t vest_crc8(const uint8_t* data, uint8_t len)
+/* CRC-16/CCITT-FALSE: poly 0x1021, init 0xFFFF. Bitwise: no table in the ATmega's RAM. */
+static inline uint16_t vest_crc16(const uint8_t* data, uint8_t len)
 {
-  uint8_t crc = 0x00u;
+  uint16_t crc = 0xFFFFu;
   uint8_t i, b;
   for (i = 0; i < len; ++i)
   {
-    crc ^= data[i];
+    crc = (uint16_t)(crc ^ (uint16_t)((uint16_t)data[i] << 8));
     for (b = 0; b < 8u; ++b)
-      crc = (uint8_t)((crc & 0x80u) ? (uint8_t)((crc << 1) ^ 0x07u) : (uint8_t)(crc << 1));
+      crc = (crc & 0x8000u) ? (uint16_t)((uint16_t)(crc << 1) ^ 0x1021u) : (uint16_t)(crc << 1);
   }
   return crc;
 }
 
-/* Writes VEST_PACKET_SIZE bytes to out. */
-static inline void vest_encode(const vest_packet_t* p, uint8_t* out)
+/* COBS-encodes len (< 254) bytes; returns the encoded length (len + 1). No 0x00 in the output. */
+static inline uint8_t vest_cobs_encode(const uint8_t* in, uint8_t len, uint8_t* out)
 {
-  uint8_t i;
-  out[0] = (uint8_t)VEST_SYNC;
-  out[1] = p->type;
-  out[2] = p->seq;
-  out[3] = (uint8_t)(p->motors & 0x0Fu);
-  for (i = 0; i < VEST_NUM_MOTORS; ++i)
-    out[4 + i] = p->intensity[i];
-  out[8] = vest_crc8(out + 1, 7u);
+  uint8_t code_at = 0u, o = 1u, code = 1u, i;
+  for (i = 0; i < len; ++i)
+  {
+    if (in[i] == 0u)
+    {
+      out[code_at] = code;
+      code_at = o++;
+      code = 1u;
+    }
+    else
+    {
+      out[o++] = in[i];
+      ++code;
+    }
+  }
+  out[code_at] = code;
+  return o;
 }
 
-/* Checks one complete candidate packet; returns 1 and fills p when it is valid. */
+/* COBS-decodes one frame (no delimiters, no 0x00 inside); returns the decoded length, or -1 when
+ * the structure is broken. out must hold len bytes. */
+static inline int vest_cobs_decode(const uint8_t* in, uint8_t len, uint8_t* out)
+{
+  uint8_t i = 0u, o = 0u, code, k;
+  while (i < len)
+  {
+    code = in[i++];
+    if (code == 0u || (uint8_t)(code - 1u) > (uint8_t)(len - i))
+      return -1;
+    for (k = 1u; k < code; ++k)
+      out[o++] = in[i++];
+    if (code != 0xFFu && i < len)
+      out[o++] = 0u;
+  }
+  return (int)o;
+}
+
+/* Writes VEST_PACKET_SIZE bytes (delimiter, COBS frame, delimiter) to out; VERSION is ours. */
+static inline void vest_encode(const vest_packet_t* p, uint8_t* out)
+{
+  uint8_t raw[VEST_RAW_SIZE];
+  uint8_t i;
+  uint16_t crc;
+  raw[0] = (uint8_t)VEST_PROTOCOL_VERSION;
+  raw[1] = p->type;
+  raw[2] = p->seq;
+  raw[3] = (uint8_t)(p->motors & 0x0Fu);
+  for (i = 0; i < VEST_NUM_MOTORS; ++i)
+    raw[4 + i] = p->intensity[i];
+  crc = vest_crc16(raw, 8u);
+  raw[8] = (uint8_t)(crc >> 8);
+  raw[9] = (uint8_t)(crc & 0xFFu);
+  out[0] = (uint8_t)VEST_DELIMITER;
+  vest_cobs_encode(raw, (uint8_t)VEST_RAW_SIZE, out + 1);
+  out[VEST_PACKET_SIZE - 1u] = (uint8_t)VEST_DELIMITER;
+}
+
+/* Checks one frame (the bytes between two delimiters). Returns VEST_FRAME_OK and fills p when it
+ * is a valid packet of our version; else the reason. *version gets the VERSION byte of a
+ * CRC-valid frame (for mismatch reports); it may be NULL. */
+static inline int vest_decode_frame(const uint8_t* frame, uint8_t len, vest_packet_t* p, uint8_t* version)
+{
+  uint8_t raw[VEST_MAX_FRAME];
+  uint8_t i;
+  int n;
+  uint16_t crc;
+  if (len > VEST_MAX_FRAME)
+    return VEST_FRAME_LENGTH;
+  n = vest_cobs_decode(frame, len, raw);
+  if (n < 0)
+    return VEST_FRAME_COBS;
+  if (n < 3)
+    return VEST_FRAME_SHORT;
+  crc = vest_crc16(raw, (uint8_t)(n - 2));
+  if (raw[n - 2] != (uint8_t)(crc >> 8) || raw[n - 1] != (uint8_t)(crc & 0xFFu))
+    return VEST_FRAME_CRC;
+  if (version)
+    *version = raw[0];
+  if (raw[0] != VEST_PROTOCOL_VERSION)
+    return VEST_FRAME_VERSION;
+  if (n != (int)VEST_RAW_SIZE)
+    return VEST_FRAME_LENGTH;
+  if ((raw[1] != VEST_TYPE_COMMAND && raw[1] != VEST_TYPE_STATUS) || (raw[3] & 0xF0u) != 0u)
+    return VEST_FRAME_FIELD;
+  p->type = raw[1];
+  p->seq = raw[2];
+  p->motors = raw[3];
+  for (i = 0; i < VEST_NUM_MOTORS; ++i)
+    p->intensity[i] = raw[4 + i];
+  return VEST_FRAME_OK;
+}
+
+/* Checks one whole wire packet as vest_encode writes it (VEST_PACKET_SIZE bytes, both
+ * delimiters); returns 1 and fills p when it is valid. */
 static inline int vest_decode(const uint8_t* in, vest_packet_t* p)
 {
   uint8_t i;
-  if (in[0] != VEST_SYNC)
+  if (in[0] != VEST_DELIMITER || in[VEST_PACKET_SIZE - 1u] != VEST_DELIMITER)
     return 0;
-  if (in[1] != VEST_TYPE_COMMAND && in[1] != VEST_TYPE_STATUS)
-    return 0;
-  if ((in[3] & 0xF0u) != 0u)
-    return 0;
-  if (vest_crc8(in + 1, 7u) != in[8])
-    return 0;
-  p->type = in[1];
-  p->seq = in[2];
-  p->motors = in[3];
-  for (i = 0; i < VEST_NUM_MOTORS; ++i)
-    p->intensity[i] = in[4 + i];
-  return 1;
+  for (i = 1u; i < VEST_PACKET_SIZE - 1u; ++i)
+    if (in[i] == VEST_DELIMITER)
+      return 0;
+  return vest_decode_frame(in + 1, (uint8_t)VEST_COBS_SIZE, p, 0) == VEST_FRAME_OK;
 }
 
 /* Effective duty of motor i of a packet. */
@@ -115,11 +214,14 @@ static inline uint8_t vest_motor_duty(const vest_packet_t* p, uint8_t i)
 /* ---- Streaming parser: feed bytes one at a time. ---- */
 typedef struct
 {
-  uint8_t buf[VEST_PACKET_SIZE];
+  uint8_t buf[VEST_MAX_FRAME];
   uint8_t len;
-  uint16_t packets;   /* valid packets (wraps) */
-  uint16_t rejected;  /* candidate packets that failed the check (wraps) */
-  uint16_t skipped;   /* bytes dropped while looking for SYNC (wraps) */
+  uint8_t overflow;           /* the current frame outgrew buf: dropped at the next delimiter */
+  uint8_t peer_version;       /* VERSION of the last CRC-valid frame of another version */
+  uint16_t packets;           /* valid packets (wraps) */
+  uint16_t rejected;          /* non-empty frames that failed a check (wraps) */
+  uint16_t skipped;           /* bytes in rejected frames (wraps) */
+  uint16_t version_mismatch;  /* CRC-valid frames of another protocol version (wraps) */
 } vest_parser_t;
 
 static inline void vest_parser_init(vest_parser_t* ps)
@@ -127,38 +229,46 @@ static inline void vest_parser_init(vest_parser_t* ps)
   memset(ps, 0, sizeof(*ps));
 }
 
-/* Drops buf[0] and re-scans the rest for the next SYNC. */
-static inline void vest_parser_resync(vest_parser_t* ps)
-{
-  uint8_t start = 1u, i;
-  while (start < ps->len && ps->buf[start] != VEST_SYNC)
-    ++start;
-  ps->skipped = (uint16_t)(ps->skipped + (start - 1u));
-  for (i = 0; start + i < ps->len; ++i)
-    ps->buf[i] = ps->buf[start + i];
-  ps->len = (uint8_t)(ps->len - start);
-}
-
 /* Feeds one byte. Returns 1 when it completed a valid packet (copied to *out), else 0. */
 static inline int vest_parser_feed(vest_parser_t* ps, uint8_t byte, vest_packet_t* out)
 {
-  if (ps->len == 0u && byte != VEST_SYNC)
+  int r;
+  uint8_t version = 0u, n;
+  if (byte != VEST_DELIMITER)
   {
-    ps->skipped++;
+    if (ps->len < VEST_MAX_FRAME)
+      ps->buf[ps->len++] = byte;
+    else
+    {
+      ps->overflow = 1u;
+      ps->skipped++;
+    }
     return 0;
   }
-  ps->buf[ps->len++] = byte;
-  while (ps->len == VEST_PACKET_SIZE)
+  n = ps->len;
+  ps->len = 0u;
+  if (ps->overflow)
   {
-    if (vest_decode(ps->buf, out))
-    {
-      ps->len = 0u;
-      ps->packets++;
-      return 1;
-    }
+    ps->overflow = 0u;
     ps->rejected++;
-    vest_parser_resync(ps); /* the rest may hold the start of the real packet */
+    ps->skipped = (uint16_t)(ps->skipped + n);
+    return 0;
   }
+  if (n == 0u)
+    return 0; /* two delimiters in a row: between packets */
+  r = vest_decode_frame(ps->buf, n, out, &version);
+  if (r == VEST_FRAME_OK)
+  {
+    ps->packets++;
+    return 1;
+  }
+  if (r == VEST_FRAME_VERSION)
+  {
+    ps->version_mismatch++;
+    ps->peer_version = version;
+  }
+  ps->rejected++;
+  ps->skipped = (uint16_t)(ps->skipped + n);
   return 0;
 }
 
@@ -190,7 +300,8 @@ static inline void vest_firmware_all_off(vest_firmware_t* fw)
 }
 
 /* Feeds one received byte. Returns 1 when a valid COMMAND was applied; then *status holds the
- * STATUS packet to send back. STATUS packets and anything invalid are ignored. */
+ * STATUS packet to send back. STATUS packets and anything invalid (other versions included:
+ * counted in parser.version_mismatch) are ignored. */
 static inline int vest_firmware_feed(vest_firmware_t* fw, uint8_t byte, uint32_t now_ms,
                                      vest_packet_t* status)
 {
