@@ -3,13 +3,70 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/file.h>
+#include <sys/ioctl.h>
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cstring>
 
 namespace assistive_tactile
 {
+namespace
+{
+// Ports the signal handler writes the fail-safe bytes to. Lock-free atomics only: read from a
+// signal handler. A port leaves the table before its fd is closed.
+constexpr int kMaxFailSafePorts = 8;
+std::atomic<int> g_fail_safe_fds[kMaxFailSafePorts] = { { -1 }, { -1 }, { -1 }, { -1 },
+                                                       { -1 }, { -1 }, { -1 }, { -1 } };
+uint8_t g_fail_safe_bytes[32];
+std::atomic<size_t> g_fail_safe_len{ 0 };
+
+void registerFailSafe(int fd)
+{
+  for (auto& slot : g_fail_safe_fds)
+  {
+    int expected = -1;
+    if (slot.compare_exchange_strong(expected, fd))
+      return;
+  }
+}
+
+void unregisterFailSafe(int fd)
+{
+  for (auto& slot : g_fail_safe_fds)
+  {
+    int expected = fd;
+    slot.compare_exchange_strong(expected, -1);
+  }
+}
+}  // namespace
+
+void setFailSafeBytes(const uint8_t* data, size_t len)
+{
+  len = std::min(len, sizeof(g_fail_safe_bytes));
+  g_fail_safe_len = 0;
+  std::memcpy(g_fail_safe_bytes, data, len);
+  g_fail_safe_len = len;
+}
+
+void writeFailSafeBytes()
+{
+  const size_t len = g_fail_safe_len.load();
+  if (len == 0)
+    return;
+  for (auto& slot : g_fail_safe_fds)
+  {
+    const int fd = slot.load();
+    if (fd >= 0 && ::write(fd, g_fail_safe_bytes, len) < 0)
+    {
+      // nothing to do in a signal handler; the vest's watchdog is the last resort
+    }
+  }
+}
+
 bool baudToSpeed(int baud, unsigned int* speed)
 {
   struct Entry
@@ -37,7 +94,11 @@ SerialPort::~SerialPort()
 void SerialPort::close()
 {
   if (fd_ >= 0)
+  {
+    unregisterFailSafe(fd_);
+    ::ioctl(fd_, TIOCNXCL);  // a pty slave held open elsewhere would otherwise stay exclusive
     ::close(fd_);
+  }
   fd_ = -1;
 }
 
@@ -61,8 +122,10 @@ bool SerialPort::open(const std::string& path, int baud, std::string* error)
   const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0)
   {
+    const int e = errno;
     if (error)
-      *error = "open " + path + ": " + std::strerror(errno);
+      *error = "open " + path + ": " + std::strerror(e) +
+               (e == EBUSY ? " (another process has it open exclusively)" : "");
     return false;
   }
   struct termios tio;
@@ -70,6 +133,22 @@ bool SerialPort::open(const std::string& path, int baud, std::string* error)
   {
     if (error)
       *error = path + " is not a serial port";
+    ::close(fd);
+    return false;
+  }
+  // One writer only: a second bridge (or a tool that honours flock) must not share the port.
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0)
+  {
+    const int e = errno;
+    if (error)
+      *error = path + " is in use by another process (flock: " + std::strerror(e) + ")";
+    ::close(fd);
+    return false;
+  }
+  if (::ioctl(fd, TIOCEXCL) != 0)
+  {
+    if (error)
+      *error = "exclusive open (TIOCEXCL) of " + path + ": " + std::strerror(errno);
     ::close(fd);
     return false;
   }
@@ -84,11 +163,14 @@ bool SerialPort::open(const std::string& path, int baud, std::string* error)
   {
     if (error)
       *error = "configure " + path + ": " + std::strerror(errno);
+    ::ioctl(fd, TIOCNXCL);
     ::close(fd);
     return false;
   }
   tcflush(fd, TCIOFLUSH);  // drop what the device said before we listened
   fd_ = fd;
+  if (fail_safe_)
+    registerFailSafe(fd_);
   return true;
 }
 

@@ -1,15 +1,53 @@
 #include "assistive_tactile/vest_bridge.h"
 
+#include <errno.h>
 #include <poll.h>
+#include <signal.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <cstring>
 
 namespace assistive_tactile
 {
+namespace
+{
+// Wake-up jitter of the housekeeping thread plus the write() call: the all-off is sent this much
+// (plus the packet's wire time) before a cue expires, so it has landed by the expiry.
+constexpr double kWakeMarginS = 0.002;
+
+std::atomic<bool> g_signalled{ false };
+}  // namespace
+
+const char* cueCheckName(CueCheck c)
+{
+  switch (c)
+  {
+    case CueCheck::FRESH:
+      return "fresh";
+    case CueCheck::STALE:
+      return "stale (header.stamp older than stale_s)";
+    case CueCheck::SOURCE_STALE:
+      return "camera image behind it older than max_source_age_s";
+    case CueCheck::SOURCE_UNKNOWN:
+      return "drives a motor without a source_stamp";
+    case CueCheck::FUTURE:
+      return "stamped in the future (clock skew)";
+  }
+  return "?";
+}
+
+double steadyNow()
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
 VestBridge::VestBridge(const BridgeParams& p) : params_(p)
 {
   vest_parser_init(&parser_);
+  port_.enableFailSafe(true);
 }
 
 VestBridge::~VestBridge()
@@ -23,6 +61,31 @@ uint8_t VestBridge::toDuty(float intensity)
     return 0;
   const float v = std::min(1.f, intensity) * 255.f;
   return static_cast<uint8_t>(std::max(1.f, std::round(v)));
+}
+
+double VestBridge::offLeadS() const
+{
+  return VEST_PACKET_SIZE * 10.0 / std::max(1, params_.baud) + kWakeMarginS;
+}
+
+CueCheck VestBridge::checkCue(const std::array<uint8_t, VEST_NUM_MOTORS>& duty, const CueAge& age,
+                              const BridgeParams& p, double lead_s)
+{
+  // Negated comparisons: NaN / +inf (unstamped) fail them.
+  if (!(age.stamp_age_s >= -p.stale_s))
+    return age.stamp_age_s < 0.0 ? CueCheck::FUTURE : CueCheck::STALE;
+  if (!(age.stamp_age_s < p.stale_s - lead_s))
+    return CueCheck::STALE;  // would have to be switched off before it could be felt
+  const bool drives = std::any_of(duty.begin(), duty.end(), [](uint8_t d) { return d > 0; });
+  if (!drives)
+    return CueCheck::FRESH;  // all-off: nothing is guided on it, whatever the source
+  if (std::isnan(age.source_age_s))
+    return CueCheck::SOURCE_UNKNOWN;
+  if (age.source_age_s < -p.stale_s)
+    return CueCheck::FUTURE;
+  if (!(age.source_age_s < p.max_source_age_s - lead_s))
+    return CueCheck::SOURCE_STALE;
+  return CueCheck::FRESH;
 }
 
 void VestBridge::tryOpen(double now)
@@ -67,8 +130,8 @@ bool VestBridge::send(double now)
       return false;
     }
   }
-  const std::array<uint8_t, VEST_NUM_MOTORS> duty =
-      stats_.cue_stale ? std::array<uint8_t, VEST_NUM_MOTORS>{ { 0, 0, 0, 0 } } : duty_;
+  const bool off = stats_.cue_stale || g_signalled.load();
+  const std::array<uint8_t, VEST_NUM_MOTORS> duty = off ? std::array<uint8_t, VEST_NUM_MOTORS>{ { 0, 0, 0, 0 } } : duty_;
   vest_packet_t p{};
   p.type = VEST_TYPE_COMMAND;
   p.seq = static_cast<uint8_t>(stats_.seq + 1);
@@ -103,15 +166,35 @@ bool VestBridge::send(double now)
   return true;
 }
 
-bool VestBridge::setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, double now)
+bool VestBridge::setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, double now, const CueAge& age)
 {
+  std::array<uint8_t, VEST_NUM_MOTORS> duty;
   for (unsigned i = 0; i < VEST_NUM_MOTORS; ++i)
-    duty_[i] = toDuty(intensity[i]);
-  last_cue_time_ = now;
+    duty[i] = toDuty(intensity[i]);
+  const double lead = offLeadS();
+  const CueCheck check = checkCue(duty, age, params_, lead);
+  if (check != CueCheck::FRESH)
+  {
+    // Ignored: it never drives a motor; the previous valid cue keeps its own expiry.
+    stats_.cues_rejected++;
+    stats_.last_rejection = cueCheckName(check);
+    return false;
+  }
+  stats_.cues_accepted++;
+  duty_ = duty;
+  double valid_s = params_.stale_s - std::max(0.0, age.stamp_age_s);
+  if (std::any_of(duty.begin(), duty.end(), [](uint8_t d) { return d > 0; }))
+    valid_s = std::min(valid_s, params_.max_source_age_s - std::max(0.0, age.source_age_s));
+  cue_expiry_ = now + valid_s - lead;
   stats_.cue_stale = false;
-  if (shut_down_)
+  if (shut_down_ || g_signalled.load())
     return false;
   return send(now);
+}
+
+double VestBridge::cueExpiry() const
+{
+  return stats_.cue_stale ? std::numeric_limits<double>::infinity() : cue_expiry_;
 }
 
 void VestBridge::readReplies()
@@ -130,7 +213,8 @@ void VestBridge::readReplies()
     }
     if (n == 0)
       return;
-    const uint16_t skipped0 = parser_.skipped, rejected0 = parser_.rejected;
+    const uint16_t skipped0 = parser_.skipped, rejected0 = parser_.rejected,
+                   mismatch0 = parser_.version_mismatch;
     for (ssize_t i = 0; i < n; ++i)
     {
       vest_packet_t p;
@@ -142,6 +226,11 @@ void VestBridge::readReplies()
     }
     stats_.garbage_bytes += static_cast<uint16_t>(parser_.skipped - skipped0);
     stats_.rejected_packets += static_cast<uint16_t>(parser_.rejected - rejected0);
+    if (parser_.version_mismatch != mismatch0)
+    {
+      stats_.version_mismatches += static_cast<uint16_t>(parser_.version_mismatch - mismatch0);
+      stats_.vest_version = parser_.peer_version;
+    }
   }
 }
 
@@ -175,7 +264,7 @@ void VestBridge::spinOnce(double now)
     next_open_time_ = now + params_.reopen_s;
     return;
   }
-  const bool stale = (now - last_cue_time_) > params_.stale_s;
+  const bool stale = now >= cue_expiry_ || g_signalled.load();
   const bool became_stale = stale && !stats_.cue_stale;
   stats_.cue_stale = stale;
   if (became_stale || now - last_send_time_ >= 1.0 / params_.resend_hz)
@@ -202,10 +291,6 @@ bool VestBridge::linkUp(double now) const
   return port_.isOpen() && (now - stats_.last_status_time) <= params_.link_timeout_s;
 }
 
-}  // namespace assistive_tactile
-
-namespace assistive_tactile
-{
 bool VestBridge::waitForInput(int timeout_ms) const
 {
   if (!port_.isOpen())
@@ -216,4 +301,135 @@ bool VestBridge::waitForInput(int timeout_ms) const
   p.revents = 0;
   return ::poll(&p, 1, timeout_ms) > 0 && (p.revents & POLLIN);
 }
+
+// ---- VestBridgeRunner ----
+
+VestBridgeRunner::VestBridgeRunner(const BridgeParams& p, double period_s, Hook after_spin)
+  : bridge_(new VestBridge(p)), period_s_(std::max(1e-3, period_s)), hook_(std::move(after_spin))
+{
+  thread_ = std::thread(&VestBridgeRunner::loop, this);
+}
+
+VestBridgeRunner::~VestBridgeRunner()
+{
+  stop();
+}
+
+CueCheck VestBridgeRunner::setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, const CueAge& age)
+{
+  CueCheck verdict;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::array<uint8_t, VEST_NUM_MOTORS> duty;
+    for (unsigned i = 0; i < VEST_NUM_MOTORS; ++i)
+      duty[i] = VestBridge::toDuty(intensity[i]);
+    verdict = VestBridge::checkCue(duty, age, bridge_->params(), bridge_->offLeadS());
+    bridge_->setCue(intensity, steadyNow(), age);
+  }
+  wake_.notify_one();  // the expiry may have moved
+  return verdict;
+}
+
+void VestBridgeRunner::stop()
+{
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (stop_ && !thread_.joinable())
+      return;
+    stop_ = true;
+  }
+  wake_.notify_one();
+  if (thread_.joinable())
+    thread_.join();
+  std::lock_guard<std::mutex> lock(mutex_);
+  bridge_->shutdown();  // all motors off before the port closes
+}
+
+void VestBridgeRunner::loop()
+{
+  using Clock = std::chrono::steady_clock;
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!stop_)
+  {
+    const double now = steadyNow();
+    bridge_->spinOnce(now);
+    if (hook_)
+      hook_(*bridge_, now);
+    double wake = now + period_s_;
+    const double expiry = bridge_->cueExpiry();
+    if (expiry > now && expiry < wake)
+      wake = expiry;  // the all-off goes out at the expiry, not up to a period later
+    wake_.wait_until(lock, Clock::time_point(std::chrono::duration_cast<Clock::duration>(
+                               std::chrono::duration<double>(wake))));
+  }
+}
+
+// ---- SIGINT / SIGTERM fail-safe ----
+
+namespace
+{
+std::mutex g_signal_mutex;
+int g_signal_users = 0;
+struct sigaction g_old_int, g_old_term;
+
+void onFatalSignal(int sig, siginfo_t* info, void* ctx)
+{
+  const int saved_errno = errno;
+  g_signalled = true;
+  writeFailSafeBytes();  // all motors off now, whatever the other threads are doing
+  const struct sigaction& old = sig == SIGINT ? g_old_int : g_old_term;
+  if (old.sa_flags & SA_SIGINFO)
+  {
+    if (old.sa_sigaction)
+      old.sa_sigaction(sig, info, ctx);
+  }
+  else if (old.sa_handler == SIG_DFL)
+  {
+    // Default action (terminate) once this handler returns and the signal is unblocked.
+    signal(sig, SIG_DFL);
+    raise(sig);
+  }
+  else if (old.sa_handler != SIG_IGN)
+    old.sa_handler(sig);  // e.g. roscpp's SIGINT handler: graceful shutdown
+  errno = saved_errno;
+}
+}  // namespace
+
+void installAllOffSignalHandlers()
+{
+  std::lock_guard<std::mutex> lock(g_signal_mutex);
+  if (g_signal_users++ > 0)
+    return;
+  vest_packet_t off{};
+  off.type = VEST_TYPE_COMMAND;
+  uint8_t buf[VEST_PACKET_SIZE];
+  vest_encode(&off, buf);  // its leading delimiter ends any packet the signal interrupted
+  setFailSafeBytes(buf, sizeof(buf));
+  struct sigaction sa;
+  std::memset(&sa, 0, sizeof(sa));
+  sa.sa_sigaction = &onFatalSignal;
+  sa.sa_flags = SA_SIGINFO | SA_RESTART;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, &g_old_int);
+  sigaction(SIGTERM, &sa, &g_old_term);
+}
+
+void removeAllOffSignalHandlers()
+{
+  std::lock_guard<std::mutex> lock(g_signal_mutex);
+  if (g_signal_users == 0 || --g_signal_users > 0)
+    return;
+  // Restore only if nobody replaced ours in the meantime.
+  struct sigaction cur;
+  if (sigaction(SIGINT, nullptr, &cur) == 0 && (cur.sa_flags & SA_SIGINFO) && cur.sa_sigaction == &onFatalSignal)
+    sigaction(SIGINT, &g_old_int, nullptr);
+  if (sigaction(SIGTERM, nullptr, &cur) == 0 && (cur.sa_flags & SA_SIGINFO) && cur.sa_sigaction == &onFatalSignal)
+    sigaction(SIGTERM, &g_old_term, nullptr);
+}
+
+bool allOffSignalReceived()
+{
+  return g_signalled.load();
+}
+
 }  // namespace assistive_tactile

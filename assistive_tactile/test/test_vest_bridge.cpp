@@ -2,8 +2,13 @@
 // side). Real file descriptors and bytes; the clocks are simulated, so nothing depends on timing.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
+#include <cstring>
+#include <limits>
 #include <random>
 
 #include "assistive_tactile/sim_vest.h"
@@ -112,6 +117,7 @@ TEST(VestBridge, ResendsAtFixedRate)
   BridgeParams p;
   p.resend_hz = 20.0;
   p.stale_s = 10.0;
+  p.max_source_age_s = 10.0;
   Rig rig(p);
   rig.bridge->setCue({ { 0.f, 0.6f, 0.f, 0.f } }, rig.t);
   const uint64_t sent0 = rig.bridge->stats().packets_sent;
@@ -129,30 +135,168 @@ TEST(VestBridge, AllOffWithinStaleTimeWhenCuesStop)
   BridgeParams p;
   p.stale_s = 0.3;
   Rig rig(p);
+  const double lead = rig.bridge->offLeadS();
+  EXPECT_NEAR(lead, 13 * 10.0 / 57600 + 0.002, 1e-9);  // 13 bytes on the wire + wake-up margin
   const double t0 = rig.t;
   rig.bridge->setCue({ { 1.f, 0.f, 0.f, 0.f } }, t0);
   rig.pump();
   ASSERT_EQ(duty(rig.vest), (Duty{ { 255, 0, 0, 0 } }));
+  EXPECT_NEAR(rig.bridge->cueExpiry(), t0 + 0.3 - lead, 1e-9);
   double off_at = -1.0;
-  for (int i = 1; i <= 60 && off_at < 0.0; ++i)  // 10 ms steps, like the nodelet's timer
+  for (int i = 1; i <= 600 && off_at < 0.0; ++i)  // 1 ms steps
   {
-    rig.advance(0.01);
+    rig.advance(0.001);
     rig.pump(0);
-    rig.vest.poll(20, rig.ms());
     if (duty(rig.vest) == Duty{ { 0, 0, 0, 0 } })
       off_at = rig.t - t0;
     else
       EXPECT_TRUE(rig.bridge->stats().cue_stale == false) << rig.t - t0;
   }
   ASSERT_GT(off_at, 0.0);
-  EXPECT_LE(off_at, 0.3 + 0.01 + 1e-9);  // the first housekeeping step after stale_s
-  EXPECT_GT(off_at, 0.3 - 1e-9);         // not before
+  EXPECT_LE(off_at, 0.3 - lead + 0.001 + 1e-9);  // the first step at the expiry
+  EXPECT_GT(off_at, 0.3 - lead - 1e-9);          // not before
   EXPECT_TRUE(rig.bridge->stats().cue_stale);
   EXPECT_EQ(rig.bridge->sentDuty(), (Duty{ { 0, 0, 0, 0 } }));
   // A new cue brings it back at once.
   rig.bridge->setCue({ { 0.f, 0.f, 1.f, 0.f } }, rig.t);
   rig.pump();
   EXPECT_EQ(duty(rig.vest), (Duty{ { 0, 0, 255, 0 } }));
+}
+
+// The stamp rules, one verdict per row (stale_s 0.3, max_source_age_s 0.5, lead 5 ms).
+TEST(VestBridge, CueCheckTable)
+{
+  const BridgeParams p;
+  const double nan = std::nan(""), inf = std::numeric_limits<double>::infinity();
+  const Duty on{ { 0, 200, 0, 0 } }, off{ { 0, 0, 0, 0 } };
+  struct Row
+  {
+    Duty duty;
+    double stamp_age, source_age;
+    CueCheck want;
+  };
+  const std::vector<Row> rows = {
+    { on, 0.0, 0.05, CueCheck::FRESH },           { on, 0.29, 0.3, CueCheck::FRESH },
+    { on, 0.296, 0.3, CueCheck::STALE },          // can no longer be felt before its all-off
+    { on, 0.31, 0.3, CueCheck::STALE },           { on, 1.42, 1.5, CueCheck::STALE },  // the 1.4 s stall
+    { on, 10.0, 10.1, CueCheck::STALE },          { on, inf, 0.1, CueCheck::STALE },   // unstamped
+    { on, nan, 0.1, CueCheck::STALE },            { on, 0.05, 0.49, CueCheck::FRESH },
+    { on, 0.05, 0.6, CueCheck::SOURCE_STALE },    { on, 0.05, nan, CueCheck::SOURCE_UNKNOWN },
+    { on, -0.1, 0.0, CueCheck::FRESH },           // small clock offset: age taken as 0
+    { on, -0.5, 0.0, CueCheck::FUTURE },          { on, 0.0, -0.5, CueCheck::FUTURE },
+    { off, 0.05, nan, CueCheck::FRESH },          // all-off needs no source
+    { off, 0.05, 5.0, CueCheck::FRESH },          { off, 0.5, 0.5, CueCheck::STALE },
+  };
+  for (const Row& r : rows)
+  {
+    CueAge a;
+    a.stamp_age_s = r.stamp_age;
+    a.source_age_s = r.source_age;
+    EXPECT_EQ(cueCheckName(VestBridge::checkCue(r.duty, a, p, 0.005)), std::string(cueCheckName(r.want)))
+        << "stamp age " << r.stamp_age << " source age " << r.source_age;
+  }
+}
+
+// An old-stamped cue is ignored (never drives); a fresh one is obeyed; all-off at
+// header.stamp + stale_s (not arrival + stale_s); the source age shortens it further.
+TEST(VestBridge, JudgesCuesByTheirStamps)
+{
+  BridgeParams p;
+  p.stale_s = 0.3;
+  p.max_source_age_s = 0.5;
+  Rig rig(p);
+  const double lead = rig.bridge->offLeadS();
+  auto age = [](double stamp_age, double source_age) {
+    CueAge a;
+    a.stamp_age_s = stamp_age;
+    a.source_age_s = source_age;
+    return a;
+  };
+  // The bridge stalled 1.42 s: the cue it finds in its queue is old. Ignored, motors stay off.
+  EXPECT_FALSE(rig.bridge->setCue({ { 0.f, 1.f, 0.f, 0.f } }, rig.t, age(1.42, 1.5)));
+  EXPECT_EQ(rig.bridge->stats().cues_rejected, 1u);
+  EXPECT_NE(rig.bridge->stats().last_rejection.find("stale"), std::string::npos);
+  for (int i = 0; i < 30; ++i)
+  {
+    rig.advance(0.01);
+    rig.pump(0);
+    ASSERT_EQ(duty(rig.vest), (Duty{ { 0, 0, 0, 0 } })) << i;
+  }
+  // Stamped 10 s ago, or without a source stamp: ignored too.
+  EXPECT_FALSE(rig.bridge->setCue({ { 0.f, 1.f, 0.f, 0.f } }, rig.t, age(10.0, 10.05)));
+  EXPECT_FALSE(rig.bridge->setCue({ { 0.f, 1.f, 0.f, 0.f } }, rig.t, age(0.01, std::nan(""))));
+  rig.pump(0);
+  EXPECT_EQ(duty(rig.vest), (Duty{ { 0, 0, 0, 0 } }));
+  EXPECT_EQ(rig.bridge->stats().cues_rejected, 3u);
+
+  // Fresh (decided 0.1 s ago from an image 0.15 s old): obeyed at once, off 0.2 s later.
+  double t0 = rig.t;
+  ASSERT_TRUE(rig.bridge->setCue({ { 0.f, 1.f, 0.f, 0.f } }, t0, age(0.1, 0.15)));
+  rig.pump();
+  EXPECT_EQ(duty(rig.vest), (Duty{ { 0, 255, 0, 0 } }));
+  EXPECT_NEAR(rig.bridge->cueExpiry(), t0 + 0.2 - lead, 1e-9);
+  // A stale cue in between changes nothing: the valid one keeps driving until its expiry.
+  EXPECT_FALSE(rig.bridge->setCue({ { 1.f, 1.f, 1.f, 1.f } }, t0, age(0.4, 0.45)));
+  double off_at = -1.0;
+  for (int i = 1; i <= 400 && off_at < 0.0; ++i)
+  {
+    rig.advance(0.001);
+    rig.pump(0);
+    const Duty d = duty(rig.vest);
+    if (d == Duty{ { 0, 0, 0, 0 } })
+      off_at = rig.t - t0;
+    else
+      ASSERT_EQ(d, (Duty{ { 0, 255, 0, 0 } })) << rig.t - t0;
+  }
+  EXPECT_GT(off_at, 0.2 - lead - 1e-9);
+  EXPECT_LE(off_at, 0.2 - lead + 0.001 + 1e-9);  // 0.3 s after its stamp, not after arrival
+
+  // The camera image behind it is 0.45 s old: it drives only until the image is 0.5 s old.
+  t0 = rig.t;
+  ASSERT_TRUE(rig.bridge->setCue({ { 0.f, 0.f, 0.7f, 0.f } }, t0, age(0.0, 0.45)));
+  EXPECT_NEAR(rig.bridge->cueExpiry(), t0 + 0.05 - lead, 1e-9);
+  rig.pump();
+  EXPECT_EQ(duty(rig.vest), (Duty{ { 0, 0, 179, 0 } }));
+  rig.advance(0.05 - lead);
+  rig.pump();
+  EXPECT_EQ(duty(rig.vest), (Duty{ { 0, 0, 0, 0 } }));
+  EXPECT_TRUE(rig.bridge->stats().cue_stale);
+  EXPECT_EQ(rig.bridge->stats().cues_accepted, 2u);
+}
+
+// The housekeeping thread sends the all-off at the expiry itself (real clock).
+TEST(VestBridge, RunnerSendsAllOffAtTheExpiry)
+{
+  const std::string link = "/tmp/assistive_tactile_test_runner_" + std::to_string(getpid());
+  SimVest vest;
+  std::string err;
+  const double t_base = steadyNow();
+  auto ms = [&] { return static_cast<uint32_t>((steadyNow() - t_base) * 1000.0); };
+  ASSERT_TRUE(vest.open(link, ms(), &err)) << err;
+  BridgeParams p;
+  p.port = link;
+  VestBridgeRunner runner(p);
+  for (int i = 0; i < 100 && !runner.locked([](VestBridge& b) { return b.stats().open; }); ++i)
+    vest.poll(10, ms());
+  CueAge a;
+  a.stamp_age_s = 0.02;  // published 20 ms ago
+  a.source_age_s = 0.1;
+  const double stamp = steadyNow() - a.stamp_age_s;
+  ASSERT_EQ(runner.setCue({ { 1.f, 0.f, 0.f, 0.f } }, a), CueCheck::FRESH);
+  double on_at = -1.0, off_at = -1.0;
+  while (steadyNow() - stamp < 1.0 && off_at < 0.0)
+  {
+    vest.poll(2, ms());
+    if (on_at < 0.0 && vest.duty()[0] > 0)
+      on_at = steadyNow() - stamp;
+    if (on_at >= 0.0 && vest.duty()[0] == 0)
+      off_at = steadyNow() - stamp;
+  }
+  ASSERT_GE(on_at, 0.0);
+  ASSERT_GT(off_at, 0.0);
+  EXPECT_GT(off_at, 0.25);
+  EXPECT_LE(off_at, 0.3 + 0.02) << "all-off " << off_at * 1000.0 << " ms after the cue's stamp";
+  runner.stop();
 }
 
 TEST(VestBridge, FirmwareWatchdogWhenBridgeFallsSilent)
@@ -184,6 +328,7 @@ TEST(VestBridge, RecoversWhenThePortDisappearsAndComesBack)
   BridgeParams p;
   p.reopen_s = 1.0;
   p.stale_s = 100.0;
+  p.max_source_age_s = 100.0;
   Rig rig(p);
   rig.bridge->setCue({ { 0.f, 1.f, 0.f, 0.f } }, rig.t);
   rig.pump();
@@ -214,6 +359,147 @@ TEST(VestBridge, RecoversWhenThePortDisappearsAndComesBack)
   EXPECT_TRUE(rig.bridge->linkUp(rig.t));
 }
 
+TEST(VestBridge, SecondOpenerOfThePortFails)
+{
+  Rig rig;
+  BridgeParams p;
+  p.port = rig.link;
+  VestBridge second(p);
+  second.spinOnce(rig.t);
+  EXPECT_FALSE(second.stats().open);
+  EXPECT_NE(second.stats().last_error.find("in use by another process"), std::string::npos)
+      << second.stats().last_error;
+  // The first one is not disturbed; once it lets go, the port is free again.
+  rig.bridge->setCue({ { 0.f, 0.f, 1.f, 0.f } }, rig.t);
+  rig.pump();
+  EXPECT_EQ(duty(rig.vest), (Duty{ { 0, 0, 255, 0 } }));
+  rig.bridge.reset();
+  second.spinOnce(rig.t + 10.0);
+  EXPECT_TRUE(second.stats().open) << second.stats().last_error;
+}
+
+TEST(VestBridge, OtherProtocolVersionFromTheVestIsReported)
+{
+  Rig rig;
+  // A STATUS of protocol version 3 (valid CRC): not a STATUS for us, counted with its version.
+  const uint8_t raw[8] = { 3, VEST_TYPE_STATUS, 1, 0, 0, 0, 0, 0 };
+  uint8_t full[10];
+  std::memcpy(full, raw, 8);
+  const uint16_t crc = vest_crc16(raw, 8);
+  full[8] = static_cast<uint8_t>(crc >> 8);
+  full[9] = static_cast<uint8_t>(crc & 0xFF);
+  uint8_t frame[13];
+  frame[0] = 0;
+  const uint8_t n = vest_cobs_encode(full, 10, frame + 1);
+  frame[n + 1] = 0;
+  rig.bridge->waitForInput(200);  // the STATUS answering the bridge's first packet
+  rig.advance(0.0);
+  const uint64_t st = rig.bridge->stats().status_packets;
+  ASSERT_TRUE(rig.vest.inject(frame, n + 2u));
+  ASSERT_TRUE(rig.bridge->waitForInput(200));
+  rig.advance(0.0);
+  EXPECT_EQ(rig.bridge->stats().version_mismatches, 1u);
+  EXPECT_EQ(rig.bridge->stats().vest_version, 3);
+  EXPECT_EQ(rig.bridge->stats().status_packets, st);
+}
+
+namespace
+{
+int g_chained = 0;
+void chainedHandler(int)
+{
+  g_chained = 1;
+}
+
+/// Forks a process that drives the vest through a bridge with the fail-safe handlers installed
+/// (after `old` as the previous handler), sends it `sig`, and returns how it ended; *off_ms =
+/// time from the signal to all motors off at the vest (-1 if never).
+int signalChild(Rig& rig, int sig, void (*old)(int), double* off_ms)
+{
+  rig.bridge.reset();  // the child opens the port (exclusive)
+  rig.pump();
+  int ready[2];
+  EXPECT_EQ(pipe(ready), 0);
+  const pid_t pid = fork();
+  if (pid == 0)
+  {
+    if (old)
+      signal(sig, old);
+    BridgeParams p;
+    p.port = rig.link;
+    p.stale_s = 100.0;
+    p.max_source_age_s = 100.0;
+    VestBridge b(p);
+    b.spinOnce(1.0);
+    installAllOffSignalHandlers();
+    b.setCue({ { 1.f, 1.f, 1.f, 1.f } }, 1.0);
+    if (::write(ready[1], "x", 1) != 1)
+      _exit(3);
+    for (int i = 0; i < 500 && !g_chained; ++i)
+    {
+      b.spinOnce(1.0 + i * 0.01);  // keeps re-sending the cue until the signal
+      ::usleep(10000);
+    }
+    b.spinOnce(100.0);
+    _exit(g_chained && allOffSignalReceived() ? 7 : 4);
+  }
+  char c;
+  EXPECT_EQ(::read(ready[0], &c, 1), 1);
+  ::close(ready[0]);
+  ::close(ready[1]);
+  for (int i = 0; i < 100 && rig.vest.duty() != Duty{ { 255, 255, 255, 255 } }; ++i)
+    rig.vest.poll(10, rig.ms());
+  EXPECT_EQ(rig.vest.duty(), (Duty{ { 255, 255, 255, 255 } }));
+  const double t0 = steadyNow();
+  ::kill(pid, sig);
+  *off_ms = -1.0;
+  while (steadyNow() - t0 < 0.4)  // well under the firmware watchdog's 0.5 s
+  {
+    rig.vest.poll(5, rig.ms());
+    if (rig.vest.duty() == Duty{ { 0, 0, 0, 0 } })
+    {
+      *off_ms = (steadyNow() - t0) * 1000.0;
+      break;
+    }
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return status;
+}
+}  // namespace
+
+TEST(VestBridge, AllOffOnSigterm)
+{
+  Rig rig;
+  double off_ms = -1.0;
+  const int status = signalChild(rig, SIGTERM, nullptr, &off_ms);
+  EXPECT_GE(off_ms, 0.0) << "no all-off after SIGTERM";
+  EXPECT_LT(off_ms, 100.0);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;  // still terminates
+  EXPECT_EQ(rig.vest.firmware().timeouts, 0);  // the bridge, not the watchdog
+}
+
+TEST(VestBridge, AllOffOnSigint)
+{
+  Rig rig;
+  double off_ms = -1.0;
+  const int status = signalChild(rig, SIGINT, nullptr, &off_ms);
+  EXPECT_GE(off_ms, 0.0) << "no all-off after SIGINT";
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << status;
+}
+
+TEST(VestBridge, AllOffOnSigintThenThePreviousHandlerRuns)
+{
+  // Like roscpp's SIGINT handler (graceful shutdown): it still runs, and the bridge sends only
+  // all-off from then on although the process goes on.
+  Rig rig;
+  double off_ms = -1.0;
+  const int status = signalChild(rig, SIGINT, &chainedHandler, &off_ms);
+  EXPECT_GE(off_ms, 0.0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 7) << status;
+  EXPECT_EQ(rig.vest.duty(), (Duty{ { 0, 0, 0, 0 } }));
+}
+
 TEST(VestBridge, MissingOrWrongPortIsReportedNotFatal)
 {
   for (const std::string& port : { std::string("/tmp/assistive_tactile_no_such_port"), std::string("/dev/null") })
@@ -239,7 +525,7 @@ TEST(VestBridge, GarbageFromTheDeviceIsIgnored)
   std::uniform_int_distribution<int> byte(0, 255);
   std::vector<uint8_t> junk(3000);
   for (size_t i = 0; i < junk.size(); ++i)
-    junk[i] = static_cast<uint8_t>(i % 11 == 0 ? VEST_SYNC : byte(rng));
+    junk[i] = static_cast<uint8_t>(i % 11 == 0 ? VEST_DELIMITER : byte(rng));
   ASSERT_TRUE(rig.vest.inject(junk.data(), junk.size()));
   for (int i = 0; i < 20; ++i)
   {

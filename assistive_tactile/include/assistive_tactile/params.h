@@ -21,6 +21,7 @@ struct CueParams
   double side_switch_m = 0.2;  ///< the other side must be this much freer to switch waist motor
   // Freshness of the planner state
   double state_timeout_s = 0.5;  ///< older planner state -> UNSURE, motors off
+  double max_input_age_s = 0.5;  ///< state whose camera image (source_stamp) is older -> UNSURE
   double heartbeat_hz = 10.0;    ///< cue re-published at least this often (bridge stale guard)
   std::string body_frame = "torso";
 };
@@ -31,7 +32,8 @@ struct BridgeParams
   std::string port = "/dev/ttyUSB0";  ///< serial device (or the simulated vest's pty link)
   int baud = 57600;                   ///< 9600 .. 921600
   double resend_hz = 20.0;            ///< COMMAND re-sent at this rate
-  double stale_s = 0.3;               ///< no cue for this long -> all motors off
+  double stale_s = 0.3;               ///< a cue drives until header.stamp + stale_s, then all off
+  double max_source_age_s = 0.5;      ///< a cue drives until source_stamp + this (camera image age)
   double reopen_s = 1.0;              ///< retry period while the port is closed
   double link_timeout_s = 1.0;        ///< no STATUS from the vest for this long -> link WARN
 };

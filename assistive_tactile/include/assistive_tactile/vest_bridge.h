@@ -1,8 +1,14 @@
 #pragma once
 
 #include <array>
+#include <condition_variable>
 #include <cstdint>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "assistive_tactile/params.h"
@@ -15,7 +21,7 @@ namespace assistive_tactile
 struct LinkStats
 {
   bool open = false;
-  bool cue_stale = true;           ///< no cue for stale_s: sending all-off
+  bool cue_stale = true;           ///< no valid cue (expired or none): sending all-off
   std::string last_error;          ///< why the port is closed / last failure
   uint64_t opens = 0;              ///< successful opens (1 + reconnections)
   uint64_t losses = 0;             ///< times an open port was lost
@@ -23,19 +29,52 @@ struct LinkStats
   uint64_t bytes_written = 0;
   uint64_t packets_skipped = 0;    ///< not written because the driver buffer was full
   uint64_t status_packets = 0;     ///< valid STATUS packets from the vest
-  uint64_t garbage_bytes = 0;      ///< bytes from the vest outside valid packets
-  uint64_t rejected_packets = 0;   ///< SYNC-started candidates with a bad CRC / field
+  uint64_t garbage_bytes = 0;      ///< bytes from the vest in rejected frames
+  uint64_t rejected_packets = 0;   ///< frames from the vest with a bad COBS / CRC / length / field
+  uint64_t version_mismatches = 0; ///< CRC-valid frames of another protocol version from the vest
+  uint8_t vest_version = 0;        ///< that version (0 = none seen)
+  uint64_t cues_accepted = 0;      ///< cues that passed the stamp checks
+  uint64_t cues_rejected = 0;      ///< cues ignored by the stamp checks (never drove a motor)
+  std::string last_rejection;      ///< why the last one was ignored
   double last_status_time = -1e300;
   vest_packet_t last_status{};     ///< what the vest reported its motors do
   uint8_t seq = 0;                 ///< SEQ of the last COMMAND sent
 };
 
+/// How old a cue is by its own stamps, in seconds of ROS time (simulated time in bag replay),
+/// measured by the caller when the cue arrives.
+struct CueAge
+{
+  /// now - header.stamp (the cue logic's decision time); +inf when the cue has no stamp.
+  double stamp_age_s = 0.0;
+  /// now - source_stamp (the camera image behind the cue); NaN when unknown (zero stamp).
+  double source_age_s = 0.0;
+};
+
+/// Verdict of VestBridge::checkCue.
+enum class CueCheck : uint8_t
+{
+  FRESH = 0,       ///< obeyed
+  STALE,           ///< header.stamp older than stale_s (minus the time the all-off needs)
+  SOURCE_STALE,    ///< drives a motor and its camera image is older than max_source_age_s
+  SOURCE_UNKNOWN,  ///< drives a motor and has no source_stamp
+  FUTURE           ///< a stamp more than stale_s ahead of our clock (clock skew): cannot judge
+};
+const char* cueCheckName(CueCheck c);
+
 /**
- * The vest bridge's core (no ROS): owns the serial port, turns cue intensities into COMMAND
- * packets (vest_protocol.h), sends each new cue at once and re-sends the state at resend_hz,
- * sends all-off when cues are stale or on shutdown, reopens a lost port every reopen_s, and
- * reads STATUS packets back (ignoring garbage). Times are seconds on a monotonic clock.
- * Not thread-safe: call from one thread.
+ * The vest bridge's core (no ROS): owns the serial port (opened exclusively), turns cue
+ * intensities into COMMAND packets (vest_protocol.h), sends each new cue at once and re-sends
+ * the state at resend_hz, reopens a lost port every reopen_s, and reads STATUS packets back
+ * (ignoring garbage).
+ *
+ * A cue is judged by its stamps, not by when it arrived (a queue or a stalled process can
+ * deliver it late): it is obeyed only while header.stamp + stale_s and, if it drives a motor,
+ * source_stamp + max_source_age_s are in the future, and all motors go off when the last valid
+ * cue expires (early by the packet's wire time plus a wake-up margin, so the all-off has landed
+ * by then). All-off also on shutdown and, with installAllOffSignalHandlers(), on SIGINT/SIGTERM.
+ * `now` arguments are seconds on a monotonic clock. Not thread-safe: call from one thread (or
+ * use VestBridgeRunner).
  */
 class VestBridge
 {
@@ -47,12 +86,27 @@ public:
 
   const BridgeParams& params() const { return params_; }
 
-  /// A new cue (intensities 0..1, TactileCue motor order). Written to the port immediately.
-  /// Returns true when the packet reached the driver.
-  bool setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, double now);
+  /// A new cue (intensities 0..1, TactileCue motor order) of the given age. When checkCue
+  /// passes it is written to the port immediately and returns true when the packet reached the
+  /// driver; a rejected cue changes nothing (counted in stats) and returns false.
+  bool setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, double now, const CueAge& age);
+  /// A cue stamped now with a fresh source (tests, benchmark).
+  bool setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, double now)
+  {
+    return setCue(intensity, now, CueAge());
+  }
 
-  /// Housekeeping: (re)open, read the vest's replies, stale check, periodic re-send.
+  /// The stamp rules (see the class comment); `lead_s` = offLeadS().
+  static CueCheck checkCue(const std::array<uint8_t, VEST_NUM_MOTORS>& duty, const CueAge& age,
+                           const BridgeParams& p, double lead_s);
+  /// How much before a cue's expiry the all-off is sent: one packet's wire time + wake-up margin.
+  double offLeadS() const;
+
+  /// Housekeeping: (re)open, read the vest's replies, expiry check, periodic re-send.
   void spinOnce(double now);
+
+  /// When the current cue expires (monotonic seconds; +inf when none is active).
+  double cueExpiry() const;
 
   /// Blocks up to timeout_ms until the vest sent something (tests, benchmark); false if not.
   bool waitForInput(int timeout_ms) const;
@@ -73,18 +127,74 @@ private:
   bool send(double now);
   void tryOpen(double now);
   void readReplies();
+  void closePort();
 
   BridgeParams params_;
   SerialPort port_;
   LinkStats stats_;
   vest_parser_t parser_{};
-  std::array<uint8_t, VEST_NUM_MOTORS> duty_{ { 0, 0, 0, 0 } };       ///< from the last cue
+  std::array<uint8_t, VEST_NUM_MOTORS> duty_{ { 0, 0, 0, 0 } };       ///< from the last valid cue
   std::array<uint8_t, VEST_NUM_MOTORS> sent_duty_{ { 0, 0, 0, 0 } };  ///< in the last packet
   std::vector<uint8_t> pending_;  ///< unwritten tail of the last packet
-  double last_cue_time_ = -1e300;
+  double cue_expiry_ = -std::numeric_limits<double>::infinity();
   double last_send_time_ = -1e300;
   double next_open_time_ = -1e300;
   bool shut_down_ = false;
 };
+
+/// Seconds on std::chrono::steady_clock (the bridge's monotonic clock).
+double steadyNow();
+
+/**
+ * Runs a VestBridge's housekeeping in its own thread: every period_s and exactly at the current
+ * cue's expiry, so the all-off is on time even when the ROS callback queue (shared with the
+ * other nodelets of a manager) is busy. `after_spin` runs in that thread after each
+ * housekeeping step, with the bridge locked (diagnostics, logging). stop() / the destructor send
+ * all-off and close the port.
+ */
+class VestBridgeRunner
+{
+public:
+  using Hook = std::function<void(const VestBridge&, double now)>;
+  explicit VestBridgeRunner(const BridgeParams& p, double period_s = 0.01, Hook after_spin = Hook());
+  ~VestBridgeRunner();
+  VestBridgeRunner(const VestBridgeRunner&) = delete;
+  VestBridgeRunner& operator=(const VestBridgeRunner&) = delete;
+
+  /// VestBridge::setCue at steadyNow(); wakes the thread for the new expiry. Returns the verdict.
+  CueCheck setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, const CueAge& age);
+  /// Runs f(bridge) with the bridge locked.
+  template <typename F>
+  auto locked(F&& f)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return f(*bridge_);
+  }
+  /// All-off, close, join (idempotent).
+  void stop();
+
+private:
+  void loop();
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::unique_ptr<VestBridge> bridge_;
+  double period_s_;
+  Hook hook_;
+  bool stop_ = false;
+  std::thread thread_;
+};
+
+/**
+ * Fail-safe for SIGINT and SIGTERM: the handler writes an all-off packet (async-signal-safe
+ * write()) to every port a VestBridge has open in this process, makes every bridge send only
+ * all-off from then on, and then does what the previous disposition did (roscpp's SIGINT
+ * handler: graceful shutdown; default SIGTERM: the process ends). Reference-counted; remove
+ * restores the previous handlers when the last user goes.
+ */
+void installAllOffSignalHandlers();
+void removeAllOffSignalHandlers();
+/// True once SIGINT/SIGTERM arrived while the handlers were installed.
+bool allOffSignalReceived();
 
 }  // namespace assistive_tactile
