@@ -19,6 +19,8 @@ NavInput fromMsg(const assistive_msgs::NavigationState& msg)
   in.free_ahead = msg.free_distance_ahead;
   in.free_left = msg.free_distance_left;
   in.free_right = msg.free_distance_right;
+  if (!msg.source_stamp.isZero())  // zero = unknown: stays NaN, never guided on
+    in.source_time = msg.source_stamp.toSec();
   return in;
 }
 

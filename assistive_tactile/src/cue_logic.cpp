@@ -57,9 +57,26 @@ void CueLogic::reset()
   waist_side_ = 0;
 }
 
+namespace
+{
+/// Empty when the camera image behind a state is fresh enough at `now`, else why not.
+std::string inputAgeProblem(double source_time, double now, double max_age)
+{
+  if (std::isnan(source_time))
+    return "no camera stamp behind the planner state";
+  const double age = now - source_time;
+  if (age < -max_age)
+    return fmt("camera stamp %.2f s in the future (clock?)", -age);
+  if (!(age <= max_age))
+    return fmt("input too old (camera image %.2f s old)", age);
+  return std::string();
+}
+}  // namespace
+
 bool CueLogic::stale(double now) const
 {
-  return !have_state_ || (now - last_state_time_) > params_.state_timeout_s;
+  return !have_state_ || (now - last_state_time_) > params_.state_timeout_s ||
+         !inputAgeProblem(last_source_time_, now, params_.max_input_age_s).empty();
 }
 
 Cue CueLogic::staleCue(double now)
@@ -67,8 +84,13 @@ Cue CueLogic::staleCue(double now)
   reset();
   Cue c;
   c.mode = CueMode::UNSURE;
-  c.reason = have_state_ ? fmt("planner state stale (%.1f s old)", now - last_state_time_) :
-                           std::string("no planner state yet");
+  if (!have_state_)
+    c.reason = "no planner state yet";
+  else if ((now - last_state_time_) > params_.state_timeout_s)
+    c.reason = fmt("planner state stale (%.1f s old)", now - last_state_time_);
+  else
+    c.reason = inputAgeProblem(last_source_time_, now, params_.max_input_age_s);
+  last_mode_ = c.mode;
   return c;
 }
 
@@ -76,6 +98,7 @@ Cue CueLogic::update(const NavInput& in, double now)
 {
   have_state_ = true;
   last_state_time_ = now;
+  last_source_time_ = in.source_time;
 
   Cue c;
   const bool finite = std::isfinite(in.heading) && std::isfinite(in.path_heading) &&
@@ -87,6 +110,16 @@ Cue CueLogic::update(const NavInput& in, double now)
     reset();
     c.mode = CueMode::UNSURE;
     c.reason = "invalid planner state (NaN)";
+    last_mode_ = c.mode;
+    return c;
+  }
+  // Never guide on a guess: a decision from an old camera image describes where the wearer was.
+  const std::string old = inputAgeProblem(in.source_time, now, params_.max_input_age_s);
+  if (!old.empty())
+  {
+    reset();
+    c.mode = CueMode::UNSURE;
+    c.reason = old;
     return c;
   }
 
@@ -102,14 +135,22 @@ Cue CueLogic::update(const NavInput& in, double now)
     case NavStatus::NO_PATH:
     case NavStatus::NO_WAYPOINT:
     {
-      // Map and pose are valid, so free distances are: still warn of what is close.
+      // "Nothing free": map and pose are valid (and the input is fresh, checked above), so the
+      // free distance ahead is real: a STOP (ALERT) still fires when the way is blocked. No
+      // side-step (PROXIMITY) or turn: without a path, a direction would be a guess.
+      const char* what = in.status == NavStatus::NO_PATH ? "no path" : "no waypoint";
       c = decideProximity(in, false);
-      if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
+      if (c.mode == CueMode::ALERT)
+      {
+        c.reason = std::string(what) + ", " + c.reason;
+      }
+      else
       {
         turn_side_ = 0;
+        waist_side_ = 0;
         c.mode = CueMode::UNSURE;
         c.intensity.fill(0.f);
-        c.reason = std::string(in.status == NavStatus::NO_PATH ? "no path" : "no waypoint") + suffix;
+        c.reason = what + suffix;
       }
       break;
     }

@@ -73,6 +73,9 @@ TEST(Conversions, NavigationState)
   EXPECT_FLOAT_EQ(in.free_left, 1.2f);
   EXPECT_FLOAT_EQ(in.free_right, 0.3f);
   EXPECT_EQ(in.message, "ok");
+  EXPECT_TRUE(std::isnan(in.source_time));  // no source_stamp: unknown, never guided on
+  s.source_stamp = ros::Time(1234.5);
+  EXPECT_DOUBLE_EQ(fromMsg(s).source_time, 1234.5);
   s.status = 42;  // a status this build does not know: treated as "cannot decide"
   in = fromMsg(s);
   EXPECT_EQ(in.status, NavStatus::NO_POSE);

@@ -53,6 +53,14 @@ NavInput status(NavStatus st, double ahead = 5.0)
   return in;
 }
 
+/// update() with a camera image 50 ms old unless the input says otherwise.
+Cue fresh(CueLogic& logic, NavInput in, double now)
+{
+  if (std::isnan(in.source_time))
+    in.source_time = now - 0.05;
+  return logic.update(in, now);
+}
+
 // Default params: turn on 20, off 8, full 90 deg, min intensity 0.25, proximity 1.0, alert 0.5.
 float guidanceLevel(double dev_deg)
 {
@@ -131,8 +139,10 @@ TEST(CueLogic, SingleDecisionTable)
     { "no waypoint, far: unsure", status(NavStatus::NO_WAYPOINT, 3.0), CueMode::UNSURE, { 0, 0, 0, 0 },
       "no waypoint" },
     { "no path, 0.3 m: alert", status(NavStatus::NO_PATH, 0.3), CueMode::ALERT, { f, f, f, f }, nullptr },
-    { "no waypoint, 0.8 m free left", close(0.8, 1.5, 0.1, NavStatus::NO_WAYPOINT), CueMode::PROXIMITY,
-      { 0, 0, proximityLevel(0.8), 0 }, nullptr },
+    { "no waypoint, 0.8 m free left: no side-step", close(0.8, 1.5, 0.1, NavStatus::NO_WAYPOINT), CueMode::UNSURE,
+      { 0, 0, 0, 0 }, "no waypoint" },
+    { "no path, 0.8 m, no room: alert", close(0.8, 0.3, 0.3, NavStatus::NO_PATH), CueMode::ALERT, { f, f, f, f },
+      "no path" },
     { "NaN heading: quiet", [] { NavInput in = turn(30); in.heading = std::nan(""); return in; }(), CueMode::UNSURE,
       { 0, 0, 0, 0 }, "NaN" },
     { "NaN free distance: quiet", [] { NavInput in = base(); in.free_ahead = std::nan(""); return in; }(),
@@ -141,7 +151,7 @@ TEST(CueLogic, SingleDecisionTable)
   for (const Row& r : rows)
   {
     CueLogic logic;
-    expectCue(logic.update(r.in, 0.0), r.mode, r.intensity, r.reason_has, r.name);
+    expectCue(fresh(logic, r.in, 0.0), r.mode, r.intensity, r.reason_has, r.name);
   }
 }
 
@@ -158,7 +168,7 @@ void runSequence(const char* name, const std::vector<Step>& steps)
   double t = 0.0;
   for (size_t i = 0; i < steps.size(); ++i)
   {
-    const Cue c = logic.update(steps[i].in, t += 0.1);
+    const Cue c = fresh(logic, steps[i].in, t += 0.1);
     const std::string what = std::string(name) + " step " + std::to_string(i) + " (" + c.reason + ")";
     EXPECT_EQ(std::string(modeName(c.mode)), modeName(steps[i].mode)) << what;
     for (int m = 0; m < 4; ++m)
@@ -221,7 +231,7 @@ TEST(CueLogic, IntensityFallsToZeroAsWearerLinesUp)
   double t = 0.0;
   for (double dev = 120.0; dev > 8.0; dev -= 4.0)
   {
-    const Cue c = logic.update(turn(dev), t += 0.05);
+    const Cue c = fresh(logic, turn(dev), t += 0.05);
     ASSERT_EQ(c.mode, CueMode::GUIDANCE) << dev;
     EXPECT_LE(c.intensity[LEFT_SHOULDER], prev) << dev;
     if (dev < 90.0)
@@ -232,7 +242,7 @@ TEST(CueLogic, IntensityFallsToZeroAsWearerLinesUp)
     prev = c.intensity[LEFT_SHOULDER];
   }
   EXPECT_NEAR(prev, 0.25f + 0.75f * (12.f - 8.f) / 82.f, 1e-4);
-  const Cue lined_up = logic.update(turn(6.0), t += 0.05);
+  const Cue lined_up = fresh(logic, turn(6.0), t += 0.05);
   EXPECT_EQ(lined_up.mode, CueMode::IDLE);
   EXPECT_FLOAT_EQ(lined_up.intensity[LEFT_SHOULDER], 0.f);
 }
@@ -245,7 +255,7 @@ TEST(CueLogic, ProximityIntensityGrowsWhenCloser)
   double t = 0.0;
   for (double d = 0.98; d > 0.5; d -= 0.04)
   {
-    const Cue c = logic.update(close(d, 0.1, 2.0), t += 0.05);
+    const Cue c = fresh(logic, close(d, 0.1, 2.0), t += 0.05);
     ASSERT_EQ(c.mode, CueMode::PROXIMITY) << d;
     EXPECT_GT(c.intensity[RIGHT_WAIST], prev) << d;
     EXPECT_NEAR(c.intensity[RIGHT_WAIST], proximityLevel(d), 1e-4) << d;
@@ -260,7 +270,7 @@ TEST(CueLogic, StaleStateGoesQuiet)
   CueLogic logic(p);
   EXPECT_TRUE(logic.stale(0.0));
   EXPECT_NE(logic.staleCue(0.0).reason.find("no planner state"), std::string::npos);
-  EXPECT_EQ(logic.update(turn(30), 10.0).mode, CueMode::GUIDANCE);
+  EXPECT_EQ(fresh(logic, turn(30), 10.0).mode, CueMode::GUIDANCE);
   EXPECT_FALSE(logic.stale(10.4));
   EXPECT_TRUE(logic.stale(10.6));
   const Cue c = logic.staleCue(10.6);
@@ -269,7 +279,109 @@ TEST(CueLogic, StaleStateGoesQuiet)
     EXPECT_EQ(v, 0.f);
   EXPECT_NE(c.reason.find("stale"), std::string::npos);
   // After a stale period the turn must be re-entered from scratch (no hysteresis carry-over).
-  EXPECT_EQ(logic.update(turn(15), 11.0).mode, CueMode::IDLE);
+  EXPECT_EQ(fresh(logic, turn(15), 11.0).mode, CueMode::IDLE);
+}
+
+// Never guide on a guess: a state decided from a camera image older than max_input_age_s (or
+// with no camera stamp) gives UNSURE with motors off, whatever it says.
+TEST(CueLogic, OldInputIsUnsure)
+{
+  const std::vector<std::pair<const char*, NavInput>> inputs = {
+    { "turn", turn(45) }, { "side-step", close(0.8, 1.5, 0.2) }, { "alert", close(0.3, 2, 2) },
+    { "on course", base() }, { "no path, blocked", status(NavStatus::NO_PATH, 0.3) },
+  };
+  for (const auto& r : inputs)
+  {
+    struct Age
+    {
+      double age;  // now - source_time; NaN = no stamp
+      bool fresh;
+      const char* reason_has;
+    };
+    for (const Age& a : { Age{ 0.0, true, nullptr }, Age{ 0.5, true, nullptr }, Age{ 0.51, false, "too old" },
+                          Age{ 1.42, false, "too old" }, Age{ 10.0, false, "too old" },
+                          Age{ std::nan(""), false, "no camera stamp" }, Age{ -0.6, false, "future" } })
+    {
+      CueLogic logic;
+      NavInput in = r.second;
+      in.source_time = 100.0 - a.age;
+      const Cue c = logic.update(in, 100.0);
+      const std::string what = std::string(r.first) + " age " + std::to_string(a.age) + ": " + c.reason;
+      if (a.fresh)
+      {
+        EXPECT_NE(c.mode, CueMode::UNSURE) << what;
+        continue;
+      }
+      EXPECT_EQ(c.mode, CueMode::UNSURE) << what;
+      for (float v : c.intensity)
+        EXPECT_EQ(v, 0.f) << what;
+      EXPECT_NE(c.reason.find(a.reason_has), std::string::npos) << what;
+    }
+  }
+}
+
+// Any status but OK: UNSURE with motors off, or ALERT only for NO_PATH / NO_WAYPOINT ("nothing
+// free") from fresh input when the way ahead is blocked. Never GUIDANCE or PROXIMITY.
+TEST(CueLogic, StatusNotOkNeverGuides)
+{
+  for (NavStatus st : { NavStatus::NO_POSE, NavStatus::NO_MAP, NavStatus::IN_UNKNOWN, NavStatus::NO_PATH,
+                        NavStatus::NO_WAYPOINT })
+    for (double ahead : { 5.0, 0.95, 0.8, 0.45, 0.0 })
+      for (double side : { 0.0, 0.3, 2.0 })
+        for (double dev : { 0.0, 45.0, -90.0 })
+          for (double age : { 0.05, 0.7 })
+            for (bool after_guidance : { false, true })
+            {
+              CueLogic logic;
+              if (after_guidance)  // hysteresis state from a turn / side-step must not leak through
+              {
+                fresh(logic, turn(dev), 99.8);
+                fresh(logic, close(0.8, side, 2.0 - side), 99.9);
+              }
+              NavInput in = close(ahead, side, side, st);
+              in.path_heading = in.heading + dev * kDeg;
+              in.source_time = 100.0 - age;
+              const Cue c = logic.update(in, 100.0);
+              const std::string what = "status " + std::to_string(static_cast<int>(st)) + " ahead " +
+                                       std::to_string(ahead) + " side " + std::to_string(side) + " age " +
+                                       std::to_string(age) + ": " + modeName(c.mode) + " " + c.reason;
+              const bool nothing_free = st == NavStatus::NO_PATH || st == NavStatus::NO_WAYPOINT;
+              const bool blocked = ahead < 0.5 || (ahead < 1.0 && side < 0.6);
+              if (c.mode == CueMode::ALERT)
+              {
+                EXPECT_TRUE(nothing_free && age <= 0.5 && blocked) << what;
+                for (float v : c.intensity)
+                  EXPECT_EQ(v, 1.f) << what;
+                continue;
+              }
+              EXPECT_EQ(c.mode, CueMode::UNSURE) << what;
+              EXPECT_FALSE(nothing_free && age <= 0.5 && blocked) << what << " (should stop the wearer)";
+              for (float v : c.intensity)
+                EXPECT_EQ(v, 0.f) << what;
+              EXPECT_FALSE(c.reason.empty());
+            }
+}
+
+// The heartbeat asks stale(): once the camera image behind the last cue is older than
+// max_input_age_s, the old GUIDANCE is not repeated; the stale cue is UNSURE.
+TEST(CueLogic, HeartbeatDoesNotRepeatOldGuidance)
+{
+  CueLogic logic;
+  NavInput in = turn(45);
+  in.source_time = 9.9;
+  EXPECT_EQ(logic.update(in, 10.0).mode, CueMode::GUIDANCE);
+  EXPECT_FALSE(logic.stale(10.2));
+  EXPECT_FALSE(logic.stale(10.4));   // image 0.5 s old
+  EXPECT_TRUE(logic.stale(10.41));   // 0.51 s: state arrived 0.41 s ago (< state_timeout_s) but too old
+  const Cue c = logic.staleCue(10.41);
+  EXPECT_EQ(c.mode, CueMode::UNSURE);
+  EXPECT_NE(c.reason.find("too old"), std::string::npos) << c.reason;
+  for (float v : c.intensity)
+    EXPECT_EQ(v, 0.f);
+  // A state without a camera stamp is stale at once.
+  NavInput unknown = turn(45);
+  EXPECT_EQ(logic.update(unknown, 11.0).mode, CueMode::UNSURE);
+  EXPECT_TRUE(logic.stale(11.0));
 }
 
 TEST(CueLogic, WrapAngle)

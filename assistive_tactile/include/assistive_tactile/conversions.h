@@ -10,7 +10,7 @@
 
 namespace assistive_tactile
 {
-/// Planner state -> cue logic input.
+/// Planner state -> cue logic input (source_time from source_stamp; NaN when it is zero).
 NavInput fromMsg(const assistive_msgs::NavigationState& msg);
 
 /// Cue -> message; stamp = decision time, source_stamp copied from the planner state.

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 
 #include "assistive_tactile/params.h"
@@ -49,6 +50,9 @@ struct NavInput
   double free_ahead = 0.0;
   double free_left = 0.0;
   double free_right = 0.0;
+  /// Time of the camera image behind the state (source_stamp), on the clock of `now`;
+  /// NaN = unknown (zero stamp): such a state is never guided on.
+  double source_time = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct Cue
@@ -76,13 +80,18 @@ public:
 
   const CueParams& params() const { return params_; }
 
-  /// One planner state -> one cue. `now` is when the state arrived.
+  /// One planner state -> one cue. `now` is when the state arrived (ROS time, maybe simulated).
+  /// A state whose camera image (source_time) is older than max_input_age_s, or unknown, gives
+  /// UNSURE (motors off) whatever it says. A status other than OK gives UNSURE, except ALERT
+  /// for NO_PATH / NO_WAYPOINT ("nothing free") from fresh input when the way ahead is blocked
+  /// under alert_m, or under proximity_m with no room to either side.
   Cue update(const NavInput& in, double now);
 
-  /// True when no state arrived for state_timeout_s (or none ever).
+  /// True when no state arrived for state_timeout_s (or none ever), or the last state's camera
+  /// image is now older than max_input_age_s (or unknown): the last cue must not be repeated.
   bool stale(double now) const;
 
-  /// The cue to send while the planner state is stale (motors off, mode UNSURE).
+  /// The cue to send while stale (motors off, mode UNSURE, reason says why).
   Cue staleCue(double now);
 
   /// Forget the hysteresis state (e.g. after a stale period).
@@ -97,6 +106,7 @@ private:
   int turn_side_ = 0;   ///< +1 left shoulder active, -1 right, 0 none
   int waist_side_ = 0;  ///< +1 left waist, -1 right, 0 none
   double last_state_time_ = -1e300;
+  double last_source_time_ = std::numeric_limits<double>::quiet_NaN();
   bool have_state_ = false;
 };
 
