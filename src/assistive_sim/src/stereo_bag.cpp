@@ -3,7 +3,10 @@
 #include <assistive_sim/conversions.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include <cv_bridge/cv_bridge.h>
@@ -41,11 +44,63 @@ geometry_msgs::TransformStamped makeTf(const Eigen::Isometry3d& t, const std::st
 
 int64_t key(const ros::Time& t) { return static_cast<int64_t>(t.toNSec()); }
 
-cv::Mat toMono(const sensor_msgs::ImageConstPtr& msg)
+std::string stampText(const ros::Time& t)
 {
-  if (msg->encoding == sensor_msgs::image_encodings::MONO8)
-    return cv_bridge::toCvCopy(msg)->image;
-  return cv_bridge::toCvCopy(msg, sensor_msgs::image_encodings::MONO8)->image;
+  char b[48];
+  std::snprintf(b, sizeof(b), "t = %.6f s", t.toSec());
+  return b;
+}
+
+/// The image as CV_8UC1. mono8 as is; 8-bit colour and mono16 converted (one warning per topic in
+/// `warned`); anything else (float depth, Bayer, unknown, malformed) a std::runtime_error naming
+/// the topic, the stamp and the encoding.
+cv::Mat toMono(const sensor_msgs::ImageConstPtr& msg, const std::string& topic, std::set<std::string>& warned)
+{
+  namespace enc = sensor_msgs::image_encodings;
+  const std::string& e = msg->encoding;
+  const std::string where = topic + " at " + stampText(msg->header.stamp);
+  const bool convertible = e == enc::RGB8 || e == enc::BGR8 || e == enc::RGBA8 || e == enc::BGRA8 || e == enc::MONO16;
+  if (e != enc::MONO8 && !convertible)
+    throw std::runtime_error(where + ": image encoding '" + e +
+                             "' is not supported (stereo bags hold mono8 images; rgb8, bgr8, rgba8, bgra8 and "
+                             "mono16 are converted)");
+  const size_t min_step = static_cast<size_t>(msg->width) * static_cast<size_t>(enc::numChannels(e) * enc::bitDepth(e) / 8);
+  if (msg->width == 0 || msg->height == 0 || msg->step < min_step ||
+      msg->data.size() != static_cast<size_t>(msg->step) * msg->height)
+    throw std::runtime_error(where + ": malformed " + e + " image: " + std::to_string(msg->width) + "x" +
+                             std::to_string(msg->height) + ", step " + std::to_string(msg->step) + ", " +
+                             std::to_string(msg->data.size()) + " bytes of data");
+  try
+  {
+    if (e == enc::MONO8)
+      return cv_bridge::toCvCopy(msg)->image;
+    if (warned.insert(topic).second)
+      std::fprintf(stderr, "StereoBagReader: warning: %s is %s, converting to mono8 (stereo bags hold mono8)\n",
+                   topic.c_str(), e.c_str());
+    return cv_bridge::toCvCopy(msg, enc::MONO8)->image;
+  }
+  catch (const cv_bridge::Exception& ex)
+  {
+    throw std::runtime_error(where + ": cannot convert the " + e + " image to mono8: " + ex.what());
+  }
+}
+
+/// Throws unless the calibration is usable: finite, fx, fy > 0, baseline > 0.
+void checkCalib(const StereoCalib& c, const sensor_msgs::CameraInfo& left, const sensor_msgs::CameraInfo* right,
+                const StereoBagTopics& topics)
+{
+  const std::string at = " at " + stampText(left.header.stamp);
+  if (!(std::isfinite(c.fx) && std::isfinite(c.fy) && std::isfinite(c.cx) && std::isfinite(c.cy) && c.fx > 0.0 &&
+        c.fy > 0.0))
+    throw std::runtime_error(topics.left_info + at + ": invalid intrinsics fx " + std::to_string(c.fx) + ", fy " +
+                             std::to_string(c.fy) + ", cx " + std::to_string(c.cx) + ", cy " + std::to_string(c.cy) +
+                             " (P or K must be finite with fx, fy > 0)");
+  // fromCameraInfos keeps a default baseline when the right P is unusable: check the message itself.
+  const double b = (right && right->P[0] > 0.0) ? -right->P[3] / right->P[0] : std::nan("");
+  if (!(std::isfinite(b) && b > 0.0))
+    throw std::runtime_error(topics.right_info + at + ": invalid stereo baseline (right P[0] " +
+                             std::to_string(right ? right->P[0] : 0.0) + ", P[3] " +
+                             std::to_string(right ? right->P[3] : 0.0) + "; need P[0] > 0 and P[3] = -fx * baseline < 0)");
 }
 
 }  // namespace
@@ -135,6 +190,7 @@ struct StereoBagReader::Impl
   std::unique_ptr<rosbag::View> view;
   rosbag::View::iterator it;
   std::map<int64_t, cv::Mat> pending_left, pending_right;
+  std::set<std::string> warned;  ///< image topics already warned about a colour encoding
 };
 
 StereoBagReader::StereoBagReader(const std::string& path, const StereoBagTopics& topics)
@@ -155,6 +211,10 @@ StereoBagReader::StereoBagReader(const std::string& path, const StereoBagTopics&
     has_depth_ = depth.size() > 0;
   }
   if (n_left_ == 0) throw std::runtime_error("bag '" + path + "' has no " + topics_.left_image);
+  {
+    rosbag::View right(impl_->bag, rosbag::TopicQuery(topics_.right_image));
+    if (right.size() == 0) throw std::runtime_error("bag '" + path + "' has no " + topics_.right_image);
+  }
 
   // One pass over the small topics: camera infos, IMU and ground truth.
   std::map<int64_t, sensor_msgs::CameraInfo> left_infos, right_infos;
@@ -165,7 +225,9 @@ StereoBagReader::StereoBagReader(const std::string& path, const StereoBagTopics&
     if (m.getTopic() == topics_.left_info || m.getTopic() == topics_.right_info)
     {
       auto info = m.instantiate<sensor_msgs::CameraInfo>();
-      if (!info) continue;
+      if (!info)
+        throw std::runtime_error("bag '" + path + "': " + m.getTopic() + " is " + m.getDataType() +
+                                 ", not sensor_msgs/CameraInfo");
       (m.getTopic() == topics_.left_info ? left_infos : right_infos)[key(info->header.stamp)] = *info;
     }
     else if (m.getTopic() == topics_.imu)
@@ -203,12 +265,18 @@ StereoBagReader::StereoBagReader(const std::string& path, const StereoBagTopics&
     gt_.swap(g);
     gt_vel_.swap(v);
   }
+  // No calibration, no stereo: never fall back to a default calibration.
+  for (const auto* t : {&topics_.left_info, &topics_.right_info})
+    if ((t == &topics_.left_info ? left_infos : right_infos).empty())
+      throw std::runtime_error("bag '" + path + "' has no " + *t +
+                               " (sensor_msgs/CameraInfo): the stereo calibration is unknown");
   for (const auto& kv : left_infos)
   {
     auto r = right_infos.find(kv.first);
-    const sensor_msgs::CameraInfo* rp =
-        r != right_infos.end() ? &r->second : (right_infos.empty() ? nullptr : &right_infos.begin()->second);
-    calibs_.emplace_back(kv.first * 1e-9, fromCameraInfos(kv.second, rp));
+    const sensor_msgs::CameraInfo* rp = r != right_infos.end() ? &r->second : &right_infos.begin()->second;
+    const StereoCalib c = fromCameraInfos(kv.second, rp);
+    checkCalib(c, kv.second, rp, topics_);
+    calibs_.emplace_back(kv.first * 1e-9, c);
   }
   rewind();
 }
@@ -232,7 +300,8 @@ bool StereoBagReader::next(StereoFrame& f)
   while (d.it != d.view->end())
   {
     const rosbag::MessageInstance& m = *d.it;
-    const bool is_left = m.getTopic() == topics_.left_image;
+    const std::string topic = m.getTopic();  // m refers into the iterator: read it before ++
+    const bool is_left = topic == topics_.left_image;
     auto img = m.instantiate<sensor_msgs::Image>();
     ++d.it;
     if (!img) continue;
@@ -242,10 +311,10 @@ bool StereoBagReader::next(StereoFrame& f)
     auto o = other.find(k);
     if (o == other.end())
     {
-      mine[k] = toMono(img);
+      mine[k] = toMono(img, topic, d.warned);
       continue;
     }
-    cv::Mat this_img = toMono(img);
+    cv::Mat this_img = toMono(img, topic, d.warned);
     f.left = is_left ? this_img : o->second;
     f.right = is_left ? o->second : this_img;
     // Frames come in stamp order: anything older never gets its partner.
@@ -254,12 +323,20 @@ bool StereoBagReader::next(StereoFrame& f)
     f.stamp = k * 1e-9;
 
     // Calibration: the latest camera_info at or before the frame, else the first one.
-    if (!calibs_.empty())
     {
       auto c = std::upper_bound(calibs_.begin(), calibs_.end(), f.stamp + 1e-6,
                                 [](double s, const std::pair<double, StereoCalib>& p) { return s < p.first; });
       f.calib = (c == calibs_.begin()) ? calibs_.front().second : std::prev(c)->second;
     }
+    const std::string at = " at " + stampText(img->header.stamp);
+    if (f.left.size() != f.right.size())
+      throw std::runtime_error("stereo pair" + at + ": " + topics_.left_image + " is " + std::to_string(f.left.cols) +
+                               "x" + std::to_string(f.left.rows) + " but " + topics_.right_image + " is " +
+                               std::to_string(f.right.cols) + "x" + std::to_string(f.right.rows));
+    if (f.calib.width > 0 && f.calib.height > 0 && (f.calib.width != f.left.cols || f.calib.height != f.left.rows))
+      throw std::runtime_error("stereo pair" + at + ": images are " + std::to_string(f.left.cols) + "x" +
+                               std::to_string(f.left.rows) + " but " + topics_.left_info + " says " +
+                               std::to_string(f.calib.width) + "x" + std::to_string(f.calib.height));
     f.calib.width = f.left.cols;
     f.calib.height = f.left.rows;
 

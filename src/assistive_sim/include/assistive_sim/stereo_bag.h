@@ -78,16 +78,22 @@ private:
 /// exact header stamp; calibration comes from the camera_infos (the latest one at or before the
 /// frame, else the first one); the gt pose from /ground_truth/odom at the same stamp (within
 /// 1 ms); IMU samples are those after the previous frame up to this frame.
+/// Images must be mono8; rgb8, bgr8, rgba8, bgra8 and mono16 are converted to mono8 with one
+/// warning per topic on stderr. There is no default calibration.
 class StereoBagReader
 {
 public:
-  /// Throws std::runtime_error when the bag cannot be opened or has no left image topic.
+  /// Throws std::runtime_error when the bag cannot be opened, has no left or right image topic,
+  /// no left or right camera_info, or a camera_info with an unusable calibration (non-finite or
+  /// non-positive fx, fy; right P without a positive baseline).
   explicit StereoBagReader(const std::string& path, const StereoBagTopics& topics = {});
   ~StereoBagReader();
   StereoBagReader(const StereoBagReader&) = delete;
   StereoBagReader& operator=(const StereoBagReader&) = delete;
 
-  /// Next stereo frame; false at the end of the bag.
+  /// Next stereo frame; false at the end of the bag. Throws std::runtime_error (naming the topic
+  /// and stamp) on an image that is malformed or of an unsupported encoding, on left/right images
+  /// of different sizes, and on images of another size than the camera_info's width x height.
   bool next(StereoFrame& frame);
   /// Restart from the first frame.
   void rewind();
