@@ -51,15 +51,51 @@ std::string num(double v, int prec = 3)
 
 int main(int argc, char** argv)
 {
-  std::string dir = argc > 1 ? argv[1] : "/work/shared/data/real/stereo_disparity";
+  std::string dir;
   int reps = 5;
-  for (int i = 2; i < argc; ++i)
-    if (std::string(argv[i]) == "--reps" && i + 1 < argc) reps = std::max(1, std::atoi(argv[++i]));
-  if (argc > 1 && (std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help"))
+  const char* usage =
+      "usage: disparity_benchmark [DIR] [--reps N]\n"
+      "  Scores the default disparity configuration on the real stereo pairs of DIR (default\n"
+      "  /work/shared/data/real/stereo_disparity) beside OpenCV SGBM; --reps timing repetitions (default 5).\n"
+      "  Last stdout line: JSON.\n";
+  auto usageError = [&](const std::string& msg) {
+    std::cerr << "disparity_benchmark: " << msg << "\n" << usage;
+    return 2;
+  };
+  for (int i = 1; i < argc; ++i)
   {
-    std::cout << "usage: disparity_benchmark DIR [--reps N]\n";
-    return 0;
+    const std::string a = argv[i];
+    if (a == "-h" || a == "--help")
+    {
+      std::cout << usage;
+      return 0;
+    }
+    else if (a == "--reps")
+    {
+      if (i + 1 >= argc)
+        return usageError("--reps needs a value");
+      const std::string v = argv[++i];
+      size_t used = 0;
+      try
+      {
+        reps = std::stoi(v, &used);
+      }
+      catch (const std::exception&)
+      {
+        used = 0;
+      }
+      if (used != v.size() || reps < 1)
+        return usageError("--reps: not a whole number >= 1: '" + v + "'");
+    }
+    else if (a.size() > 1 && a[0] == '-')
+      return usageError("unknown option " + a);
+    else if (!dir.empty())
+      return usageError("one DIR only (got '" + dir + "' and '" + a + "')");
+    else
+      dir = a;
   }
+  if (dir.empty())
+    dir = "/work/shared/data/real/stereo_disparity";
   const ObstaclesParams defaults;  // the stage's default configuration
   DisparityEstimator ours(defaults);
   const int peer_nd = defaults.max_disparity;

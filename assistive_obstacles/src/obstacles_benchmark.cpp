@@ -104,36 +104,64 @@ assistive_sim::OccupancyGrid toSim(const GridData& g)
 
 int main(int argc, char** argv)
 {
-  if (argc < 2 || std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help")
-  {
-    std::cerr << "usage: obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N] [--set PARAM=VALUE ...]\n";
-    return argc < 2 ? 2 : 0;
-  }
-  const std::string bag = argv[1];
+  const char* usage =
+      "usage: obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N] [--gt-depth] [--set PARAM=VALUE ...]\n"
+      "  Runs the obstacle stage on a stereo bag with ground truth; last stdout line: JSON.\n";
+  auto usageError = [&](const std::string& msg) {
+    std::cerr << "obstacles_benchmark: " << msg << "\n" << usage;
+    return 2;
+  };
+  std::string bag;
   int max_frames = -1, skip = 0;
   bool gt_depth = false;  // --gt-depth: feed the bag's true depth instead of SGBM (isolates stereo noise)
   std::vector<std::string> overrides;  // --set name=value (tuning; the figures of record use the defaults)
-  std::string png = bag.size() > 4 && bag.substr(bag.size() - 4) == ".bag" ? bag.substr(0, bag.size() - 4) + "_obstacles_map.png"
-                                                                           : bag + "_obstacles_map.png";
-  for (int i = 2; i < argc; ++i)
+  std::string png;
+  for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
-    if (a == "--frames" && i + 1 < argc)
-      max_frames = std::atoi(argv[++i]);
-    else if (a == "--png" && i + 1 < argc)
-      png = argv[++i];
-    else if (a == "--skip" && i + 1 < argc)
-      skip = std::atoi(argv[++i]);
+    auto count = [&](int& out) {  // the next argument as a whole number >= 0
+      const std::string v = argv[++i];
+      size_t used = 0;
+      try
+      {
+        out = std::stoi(v, &used);
+      }
+      catch (const std::exception&)
+      {
+        used = 0;
+      }
+      return used == v.size() && out >= 0;
+    };
+    if (a == "-h" || a == "--help")
+    {
+      std::cout << usage;
+      return 0;
+    }
     else if (a == "--gt-depth")
       gt_depth = true;
-    else if (a == "--set" && i + 1 < argc)
-      overrides.push_back(argv[++i]);
-    else
+    else if ((a == "--frames" || a == "--png" || a == "--skip" || a == "--set") && i + 1 >= argc)
+      return usageError(a + " needs a value");
+    else if (a == "--frames" || a == "--skip")
     {
-      std::cerr << "unknown argument " << a << "\n";
-      return 2;
+      if (!count(a == "--frames" ? max_frames : skip))
+        return usageError(a + ": not a whole number >= 0: '" + std::string(argv[i]) + "'");
     }
+    else if (a == "--png")
+      png = argv[++i];
+    else if (a == "--set")
+      overrides.push_back(argv[++i]);
+    else if (a.size() > 1 && a[0] == '-')
+      return usageError("unknown option " + a);
+    else if (!bag.empty())
+      return usageError("one bag only (got '" + bag + "' and '" + a + "')");
+    else
+      bag = a;
   }
+  if (bag.empty())
+    return usageError("no bag given");
+  if (png.empty())
+    png = bag.size() > 4 && bag.substr(bag.size() - 4) == ".bag" ? bag.substr(0, bag.size() - 4) + "_obstacles_map.png"
+                                                                 : bag + "_obstacles_map.png";
 
   std::unique_ptr<assistive_sim::StereoBagReader> reader;
   try
@@ -176,7 +204,19 @@ int main(int argc, char** argv)
   GridData grid;
   Eigen::Vector2d wearer(0, 0);
   const size_t total = reader->size();
-  while (reader->next(f))
+  // A malformed image (encoding, size) is a clear error, not an abort.
+  auto nextFrame = [&](assistive_sim::StereoFrame& fr) {
+    try
+    {
+      return reader->next(fr);
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "obstacles_benchmark: " << bag << ": " << e.what() << "\n";
+      std::exit(1);
+    }
+  };
+  while (nextFrame(f))
   {
     ++frames;
     if (frames <= skip) continue;

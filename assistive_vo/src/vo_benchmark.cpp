@@ -8,6 +8,8 @@
 #include <time.h>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -143,38 +145,72 @@ int main(int argc, char** argv)
   double peer_max_t = 0.15;
   std::vector<std::string> overrides;
   long max_frames = -1;
+  const char* usage =
+      "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--peer-max-translation M]\n"
+      "                    [--verbose] [--dump FILE] [--set name=value ...]\n"
+      "  Runs the visual odometry on a stereo bag (README \"Topics of a stereo bag\"); last stdout line: JSON.\n";
+  auto usageError = [&](const std::string& msg) {
+    std::cerr << "vo_benchmark: " << msg << "\n" << usage;
+    return 2;
+  };
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
-    if (a == "--plot" && i + 1 < argc)
-      plot = argv[++i];
+    const bool has_value = i + 1 < argc;
+    auto number = [&](double& out) {  // the next argument as a finite number
+      const std::string v = argv[++i];
+      size_t used = 0;
+      try
+      {
+        out = std::stod(v, &used);
+      }
+      catch (const std::exception&)
+      {
+        used = 0;
+      }
+      return used == v.size() && std::isfinite(out);
+    };
+    double x = 0.0;
+    if (a == "-h" || a == "--help")
+    {
+      std::cout << usage;
+      return 0;
+    }
     else if (a == "--no-peer")
       peer_on = false;
     else if (a == "--no-imu")
       imu_on = false;
-    else if (a == "--frames" && i + 1 < argc)
-      max_frames = std::stol(argv[++i]);
-    else if (a == "--peer-max-translation" && i + 1 < argc)
-      peer_max_t = std::atof(argv[++i]);
     else if (a == "--verbose")
       verbose = true;
-    else if (a == "--dump" && i + 1 < argc)
-      dump = argv[++i];
-    else if (a == "--set" && i + 1 < argc)
-      overrides.push_back(argv[++i]);
-    else if (a == "-h" || a == "--help")
+    else if ((a == "--plot" || a == "--frames" || a == "--peer-max-translation" || a == "--dump" || a == "--set") &&
+             !has_value)
+      return usageError(a + " needs a value");
+    else if (a == "--plot")
+      plot = argv[++i];
+    else if (a == "--frames")
     {
-      std::cout << "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--verbose] [--set name=value]\n";
-      return 0;
+      if (!number(x) || x < 0 || x != std::floor(x))
+        return usageError("--frames: not a whole number >= 0: '" + std::string(argv[i]) + "'");
+      max_frames = static_cast<long>(x);
     }
+    else if (a == "--peer-max-translation")
+    {
+      if (!number(peer_max_t))
+        return usageError("--peer-max-translation: not a number: '" + std::string(argv[i]) + "'");
+    }
+    else if (a == "--dump")
+      dump = argv[++i];
+    else if (a == "--set")
+      overrides.push_back(argv[++i]);
+    else if (a.size() > 1 && a[0] == '-')
+      return usageError("unknown option " + a);
+    else if (!bag.empty())
+      return usageError("one bag only (got '" + bag + "' and '" + a + "')");
     else
       bag = a;
   }
   if (bag.empty())
-  {
-    std::cerr << "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--verbose] [--set name=value]\n";
-    return 2;
-  }
+    return usageError("no bag given");
   if (plot.empty())
   {
     const size_t dot = bag.rfind(".bag");
@@ -271,7 +307,19 @@ int main(int argc, char** argv)
   if (!dump.empty())
     dump_out.open(dump);
   assistive_sim::StereoFrame f;
-  while (reader->next(f) && (max_frames < 0 || frames < max_frames))
+  // A malformed image (encoding, size) is a clear error, not an abort.
+  auto nextFrame = [&](assistive_sim::StereoFrame& fr) {
+    try
+    {
+      return reader->next(fr);
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "vo_benchmark: " << bag << ": " << e.what() << "\n";
+      std::exit(1);
+    }
+  };
+  while ((max_frames < 0 || frames < max_frames) && nextFrame(f))
   {
     const StereoCamera cam = StereoCamera::from(f.calib);
     if (frames == 0)
