@@ -18,9 +18,9 @@ using namespace assistive_sim;
 
 namespace
 {
-void usage()
+void usage(std::ostream& os = std::cerr)
 {
-  std::cerr << "usage: render_bag --world WORLD --out FILE.bag [--seed N] [--frames N] [--width W --height H]\n"
+  os << "usage: render_bag --world WORLD --out FILE.bag [--seed N] [--frames N] [--width W --height H]\n"
                "                  [--rate HZ] [--noise SIGMA] [--exposure-time S] [--exposure-variation X] [--imu-rate HZ]\n"
                "                  [--depth]  (also write the left ground-truth depth, /ground_truth/left/depth)\n"
                "  WORLD: a shipped world (course, corridor, parking, glass, plaza) or a world YAML path\n";
@@ -95,7 +95,7 @@ int main(int argc, char** argv)
       else if (a == "--depth") write_depth = true;
       else if (a == "-h" || a == "--help")
       {
-        usage();
+        usage(std::cout);
         return 0;
       }
       else
@@ -108,11 +108,13 @@ int main(int argc, char** argv)
     catch (const std::exception&)
     {
       std::cerr << "render_bag: bad value for " << a << "\n";
+      usage();
       return 2;
     }
   }
   if (world_name.empty() || out.empty())
   {
+    std::cerr << "render_bag: --world and --out are required\n";
     usage();
     return 2;
   }

@@ -1,5 +1,6 @@
 #pragma once
 // Small helpers shared by the evaluation / import CLIs: argument parsing and a progress bar.
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <stdexcept>
@@ -10,7 +11,17 @@ namespace assistive_sim
 {
 namespace cli
 {
-/// "--key value" options (and "--flag" when `flags` names it) plus positional arguments.
+/// A command-line mistake (unknown option, missing or malformed value): the caller prints the
+/// message and the usage on stderr and exits with 2.
+struct UsageError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+/// "--key value" / "--key=value" options (and "--flag" when `flags` names it) plus positional
+/// arguments. "-h" is "--help" when "help" is a flag. Throws UsageError on an unknown option
+/// (also a single-dash one such as "-x"; "-" alone and negative numbers are positional) and on a
+/// missing value.
 struct Args
 {
   std::vector<std::string> positional;
@@ -18,10 +29,15 @@ struct Args
 
   Args(int argc, char** argv, const std::vector<std::string>& known, const std::vector<std::string>& flags = {})
   {
+    bool help_flag = false;
+    for (const auto& f : flags)
+      help_flag |= (f == "help");
     for (int i = 1; i < argc; ++i)
     {
       const std::string a = argv[i];
-      if (a.size() > 2 && a.rfind("--", 0) == 0)
+      if (a == "-h" && help_flag)
+        options["help"] = "1";
+      else if (a.size() > 2 && a.rfind("--", 0) == 0)
       {
         std::string key = a.substr(2), value;
         const auto eq = key.find('=');
@@ -37,17 +53,23 @@ struct Args
         for (const auto& k : known)
           ok |= (k == key);
         if (!ok)
-          throw std::runtime_error("unknown option --" + key);
+          throw UsageError("unknown option --" + key);
         if (is_flag)
+        {
+          if (eq != std::string::npos)
+            throw UsageError("option --" + key + " takes no value");
           value = "1";
+        }
         else if (eq == std::string::npos)
         {
           if (i + 1 >= argc)
-            throw std::runtime_error("option --" + key + " needs a value");
+            throw UsageError("option --" + key + " needs a value");
           value = argv[++i];
         }
         options[key] = value;
       }
+      else if (a.size() > 1 && a[0] == '-' && !(a[1] == '.' || (a[1] >= '0' && a[1] <= '9')))
+        throw UsageError("unknown option " + a);
       else
         positional.push_back(a);
     }
@@ -62,14 +84,20 @@ struct Args
   {
     if (!has(k))
       return def;
+    const std::string v = get(k);
+    size_t used = 0;
+    double x = 0.0;
     try
     {
-      return std::stod(get(k));
+      x = std::stod(v, &used);
     }
     catch (const std::exception&)
     {
-      throw std::runtime_error("option --" + k + ": not a number: '" + get(k) + "'");
+      used = 0;
     }
+    if (used == 0 || used != v.size() || !std::isfinite(x))
+      throw UsageError("option --" + k + ": not a number: '" + v + "'");
+    return x;
   }
 };
 

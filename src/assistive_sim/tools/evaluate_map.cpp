@@ -215,6 +215,11 @@ int main(int argc, char** argv)
     std::printf("%s\n", js.str().c_str());
     return 0;
   }
+  catch (const cli::UsageError& e)
+  {
+    std::cerr << "evaluate_map: " << e.what() << "\n" << USAGE;
+    return 2;
+  }
   catch (const std::exception& e)
   {
     std::cerr << "evaluate_map: error: " << e.what() << "\n";

@@ -308,6 +308,11 @@ int main(int argc, char** argv)
     std::printf("%s%s\n", j.c_str(), extra.str().c_str());
     return 0;
   }
+  catch (const cli::UsageError& e)
+  {
+    std::cerr << "evaluate_trajectory: " << e.what() << "\n" << USAGE;
+    return 2;
+  }
   catch (const std::exception& e)
   {
     std::cerr << "evaluate_trajectory: error: " << e.what() << "\n";

@@ -5,6 +5,7 @@
 #include <assistive_sim/eval/datasets.h>
 #include <assistive_sim/stereo_bag.h>
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -23,6 +24,7 @@ const char* USAGE =
 int main(int argc, char** argv)
 {
   using namespace assistive_sim;
+  std::string created;  // the output bag once this run has opened (truncated) it
   try
   {
     const cli::Args args(argc, argv, {"out", "max-frames"}, {"help"});
@@ -32,16 +34,19 @@ int main(int argc, char** argv)
       return 0;
     }
     if (args.positional.size() != 2 || !args.has("out"))
-    {
-      std::cerr << USAGE;
-      return 2;
-    }
+      throw cli::UsageError(!args.has("out") ? "--out FILE.bag is required" : "need a dataset kind and a source folder");
     const std::string kind = args.positional[0], src_dir = args.positional[1], out = args.get("out");
     auto src = eval::openDataset(kind, src_dir);
     size_t n = src->size();
     if (args.has("max-frames"))
-      n = std::min(n, static_cast<size_t>(std::max(0.0, args.getDouble("max-frames", 0))));
+    {
+      const double m = args.getDouble("max-frames", 0);
+      if (m < 1 || m != std::floor(m))
+        throw cli::UsageError("option --max-frames: need a whole number >= 1, got '" + args.get("max-frames") + "'");
+      n = std::min(n, static_cast<size_t>(m));
+    }
     StereoBagWriter writer(out);
+    created = out;
     size_t gt_frames = 0;
     double path = 0.0;
     Eigen::Vector3d prev = Eigen::Vector3d::Zero();
@@ -81,8 +86,17 @@ int main(int argc, char** argv)
                 has_gt ? std::to_string(path).c_str() : "null");
     return 0;
   }
+  catch (const cli::UsageError& e)
+  {
+    std::cerr << "import_dataset: " << e.what() << "\n" << USAGE;
+    return 2;
+  }
   catch (const std::exception& e)
   {
+    // The writer is closed by now (stack unwinding): remove the partial bag rather than leave a
+    // bag that looks complete.
+    if (!created.empty() && std::remove(created.c_str()) == 0)
+      std::cerr << "\nimport_dataset: removed the partial output " << created;
     std::cerr << "\nimport_dataset: error: " << e.what() << "\n";
     return 1;
   }

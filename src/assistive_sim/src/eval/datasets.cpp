@@ -85,6 +85,21 @@ cv::Mat readGray(const std::string& path)
   return m;
 }
 
+/// Fails naming the image (its file path) whose size is not `expected` (`source` says where the
+/// expected size comes from): the left one first, then the right one.
+void checkImageSizes(const std::string& dataset, const cv::Mat& left, const std::string& left_path,
+                     const cv::Mat& right, const std::string& right_path, const cv::Size& expected,
+                     const std::string& source)
+{
+  auto text = [](const cv::Size& s) { return std::to_string(s.width) + "x" + std::to_string(s.height); };
+  if (left.size() != expected)
+    fail(dataset + ": left image '" + left_path + "' is " + text(left.size()) + ", " + source + " says " +
+         text(expected));
+  if (right.size() != expected)
+    fail(dataset + ": right image '" + right_path + "' is " + text(right.size()) + ", " + source + " says " +
+         text(expected) + " (left image '" + left_path + "')");
+}
+
 std::vector<std::string> readLines(const std::string& path)
 {
   std::ifstream f(path);
@@ -229,10 +244,13 @@ public:
   {
     StereoFrame f;
     f.stamp = stamps_.at(i);
-    f.left = readGray(join(dir_, "image_00/data/" + left_.at(i)));
-    f.right = readGray(join(dir_, "image_01/data/" + right_.at(i)));
-    if (f.left.size() != f.right.size())
-      fail("KITTI frame " + left_[i] + ": left and right sizes differ");
+    const std::string lp = join(dir_, "image_00/data/" + left_.at(i)), rp = join(dir_, "image_01/data/" + right_.at(i));
+    f.left = readGray(lp);
+    f.right = readGray(rp);
+    // Every image of a drive has the size of the first one read (the rectified calibration is one).
+    if (size0_.empty())
+      size0_ = f.left.size();
+    checkImageSizes("KITTI", f.left, lp, f.right, rp, size0_, "the drive's first image");
     f.calib = calib_.calib;
     f.calib.width = f.left.cols;
     f.calib.height = f.left.rows;
@@ -250,6 +268,7 @@ private:
   std::vector<std::string> left_, right_;
   std::vector<double> stamps_;
   KittiRawCalib calib_;
+  mutable cv::Size size0_;  ///< size of the first image read
   std::vector<Eigen::Isometry3d> gt_;
 };
 
@@ -323,11 +342,10 @@ public:
     const Frame& fr = frames_.at(i);
     StereoFrame f;
     f.stamp = static_cast<double>(fr.ns) * 1e-9;
-    const cv::Mat l = readGray(join(mav_, "cam0/data/" + fr.left));
-    const cv::Mat r = readGray(join(mav_, "cam1/data/" + fr.right));
-    if (l.cols != rect_.calib.width || l.rows != rect_.calib.height || r.size() != l.size())
-      fail("EuRoC image " + fr.left + " is " + std::to_string(l.cols) + "x" + std::to_string(l.rows) +
-           ", sensor.yaml says " + std::to_string(rect_.calib.width) + "x" + std::to_string(rect_.calib.height));
+    const std::string lp = join(mav_, "cam0/data/" + fr.left), rp = join(mav_, "cam1/data/" + fr.right);
+    const cv::Mat l = readGray(lp);
+    const cv::Mat r = readGray(rp);
+    checkImageSizes("EuRoC", l, lp, r, rp, cv::Size(rect_.calib.width, rect_.calib.height), "cam0/sensor.yaml");
     rect_.rectify(l, r, f.left, f.right);
     f.calib = rect_.calib;
     if (!gt_pose_.empty() && gt_ok_[i])
@@ -522,11 +540,10 @@ public:
   {
     StereoFrame f;
     f.stamp = 1000.0 + 0.1 * static_cast<double>(i);  // no stamps in the folder: 10 Hz
-    cv::Mat l = readGray(join(dir_, "left/" + pairs_.at(i).first));
-    cv::Mat r = readGray(join(dir_, "right/" + pairs_.at(i).second));
-    if (l.cols != calib_.width || l.rows != calib_.height || r.size() != l.size())
-      fail("pairs: image " + pairs_[i].first + " is " + std::to_string(l.cols) + "x" + std::to_string(l.rows) +
-           ", camera_info says " + std::to_string(calib_.width) + "x" + std::to_string(calib_.height));
+    const std::string lp = join(dir_, "left/" + pairs_.at(i).first), rp = join(dir_, "right/" + pairs_.at(i).second);
+    cv::Mat l = readGray(lp);
+    cv::Mat r = readGray(rp);
+    checkImageSizes("pairs", l, lp, r, rp, cv::Size(calib_.width, calib_.height), "the camera_info yaml");
     if (!mlx_.empty())
     {
       cv::remap(l, f.left, mlx_, mly_, cv::INTER_LINEAR);
