@@ -39,6 +39,7 @@ private:
     pnh.param("side_free_m", p.side_free_m, p.side_free_m);
     pnh.param("side_switch_m", p.side_switch_m, p.side_switch_m);
     pnh.param("state_timeout_s", p.state_timeout_s, p.state_timeout_s);
+    pnh.param("max_input_age_s", p.max_input_age_s, p.max_input_age_s);
     pnh.param("heartbeat_hz", p.heartbeat_hz, p.heartbeat_hz);
     pnh.param("body_frame", p.body_frame, p.body_frame);
     auto warn = [this](bool clamped, const char* name, double v) {
@@ -56,11 +57,12 @@ private:
     warn(clampParam(p.side_free_m, 0.0, 10.0), "side_free_m", p.side_free_m);
     warn(clampParam(p.side_switch_m, 0.0, 10.0), "side_switch_m", p.side_switch_m);
     warn(clampParam(p.state_timeout_s, 0.05, 10.0), "state_timeout_s", p.state_timeout_s);
+    warn(clampParam(p.max_input_age_s, 0.05, 10.0), "max_input_age_s", p.max_input_age_s);
     warn(clampParam(p.heartbeat_hz, 1.0, 100.0), "heartbeat_hz", p.heartbeat_hz);
     NODELET_INFO("cue_logic: turn on/off/full %.0f/%.0f/%.0f deg, proximity %.2f m, alert %.2f m, "
-                 "hysteresis %.2f m, side free %.2f m, state timeout %.2f s, heartbeat %.1f Hz",
+                 "hysteresis %.2f m, side free %.2f m, state timeout %.2f s, max input age %.2f s, heartbeat %.1f Hz",
                  p.turn_on_deg, p.turn_off_deg, p.turn_full_deg, p.proximity_m, p.alert_m, p.hysteresis_m,
-                 p.side_free_m, p.state_timeout_s, p.heartbeat_hz);
+                 p.side_free_m, p.state_timeout_s, p.max_input_age_s, p.heartbeat_hz);
     logic_ = CueLogic(p);
 
     cue_pub_ = nh.advertise<assistive_msgs::TactileCue>("tactile/cue", 1);
@@ -89,9 +91,11 @@ private:
     const ros::Time now = ros::Time::now();
     if (logic_.stale(now.toSec()))
     {
-      NODELET_WARN_THROTTLE(5.0, "cue_logic: no fresh planner/state (timeout %.2f s): vest quiet",
-                            logic_.params().state_timeout_s);
-      publish(logic_.staleCue(now.toSec()), now, last_source_stamp_);
+      // No state for state_timeout_s, or the last one's camera image is older than
+      // max_input_age_s: never repeat an old GUIDANCE/ALERT, say UNSURE instead.
+      const Cue quiet = logic_.staleCue(now.toSec());
+      NODELET_WARN_THROTTLE(5.0, "cue_logic: %s: vest quiet", quiet.reason.c_str());
+      publish(quiet, now, last_source_stamp_);
     }
     else if ((now - last_pub_).toSec() >= 0.9 / logic_.params().heartbeat_hz)
     {
@@ -156,7 +160,7 @@ private:
   {
     const double now = ros::Time::now().toSec();
     if (logic_.stale(now))
-      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "planner state stale: vest quiet");
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no fresh planner state (stale or camera image too old): vest quiet");
     else if (last_cue_.mode == CueMode::UNSURE)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "unsure: " + last_cue_.reason);
     else

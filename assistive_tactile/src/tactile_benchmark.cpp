@@ -238,6 +238,9 @@ int main(int argc, char** argv)
 {
   int cues = 2000;
   double period_ms = 2.0;
+  uint64_t corruptions = 1000000, seed = 1;
+  int off_trials = 20;
+  const char* usage = "usage: tactile_benchmark [--cues N] [--period-ms P] [--corruptions N] [--off-trials N] [--seed S]\n";
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -245,17 +248,26 @@ int main(int argc, char** argv)
       cues = std::max(10, std::atoi(argv[++i]));
     else if (a == "--period-ms" && i + 1 < argc)
       period_ms = std::max(0.0, std::atof(argv[++i]));
+    else if (a == "--corruptions" && i + 1 < argc)
+      corruptions = std::strtoull(argv[++i], nullptr, 10);
+    else if (a == "--off-trials" && i + 1 < argc)
+      off_trials = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--seed" && i + 1 < argc)
+      seed = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "-h" || a == "--help")
     {
-      std::printf("usage: tactile_benchmark [--cues N] [--period-ms P]\n"
+      std::printf("%s"
                   "  Cue-to-serial latency: the bridge core writes N cues (default 2000, at least 10), one every\n"
-                  "  P ms (default 2), to a simulated vest on a pseudo-terminal. Last stdout line: JSON.\n");
+                  "  P ms (default 2), to a simulated vest on a pseudo-terminal. All-off timing: --off-trials\n"
+                  "  (default 20) cue streams that stop; ms from the last cue's stamp to all motors off.\n"
+                  "  Framing: --corruptions (default 1000000) random corruptions of valid packet streams;\n"
+                  "  false accepts = decoded motor patterns never sent. Last stdout line: JSON.\n",
+                  usage);
       return 0;
     }
     else
     {
-      std::fprintf(stderr, "tactile_benchmark: unknown argument %s\nusage: tactile_benchmark [--cues N] [--period-ms P]\n",
-                   a.c_str());
+      std::fprintf(stderr, "tactile_benchmark: unknown argument %s\n%s", a.c_str(), usage);
       return 2;
     }
   }
