@@ -56,6 +56,13 @@ nav_msgs::Odometry toOdometryMsg(const VoOutput& o, const ros::Time& stamp, cons
   m.header.frame_id = odom_frame;
   m.child_frame_id = base_frame;
   m.pose.pose = tf2::toMsg(o.T_odom_link);
+  if (!o.pose_trusted)
+  {
+    // zero twist (message default), diagonals only
+    for (size_t i = 0; i < 6; ++i)
+      m.pose.covariance[i * 7] = m.twist.covariance[i * 7] = kUntrustedVariance;
+    return m;
+  }
   tf2::toMsg(o.linear_velocity, m.twist.twist.linear);
   tf2::toMsg(o.angular_velocity, m.twist.twist.angular);
   for (int i = 0; i < 6; ++i)

@@ -100,6 +100,13 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     pnh.param("ba_iterations", p.ba_iterations, p.ba_iterations);
     pnh.param("max_speed", p.max_speed_mps, p.max_speed_mps);
     pnh.param("max_angular_speed", p.max_angular_speed_dps, p.max_angular_speed_dps);
+    pnh.param("max_frame_gap", p.max_frame_gap_s, p.max_frame_gap_s);
+    pnh.param("coast_max", p.coast_max_s, p.coast_max_s);
+    pnh.param("frozen_max_change", p.frozen_max_change, p.frozen_max_change);
+    pnh.param("frozen_min_gyro_rate", p.frozen_min_gyro_dps, p.frozen_min_gyro_dps);
+    pnh.param("frozen_frames", p.frozen_frames, p.frozen_frames);
+    pnh.param("gyro_disagreement", p.gyro_disagreement_deg, p.gyro_disagreement_deg);
+    pnh.param("gyro_disagreement_frames", p.gyro_disagreement_frames, p.gyro_disagreement_frames);
     pnh.param("use_imu", p.use_imu, p.use_imu);
     pnh.param("gyro_rotation_prior", p.gyro_rotation_prior, p.gyro_rotation_prior);
     pnh.param("gyro_noise_density", p.gyro_noise_density, p.gyro_noise_density);
@@ -154,6 +161,13 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     clampD("max_speed", p.max_speed_mps, 0.1, 50.0);
     clampD("max_angular_speed", p.max_angular_speed_dps, 10.0, 5000.0);
     clampD("camera_height", p.camera_height_m, 0.0, 5.0);
+    clampD("max_frame_gap", p.max_frame_gap_s, 0.05, 10.0);
+    clampD("coast_max", p.coast_max_s, 0.0, 2.0);
+    clampD("frozen_max_change", p.frozen_max_change, 0.0, 20.0);
+    clampD("frozen_min_gyro_rate", p.frozen_min_gyro_dps, 0.1, 100.0);
+    clampI("frozen_frames", p.frozen_frames, 1, 100);
+    clampD("gyro_disagreement", p.gyro_disagreement_deg, 0.05, 90.0);
+    clampI("gyro_disagreement_frames", p.gyro_disagreement_frames, 1, 100);
     clampD("gyro_noise_density", p.gyro_noise_density, 1e-6, 1e-1);
     clampD("gyro_bias_sigma", p.gyro_bias_sigma, 1e-6, 1.0);
     clampD("gravity_time_constant", p.gravity_time_constant_s, 0.0, 3600.0);
@@ -294,6 +308,8 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     const double t = l->header.stamp.toSec();
     if (last_stamp_ > 0 && t < last_stamp_)
     {
+      // The core keeps the pose and marks the frame untrusted (the same rule as vo_benchmark);
+      // here only the IMU samples of the old timeline go.
       NODELET_WARN_THROTTLE(5.0, "stereo_odometry: time went backwards (%.3f -> %.3f, bag loop?): re-initialising",
                             last_stamp_, t);
       imu_.clear();
@@ -339,9 +355,20 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       NODELET_WARN_THROTTLE(2.0, "stereo_odometry: %s (%s)", o.message.c_str(), toString(o.state));
     if (!o.pose_valid || !o.T_odom_link.matrix().allFinite())
       return;
+    if (o.pose_trusted != last_trusted_)
+    {
+      if (o.pose_trusted)
+        NODELET_INFO("stereo_odometry: pose trusted again");
+      else
+        NODELET_ERROR("stereo_odometry: pose not trusted: %s", o.untrusted_reason.c_str());
+      last_trusted_ = o.pose_trusted;
+      diag_.force_update();
+    }
+    // Every processed frame: an untrusted one carries the last trusted pose with
+    // kUntrustedVariance and no tf, so nothing downstream guides on a guess.
     auto odom = boost::make_shared<nav_msgs::Odometry>(toOdometryMsg(o, l->header.stamp, odom_frame_, base_frame_));
     odom_pub_.publish(odom);
-    if (publish_tf_)
+    if (publish_tf_ && o.pose_trusted)
       tf_.sendTransform(toTransformMsg(o.T_odom_link, l->header.stamp, odom_frame_, base_frame_));
     if (feat_pub_.getNumSubscribers() > 0)
     {
@@ -357,6 +384,8 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       s.summary(DiagnosticStatus::ERROR, input_problem_);
     else if (n_processed_ == 0)
       s.summary(DiagnosticStatus::WARN, "waiting for stereo input");
+    else if (last_.pose_valid && !last_.pose_trusted)
+      s.summary(DiagnosticStatus::ERROR, "pose not trusted: " + last_.untrusted_reason);
     else if (last_.state == TrackingState::TRACKING)
       s.summary(DiagnosticStatus::OK, "tracking");
     else if (last_.state == TrackingState::LOST)
@@ -372,6 +401,16 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     s.add("ms_per_frame", last_.stats.ms_total);
     s.add("fast_threshold", last_.stats.fast_threshold);
     s.add("resets", vo_ ? vo_->resets() : 0);
+    s.add("pose_trusted", last_.pose_trusted);
+    if (vo_)
+    {
+      const FailSafeCounters& f = vo_->failSafe();
+      s.add("untrusted_frames", f.untrusted_frames);
+      s.add("frozen_camera", f.frozen);
+      s.add("gyro_disagreement", f.gyro_disagreement);
+      s.add("frame_gaps", f.gaps);
+      s.add("time_jumps", f.time_jumps);
+    }
     s.add("frames", n_processed_);
     s.add("imu_samples", n_imu_);
     if (vo_)
@@ -403,6 +442,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
   ros::WallTimer watchdog_;
 
   VoOutput last_;
+  bool last_trusted_ = false;
   double last_stamp_ = -1.0;
   double imu_wait_start_ = -1.0;  // image stamp of the first frame that waited for the IMU
   double imu_wait_ = 1.0;         // s of image time

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <time.h>
 #include <cmath>
+#include <cstdio>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -111,6 +112,88 @@ void VisualOdometry::reset()
   ov_to_.clear();
   ov_inlier_.clear();
   gravity_.clear();
+  untrusted_ = true;
+  untrusted_why_.clear();
+  have_trusted_ = false;
+  prev_thumb_.release();
+  frozen_run_ = disagree_run_ = agree_needed_ = 0;
+  R_kf_prev_vision_.setIdentity();
+  fs_ = FailSafeCounters();
+}
+
+bool VisualOdometry::mayCoast(double stamp, bool have_gyro) const
+{
+  // Coasting is a guess: only with the gyro bounding the rotation, only briefly, and never once
+  // the pose has become untrusted (it stays so until a keyframe is tracked again).
+  return have_gyro && have_trusted_ && !untrusted_ && stamp - last_trusted_stamp_ <= p_.coast_max_s + 1e-6;
+}
+
+double VisualOdometry::imageChange(const cv::Mat& left)
+{
+  cv::Mat thumb((left.rows + 3) / 4, (left.cols + 3) / 4, CV_8UC1);
+  for (int y = 0; y < thumb.rows; ++y)
+  {
+    const uint8_t* src = left.ptr<uint8_t>(4 * y);
+    uint8_t* dst = thumb.ptr<uint8_t>(y);
+    for (int x = 0; x < thumb.cols; ++x)
+      dst[x] = src[4 * x];
+  }
+  double change = -1;
+  if (!prev_thumb_.empty() && prev_thumb_.size() == thumb.size())
+    change = cv::norm(thumb, prev_thumb_, cv::NORM_L1) / static_cast<double>(thumb.total());
+  prev_thumb_ = thumb;
+  return change;
+}
+
+void VisualOdometry::applyTrust(VoOutput& o, double stamp, bool coast_ok, const std::string& force_why)
+{
+  std::string why = force_why;
+  if (!o.pose_valid)
+    why = "no pose yet";
+  else if (why.empty())
+  {
+    if (o.state == TrackingState::TRACKING)
+    {
+      if (agree_needed_ > 0)
+        why = "image motion contradicted the gyro: " + std::to_string(agree_needed_) + " agreeing frames to go";
+    }
+    else if (o.state == TrackingState::INITIALISING)
+      why = "no keyframe yet";
+    else if (!coast_ok)
+      why = untrusted_ && !untrusted_why_.empty()
+                ? untrusted_why_
+                : std::string(p_.use_imu ? "lost for longer than coast_max_s" : "lost without a gyro to coast on") +
+                      (o.message.empty() ? "" : " (" + o.message + ")");
+  }
+  if (why.empty())
+  {
+    o.pose_trusted = true;
+    untrusted_ = false;
+    untrusted_why_.clear();
+    if (o.state == TrackingState::TRACKING)
+      last_trusted_stamp_ = stamp;  // coasting frames do not extend the coast window
+    trusted_T_odom_optical_ = o.T_odom_optical;
+    trusted_cov_ = o.pose_covariance;
+    have_trusted_ = true;
+    return;
+  }
+  // Untrusted: the last trusted pose, not a guess; no velocity.
+  o.pose_trusted = false;
+  o.untrusted_reason = why;
+  if (o.pose_valid)
+  {
+    untrusted_ = true;
+    untrusted_why_ = why;
+    ++fs_.untrusted_frames;
+  }
+  if (have_trusted_)
+  {
+    o.T_odom_optical = trusted_T_odom_optical_;
+    o.T_odom_link = linkPose(trusted_T_odom_optical_);
+    o.pose_covariance = trusted_cov_;
+  }
+  o.linear_velocity.setZero();
+  o.angular_velocity.setZero();
 }
 
 bool VisualOdometry::imageUsable(const cv::Mat& img, std::string& why) const
@@ -206,6 +289,7 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
   T_w_kf_ = T_w_cur_;
   T_kf_prev_ = Eigen::Isometry3d::Identity();
   R_kf_gyro_.setIdentity();
+  R_kf_prev_vision_.setIdentity();
   gyro_since_kf_ = true;
   t_kf_ = last_stamp_pending_;
   cov_kf_ = cov_cur_;
@@ -299,7 +383,10 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   const auto t_start = Clock::now();
   FrameStats st;
   st.fast_threshold = detector_.threshold();
+  std::string force_untrusted;  // gap / time jump, frozen camera, gyro contradiction, unusable input
+  bool coast_ok = false;        // a lost frame may still coast (decided once the gyro is known)
   auto finish = [&](VoOutput o) {
+    applyTrust(o, stamp, coast_ok, force_untrusted);
     o.stats.ms_total = msSince(t_start);
     return o;
   };
@@ -310,6 +397,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   {
     VoOutput o = makeOutput(TrackingState::LOST, st, Eigen::Isometry3d::Identity(), 0);
     o.message = "invalid stereo calibration (fx, baseline, size)";
+    force_untrusted = o.message;
     return finish(o);
   }
   if (left.empty() || right.empty() || left.type() != CV_8UC1 || right.type() != CV_8UC1 ||
@@ -318,9 +406,11 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
     VoOutput o = makeOutput(have_pose_ ? TrackingState::LOST : TrackingState::INITIALISING, st,
                             Eigen::Isometry3d::Identity(), 0);
     o.message = "stereo images empty, not mono8, or of a size different from camera_info";
+    force_untrusted = o.message;
     return finish(o);
   }
 
+  const bool first_frame = !have_pose_;
   if (!have_pose_)
   {
     const Eigen::Isometry3d T_odom_link0 =
@@ -335,12 +425,28 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
     last_stamp_ = stamp;
   }
 
+  // A stamp gap or time going backwards (bag loop), whatever the tracking state: the motion over
+  // it is unknown, so the pose is kept (not extrapolated; rotated by the gyro only when it covers
+  // the gap), a new keyframe is started and the frame is untrusted.
   double dt = stamp - last_stamp_;
+  const double dt_real = dt;
   bool gap = false;
-  if (have_keyframe_ && (dt <= 0.0 || dt > p_.max_frame_gap_s))
+  if (!first_frame && (dt <= 0.0 || dt > p_.max_frame_gap_s))
   {
-    why = dt <= 0.0 ? "time went backwards or repeated stamp: re-initialising"
-                    : "gap in the image stream: re-initialising";
+    char buf[160];
+    if (dt <= 0.0)
+    {
+      std::snprintf(buf, sizeof(buf), "time went backwards or repeated stamp (%.3f s): pose kept, re-initialising", dt);
+      ++fs_.time_jumps;
+    }
+    else
+    {
+      std::snprintf(buf, sizeof(buf), "gap of %.2f s in the image stream (> max_frame_gap_s): pose kept, re-initialising",
+                    dt);
+      ++fs_.gaps;
+    }
+    why = buf;
+    force_untrusted = why;
     gap = true;
     dt = last_dt_ > 0 ? last_dt_ : 1.0 / 15.0;
   }
@@ -358,25 +464,66 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   last_stamp_pending_ = stamp;
   if (gyro_bias_var_ < 0)
     gyro_bias_var_ = p_.gyro_bias_sigma * p_.gyro_bias_sigma;
-  const bool have_gyro = gyro_link && p_.use_imu && gyro_link->coeffs().allFinite() && dt > 0;
+  const bool have_gyro = gyro_link && p_.use_imu && gyro_link->coeffs().allFinite() && dt_real > 0;
   Eigen::Matrix3d R_gyro_opt = Eigen::Matrix3d::Identity();
   if (have_gyro)
   {
-    // bias-corrected: R = R_meas * exp(-b dt) (body frame)
-    const Eigen::Vector3d bdt = gyro_bias_link_ * dt;
+    // bias-corrected: R = R_meas * exp(-b dt) (body frame), over the real interval (also a gap's)
+    const Eigen::Vector3d bdt = gyro_bias_link_ * dt_real;
     const Eigen::Matrix3d Rl = gyro_link->normalized().toRotationMatrix() *
                                (bdt.norm() > 0 ? Eigen::AngleAxisd(-bdt.norm(), bdt.normalized()).toRotationMatrix()
                                                : Eigen::Matrix3d::Identity());
     R_gyro_opt = R_lo.transpose() * Rl * R_lo;
     T_pred.linear() = R_gyro_opt;
+    st.gyro_rate_dps = angleOf(Rl) / dt_real * 180.0 / M_PI;
   }
   if (gap)
     T_pred.translation().setZero();
+  coast_ok = mayCoast(stamp, have_gyro);
+  // Motion of a lost frame: the prediction while coasting, else none (the gyro's rotation only).
+  auto lostMotion = [&]() {
+    Eigen::Isometry3d T = T_pred;
+    if (!coast_ok || !force_untrusted.empty())
+    {
+      T.translation().setZero();
+      if (!have_gyro)
+        T.linear().setIdentity();
+    }
+    return T;
+  };
 
+  st.image_change = imageChange(left);
   if (!imageUsable(left, why) || !imageUsable(right, why))
   {
     last_dt_ = dt;
-    VoOutput o = fail(why, nullptr, nullptr, T_pred, stamp, st);
+    VoOutput o = fail(why, nullptr, nullptr, lostMotion(), stamp, st);
+    o.state = TrackingState::LOST;
+    return finish(o);
+  }
+
+  // Frozen camera: the image does not change while the gyro says the head turns. Such a frame
+  // carries no motion information (skipped: pose predicted); frozen_frames of them in a row make
+  // the pose untrusted until the image changes and a new keyframe is tracked. An unchanged image
+  // with a still head is normal (and with a noise-free camera, identical).
+  const bool unchanged = st.image_change >= 0 && st.image_change <= p_.frozen_max_change;
+  if (!unchanged)
+    frozen_run_ = 0;
+  else if (have_gyro && st.gyro_rate_dps >= p_.frozen_min_gyro_dps)
+    ++frozen_run_;
+  if (unchanged && frozen_run_ > 0)
+  {
+    char buf[160];
+    std::snprintf(buf, sizeof(buf), "frozen camera: image unchanged (%.2f) while the gyro turns %.1f deg/s",
+                  st.image_change, std::max(0.0, st.gyro_rate_dps));
+    if (frozen_run_ >= std::max(1, p_.frozen_frames))
+    {
+      if (frozen_run_ == std::max(1, p_.frozen_frames))
+        ++fs_.frozen;
+      if (force_untrusted.empty())
+        force_untrusted = buf;
+    }
+    last_dt_ = dt;
+    VoOutput o = fail(buf, nullptr, nullptr, lostMotion(), stamp, st);
     o.state = TrackingState::LOST;
     return finish(o);
   }
@@ -399,8 +546,8 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
     }
     if (!first)
     {
-      T_w_cur_ = T_w_cur_ * T_pred;
-      last_T_prev_cur_ = T_pred;
+      T_w_cur_ = T_w_cur_ * lostMotion();
+      last_T_prev_cur_ = lostMotion();
     }
     gravity_.clear();
     last_dt_ = dt;
@@ -409,7 +556,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
     last_stamp_ = stamp;
     const TrackingState s = have_keyframe_ ? (first ? TrackingState::TRACKING : TrackingState::REINITIALISING)
                                            : (first ? TrackingState::INITIALISING : TrackingState::LOST);
-    VoOutput o = makeOutput(s, st, first ? Eigen::Isometry3d::Identity() : T_pred, dt);
+    VoOutput o = makeOutput(s, st, first ? Eigen::Isometry3d::Identity() : lostMotion(), dt);
     o.message = why;
     if (!have_keyframe_)
       o.message = "too few features with stereo depth to start tracking";
@@ -558,7 +705,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   {
     st.inliers = static_cast<int>(rr.inliers.size());
     return finish(fail("too few inliers (" + std::to_string(rr.inliers.size()) + "): re-initialising", &left,
-                       &right, T_pred, stamp, st));
+                       &right, lostMotion(), stamp, st));
   }
 
   // ---- two-frame sparse bundle adjustment over the inliers ----
@@ -622,8 +769,40 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   else if (gyro_link && p_.use_imu &&
            angleOf(T_prev_cur.linear().transpose() * T_pred.linear()) > 0.05 + 0.5 * angleOf(T_pred.linear()))
     bad = "rotation disagrees with the gyro";
+  // Image motion contradicting the gyro (camera loose on the head, the view filled by something
+  // moving): the vision-only rotation of this frame against the gyro's, over several frames.
+  if (have_gyro && bad.empty())
+  {
+    const Eigen::Matrix3d R_vis_prev_cur = R_kf_prev_vision_.transpose() * R_vision;
+    st.gyro_disagreement_deg = angleOf(R_vis_prev_cur.transpose() * R_gyro_opt) * 180.0 / M_PI;
+    if (st.gyro_disagreement_deg > p_.gyro_disagreement_deg)
+      ++disagree_run_;
+    else
+    {
+      disagree_run_ = 0;
+      agree_needed_ = std::max(0, agree_needed_ - 1);
+    }
+    const int n = std::max(1, p_.gyro_disagreement_frames);
+    if (disagree_run_ >= n)
+    {
+      if (disagree_run_ == n)
+        ++fs_.gyro_disagreement;
+      agree_needed_ = n;
+      char buf[160];
+      std::snprintf(buf, sizeof(buf), "image motion contradicts the gyro (%.1f deg on %d frames)",
+                    st.gyro_disagreement_deg, disagree_run_);
+      bad = buf;
+      force_untrusted = bad;
+    }
+  }
+  else if (!have_gyro)
+  {
+    disagree_run_ = 0;
+    agree_needed_ = std::max(0, agree_needed_ - 1);  // nothing to check against
+  }
   if (!bad.empty())
-    return finish(fail(bad + ": re-initialising", &left, &right, T_pred, stamp, st));
+    return finish(fail(bad + ": re-initialising", &left, &right, lostMotion(), stamp, st));
+  R_kf_prev_vision_ = R_vision;
 
   // ---- accept ----
   std::vector<uint8_t> is_in(tracks_.size(), 0);

@@ -46,6 +46,7 @@ TEST(Conversions, RejectsBadCameraInfo)
 TEST(Conversions, OdometryRoundTrip)
 {
   VoOutput o;
+  o.pose_valid = o.pose_trusted = true;
   o.T_odom_link = Eigen::Translation3d(1.0, -2.0, 1.6) * Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 0.1, 1).normalized());
   o.linear_velocity = Eigen::Vector3d(0.9, 0.0, 0.1);
   o.angular_velocity = Eigen::Vector3d(0.0, 0.0, 0.5);
@@ -64,6 +65,29 @@ TEST(Conversions, OdometryRoundTrip)
   const geometry_msgs::TransformStamped t = toTransformMsg(o.T_odom_link, m.header.stamp, "odom", "camera_link");
   EXPECT_DOUBLE_EQ(t.transform.translation.y, -2.0);
   EXPECT_EQ(t.child_frame_id, "camera_link");
+}
+
+TEST(Conversions, UntrustedOdometryHasNullCovarianceAndNoTwist)
+{
+  VoOutput o;
+  o.pose_valid = true;
+  o.pose_trusted = false;  // e.g. lost beyond the coast limit: the last trusted pose
+  o.T_odom_link = Eigen::Translation3d(1.0, -2.0, 1.6) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ());
+  o.linear_velocity = Eigen::Vector3d(0.9, 0.0, 0.1);
+  o.pose_covariance.setConstant(0.5);
+  o.twist_covariance.setConstant(0.5);
+  const nav_msgs::Odometry m = toOdometryMsg(o, ros::Time(3.0), "odom", "camera_link");
+  EXPECT_TRUE(poseFromMsg(m.pose.pose).isApprox(o.T_odom_link, 1e-12));
+  EXPECT_EQ(m.twist.twist.linear.x, 0.0);
+  EXPECT_EQ(m.twist.twist.angular.z, 0.0);
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+    {
+      const size_t k = static_cast<size_t>(i * 6 + j);
+      EXPECT_EQ(m.pose.covariance[k], i == j ? kUntrustedVariance : 0.0) << i << "," << j;
+      EXPECT_EQ(m.twist.covariance[k], i == j ? kUntrustedVariance : 0.0) << i << "," << j;
+    }
+  EXPECT_EQ(kUntrustedVariance, 9999.0);  // the chain's contract (README "Topics")
 }
 
 int main(int argc, char** argv)

@@ -69,9 +69,26 @@ struct VoParams
   // --- failure handling and motion limits ---
   double max_speed_mps = 4.0;            // larger frame-to-frame translation = failure
   double max_angular_speed_dps = 400.0;  // larger frame-to-frame rotation = failure
-  double max_frame_gap_s = 1.0;          // a larger stamp gap re-initialises
+  double max_frame_gap_s = 1.0;          // a larger stamp gap (or time going backwards): the pose is
+                                         // kept (not extrapolated), a new keyframe, the frame untrusted
   double min_image_stddev = 4.0;         // black / saturated / flat frame detection
   double max_rotation_from_keyframe_deg = 25.0;  // new keyframe beyond this
+
+  // --- fail-safe: when the pose is no longer trusted (VoOutput::pose_trusted; README "Fail-safe") ---
+  // A lost frame coasts on the gyro (rotation) and the damped last velocity for at most this long
+  // after the last tracked frame; beyond it, or at once without a gyro, the pose is untrusted and
+  // no longer extrapolated until a new keyframe is tracked.
+  double coast_max_s = 0.3;
+  // Frozen camera: the left image (every 4th pixel) differs from the previous one by at most this
+  // mean absolute difference (gray levels) while the gyro turns at least frozen_min_gyro_dps ...
+  double frozen_max_change = 0.5;
+  double frozen_min_gyro_dps = 1.5;
+  int frozen_frames = 2;                 // ... on this many frames (a single repeat is only skipped)
+  // Image motion contradicting the gyro: the vision-only frame-to-frame rotation differs from the
+  // integrated gyro by more than this on this many consecutive tracked frames; trust returns after
+  // as many agreeing frames.
+  double gyro_disagreement_deg = 1.0;
+  int gyro_disagreement_frames = 3;
 
   // --- IMU (gyro prior) and odom frame ---
   bool use_imu = true;

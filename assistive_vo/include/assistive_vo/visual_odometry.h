@@ -35,12 +35,32 @@ struct FrameStats
   int detected = 0, klt_tracked = 0, epipolar_kept = 0;
   int aligned = 0;  ///< tracks refined against their keyframe patch
   bool keyframe = false, reset = false;
+  // fail-safe detector inputs of this frame (-1: not measured)
+  double image_change = -1;     ///< mean absolute difference to the previous left image (every 4th pixel)
+  double gyro_rate_dps = -1;    ///< bias-corrected gyro rate over the frame interval
+  double gyro_disagreement_deg = -1;  ///< vision-only frame-to-frame rotation against the gyro's
+};
+
+/// Fail-safe event counters (since construction / reset()).
+struct FailSafeCounters
+{
+  int frozen = 0;             ///< frozen-camera episodes detected
+  int gyro_disagreement = 0;  ///< episodes of image motion contradicting the gyro
+  int gaps = 0;               ///< frames after a stamp gap > max_frame_gap_s
+  int time_jumps = 0;         ///< frames whose stamp went backwards (or repeated)
+  int untrusted_frames = 0;   ///< frames output with pose_trusted = false
 };
 
 struct VoOutput
 {
   TrackingState state = TrackingState::INITIALISING;
-  bool pose_valid = false;                                 ///< false only before the first frame
+  bool pose_valid = false;                                 ///< a pose exists (false only before the first frame)
+  /// The pose may be guided on. False when lost beyond coast_max_s (or lost without a gyro), on a
+  /// frozen camera, while image motion contradicts the gyro, on the frame after a stamp gap or time
+  /// jump and until a new keyframe is tracked again. Untrusted frames carry the last trusted pose
+  /// (not extrapolated) and zero velocities; `untrusted_reason` says why.
+  bool pose_trusted = false;
+  std::string untrusted_reason;
   Eigen::Isometry3d T_odom_link = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_odom_optical = Eigen::Isometry3d::Identity();
   Eigen::Matrix<double, 6, 6> pose_covariance = Eigen::Matrix<double, 6, 6>::Zero();   ///< odom axes
@@ -82,6 +102,7 @@ public:
   /// Flow vectors of the last frame over the left image (BGR): green = inlier, red = rejected.
   cv::Mat drawOverlay(const cv::Mat& left) const;
   int resets() const { return resets_; }
+  const FailSafeCounters& failSafe() const { return fs_; }
   /// Current gyro bias estimate (camera_link axes, rad/s).
   const Eigen::Vector3d& gyroBias() const { return gyro_bias_link_; }
   bool started() const { return have_pose_; }
@@ -104,6 +125,14 @@ private:
   VoOutput fail(const std::string& why, const cv::Mat* left, const cv::Mat* right,
                 const Eigen::Isometry3d& T_prev_cur_pred, double stamp, FrameStats& st);
   VoOutput makeOutput(TrackingState s, const FrameStats& st, const Eigen::Isometry3d& T_prev_cur, double dt);
+  /// Decides pose_trusted for an output (README "Fail-safe"); `force_why`: a reason that makes
+  /// the frame untrusted whatever the state (gap, frozen camera, gyro contradiction).
+  void applyTrust(VoOutput& o, double stamp, bool coast_ok, const std::string& force_why);
+  /// Lost frame: may it still coast (pose predicted and trusted)?
+  bool mayCoast(double stamp, bool have_gyro) const;
+  /// Mean absolute difference of the left image to the previous one (every 4th pixel); -1 when
+  /// there is no previous image of the same size. Keeps this image for the next frame.
+  double imageChange(const cv::Mat& left);
   bool imageUsable(const cv::Mat& img, std::string& why) const;
   /// Cells of the detector's bucketing grid (bucketGrid) that hold a track.
   int occupiedCells() const;
@@ -152,5 +181,19 @@ private:
   double gyro_bias_var_ = -1.0;  // < 0: not initialised
   double last_stamp_pending_ = 0.0;
   GravityAligner gravity_;
+  // fail-safe state
+  bool frame_seen_ = false;           ///< a frame has been processed (stamps are comparable)
+  bool untrusted_ = true;             ///< latched until a keyframe is tracked again
+  std::string untrusted_why_;
+  double last_trusted_stamp_ = 0.0;   ///< stamp of the last tracked (or trusted coasting) frame
+  Eigen::Isometry3d trusted_T_odom_optical_ = Eigen::Isometry3d::Identity();
+  Eigen::Matrix<double, 6, 6> trusted_cov_ = Eigen::Matrix<double, 6, 6>::Zero();
+  bool have_trusted_ = false;
+  cv::Mat prev_thumb_;                ///< left image of the previous frame, every 4th pixel
+  int frozen_run_ = 0;                ///< unchanged frames while the gyro turned
+  int disagree_run_ = 0;              ///< consecutive tracked frames contradicting the gyro
+  int agree_needed_ = 0;              ///< agreeing tracked frames still needed after a contradiction
+  Eigen::Matrix3d R_kf_prev_vision_ = Eigen::Matrix3d::Identity();  ///< vision-only, keyframe -> previous
+  FailSafeCounters fs_;
 };
 }  // namespace assistive_vo
