@@ -51,9 +51,9 @@ std::string stampText(const ros::Time& t)
   return b;
 }
 
-/// The image as CV_8UC1. mono8 as is; 8-bit colour and mono16 converted (one warning per topic in
-/// `warned`); anything else (float depth, Bayer, unknown, malformed) a std::runtime_error naming
-/// the topic, the stamp and the encoding.
+/// The image as CV_8UC1. mono8 as is; 8-bit colour and mono16 converted (one warning per
+/// encoding: `warned` holds those seen); anything else (float depth, Bayer, unknown, malformed)
+/// a std::runtime_error naming the topic, the stamp and the encoding.
 cv::Mat toMono(const sensor_msgs::ImageConstPtr& msg, const std::string& topic, std::set<std::string>& warned)
 {
   namespace enc = sensor_msgs::image_encodings;
@@ -74,9 +74,9 @@ cv::Mat toMono(const sensor_msgs::ImageConstPtr& msg, const std::string& topic, 
   {
     if (e == enc::MONO8)
       return cv_bridge::toCvCopy(msg)->image;
-    if (warned.insert(topic).second)
-      std::fprintf(stderr, "StereoBagReader: warning: %s is %s, converting to mono8 (stereo bags hold mono8)\n",
-                   topic.c_str(), e.c_str());
+    if (warned.insert(e).second)
+      std::fprintf(stderr, "StereoBagReader: warning: %s images (%s), converting to mono8 (stereo bags hold mono8)\n",
+                   e.c_str(), topic.c_str());
     return cv_bridge::toCvCopy(msg, enc::MONO8)->image;
   }
   catch (const cv_bridge::Exception& ex)
@@ -190,7 +190,7 @@ struct StereoBagReader::Impl
   std::unique_ptr<rosbag::View> view;
   rosbag::View::iterator it;
   std::map<int64_t, cv::Mat> pending_left, pending_right;
-  std::set<std::string> warned;  ///< image topics already warned about a colour encoding
+  std::set<std::string> warned;  ///< image encodings already warned about (converted to mono8)
 };
 
 StereoBagReader::StereoBagReader(const std::string& path, const StereoBagTopics& topics)

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <sys/wait.h>
 
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
@@ -138,5 +139,26 @@ TEST(RenderBagCliErrors, MalformedWorldNamesLine)
   ss << in.rdbuf();
   EXPECT_NE(ss.str().find(":4: field 'elements[0](box).size'"), std::string::npos) << ss.str();
   std::remove(yaml.c_str());
+  std::remove(log.c_str());
+}
+
+TEST(RenderBagCliErrors, HelpExitsZeroUnknownOptionGivesUsage)
+{
+  const std::string log = std::string(::testing::TempDir()) + "assistive_sim_render_help.log";
+  auto read = [&]() {
+    std::ifstream in(log);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  for (const char* h : {"--help", "-h"})
+  {
+    EXPECT_EQ(std::system((std::string(RENDER_BAG_EXE) + " " + h + " > " + log + " 2>/dev/null").c_str()), 0) << h;
+    EXPECT_NE(read().find("usage: render_bag"), std::string::npos) << read();
+  }
+  const int st = std::system((std::string(RENDER_BAG_EXE) + " --no-such-option 2> " + log + " > /dev/null").c_str());
+  ASSERT_TRUE(WIFEXITED(st));
+  EXPECT_EQ(WEXITSTATUS(st), 2);
+  EXPECT_NE(read().find("usage: render_bag"), std::string::npos) << read();
   std::remove(log.c_str());
 }

@@ -2,9 +2,16 @@
 #include <assistive_sim/conversions.h>
 #include <assistive_sim/stereo_bag.h>
 
+#include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/image_encodings.h>
 
 using namespace assistive_sim;
 
@@ -104,6 +111,173 @@ TEST(StereoBag, RoundTrip)
 TEST(StereoBag, MissingBagThrows)
 {
   EXPECT_THROW(StereoBagReader("/nonexistent/x.bag"), std::runtime_error);
+}
+
+namespace
+{
+/// A copy of a good 3-frame bag with every message passed through `edit` (topic, image or
+/// camera_info to change in place; return false to drop the message). Returns the path.
+std::string brokenBag(const std::string& name,
+                      const std::function<bool(const std::string&, sensor_msgs::Image*, sensor_msgs::CameraInfo*)>& edit)
+{
+  const std::string good = std::string(::testing::TempDir()) + "assistive_sim_test_good.bag";
+  {
+    StereoBagWriter w(good);
+    for (int i = 0; i < 3; ++i) w.writeFrame(makeFrame(i));
+  }
+  const std::string path = std::string(::testing::TempDir()) + "assistive_sim_test_" + name + ".bag";
+  rosbag::Bag in(good, rosbag::bagmode::Read), out(path, rosbag::bagmode::Write);
+  for (const rosbag::MessageInstance& m : rosbag::View(in))
+  {
+    if (auto img = m.instantiate<sensor_msgs::Image>())
+    {
+      sensor_msgs::Image c = *img;
+      if (edit(m.getTopic(), &c, nullptr)) out.write(m.getTopic(), m.getTime(), c);
+    }
+    else if (auto info = m.instantiate<sensor_msgs::CameraInfo>())
+    {
+      sensor_msgs::CameraInfo c = *info;
+      if (edit(m.getTopic(), nullptr, &c)) out.write(m.getTopic(), m.getTime(), c);
+    }
+    else if (edit(m.getTopic(), nullptr, nullptr))
+      out.write(m.getTopic(), m.getTime(), m);
+  }
+  in.close();
+  out.close();
+  std::remove(good.c_str());
+  return path;
+}
+
+/// The std::runtime_error message of constructing a reader on `path` and reading every frame.
+std::string readError(const std::string& path)
+{
+  try
+  {
+    StereoBagReader r(path);
+    StereoFrame f;
+    while (r.next(f))
+    {
+    }
+  }
+  catch (const std::runtime_error& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+
+void toRgb8(sensor_msgs::Image* img)
+{
+  std::vector<uint8_t> d;
+  for (uint8_t v : img->data) d.insert(d.end(), {v, v, v});
+  img->data = d;
+  img->encoding = sensor_msgs::image_encodings::RGB8;
+  img->step = img->width * 3;
+}
+}  // namespace
+
+TEST(StereoBag, NoCameraInfoIsAnErrorNotADefaultCalibration)
+{
+  for (const std::string topic : {"/stereo/left/camera_info", "/stereo/right/camera_info"})
+  {
+    const std::string path = brokenBag("noinfo", [&](const std::string& t, sensor_msgs::Image*, sensor_msgs::CameraInfo*) {
+      return t != topic;
+    });
+    const std::string e = readError(path);
+    EXPECT_NE(e.find("has no " + topic), std::string::npos) << e;
+    std::remove(path.c_str());
+  }
+}
+
+TEST(StereoBag, UnusableCalibrationIsAnError)
+{
+  // NaN focal length (P and K), zero intrinsics, a right P without a baseline
+  const std::string nan = brokenBag("nan", [](const std::string&, sensor_msgs::Image*, sensor_msgs::CameraInfo* c) {
+    if (c) c->P[0] = c->K[0] = std::nan("");
+    return true;
+  });
+  EXPECT_NE(readError(nan).find("invalid intrinsics fx nan"), std::string::npos) << readError(nan);
+  const std::string zero = brokenBag("zero", [](const std::string&, sensor_msgs::Image*, sensor_msgs::CameraInfo* c) {
+    if (c) c->P.fill(0.0), c->K.fill(0.0);
+    return true;
+  });
+  EXPECT_NE(readError(zero).find("invalid intrinsics"), std::string::npos) << readError(zero);
+  const std::string nob = brokenBag("nobaseline", [](const std::string&, sensor_msgs::Image*, sensor_msgs::CameraInfo* c) {
+    if (c) c->P[3] = 0.0;
+    return true;
+  });
+  EXPECT_NE(readError(nob).find("/stereo/right/camera_info"), std::string::npos) << readError(nob);
+  EXPECT_NE(readError(nob).find("baseline"), std::string::npos) << readError(nob);
+  for (const auto& p : {nan, zero, nob}) std::remove(p.c_str());
+}
+
+TEST(StereoBag, ColourImagesAreConvertedToMono8)
+{
+  const std::string path = brokenBag("rgb8", [](const std::string&, sensor_msgs::Image* img, sensor_msgs::CameraInfo*) {
+    if (img) toRgb8(img);
+    return true;
+  });
+  StereoBagReader r(path);
+  StereoFrame f;
+  int n = 0;
+  while (r.next(f))
+  {
+    ASSERT_EQ(f.left.type(), CV_8UC1);
+    EXPECT_EQ(f.left.at<uint8_t>(0, 0), n);
+    EXPECT_EQ(f.left.at<uint8_t>(3, 5), 255);
+    EXPECT_EQ(f.right.at<uint8_t>(0, 0), 100 + n);
+    ++n;
+  }
+  EXPECT_EQ(n, 3);
+  std::remove(path.c_str());
+}
+
+TEST(StereoBag, UnsupportedOrMalformedImagesAreErrorsNamingTopicAndEncoding)
+{
+  const std::string fl = brokenBag("float", [](const std::string& t, sensor_msgs::Image* img, sensor_msgs::CameraInfo*) {
+    if (img && t == "/stereo/right/image_rect")
+    {
+      img->encoding = sensor_msgs::image_encodings::TYPE_32FC1;
+      img->step = img->width * 4;
+      img->data.resize(img->step * img->height);
+    }
+    return true;
+  });
+  const std::string e = readError(fl);
+  EXPECT_NE(e.find("/stereo/right/image_rect"), std::string::npos) << e;
+  EXPECT_NE(e.find("'32FC1' is not supported"), std::string::npos) << e;
+  const std::string sh = brokenBag("short", [](const std::string&, sensor_msgs::Image* img, sensor_msgs::CameraInfo*) {
+    if (img) img->data.resize(img->data.size() / 2);
+    return true;
+  });
+  EXPECT_NE(readError(sh).find("malformed mono8 image"), std::string::npos) << readError(sh);
+  for (const auto& p : {fl, sh}) std::remove(p.c_str());
+}
+
+TEST(StereoBag, SizeMismatchesAreErrors)
+{
+  auto crop = [](sensor_msgs::Image* img) {  // keep the top-left 16x12
+    std::vector<uint8_t> d;
+    for (uint32_t y = 0; y < 12; ++y)
+      d.insert(d.end(), img->data.begin() + y * img->step, img->data.begin() + y * img->step + 16);
+    img->data = d;
+    img->width = img->step = 16;
+    img->height = 12;
+  };
+  const std::string lr = brokenBag("lr", [&](const std::string& t, sensor_msgs::Image* img, sensor_msgs::CameraInfo*) {
+    if (img && t == "/stereo/right/image_rect") crop(img);
+    return true;
+  });
+  EXPECT_NE(readError(lr).find("/stereo/left/image_rect is 32x24 but /stereo/right/image_rect is 16x12"),
+            std::string::npos)
+      << readError(lr);
+  const std::string both = brokenBag("both", [&](const std::string&, sensor_msgs::Image* img, sensor_msgs::CameraInfo*) {
+    if (img) crop(img);
+    return true;
+  });
+  EXPECT_NE(readError(both).find("images are 16x12 but /stereo/left/camera_info says 32x24"), std::string::npos)
+      << readError(both);
+  for (const auto& p : {lr, both}) std::remove(p.c_str());
 }
 
 TEST(Conversions, RoundTrip)

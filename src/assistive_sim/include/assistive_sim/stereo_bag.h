@@ -79,7 +79,7 @@ private:
 /// frame, else the first one); the gt pose from /ground_truth/odom at the same stamp (within
 /// 1 ms); IMU samples are those after the previous frame up to this frame.
 /// Images must be mono8; rgb8, bgr8, rgba8, bgra8 and mono16 are converted to mono8 with one
-/// warning per topic on stderr. There is no default calibration.
+/// warning line per encoding on stderr. There is no default calibration.
 class StereoBagReader
 {
 public:

@@ -8,13 +8,23 @@
 #include <gtest/gtest.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Odometry.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/image_encodings.h>
 #include <tf2_eigen/tf2_eigen.h>
 
 #include <array>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <memory>
+#include <sstream>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "real_data.h"
@@ -45,6 +55,50 @@ int run(const std::string& cmd, std::string& out)
     out.append(buf.data(), n);
   const int rc = ::pclose(f);
   return WEXITSTATUS(rc);
+}
+
+/// How a command ended: exit code (or the signal that killed it), stdout and stderr.
+struct Outcome
+{
+  bool exited = false;  ///< false: killed by a signal (abort, segfault)
+  int code = -1;        ///< exit code, or the signal number
+  std::string out, err;
+};
+Outcome runCapture(const std::string& cmd)
+{
+  Outcome o;
+  const std::string err_file = testing::TempDir() + "/cli_stderr_" + std::to_string(::getpid()) + ".txt";
+  // exec: the shell becomes the command, so a signal reaches pclose as a signal, not as 128 + n
+  FILE* f = ::popen(("exec " + cmd + " 2>" + err_file).c_str(), "r");
+  if (!f)
+    return o;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), f)) > 0)
+    o.out.append(buf.data(), n);
+  const int st = ::pclose(f);
+  o.exited = WIFEXITED(st);
+  o.code = o.exited ? WEXITSTATUS(st) : (WIFSIGNALED(st) ? WTERMSIG(st) : -1);
+  std::ifstream e(err_file);
+  std::stringstream ss;
+  ss << e.rdbuf();
+  o.err = ss.str();
+  std::remove(err_file.c_str());
+  return o;
+}
+/// A clean failure: a normal exit with a non-zero code below 128 (no abort, no signal).
+::testing::AssertionResult cleanFailure(const Outcome& o)
+{
+  if (!o.exited)
+    return ::testing::AssertionFailure() << "killed by signal " << o.code << "; stderr: " << o.err;
+  if (o.code == 0 || o.code >= 128)
+    return ::testing::AssertionFailure() << "exit code " << o.code << "; stderr: " << o.err;
+  return ::testing::AssertionSuccess();
+}
+bool fileExists(const std::string& p)
+{
+  struct stat st;
+  return ::stat(p.c_str(), &st) == 0;
 }
 
 std::string lastLine(const std::string& s)
@@ -246,4 +300,242 @@ TEST(ImportDataset, MissingFolderIsAClearErrorWithNonZeroExit)
   std::string out;
   EXPECT_EQ(run(exeDir() + "/import_dataset euroc /nonexistent/euroc --out " + testing::TempDir() + "/x.bag", out), 1);
   EXPECT_EQ(run(exeDir() + "/import_dataset kitti", out), 2);  // usage
+}
+
+// ------------------------------------------------------------------ every CLI: --help, -h, unknown options
+namespace
+{
+/// The repository's CLIs: this package's next to this test, the stage packages' in their devel
+/// lib folders (devel/lib/<package>/<name>; built by .ci/build before the tests run).
+std::vector<std::string> allClis()
+{
+  const std::string lib = exeDir() + "/..";
+  return {exeDir() + "/import_dataset",
+          exeDir() + "/evaluate_trajectory",
+          exeDir() + "/evaluate_map",
+          exeDir() + "/render_bag",
+          lib + "/assistive_vo/vo_benchmark",
+          lib + "/assistive_obstacles/obstacles_benchmark",
+          lib + "/assistive_obstacles/disparity_benchmark",
+          lib + "/assistive_planner/planner_benchmark",
+          lib + "/assistive_tactile/tactile_benchmark",
+          lib + "/assistive_tactile/sim_vest"};
+}
+bool hasUsage(const std::string& s) { return s.find("usage:") != std::string::npos; }
+}  // namespace
+
+TEST(CliContract, HelpPrintsUsageAndExitsZeroUnknownOptionsFail)
+{
+  int checked = 0;
+  for (const std::string& exe : allClis())
+  {
+    if (!fileExists(exe))
+    {
+      std::printf("[ SKIPPED  ] %s is not built\n", exe.c_str());
+      continue;
+    }
+    ++checked;
+    for (const char* h : {"--help", "-h"})
+    {
+      const Outcome o = runCapture(exe + " " + h);
+      EXPECT_TRUE(o.exited && o.code == 0) << exe << " " << h << ": exit " << o.code << "\n" << o.err;
+      EXPECT_TRUE(hasUsage(o.out)) << exe << " " << h << " stdout: " << o.out;
+    }
+    for (const char* bad : {"--no-such-option", "-q"})
+    {
+      const Outcome o = runCapture(exe + " " + bad);
+      EXPECT_TRUE(cleanFailure(o)) << exe << " " << bad;
+      EXPECT_EQ(o.out.find('{'), std::string::npos) << exe << " " << bad << " ran: " << o.out;
+      if (exe.find("sim_vest") == std::string::npos)  // sim_vest names the argument, without usage
+      {
+        EXPECT_TRUE(hasUsage(o.err)) << exe << " " << bad << " stderr: " << o.err;
+      }
+    }
+  }
+  EXPECT_GE(checked, 4);  // this package's CLIs at least
+}
+
+// ------------------------------------------------------------------ broken stereo bags
+namespace
+{
+/// A small stereo bag the benchmarks can run on: 4 frames of 160x120 random texture, the right
+/// image 8 px shifted, ground-truth poses and an occupancy grid.
+std::string goodStereoBag()
+{
+  const std::string path = testing::TempDir() + "/cli_good_stereo.bag";
+  StereoBagWriter w(path);
+  OccupancyGrid g;
+  g.origin_x = g.origin_y = -5.0;
+  g.resolution = 0.2;
+  g.width = g.height = 50;
+  g.data.assign(50 * 50, 0);
+  w.writeOccupancy(g, 100.0);
+  cv::RNG rng(7);
+  cv::Mat noise(60, 84, CV_8UC1), big;  // blobs of about 2 px
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
+  cv::resize(noise, big, cv::Size(168, 120), 0, 0, cv::INTER_LINEAR);
+  for (int i = 0; i < 4; ++i)
+  {
+    StereoFrame f;
+    f.stamp = 100.0 + i / 15.0;
+    f.calib.width = 160;
+    f.calib.height = 120;
+    f.calib.fx = f.calib.fy = 125.0;
+    f.calib.cx = 79.5;
+    f.calib.cy = 59.5;
+    f.calib.baseline = 0.12;
+    f.left = big(cv::Rect(8, 0, 160, 120)).clone();
+    f.right = big(cv::Rect(0, 0, 160, 120)).clone();
+    f.has_gt_pose = true;
+    f.gt_pose = Eigen::Translation3d(0.05 * i, 0.0, 1.6) * linkToLeftOptical();
+    w.writeFrame(f);
+  }
+  w.close();
+  return path;
+}
+
+/// A copy of `good` with images / camera_infos edited in place (return false to drop a message).
+std::string editBag(const std::string& good, const std::string& name,
+                    const std::function<bool(const std::string&, sensor_msgs::Image*, sensor_msgs::CameraInfo*)>& edit)
+{
+  const std::string path = testing::TempDir() + "/cli_" + name + ".bag";
+  rosbag::Bag in(good, rosbag::bagmode::Read), out(path, rosbag::bagmode::Write);
+  for (const rosbag::MessageInstance& m : rosbag::View(in))
+  {
+    if (auto img = m.instantiate<sensor_msgs::Image>())
+    {
+      sensor_msgs::Image c = *img;
+      if (edit(m.getTopic(), &c, nullptr))
+        out.write(m.getTopic(), m.getTime(), c);
+    }
+    else if (auto info = m.instantiate<sensor_msgs::CameraInfo>())
+    {
+      sensor_msgs::CameraInfo c = *info;
+      if (edit(m.getTopic(), nullptr, &c))
+        out.write(m.getTopic(), m.getTime(), c);
+    }
+    else if (edit(m.getTopic(), nullptr, nullptr))
+      out.write(m.getTopic(), m.getTime(), m);
+  }
+  return path;
+}
+
+bool isStereoImage(const std::string& t) { return t == "/stereo/left/image_rect" || t == "/stereo/right/image_rect"; }
+}  // namespace
+
+TEST(CliContract, StereoBagClisFailCleanlyOnBrokenBags)
+{
+  const std::string lib = exeDir() + "/..";
+  std::vector<std::string> clis;
+  for (const std::string& e : {lib + "/assistive_vo/vo_benchmark", lib + "/assistive_obstacles/obstacles_benchmark"})
+    if (fileExists(e))
+      clis.push_back(e);
+    else
+      std::printf("[ SKIPPED  ] %s is not built\n", e.c_str());
+  if (clis.empty())
+    GTEST_SKIP() << "no stereo bag benchmark built";
+
+  const std::string good = goodStereoBag();
+  const std::string rgb8 = editBag(good, "rgb8", [](const std::string& t, sensor_msgs::Image* img, sensor_msgs::CameraInfo*) {
+    if (img && isStereoImage(t))
+    {
+      std::vector<uint8_t> d;
+      for (uint8_t v : img->data)
+        d.insert(d.end(), {v, v, v});
+      img->data = d;
+      img->encoding = sensor_msgs::image_encodings::RGB8;
+      img->step = img->width * 3;
+    }
+    return true;
+  });
+  const std::string depth = editBag(good, "32fc1", [](const std::string& t, sensor_msgs::Image* img, sensor_msgs::CameraInfo*) {
+    if (img && isStereoImage(t))
+    {
+      img->encoding = sensor_msgs::image_encodings::TYPE_32FC1;
+      img->step = img->width * 4;
+      img->data.assign(img->step * img->height, 0);
+    }
+    return true;
+  });
+  const std::string noinfo = editBag(good, "noinfo", [](const std::string&, sensor_msgs::Image*, sensor_msgs::CameraInfo* c) {
+    return c == nullptr;
+  });
+  const std::string nan = editBag(good, "naninfo", [](const std::string&, sensor_msgs::Image*, sensor_msgs::CameraInfo* c) {
+    if (c)
+      c->K[0] = c->P[0] = std::nan("");
+    return true;
+  });
+  const std::string sizes = editBag(good, "sizes", [](const std::string& t, sensor_msgs::Image* img, sensor_msgs::CameraInfo*) {
+    if (img && t == "/stereo/right/image_rect")
+    {
+      img->height /= 2;
+      img->data.resize(img->step * img->height);
+    }
+    return true;
+  });
+  for (const std::string& exe : clis)
+  {
+    const std::string args = " --frames 3 " + std::string(exe.find("vo_") != std::string::npos ? "--no-peer --plot " : "--png ") +
+                             testing::TempDir() + "/cli_broken_plot.png";
+    // rgb8: converted to mono8 with a one-line warning, the run completes with its JSON line
+    Outcome o = runCapture(exe + " " + rgb8 + args);
+    EXPECT_TRUE(o.exited && o.code == 0) << exe << " rgb8: exit " << o.code << "\n" << o.err;
+    EXPECT_NE(o.err.find("warning: rgb8 images"), std::string::npos) << o.err;
+    EXPECT_EQ(lastLine(o.out).front(), '{') << o.out;
+    // 32FC1 images: an error naming the encoding
+    o = runCapture(exe + " " + depth + args);
+    EXPECT_TRUE(cleanFailure(o)) << exe << " 32FC1";
+    EXPECT_NE(o.err.find("'32FC1' is not supported"), std::string::npos) << o.err;
+    // no camera_info / NaN camera_info: an error, never the default calibration
+    o = runCapture(exe + " " + noinfo + args);
+    EXPECT_TRUE(cleanFailure(o)) << exe << " no camera_info";
+    EXPECT_NE(o.err.find("has no /stereo/left/camera_info"), std::string::npos) << o.err;
+    o = runCapture(exe + " " + nan + args);
+    EXPECT_TRUE(cleanFailure(o)) << exe << " NaN camera_info";
+    EXPECT_NE(o.err.find("invalid intrinsics fx nan"), std::string::npos) << o.err;
+    // left and right images of different sizes
+    o = runCapture(exe + " " + sizes + args);
+    EXPECT_TRUE(cleanFailure(o)) << exe << " sizes";
+    EXPECT_NE(o.err.find("/stereo/left/image_rect is 160x120 but /stereo/right/image_rect is 160x60"),
+              std::string::npos)
+        << o.err;
+  }
+  for (const auto& p : {good, rgb8, depth, noinfo, nan, sizes})
+    std::remove(p.c_str());
+}
+
+TEST(ImportDataset, SizeMismatchNamesTheImageAndLeavesNoPartialBag)
+{
+  // a 'pairs' folder of 64x48 images whose third right image is 40x30
+  const std::string dir = testing::TempDir() + "/cli_pairs_mismatch";
+  for (const std::string& sub : {std::string(), std::string("/left"), std::string("/right")})
+    ::mkdir((dir + sub).c_str(), 0755);
+  cv::RNG rng(3);
+  for (int i = 0; i < 4; ++i)
+  {
+    cv::Mat img(48, 64, CV_8UC1);
+    rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+    const std::string name = "/000" + std::to_string(i) + ".png";
+    ASSERT_TRUE(cv::imwrite(dir + "/left" + name, img));
+    ASSERT_TRUE(cv::imwrite(dir + "/right" + name, i == 2 ? cv::Mat(img(cv::Rect(0, 0, 40, 30))) : img));
+  }
+  for (const std::string side : {"left", "right"})
+  {
+    std::ofstream y(dir + "/stereo_" + side + ".yaml");
+    y << "image_width: 64\nimage_height: 48\n"
+         "camera_matrix: {rows: 3, cols: 3, data: [50, 0, 31.5, 0, 50, 23.5, 0, 0, 1]}\n"
+         "projection_matrix: {rows: 3, cols: 4, data: [50, 0, 31.5, "
+      << (side == "left" ? "0" : "-6") << ", 0, 50, 23.5, 0, 0, 0, 1, 0]}\n";
+  }
+  const std::string bag = testing::TempDir() + "/cli_pairs_mismatch.bag";
+  std::remove(bag.c_str());
+  const Outcome o = runCapture(exeDir() + "/import_dataset pairs " + dir + " --out " + bag);
+  EXPECT_TRUE(cleanFailure(o));
+  EXPECT_NE(o.err.find("right image '" + dir + "/right/0002.png' is 40x30"), std::string::npos) << o.err;
+  EXPECT_FALSE(fileExists(bag)) << "partial output left behind";
+  // the first two frames alone import fine
+  const Outcome ok = runCapture(exeDir() + "/import_dataset pairs " + dir + " --out " + bag + " --max-frames 2");
+  EXPECT_TRUE(ok.exited && ok.code == 0) << ok.err;
+  EXPECT_NE(lastLine(ok.out).find("\"frames\": 2"), std::string::npos) << ok.out;
+  std::remove(bag.c_str());
 }
