@@ -8,7 +8,7 @@
 //                  (the bytes are in the serial driver) -- the SPEC's latency_ms_* figures;
 //   state->bytes : NavigationState in -> cue logic -> TactileCue -> ... -> write() returned;
 //   vest decode  : TactileCue in -> the vest's parser accepted the packet (other thread).
-// The radio / UART time on a real link comes on top (13 bytes at 57600 baud = 2.26 ms, computed).
+// The radio / UART time on a real link comes on top (15 bytes at 57600 baud = 2.60 ms, computed).
 // Then:
 //   all-off      : the bridge (VestBridgeRunner, as in the nodelet) gets a few cues, the last one
 //                  stamped 0-40 ms before it arrives, then none: time from that cue's header.stamp
@@ -411,7 +411,7 @@ int main(int argc, char** argv)
   const Clock::time_point f0 = Clock::now();
   const FramingResult fr = framingBenchmark(corruptions, seed);
   const double f_s = std::chrono::duration<double>(Clock::now() - f0).count();
-  std::printf("framing (protocol v%u, COBS + CRC-16): %llu corruptions in %llu streams of 16 packets (%.1f s): "
+  std::printf("framing (protocol v%u, COBS + CRC-32C): %llu corruptions in %llu streams of 16 packets (%.1f s): "
               "%llu of %llu packets decoded intact, %llu false accepts (motor pattern never sent), %llu altered "
               "(pattern sent, other field changed), %llu damaged full-length frames stopped by the CRC\n",
               VEST_PROTOCOL_VERSION, static_cast<unsigned long long>(fr.corruptions),

@@ -16,7 +16,7 @@ namespace
 {
 // Wake-up jitter of the housekeeping thread plus the write() call: the all-off is sent this much
 // (plus the packet's wire time) before a cue expires, so it has landed by the expiry.
-constexpr double kWakeMarginS = 0.002;
+constexpr double kWakeMarginS = 0.005;
 
 std::atomic<bool> g_signalled{ false };
 }  // namespace

@@ -136,7 +136,7 @@ TEST(VestBridge, AllOffWithinStaleTimeWhenCuesStop)
   p.stale_s = 0.3;
   Rig rig(p);
   const double lead = rig.bridge->offLeadS();
-  EXPECT_NEAR(lead, 13 * 10.0 / 57600 + 0.002, 1e-9);  // 13 bytes on the wire + wake-up margin
+  EXPECT_NEAR(lead, 15 * 10.0 / 57600 + 0.005, 1e-9);  // 15 bytes on the wire + wake-up margin
   const double t0 = rig.t;
   rig.bridge->setCue({ { 1.f, 0.f, 0.f, 0.f } }, t0);
   rig.pump();
@@ -383,19 +383,12 @@ TEST(VestBridge, OtherProtocolVersionFromTheVestIsReported)
   Rig rig;
   // A STATUS of protocol version 3 (valid CRC): not a STATUS for us, counted with its version.
   const uint8_t raw[8] = { 3, VEST_TYPE_STATUS, 1, 0, 0, 0, 0, 0 };
-  uint8_t full[10];
-  std::memcpy(full, raw, 8);
-  const uint16_t crc = vest_crc16(raw, 8);
-  full[8] = static_cast<uint8_t>(crc >> 8);
-  full[9] = static_cast<uint8_t>(crc & 0xFF);
-  uint8_t frame[13];
-  frame[0] = 0;
-  const uint8_t n = vest_cobs_encode(full, 10, frame + 1);
-  frame[n + 1] = 0;
+  uint8_t frame[VEST_PACKET_SIZE];
+  const uint8_t len = vest_frame(raw, 8, frame);
   rig.bridge->waitForInput(200);  // the STATUS answering the bridge's first packet
   rig.advance(0.0);
   const uint64_t st = rig.bridge->stats().status_packets;
-  ASSERT_TRUE(rig.vest.inject(frame, n + 2u));
+  ASSERT_TRUE(rig.vest.inject(frame, len));
   ASSERT_TRUE(rig.bridge->waitForInput(200));
   rig.advance(0.0);
   EXPECT_EQ(rig.bridge->stats().version_mismatches, 1u);

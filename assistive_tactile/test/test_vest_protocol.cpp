@@ -31,16 +31,10 @@ std::vector<uint8_t> bytes(const vest_packet_t& p)
 
 /// The frame of a packet with hand-made raw bytes (VERSION .. before the CRC): CRC appended,
 /// COBS-encoded, between delimiters.
-std::vector<uint8_t> frameOf(std::vector<uint8_t> raw)
+std::vector<uint8_t> frameOf(const std::vector<uint8_t>& raw)
 {
-  const uint16_t crc = vest_crc16(raw.data(), static_cast<uint8_t>(raw.size()));
-  raw.push_back(static_cast<uint8_t>(crc >> 8));
-  raw.push_back(static_cast<uint8_t>(crc & 0xFF));
-  std::vector<uint8_t> out(raw.size() + 3);
-  out[0] = 0;
-  const uint8_t n = vest_cobs_encode(raw.data(), static_cast<uint8_t>(raw.size()), out.data() + 1);
-  out.resize(n + 2u);
-  out[n + 1u] = 0;
+  std::vector<uint8_t> out(raw.size() + 7);
+  out.resize(vest_frame(raw.data(), static_cast<uint8_t>(raw.size()), out.data()));
   return out;
 }
 
@@ -68,12 +62,12 @@ void append(std::vector<uint8_t>* s, const std::vector<uint8_t>& b)
 }
 }  // namespace
 
-TEST(VestProtocol, Crc16CheckValue)
+TEST(VestProtocol, Crc32cCheckValue)
 {
-  // CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF) catalogue check value.
+  // CRC-32C (iSCSI / Castagnoli) catalogue check value.
   const uint8_t msg[] = { '1', '2', '3', '4', '5', '6', '7', '8', '9' };
-  EXPECT_EQ(vest_crc16(msg, 9), 0x29B1);
-  EXPECT_EQ(vest_crc16(msg, 0), 0xFFFF);
+  EXPECT_EQ(vest_crc32c(msg, 9), 0xE3069283u);
+  EXPECT_EQ(vest_crc32c(msg, 0), 0x00000000u);
 }
 
 TEST(VestProtocol, CobsTable)
@@ -105,16 +99,16 @@ TEST(VestProtocol, CobsTable)
 
 TEST(VestProtocol, KnownEncoding)
 {
-  // seq 7, motors 0x5, duties 200 0 100 0: raw 02 01 07 05 C8 00 64 00 CRC(hi lo).
+  // seq 7, motors 0x5, duties 200 0 100 0: raw 02 01 07 05 C8 00 64 00 CRC(4 bytes, low first).
   const std::vector<uint8_t> raw = { 0x02, 0x01, 0x07, 0x05, 200, 0, 100, 0 };
-  const uint16_t crc = vest_crc16(raw.data(), 8);
+  const uint32_t crc = vest_crc32c(raw.data(), 8);
   std::vector<uint8_t> want = { 0x00, 0x06, 0x02, 0x01, 0x07, 0x05, 200, 0x02, 100 };
-  // The CRC bytes (never 0 here: check it) close the last COBS group.
-  ASSERT_NE(crc >> 8, 0);
-  ASSERT_NE(crc & 0xFF, 0);
-  want.push_back(0x03);
-  want.push_back(static_cast<uint8_t>(crc >> 8));
-  want.push_back(static_cast<uint8_t>(crc & 0xFF));
+  // The CRC bytes (none is 0 here: checked) close the last COBS group.
+  for (int k = 0; k < 4; ++k)
+    ASSERT_NE((crc >> (8 * k)) & 0xFF, 0u) << k;
+  want.push_back(0x05);
+  for (int k = 0; k < 4; ++k)
+    want.push_back(static_cast<uint8_t>(crc >> (8 * k)));
   want.push_back(0x00);
   EXPECT_EQ(bytes(command(7, 0x5, 200, 0, 100, 0)), want);
   EXPECT_EQ(want.size(), VEST_PACKET_SIZE);
@@ -179,15 +173,15 @@ TEST(VestProtocol, EveryCorruptedByteIsRejected)
         EXPECT_GE(ps.rejected, 1) << "pos " << pos << " value " << v;
         ++tried;
       }
-    EXPECT_EQ(tried, 11 * 255);
+    EXPECT_EQ(tried, 13 * 255);
   }
 }
 
 TEST(VestProtocol, EveryBitFlipPairIsRejected)
 {
-  // CRC-16/CCITT has Hamming distance 4 at this length: all 1-, 2- and 3-bit errors of the
-  // decoded bytes are caught; here all 2-bit flips of the wire frame (which COBS may turn into
-  // more damage) must be rejected.
+  // CRC-32C has Hamming distance 8 at this length: all errors of up to 7 bits in the decoded
+  // bytes are caught; here all 2-bit flips of the wire frame (which COBS may turn into more
+  // damage) must be rejected.
   const std::vector<uint8_t> good = bytes(command(99, 0xA, 0, 77, 0, 200));
   const size_t bits = (VEST_PACKET_SIZE - 2) * 8;
   for (size_t a = 0; a < bits; ++a)

@@ -11,7 +11,7 @@
  *
  * Behaviour (all of it in vest_protocol.h's vest_firmware_* functions, shared with the simulated
  * vest, so what the tests check is what this sketch does):
- *   - bytes are split into COBS frames at 0x00 delimiters; a frame with a bad CRC-16, a broken
+ *   - bytes are split into COBS frames at 0x00 delimiters; a frame with a bad CRC-32C, a broken
  *     COBS structure, a wrong length or illegal fields is dropped; a CRC-valid frame of another
  *     protocol version is dropped and counted (fw.parser.version_mismatch / peer_version);
  *   - a valid COMMAND sets the four PWM duties and is answered with a STATUS packet;
