@@ -1,12 +1,14 @@
 // Vest bridge nodelet: tactile/cue -> serial packets to the vest (+ /diagnostics). Glue only:
-// the port, packets, re-send, stale guard and reconnection live in VestBridge.
+// the port, packets, stamp checks, expiry, re-send and reconnection live in VestBridge, the
+// housekeeping thread in VestBridgeRunner.
 #include <assistive_msgs/TactileCue.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 
-#include <chrono>
+#include <cmath>
+#include <limits>
 #include <mutex>
 
 #include "assistive_tactile/conversions.h"
@@ -15,23 +17,17 @@
 
 namespace assistive_tactile
 {
-namespace
-{
-double steadyNow()
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-}  // namespace
-
 class VestBridgeNodelet : public nodelet::Nodelet
 {
 public:
   ~VestBridgeNodelet() override
   {
-    timer_.stop();
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (bridge_)
-      bridge_->shutdown();  // all motors off before the port closes
+    // Unload or shutdown: no more cues, then all motors off before the port closes.
+    cue_sub_.shutdown();
+    if (runner_)
+      runner_->stop();
+    if (handlers_installed_)
+      removeAllOffSignalHandlers();
   }
 
 private:
@@ -44,6 +40,7 @@ private:
     pnh.param("baud", p.baud, p.baud);
     pnh.param("resend_hz", p.resend_hz, p.resend_hz);
     pnh.param("stale_s", p.stale_s, p.stale_s);
+    pnh.param("max_source_age_s", p.max_source_age_s, p.max_source_age_s);
     pnh.param("reopen_s", p.reopen_s, p.reopen_s);
     pnh.param("link_timeout_s", p.link_timeout_s, p.link_timeout_s);
     unsigned int speed = 0;
@@ -56,67 +53,99 @@ private:
       NODELET_WARN("vest_bridge: resend_hz clamped to %g", p.resend_hz);
     if (clampParam(p.stale_s, 0.05, 5.0))
       NODELET_WARN("vest_bridge: stale_s clamped to %g", p.stale_s);
+    if (clampParam(p.max_source_age_s, 0.05, 5.0))
+      NODELET_WARN("vest_bridge: max_source_age_s clamped to %g", p.max_source_age_s);
     if (clampParam(p.reopen_s, 0.05, 60.0))
       NODELET_WARN("vest_bridge: reopen_s clamped to %g", p.reopen_s);
     if (clampParam(p.link_timeout_s, 0.1, 60.0))
       NODELET_WARN("vest_bridge: link_timeout_s clamped to %g", p.link_timeout_s);
-    NODELET_INFO("vest_bridge: port %s @ %d baud, resend %.1f Hz, stale %.3f s, reopen %.2f s", p.port.c_str(),
-                 p.baud, p.resend_hz, p.stale_s, p.reopen_s);
-    bridge_.reset(new VestBridge(p));
-    bridge_->spinOnce(steadyNow());
+    NODELET_INFO("vest_bridge: port %s @ %d baud, protocol v%u, resend %.1f Hz, stale %.3f s, max source age "
+                 "%.3f s, reopen %.2f s",
+                 p.port.c_str(), p.baud, VEST_PROTOCOL_VERSION, p.resend_hz, p.stale_s, p.max_source_age_s,
+                 p.reopen_s);
+    params_ = p;
 
-    cue_sub_ = nh.subscribe("tactile/cue", 1, &VestBridgeNodelet::cueCb, this, ros::TransportHints().tcpNoDelay());
+    // SIGINT/SIGTERM to this process (manager or standalone): all-off written by the handler.
+    installAllOffSignalHandlers();
+    handlers_installed_ = true;
+
     updater_.reset(new diagnostic_updater::Updater(nh, pnh, getName()));
     updater_->setHardwareID(p.port);
     updater_->add("vest link", this, &VestBridgeNodelet::diagnose);
-    // 100 Hz housekeeping: stale detection within 10 ms, re-send at resend_hz, replies read.
-    timer_ = nh.createWallTimer(ros::WallDuration(0.01), &VestBridgeNodelet::timerCb, this);
+    // Housekeeping in its own thread (100 Hz and at each cue's expiry): the all-off does not wait
+    // for the manager's callback queue.
+    runner_.reset(new VestBridgeRunner(p, 0.01, [this](const VestBridge& b, double now) { afterSpin(b, now); }));
+
+    cue_sub_ = nh.subscribe("tactile/cue", 1, &VestBridgeNodelet::cueCb, this, ros::TransportHints().tcpNoDelay());
   }
 
   void cueCb(const assistive_msgs::TactileCue::ConstPtr& msg)
   {
-    std::lock_guard<std::mutex> lock(mutex_);
+    // Ages in ROS time (simulated in bag replay), like the stamps; an unstamped cue cannot be
+    // judged (infinitely old), a zero source_stamp is unknown.
+    const ros::Time now = ros::Time::now();
+    CueAge age;
+    age.stamp_age_s = msg->header.stamp.isZero() ? std::numeric_limits<double>::infinity() :
+                                                   (now - msg->header.stamp).toSec();
+    age.source_age_s = msg->source_stamp.isZero() ? std::numeric_limits<double>::quiet_NaN() :
+                                                    (now - msg->source_stamp).toSec();
     const Cue cue = fromMsg(*msg);
-    bridge_->setCue(cue.intensity, steadyNow());
+    const CueCheck verdict = runner_->setCue(cue.intensity, age);
+    if (verdict != CueCheck::FRESH)
+      NODELET_WARN_THROTTLE(2.0, "vest_bridge: ignoring a %s cue (%s): stamp age %.3f s, source age %.3f s",
+                            modeName(cue.mode), cueCheckName(verdict), age.stamp_age_s, age.source_age_s);
   }
 
-  void timerCb(const ros::WallTimerEvent&)
+  // Runs in the runner's thread with the bridge locked.
+  void afterSpin(const VestBridge& b, double now)
   {
-    std::lock_guard<std::mutex> lock(mutex_);
-    const double now = steadyNow();
-    const bool was_open = bridge_->stats().open;
-    const bool was_stale = bridge_->stats().cue_stale;
-    bridge_->spinOnce(now);
-    const LinkStats& s = bridge_->stats();
-    if (!was_stale && s.cue_stale)
-      NODELET_WARN("vest_bridge: no tactile/cue for %.3f s: all motors off", bridge_->params().stale_s);
-    if (was_open && !s.open)
-      NODELET_ERROR("vest_bridge: lost %s (%s), reopening every %.1f s", bridge_->params().port.c_str(),
-                    s.last_error.c_str(), bridge_->params().reopen_s);
-    if (!was_open && s.open)
-      NODELET_INFO("vest_bridge: opened %s", bridge_->params().port.c_str());
+    const LinkStats& s = b.stats();
+    if (!was_stale_ && s.cue_stale)
+      NODELET_WARN("vest_bridge: no valid tactile/cue (last one expired %.3f s after its stamp): all motors off",
+                   params_.stale_s);
+    if (was_open_ && !s.open)
+      NODELET_ERROR("vest_bridge: lost %s (%s), reopening every %.1f s", params_.port.c_str(), s.last_error.c_str(),
+                    params_.reopen_s);
+    if (!was_open_ && s.open)
+      NODELET_INFO("vest_bridge: opened %s", params_.port.c_str());
     if (!s.open)
-      NODELET_WARN_THROTTLE(10.0, "vest_bridge: port %s closed: %s", bridge_->params().port.c_str(),
-                            s.last_error.c_str());
-    updater_->update();
+      NODELET_WARN_THROTTLE(10.0, "vest_bridge: port %s closed: %s", params_.port.c_str(), s.last_error.c_str());
+    if (s.version_mismatches != mismatches_)
+      NODELET_ERROR_THROTTLE(10.0, "vest_bridge: the vest speaks protocol version %u, this bridge %u: reflash "
+                                   "firmware/vest/vest.ino",
+                             s.vest_version, VEST_PROTOCOL_VERSION);
+    was_stale_ = s.cue_stale;
+    was_open_ = s.open;
+    mismatches_ = s.version_mismatches;
+    snap_ = s;
+    snap_link_up_ = b.linkUp(now);
+    snap_sent_ = b.sentDuty();
+    updater_->update();  // calls diagnose() at its own rate
   }
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   {
-    const double now = steadyNow();
-    const LinkStats& s = bridge_->stats();
+    const LinkStats& s = snap_;
     if (!s.open)
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "port closed: " + s.last_error);
-    else if (!bridge_->linkUp(now))
+    else if (s.version_mismatches > 0 && !snap_link_up_)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                   "vest speaks protocol version " + std::to_string(s.vest_version) + ", bridge " +
+                       std::to_string(VEST_PROTOCOL_VERSION) + ": reflash the vest");
+    else if (!snap_link_up_)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "port open, no reply from the vest");
     else if (s.cue_stale)
-      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "link up, no cues: motors off");
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "link up, no valid cues: motors off");
     else
       stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "link up");
-    stat.add("port", bridge_->params().port);
-    stat.add("baud", bridge_->params().baud);
-    stat.add("link up", bridge_->linkUp(now));
+    stat.add("port", params_.port);
+    stat.add("baud", params_.baud);
+    stat.add("protocol version", static_cast<int>(VEST_PROTOCOL_VERSION));
+    stat.add("link up", snap_link_up_);
     stat.add("cue stale", s.cue_stale);
+    stat.add("cues accepted", s.cues_accepted);
+    stat.add("cues ignored (old stamps)", s.cues_rejected);
+    stat.add("last ignored because", s.last_rejection.empty() ? std::string("-") : s.last_rejection);
     stat.add("opens", s.opens);
     stat.add("losses", s.losses);
     stat.add("packets sent", s.packets_sent);
@@ -125,14 +154,21 @@ private:
     stat.add("status packets", s.status_packets);
     stat.add("garbage bytes", s.garbage_bytes);
     stat.add("rejected packets", s.rejected_packets);
-    stat.add("commanded", SimVest::describe(bridge_->sentDuty().data()));
+    stat.add("version mismatches", s.version_mismatches);
+    stat.add("commanded", SimVest::describe(snap_sent_.data()));
     stat.add("vest reports", s.status_packets ? SimVest::describe(s.last_status.intensity) : std::string("-"));
   }
 
-  std::mutex mutex_;
-  std::unique_ptr<VestBridge> bridge_;
+  BridgeParams params_;
+  std::unique_ptr<VestBridgeRunner> runner_;
+  bool handlers_installed_ = false;
+  // Touched only in the runner's thread (afterSpin / diagnose).
+  bool was_stale_ = true, was_open_ = false;
+  uint64_t mismatches_ = 0;
+  LinkStats snap_;
+  bool snap_link_up_ = false;
+  std::array<uint8_t, VEST_NUM_MOTORS> snap_sent_{ { 0, 0, 0, 0 } };
   ros::Subscriber cue_sub_;
-  ros::WallTimer timer_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
 };
 

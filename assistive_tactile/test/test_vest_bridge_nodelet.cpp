@@ -3,6 +3,7 @@
 
 #include <assistive_msgs/TactileCue.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
+#include <nodelet/NodeletUnload.h>
 #include <ros/ros.h>
 
 #include <chrono>
@@ -47,6 +48,7 @@ struct Harness
   SimVest vest;
   std::array<float, 4> cue{ { 0, 0, 0, 0 } };
   bool publishing = false;
+  double stamp_age = 0.0;  ///< publish cues stamped this long ago
 
   /// Runs vest + ROS at ~20 Hz cue rate until pred() or timeout.
   bool runUntil(const std::function<bool()>& pred, double timeout)
@@ -58,7 +60,8 @@ struct Harness
       if (publishing && ros::WallTime::now() >= next)
       {
         assistive_msgs::TactileCue m;
-        m.header.stamp = ros::Time::now();
+        m.header.stamp = ros::Time::now() - ros::Duration(stamp_age);
+        m.source_stamp = m.header.stamp - ros::Duration(0.05);  // the camera image behind it
         m.mode = assistive_msgs::TactileCue::GUIDANCE;
         for (int i = 0; i < 4; ++i)
           m.intensity[i] = cue[i];
@@ -108,6 +111,16 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
   EXPECT_EQ(h.vest.firmware().timeouts, trips);
   EXPECT_TRUE(h.runUntil([] { return g_diag["cue stale"] == "True"; }, 10.0));
 
+  // Cues stamped 1 s ago (a stalled or replayed stream): ignored, the vest stays quiet.
+  h.stamp_age = 1.0;
+  h.publishing = true;
+  EXPECT_FALSE(h.runUntil([&] { return h.vest.duty() != Duty{ { 0, 0, 0, 0 } }; }, 1.5));
+  EXPECT_TRUE(h.runUntil([] { return !g_diag["cues ignored (old stamps)"].empty() &&
+                                     g_diag["cues ignored (old stamps)"] != "0"; }, 10.0));
+  EXPECT_NE(g_diag["last ignored because"].find("stale"), std::string::npos) << g_diag["last ignored because"];
+  h.publishing = false;
+  h.stamp_age = 0.0;
+
   // Unplug: the nodelet reports it and keeps running.
   h.vest.close();
   ASSERT_TRUE(h.runUntil([] { return g_level == diagnostic_msgs::DiagnosticStatus::ERROR; }, 10.0)) << g_message;
@@ -130,6 +143,20 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
   h.cue = { { 0, 1.f, 0, 0 } };
   EXPECT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 255, 0, 0 } }; }, 10.0));
   EXPECT_TRUE(h.runUntil([] { return g_diag["link up"] == "True" && g_level == 0; }, 10.0)) << g_message;
+
+  // Unloading the nodelet from its manager switches the motors off (before the vest's watchdog).
+  const uint16_t trips2 = h.vest.firmware().timeouts;
+  ros::ServiceClient unload = h.nh.serviceClient<nodelet::NodeletUnload>("/bridge_manager/unload_nodelet");
+  ASSERT_TRUE(unload.waitForExistence(ros::Duration(10.0)));
+  h.publishing = false;
+  nodelet::NodeletUnload srv;
+  srv.request.name = "/vest_bridge";
+  const ros::WallTime t_unload = ros::WallTime::now();
+  ASSERT_TRUE(unload.call(srv));
+  EXPECT_TRUE(srv.response.success);
+  ASSERT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 0, 0, 0 } }; }, 2.0));
+  EXPECT_EQ(h.vest.firmware().timeouts, trips2) << "the vest's watchdog, not the bridge, switched off after "
+                                                << (ros::WallTime::now() - t_unload).toSec() << " s";
   h.vest.close();
 }
 
