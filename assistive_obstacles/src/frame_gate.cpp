@@ -26,6 +26,12 @@ bool FrameGate::clearBefore(double stamp)
     reason_ = b;
     clear = true;
   }
+  else if (pose_lost_)
+  {
+    reason_ = "the visual odometry lost its pose: map cleared";
+    clear = true;
+  }
+  pose_lost_ = false;
   if (clear)
   {
     // The first frame starts an empty map too, but is not counted as a clear.

@@ -23,6 +23,7 @@
 #include <assistive_obstacles/disparity.h>
 #include <assistive_obstacles/frame_gate.h>
 #include <assistive_obstacles/obstacle_map.h>
+#include <nav_msgs/Odometry.h>
 
 namespace assistive_obstacles
 {
@@ -52,6 +53,10 @@ public:
     pub_markers_ = nh.advertise<visualization_msgs::MarkerArray>("octomap_markers", 1);
     pub_dropout_ = nh.advertise<nav_msgs::OccupancyGrid>("dropout", 1);
     srv_save_ = nh.advertiseService("save_octomap", &ObstaclesNodelet::saveOctomap, this);
+    bool use_odom = true;
+    pnh.param("use_odom", use_odom, use_odom);
+    if (use_odom)
+      sub_odom_ = nh.subscribe("odom", 5, &ObstaclesNodelet::odomCb, this);
 
     diag_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
     diag_->setHardwareID("stereo camera");
@@ -163,6 +168,18 @@ private:
                  p.gap_height, p.step_height, world_frame_.c_str());
   }
 
+  /// vo/odom marks a pose it cannot trust with variances of 9999: the map built on the old pose
+  /// chain is dropped once the VO trusts its pose again.
+  void odomCb(const nav_msgs::Odometry::ConstPtr& o)
+  {
+    constexpr double kUntrustedVariance = 9999.0;
+    if (!(o->pose.covariance[0] < 0.5 * kUntrustedVariance))
+    {
+      std::lock_guard<std::mutex> lock(gate_mutex_);
+      gate_.poseUntrusted();
+    }
+  }
+
   void frameCb(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::ImageConstPtr& r,
                const sensor_msgs::CameraInfoConstPtr& li, const sensor_msgs::CameraInfoConstPtr& ri)
   {
@@ -189,12 +206,15 @@ private:
       return;
     }
     // A gap or a time jump (bag loop) makes the old map a guess about a place the wearer has left.
-    if (gate_.clearBefore(l->header.stamp.toSec()))
+    bool clear = false;
     {
-      if (!gate_.reason().empty())
+      std::lock_guard<std::mutex> lock(gate_mutex_);
+      clear = gate_.clearBefore(l->header.stamp.toSec());
+      if (clear && !gate_.reason().empty())
         NODELET_WARN_THROTTLE(2.0, "obstacles: %s", gate_.reason().c_str());
-      map_->reset();
     }
+    if (clear)
+      map_->reset();
     cv::Mat disp;
     if (!disparity_->compute(cl->image, cr->image, disp))
     {
@@ -228,7 +248,11 @@ private:
     }
     // A frame without depth must not make the old map look fresh: no update, no grid (the planner
     // then sees the grid's stamp fall behind the pose's and stops guiding).
-    const FrameGate::Verdict verdict = gate_.verdict(points_.size());
+    FrameGate::Verdict verdict;
+    {
+      std::lock_guard<std::mutex> lock(gate_mutex_);
+      verdict = gate_.verdict(points_.size());
+    }
     {
       std::lock_guard<std::mutex> lock(stats_mutex_);
       last_verdict_ = verdict;
@@ -319,6 +343,8 @@ private:
   std::unique_ptr<DisparityEstimator> disparity_;
   std::unique_ptr<ObstacleMap> map_;
   FrameGate gate_;
+  std::mutex gate_mutex_;  // odomCb and frameCb run on different threads
+  ros::Subscriber sub_odom_;
   FrameGate::Verdict last_verdict_ = FrameGate::Verdict::REBUILDING;  // these four under stats_mutex_
   std::string gate_reason_;
   long gate_clears_ = 0, gate_no_depth_ = 0;

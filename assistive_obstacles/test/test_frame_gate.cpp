@@ -105,3 +105,20 @@ TEST(FrameGate, NoDepthFramesDoNotCountTowardsTheRebuild)
   EXPECT_EQ(feed(g, t, 2, 5000), V::REBUILDING);
   EXPECT_EQ(feed(g, t, 1, 5000), V::FRESH);
 }
+
+TEST(FrameGate, UntrustedPoseClearsTheMapAtTheNextFrame)
+{
+  FrameGate g(params());
+  double t = 0.0;
+  ASSERT_EQ(feed(g, t, 5, 5000), V::FRESH);
+  g.poseUntrusted();  // e.g. 4 s blind: the pose kept, the wearer walked on
+  EXPECT_TRUE(g.clearBefore(t));
+  EXPECT_NE(g.reason().find("lost its pose"), std::string::npos);
+  EXPECT_EQ(g.verdict(5000), V::REBUILDING);
+  t += 1.0 / 15.0;
+  EXPECT_FALSE(g.clearBefore(t));  // once per report
+  EXPECT_EQ(g.verdict(5000), V::REBUILDING);
+  t += 1.0 / 15.0;
+  EXPECT_EQ(feed(g, t, 1, 5000), V::FRESH);
+  EXPECT_EQ(g.clears(), 1);
+}

@@ -28,8 +28,12 @@ public:
   const FrameGateParams& params() const { return p_; }
 
   /// Call first for every frame with its image stamp (s): true when the map must be cleared now
-  /// (the first frame, a gap longer than max_frame_gap_s, or time going backwards).
+  /// (the first frame, a gap longer than max_frame_gap_s, time going backwards, or an untrusted
+  /// VO pose since the last frame).
   bool clearBefore(double stamp);
+  /// The VO marked a pose untrusted (lost, frozen camera, gap): when it trusts its pose again the
+  /// pose may have jumped against the map, so the next frame starts a new map.
+  void poseUntrusted() { pose_lost_ = true; }
   /// Call after the frame's points are known; says whether the map takes it and may be published.
   Verdict verdict(std::size_t points);
 
@@ -41,6 +45,7 @@ public:
 private:
   FrameGateParams p_;
   bool have_stamp_ = false;
+  bool pose_lost_ = false;
   double last_stamp_ = 0.0;
   int fresh_since_clear_ = 0;
   std::string reason_;
