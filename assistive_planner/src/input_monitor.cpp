@@ -19,7 +19,9 @@ std::string fmt(const char* f, double a)
 bool InputMonitor::onPose(double stamp, bool trusted)
 {
   bool reset = false;
-  if (have_pose_ && (stamp < pose_stamp_ || stamp - pose_stamp_ > max_gap_))
+  // After a gap, a time jump or a spell the VO did not trust, the pose may have jumped against
+  // everything built before: start again.
+  if (have_pose_ && (stamp < pose_stamp_ || stamp - pose_stamp_ > max_gap_ || (trusted && !pose_trusted_)))
   {
     reset = true;
     ++resets_;

@@ -135,10 +135,13 @@ private:
   {
     std::lock_guard<std::mutex> lock(mutex_);
     const bool trusted = poseTrusted(*msg);
+    const char* why = msg->header.stamp.toSec() < last_pose_stamp_ ? "time went back" :
+                      trusted && !last_pose_trusted_            ? "the pose is trusted again" :
+                                                                  "gap";
+    last_pose_trusted_ = trusted;
     if (monitor_.onPose(msg->header.stamp.toSec(), trusted))
     {
-      NODELET_WARN_THROTTLE(2.0, "planner: %s in the pose stream: motion vector, waypoint and map forgotten",
-                            msg->header.stamp.toSec() < last_pose_stamp_ ? "time went back" : "gap");
+      NODELET_WARN_THROTTLE(2.0, "planner: %s: motion vector, waypoint and map forgotten", why);
       const bool had_goal = planner_->hasGoal();
       planner_ = std::make_unique<Planner>(params_);
       if (had_goal)
@@ -310,6 +313,7 @@ private:
   ros::Subscriber grid_sub_, goal_sub_, odom_sub_;
   InputMonitor monitor_;
   double last_pose_stamp_ = 0.0;
+  bool last_pose_trusted_ = true;
   ros::Timer timer_;
   std::unique_ptr<diagnostic_updater::Updater> diag_;
   std::mutex mutex_;

@@ -27,8 +27,9 @@ public:
   }
 
   /// A VO pose at image time `stamp`. Returns true when the planner must be reset (a gap longer
-  /// than max_frame_gap_s or time going back): the motion vector and the waypoint belong to a
-  /// place the wearer may have left, and the grid from before the gap is forgotten.
+  /// than max_frame_gap_s, time going back, or the first trusted pose after untrusted ones): the
+  /// motion vector and the waypoint belong to a place the wearer may have left, and the grid from
+  /// before is forgotten.
   bool onPose(double stamp, bool trusted);
   /// A traversability grid built from the frame at `stamp`. Returns false (grid ignored) when that
   /// frame is more than max_frame_gap_s away from the newest pose: from before a gap or a bag loop.
