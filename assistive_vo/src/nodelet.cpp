@@ -358,7 +358,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     if (o.pose_trusted != last_trusted_)
     {
       if (o.pose_trusted)
-        NODELET_INFO("stereo_odometry: pose trusted again");
+        NODELET_INFO("stereo_odometry: pose trusted");
       else
         NODELET_ERROR("stereo_odometry: pose not trusted: %s", o.untrusted_reason.c_str());
       last_trusted_ = o.pose_trusted;

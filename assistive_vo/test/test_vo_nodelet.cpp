@@ -4,6 +4,7 @@
 #include <unistd.h>
 #include <cstdlib>
 #include <map>
+#include <set>
 #include <mutex>
 #include <thread>
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -15,6 +16,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <tf2_eigen/tf2_eigen.h>
+#include <tf2_msgs/TFMessage.h>
 #include "assistive_vo/frames.h"
 
 namespace
@@ -269,6 +271,121 @@ TEST(VoNodelet, WaitsForTheImuBeforeFixingGravity)
   EXPECT_LT(tilt_err, 6.0) << "head pitch " << head_pitch << " deg down";
   std::printf("late IMU start: first pose %.3f s after the first image, tilt error %.2f deg, head pitch %.1f deg\n",
               first - frames.begin()->first, tilt_err, head_pitch);
+}
+
+// Fail-safe (README "Published topics"): a third instance (`failsafe_odometry`, on /fs/..., frames
+// fs_odom -> fs_camera_link) gets 8 frames of a rendered walk, then black frames with the IMU going
+// on. Once lost beyond coast_max, every frame still publishes vo/odom, with the last trusted pose,
+// 9999 variances and zero twist, and no tf.
+std::mutex fs_mtx;
+std::map<double, nav_msgs::Odometry> fs_odom;
+std::set<double> fs_tf;
+void fsOdomCb(const nav_msgs::OdometryConstPtr& m)
+{
+  std::lock_guard<std::mutex> l(fs_mtx);
+  fs_odom[m->header.stamp.toSec()] = *m;
+}
+void fsTfCb(const tf2_msgs::TFMessageConstPtr& m)
+{
+  std::lock_guard<std::mutex> l(fs_mtx);
+  for (const auto& t : m->transforms)
+    if (t.header.frame_id == "fs_odom" && t.child_frame_id == "fs_camera_link")
+      fs_tf.insert(t.header.stamp.toSec());
+}
+
+TEST(VoNodelet, UntrustedFramesPublishNullCovarianceAndNoTf)
+{
+  ros::NodeHandle nh;
+  const std::string bag_path = renderBag("course", 20);
+  ASSERT_FALSE(bag_path.empty()) << "render_bag failed";
+  ros::Publisher li = nh.advertise<sensor_msgs::Image>("/fs/left/image_rect", 5);
+  ros::Publisher ri = nh.advertise<sensor_msgs::Image>("/fs/right/image_rect", 5);
+  ros::Publisher lc = nh.advertise<sensor_msgs::CameraInfo>("/fs/left/camera_info", 5);
+  ros::Publisher rc = nh.advertise<sensor_msgs::CameraInfo>("/fs/right/camera_info", 5);
+  ros::Publisher imu = nh.advertise<sensor_msgs::Imu>("/fs/imu/data", 2000);
+  ros::Subscriber sub = nh.subscribe("/fs/odom", 100, fsOdomCb);
+  ros::Subscriber tsub = nh.subscribe("/tf", 1000, fsTfCb);
+  for (int i = 0; i < 100 && (li.getNumSubscribers() == 0 || imu.getNumSubscribers() == 0); ++i)
+    ros::Duration(0.1).sleep();
+  ASSERT_GT(imu.getNumSubscribers(), 0u);
+  ros::Duration(0.5).sleep();
+
+  rosbag::Bag bag(bag_path);
+  std::vector<sensor_msgs::ImuConstPtr> imus;
+  std::map<double, std::vector<rosbag::MessageInstance>> frames;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag))
+  {
+    if (auto i = m.instantiate<sensor_msgs::Imu>())
+      imus.push_back(i);
+    else if (m.instantiate<sensor_msgs::Image>() || m.instantiate<sensor_msgs::CameraInfo>())
+    {
+      const ros::Time t = m.instantiate<sensor_msgs::Image>() ? m.instantiate<sensor_msgs::Image>()->header.stamp
+                                                              : m.instantiate<sensor_msgs::CameraInfo>()->header.stamp;
+      frames[t.toSec()].push_back(m);
+    }
+  }
+  ASSERT_GE(frames.size(), 18u);
+  const int n_good = 8;
+  size_t next_imu = 0, k = 0;
+  std::vector<double> stamps;
+  for (const auto& f : frames)
+  {
+    for (; next_imu < imus.size() && imus[next_imu]->header.stamp.toSec() <= f.first + 1e-6; ++next_imu)
+      imu.publish(imus[next_imu]);
+    for (const auto& m : f.second)
+    {
+      const bool left = m.getTopic().find("left") != std::string::npos;
+      if (auto im = m.instantiate<sensor_msgs::Image>())
+      {
+        sensor_msgs::Image out = *im;
+        if (static_cast<int>(k) >= n_good)
+          std::fill(out.data.begin(), out.data.end(), 0);  // the camera goes black
+        (left ? li : ri).publish(out);
+      }
+      else if (auto ci = m.instantiate<sensor_msgs::CameraInfo>())
+        (left ? lc : rc).publish(ci);
+    }
+    stamps.push_back(f.first);
+    ++k;
+    ros::Duration(0.1).sleep();
+  }
+  ros::Duration(1.0).sleep();
+
+  std::lock_guard<std::mutex> l(fs_mtx);
+  int trusted = 0, untrusted = 0;
+  geometry_msgs::Pose last_trusted;
+  for (size_t i = 0; i < stamps.size(); ++i)
+  {
+    const auto it = fs_odom.find(stamps[i]);
+    ASSERT_NE(it, fs_odom.end()) << "no vo/odom for frame " << i << ": every processed frame publishes";
+    const nav_msgs::Odometry& o = it->second;
+    const bool is_untrusted = o.pose.covariance[0] >= 9999.0 - 1e-9;
+    if (!is_untrusted)
+    {
+      ++trusted;
+      last_trusted = o.pose.pose;
+      EXPECT_TRUE(fs_tf.count(stamps[i])) << "trusted frame " << i << " without tf";
+      continue;
+    }
+    ++untrusted;
+    EXPECT_GE(static_cast<int>(i), n_good) << "a good frame untrusted";
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b)
+      {
+        const size_t j = static_cast<size_t>(a * 6 + b);
+        EXPECT_EQ(o.pose.covariance[j], a == b ? 9999.0 : 0.0);
+        EXPECT_EQ(o.twist.covariance[j], a == b ? 9999.0 : 0.0);
+      }
+    EXPECT_EQ(o.twist.twist.linear.x, 0.0);
+    EXPECT_EQ(o.twist.twist.angular.z, 0.0);
+    // the last trusted pose, not extrapolated
+    EXPECT_EQ(o.pose.pose.position.x, last_trusted.position.x);
+    EXPECT_EQ(o.pose.pose.position.y, last_trusted.position.y);
+    EXPECT_FALSE(fs_tf.count(stamps[i])) << "tf broadcast for untrusted frame " << i;
+  }
+  EXPECT_GE(trusted, n_good);
+  // 12 black frames at 15 Hz: 4 coast (0.27 s <= coast_max 0.3 s), the rest untrusted
+  EXPECT_GE(untrusted, static_cast<int>(stamps.size()) - n_good - 5);
 }
 
 int main(int argc, char** argv)
