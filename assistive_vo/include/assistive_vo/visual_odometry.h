@@ -182,7 +182,6 @@ private:
   double last_stamp_pending_ = 0.0;
   GravityAligner gravity_;
   // fail-safe state
-  bool frame_seen_ = false;           ///< a frame has been processed (stamps are comparable)
   bool untrusted_ = true;             ///< latched until a keyframe is tracked again
   std::string untrusted_why_;
   double last_trusted_stamp_ = 0.0;   ///< stamp of the last tracked (or trusted coasting) frame
