@@ -141,13 +141,17 @@ static inline int vest_cobs_decode(const uint8_t* in, uint8_t len, uint8_t* out)
   return (int)o;
 }
 
-/* Frames len (<= VEST_MAX_FRAME - 5) payload bytes: appends the CRC (low byte first),
- * COBS-encodes, adds both delimiters. out must hold len + 7 bytes; returns the bytes written. */
+/* Frames len (<= VEST_MAX_FRAME - VEST_CRC_SIZE) payload bytes: appends the CRC (low byte
+ * first), COBS-encodes, adds both delimiters. out must hold len + 7 bytes; returns the bytes
+ * written (0 when len is too long). */
 static inline uint8_t vest_frame(const uint8_t* payload, uint8_t len, uint8_t* out)
 {
   uint8_t raw[VEST_MAX_FRAME];
   uint8_t n;
-  uint32_t crc = vest_crc32c(payload, len);
+  uint32_t crc;
+  if (len > VEST_MAX_FRAME - VEST_CRC_SIZE)
+    return 0u;
+  crc = vest_crc32c(payload, len);
   memcpy(raw, payload, len);
   raw[len] = (uint8_t)(crc & 0xFFu);
   raw[len + 1] = (uint8_t)((crc >> 8) & 0xFFu);
