@@ -107,6 +107,9 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     pnh.param("frozen_frames", p.frozen_frames, p.frozen_frames);
     pnh.param("gyro_disagreement", p.gyro_disagreement_deg, p.gyro_disagreement_deg);
     pnh.param("gyro_disagreement_frames", p.gyro_disagreement_frames, p.gyro_disagreement_frames);
+    pnh.param("stereo_max_error", p.stereo_max_error_px, p.stereo_max_error_px);
+    pnh.param("stereo_min_matched_ratio", p.stereo_min_matched_ratio, p.stereo_min_matched_ratio);
+    pnh.param("stereo_inconsistent_frames", p.stereo_inconsistent_frames, p.stereo_inconsistent_frames);
     pnh.param("use_imu", p.use_imu, p.use_imu);
     pnh.param("gyro_rotation_prior", p.gyro_rotation_prior, p.gyro_rotation_prior);
     pnh.param("gyro_noise_density", p.gyro_noise_density, p.gyro_noise_density);
@@ -168,6 +171,9 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     clampI("frozen_frames", p.frozen_frames, 1, 100);
     clampD("gyro_disagreement", p.gyro_disagreement_deg, 0.05, 90.0);
     clampI("gyro_disagreement_frames", p.gyro_disagreement_frames, 1, 100);
+    clampD("stereo_max_error", p.stereo_max_error_px, 0.05, 50.0);
+    clampD("stereo_min_matched_ratio", p.stereo_min_matched_ratio, 0.0, 1.0);
+    clampI("stereo_inconsistent_frames", p.stereo_inconsistent_frames, 1, 100);
     clampD("gyro_noise_density", p.gyro_noise_density, 1e-6, 1e-1);
     clampD("gyro_bias_sigma", p.gyro_bias_sigma, 1e-6, 1.0);
     clampD("gravity_time_constant", p.gravity_time_constant_s, 0.0, 3600.0);
@@ -410,6 +416,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       s.add("gyro_disagreement", f.gyro_disagreement);
       s.add("frame_gaps", f.gaps);
       s.add("time_jumps", f.time_jumps);
+      s.add("stereo_inconsistent", f.stereo_inconsistent);
     }
     s.add("frames", n_processed_);
     s.add("imu_samples", n_imu_);

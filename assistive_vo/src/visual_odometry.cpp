@@ -116,7 +116,7 @@ void VisualOdometry::reset()
   untrusted_why_.clear();
   have_trusted_ = false;
   prev_thumb_.release();
-  frozen_run_ = disagree_run_ = agree_needed_ = 0;
+  frozen_run_ = disagree_run_ = agree_needed_ = stereo_bad_run_ = stereo_agree_needed_ = 0;
   R_kf_prev_vision_.setIdentity();
   fs_ = FailSafeCounters();
 }
@@ -156,6 +156,8 @@ void VisualOdometry::applyTrust(VoOutput& o, double stamp, bool coast_ok, const 
     {
       if (agree_needed_ > 0)
         why = "image motion contradicted the gyro: " + std::to_string(agree_needed_) + " agreeing frames to go";
+      else if (stereo_agree_needed_ > 0)
+        why = "stereo pair was inconsistent: " + std::to_string(stereo_agree_needed_) + " consistent frames to go";
     }
     else if (o.state == TrackingState::INITIALISING)
       why = "no keyframe yet";
@@ -748,7 +750,29 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   }
   st.ms_ba = msSince(t0);
   const Eigen::Isometry3d T_kf_cur = br.ok ? br.T_ref_cur : rr.T_ref_cur;
-
+  {
+    // Stereo consistency: the current disparity of the inliers against the one their refined 3D
+    // point predicts at the estimated pose (median). A right image out of sync with the left (or a
+    // moved camera) gives pixels of error; a good pair, a tenth of a pixel.
+    std::vector<double> res;
+    res.reserve(rr.inliers.size());
+    const Eigen::Isometry3d T_cur_kf = T_kf_cur.inverse();
+    int matched = 0;
+    for (size_t k = 0; k < rr.inliers.size(); ++k)
+    {
+      const Track& t = tracks_[static_cast<size_t>(rr.inliers[k])];
+      const Eigen::Vector3d Xc = T_cur_kf * Xin[k];
+      matched += t.cur_disp > 0;
+      if (t.cur_disp > 0 && Xc.z() > 0.1)
+        res.push_back(std::abs(t.cur_disp - cam_.fx * cam_.baseline / Xc.z()));
+    }
+    st.stereo_matched_ratio = rr.inliers.empty() ? -1.0 : matched / static_cast<double>(rr.inliers.size());
+    if (res.size() >= 5)
+    {
+      std::nth_element(res.begin(), res.begin() + res.size() / 2, res.end());
+      st.stereo_error_px = res[res.size() / 2];
+    }
+  }
   // ---- plausibility: no jumps ----
   const Eigen::Isometry3d T_prev_cur = T_kf_prev_.inverse() * T_kf_cur;
   // Translation: the change against the constant-velocity prediction is bounded by max_speed
@@ -799,6 +823,32 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   {
     disagree_run_ = 0;
     agree_needed_ = std::max(0, agree_needed_ - 1);  // nothing to check against
+  }
+  // Stereo pair inconsistent with the motion (right image out of sync, camera moved): over
+  // stereo_inconsistent_frames tracked frames in a row, or at once when 5 x the threshold.
+  if (bad.empty() && st.stereo_matched_ratio >= 0)
+  {
+    const int n = std::max(1, p_.stereo_inconsistent_frames);
+    if (st.stereo_error_px > p_.stereo_max_error_px || st.stereo_matched_ratio < p_.stereo_min_matched_ratio)
+      stereo_bad_run_ = st.stereo_error_px > 5 * p_.stereo_max_error_px ? std::max(n, stereo_bad_run_ + 1)
+                                                                        : stereo_bad_run_ + 1;
+    else
+    {
+      stereo_bad_run_ = 0;
+      stereo_agree_needed_ = std::max(0, stereo_agree_needed_ - 1);
+    }
+    if (stereo_bad_run_ >= n)
+    {
+      if (stereo_agree_needed_ == 0)
+        ++fs_.stereo_inconsistent;
+      stereo_agree_needed_ = n;
+      char buf[160];
+      std::snprintf(buf, sizeof(buf),
+                    "stereo pair inconsistent: disparity off by %.1f px, %.0f %% matched (right image out of sync?)",
+                    st.stereo_error_px, 100.0 * st.stereo_matched_ratio);
+      bad = buf;
+      force_untrusted = bad;
+    }
   }
   if (!bad.empty())
     return finish(fail(bad + ": re-initialising", &left, &right, lostMotion(), stamp, st));

@@ -490,6 +490,45 @@ TEST(FailSafe, ImageMotionContradictingTheGyroIsUntrusted)
   EXPECT_LE(trusted_at, 21 + p.gyro_disagreement_frames + 1);
 }
 
+TEST(FailSafe, RightImageOutOfSyncIsUntrusted)
+{
+  // From frame 11 the right image is 1 or 3 frames old (a stereo driver pairing the wrong
+  // frames): the disparities no longer fit the motion; untrusted within stereo_inconsistent_frames
+  // tracked frames, and trusted again once the pairs are right. (A constant delay under perfectly
+  // steady motion is self-consistent after a new keyframe, only the depth scale is off: README.)
+  Sequence r;
+  const VoParams p;
+  trackWithGyro(r, 10);
+  const Eigen::Matrix3d R_lo = R_link_optical();
+  int first_untrusted = -1;
+  VoOutput o;
+  for (int k = 11; k <= 20; ++k)
+  {
+    const Eigen::Quaterniond gyro(Eigen::Matrix3d(R_lo * truePose(k - 1).linear().transpose() * truePose(k).linear() *
+                                                  R_lo.transpose()));
+    o = r.vo.process(r.world.render(r.cam, truePose(k), false), r.world.render(r.cam, truePose(k - 1 - 2 * (k % 2)), true),
+                     k / 15.0, &gyro);
+    expectFinite(o);
+    if (!o.pose_trusted && first_untrusted < 0)
+      first_untrusted = k;
+  }
+  ASSERT_GT(first_untrusted, 0);
+  EXPECT_LE(first_untrusted, 10 + p.stereo_inconsistent_frames);
+  EXPECT_FALSE(o.pose_trusted);
+  EXPECT_GE(r.vo.failSafe().stereo_inconsistent, 1);
+  int trusted_at = -1;
+  for (int k = 21; k <= 30; ++k)
+  {
+    o = r.stepGyro(k, k / 15.0, k - 1);
+    if (o.pose_trusted && trusted_at < 0)
+      trusted_at = k;
+  }
+  EXPECT_TRUE(o.pose_trusted) << o.untrusted_reason;
+  ASSERT_GT(trusted_at, 0);
+  EXPECT_LE(trusted_at, 21 + p.stereo_inconsistent_frames + 1);
+  EXPECT_EQ(r.vo.failSafe().gyro_disagreement, 0);
+}
+
 TEST(FailSafe, GapKeepsThePoseAndRecovers)
 {
   // 2 s without images (frames 11..40 missing): the pose is not extrapolated over the gap (it

@@ -39,6 +39,8 @@ struct FrameStats
   double image_change = -1;     ///< mean absolute difference to the previous left image (every 4th pixel)
   double gyro_rate_dps = -1;    ///< bias-corrected gyro rate over the frame interval
   double gyro_disagreement_deg = -1;  ///< vision-only frame-to-frame rotation against the gyro's
+  double stereo_error_px = -1;  ///< median |disparity - disparity predicted by the pose| of the inliers
+  double stereo_matched_ratio = -1;  ///< inliers with a stereo match in this frame
 };
 
 /// Fail-safe event counters (since construction / reset()).
@@ -48,6 +50,7 @@ struct FailSafeCounters
   int gyro_disagreement = 0;  ///< episodes of image motion contradicting the gyro
   int gaps = 0;               ///< frames after a stamp gap > max_frame_gap_s
   int time_jumps = 0;         ///< frames whose stamp went backwards (or repeated)
+  int stereo_inconsistent = 0;  ///< episodes of a stereo pair inconsistent with the motion (desync)
   int untrusted_frames = 0;   ///< frames output with pose_trusted = false
 };
 
@@ -56,7 +59,8 @@ struct VoOutput
   TrackingState state = TrackingState::INITIALISING;
   bool pose_valid = false;                                 ///< a pose exists (false only before the first frame)
   /// The pose may be guided on. False when lost beyond coast_max_s (or lost without a gyro), on a
-  /// frozen camera, while image motion contradicts the gyro, on the frame after a stamp gap or time
+  /// frozen camera, while image motion contradicts the gyro or the stereo pair is inconsistent
+  /// with the motion (right image out of sync), on the frame after a stamp gap or time
   /// jump and until a new keyframe is tracked again. Untrusted frames carry the last trusted pose
   /// (not extrapolated) and zero velocities; `untrusted_reason` says why.
   bool pose_trusted = false;
@@ -192,6 +196,8 @@ private:
   int frozen_run_ = 0;                ///< unchanged frames while the gyro turned
   int disagree_run_ = 0;              ///< consecutive tracked frames contradicting the gyro
   int agree_needed_ = 0;              ///< agreeing tracked frames still needed after a contradiction
+  int stereo_bad_run_ = 0;            ///< consecutive tracked frames with an inconsistent stereo pair
+  int stereo_agree_needed_ = 0;       ///< consistent tracked frames still needed after that
   Eigen::Matrix3d R_kf_prev_vision_ = Eigen::Matrix3d::Identity();  ///< vision-only, keyframe -> previous
   FailSafeCounters fs_;
 };
