@@ -1,4 +1,5 @@
 // rosrun assistive_sim import_dataset {kitti|euroc|pairs} SRC --out FILE.bag [--max-frames N]
+//     [--truth image_stamp|devkit]
 // Turns a real stereo dataset into a stereo bag with the layout of render_bag (README
 // "Topics of a stereo bag"): rectified mono8 images + camera_info, and /ground_truth/odom + gt tf
 // where the dataset has truth. Progress on stderr; a table, then one JSON line on stdout.
@@ -15,8 +16,10 @@
 namespace
 {
 const char* USAGE =
-    "usage: import_dataset {kitti|euroc|pairs} SRC --out FILE.bag [--max-frames N]\n"
+    "usage: import_dataset {kitti|euroc|pairs} SRC --out FILE.bag [--max-frames N] [--truth image_stamp|devkit]\n"
     "  kitti: a KITTI raw 'sync' drive folder (image_00, image_01, oxts, calib_*.txt here or in the parent)\n"
+    "         --truth image_stamp (default): the OXTS pose moved to each image's stamp with the OXTS\n"
+    "         velocity and rates; devkit: OXTS sample i as it is for image i (up to 5 ms off)\n"
     "  euroc: an EuRoC MAV folder (mav0/cam0, mav0/cam1 with sensor.yaml, state_groundtruth_estimate0)\n"
     "  pairs: left/ and right/ rectified images + stereo_left.yaml / stereo_right.yaml (ROS camera_info)\n";
 }
@@ -27,7 +30,7 @@ int main(int argc, char** argv)
   std::string created;  // the output bag once this run has opened (truncated) it
   try
   {
-    const cli::Args args(argc, argv, {"out", "max-frames"}, {"help"});
+    const cli::Args args(argc, argv, {"out", "max-frames", "truth"}, {"help"});
     if (args.has("help"))
     {
       std::cout << USAGE;
@@ -36,7 +39,17 @@ int main(int argc, char** argv)
     if (args.positional.size() != 2 || !args.has("out"))
       throw cli::UsageError(!args.has("out") ? "--out FILE.bag is required" : "need a dataset kind and a source folder");
     const std::string kind = args.positional[0], src_dir = args.positional[1], out = args.get("out");
-    auto src = eval::openDataset(kind, src_dir);
+    eval::DatasetOptions options;
+    if (args.has("truth"))
+    {
+      const std::string t = args.get("truth");
+      if (t != "image_stamp" && t != "devkit")
+        throw cli::UsageError("option --truth: image_stamp or devkit, got '" + t + "'");
+      if (kind != "kitti")
+        throw cli::UsageError("option --truth applies to kitti only");
+      options.kitti_truth = eval::parseKittiTruth(t);
+    }
+    auto src = eval::openDataset(kind, src_dir, options);
     size_t n = src->size();
     if (args.has("max-frames"))
     {
@@ -80,10 +93,14 @@ int main(int argc, char** argv)
     std::printf("rectified calib   fx %.4f fy %.4f cx %.4f cy %.4f px, baseline %.5f m\n", calib.fx, calib.fy,
                 calib.cx, calib.cy, calib.baseline);
     std::printf("ground truth      %s (%zu frames, path %.3f m)\n", has_gt ? "yes" : "no", gt_frames, path);
+    if (!src->truthNote().empty())
+      std::printf("truth             %s\n", src->truthNote().c_str());
+    const std::string truth_key =
+        kind == "kitti" && has_gt ? std::string("\"") + eval::toString(options.kitti_truth) + "\"" : "null";
     std::printf("{\"frames\": %zu, \"has_ground_truth\": %s, \"kind\": \"%s\", \"width\": %d, \"height\": %d, "
-                "\"fx_px\": %.4f, \"baseline_m\": %.5f, \"gt_path_m\": %s}\n",
+                "\"fx_px\": %.4f, \"baseline_m\": %.5f, \"gt_path_m\": %s, \"kitti_truth\": %s}\n",
                 n, has_gt ? "true" : "false", kind.c_str(), calib.width, calib.height, calib.fx, calib.baseline,
-                has_gt ? std::to_string(path).c_str() : "null");
+                has_gt ? std::to_string(path).c_str() : "null", truth_key.c_str());
     return 0;
   }
   catch (const cli::UsageError& e)

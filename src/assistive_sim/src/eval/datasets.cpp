@@ -195,7 +195,7 @@ Eigen::Vector3d centralVelocity(const std::vector<Eigen::Isometry3d>& p, const s
 class KittiSource : public DatasetSource
 {
 public:
-  explicit KittiSource(const std::string& dir) : dir_(dir)
+  KittiSource(const std::string& dir, KittiTruth truth) : dir_(dir), truth_(truth)
   {
     if (!isDir(dir))
       fail("KITTI folder '" + dir + "' does not exist");
@@ -213,14 +213,13 @@ public:
       if (left_[i] != right_[i])
         fail("KITTI: left/right image names differ: " + left_[i] + " vs " + right_[i]);
     const std::string ts = join(dir, "image_00/timestamps.txt");
-    if (exists(ts))
+    const bool has_stamps = exists(ts);
+    if (has_stamps)
     {
-      const auto lines = readLines(ts);
-      for (const auto& l : lines)
-        if (!l.empty())
-          stamps_.push_back(parseKittiTimestamp(l));
+      stamps_ = readKittiTimestamps(ts);
       if (stamps_.size() < left_.size())
         fail(ts + ": " + std::to_string(stamps_.size()) + " stamps for " + std::to_string(left_.size()) + " images");
+      stamps_.resize(left_.size());
     }
     else
       for (size_t i = 0; i < left_.size(); ++i)
@@ -233,9 +232,38 @@ public:
       if (oxts.size() < left_.size())
         fail(join(dir, "oxts/data") + ": " + std::to_string(oxts.size()) + " packets for " +
              std::to_string(left_.size()) + " images");
-      gt_ = kittiCam0PosesWorld(oxtsToImuPoses(oxts), calib_.T_cam0_imu);
+      if (truth_ == KittiTruth::ImageStamp)
+      {
+        // the OXTS samples sit a few ms off the image stamps: move each to its image's stamp
+        const std::string ots = join(dir, "oxts/timestamps.txt");
+        if (!has_stamps)
+          fail(ts + " not found: the truth at the image stamps needs it (or use --truth devkit)");
+        if (!exists(ots))
+          fail(ots + " not found: the truth at the image stamps needs it (or use --truth devkit)");
+        const std::vector<double> oxts_stamps = readKittiTimestamps(ots);
+        if (oxts_stamps.size() < oxts.size())
+          fail(ots + ": " + std::to_string(oxts_stamps.size()) + " stamps for " + std::to_string(oxts.size()) +
+               " OXTS packets");
+        for (size_t i = 0; i < left_.size(); ++i)
+          max_offset_s_ = std::max(max_offset_s_, std::abs(stamps_[i] - oxts_stamps[i]));
+        gt_ = kittiCam0PosesWorld(oxtsToImuPosesAt(oxts, oxts_stamps, stamps_), calib_.T_cam0_imu);
+      }
+      else
+        gt_ = kittiCam0PosesWorld(oxtsToImuPoses(oxts), calib_.T_cam0_imu);
       gt_.resize(left_.size());
     }
+  }
+  std::string truthNote() const override
+  {
+    if (gt_.empty())
+      return std::string();
+    char b[200];
+    if (truth_ == KittiTruth::ImageStamp)
+      std::snprintf(b, sizeof b, "OXTS poses moved to the image stamps (image_stamp; sample offsets up to %.2f ms)",
+                    1e3 * max_offset_s_);
+    else
+      std::snprintf(b, sizeof b, "OXTS sample i as image i's pose (devkit convention)");
+    return b;
   }
   std::string kind() const override { return "kitti"; }
   size_t size() const override { return left_.size(); }
@@ -267,9 +295,11 @@ private:
   std::string dir_;
   std::vector<std::string> left_, right_;
   std::vector<double> stamps_;
+  KittiTruth truth_;
   KittiRawCalib calib_;
   mutable cv::Size size0_;  ///< size of the first image read
   std::vector<Eigen::Isometry3d> gt_;
+  double max_offset_s_ = 0.0;  ///< largest |image stamp - OXTS stamp| of the same index
 };
 
 // ------------------------------------------------------------------------------------- EuRoC
@@ -567,10 +597,22 @@ private:
 }  // namespace
 
 // ------------------------------------------------------------------------------------- API
-std::unique_ptr<DatasetSource> openDataset(const std::string& kind, const std::string& dir)
+KittiTruth parseKittiTruth(const std::string& s)
+{
+  if (s == "image_stamp")
+    return KittiTruth::ImageStamp;
+  if (s == "devkit")
+    return KittiTruth::Devkit;
+  fail("unknown KITTI truth '" + s + "' (image_stamp or devkit)");
+}
+
+const char* toString(KittiTruth t) { return t == KittiTruth::ImageStamp ? "image_stamp" : "devkit"; }
+
+std::unique_ptr<DatasetSource> openDataset(const std::string& kind, const std::string& dir,
+                                           const DatasetOptions& options)
 {
   if (kind == "kitti")
-    return std::make_unique<KittiSource>(dir);
+    return std::make_unique<KittiSource>(dir, options.kitti_truth);
   if (kind == "euroc")
     return std::make_unique<EurocSource>(dir);
   if (kind == "pairs")
@@ -660,6 +702,12 @@ std::vector<OxtsPacket> readOxtsFolder(const std::string& oxts_dir)
     o.roll = v[3];
     o.pitch = v[4];
     o.yaw = v[5];
+    o.vf = v[8];
+    o.vl = v[9];
+    o.vu = v[10];
+    o.wf = v[20];
+    o.wl = v[21];
+    o.wu = v[22];
     out.push_back(o);
   }
   if (out.empty())
@@ -685,6 +733,87 @@ std::vector<Eigen::Isometry3d> oxtsToImuPoses(const std::vector<OxtsPacket>& oxt
                      .toRotationMatrix();
     out.push_back(T);
   }
+  return out;
+}
+
+std::vector<Eigen::Isometry3d> oxtsToImuPosesAt(const std::vector<OxtsPacket>& oxts,
+                                                const std::vector<double>& oxts_stamps,
+                                                const std::vector<double>& stamps, double max_offset_s)
+{
+  if (oxts_stamps.size() != oxts.size())
+    fail("OXTS: " + std::to_string(oxts_stamps.size()) + " stamps for " + std::to_string(oxts.size()) + " packets");
+  std::vector<Eigen::Isometry3d> out;
+  if (oxts.empty())
+    return out;
+  const std::vector<Eigen::Isometry3d> at_oxts = oxtsToImuPoses(oxts);
+  const double scale = std::cos(oxts[0].lat * M_PI / 180.0);
+  for (const double t : stamps)
+  {
+    size_t k = 0;  // the nearest sample
+    for (size_t j = 1; j < oxts.size(); ++j)
+      if (std::abs(oxts_stamps[j] - t) < std::abs(oxts_stamps[k] - t))
+        k = j;
+    const double dt = t - oxts_stamps[k];
+    if (!(std::abs(dt) <= max_offset_s))
+    {
+      char b[160];
+      std::snprintf(b, sizeof b, "OXTS: no sample within %.3f s of the image stamp %.6f (nearest %.6f)",
+                    max_offset_s, t, oxts_stamps[k]);
+      fail(b);
+    }
+    const OxtsPacket& o = oxts[k];
+    // level (heading) frame at the sample: x forward, y left, z up, yawed by o.yaw in the
+    // Mercator frame (x east, y north, z up)
+    const Eigen::Matrix3d R_level = Eigen::AngleAxisd(o.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    // constant speed and yaw rate: the level-frame velocity turns with the heading, so the
+    // horizontal displacement is the arc int_0^dt Rz(wu s) ds * (vf, vl)
+    const double x = o.wu * dt;
+    double a, b;  // sin(x) / wu, (1 - cos(x)) / wu
+    if (std::abs(x) < 1e-6)
+    {
+      a = dt * (1.0 - x * x / 6.0);
+      b = dt * (x / 2.0 - x * x * x / 24.0);
+    }
+    else
+    {
+      a = std::sin(x) / o.wu;
+      b = (1.0 - std::cos(x)) / o.wu;
+    }
+    Eigen::Vector3d d = R_level * Eigen::Vector3d(a * o.vf - b * o.vl, b * o.vf + a * o.vl, o.vu * dt);
+    // metres -> Mercator units: the projection stretches by 1 / cos(lat), the devkit scales by cos(lat0)
+    const double merc = scale / std::cos(o.lat * M_PI / 180.0);
+    d.x() *= merc;
+    d.y() *= merc;
+    const Eigen::Vector3d w = R_level * Eigen::Vector3d(o.wf, o.wl, o.wu);  // rad/s in the Mercator frame
+    Eigen::Isometry3d T = at_oxts[k];
+    T.translation() += d;
+    if (w.norm() * std::abs(dt) > 0.0)
+      T.linear() = Eigen::AngleAxisd(w.norm() * dt, w.normalized()).toRotationMatrix() * T.linear();
+    out.push_back(T);
+  }
+  return out;
+}
+
+std::vector<double> readKittiTimestamps(const std::string& path)
+{
+  std::vector<double> out;
+  size_t no = 0;
+  for (const auto& l : readLines(path))
+  {
+    ++no;
+    if (l.find_first_not_of(" \t\r") == std::string::npos)
+      continue;
+    try
+    {
+      out.push_back(parseKittiTimestamp(l));
+    }
+    catch (const std::runtime_error& e)
+    {
+      fail(path + ":" + std::to_string(no) + ": " + e.what());
+    }
+  }
+  if (out.empty())
+    fail(path + ": no timestamps");
   return out;
 }
 

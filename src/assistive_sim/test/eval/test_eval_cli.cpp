@@ -254,14 +254,16 @@ TEST(ImportDataset, KittiBagHasTheRenderBagLayoutAndReadsBack)
   REQUIRE_REAL_DATA(rel);
   const std::string bag = testing::TempDir() + "/import_kitti_test.bag";
   std::string out;
+  // the devkit truth (OXTS sample i for image i) is the one the data README's figures describe
   ASSERT_EQ(run(exeDir() + "/import_dataset kitti " + realDataDir() + "/" + rel + " --out " + bag +
-                    " --max-frames 20",
+                    " --max-frames 20 --truth devkit",
                 out),
             0)
       << out;
   const std::string j = lastLine(out);
   EXPECT_NE(j.find("\"frames\": 20"), std::string::npos) << j;
   EXPECT_NE(j.find("\"has_ground_truth\": true"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"kitti_truth\": \"devkit\""), std::string::npos) << j;
   // the renderer engineer's reader sees rectified mono8 pairs, the calibration and the truth
   StereoBagReader reader(bag);
   EXPECT_TRUE(reader.hasGroundTruth());
@@ -292,6 +294,22 @@ TEST(ImportDataset, KittiBagHasTheRenderBagLayoutAndReadsBack)
   ASSERT_EQ(run(exeDir() + "/evaluate_trajectory " + bag + " --est-topic /ground_truth/odom --no-plot", out), 0);
   EXPECT_NEAR(jsonValue(lastLine(out), "ate_rmse_m"), 0.0, 1e-6);
   EXPECT_NEAR(jsonValue(lastLine(out), "path_length_m"), 24.49, 0.01);
+  // the default: the truth at the image stamps (frame 0's image is 3.4 ms after its OXTS sample,
+  // frame 19's 1.95 ms: about 2 cm less path)
+  ASSERT_EQ(run(exeDir() + "/import_dataset kitti " + realDataDir() + "/" + rel + " --out " + bag +
+                    " --max-frames 20",
+                out),
+            0)
+      << out;
+  EXPECT_NE(lastLine(out).find("\"kitti_truth\": \"image_stamp\""), std::string::npos) << lastLine(out);
+  EXPECT_NEAR(jsonValue(lastLine(out), "gt_path_m"), 24.4686, 0.001);
+  // an unknown truth, or --truth for another kind, is a usage error
+  EXPECT_EQ(run(exeDir() + "/import_dataset kitti " + realDataDir() + "/" + rel + " --out " + bag + " --truth nearest",
+                out),
+            2);
+  EXPECT_EQ(run(exeDir() + "/import_dataset euroc " + realDataDir() + "/" + rel + " --out " + bag + " --truth devkit",
+                out),
+            2);
   std::remove(bag.c_str());
 }
 

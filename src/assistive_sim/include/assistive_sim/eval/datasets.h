@@ -25,9 +25,26 @@ public:
   /// Frame i: rectified mono8 left/right, calibration, stamp and (if known) the ground-truth pose
   /// of the rectified left optical frame in a gravity-aligned, z-up gt_world.
   virtual StereoFrame frame(size_t i) const = 0;
+  /// One line on what the ground truth is (empty when there is none or nothing to say).
+  virtual std::string truthNote() const { return std::string(); }
+};
+/// Which instant the KITTI ground truth describes (import_dataset --truth).
+enum class KittiTruth
+{
+  ImageStamp,  ///< the OXTS pose moved to each left image's stamp with the OXTS velocity and rates
+  Devkit       ///< the devkit convention: OXTS sample i as it is, for image i (up to 5 ms apart)
+};
+/// "image_stamp" / "devkit"; throws std::runtime_error on anything else.
+KittiTruth parseKittiTruth(const std::string& s);
+const char* toString(KittiTruth t);
+
+struct DatasetOptions
+{
+  KittiTruth kitti_truth = KittiTruth::ImageStamp;
 };
 /// kind: "kitti", "euroc" or "pairs".
-std::unique_ptr<DatasetSource> openDataset(const std::string& kind, const std::string& dir);
+std::unique_ptr<DatasetSource> openDataset(const std::string& kind, const std::string& dir,
+                                           const DatasetOptions& options = DatasetOptions());
 
 // ---------------------------------------------------------------------------------------- KITTI
 /// "KEY: v1 v2 ..." files (calib_*.txt). Non-numeric values (calib_time) are skipped.
@@ -39,12 +56,27 @@ struct OxtsPacket
 {
   double lat = 0.0, lon = 0.0, alt = 0.0;      ///< deg, deg, m
   double roll = 0.0, pitch = 0.0, yaw = 0.0;   ///< rad
+  double vf = 0.0, vl = 0.0, vu = 0.0;         ///< m/s, forward/left/up of the level (heading) frame
+  double wf = 0.0, wl = 0.0, wu = 0.0;         ///< rad/s about the level frame's forward/left/up axes
 };
 /// oxts/data/*.txt in name order (30 values each).
 std::vector<OxtsPacket> readOxtsFolder(const std::string& oxts_dir);
 /// KITTI devkit convertOxtsToPose: Mercator with scale cos(lat0), R = Rz(yaw) Ry(pitch) Rx(roll);
 /// absolute IMU poses in the Mercator frame (x east, y north, z up). Not relative.
 std::vector<Eigen::Isometry3d> oxtsToImuPoses(const std::vector<OxtsPacket>& oxts);
+/// The IMU poses of oxtsToImuPoses (same Mercator frame, scale from oxts[0]) at the image stamps:
+/// for each stamp the nearest OXTS sample k (at most `max_offset_s` away, else std::runtime_error)
+/// is moved by dt = stamp - oxts_stamps[k] with its own velocity (vf, vl, vu) and rates (wf, wl,
+/// wu) held constant over dt: rotation Exp(dt w) * R_k, horizontal position along the arc of
+/// constant speed and yaw rate wu, vertical at vu. Exact for constant velocity and turn rate; the
+/// error of a constant acceleration a is a dt^2 / 2 (< 0.02 mm at 1 m/s^2, |dt| <= 5 ms),
+/// against a dt (T - dt) / 2 (0.24 mm) for interpolating between neighbouring samples T = 0.1 s
+/// apart, which also needs a sample on both sides of every stamp (not true at a clip's ends).
+std::vector<Eigen::Isometry3d> oxtsToImuPosesAt(const std::vector<OxtsPacket>& oxts,
+                                                const std::vector<double>& oxts_stamps,
+                                                const std::vector<double>& stamps, double max_offset_s = 0.05);
+/// "YYYY-MM-DD hh:mm:ss.f" lines of a timestamps.txt -> seconds (empty lines skipped).
+std::vector<double> readKittiTimestamps(const std::string& path);
 
 struct KittiRawCalib
 {
