@@ -121,8 +121,11 @@ bool SimVest::inject(const uint8_t* data, size_t len)
 
 void SimVest::tick(uint32_t now_ms)
 {
-  if (vest_firmware_tick(&fw_, now_ms))
+  const int r = vest_firmware_tick(&fw_, now_ms);
+  if (r == VEST_TICK_WATCHDOG)
     reportIfChanged(now_ms, "watchdog: no valid packet for 500 ms");
+  else if (r == VEST_TICK_EXPIRED)
+    reportIfChanged(now_ms, "cue expired (TTL)");
 }
 
 int SimVest::poll(int timeout_ms, uint32_t now_ms)

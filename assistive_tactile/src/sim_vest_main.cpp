@@ -85,9 +85,10 @@ int main(int argc, char** argv)
       break;
   }
   const vest_firmware_t& fw = vest.firmware();
-  std::printf("sim_vest: %llu commands, %llu output changes, %u bad packets, %u stray bytes, %u watchdog trips\n",
+  std::printf("sim_vest: %llu commands, %llu output changes, %u bad packets, %u stray bytes, %u watchdog trips, "
+              "%u cues expired (TTL)\n",
               static_cast<unsigned long long>(vest.commands()), static_cast<unsigned long long>(changes),
-              fw.parser.rejected, fw.parser.skipped, fw.timeouts);
+              fw.parser.rejected, fw.parser.skipped, fw.timeouts, fw.expiries);
   if (fw.parser.version_mismatch)
     std::printf("sim_vest: %u packets of protocol version %u ignored (this vest speaks version %u)\n",
                 fw.parser.version_mismatch, fw.parser.peer_version, VEST_PROTOCOL_VERSION);

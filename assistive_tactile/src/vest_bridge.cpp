@@ -2,6 +2,8 @@
 
 #include <errno.h>
 #include <poll.h>
+#include <pthread.h>
+#include <sched.h>
 #include <signal.h>
 
 #include <algorithm>
@@ -16,7 +18,7 @@ namespace
 {
 // Wake-up jitter of the housekeeping thread plus the write() call: the all-off is sent this much
 // (plus the packet's wire time) before a cue expires, so it has landed by the expiry.
-constexpr double kWakeMarginS = 0.005;
+constexpr double kWakeMarginS = 0.010;
 
 std::atomic<bool> g_signalled{ false };
 }  // namespace
@@ -63,9 +65,28 @@ uint8_t VestBridge::toDuty(float intensity)
   return static_cast<uint8_t>(std::max(1.f, std::round(v)));
 }
 
+double VestBridge::wireS() const
+{
+  return VEST_PACKET_SIZE * 10.0 / std::max(1, params_.baud);  // 8N1: 10 bits per byte
+}
+
 double VestBridge::offLeadS() const
 {
-  return VEST_PACKET_SIZE * 10.0 / std::max(1, params_.baud) + kWakeMarginS;
+  return wireS() + kWakeMarginS;
+}
+
+uint16_t VestBridge::ttlMs(double now) const
+{
+  const bool off = stats_.cue_stale || g_signalled.load() ||
+                   std::all_of(duty_.begin(), duty_.end(), [](uint8_t d) { return d == 0; });
+  if (off)
+    return 0xFFFF;  // nothing to end: the vest's watchdog rules
+  // The vest counts from receipt (one wire time after the write) and switches off one tick
+  // (1 ms) after the TTL: floor, minus that tick.
+  const double left_ms = (cue_deadline_ - wireS() - now) * 1000.0 - 1.0;
+  if (!(left_ms > 0.0))
+    return 0;
+  return static_cast<uint16_t>(std::min(65535.0, std::floor(left_ms)));
 }
 
 CueCheck VestBridge::checkCue(const std::array<uint8_t, VEST_NUM_MOTORS>& duty, const CueAge& age,
@@ -135,6 +156,7 @@ bool VestBridge::send(double now)
   vest_packet_t p{};
   p.type = VEST_TYPE_COMMAND;
   p.seq = static_cast<uint8_t>(stats_.seq + 1);
+  p.ttl_ms = ttlMs(now);
   for (unsigned i = 0; i < VEST_NUM_MOTORS; ++i)
   {
     p.intensity[i] = duty[i];
@@ -185,7 +207,8 @@ bool VestBridge::setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, dou
   double valid_s = params_.stale_s - std::max(0.0, age.stamp_age_s);
   if (std::any_of(duty.begin(), duty.end(), [](uint8_t d) { return d > 0; }))
     valid_s = std::min(valid_s, params_.max_source_age_s - std::max(0.0, age.source_age_s));
-  cue_expiry_ = now + valid_s - lead;
+  cue_deadline_ = now + valid_s;
+  cue_expiry_ = cue_deadline_ - lead;
   stats_.cue_stale = false;
   if (shut_down_ || g_signalled.load())
     return false;
@@ -308,6 +331,7 @@ VestBridgeRunner::VestBridgeRunner(const BridgeParams& p, double period_s, Hook 
   : bridge_(new VestBridge(p)), period_s_(std::max(1e-3, period_s)), hook_(std::move(after_spin))
 {
   thread_ = std::thread(&VestBridgeRunner::loop, this);
+  sched_error_ = setRealtimePriority(thread_.native_handle(), p.realtime_priority);
 }
 
 VestBridgeRunner::~VestBridgeRunner()
@@ -343,6 +367,17 @@ void VestBridgeRunner::stop()
     thread_.join();
   std::lock_guard<std::mutex> lock(mutex_);
   bridge_->shutdown();  // all motors off before the port closes
+}
+
+std::string setRealtimePriority(std::thread::native_handle_type thread, int priority)
+{
+  if (priority <= 0)
+    return std::string();
+  struct sched_param sp;
+  std::memset(&sp, 0, sizeof(sp));
+  sp.sched_priority = std::min(priority, sched_get_priority_max(SCHED_FIFO));
+  const int err = pthread_setschedparam(thread, SCHED_FIFO, &sp);
+  return err == 0 ? std::string() : std::string("SCHED_FIFO ") + std::to_string(sp.sched_priority) + ": " + std::strerror(err);
 }
 
 void VestBridgeRunner::loop()
@@ -402,6 +437,7 @@ void installAllOffSignalHandlers()
     return;
   vest_packet_t off{};
   off.type = VEST_TYPE_COMMAND;
+  off.ttl_ms = 0xFFFF;  // all-off: nothing to expire
   uint8_t buf[VEST_PACKET_SIZE];
   vest_encode(&off, buf);  // its leading delimiter ends any packet the signal interrupted
   setFailSafeBytes(buf, sizeof(buf));

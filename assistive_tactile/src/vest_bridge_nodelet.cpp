@@ -43,6 +43,7 @@ private:
     pnh.param("max_source_age_s", p.max_source_age_s, p.max_source_age_s);
     pnh.param("reopen_s", p.reopen_s, p.reopen_s);
     pnh.param("link_timeout_s", p.link_timeout_s, p.link_timeout_s);
+    pnh.param("realtime_priority", p.realtime_priority, p.realtime_priority);
     unsigned int speed = 0;
     if (!baudToSpeed(p.baud, &speed))
     {
@@ -59,6 +60,8 @@ private:
       NODELET_WARN("vest_bridge: reopen_s clamped to %g", p.reopen_s);
     if (clampParam(p.link_timeout_s, 0.1, 60.0))
       NODELET_WARN("vest_bridge: link_timeout_s clamped to %g", p.link_timeout_s);
+    if (clampParam(p.realtime_priority, 0, 99))
+      NODELET_WARN("vest_bridge: realtime_priority clamped to %d", p.realtime_priority);
     NODELET_INFO("vest_bridge: port %s @ %d baud, protocol v%u, resend %.1f Hz, stale %.3f s, max source age "
                  "%.3f s, reopen %.2f s",
                  p.port.c_str(), p.baud, VEST_PROTOCOL_VERSION, p.resend_hz, p.stale_s, p.max_source_age_s,
@@ -75,6 +78,11 @@ private:
     // Housekeeping in its own thread (100 Hz and at each cue's expiry): the all-off does not wait
     // for the manager's callback queue.
     runner_.reset(new VestBridgeRunner(p, 0.01, [this](const VestBridge& b, double now) { afterSpin(b, now); }));
+    const std::string sched = runner_->schedulingError();
+    if (!sched.empty())
+      NODELET_WARN("vest_bridge: housekeeping thread on normal scheduling (%s): under CPU overload the all-off "
+                   "may be late; the vest's TTL still ends each cue (grant rtprio, e.g. limits.conf)",
+                   sched.c_str());
 
     cue_sub_ = nh.subscribe("tactile/cue", 1, &VestBridgeNodelet::cueCb, this, ros::TransportHints().tcpNoDelay());
   }

@@ -4,7 +4,7 @@
 int assistive_tactile_protocol_c_check(void);
 int assistive_tactile_protocol_c_check(void)
 {
-  vest_packet_t p = { VEST_TYPE_COMMAND, 1, 0x5, { 10, 0, 30, 0 } };
+  vest_packet_t p = { VEST_TYPE_COMMAND, 1, 0x5, { 10, 0, 30, 0 }, 200 };
   uint8_t buf[VEST_PACKET_SIZE];
   vest_packet_t q;
   vest_encode(&p, buf);

@@ -48,7 +48,8 @@ std::map<std::string, std::map<std::string, std::string>> defaults()
                { "stale_s", num(b.stale_s) },
                { "max_source_age_s", num(b.max_source_age_s) },
                { "reopen_s", num(b.reopen_s) },
-               { "link_timeout_s", num(b.link_timeout_s) } } } };
+               { "link_timeout_s", num(b.link_timeout_s) },
+               { "realtime_priority", num(b.realtime_priority) } } } };
 }
 
 /// A number's text normalised ("1.0" -> "1"); other text unchanged.

@@ -136,7 +136,7 @@ TEST(VestBridge, AllOffWithinStaleTimeWhenCuesStop)
   p.stale_s = 0.3;
   Rig rig(p);
   const double lead = rig.bridge->offLeadS();
-  EXPECT_NEAR(lead, 15 * 10.0 / 57600 + 0.005, 1e-9);  // 15 bytes on the wire + wake-up margin
+  EXPECT_NEAR(lead, 17 * 10.0 / 57600 + 0.010, 1e-9);  // 17 bytes on the wire + wake-up margin
   const double t0 = rig.t;
   rig.bridge->setCue({ { 1.f, 0.f, 0.f, 0.f } }, t0);
   rig.pump();
@@ -301,7 +301,10 @@ TEST(VestBridge, RunnerSendsAllOffAtTheExpiry)
 
 TEST(VestBridge, FirmwareWatchdogWhenBridgeFallsSilent)
 {
-  Rig rig;
+  BridgeParams p;
+  p.stale_s = 10.0;  // a TTL beyond the watchdog: the watchdog is what ends it
+  p.max_source_age_s = 10.0;
+  Rig rig(p);
   rig.bridge->setCue({ { 1.f, 1.f, 0.f, 0.f } }, rig.t);
   rig.pump();
   ASSERT_EQ(duty(rig.vest), (Duty{ { 255, 255, 0, 0 } }));
@@ -310,6 +313,31 @@ TEST(VestBridge, FirmwareWatchdogWhenBridgeFallsSilent)
   EXPECT_EQ(duty(rig.vest), (Duty{ { 255, 255, 0, 0 } }));
   rig.vest.tick(last + 501);  // e.g. the PC hung with the port open: the vest stops by itself
   EXPECT_EQ(duty(rig.vest), (Duty{ { 0, 0, 0, 0 } }));
+}
+
+// The bridge stalls right after sending a cue (the 1.4 s stall of the fault injection): the vest
+// ends the cue at its deadline by itself, from the COMMAND's TTL.
+TEST(VestBridge, VestEndsTheCueItselfWhenTheBridgeStalls)
+{
+  Rig rig;
+  const double t0 = rig.t;
+  CueAge a;
+  a.stamp_age_s = 0.1;
+  a.source_age_s = 0.15;  // deadline: t0 + 0.2 s
+  ASSERT_TRUE(rig.bridge->setCue({ { 0.f, 1.f, 0.f, 0.f } }, t0, a));
+  rig.pump();
+  ASSERT_EQ(duty(rig.vest), (Duty{ { 0, 255, 0, 0 } }));
+  const uint32_t ms0 = rig.ms();
+  const uint16_t ttl = rig.vest.firmware().hold_ms;
+  EXPECT_EQ(ttl, static_cast<uint16_t>(std::floor((0.2 - rig.bridge->wireS()) * 1000.0 - 1.0)));
+  // No more spinOnce: the bridge is frozen. The vest's own clock runs on.
+  rig.vest.tick(ms0 + ttl);
+  EXPECT_EQ(duty(rig.vest), (Duty{ { 0, 255, 0, 0 } }));
+  rig.vest.tick(ms0 + ttl + 1);
+  EXPECT_EQ(duty(rig.vest), (Duty{ { 0, 0, 0, 0 } }));
+  EXPECT_LE(ttl + 1, 200);  // off by the cue's deadline, receipt counted from the write
+  EXPECT_EQ(rig.vest.firmware().expiries, 1);
+  EXPECT_EQ(rig.vest.firmware().timeouts, 0);
 }
 
 TEST(VestBridge, AllOffOnShutdown)

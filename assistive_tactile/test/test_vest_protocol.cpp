@@ -9,9 +9,11 @@
 
 namespace
 {
-vest_packet_t command(uint8_t seq, uint8_t motors, uint8_t i0, uint8_t i1, uint8_t i2, uint8_t i3)
+vest_packet_t command(uint8_t seq, uint8_t motors, uint8_t i0, uint8_t i1, uint8_t i2, uint8_t i3,
+                      uint16_t ttl_ms = 1000)
 {
   vest_packet_t p{};
+  p.ttl_ms = ttl_ms;
   p.type = VEST_TYPE_COMMAND;
   p.seq = seq;
   p.motors = motors;
@@ -40,7 +42,7 @@ std::vector<uint8_t> frameOf(const std::vector<uint8_t>& raw)
 
 bool same(const vest_packet_t& a, const vest_packet_t& b)
 {
-  return a.type == b.type && a.seq == b.seq && a.motors == b.motors &&
+  return a.type == b.type && a.seq == b.seq && a.motors == b.motors && a.ttl_ms == b.ttl_ms &&
          std::equal(a.intensity, a.intensity + 4, b.intensity);
 }
 
@@ -99,18 +101,18 @@ TEST(VestProtocol, CobsTable)
 
 TEST(VestProtocol, KnownEncoding)
 {
-  // seq 7, motors 0x5, duties 200 0 100 0: raw 02 01 07 05 C8 00 64 00 CRC(4 bytes, low first).
-  const std::vector<uint8_t> raw = { 0x02, 0x01, 0x07, 0x05, 200, 0, 100, 0 };
-  const uint32_t crc = vest_crc32c(raw.data(), 8);
-  std::vector<uint8_t> want = { 0x00, 0x06, 0x02, 0x01, 0x07, 0x05, 200, 0x02, 100 };
-  // The CRC bytes (none is 0 here: checked) close the last COBS group.
+  // seq 7, motors 0x5, duties 200 0 100 0, TTL 300 ms:
+  // raw 02 01 07 05 C8 00 64 00 2C 01 CRC(4 bytes, low first).
+  const std::vector<uint8_t> raw = { 0x02, 0x01, 0x07, 0x05, 200, 0, 100, 0, 0x2C, 0x01 };
+  const uint32_t crc = vest_crc32c(raw.data(), 10);
+  std::vector<uint8_t> want = { 0x00, 0x06, 0x02, 0x01, 0x07, 0x05, 200, 0x02, 100, 0x07, 0x2C, 0x01 };
+  // TTL and CRC bytes (none is 0 here: checked) close the last COBS group.
   for (int k = 0; k < 4; ++k)
     ASSERT_NE((crc >> (8 * k)) & 0xFF, 0u) << k;
-  want.push_back(0x05);
   for (int k = 0; k < 4; ++k)
     want.push_back(static_cast<uint8_t>(crc >> (8 * k)));
   want.push_back(0x00);
-  EXPECT_EQ(bytes(command(7, 0x5, 200, 0, 100, 0)), want);
+  EXPECT_EQ(bytes(command(7, 0x5, 200, 0, 100, 0, 300)), want);
   EXPECT_EQ(want.size(), VEST_PACKET_SIZE);
 }
 
@@ -173,7 +175,7 @@ TEST(VestProtocol, EveryCorruptedByteIsRejected)
         EXPECT_GE(ps.rejected, 1) << "pos " << pos << " value " << v;
         ++tried;
       }
-    EXPECT_EQ(tried, 13 * 255);
+    EXPECT_EQ(tried, 15 * 255);
   }
 }
 
@@ -202,11 +204,11 @@ TEST(VestProtocol, BadFieldsAndOtherVersionsRejected)
   vest_packet_t q;
   uint8_t version = 0;
   // Valid CRC and framing, illegal field.
-  std::vector<uint8_t> f = frameOf({ 2, 0x01, 1, 0x11, 9, 0, 0, 0 });  // reserved motor bit
+  std::vector<uint8_t> f = frameOf({ 2, 0x01, 1, 0x11, 9, 0, 0, 0, 100, 0 });  // reserved motor bit
   EXPECT_EQ(vest_decode_frame(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &q, nullptr), VEST_FRAME_FIELD);
-  f = frameOf({ 2, 0x03, 1, 0x01, 9, 0, 0, 0 });  // unknown type
+  f = frameOf({ 2, 0x03, 1, 0x01, 9, 0, 0, 0, 100, 0 });  // unknown type
   EXPECT_EQ(vest_decode_frame(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &q, nullptr), VEST_FRAME_FIELD);
-  f = frameOf({ 2, 0x01, 1, 0x01, 9, 0, 0 });  // our version, one byte short
+  f = frameOf({ 2, 0x01, 1, 0x01, 9, 0, 0, 0, 100 });  // our version, one byte short
   EXPECT_EQ(vest_decode_frame(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &q, nullptr), VEST_FRAME_LENGTH);
   // Another version (same layout, and a longer future one): rejected, reported with its number.
   for (const std::vector<uint8_t>& raw : { std::vector<uint8_t>{ 1, 0x01, 1, 0x01, 9, 0, 0, 0 },
@@ -355,6 +357,47 @@ TEST(VestFirmware, CommandSetsOutputsAndAnswers)
   EXPECT_EQ(status.motors, 0x5);
   EXPECT_EQ(status.intensity[0], 200);
   EXPECT_EQ(status.intensity[1], 0);
+  EXPECT_EQ(status.ttl_ms, 0);
+}
+
+// The vest ends a cue by itself when its TTL runs out (the PC may be stalled); the watchdog
+// caps a longer TTL.
+TEST(VestFirmware, TtlEndsTheCue)
+{
+  struct Row
+  {
+    uint16_t ttl;
+    uint32_t last_on_ms;  // still on at cmd + this
+    int result;           // what the tick one ms later says
+  };
+  for (const Row& r : { Row{ 120, 120, VEST_TICK_EXPIRED }, Row{ 0, 0, VEST_TICK_EXPIRED },
+                        Row{ 499, 499, VEST_TICK_EXPIRED }, Row{ 500, 500, VEST_TICK_WATCHDOG },
+                        Row{ 65535, 500, VEST_TICK_WATCHDOG } })
+  {
+    vest_firmware_t fw;
+    vest_firmware_init(&fw, 0);
+    vest_packet_t status;
+    for (uint8_t x : bytes(command(1, 0x2, 0, 200, 0, 0, r.ttl)))
+      vest_firmware_feed(&fw, x, 1000, &status);
+    ASSERT_EQ(fw.duty[1], 200) << r.ttl;
+    EXPECT_EQ(vest_firmware_tick(&fw, 1000 + r.last_on_ms), VEST_TICK_NONE) << r.ttl;
+    EXPECT_EQ(fw.duty[1], 200) << r.ttl;
+    EXPECT_EQ(vest_firmware_tick(&fw, 1000 + r.last_on_ms + 1), r.result) << r.ttl;
+    EXPECT_EQ(fw.duty[1], 0) << r.ttl;
+    EXPECT_EQ(fw.expiries, r.result == VEST_TICK_EXPIRED ? 1 : 0);
+    EXPECT_EQ(fw.timeouts, r.result == VEST_TICK_WATCHDOG ? 1 : 0);
+  }
+  // A newer COMMAND restarts the clock with its own TTL.
+  vest_firmware_t fw;
+  vest_firmware_init(&fw, 0);
+  vest_packet_t status;
+  for (uint8_t x : bytes(command(1, 0x1, 90, 0, 0, 0, 100)))
+    vest_firmware_feed(&fw, x, 0, &status);
+  for (uint8_t x : bytes(command(2, 0x1, 90, 0, 0, 0, 100)))
+    vest_firmware_feed(&fw, x, 80, &status);
+  EXPECT_EQ(vest_firmware_tick(&fw, 150), VEST_TICK_NONE);
+  EXPECT_EQ(fw.duty[0], 90);
+  EXPECT_EQ(vest_firmware_tick(&fw, 181), VEST_TICK_EXPIRED);
 }
 
 TEST(VestFirmware, IgnoresStatusAndBadPackets)

@@ -15,7 +15,9 @@
  *     COBS structure, a wrong length or illegal fields is dropped; a CRC-valid frame of another
  *     protocol version is dropped and counted (fw.parser.version_mismatch / peer_version);
  *   - a valid COMMAND sets the four PWM duties and is answered with a STATUS packet;
- *   - no valid COMMAND for 500 ms (VEST_WATCHDOG_MS) -> every motor off.
+ *   - the last COMMAND's TTL ran out (the PC sets it from the cue's stamps, so a cue ends on
+ *     time even when the PC stalls), or no valid COMMAND for 500 ms (VEST_WATCHDOG_MS) -> every
+ *     motor off.
  * Motors are off at power-up until the first valid COMMAND.
  */
 #include "vest_protocol.h"

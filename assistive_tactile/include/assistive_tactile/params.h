@@ -36,6 +36,7 @@ struct BridgeParams
   double max_source_age_s = 0.5;      ///< a cue drives until source_stamp + this (camera image age)
   double reopen_s = 1.0;              ///< retry period while the port is closed
   double link_timeout_s = 1.0;        ///< no STATUS from the vest for this long -> link WARN
+  int realtime_priority = 10;         ///< SCHED_FIFO priority of the housekeeping thread, 0 = normal
 };
 
 /// Clamps a value into [lo, hi]; returns true when it had to.

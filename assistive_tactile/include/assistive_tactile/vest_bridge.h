@@ -72,7 +72,8 @@ const char* cueCheckName(CueCheck c);
  * deliver it late): it is obeyed only while header.stamp + stale_s and, if it drives a motor,
  * source_stamp + max_source_age_s are in the future, and all motors go off when the last valid
  * cue expires (early by the packet's wire time plus a wake-up margin, so the all-off has landed
- * by then). All-off also on shutdown and, with installAllOffSignalHandlers(), on SIGINT/SIGTERM.
+ * by then). Each COMMAND also carries the time left (TTL), so the vest ends the cue by itself
+ * when this side is late or stalled. All-off also on shutdown and, with installAllOffSignalHandlers(), on SIGINT/SIGTERM.
  * `now` arguments are seconds on a monotonic clock. Not thread-safe: call from one thread (or
  * use VestBridgeRunner).
  */
@@ -101,6 +102,10 @@ public:
                            const BridgeParams& p, double lead_s);
   /// How much before a cue's expiry the all-off is sent: one packet's wire time + wake-up margin.
   double offLeadS() const;
+  /// One packet's time on the wire at the configured baud rate.
+  double wireS() const;
+  /// TTL_MS for a COMMAND written at `now` (what is left of the cue, less the wire time).
+  uint16_t ttlMs(double now) const;
 
   /// Housekeeping: (re)open, read the vest's replies, expiry check, periodic re-send.
   void spinOnce(double now);
@@ -136,7 +141,8 @@ private:
   std::array<uint8_t, VEST_NUM_MOTORS> duty_{ { 0, 0, 0, 0 } };       ///< from the last valid cue
   std::array<uint8_t, VEST_NUM_MOTORS> sent_duty_{ { 0, 0, 0, 0 } };  ///< in the last packet
   std::vector<uint8_t> pending_;  ///< unwritten tail of the last packet
-  double cue_expiry_ = -std::numeric_limits<double>::infinity();
+  double cue_deadline_ = -std::numeric_limits<double>::infinity();  ///< all-off must have landed
+  double cue_expiry_ = -std::numeric_limits<double>::infinity();    ///< deadline - offLeadS()
   double last_send_time_ = -1e300;
   double next_open_time_ = -1e300;
   bool shut_down_ = false;
@@ -148,7 +154,8 @@ double steadyNow();
 /**
  * Runs a VestBridge's housekeeping in its own thread: every period_s and exactly at the current
  * cue's expiry, so the all-off is on time even when the ROS callback queue (shared with the
- * other nodelets of a manager) is busy. `after_spin` runs in that thread after each
+ * other nodelets of a manager) is busy; on SCHED_FIFO (realtime_priority) when allowed, so an
+ * overloaded CPU does not delay it either (it sleeps between steps: never hogs a core). `after_spin` runs in that thread after each
  * housekeeping step, with the bridge locked (diagnostics, logging). stop() / the destructor send
  * all-off and close the port.
  */
@@ -172,6 +179,8 @@ public:
   }
   /// All-off, close, join (idempotent).
   void stop();
+  /// Empty when the thread runs with params().realtime_priority (or 0 was asked), else why not.
+  const std::string& schedulingError() const { return sched_error_; }
 
 private:
   void loop();
@@ -182,8 +191,13 @@ private:
   double period_s_;
   Hook hook_;
   bool stop_ = false;
+  std::string sched_error_;
   std::thread thread_;
 };
+
+/// Puts `thread` on SCHED_FIFO at `priority` (0: leaves it alone). Empty on success, else why
+/// not (e.g. no CAP_SYS_NICE / rtprio limit): the thread then keeps normal scheduling.
+std::string setRealtimePriority(std::thread::native_handle_type thread, int priority);
 
 /**
  * Fail-safe for SIGINT and SIGTERM: the handler writes an all-off packet (async-signal-safe

@@ -7,7 +7,7 @@
  *
  * Protocol version 2 (version 1 was SYNC 0xA5 + CRC-8; it let noise through as false COMMANDs).
  *
- * Packet (12 bytes before framing, both directions, all fields uint8):
+ * Packet (14 bytes before framing, both directions):
  *
  *   byte 0    VERSION   VEST_PROTOCOL_VERSION (2); a receiver rejects and counts other versions
  *   byte 1    TYPE      0x01 = COMMAND (PC -> vest), 0x02 = STATUS (vest -> PC)
@@ -16,18 +16,22 @@
  *   byte 3    MOTORS    bit i set = motor i on (bit 0 left shoulder, 1 right shoulder,
  *                       2 left waist, 3 right waist); bits 4..7 must be 0
  *   byte 4-7  I0..I3    PWM duty of motor i (0..255), used only when its bit is set
- *   byte 8-11 CRC       CRC-32C (Castagnoli: poly 0x1EDC6F41 reflected, init and final xor
- *                       0xFFFFFFFF; check value 0xE3069283) over bytes 0..7, low byte first.
+ *   byte 8-9  TTL_MS    uint16, low byte first. COMMAND: the vest drives these duties for at
+ *                       most TTL_MS ms after it received the packet, then switches every motor
+ *                       off by itself (capped by VEST_WATCHDOG_MS); the PC sets it from the cue's
+ *                       stamps, so a cue ends on time even when the PC stalls. STATUS: 0.
+ *   byte 10-13 CRC      CRC-32C (Castagnoli: poly 0x1EDC6F41 reflected, init and final xor
+ *                       0xFFFFFFFF; check value 0xE3069283) over bytes 0..9, low byte first.
  *                       (CRC-16/CCITT-FALSE let 1 damaged frame through per ~3e7 random
  *                       corruptions in tactile_benchmark; 32 bits make that 65536 times rarer.)
  *
- * Framing: COBS (Consistent Overhead Byte Stuffing). The 12 bytes are COBS-encoded (13 bytes, no
- * 0x00 inside) and sent between two 0x00 delimiters: 15 bytes on the wire,
+ * Framing: COBS (Consistent Overhead Byte Stuffing). The 14 bytes are COBS-encoded (15 bytes, no
+ * 0x00 inside) and sent between two 0x00 delimiters: 17 bytes on the wire,
  *
  *   0x00  COBS(packet)  0x00
  *
  * A receiver collects the bytes between delimiters into a frame and accepts it only when the COBS
- * structure is valid, the CRC matches, VERSION is ours, the decoded length is exactly 12 and the
+ * structure is valid, the CRC matches, VERSION is ours, the decoded length is exactly 14 and the
  * fields are legal. Since a frame starts only at a delimiter, a packet is never read at a shifted
  * offset (the SYNC scan of version 1 could); garbage, a truncated or a shifted packet cost that
  * frame only, and the next delimiter resynchronises. The leading delimiter ends any garbage
@@ -38,7 +42,8 @@
  * Motor i is driven at  (MOTORS >> i) & 1 ? Ii : 0.
  * A COMMAND is the complete desired state (not a delta), so a lost packet is healed by the next
  * one. The PC re-sends it at a fixed rate (default 20 Hz). The vest switches every motor off when
- * no valid COMMAND arrived for VEST_WATCHDOG_MS, and answers every accepted COMMAND with a
+ * the last COMMAND's TTL ran out or no valid COMMAND arrived for VEST_WATCHDOG_MS (whichever comes
+ * first), and answers every accepted COMMAND with a
  * STATUS carrying what the motors now do (the PC uses it as link proof and on diagnostics).
  */
 #ifndef ASSISTIVE_TACTILE_VEST_PROTOCOL_H
@@ -56,12 +61,17 @@ extern "C" {
 #define VEST_TYPE_COMMAND 0x01u
 #define VEST_TYPE_STATUS 0x02u
 #define VEST_CRC_SIZE 4u
-#define VEST_RAW_SIZE 12u                       /* VERSION .. CRC, before COBS */
+#define VEST_RAW_SIZE 14u                       /* VERSION .. CRC, before COBS */
 #define VEST_COBS_SIZE (VEST_RAW_SIZE + 1u)     /* COBS adds one byte to frames under 254 bytes */
-#define VEST_PACKET_SIZE (VEST_COBS_SIZE + 2u)  /* on the wire, with both delimiters: 15 */
+#define VEST_PACKET_SIZE (VEST_COBS_SIZE + 2u)  /* on the wire, with both delimiters: 17 */
 #define VEST_MAX_FRAME 32u  /* longest frame a receiver buffers; longer = garbage, dropped */
 #define VEST_NUM_MOTORS 4u
 #define VEST_WATCHDOG_MS 500u
+
+/* vest_firmware_tick's results */
+#define VEST_TICK_NONE 0
+#define VEST_TICK_WATCHDOG 1  /* no valid COMMAND for VEST_WATCHDOG_MS: all off */
+#define VEST_TICK_EXPIRED 2   /* the last COMMAND's TTL ran out: all off */
 
 /* Motor indices (match assistive_msgs/TactileCue). */
 #define VEST_LEFT_SHOULDER 0u
@@ -84,6 +94,7 @@ typedef struct
   uint8_t seq;
   uint8_t motors;                       /* bit mask, bits 0..3 */
   uint8_t intensity[VEST_NUM_MOTORS];   /* 0..255 */
+  uint16_t ttl_ms;                      /* COMMAND: drive at most this long after receipt */
 } vest_packet_t;
 
 /* CRC-32C (Castagnoli), reflected, init/xorout 0xFFFFFFFF. Bitwise: no table in the ATmega's
@@ -174,6 +185,8 @@ static inline void vest_encode(const vest_packet_t* p, uint8_t* out)
   raw[3] = (uint8_t)(p->motors & 0x0Fu);
   for (i = 0; i < VEST_NUM_MOTORS; ++i)
     raw[4 + i] = p->intensity[i];
+  raw[8] = (uint8_t)(p->ttl_ms & 0xFFu);
+  raw[9] = (uint8_t)(p->ttl_ms >> 8);
   vest_frame(raw, (uint8_t)(VEST_RAW_SIZE - VEST_CRC_SIZE), out);
 }
 
@@ -210,6 +223,7 @@ static inline int vest_decode_frame(const uint8_t* frame, uint8_t len, vest_pack
   p->motors = raw[3];
   for (i = 0; i < VEST_NUM_MOTORS; ++i)
     p->intensity[i] = raw[4 + i];
+  p->ttl_ms = (uint16_t)(raw[8] | ((uint16_t)raw[9] << 8));
   return VEST_FRAME_OK;
 }
 
@@ -302,7 +316,9 @@ typedef struct
   uint8_t last_seq;              /* SEQ of the last accepted COMMAND */
   uint8_t have_command;          /* 1 once a COMMAND was accepted since the last timeout */
   uint32_t last_command_ms;
+  uint16_t hold_ms;              /* the last COMMAND drives until last_command_ms + hold_ms */
   uint16_t timeouts;             /* watchdog trips (wraps) */
+  uint16_t expiries;             /* commands that ran out of TTL (wraps) */
 } vest_firmware_t;
 
 static inline void vest_firmware_init(vest_firmware_t* fw, uint32_t now_ms)
@@ -340,7 +356,9 @@ static inline int vest_firmware_feed(vest_firmware_t* fw, uint8_t byte, uint32_t
   fw->last_seq = p.seq;
   fw->have_command = 1u;
   fw->last_command_ms = now_ms;
+  fw->hold_ms = p.ttl_ms < VEST_WATCHDOG_MS ? p.ttl_ms : (uint16_t)VEST_WATCHDOG_MS;
   status->type = VEST_TYPE_STATUS;
+  status->ttl_ms = 0u;
   status->seq = fw->last_seq;
   status->motors = fw->motors;
   for (i = 0; i < VEST_NUM_MOTORS; ++i)
@@ -348,18 +366,24 @@ static inline int vest_firmware_feed(vest_firmware_t* fw, uint8_t byte, uint32_t
   return 1;
 }
 
-/* Watchdog; call every loop. Returns 1 when it just switched the motors off. Unsigned
- * subtraction keeps it right across the millis() wrap (49.7 days). */
+/* TTL and watchdog; call every loop. Returns VEST_TICK_EXPIRED / VEST_TICK_WATCHDOG when it
+ * just switched the motors off (the command's TTL ran out / no COMMAND for VEST_WATCHDOG_MS),
+ * else VEST_TICK_NONE. Unsigned subtraction keeps it right across the millis() wrap (49.7 days). */
 static inline int vest_firmware_tick(vest_firmware_t* fw, uint32_t now_ms)
 {
-  if (fw->have_command && (uint32_t)(now_ms - fw->last_command_ms) > VEST_WATCHDOG_MS)
+  if (fw->have_command && (uint32_t)(now_ms - fw->last_command_ms) > fw->hold_ms)
   {
     vest_firmware_all_off(fw);
     fw->have_command = 0u;
+    if (fw->hold_ms < VEST_WATCHDOG_MS)
+    {
+      fw->expiries++;
+      return VEST_TICK_EXPIRED;
+    }
     fw->timeouts++;
-    return 1;
+    return VEST_TICK_WATCHDOG;
   }
-  return 0;
+  return VEST_TICK_NONE;
 }
 
 #ifdef __cplusplus
