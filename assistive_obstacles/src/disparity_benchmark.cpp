@@ -1,11 +1,13 @@
 // rosrun assistive_obstacles disparity_benchmark DIR
 // Scores the obstacle stage's DEFAULT disparity configuration on the real stereo pairs of DIR
-// (/work/shared/data/real/stereo_disparity: items 3-5 of its README) beside the peer,
+// (default $ASSISTIVE_REAL_DATA/stereo_disparity, else the folder beside the workspace,
+// ../shared/data/real/stereo_disparity: items 3-5 of its README) beside the peer,
 // full-resolution OpenCV SGBM, in the same run. KITTI D1 = % of valid GT px with |err| > 3 px and
 // > 5 % of GT; Middlebury bad-2.0 = % of valid GT px with |err| > 2 px. Pixels without an
 // estimate count as errors (no interpolation). Last stdout line: one JSON object.
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -19,6 +21,10 @@
 
 #include <assistive_obstacles/disparity.h>
 #include <assistive_obstacles/disparity_eval.h>
+
+#ifndef ASSISTIVE_REAL_DATA_DIR  // set by CMake: the folder beside the workspace
+#define ASSISTIVE_REAL_DATA_DIR "../shared/data/real"
+#endif
 
 using namespace assistive_obstacles;
 
@@ -56,7 +62,8 @@ int main(int argc, char** argv)
   const char* usage =
       "usage: disparity_benchmark [DIR] [--reps N]\n"
       "  Scores the default disparity configuration on the real stereo pairs of DIR (default\n"
-      "  /work/shared/data/real/stereo_disparity) beside OpenCV SGBM; --reps timing repetitions (default 5).\n"
+      "  $ASSISTIVE_REAL_DATA/stereo_disparity, else " ASSISTIVE_REAL_DATA_DIR "/stereo_disparity)\n"
+      "  beside OpenCV SGBM; --reps timing repetitions (default 5).\n"
       "  Last stdout line: JSON.\n";
   auto usageError = [&](const std::string& msg) {
     std::cerr << "disparity_benchmark: " << msg << "\n" << usage;
@@ -95,7 +102,10 @@ int main(int argc, char** argv)
       dir = a;
   }
   if (dir.empty())
-    dir = "/work/shared/data/real/stereo_disparity";
+  {
+    const char* env = std::getenv("ASSISTIVE_REAL_DATA");
+    dir = ((env && *env) ? std::string(env) : std::string(ASSISTIVE_REAL_DATA_DIR)) + "/stereo_disparity";
+  }
   const ObstaclesParams defaults;  // the stage's default configuration
   DisparityEstimator ours(defaults);
   const int peer_nd = defaults.max_disparity;

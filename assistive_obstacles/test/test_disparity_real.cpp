@@ -3,20 +3,27 @@
 // Accuracy only; speed is measured by disparity_benchmark.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <string>
+
 #include <assistive_obstacles/disparity.h>
 #include <assistive_obstacles/disparity_eval.h>
 
 #ifndef ASSISTIVE_REAL_DATA_DIR
-#define ASSISTIVE_REAL_DATA_DIR "/work/shared/data/real"
+#define ASSISTIVE_REAL_DATA_DIR "../shared/data/real"
 #endif
 
 using namespace assistive_obstacles;
 
 TEST(DisparityReal, DefaultNoWorseThanOneAndAHalfTimesFullResSgbm)
 {
-  const std::string dir = std::string(ASSISTIVE_REAL_DATA_DIR) + "/stereo_disparity";
+  // $ASSISTIVE_REAL_DATA, else the CMake default (the folder beside the workspace)
+  const char* env = std::getenv("ASSISTIVE_REAL_DATA");
+  const std::string root = (env && *env) ? std::string(env) : std::string(ASSISTIVE_REAL_DATA_DIR);
+  const std::string dir = root + "/stereo_disparity";
   const auto pairs = loadRealPairs(dir);
-  if (pairs.empty()) GTEST_SKIP() << "no real stereo pairs under " << dir;
+  if (pairs.empty())
+    GTEST_SKIP() << "SKIPPED: real data not found at " << dir << " (set ASSISTIVE_REAL_DATA)";
   const ObstaclesParams defaults;
   DisparityEstimator est(defaults);
   for (const RealPair& p : pairs)

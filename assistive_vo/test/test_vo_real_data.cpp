@@ -13,7 +13,7 @@
 #include <sys/stat.h>
 
 #ifndef ASSISTIVE_REAL_DATA_DIR
-#define ASSISTIVE_REAL_DATA_DIR "/work/shared/data/real"
+#define ASSISTIVE_REAL_DATA_DIR "../shared/data/real"
 #endif
 
 namespace ev = assistive_sim::eval;
@@ -75,7 +75,7 @@ TEST(VoRealData, EurocStillClipGivesNoFalseMotion)
 {
   const std::string dir = clipDir(EUROC);
   if (!exists(dir))
-    GTEST_SKIP() << "real data not found: " << dir;
+    GTEST_SKIP() << "SKIPPED: real data not found at " << dir << " (set ASSISTIVE_REAL_DATA)";
   const ClipRun r = runClip("euroc", dir);
   ASSERT_EQ(r.est.size(), 20u);
   EXPECT_TRUE(r.finite);
@@ -99,7 +99,7 @@ TEST(VoRealData, KittiClipTracksEveryFrameWithLowDrift)
 {
   const std::string dir = clipDir(KITTI);
   if (!exists(dir))
-    GTEST_SKIP() << "real data not found: " << dir;
+    GTEST_SKIP() << "SKIPPED: real data not found at " << dir << " (set ASSISTIVE_REAL_DATA)";
   const ClipRun r = runClip("kitti", dir);
   ASSERT_EQ(r.est.size(), 60u);
   ASSERT_EQ(r.gt.size(), 60u);

@@ -9,7 +9,7 @@
 
 namespace assistive_obstacles
 {
-/// One real pair of /work/shared/data/real/stereo_disparity (README items 3-5).
+/// One real pair of the real-data folder's stereo_disparity/ (its README's items 3-5).
 struct RealPair
 {
   std::string name;     ///< "kitti2015_000005", "middlebury3_teddy_half", "middlebury2003_cones_quarter"

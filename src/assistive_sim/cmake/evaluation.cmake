@@ -18,9 +18,13 @@ install(TARGETS assistive_sim_eval assistive_sim_import
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})
 
+# Real camera data (issue 9): by default the folder beside the workspace, <workspace>/../shared/data/real
+# (the workspace is the repository root, the parent of the catkin source space CMAKE_SOURCE_DIR);
+# -DASSISTIVE_REAL_DATA_DIR=... at configure time or $ASSISTIVE_REAL_DATA at run time point elsewhere.
+get_filename_component(_assistive_real_data "${CMAKE_SOURCE_DIR}/../../shared/data/real" ABSOLUTE)
+set(ASSISTIVE_REAL_DATA_DIR "${_assistive_real_data}" CACHE PATH "folder of the real camera data (issue 9)")
 if(CATKIN_ENABLE_TESTING)
-  # Real-data tests find the data here and GTEST_SKIP when it is absent.
-  set(ASSISTIVE_REAL_DATA_DIR "/work/shared/data/real" CACHE PATH "folder of the real camera data (issue 9)")
+  # Real-data tests find the data there ($ASSISTIVE_REAL_DATA first) and GTEST_SKIP when it is absent.
   foreach(t test_trajectory_metrics test_map_score test_plots test_reference_numbers)
     catkin_add_gtest(${t} test/eval/${t}.cpp)
     if(TARGET ${t})

@@ -1,11 +1,12 @@
 #pragma once
-// Where the real camera data of issue 9 lives: $ASSISTIVE_REAL_DATA, else the CMake default.
+// Where the real camera data of issue 9 lives: $ASSISTIVE_REAL_DATA, else the CMake default (the
+// folder beside the workspace, <workspace>/../shared/data/real).
 #include <cstdlib>
 #include <string>
 #include <sys/stat.h>
 
 #ifndef ASSISTIVE_REAL_DATA_DIR
-#define ASSISTIVE_REAL_DATA_DIR "/work/shared/data/real"
+#define ASSISTIVE_REAL_DATA_DIR "../shared/data/real"
 #endif
 
 inline std::string realDataDir()
@@ -25,6 +26,6 @@ inline bool pathExists(const std::string& p)
   do                                                                                               \
   {                                                                                                \
     if (!pathExists(realDataDir() + "/" + (rel)))                                                  \
-      GTEST_SKIP() << "real data not found: " << realDataDir() << "/" << (rel)                     \
-                   << " (set ASSISTIVE_REAL_DATA to the folder of /work/shared/data/real)";        \
+      GTEST_SKIP() << "SKIPPED: real data not found at " << realDataDir() << "/" << (rel)          \
+                   << " (set ASSISTIVE_REAL_DATA)";                                                \
   } while (0)
