@@ -1,5 +1,5 @@
 // planner_benchmark: D* Lite replanning against A* from scratch on synthetic grids (no roscore, no args).
-// Prints a table, then one JSON line (SPEC.md "Benchmarks").
+// Prints a table, then one JSON line (docs/design.md, "Benchmarks").
 #include <algorithm>
 #include <chrono>
 #include <cstdio>

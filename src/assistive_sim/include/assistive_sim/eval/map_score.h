@@ -49,7 +49,7 @@ MapScore scoreMap(const Grid& gt, const Grid& est, const Eigen::Vector2d& wearer
                   const Eigen::Isometry2d& T_est_gt = Eigen::Isometry2d::Identity());
 
 /// Sums scores over many grids / frames (micro-average) and keeps the distinct truth cells ever
-/// reported free while obstacle (SPEC `free_where_obstacle_cells`).
+/// reported free while obstacle (benchmark key `free_where_obstacle_cells`, docs/design.md).
 class MapScoreAccumulator
 {
 public:

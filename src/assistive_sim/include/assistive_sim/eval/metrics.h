@@ -145,7 +145,7 @@ TrajectoryReport evaluateTrajectory(const Trajectory& gt, const Trajectory& est,
 
 /// JSON helpers (NaN/inf -> null).
 std::string jsonNumber(double v, int precision = 6);
-/// A readable table and a JSON object (no trailing newline) of a report; keys follow SPEC.md
+/// A readable table and a JSON object (no trailing newline) of a report; keys follow docs/design.md
 /// (ate_rmse_m, drift_pct, drift_deg_per_m, max_jump_m, ...).
 std::string reportTable(const TrajectoryReport& r);
 std::string reportJson(const TrajectoryReport& r);
