@@ -144,13 +144,17 @@ int SimVest::poll(int timeout_ms, uint32_t now_ms)
       for (ssize_t i = 0; i < n; ++i)
       {
         vest_packet_t status;
-        if (vest_firmware_feed(&fw_, buf[i], now_ms, &status))
+        const int r = vest_firmware_feed(&fw_, buf[i], now_ms, &status);
+        if (r != VEST_FEED_NONE)
         {
-          ++applied;
-          ++commands_;
-          char why[32];
-          std::snprintf(why, sizeof(why), "seq %u", status.seq);
-          reportIfChanged(now_ms, why);
+          if (r == VEST_FEED_APPLIED)
+          {
+            ++applied;
+            ++commands_;
+            char why[32];
+            std::snprintf(why, sizeof(why), "seq %u", status.seq);
+            reportIfChanged(now_ms, why);
+          }
           if (reply_status)
           {
             uint8_t out[VEST_PACKET_SIZE];

@@ -221,8 +221,24 @@ TEST(VestProtocol, BadFieldsAndOtherVersionsRejected)
     vest_firmware_t fw;
     vest_firmware_init(&fw, 0);
     vest_packet_t status;
-    for (uint8_t x : f)
-      EXPECT_EQ(vest_firmware_feed(&fw, x, 1, &status), 0);
+    int replies = 0;
+    for (size_t k = 0; k < f.size(); ++k)
+    {
+      const int r = vest_firmware_feed(&fw, f[k], 1, &status);
+      EXPECT_NE(r, VEST_FEED_APPLIED);
+      if (r == VEST_FEED_VERSION_REPLY)
+      {
+        ++replies;
+        EXPECT_EQ(k, f.size() - 1);  // at the frame's end
+        EXPECT_EQ(status.type, VEST_TYPE_STATUS);
+        std::vector<uint8_t> b(VEST_PACKET_SIZE);
+        vest_encode(&status, b.data());
+        vest_packet_t back;
+        EXPECT_TRUE(vest_decode(b.data(), &back));     // a packet of our version:
+        EXPECT_EQ(b[2], VEST_PROTOCOL_VERSION);        // delimiter, COBS code, VERSION
+      }
+    }
+    EXPECT_EQ(replies, 1);
     EXPECT_EQ(fw.parser.version_mismatch, 1);
     EXPECT_EQ(fw.parser.peer_version, raw[0]);
     EXPECT_EQ(fw.duty[0], 0);

@@ -13,7 +13,8 @@
  * vest, so what the tests check is what this sketch does):
  *   - bytes are split into COBS frames at 0x00 delimiters; a frame with a bad CRC-32C, a broken
  *     COBS structure, a wrong length or illegal fields is dropped; a CRC-valid frame of another
- *     protocol version is dropped and counted (fw.parser.version_mismatch / peer_version);
+ *     protocol version is dropped, counted (fw.parser.version_mismatch / peer_version) and
+ *     answered with a STATUS in our version, so that peer can report the mismatch;
  *   - a valid COMMAND sets the four PWM duties and is answered with a STATUS packet;
  *   - the last COMMAND's TTL ran out (the PC sets it from the cue's stamps, so a cue ends on
  *     time even when the PC stalls), or no valid COMMAND for 500 ms (VEST_WATCHDOG_MS) -> every
@@ -50,9 +51,11 @@ void loop()
   {
     const uint8_t byte = (uint8_t)Serial.read();
     vest_packet_t status;
-    if (vest_firmware_feed(&fw, byte, millis(), &status))
+    const int r = vest_firmware_feed(&fw, byte, millis(), &status);
+    if (r != VEST_FEED_NONE)
     {
-      applyOutputs();
+      if (r == VEST_FEED_APPLIED)
+        applyOutputs();  // else: a peer of another protocol version, told ours by the STATUS
       uint8_t out[VEST_PACKET_SIZE];
       vest_encode(&status, out);
       Serial.write(out, VEST_PACKET_SIZE);

@@ -68,6 +68,12 @@ extern "C" {
 #define VEST_NUM_MOTORS 4u
 #define VEST_WATCHDOG_MS 500u
 
+/* vest_firmware_feed's results */
+#define VEST_FEED_NONE 0
+#define VEST_FEED_APPLIED 1        /* a valid COMMAND was applied: send *status back */
+#define VEST_FEED_VERSION_REPLY 2  /* a CRC-valid frame of another version: nothing applied; send
+                                      *status back so that peer learns this vest's version */
+
 /* vest_firmware_tick's results */
 #define VEST_TICK_NONE 0
 #define VEST_TICK_WATCHDOG 1  /* no valid COMMAND for VEST_WATCHDOG_MS: all off */
@@ -336,16 +342,37 @@ static inline void vest_firmware_all_off(vest_firmware_t* fw)
   fw->motors = 0u;
 }
 
-/* Feeds one received byte. Returns 1 when a valid COMMAND was applied; then *status holds the
- * STATUS packet to send back. STATUS packets and anything invalid (other versions included:
- * counted in parser.version_mismatch) are ignored. */
+/* Fills a STATUS with what the outputs do now. */
+static inline void vest_firmware_status(const vest_firmware_t* fw, vest_packet_t* status)
+{
+  uint8_t i;
+  status->type = VEST_TYPE_STATUS;
+  status->seq = fw->last_seq;
+  status->motors = fw->motors;
+  for (i = 0; i < VEST_NUM_MOTORS; ++i)
+    status->intensity[i] = fw->duty[i];
+  status->ttl_ms = 0u;
+}
+
+/* Feeds one received byte. Returns VEST_FEED_APPLIED when a valid COMMAND was applied, and
+ * VEST_FEED_VERSION_REPLY when a CRC-valid frame of another protocol version ended (counted in
+ * parser.version_mismatch; nothing applied); in both cases *status holds the STATUS packet to
+ * send back. STATUS packets and anything invalid are ignored (VEST_FEED_NONE). */
 static inline int vest_firmware_feed(vest_firmware_t* fw, uint8_t byte, uint32_t now_ms,
                                      vest_packet_t* status)
 {
   vest_packet_t p;
   uint8_t i;
-  if (!vest_parser_feed(&fw->parser, byte, &p) || p.type != VEST_TYPE_COMMAND)
-    return 0;
+  const uint16_t mismatches = fw->parser.version_mismatch;
+  if (!vest_parser_feed(&fw->parser, byte, &p))
+  {
+    if (fw->parser.version_mismatch == mismatches)
+      return VEST_FEED_NONE;
+    vest_firmware_status(fw, status); /* our version in the reply: the peer can report it */
+    return VEST_FEED_VERSION_REPLY;
+  }
+  if (p.type != VEST_TYPE_COMMAND)
+    return VEST_FEED_NONE;
   fw->motors = 0u;
   for (i = 0; i < VEST_NUM_MOTORS; ++i)
   {
@@ -357,13 +384,8 @@ static inline int vest_firmware_feed(vest_firmware_t* fw, uint8_t byte, uint32_t
   fw->have_command = 1u;
   fw->last_command_ms = now_ms;
   fw->hold_ms = p.ttl_ms < VEST_WATCHDOG_MS ? p.ttl_ms : (uint16_t)VEST_WATCHDOG_MS;
-  status->type = VEST_TYPE_STATUS;
-  status->ttl_ms = 0u;
-  status->seq = fw->last_seq;
-  status->motors = fw->motors;
-  for (i = 0; i < VEST_NUM_MOTORS; ++i)
-    status->intensity[i] = fw->duty[i];
-  return 1;
+  vest_firmware_status(fw, status);
+  return VEST_FEED_APPLIED;
 }
 
 /* TTL and watchdog; call every loop. Returns VEST_TICK_EXPIRED / VEST_TICK_WATCHDOG when it
