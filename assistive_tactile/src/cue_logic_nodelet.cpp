@@ -7,6 +7,7 @@
 #include <ros/ros.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <algorithm>
 #include <mutex>
 
 #include "assistive_tactile/conversions.h"
@@ -71,7 +72,9 @@ private:
     updater_.reset(new diagnostic_updater::Updater(nh, pnh, getName()));
     updater_->setHardwareID("cue_logic");
     updater_->add("cue logic", this, &CueLogicNodelet::diagnose);
-    timer_ = nh.createTimer(ros::Duration(1.0 / p.heartbeat_hz), &CueLogicNodelet::timerCb, this);
+    // Checked every 20 ms (not only at the heartbeat) so input that stops arriving turns into
+    // UNSURE within max_input_age_s of its camera stamp, not up to a heartbeat period later.
+    timer_ = nh.createTimer(ros::Duration(std::min(0.02, 1.0 / p.heartbeat_hz)), &CueLogicNodelet::timerCb, this);
   }
 
   void stateCb(const assistive_msgs::NavigationState::ConstPtr& msg)
@@ -95,7 +98,8 @@ private:
       // max_input_age_s: never repeat an old GUIDANCE/ALERT, say UNSURE instead.
       const Cue quiet = logic_.staleCue(now.toSec());
       NODELET_WARN_THROTTLE(5.0, "cue_logic: %s: vest quiet", quiet.reason.c_str());
-      publish(quiet, now, last_source_stamp_);
+      if (last_cue_.mode != CueMode::UNSURE || (now - last_pub_).toSec() >= 0.9 / logic_.params().heartbeat_hz)
+        publish(quiet, now, last_source_stamp_);
     }
     else if ((now - last_pub_).toSec() >= 0.9 / logic_.params().heartbeat_hz)
     {
