@@ -73,19 +73,25 @@ bool ImuBuffer::integrate(double t0, double t1, Eigen::Quaterniond& R, Eigen::Ve
   return true;
 }
 
-bool ImuBuffer::meanAccel(double t, double window, Eigen::Vector3d& a) const
+bool ImuBuffer::meanAccel(double t, double window, Eigen::Vector3d& a, double* span) const
 {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   int n = 0;
+  double first = 0.0, last = 0.0;
   for (const Sample& s : s_)
     if (s.t <= t + 1e-6 && s.t >= t - window)
     {
+      if (n == 0)
+        first = s.t;
+      last = s.t;
       sum += s.a;
       ++n;
     }
   if (n == 0)
     return false;
   a = sum / n;
+  if (span)
+    *span = last - first;
   return true;
 }
 }  // namespace assistive_vo

@@ -315,10 +315,9 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     if (last_stamp_ > 0 && t < last_stamp_)
     {
       // The core keeps the pose and marks the frame untrusted (the same rule as vo_benchmark);
-      // here only the IMU samples of the old timeline go.
+      // the IMU buffer dropped the old timeline when the first older sample came.
       NODELET_WARN_THROTTLE(5.0, "stereo_odometry: time went backwards (%.3f -> %.3f, bag loop?): re-initialising",
                             last_stamp_, t);
-      imu_.clear();
     }
     if (p_.use_imu && !vo_->started())
     {
@@ -352,6 +351,12 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     if (p_.use_imu && !imu_.empty() && last_stamp_ > 0 && t > last_stamp_)
       have_gyro = imu_.integrate(last_stamp_, t, gyro, dv);
     last_stamp_ = t;
+    // Gravity over the last 0.5 s (at least 0.3 s of samples: a step's accelerations average
+    // out); the core levels the pose by it after a gap the gyro does not cover.
+    Eigen::Vector3d up;
+    double span = 0.0;
+    if (p_.use_imu && imu_.meanAccel(t, 0.5, up, &span) && span >= 0.3 && up.norm() > 5.0 && up.norm() < 15.0)
+      vo_->setGravityHint(up);
 
     const VoOutput o =
         vo_->process(lc->image, rc->image, t, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr);
@@ -416,6 +421,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       s.add("gyro_disagreement", f.gyro_disagreement);
       s.add("frame_gaps", f.gaps);
       s.add("time_jumps", f.time_jumps);
+      s.add("gravity_relevels", f.gravity_relevels);
       s.add("stereo_inconsistent", f.stereo_inconsistent);
     }
     s.add("frames", n_processed_);

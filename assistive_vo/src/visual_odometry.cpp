@@ -96,6 +96,27 @@ void VisualOdometry::setInitialUp(const Eigen::Vector3d& up_link)
   }
 }
 
+void VisualOdometry::setGravityHint(const Eigen::Vector3d& up_link)
+{
+  have_up_hint_ = up_link.allFinite() && up_link.norm() > 1e-6;
+  if (have_up_hint_)
+    up_hint_ = up_link;
+  hints_seen_ = hints_seen_ || have_up_hint_;
+}
+
+void VisualOdometry::levelByGravity(const Eigen::Vector3d& up_link)
+{
+  const Eigen::Isometry3d T_odom_link = linkPose(T_odom_o0_ * T_w_cur_);
+  const Eigen::Vector3d up_odom = T_odom_link.linear() * up_link.normalized();
+  // the smallest rotation taking the measured up to odom z: a tilt about a horizontal axis (yaw kept)
+  const Eigen::Matrix3d C = Eigen::Quaterniond::FromTwoVectors(up_odom, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d pos = T_odom_link.translation();
+  Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
+  M.linear() = C;
+  M.translation() = pos - C * pos;
+  T_odom_o0_ = M * T_odom_o0_;
+}
+
 void VisualOdometry::reset()
 {
   have_pose_ = false;
@@ -117,6 +138,7 @@ void VisualOdometry::reset()
   have_trusted_ = false;
   prev_thumb_.release();
   frozen_run_ = disagree_run_ = agree_needed_ = stereo_bad_run_ = stereo_agree_needed_ = 0;
+  level_pending_ = have_up_hint_ = false;
   R_kf_prev_vision_.setIdentity();
   fs_ = FailSafeCounters();
 }
@@ -387,6 +409,8 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   st.fast_threshold = detector_.threshold();
   std::string force_untrusted;  // gap / time jump, frozen camera, gyro contradiction, unusable input
   bool coast_ok = false;        // a lost frame may still coast (decided once the gyro is known)
+  const bool have_up_hint = have_up_hint_;  // setGravityHint() holds for this frame only
+  have_up_hint_ = false;
   auto finish = [&](VoOutput o) {
     applyTrust(o, stamp, coast_ok, force_untrusted);
     o.stats.ms_total = msSince(t_start);
@@ -481,6 +505,22 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   }
   if (gap)
     T_pred.translation().setZero();
+  // Tilt over a gap the gyro does not cover is unknown: level by the accelerometer's next hint.
+  if (gap && !have_gyro && hints_seen_ && p_.use_imu)
+  {
+    level_pending_ = true;
+    level_pending_since_ = stamp;
+  }
+  if (level_pending_ && have_up_hint)
+  {
+    levelByGravity(up_hint_);
+    ++fs_.gravity_relevels;
+    level_pending_ = false;
+  }
+  else if (level_pending_ && stamp - level_pending_since_ > kLevelWaitS)
+    level_pending_ = false;  // no accelerometer after all: carry on with the old tilt
+  else if (level_pending_ && force_untrusted.empty())
+    force_untrusted = "tilt unknown after a gap the gyro did not cover: waiting for the accelerometer";
   coast_ok = mayCoast(stamp, have_gyro);
   // Motion of a lost frame: the prediction while coasting, else none (the gyro's rotation only).
   auto lostMotion = [&]() {

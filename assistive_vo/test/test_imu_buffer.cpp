@@ -15,8 +15,10 @@ TEST(ImuBuffer, IntegratesConstantRateExactly)
   EXPECT_NEAR(aa.angle(), 0.5 * (0.1680 - 0.1013), 1e-12);
   EXPECT_NEAR(aa.axis().z(), 1.0, 1e-12);
   Eigen::Vector3d a;
-  ASSERT_TRUE(b.meanAccel(0.5, 0.2, a));
+  double span = -1.0;
+  ASSERT_TRUE(b.meanAccel(0.5, 0.2, a, &span));
   EXPECT_TRUE(a.isApprox(Eigen::Vector3d(0, 0, 9.81)));
+  EXPECT_NEAR(span, 0.2, 0.011);  // the samples of [0.3, 0.5]: what the window really covers
   EXPECT_FALSE(b.integrate(0.9, 1.5, q));  // beyond the samples
   EXPECT_FALSE(b.integrate(0.5, 0.4, q));  // backwards
 }

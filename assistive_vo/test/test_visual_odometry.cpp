@@ -566,6 +566,72 @@ TEST(FailSafe, TimeGoingBackwardsKeepsThePose)
   EXPECT_TRUE(o.pose_trusted);
 }
 
+TEST(FailSafe, TimeJumpWithoutGyroIsLevelledByTheAccelerometer)
+{
+  // A bag loop: the stamp jumps back and the head is now pitched 8 deg down (the gyro saw none of
+  // it). With accelerometer hints the pose stays untrusted until a hint levels it (yaw and
+  // position kept), and the tracked frames after it are level to within 0.5 deg; without hints
+  // (vo_benchmark, no IMU) the old tilt is carried on, as before.
+  const double pitch = 8.0 * M_PI / 180.0;
+  const Eigen::Matrix3d R_lo = R_link_optical();
+  const Eigen::Vector3d up_w(0, -1, 0);  // the truth's world: the first optical frame, level
+  auto jumped = [&](int k) { return Eigen::Isometry3d(truePose(k) * Eigen::AngleAxisd(-pitch, Eigen::Vector3d::UnitX())); };
+  auto upLink = [&](const Eigen::Isometry3d& T_w_opt) {
+    return Eigen::Vector3d(R_lo * T_w_opt.linear().transpose() * up_w * 9.81);
+  };
+  auto tiltDeg = [&](const VoOutput& o, const Eigen::Isometry3d& T_w_opt) {
+    const Eigen::Vector3d est = o.T_odom_link.linear().transpose() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d tru = upLink(T_w_opt).normalized();
+    return std::acos(std::clamp(est.dot(tru), -1.0, 1.0)) * 180 / M_PI;
+  };
+  for (const bool hints : {false, true})
+  {
+    Sequence r;
+    VoOutput o = r.step(0, 0.0);
+    for (int k = 1; k <= 10; ++k)
+    {
+      if (hints)
+        r.vo.setGravityHint(upLink(truePose(k)));
+      o = r.stepGyro(k, k / 15.0, k - 1);
+      ASSERT_TRUE(o.pose_trusted) << o.untrusted_reason;
+    }
+    const Eigen::Vector3d held = o.T_odom_link.translation();
+    auto render = [&](int k, double stamp, const Eigen::Quaterniond* gyro) {
+      const Eigen::Isometry3d T = jumped(k);
+      return r.vo.process(r.world.render(r.cam, T, false), r.world.render(r.cam, T, true), stamp, gyro);
+    };
+    o = render(11, 0.1, nullptr);  // time went back, no hint yet (the IMU buffer is still short)
+    EXPECT_FALSE(o.pose_trusted);
+    EXPECT_NE(o.untrusted_reason.find("backwards"), std::string::npos) << o.untrusted_reason;
+    auto gyroBetween = [&](int a, int b) {
+      return Eigen::Quaterniond(Eigen::Matrix3d(R_lo * jumped(a).linear().transpose() * jumped(b).linear() * R_lo.transpose()));
+    };
+    Eigen::Quaterniond g = gyroBetween(11, 12);
+    o = render(12, 0.1 + 1 / 15.0, &g);
+    if (hints)
+    {
+      EXPECT_FALSE(o.pose_trusted) << "tilt still unknown";
+      EXPECT_NE(o.untrusted_reason.find("tilt unknown"), std::string::npos) << o.untrusted_reason;
+    }
+    for (int k = 13; k <= 20; ++k)
+    {
+      if (hints)
+        r.vo.setGravityHint(upLink(jumped(k)));
+      g = gyroBetween(k - 1, k);
+      o = render(k, 0.1 + (k - 11) / 15.0, &g);
+    }
+    EXPECT_TRUE(o.pose_trusted) << o.untrusted_reason;
+    EXPECT_EQ(r.vo.failSafe().gravity_relevels, hints ? 1 : 0);
+    if (hints)
+    {
+      EXPECT_LT(tiltDeg(o, jumped(20)), 0.5);
+      EXPECT_LT((o.T_odom_link.translation() - held).norm(), 0.8);  // levelled about the held position
+    }
+    else
+      EXPECT_GT(tiltDeg(o, jumped(20)), 7.0);
+  }
+}
+
 TEST(FailSafe, LostFramesCoastOnlyUpToTheLimit)
 {
   // Black frames with the gyro: the first ones coast (pose predicted, trusted) for coast_max_s

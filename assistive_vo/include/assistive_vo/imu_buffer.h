@@ -22,8 +22,8 @@ public:
   /// holds gravity's +g * dt as well as the motion).
   bool integrate(double t0, double t1, Eigen::Quaterniond& R, Eigen::Vector3d& dv, double slack = 0.02) const;
   /// Mean accelerometer reading over the samples up to `t` (at most `window` s back);
-  /// false without samples.
-  bool meanAccel(double t, double window, Eigen::Vector3d& a) const;
+  /// false without samples. `span` (optional): the time those samples cover.
+  bool meanAccel(double t, double window, Eigen::Vector3d& a, double* span = nullptr) const;
 
 private:
   struct Sample

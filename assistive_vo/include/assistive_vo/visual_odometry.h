@@ -51,6 +51,7 @@ struct FailSafeCounters
   int gaps = 0;               ///< frames after a stamp gap > max_frame_gap_s
   int time_jumps = 0;         ///< frames whose stamp went backwards (or repeated)
   int stereo_inconsistent = 0;  ///< episodes of a stereo pair inconsistent with the motion (desync)
+  int gravity_relevels = 0;   ///< gaps / time jumps the gyro did not cover, levelled by the accelerometer
   int untrusted_frames = 0;   ///< frames output with pose_trusted = false
 };
 
@@ -93,6 +94,13 @@ public:
   /// Gravity direction at start ("up", camera_link axes, e.g. the mean accelerometer reading);
   /// used only before the first frame is processed.
   void setInitialUp(const Eigen::Vector3d& up_link);
+  /// The accelerometer's "up" (camera_link axes, the mean over a few tenths of a second, e.g.
+  /// ImuBuffer::meanAccel) for the next frame only. After a gap or a time jump (bag loop) that
+  /// the gyro does not cover, the head's tilt is unknown: once hints have been given, the pose
+  /// stays untrusted until the next hint levels it (yaw and position kept; at most
+  /// kLevelWaitS), instead of carrying the old tilt, which would make the floor a slope.
+  void setGravityHint(const Eigen::Vector3d& up_link);
+  static constexpr double kLevelWaitS = 1.0;
   /// Forgets everything, including the pose (next frame is the new origin).
   void reset();
 
@@ -125,6 +133,8 @@ private:
     std::shared_ptr<const KeyframePatch> patch;  ///< keyframe appearance (null: KLT only)
     Eigen::Matrix2f warp = Eigen::Matrix2f::Identity();  ///< keyframe patch axes in the current image
   };
+  /// Turns odom about the current position so that `up_link` points along odom z.
+  void levelByGravity(const Eigen::Vector3d& up_link);
   void startKeyframe(const cv::Mat& left, const cv::Mat& right, bool from_current_tracks, FrameStats& st);
   VoOutput fail(const std::string& why, const cv::Mat* left, const cv::Mat* right,
                 const Eigen::Isometry3d& T_prev_cur_pred, double stamp, FrameStats& st);
@@ -159,6 +169,10 @@ private:
   Eigen::Isometry3d T_odom_o0_ = Eigen::Isometry3d::Identity();  ///< first optical frame in odom
   Eigen::Vector3d up_link_ = Eigen::Vector3d::UnitZ();
   bool have_up_ = false;
+  Eigen::Vector3d up_hint_ = Eigen::Vector3d::UnitZ();  ///< setGravityHint(), for one frame
+  bool have_up_hint_ = false, hints_seen_ = false;
+  bool level_pending_ = false;  ///< tilt unknown since an uncovered gap at level_pending_since_
+  double level_pending_since_ = 0.0;
   Eigen::Isometry3d T_w_kf_ = Eigen::Isometry3d::Identity();     ///< w = first optical frame
   Eigen::Isometry3d T_w_cur_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_kf_prev_ = Eigen::Isometry3d::Identity();
