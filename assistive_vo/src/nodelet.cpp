@@ -282,6 +282,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     {
       NODELET_ERROR_THROTTLE(5.0, "stereo_odometry: %s; frame skipped", err.c_str());
       input_problem_ = err;
+      publishUntrusted(l->header.stamp, err);
       return;
     }
     if (l->width != r->width || l->height != r->height || static_cast<int>(l->width) != cam.width ||
@@ -291,6 +292,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
                                   "frame skipped",
                              l->width, l->height, r->width, r->height, cam.width, cam.height);
       input_problem_ = "image sizes differ";
+      publishUntrusted(l->header.stamp, input_problem_);
       return;
     }
     if (l->encoding != r->encoding)
@@ -300,6 +302,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     if (!toMono(l, lc, "left") || !toMono(r, rc, "right"))
     {
       input_problem_ = "unsupported image encoding";
+      publishUntrusted(l->header.stamp, input_problem_);
       return;
     }
     const StereoCamera& cur = vo_->camera();
@@ -386,6 +389,24 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       cv_bridge::CvImage ov(l->header, enc::BGR8, vo_->drawOverlay(lc->image));
       feat_pub_.publish(ov.toImageMsg());
     }
+  }
+
+  /// A frame the core never saw (unusable calibration, size or encoding): downstream hears at once
+  /// that the pose cannot be trusted (the last trusted pose, variances 9999, no tf) instead of
+  /// hearing nothing until its inputs go stale.
+  void publishUntrusted(const ros::Time& stamp, const std::string& why)
+  {
+    if (!last_.pose_valid)
+      return;  // nothing published yet: downstream has no pose to distrust
+    VoOutput u = last_;
+    u.pose_trusted = false;
+    u.untrusted_reason = why;
+    u.linear_velocity.setZero();
+    u.angular_velocity.setZero();
+    if (last_trusted_)
+      NODELET_ERROR("stereo_odometry: pose not trusted: %s", why.c_str());
+    last_trusted_ = false;
+    odom_pub_.publish(boost::make_shared<nav_msgs::Odometry>(toOdometryMsg(u, stamp, odom_frame_, base_frame_)));
   }
 
   void diagStatus(diagnostic_updater::DiagnosticStatusWrapper& s)
