@@ -43,6 +43,7 @@ private:
     pnh.param("unknown_traversable", p.unknown_traversable, p.unknown_traversable);
     pnh.param("path_lookahead", p.path_lookahead, p.path_lookahead);
     pnh.param("free_ray_max", p.free_ray_max, p.free_ray_max);
+    pnh.param("unknown_ahead_m", p.unknown_ahead_m, p.unknown_ahead_m);
     pnh.param("grid_timeout", p.grid_timeout, p.grid_timeout);
     pnh.param("use_odom", p.use_odom, p.use_odom);
     pnh.param("max_input_age_s", p.max_input_age_s, p.max_input_age_s);
@@ -59,6 +60,7 @@ private:
     clamp("clearance_radius", p.clearance_radius, 0.0, 5.0);
     clamp("path_lookahead", p.path_lookahead, 0.05, 10.0);
     clamp("free_ray_max", p.free_ray_max, 0.1, 50.0);
+    clamp("unknown_ahead_m", p.unknown_ahead_m, 0.0, 5.0);
     clamp("grid_timeout", p.grid_timeout, 0.05, 60.0);
     clamp("max_input_age_s", p.max_input_age_s, 0.05, 10.0);
     clamp("max_frame_gap_s", p.max_frame_gap_s, 0.05, 60.0);

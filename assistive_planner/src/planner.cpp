@@ -1,5 +1,7 @@
 #include "assistive_planner/planner.h"
 
+#include <cstdio>
+
 #include <cmath>
 
 #include "assistive_planner/cost_model.h"
@@ -16,6 +18,13 @@ void Planner::setGoal(const Point2& goal)
 
 double Planner::freeDistance(const Grid& grid, const Point2& from, double yaw, double max_range)
 {
+  bool ends_unknown;
+  return freeDistance(grid, from, yaw, max_range, ends_unknown);
+}
+
+double Planner::freeDistance(const Grid& grid, const Point2& from, double yaw, double max_range, bool& ends_unknown)
+{
+  ends_unknown = false;
   int x0, y0;
   if (grid.empty() || !grid.worldToCell(from.x, from.y, x0, y0))
     return 0.0;
@@ -28,7 +37,10 @@ double Planner::freeDistance(const Grid& grid, const Point2& from, double yaw, d
     if (!grid.worldToCell(from.x + nd * c, from.y + nd * s, x, y))
       return d;
     if (!(x == x0 && y == y0) && grid.at(x, y) != CELL_FREE)
+    {
+      ends_unknown = isUnknownCode(grid.at(x, y));
       return d;
+    }
     d = nd;
   }
   return d;
@@ -91,7 +103,8 @@ PlanOutput Planner::update(const Grid& grid, const Point2& wearer, double head_y
   out.heading = motion_.heading();
   out.motion_anchor = motion_.anchor();
   const double h = out.heading;
-  out.free_ahead = freeDistance(grid, wearer, h, p_.free_ray_max);
+  bool ahead_unknown = false;
+  out.free_ahead = freeDistance(grid, wearer, h, p_.free_ray_max, ahead_unknown);
   out.free_left = freeDistance(grid, wearer, h + M_PI_2, p_.free_ray_max);
   out.free_right = freeDistance(grid, wearer, h - M_PI_2, p_.free_ray_max);
 
@@ -107,6 +120,16 @@ PlanOutput Planner::update(const Grid& grid, const Point2& wearer, double head_y
   {
     out.status = PlanStatus::IN_UNKNOWN;
     out.message = "the wearer stands in unmapped space: no path until a mapped region is reached";
+    return out;
+  }
+  if (ahead_unknown && out.free_ahead < p_.unknown_ahead_m)
+  {
+    // The floor just ahead is unmapped, not blocked (after a map reset it lies below the camera's
+    // view until the wearer has walked on): "stop" or "step aside" would be a guess.
+    char buf[96];
+    std::snprintf(buf, sizeof(buf), "unmapped floor %.2f m ahead: cannot tell what is there", out.free_ahead);
+    out.status = PlanStatus::IN_UNKNOWN;
+    out.message = buf;
     return out;
   }
 

@@ -63,6 +63,35 @@ TEST(Planner, PathAroundWallToWaypoint)
   EXPECT_GT(std::abs(o.path_heading), 0.2);  // the path bends around the wall
 }
 
+TEST(Planner, UnmappedFloorCloseAheadIsUnknownNotAnObstacle)
+{
+  // After a map reset the floor just ahead is still unmapped: closer than unknown_ahead_m it gives
+  // IN_UNKNOWN (vest quiet), not a free distance the cue logic would read as an obstacle. A real
+  // obstacle at the same distance still gives OK with that free distance, and unmapped floor
+  // farther away than unknown_ahead_m changes nothing.
+  Grid g = makeGrid(-5, -5);
+  fillRect(g, 0.7, -1.0, 1.1, 1.0, CELL_UNKNOWN);
+  PlanOutput o = Planner().update(g, { 0.1, 0.1 }, 0.0);
+  EXPECT_EQ(o.status, PlanStatus::IN_UNKNOWN) << o.message;
+  EXPECT_NE(o.message.find("unmapped floor"), std::string::npos) << o.message;
+  EXPECT_NEAR(o.free_ahead, 0.5, 0.1);
+  PlannerParams off;
+  off.unknown_ahead_m = 0.0;
+  EXPECT_NE(Planner(off).update(g, { 0.1, 0.1 }, 0.0).status, PlanStatus::IN_UNKNOWN);
+
+  Grid wall = makeGrid(-5, -5);
+  fillRect(wall, 0.7, -1.0, 1.1, 1.0, CELL_OBSTACLE);
+  o = Planner().update(wall, { 0.1, 0.1 }, 0.0);
+  EXPECT_EQ(o.status, PlanStatus::OK) << o.message;
+  EXPECT_NEAR(o.free_ahead, 0.5, 0.1);
+
+  Grid far = makeGrid(-5, -5);
+  fillRect(far, 1.5, -1.0, 1.9, 1.0, CELL_UNKNOWN);
+  o = Planner().update(far, { 0.1, 0.1 }, 0.0);
+  EXPECT_EQ(o.status, PlanStatus::OK) << o.message;
+  EXPECT_NEAR(o.free_ahead, 1.3, 0.1);
+}
+
 TEST(Planner, NeverThroughUnknownWhenKnownPathExists)
 {
   PlannerParams p;

@@ -25,6 +25,7 @@ struct PlannerParams
   // Outputs
   double path_lookahead = 1.0;           ///< m along the path for path_heading
   double free_ray_max = 5.0;             ///< m, longest free-distance ray
+  double unknown_ahead_m = 1.0;          ///< m: unmapped floor (not an obstacle) closer ahead -> IN_UNKNOWN (vest quiet)
 
   // Node
   double grid_timeout = 2.0;             ///< s of wall time without any grid -> NO_MAP (the last line of defence)

@@ -66,6 +66,9 @@ public:
   /// Free distance from `from` along `yaw` until a cell that is not free (obstacle, step, unknown) or the
   /// grid edge, up to max_range (m).
   static double freeDistance(const Grid& grid, const Point2& from, double yaw, double max_range);
+  /// The same; `ends_unknown` tells whether the ray stopped at an unknown cell (not at an obstacle,
+  /// a step or the window edge).
+  static double freeDistance(const Grid& grid, const Point2& from, double yaw, double max_range, bool& ends_unknown);
 
 private:
   void syncCosts(const Grid& grid, PlanOutput& out);
