@@ -267,6 +267,7 @@ TEST(CueLogic, StaleStateGoesQuiet)
 {
   CueParams p;
   p.state_timeout_s = 0.5;
+  p.max_input_age_s = 1.0;  // this test is about the state's own age, not its camera image's
   CueLogic logic(p);
   EXPECT_TRUE(logic.stale(0.0));
   EXPECT_NE(logic.staleCue(0.0).reason.find("no planner state"), std::string::npos);
@@ -298,7 +299,8 @@ TEST(CueLogic, OldInputIsUnsure)
       bool fresh;
       const char* reason_has;
     };
-    for (const Age& a : { Age{ 0.0, true, nullptr }, Age{ 0.5, true, nullptr }, Age{ 0.51, false, "too old" },
+    const double max_age = CueParams().max_input_age_s;
+    for (const Age& a : { Age{ 0.0, true, nullptr }, Age{ max_age - 1e-9, true, nullptr }, Age{ max_age + 0.01, false, "too old" },
                           Age{ 1.42, false, "too old" }, Age{ 10.0, false, "too old" },
                           Age{ std::nan(""), false, "no camera stamp" }, Age{ -0.6, false, "future" } })
     {
@@ -349,13 +351,13 @@ TEST(CueLogic, StatusNotOkNeverGuides)
               const bool blocked = ahead < 0.5 || (ahead < 1.0 && side < 0.6);
               if (c.mode == CueMode::ALERT)
               {
-                EXPECT_TRUE(nothing_free && age <= 0.5 && blocked) << what;
+                EXPECT_TRUE(nothing_free && age <= CueParams().max_input_age_s && blocked) << what;
                 for (float v : c.intensity)
                   EXPECT_EQ(v, 1.f) << what;
                 continue;
               }
               EXPECT_EQ(c.mode, CueMode::UNSURE) << what;
-              EXPECT_FALSE(nothing_free && age <= 0.5 && blocked) << what << " (should stop the wearer)";
+              EXPECT_FALSE(nothing_free && age <= CueParams().max_input_age_s && blocked) << what << " (should stop the wearer)";
               for (float v : c.intensity)
                 EXPECT_EQ(v, 0.f) << what;
               EXPECT_FALSE(c.reason.empty());
@@ -367,13 +369,16 @@ TEST(CueLogic, StatusNotOkNeverGuides)
 TEST(CueLogic, HeartbeatDoesNotRepeatOldGuidance)
 {
   CueLogic logic;
+  const double max_age = logic.params().max_input_age_s;
+  ASSERT_LT(max_age - 0.1 + 0.01, logic.params().state_timeout_s);
   NavInput in = turn(45);
   in.source_time = 9.9;
   EXPECT_EQ(logic.update(in, 10.0).mode, CueMode::GUIDANCE);
   EXPECT_FALSE(logic.stale(10.2));
-  EXPECT_FALSE(logic.stale(10.4));   // image 0.5 s old
-  EXPECT_TRUE(logic.stale(10.41));   // 0.51 s: state arrived 0.41 s ago (< state_timeout_s) but too old
-  const Cue c = logic.staleCue(10.41);
+  EXPECT_FALSE(logic.stale(9.9 + max_age - 1e-9));   // image just max_input_age_s old
+  // 10 ms later: the state arrived less than state_timeout_s ago, but its image is too old
+  EXPECT_TRUE(logic.stale(9.9 + max_age + 0.01));
+  const Cue c = logic.staleCue(9.9 + max_age + 0.01);
   EXPECT_EQ(c.mode, CueMode::UNSURE);
   EXPECT_NE(c.reason.find("too old"), std::string::npos) << c.reason;
   for (float v : c.intensity)

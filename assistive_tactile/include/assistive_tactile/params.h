@@ -21,7 +21,7 @@ struct CueParams
   double side_switch_m = 0.2;  ///< the other side must be this much freer to switch waist motor
   // Freshness of the planner state
   double state_timeout_s = 0.5;  ///< older planner state -> UNSURE, motors off
-  double max_input_age_s = 0.5;  ///< state whose camera image (source_stamp) is older -> UNSURE
+  double max_input_age_s = 0.4;  ///< state whose camera image (source_stamp) is older -> UNSURE (0.1 s inside the 0.5 s goal)
   double heartbeat_hz = 10.0;    ///< cue re-published at least this often (bridge stale guard)
   std::string body_frame = "torso";
 };
