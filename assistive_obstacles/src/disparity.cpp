@@ -204,20 +204,4 @@ Eigen::Vector3f DisparityEstimator::surfaceNormal(const cv::Mat& disp, int u, in
   return n.dot(X) > 0.f ? Eigen::Vector3f(-n) : n;
 }
 
-cv::Mat peerSgbm(const cv::Mat& left, const cv::Mat& right, int num_disparities)
-{
-  cv::Mat l, r;
-  toGrey(left, l);
-  toGrey(right, r);
-  const int bs = 5;
-  const int nd = std::max(16, (num_disparities + 15) / 16 * 16);
-  auto sg = cv::StereoSGBM::create(0, nd, bs, 8 * bs * bs, 32 * bs * bs, 1, 63, 10, 100, 2,
-                                   cv::StereoSGBM::MODE_SGBM);
-  cv::Mat d16, d;
-  sg->compute(l, r, d16);
-  d16.convertTo(d, CV_32F, 1.0 / 16.0);
-  d.setTo(-1.0f, d <= 0.0f);
-  return d;
-}
-
 }  // namespace assistive_obstacles

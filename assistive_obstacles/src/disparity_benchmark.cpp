@@ -6,21 +6,20 @@
 // > 5 % of GT; Middlebury bad-2.0 = % of valid GT px with |err| > 2 px. Pixels without an
 // estimate count as errors (no interpolation). Last stdout line: one JSON object.
 #include <algorithm>
-#include <chrono>
 #include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <assistive_eval/benchmark.h>
+#include <assistive_eval/disparity_eval.h>
 #include <assistive_obstacles/disparity.h>
-#include <assistive_obstacles/disparity_eval.h>
 
 #ifndef ASSISTIVE_REAL_DATA_DIR  // set by CMake: the folder beside the workspace
 #define ASSISTIVE_REAL_DATA_DIR "../shared/data/real"
@@ -28,32 +27,7 @@
 
 using namespace assistive_obstacles;
 
-namespace
-{
-template <typename F>
-double medianMs(F&& f, int reps)
-{
-  std::vector<double> t;
-  for (int i = 0; i < reps; ++i)
-  {
-    const auto a = std::chrono::steady_clock::now();
-    f();
-    t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - a).count());
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
-}
-
-std::string num(double v, int prec = 3)
-{
-  if (!std::isfinite(v)) return "null";
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(prec);
-  s << v;
-  return s.str();
-}
-}  // namespace
+namespace ev = assistive_eval;
 
 int main(int argc, char** argv)
 {
@@ -65,42 +39,10 @@ int main(int argc, char** argv)
       "  $ASSISTIVE_REAL_DATA/stereo_disparity, else " ASSISTIVE_REAL_DATA_DIR "/stereo_disparity)\n"
       "  beside OpenCV SGBM; --reps timing repetitions (default 5).\n"
       "  Last stdout line: JSON.\n";
-  auto usageError = [&](const std::string& msg) {
-    std::cerr << "disparity_benchmark: " << msg << "\n" << usage;
-    return 2;
-  };
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help")
-    {
-      std::cout << usage;
-      return 0;
-    }
-    else if (a == "--reps")
-    {
-      if (i + 1 >= argc)
-        return usageError("--reps needs a value");
-      const std::string v = argv[++i];
-      size_t used = 0;
-      try
-      {
-        reps = std::stoi(v, &used);
-      }
-      catch (const std::exception&)
-      {
-        used = 0;
-      }
-      if (used != v.size() || reps < 1)
-        return usageError("--reps: not a whole number >= 1: '" + v + "'");
-    }
-    else if (a.size() > 1 && a[0] == '-')
-      return usageError("unknown option " + a);
-    else if (!dir.empty())
-      return usageError("one DIR only (got '" + dir + "' and '" + a + "')");
-    else
-      dir = a;
-  }
+  ev::CommandLine cl("disparity_benchmark", usage);
+  cl.positional(&dir, "DIR", false).count("--reps", &reps, 1);
+  if (const int rc = cl.parse(argc, argv); rc >= 0)
+    return rc;
   if (dir.empty())
   {
     const char* env = std::getenv("ASSISTIVE_REAL_DATA");
@@ -113,15 +55,15 @@ int main(int argc, char** argv)
   struct Row
   {
     std::string name;
-    DisparityScore ours, peer;
+    ev::DisparityScore ours, peer;
     double ms = NAN, peer_ms = NAN;
     int w = 0, h = 0;
   };
   std::vector<Row> rows;
   std::vector<std::string> skipped;
-  const std::vector<RealPair> pairs = loadRealPairs(dir, &skipped);
+  const std::vector<ev::RealPair> pairs = ev::loadRealPairs(dir, &skipped);
   for (const std::string& m : skipped) std::cerr << "[disparity_benchmark] skipped " << m << "\n";
-  for (const RealPair& it : pairs)
+  for (const ev::RealPair& it : pairs)
   {
     const cv::Mat &l = it.left, &r = it.right;
     std::cerr << "[disparity_benchmark] " << it.name << " " << l.cols << "x" << l.rows << " ...\n";
@@ -131,10 +73,10 @@ int main(int argc, char** argv)
     row.h = l.rows;
     cv::Mat d_ours, d_peer;
     ours.computeFullRes(l, r, d_ours);  // warm-up
-    row.ms = medianMs([&] { ours.computeFullRes(l, r, d_ours); }, reps);
-    row.peer_ms = medianMs([&] { d_peer = peerSgbm(l, r, peer_nd); }, reps);
-    row.ours = scoreDisparity(d_ours, it.gt);
-    row.peer = scoreDisparity(d_peer, it.gt);
+    row.ms = ev::medianWallMs([&] { ours.computeFullRes(l, r, d_ours); }, reps);
+    row.peer_ms = ev::medianWallMs([&] { d_peer = ev::peerSgbm(l, r, peer_nd); }, reps);
+    row.ours = ev::scoreDisparity(d_ours, it.gt);
+    row.peer = ev::scoreDisparity(d_peer, it.gt);
     rows.push_back(row);
   }
   if (rows.empty())
@@ -155,7 +97,6 @@ int main(int argc, char** argv)
   double ms_sum = 0, pms_sum = 0;
   std::vector<double> b2, pb2;
   double d1 = NAN, pd1 = NAN;
-  std::ostringstream extra;
   for (const Row& r : rows)
   {
     std::printf("%-30s %4dx%-5d | %8.2f %8.2f %8.1f %8.1f | %8.2f %8.2f %8.1f %8.1f\n", r.name.c_str(), r.w, r.h,
@@ -172,24 +113,20 @@ int main(int argc, char** argv)
       b2.push_back(r.ours.bad2_pct);
       pb2.push_back(r.peer.bad2_pct);
     }
-    extra << ", \"" << r.name << "_d1_pct\": " << num(r.ours.d1_pct) << ", \"" << r.name << "_bad2_pct\": " << num(r.ours.bad2_pct)
-          << ", \"" << r.name << "_ms\": " << num(r.ms) << ", \"" << r.name << "_peer_d1_pct\": " << num(r.peer.d1_pct)
-          << ", \"" << r.name << "_peer_bad2_pct\": " << num(r.peer.bad2_pct) << ", \"" << r.name
-          << "_peer_ms\": " << num(r.peer_ms);
   }
-  auto mean = [](const std::vector<double>& v) -> double {
-    if (v.empty()) return NAN;
-    double s = 0;
-    for (double x : v) s += x;
-    return s / v.size();
-  };
-  const double bad2 = mean(b2), pbad2 = mean(pb2);
+  const double bad2 = ev::mean(b2), pbad2 = ev::mean(pb2);
   const double ms = ms_sum / rows.size(), pms = pms_sum / rows.size();
   std::printf("\nd1_pct (KITTI) %.2f vs peer %.2f (ratio %.2f, target <= 1.5)\n", d1, pd1, d1 / pd1);
   std::printf("bad2_pct (Middlebury mean) %.2f vs peer %.2f (ratio %.2f, target <= 1.5)\n", bad2, pbad2, bad2 / pbad2);
   std::printf("ms per pair (mean) %.1f vs peer %.1f (speed-up %.1fx, target >= 3)\n", ms, pms, pms / ms);
-  std::cout << "{\"d1_pct\": " << num(d1) << ", \"bad2_pct\": " << num(bad2) << ", \"ms\": " << num(ms)
-            << ", \"peer_d1_pct\": " << num(pd1) << ", \"peer_bad2_pct\": " << num(pbad2) << ", \"peer_ms\": " << num(pms)
-            << ", \"speedup\": " << num(pms / ms) << extra.str() << "}" << std::endl;
+  auto num = [](double v) { return ev::jsonFixed(v, 3); };
+  ev::JsonLine js;
+  js.add("d1_pct", num(d1)).add("bad2_pct", num(bad2)).add("ms", num(ms)).add("peer_d1_pct", num(pd1))
+      .add("peer_bad2_pct", num(pbad2)).add("peer_ms", num(pms)).add("speedup", num(pms / ms));
+  for (const Row& r : rows)
+    js.add(r.name + "_d1_pct", num(r.ours.d1_pct)).add(r.name + "_bad2_pct", num(r.ours.bad2_pct))
+        .add(r.name + "_ms", num(r.ms)).add(r.name + "_peer_d1_pct", num(r.peer.d1_pct))
+        .add(r.name + "_peer_bad2_pct", num(r.peer.bad2_pct)).add(r.name + "_peer_ms", num(r.peer_ms));
+  std::cout << js.str() << std::endl;
   return 0;
 }

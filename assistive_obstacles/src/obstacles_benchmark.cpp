@@ -11,7 +11,6 @@
 // false-negative cells within 3 m; OBST_BIAS=1 per-frame SGBM disparity error vs
 // the true depth (needs a --depth bag), binned by metre of depth.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -23,9 +22,10 @@
 #include <string>
 #include <vector>
 
-#include <assistive_sim/eval/map_score.h>
-#include <assistive_sim/eval/plots.h>
-#include <assistive_sim/stereo_bag.h>
+#include <assistive_eval/benchmark.h>
+#include <assistive_eval/map_score.h>
+#include <assistive_eval/plots.h>
+#include <assistive_eval/stereo_bag.h>
 
 #include <assistive_obstacles/disparity.h>
 #include <assistive_obstacles/obstacle_map.h>
@@ -33,26 +33,10 @@
 #include <opencv2/imgproc.hpp>
 
 using namespace assistive_obstacles;
-namespace eval = assistive_sim::eval;
+namespace eval = assistive_eval;
 
 namespace
 {
-double percentile(std::vector<double> v, double q)
-{
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const size_t i = std::min(v.size() - 1, static_cast<size_t>(std::ceil(q * v.size())) - 1);
-  return v[i];
-}
-std::string num(double v, int prec = 4)
-{
-  if (!std::isfinite(v)) return "null";
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(prec);
-  s << v;
-  return s.str();
-}
 struct Sum
 {
   size_t tp = 0, fp = 0, fn = 0, tn = 0, unknown = 0, known = 0;
@@ -89,16 +73,9 @@ bool setParam(ObstaclesParams& p, const std::string& k, const std::string& v)
   return false;
 }
 
-assistive_sim::OccupancyGrid toSim(const GridData& g)
+eval::OccupancyGrid toSim(const GridData& g)
 {
-  assistive_sim::OccupancyGrid o;
-  o.origin_x = g.origin_x;
-  o.origin_y = g.origin_y;
-  o.resolution = g.resolution;
-  o.width = g.width;
-  o.height = g.height;
-  o.data = g.data;
-  return o;
+  return eval::OccupancyGrid{g.origin_x, g.origin_y, g.resolution, g.width, g.height, g.data};
 }
 }  // namespace
 
@@ -107,84 +84,37 @@ int main(int argc, char** argv)
   const char* usage =
       "usage: obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N] [--gt-depth] [--set PARAM=VALUE ...]\n"
       "  Runs the obstacle stage on a stereo bag with ground truth; last stdout line: JSON.\n";
-  auto usageError = [&](const std::string& msg) {
-    std::cerr << "obstacles_benchmark: " << msg << "\n" << usage;
-    return 2;
-  };
   std::string bag;
   int max_frames = -1, skip = 0;
   bool gt_depth = false;  // --gt-depth: feed the bag's true depth instead of SGBM (isolates stereo noise)
-  std::vector<std::string> overrides;  // --set name=value (tuning; the figures of record use the defaults)
+  eval::CommandLine::Sets overrides;  // --set name=value (tuning; the figures of record use the defaults)
   std::string png;
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string a = argv[i];
-    auto count = [&](int& out) {  // the next argument as a whole number >= 0
-      const std::string v = argv[++i];
-      size_t used = 0;
-      try
-      {
-        out = std::stoi(v, &used);
-      }
-      catch (const std::exception&)
-      {
-        used = 0;
-      }
-      return used == v.size() && out >= 0;
-    };
-    if (a == "-h" || a == "--help")
-    {
-      std::cout << usage;
-      return 0;
-    }
-    else if (a == "--gt-depth")
-      gt_depth = true;
-    else if ((a == "--frames" || a == "--png" || a == "--skip" || a == "--set") && i + 1 >= argc)
-      return usageError(a + " needs a value");
-    else if (a == "--frames" || a == "--skip")
-    {
-      if (!count(a == "--frames" ? max_frames : skip))
-        return usageError(a + ": not a whole number >= 0: '" + std::string(argv[i]) + "'");
-    }
-    else if (a == "--png")
-      png = argv[++i];
-    else if (a == "--set")
-      overrides.push_back(argv[++i]);
-    else if (a.size() > 1 && a[0] == '-')
-      return usageError("unknown option " + a);
-    else if (!bag.empty())
-      return usageError("one bag only (got '" + bag + "' and '" + a + "')");
-    else
-      bag = a;
-  }
-  if (bag.empty())
-    return usageError("no bag given");
+  eval::CommandLine cl("obstacles_benchmark", usage);
+  cl.positional(&bag, "bag", true)
+      .flag("--gt-depth", &gt_depth)
+      .count("--frames", &max_frames, 0)
+      .count("--skip", &skip, 0)
+      .text("--png", &png)
+      .sets(&overrides);
+  if (const int rc = cl.parse(argc, argv); rc >= 0)
+    return rc;
   if (png.empty())
     png = bag.size() > 4 && bag.substr(bag.size() - 4) == ".bag" ? bag.substr(0, bag.size() - 4) + "_obstacles_map.png"
                                                                  : bag + "_obstacles_map.png";
 
-  std::unique_ptr<assistive_sim::StereoBagReader> reader;
-  try
-  {
-    reader = std::make_unique<assistive_sim::StereoBagReader>(bag);
-  }
-  catch (const std::exception& e)
-  {
-    std::cerr << "obstacles_benchmark: cannot read " << bag << ": " << e.what() << "\n";
+  const std::unique_ptr<eval::StereoBagReader> reader = eval::openStereoBag("obstacles_benchmark", bag);
+  if (!reader)
     return 1;
-  }
-  assistive_sim::OccupancyGrid truth;
+  eval::OccupancyGrid truth;
   const bool has_truth = reader->readOccupancy(truth);
   if (!has_truth) std::cerr << "obstacles_benchmark: no /ground_truth/occupancy in the bag: map not scored\n";
 
   ObstaclesParams params;  // defaults
-  for (const std::string& o : overrides)
+  for (const auto& [k, v] : overrides)
   {
-    const size_t eq = o.find('=');
-    const std::string k = o.substr(0, eq), v = eq == std::string::npos ? "" : o.substr(eq + 1);
     if (!setParam(params, k, v))
     {
-      std::cerr << "obstacles_benchmark: unknown parameter in --set " << o << "\n";
+      std::cerr << "obstacles_benchmark: unknown parameter in --set " << k << "=" << v << "\n";
       return 2;
     }
     std::cerr << "[obstacles_benchmark] override " << k << " = " << v << "\n";
@@ -197,26 +127,14 @@ int main(int argc, char** argv)
   size_t fp_adjacent = 0, fp_isolated = 0, fp_step = 0;  // within 3 m, summed over frames
   std::map<std::pair<int, int>, std::array<int, 3>> fp_cells;  // OBST_FPMAP: frames each cell was a FP (obstacle, step) / FN
   std::set<size_t> free_where_obstacle;
-  assistive_sim::StereoFrame f;
+  eval::StereoFrame f;
   int frames = 0, used = 0, no_pose = 0;
   std::vector<Eigen::Vector3f> points, normals;
   cv::Mat disp;
   GridData grid;
   Eigen::Vector2d wearer(0, 0);
   const size_t total = reader->size();
-  // A malformed image (encoding, size) is a clear error, not an abort.
-  auto nextFrame = [&](assistive_sim::StereoFrame& fr) {
-    try
-    {
-      return reader->next(fr);
-    }
-    catch (const std::exception& e)
-    {
-      std::cerr << "obstacles_benchmark: " << bag << ": " << e.what() << "\n";
-      std::exit(1);
-    }
-  };
-  while (nextFrame(f))
+  while (eval::nextFrameOrExit(*reader, f, "obstacles_benchmark", bag))
   {
     ++frames;
     if (frames <= skip) continue;
@@ -226,15 +144,9 @@ int main(int argc, char** argv)
       ++no_pose;
       continue;
     }
-    StereoModel model;
-    model.width = f.calib.width;
-    model.height = f.calib.height;
-    model.fx = f.calib.fx;
-    model.fy = f.calib.fy;
-    model.cx = f.calib.cx;
-    model.cy = f.calib.cy;
-    model.baseline = f.calib.baseline;
-    const auto t0 = std::chrono::steady_clock::now();
+    const eval::StereoCalib& c = f.calib;
+    const StereoModel model{c.width, c.height, c.fx, c.fy, c.cx, c.cy, c.baseline};
+    const double t0 = eval::wallMs();
     if (gt_depth)
     {
       if (f.gt_depth.empty()) continue;
@@ -280,9 +192,9 @@ int main(int argc, char** argv)
     }
     const bool want_normals = map.usesNormals();
     disparity.toPoints(disp, model, points, want_normals ? &normals : nullptr);
-    const auto t1 = std::chrono::steady_clock::now();
+    const double t1 = eval::wallMs();
     map.update(points, f.gt_pose.cast<float>(), &model, &disp, want_normals ? &normals : nullptr);
-    const auto t2 = std::chrono::steady_clock::now();
+    const double t2 = eval::wallMs();
     if (const char* dc = std::getenv("OBST_CELL"))
     {
       int gx = 0, gy = 0;
@@ -312,8 +224,8 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "\n");
       }
     }
-    ms_disp.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-    ms_map.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+    ms_disp.push_back(t1 - t0);
+    ms_map.push_back(t2 - t1);
     npts.push_back(static_cast<double>(points.size()));
     ++used;
     wearer = f.gt_pose.translation().head<2>();
@@ -384,11 +296,9 @@ int main(int argc, char** argv)
     std::string err;
     if (!eval::writePng(png, img, &err)) std::cerr << "obstacles_benchmark: " << err << "\n";
   }
-  auto mean = [](const std::vector<double>& v) {
-    double a = 0;
-    for (double x : v) a += x;
-    return v.empty() ? NAN : a / v.size();
-  };
+  using eval::mean;
+  // timings: nearest-rank percentiles (no interpolation)
+  auto percentile = [](const std::vector<double>& v, double q) { return eval::percentileNearestRank(v, q); };
   const double p95_map = percentile(ms_map, 0.95), p95_disp = percentile(ms_disp, 0.95);
   std::printf("bag %s: %d frames read, %d used (%d without gt pose), image %dx%d\n", bag.c_str(), frames, used, no_pose,
               f.calib.width, f.calib.height);
@@ -424,16 +334,18 @@ int main(int argc, char** argv)
       std::fprintf(stderr, "FNCELL x %.2f y %.2f frames %d\n", truth.origin_x + (top[i].second.first + 0.5) * truth.resolution,
                    truth.origin_y + (top[i].second.second + 0.5) * truth.resolution, top[i].first);
   }
-  std::cout << "{\"ms_p95_map\": " << num(p95_map, 3) << ", \"ms_p95_disparity\": " << num(p95_disp, 3)
-            << ", \"points_per_frame\": " << num(mean(npts), 0) << ", \"recall_3m\": " << num(s3.recall())
-            << ", \"precision_3m\": " << num(s3.precision()) << ", \"misclassified_3m\": " << num(s3.misclassified())
-            << ", \"recall_5m\": " << num(s5.recall()) << ", \"precision_5m\": " << num(s5.precision())
-            << ", \"free_where_obstacle_cells\": " << (has_truth ? std::to_string(free_where_obstacle.size()) : "null")
-            << ", \"frames\": " << used << ", \"ms_median_map\": " << num(percentile(ms_map, 0.5), 3)
-            << ", \"ms_median_disparity\": " << num(percentile(ms_disp, 0.5), 3)
-            << ", \"misclassified_5m\": " << num(s5.misclassified()) << ", \"coverage_3m\": " << num(s3.coverage())
-            << ", \"coverage_5m\": " << num(s5.coverage()) << ", \"fp_adjacent_3m\": " << fp_adjacent
-            << ", \"fp_isolated_3m\": " << fp_isolated << ", \"fp_step_3m\": " << fp_step
-            << ", \"gt_depth\": " << (gt_depth ? "true" : "false") << "}" << std::endl;
+  auto num = [](double v, int decimals = 4) { return eval::jsonFixed(v, decimals); };
+  eval::JsonLine js;
+  js.add("ms_p95_map", num(p95_map, 3)).add("ms_p95_disparity", num(p95_disp, 3))
+      .add("points_per_frame", num(mean(npts), 0)).add("recall_3m", num(s3.recall()))
+      .add("precision_3m", num(s3.precision())).add("misclassified_3m", num(s3.misclassified()))
+      .add("recall_5m", num(s5.recall())).add("precision_5m", num(s5.precision()))
+      .add("free_where_obstacle_cells", has_truth ? std::to_string(free_where_obstacle.size()) : "null")
+      .add("frames", used).add("ms_median_map", num(percentile(ms_map, 0.5), 3))
+      .add("ms_median_disparity", num(percentile(ms_disp, 0.5), 3))
+      .add("misclassified_5m", num(s5.misclassified())).add("coverage_3m", num(s3.coverage()))
+      .add("coverage_5m", num(s5.coverage())).add("fp_adjacent_3m", fp_adjacent)
+      .add("fp_isolated_3m", fp_isolated).add("fp_step_3m", fp_step).add("gt_depth", gt_depth);
+  std::cout << js.str() << std::endl;
   return 0;
 }

@@ -20,10 +20,10 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <unistd.h>
 
-#include <assistive_sim/eval/map_score.h>
-#include <assistive_sim/stereo_bag.h>
+#include <assistive_eval/map_score.h>
+#include <assistive_eval/stereo_bag.h>
 
-namespace eval = assistive_sim::eval;
+namespace eval = assistive_eval;
 
 namespace
 {
@@ -35,7 +35,7 @@ void gridCb(const nav_msgs::OccupancyGridConstPtr& m) { g_grid = m; }
 void dispCb(const stereo_msgs::DisparityImageConstPtr&) { ++g_disp; }
 void pointsCb(const sensor_msgs::PointCloud2ConstPtr&) { ++g_points; }
 
-sensor_msgs::CameraInfo info(const assistive_sim::StereoCalib& c, bool right, const std_msgs::Header& h)
+sensor_msgs::CameraInfo info(const assistive_eval::StereoCalib& c, bool right, const std_msgs::Header& h)
 {
   sensor_msgs::CameraInfo i;
   i.header = h;
@@ -97,10 +97,10 @@ TEST(ObstaclesNodelet, ReplayGeneratedBagAndScoreMap)
   }
   ASSERT_GT(pl.getNumSubscribers(), 0u) << "nodelet did not subscribe";
 
-  assistive_sim::StereoBagReader reader(bag);
-  assistive_sim::OccupancyGrid truth;
+  assistive_eval::StereoBagReader reader(bag);
+  assistive_eval::OccupancyGrid truth;
   ASSERT_TRUE(reader.readOccupancy(truth));
-  assistive_sim::StereoFrame f;
+  assistive_eval::StereoFrame f;
   int sent = 0, answered = 0;
   Eigen::Vector2d wearer(0, 0);
   while (reader.next(f))
@@ -146,7 +146,7 @@ TEST(ObstaclesNodelet, ReplayGeneratedBagAndScoreMap)
   EXPECT_NEAR(g_grid->info.resolution, 0.2, 1e-6);
   for (int8_t v : g_grid->data) ASSERT_TRUE(v == -1 || v == 0 || v == 50 || v == 100) << int(v);
 
-  assistive_sim::OccupancyGrid est;
+  assistive_eval::OccupancyGrid est;
   est.origin_x = g_grid->info.origin.position.x;
   est.origin_y = g_grid->info.origin.position.y;
   est.resolution = g_grid->info.resolution;

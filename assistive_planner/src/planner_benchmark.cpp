@@ -1,35 +1,26 @@
 // planner_benchmark: D* Lite replanning against A* from scratch on synthetic grids (no roscore, no args).
 // Prints a table, then one JSON line (docs/design.md, "Benchmarks").
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <assistive_eval/benchmark.h>
 
 #include "assistive_planner/cost_model.h"
 #include "assistive_planner/dstar_lite.h"
 #include "assistive_planner/grid.h"
 
 using namespace assistive_planner;
-using Clock = std::chrono::steady_clock;
+using assistive_eval::median;
+using assistive_eval::Stopwatch;
 
 namespace
 {
-double ms(Clock::time_point a, Clock::time_point b)
-{
-  return std::chrono::duration<double, std::milli>(b - a).count();
-}
-double median(std::vector<double> v)
-{
-  if (v.empty())
-    return -1.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 bool same(double a, double b)
 {
   if (a == COST_INF || b == COST_INF)
@@ -109,18 +100,18 @@ void runGrid(SizeResult& R, int n, int trials, std::mt19937& rng, int done, int 
     base.setStart(1, 1);
     base.setGoal(n - 2, n - 2);
     base.resetExpansions();
-    const auto t0 = Clock::now();
+    const Stopwatch t0;
     const bool ok = base.plan();
-    first_ms = ms(t0, Clock::now());
+    first_ms = t0.wallMs();
     first_exp = base.expansions();
     if (ok)
       break;
   }
   R.first_ms_v.push_back(first_ms);
   R.first_exp_v.push_back(double(first_exp));
-  const auto t1 = Clock::now();
+  const Stopwatch t1;
   const SearchResult a0 = astar(cg, 1, 1, n - 2, n - 2);
-  R.first_astar_ms_v.push_back(ms(t1, Clock::now()));
+  R.first_astar_ms_v.push_back(t1.wallMs());
   R.first_astar_exp_v.push_back(double(a0.expansions));
   ++R.checks;
   R.mismatches += !same(base.startCost(), a0.cost);
@@ -148,13 +139,13 @@ void runGrid(SizeResult& R, int n, int trials, std::mt19937& rng, int done, int 
       std::uniform_int_distribution<size_t> pick(lo, hi);
       const int cell = path0[pick(rng)];
       d.resetExpansions();
-      const auto s = Clock::now();
+      const Stopwatch s;
       d.updateCells({ { cell, COST_INF } });
       d.plan();
-      const double t_ms = ms(s, Clock::now());
-      const auto a0s = Clock::now();
+      const double t_ms = s.wallMs();
+      const Stopwatch a0s;
       const SearchResult a = check(d);
-      const double a_ms = ms(a0s, Clock::now());
+      const double a_ms = a0s.wallMs();
       if (variant == 0)
       {
         R.r1_ms.push_back(t_ms);
@@ -193,10 +184,10 @@ void runGrid(SizeResult& R, int n, int trials, std::mt19937& rng, int done, int 
         ch.emplace_back(i, w[size_t(i)]);
       }
       d.resetExpansions();
-      const auto s = Clock::now();
+      const Stopwatch s;
       d.updateCells(ch);
       d.plan();
-      R.r50_ms.push_back(ms(s, Clock::now()));
+      R.r50_ms.push_back(s.wallMs());
       R.r50_exp.push_back(double(d.expansions()));
       R.a50_exp.push_back(double(check(d).expansions));
     }
@@ -213,13 +204,13 @@ void runGrid(SizeResult& R, int n, int trials, std::mt19937& rng, int done, int 
             w[size_t(y * n + x)] =
                 (x + 1 < n) ? d.costs().w[size_t(y * n + x + 1)] : (u(rng) < 0.2 ? COST_INF : 1.0);
         d.resetExpansions();
-        const auto s = Clock::now();
+        const Stopwatch s;
         d.scroll(1, 0, w);  // new (x, y) = old (x + 1, y): the wearer moved one cell in +x
         d.setStart(d.startX() + 1, d.startY());
         d.plan();
         if (k == 0)
           continue;
-        R.scroll_ms.push_back(ms(s, Clock::now()));
+        R.scroll_ms.push_back(s.wallMs());
         R.scroll_exp.push_back(double(d.expansions()));
         if (d.hasGoal())
           R.ascroll_exp.push_back(double(check(d).expansions));
@@ -228,13 +219,10 @@ void runGrid(SizeResult& R, int n, int trials, std::mt19937& rng, int done, int 
   }
 }
 
+/// Fixed decimals; "null" for a missing figure (negative or not finite).
 std::string num(double v, int prec = 4)
 {
-  if (!(v >= 0.0) || !std::isfinite(v))
-    return "null";
-  char b[64];
-  snprintf(b, sizeof b, "%.*f", prec, v);
-  return b;
+  return v >= 0.0 ? assistive_eval::jsonFixed(v, prec) : "null";
 }
 }  // namespace
 
@@ -245,36 +233,14 @@ int main(int argc, char** argv)
       "usage: planner_benchmark [--trials N]\n"
       "  D* Lite vs A* from scratch on synthetic 100x100 and 400x400 grids; --trials change trials on the\n"
       "  100x100 grids (default 1000; the 400x400 grids get N/16). Last stdout line: JSON.\n";
-  for (int i = 1; i < argc; ++i)
+  long trials = -1;
+  assistive_eval::CommandLine cl("planner_benchmark", usage);
+  cl.count("--trials", &trials, 1L);
+  if (const int rc = cl.parse(argc, argv); rc >= 0)
+    return rc;
+  if (trials > 0)
   {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help")
-    {
-      std::cout << usage;
-      return 0;
-    }
-    if (a != "--trials")
-    {
-      std::cerr << "planner_benchmark: unknown argument " << a << "\n" << usage;
-      return 2;
-    }
-    const std::string v = i + 1 < argc ? argv[++i] : "";
-    size_t used = 0;
-    int n = 0;
-    try
-    {
-      n = std::stoi(v, &used);
-    }
-    catch (const std::exception&)
-    {
-      used = 0;
-    }
-    if (v.empty() || used != v.size() || n < 1)
-    {
-      std::cerr << "planner_benchmark: --trials needs a whole number >= 1, got '" << v << "'\n" << usage;
-      return 2;
-    }
-    trials100 = n;
+    trials100 = static_cast<int>(std::min<long>(trials, std::numeric_limits<int>::max()));
     trials400 = std::max(1, trials100 / 16);
   }
   const SizeResult a = runSize(100, trials100, 50, 7);
@@ -320,15 +286,16 @@ int main(int argc, char** argv)
   row("  trials with ratio >= 10 (%)", num(share10(a), 1), num(share10(b), 1));
   row("optimal cost mismatches", std::to_string(a.mismatches) + "/" + std::to_string(a.checks),
       std::to_string(b.mismatches) + "/" + std::to_string(b.checks));
-  printf("{\"optimal_mismatches\": %d, \"optimal_checks\": %d, \"replan1_ms_median_100\": %s, "
-         "\"replan1_ms_median_400\": %s, \"expansion_ratio_100\": %s, \"expansion_ratio_400\": %s, "
-         "\"expansion_ratio_near_100\": %s, \"expansion_ratio_5m_100\": %s, \"expansion_ratio_5m_400\": %s, \"first_plan_ms_100\": %s, \"first_plan_ms_400\": %s, "
-         "\"replan50_ms_median_100\": %s, \"replan50_ms_median_400\": %s, \"astar_ms_median_100\": %s, "
-         "\"astar_ms_median_400\": %s, \"scroll1_ms_median_100\": %s, \"scroll1_ms_median_400\": %s, \"ratio_ge10_pct_100\": %s}\n",
-         a.mismatches + b.mismatches, a.checks + b.checks, num(median(a.r1_ms)).c_str(), num(median(b.r1_ms)).c_str(),
-         num(ratio100, 2).c_str(), num(ratio400, 2).c_str(), num(near100, 2).c_str(), num(r5m100, 2).c_str(), num(r5m400, 2).c_str(), num(median(a.first_ms_v)).c_str(),
-         num(median(b.first_ms_v)).c_str(), num(median(a.r50_ms)).c_str(), num(median(b.r50_ms)).c_str(),
-         num(median(a.a1_ms)).c_str(), num(median(b.a1_ms)).c_str(), num(median(a.scroll_ms)).c_str(),
-         num(median(b.scroll_ms)).c_str(), num(share10(a), 1).c_str());
+  assistive_eval::JsonLine js;
+  js.add("optimal_mismatches", a.mismatches + b.mismatches).add("optimal_checks", a.checks + b.checks)
+      .add("replan1_ms_median_100", num(median(a.r1_ms))).add("replan1_ms_median_400", num(median(b.r1_ms)))
+      .add("expansion_ratio_100", num(ratio100, 2)).add("expansion_ratio_400", num(ratio400, 2))
+      .add("expansion_ratio_near_100", num(near100, 2)).add("expansion_ratio_5m_100", num(r5m100, 2))
+      .add("expansion_ratio_5m_400", num(r5m400, 2)).add("first_plan_ms_100", num(median(a.first_ms_v)))
+      .add("first_plan_ms_400", num(median(b.first_ms_v))).add("replan50_ms_median_100", num(median(a.r50_ms)))
+      .add("replan50_ms_median_400", num(median(b.r50_ms))).add("astar_ms_median_100", num(median(a.a1_ms)))
+      .add("astar_ms_median_400", num(median(b.a1_ms))).add("scroll1_ms_median_100", num(median(a.scroll_ms)))
+      .add("scroll1_ms_median_400", num(median(b.scroll_ms))).add("ratio_ge10_pct_100", num(share10(a), 1));
+  printf("%s\n", js.str().c_str());
   return 0;
 }

@@ -32,6 +32,8 @@
 #include <thread>
 #include <vector>
 
+#include <assistive_eval/benchmark.h>
+
 #include "assistive_tactile/conversions.h"
 #include "assistive_tactile/cue_logic.h"
 #include "assistive_tactile/sim_vest.h"
@@ -47,24 +49,16 @@ double secs(Clock::time_point t)
   return std::chrono::duration<double>(t.time_since_epoch()).count();
 }
 
-double pct(std::vector<double> v, double p)
+/// p-th percentile (0..100, interpolated); -1 (printed as null) when there is no sample.
+double pct(const std::vector<double>& v, double p)
 {
-  if (v.empty())
-    return -1.0;
-  std::sort(v.begin(), v.end());
-  const double idx = p / 100.0 * static_cast<double>(v.size() - 1);
-  const size_t lo = static_cast<size_t>(idx);
-  const size_t hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (v[hi] - v[lo]) * (idx - static_cast<double>(lo));
+  return v.empty() ? -1.0 : assistive_eval::percentile(v, p / 100.0);
 }
 
+/// Fixed decimals; "null" for a missing figure (-1).
 std::string num(double v, int prec = 4)
 {
-  if (v < 0.0)
-    return "null";
-  char b[64];
-  std::snprintf(b, sizeof(b), "%.*f", prec, v);
-  return b;
+  return v < 0.0 ? "null" : assistive_eval::jsonFixed(v, prec);
 }
 struct FramingResult
 {
@@ -245,39 +239,26 @@ int main(int argc, char** argv)
 {
   int cues = 2000;
   double period_ms = 2.0;
-  uint64_t corruptions = 1000000, seed = 1;
+  unsigned long long corruptions = 1000000, seed = 1;
   int off_trials = 20;
-  const char* usage = "usage: tactile_benchmark [--cues N] [--period-ms P] [--corruptions N] [--off-trials N] [--seed S]\n";
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string a = argv[i];
-    if (a == "--cues" && i + 1 < argc)
-      cues = std::max(10, std::atoi(argv[++i]));
-    else if (a == "--period-ms" && i + 1 < argc)
-      period_ms = std::max(0.0, std::atof(argv[++i]));
-    else if (a == "--corruptions" && i + 1 < argc)
-      corruptions = std::strtoull(argv[++i], nullptr, 10);
-    else if (a == "--off-trials" && i + 1 < argc)
-      off_trials = std::max(1, std::atoi(argv[++i]));
-    else if (a == "--seed" && i + 1 < argc)
-      seed = std::strtoull(argv[++i], nullptr, 10);
-    else if (a == "-h" || a == "--help")
-    {
-      std::printf("%s"
-                  "  Cue-to-serial latency: the bridge core writes N cues (default 2000, at least 10), one every\n"
-                  "  P ms (default 2), to a simulated vest on a pseudo-terminal. All-off timing: --off-trials\n"
-                  "  (default 20) cue streams that stop; ms from the last cue's stamp to all motors off.\n"
-                  "  Framing: --corruptions (default 1000000) random corruptions of valid packet streams;\n"
-                  "  false accepts = decoded motor patterns never sent. Last stdout line: JSON.\n",
-                  usage);
-      return 0;
-    }
-    else
-    {
-      std::fprintf(stderr, "tactile_benchmark: unknown argument %s\n%s", a.c_str(), usage);
-      return 2;
-    }
-  }
+  const char* usage =
+      "usage: tactile_benchmark [--cues N] [--period-ms P] [--corruptions N] [--off-trials N] [--seed S]\n"
+      "  Cue-to-serial latency: the bridge core writes N cues (default 2000, at least 10), one every\n"
+      "  P ms (default 2), to a simulated vest on a pseudo-terminal. All-off timing: --off-trials\n"
+      "  (default 20) cue streams that stop; ms from the last cue's stamp to all motors off.\n"
+      "  Framing: --corruptions (default 1000000) random corruptions of valid packet streams;\n"
+      "  false accepts = decoded motor patterns never sent. Last stdout line: JSON.\n";
+  assistive_eval::CommandLine cl("tactile_benchmark", usage);
+  cl.count("--cues", &cues, 0)
+      .number("--period-ms", &period_ms)
+      .count("--corruptions", &corruptions)
+      .count("--off-trials", &off_trials, 0)
+      .count("--seed", &seed);
+  if (const int rc = cl.parse(argc, argv); rc >= 0)
+    return rc;
+  cues = std::max(10, cues);  // as the usage says
+  period_ms = std::max(0.0, period_ms);
+  off_trials = std::max(1, off_trials);
 
   const std::string link = "/tmp/assistive_tactile_bench_" + std::to_string(getpid());
   SimVest vest;
@@ -428,18 +409,19 @@ int main(int argc, char** argv)
               static_cast<unsigned long long>(fr.packets_sent), static_cast<unsigned long long>(fr.false_accepts),
               static_cast<unsigned long long>(fr.altered_accepts), static_cast<unsigned long long>(fr.crc_rejects));
 
-  std::printf("{\"latency_ms_median\": %s, \"latency_ms_p99\": %s, \"latency_ms_max\": %s, "
-              "\"state_to_bytes_ms_median\": %s, \"state_to_bytes_ms_p99\": %s, "
-              "\"vest_decode_ms_median\": %s, \"vest_decode_ms_p99\": %s, \"cues\": %d, "
-              "\"cues_not_decoded\": %llu, \"all_off_ms_max_20\": %s, \"all_off_ms_median\": %s, "
-              "\"all_off_trials\": %zu, \"all_off_by_vest_ttl\": %d, \"framing_corruptions\": %llu, \"framing_false_accepts\": %llu, "
-              "\"framing_altered_accepts\": %llu, \"framing_crc_rejects\": %llu, "
-              "\"framing_packets_intact\": %llu, \"framing_packets_sent\": %llu}\n",
-              num(med).c_str(), num(p99).c_str(), num(mx).c_str(), num(cmed).c_str(), num(cp99).c_str(),
-              num(dmed).c_str(), num(dp99).c_str(), cues, static_cast<unsigned long long>(missing),
-              num(off_max, 2).c_str(), num(off_med, 2).c_str(), off_ms.size(), off_by_vest,
-              static_cast<unsigned long long>(fr.corruptions), static_cast<unsigned long long>(fr.false_accepts),
-              static_cast<unsigned long long>(fr.altered_accepts), static_cast<unsigned long long>(fr.crc_rejects),
-              static_cast<unsigned long long>(fr.intact), static_cast<unsigned long long>(fr.packets_sent));
+  assistive_eval::JsonLine js;
+  js.add("latency_ms_median", num(med)).add("latency_ms_p99", num(p99)).add("latency_ms_max", num(mx))
+      .add("state_to_bytes_ms_median", num(cmed)).add("state_to_bytes_ms_p99", num(cp99))
+      .add("vest_decode_ms_median", num(dmed)).add("vest_decode_ms_p99", num(dp99)).add("cues", cues)
+      .add("cues_not_decoded", static_cast<unsigned long long>(missing)).add("all_off_ms_max_20", num(off_max, 2))
+      .add("all_off_ms_median", num(off_med, 2)).add("all_off_trials", off_ms.size())
+      .add("all_off_by_vest_ttl", off_by_vest)
+      .add("framing_corruptions", static_cast<unsigned long long>(fr.corruptions))
+      .add("framing_false_accepts", static_cast<unsigned long long>(fr.false_accepts))
+      .add("framing_altered_accepts", static_cast<unsigned long long>(fr.altered_accepts))
+      .add("framing_crc_rejects", static_cast<unsigned long long>(fr.crc_rejects))
+      .add("framing_packets_intact", static_cast<unsigned long long>(fr.intact))
+      .add("framing_packets_sent", static_cast<unsigned long long>(fr.packets_sent));
+  std::printf("%s\n", js.str().c_str());
   return 0;  // SPEC: non-zero only when it could not run; the figures are judged from the JSON
 }

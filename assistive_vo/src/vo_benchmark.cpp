@@ -3,11 +3,9 @@
 //  --verbose: per-frame stage counts on stderr: KLT tracks, epipolar kept, P3P inliers, corners)
 // Runs the VO core on every stereo frame of a bag (no roscore), and on the same frames the peer:
 // OpenCV contrib's cv::rgbd::RgbdOdometry fed with StereoSGBM depth. Prints per-stage times,
-// trajectory errors against the bag's ground truth (assistive_sim_eval), then one JSON line.
+// trajectory errors against the bag's ground truth (assistive_eval), then one JSON line.
 // Times are CPU time of this thread (one core; OpenCV threading off), wall times reported too.
-#include <time.h>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
@@ -22,44 +20,21 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/rgbd.hpp>
-#include <assistive_sim/eval/metrics.h>
-#include <assistive_sim/eval/plots.h>
-#include <assistive_sim/stereo_bag.h>
+#include <assistive_eval/benchmark.h>
+#include <assistive_eval/metrics.h>
+#include <assistive_eval/plots.h>
+#include <assistive_eval/recovery.h>
+#include <assistive_eval/stereo_bag.h>
 #include "assistive_vo/frames.h"
 #include "assistive_vo/imu_buffer.h"
-#include "assistive_vo/recovery.h"
 #include "assistive_vo/visual_odometry.h"
 
 using namespace assistive_vo;
-namespace ev = assistive_sim::eval;
+namespace ev = assistive_eval;
+using ev::percentile;
 
 namespace
 {
-double cpuMs()
-{
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-double wallMs()
-{
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-double percentile(std::vector<double> v, double q)
-{
-  if (v.empty())
-    return std::numeric_limits<double>::quiet_NaN();
-  std::sort(v.begin(), v.end());
-  const double pos = q * (v.size() - 1);
-  const size_t i = static_cast<size_t>(pos);
-  const double f = pos - i;
-  return i + 1 < v.size() ? v[i] * (1 - f) + v[i + 1] * f : v[i];
-}
-std::string num(double v, int prec = 4)
-{
-  return ev::jsonNumber(v, prec);
-}
-
 /// The peer: SGBM depth + RgbdOdometry, pose chained frame to frame.
 struct Peer
 {
@@ -143,74 +118,24 @@ int main(int argc, char** argv)
   std::string bag, plot, dump;
   bool peer_on = true, imu_on = true, verbose = false;
   double peer_max_t = 0.15;
-  std::vector<std::string> overrides;
+  ev::CommandLine::Sets overrides;
   long max_frames = -1;
   const char* usage =
       "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--peer-max-translation M]\n"
       "                    [--verbose] [--dump FILE] [--set name=value ...]\n"
       "  Runs the visual odometry on a stereo bag (README \"Topics of a stereo bag\"); last stdout line: JSON.\n";
-  auto usageError = [&](const std::string& msg) {
-    std::cerr << "vo_benchmark: " << msg << "\n" << usage;
-    return 2;
-  };
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string a = argv[i];
-    const bool has_value = i + 1 < argc;
-    auto number = [&](double& out) {  // the next argument as a finite number
-      const std::string v = argv[++i];
-      size_t used = 0;
-      try
-      {
-        out = std::stod(v, &used);
-      }
-      catch (const std::exception&)
-      {
-        used = 0;
-      }
-      return used == v.size() && std::isfinite(out);
-    };
-    double x = 0.0;
-    if (a == "-h" || a == "--help")
-    {
-      std::cout << usage;
-      return 0;
-    }
-    else if (a == "--no-peer")
-      peer_on = false;
-    else if (a == "--no-imu")
-      imu_on = false;
-    else if (a == "--verbose")
-      verbose = true;
-    else if ((a == "--plot" || a == "--frames" || a == "--peer-max-translation" || a == "--dump" || a == "--set") &&
-             !has_value)
-      return usageError(a + " needs a value");
-    else if (a == "--plot")
-      plot = argv[++i];
-    else if (a == "--frames")
-    {
-      if (!number(x) || x < 0 || x != std::floor(x))
-        return usageError("--frames: not a whole number >= 0: '" + std::string(argv[i]) + "'");
-      max_frames = static_cast<long>(x);
-    }
-    else if (a == "--peer-max-translation")
-    {
-      if (!number(peer_max_t))
-        return usageError("--peer-max-translation: not a number: '" + std::string(argv[i]) + "'");
-    }
-    else if (a == "--dump")
-      dump = argv[++i];
-    else if (a == "--set")
-      overrides.push_back(argv[++i]);
-    else if (a.size() > 1 && a[0] == '-')
-      return usageError("unknown option " + a);
-    else if (!bag.empty())
-      return usageError("one bag only (got '" + bag + "' and '" + a + "')");
-    else
-      bag = a;
-  }
-  if (bag.empty())
-    return usageError("no bag given");
+  ev::CommandLine cl("vo_benchmark", usage);
+  cl.positional(&bag, "bag", true)
+      .flag("--no-peer", &peer_on, false)
+      .flag("--no-imu", &imu_on, false)
+      .flag("--verbose", &verbose)
+      .text("--plot", &plot)
+      .count("--frames", &max_frames, 0L)
+      .number("--peer-max-translation", &peer_max_t)
+      .text("--dump", &dump)
+      .sets(&overrides);
+  if (const int rc = cl.parse(argc, argv); rc >= 0)
+    return rc;
   if (plot.empty())
   {
     const size_t dot = bag.rfind(".bag");
@@ -218,16 +143,9 @@ int main(int argc, char** argv)
   }
   cv::setNumThreads(1);
 
-  std::unique_ptr<assistive_sim::StereoBagReader> reader;
-  try
-  {
-    reader = std::make_unique<assistive_sim::StereoBagReader>(bag);
-  }
-  catch (const std::exception& e)
-  {
-    std::cerr << "vo_benchmark: cannot read " << bag << ": " << e.what() << "\n";
+  const std::unique_ptr<ev::StereoBagReader> reader = ev::openStereoBag("vo_benchmark", bag);
+  if (!reader)
     return 1;
-  }
 
   VoParams params;
   params.use_imu = imu_on;
@@ -266,11 +184,9 @@ int main(int argc, char** argv)
                                   {"min_inliers", &params.min_inliers},
                                   {"alignment_half_window", &params.alignment_half_window},
                                   {"alignment_iterations", &params.alignment_iterations}};
-    for (const std::string& o : overrides)
+    for (const auto& [k, value] : overrides)
     {
-      const size_t eq = o.find('=');
-      const std::string k = o.substr(0, eq);
-      const double v = eq == std::string::npos ? 0.0 : std::atof(o.c_str() + eq + 1);
+      const double v = std::atof(value.c_str());
       if (d.count(k))
         *d[k] = v;
       else if (n.count(k))
@@ -300,26 +216,14 @@ int main(int argc, char** argv)
   std::map<std::string, std::vector<double>> ms;
   std::vector<double> wall, peer_ms, peer_wall;
   int lost = 0, max_bad_run = 0, bad_run = 0, frames = 0, unusable = 0;
-  RecoveryCounter recovery;
+  ev::RecoveryCounter recovery;
   double prev_stamp = -1;
   Eigen::Isometry3d peer_T_odom_o0 = Eigen::Isometry3d::Identity();
   std::ofstream dump_out;
   if (!dump.empty())
     dump_out.open(dump);
-  assistive_sim::StereoFrame f;
-  // A malformed image (encoding, size) is a clear error, not an abort.
-  auto nextFrame = [&](assistive_sim::StereoFrame& fr) {
-    try
-    {
-      return reader->next(fr);
-    }
-    catch (const std::exception& e)
-    {
-      std::cerr << "vo_benchmark: " << bag << ": " << e.what() << "\n";
-      std::exit(1);
-    }
-  };
-  while ((max_frames < 0 || frames < max_frames) && nextFrame(f))
+  ev::StereoFrame f;
+  while ((max_frames < 0 || frames < max_frames) && ev::nextFrameOrExit(*reader, f, "vo_benchmark", bag))
   {
     const StereoCamera cam = StereoCamera::from(f.calib);
     if (frames == 0)
@@ -346,11 +250,10 @@ int main(int argc, char** argv)
     }
     prev_stamp = f.stamp;
 
-    const double c0 = cpuMs(), w0 = wallMs();
+    const ev::Stopwatch timer;
     const VoOutput o = vo.process(f.left, f.right, f.stamp, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr);
-    const double c1 = cpuMs(), w1 = wallMs();
-    ms["total"].push_back(c1 - c0);
-    wall.push_back(w1 - w0);
+    ms["total"].push_back(timer.cpuMs());
+    wall.push_back(timer.wallMs());
     ms["pyramid"].push_back(o.stats.ms_pyramid);
     ms["klt"].push_back(o.stats.ms_klt);
     ms["epipolar"].push_back(o.stats.ms_epipolar);
@@ -359,7 +262,7 @@ int main(int argc, char** argv)
     ms["bundle_adj"].push_back(o.stats.ms_ba);
     ms["detect"].push_back(o.stats.ms_detect);
     // Recovery counted in usable frames only (objective image test, outside the timed call).
-    const bool usable = stereoPairUsable(f.left, f.right);
+    const bool usable = ev::stereoPairUsable(f.left, f.right);
     unusable += !usable;
     recovery.add(o.state == TrackingState::TRACKING, usable);
     if (o.state != TrackingState::TRACKING)
@@ -413,10 +316,10 @@ int main(int argc, char** argv)
                                    : Eigen::Matrix3d::Identity());
       if (peer_on)
       {
-        const double p0 = cpuMs(), pw0 = wallMs();
+        const ev::Stopwatch peer_timer;
         peer.process(cam, f.left, f.right);
-        peer_ms.push_back(cpuMs() - p0);
-        peer_wall.push_back(wallMs() - pw0);
+        peer_ms.push_back(peer_timer.cpuMs());
+        peer_wall.push_back(peer_timer.wallMs());
         if (peer_est.empty())
           peer_T_odom_o0 = o.T_odom_optical;  // same start pose as ours (gravity from the IMU)
         peer_est.push_back({f.stamp, peer_T_odom_o0 * peer.T_w_c});
@@ -488,7 +391,7 @@ int main(int argc, char** argv)
     if (prep.ate.n > 0)
       series.push_back({"peer RgbdOdometry", ev::positions(ev::applyAlignment(peer_est, prep.alignment)),
                         cv::Scalar(230, 120, 0)});
-    assistive_sim::OccupancyGrid floor;
+    ev::OccupancyGrid floor;
     const bool have_floor = reader->readOccupancy(floor);
     z_up_world = have_floor;
     ev::PlotOptions po;
@@ -502,44 +405,43 @@ int main(int argc, char** argv)
   else
     std::cout << "no ground truth in the bag: trajectory errors are null\n";
 
-  std::ostringstream js;
-  js << "{\"frames\": " << frames << ", \"ms_median\": " << num(percentile(ms["total"], 0.5))
-     << ", \"ms_p95\": " << num(percentile(ms["total"], 0.95))
-     << ", \"ms_p95_wall\": " << num(percentile(wall, 0.95));
+  auto num = [](double v, int significant = 4) { return ev::jsonNumber(v, significant); };
+  ev::JsonLine js;
+  js.add("frames", frames).add("ms_median", num(percentile(ms["total"], 0.5)))
+      .add("ms_p95", num(percentile(ms["total"], 0.95))).add("ms_p95_wall", num(percentile(wall, 0.95)));
   if (have_gt)
-    js << ", \"drift_pct\": " << num(rep.drift.drift_pct) << ", \"drift_deg_per_m\": " << num(rep.drift.drift_deg_per_m, 6)
-       << ", \"drift_deg_per_m_yaw\": " << num(rep.drift.drift_deg_per_m_yaw, 6)
-       << ", \"drift_deg_per_m_tilt\": " << num(rep.drift.drift_deg_per_m_tilt, 6) << ", \"ate_rmse_m\": " << num(rep.ate.rmse) << ", \"max_jump_m\": " << num(rep.max_jump_m)
-       << ", \"gyro_floor_deg_per_m\": " << num(gyro_floor.drift_deg_per_m, 6)
-       << ", \"tilt_err_deg_mean\": " << (z_up_world ? num(rep.tilt_deg.mean) : "null")
-       << ", \"tilt_err_deg_max\": " << (z_up_world ? num(rep.tilt_deg.max) : "null")
-       << ", \"endpoint_drift_pct\": " << num(rep.endpoint_drift_pct) << ", \"path_length_m\": " << num(rep.path_length_m);
+    js.add("drift_pct", num(rep.drift.drift_pct)).add("drift_deg_per_m", num(rep.drift.drift_deg_per_m, 6))
+        .add("drift_deg_per_m_yaw", num(rep.drift.drift_deg_per_m_yaw, 6))
+        .add("drift_deg_per_m_tilt", num(rep.drift.drift_deg_per_m_tilt, 6)).add("ate_rmse_m", num(rep.ate.rmse))
+        .add("max_jump_m", num(rep.max_jump_m)).add("gyro_floor_deg_per_m", num(gyro_floor.drift_deg_per_m, 6))
+        .add("tilt_err_deg_mean", z_up_world ? num(rep.tilt_deg.mean) : "null")
+        .add("tilt_err_deg_max", z_up_world ? num(rep.tilt_deg.max) : "null")
+        .add("endpoint_drift_pct", num(rep.endpoint_drift_pct)).add("path_length_m", num(rep.path_length_m));
   else
-    js << ", \"drift_pct\": null, \"drift_deg_per_m\": null, \"ate_rmse_m\": null, \"max_jump_m\": null";
+    js.addNull("drift_pct").addNull("drift_deg_per_m").addNull("ate_rmse_m").addNull("max_jump_m");
   // Net estimated motion first -> last pose (a still clip must stay near zero).
   if (est.size() >= 2)
   {
     const Eigen::Isometry3d d = est.front().pose.inverse() * est.back().pose;
-    js << ", \"est_net_motion_m\": " << num(d.translation().norm(), 6)
-       << ", \"est_net_rotation_deg\": " << num(Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI, 6);
+    js.add("est_net_motion_m", num(d.translation().norm(), 6))
+        .add("est_net_rotation_deg", num(Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI, 6));
   }
   else
-    js << ", \"est_net_motion_m\": null, \"est_net_rotation_deg\": null";
-  js << ", \"resets\": " << vo.resets() << ", \"frames_not_tracking\": " << lost
-     << ", \"max_recovery_frames\": " << max_bad_run << ", \"recovery_frames_max\": " << recovery.maxUsableInRun()
-     << ", \"unusable_frames\": " << unusable;
+    js.addNull("est_net_motion_m").addNull("est_net_rotation_deg");
+  js.add("resets", vo.resets()).add("frames_not_tracking", lost).add("max_recovery_frames", max_bad_run)
+      .add("recovery_frames_max", recovery.maxUsableInRun()).add("unusable_frames", unusable);
   for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect"})
-    js << ", \"ms_p95_" << k << "\": " << num(percentile(ms[k], 0.95));
+    js.add(std::string("ms_p95_") + k, num(percentile(ms[k], 0.95)));
   if (have_gt)
     for (const auto& b : rep.yaw_bands)
-      js << ", \"yaw_err_deg_" << b.name << "\": " << num(b.mean_err_deg, 5);
+      js.add("yaw_err_deg_" + b.name, num(b.mean_err_deg, 5));
   const bool peer_ok = peer_on && have_gt && prep.ate.n > 0;
-  js << ", \"peer_ms_median\": " << (peer_on ? num(percentile(peer_ms, 0.5)) : "null")
-     << ", \"peer_ms_p95\": " << (peer_on ? num(percentile(peer_ms, 0.95)) : "null")
-     << ", \"peer_drift_pct\": " << (peer_ok ? num(prep.drift.drift_pct) : "null")
-     << ", \"peer_drift_deg_per_m\": " << (peer_ok ? num(prep.drift.drift_deg_per_m, 6) : "null")
-     << ", \"peer_ate_rmse_m\": " << (peer_ok ? num(prep.ate.rmse) : "null")
-     << ", \"peer_failures\": " << (peer_on ? std::to_string(peer.failures) : "null") << "}";
+  js.add("peer_ms_median", peer_on ? num(percentile(peer_ms, 0.5)) : "null")
+      .add("peer_ms_p95", peer_on ? num(percentile(peer_ms, 0.95)) : "null")
+      .add("peer_drift_pct", peer_ok ? num(prep.drift.drift_pct) : "null")
+      .add("peer_drift_deg_per_m", peer_ok ? num(prep.drift.drift_deg_per_m, 6) : "null")
+      .add("peer_ate_rmse_m", peer_ok ? num(prep.ate.rmse) : "null")
+      .add("peer_failures", peer_on ? std::to_string(peer.failures) : "null");
   std::cout << js.str() << std::endl;
   return 0;
 }

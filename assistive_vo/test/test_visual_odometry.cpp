@@ -3,11 +3,13 @@
 #include <cmath>
 #include <iostream>
 #include "assistive_vo/frames.h"
-#include "assistive_vo/recovery.h"
 #include "assistive_vo/visual_odometry.h"
 #include "synthetic.h"
+#include <assistive_eval/recovery.h>  // the benchmark's recovery measure (test-only dependency)
 
 using namespace assistive_vo;
+using assistive_eval::RecoveryCounter;
+using assistive_eval::stereoPairUsable;
 
 namespace
 {

@@ -1,8 +1,8 @@
 // The VO core on the real camera clips of issue 9 (../shared/data/real, items 1 and 2), read
-// straight from the dataset folders with assistive_sim's readers. Skips with a message when the
+// straight from the dataset folders with assistive_eval's readers. Skips with a message when the
 // folder is absent (set ASSISTIVE_REAL_DATA to point elsewhere).
-#include <assistive_sim/eval/datasets.h>
-#include <assistive_sim/eval/metrics.h>
+#include <assistive_eval/datasets.h>
+#include <assistive_eval/metrics.h>
 #include <assistive_vo/visual_odometry.h>
 
 #include <gtest/gtest.h>
@@ -16,7 +16,7 @@
 #define ASSISTIVE_REAL_DATA_DIR "../shared/data/real"
 #endif
 
-namespace ev = assistive_sim::eval;
+namespace ev = assistive_eval;
 using namespace assistive_vo;
 
 namespace
@@ -53,7 +53,7 @@ ClipRun runClip(const std::string& kind, const std::string& dir)
   ClipRun r;
   for (size_t i = 0; i < src->size(); ++i)
   {
-    const assistive_sim::StereoFrame f = src->frame(i);
+    const assistive_eval::StereoFrame f = src->frame(i);
     if (i == 0)
       vo.setCamera(StereoCamera::from(f.calib));
     const VoOutput o = vo.process(f.left, f.right, f.stamp, nullptr);

@@ -60,8 +60,4 @@ private:
   mutable cv::Mat texture_;  // sum of squared horizontal gradients over the block, of the last compute()'s left image
 };
 
-/// Full-resolution OpenCV SGBM with the usual settings: the peer of the disparity benchmark.
-/// Returns CV_32F disparity in px, invalid < 0.
-cv::Mat peerSgbm(const cv::Mat& left, const cv::Mat& right, int num_disparities);
-
 }  // namespace assistive_obstacles

@@ -32,7 +32,7 @@ struct StereoCamera
   {
     return Eigen::Vector3d((u - cx) / fx, (v - cy) / fy, 1.0).normalized();
   }
-  /// From any calibration record with the same field names (e.g. assistive_sim::StereoCalib, as
+  /// From any calibration record with the same field names (e.g. assistive_eval::StereoCalib, as
   /// read from bags and datasets) without depending on its package.
   template <class Calib>
   static StereoCamera from(const Calib& c)

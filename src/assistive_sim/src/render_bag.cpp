@@ -11,10 +11,11 @@
 
 #include <assistive_sim/motion.h>
 #include <assistive_sim/renderer.h>
-#include <assistive_sim/stereo_bag.h>
+#include <assistive_eval/stereo_bag.h>
 #include <assistive_sim/world.h>
 
 using namespace assistive_sim;
+using assistive_eval::StereoBagWriter;
 
 namespace
 {

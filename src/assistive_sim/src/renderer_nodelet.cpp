@@ -18,7 +18,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
-#include <assistive_sim/conversions.h>
+#include <assistive_eval/conversions.h>
 #include <assistive_sim/motion.h>
 #include <assistive_sim/renderer.h>
 #include <assistive_sim/renderer_params.h>
@@ -26,6 +26,11 @@
 
 namespace assistive_sim
 {
+using assistive_eval::toCameraInfo;  // the bag topics' message conversions
+using assistive_eval::toDepthMsg;
+using assistive_eval::toImageMsg;
+using assistive_eval::toMsg;
+
 class RendererNodelet : public nodelet::Nodelet
 {
 public:

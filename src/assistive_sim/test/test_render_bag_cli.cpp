@@ -1,5 +1,5 @@
 // Each shipped world renders to a bag from one command (render_bag), with the README topics.
-#include <assistive_sim/stereo_bag.h>
+#include <assistive_eval/stereo_bag.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +12,7 @@
 #include <rosbag/view.h>
 
 using namespace assistive_sim;
+using assistive_eval::StereoBagReader;
 
 class RenderBagCli : public ::testing::TestWithParam<const char*>
 {

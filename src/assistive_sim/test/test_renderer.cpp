@@ -2,7 +2,7 @@
 // glass is see-through, determinism per seed; and the same through a small generated bag.
 #include <assistive_sim/motion.h>
 #include <assistive_sim/renderer.h>
-#include <assistive_sim/stereo_bag.h>
+#include <assistive_eval/stereo_bag.h>
 
 #include <cstdio>
 
@@ -10,6 +10,8 @@
 #include <opencv2/imgproc.hpp>
 
 using namespace assistive_sim;
+using assistive_eval::StereoBagReader;
+using assistive_eval::StereoBagWriter;
 
 namespace
 {

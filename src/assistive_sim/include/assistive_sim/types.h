@@ -1,110 +1,18 @@
 #pragma once
-// Plain data types shared by the simulator, the bag I/O and every stage's benchmark.
-// ROS-free (OpenCV + Eigen only), so core libraries may include it.
-#include <cmath>
-#include <cstdint>
-#include <vector>
-
-#include <Eigen/Geometry>
-#include <opencv2/core.hpp>
+// The simulator renders into the evaluation package's plain types (assistive_eval/types.h): one
+// contract for the stereo frame, the occupancy grid and its cell codes between the renderer, the
+// bag reader/writer and every benchmark. Named here so the simulator's code reads as before.
+#include <assistive_eval/types.h>
 
 namespace assistive_sim
 {
-/// Rectified stereo intrinsics (identical for both cameras; right = left shifted by baseline
-/// along +x of the left optical frame, i.e. along -y of camera_link).
-struct StereoCalib
-{
-  int width = 640;
-  int height = 480;
-  double fx = 500.0;    ///< px
-  double fy = 500.0;    ///< px
-  double cx = 319.5;    ///< px
-  double cy = 239.5;    ///< px
-  double baseline = 0.12;  ///< m
-};
-
-/// One IMU sample in the camera_link frame (x forward, y left, z up).
-struct ImuSample
-{
-  double stamp = 0.0;                              ///< s
-  Eigen::Vector3d gyro = Eigen::Vector3d::Zero();   ///< rad/s
-  Eigen::Vector3d accel = Eigen::Vector3d::Zero();  ///< m/s^2, specific force (+9.81 z at rest)
-  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< world->link, if known
-  bool has_orientation = false;
-};
-
-/// One rectified stereo frame as read from / written to a stereo bag.
-struct StereoFrame
-{
-  double stamp = 0.0;  ///< s
-  cv::Mat left;        ///< CV_8UC1
-  cv::Mat right;       ///< CV_8UC1
-  StereoCalib calib;
-  /// Ground-truth pose of the left optical frame (z forward, x right, y down) in gt_world.
-  bool has_gt_pose = false;
-  Eigen::Isometry3d gt_pose = Eigen::Isometry3d::Identity();
-  /// Ground-truth velocity of the left optical frame in gt_world (m/s), if known.
-  Eigen::Vector3d gt_velocity = Eigen::Vector3d::Zero();
-  /// Optional ground-truth depth Z (m) of the left image, CV_32FC1, 0 = nothing (sky); empty when
-  /// the bag has none (render_bag --depth writes it).
-  cv::Mat gt_depth;
-  /// IMU samples with stamp in (previous frame's stamp, this frame's stamp]; the first frame
-  /// gets every sample up to its stamp.
-  std::vector<ImuSample> imu;
-};
-
-/// Grid cell codes (README "Grid cell codes").
-constexpr int8_t CELL_UNKNOWN = -1;
-constexpr int8_t CELL_FREE = 0;
-constexpr int8_t CELL_STEP = 50;
-constexpr int8_t CELL_OBSTACLE = 100;
-
-/// 2D occupancy grid in gt_world (axis-aligned, like nav_msgs/OccupancyGrid with identity
-/// origin orientation). Cell (ix, iy) covers x in [origin_x + ix*res, origin_x + (ix+1)*res).
-struct OccupancyGrid
-{
-  double origin_x = 0.0;  ///< m, lower-left corner of cell (0,0)
-  double origin_y = 0.0;  ///< m
-  double resolution = 0.2;  ///< m / cell
-  int width = 0;   ///< cells along x
-  int height = 0;  ///< cells along y
-  std::vector<int8_t> data;  ///< row-major, index = iy * width + ix
-
-  bool empty() const { return data.empty(); }
-  bool inside(int ix, int iy) const { return ix >= 0 && iy >= 0 && ix < width && iy < height; }
-  int8_t at(int ix, int iy) const { return inside(ix, iy) ? data[iy * width + ix] : CELL_UNKNOWN; }
-  /// World coordinates -> cell index; false when outside the grid.
-  bool cellOf(double x, double y, int& ix, int& iy) const
-  {
-    ix = static_cast<int>(std::floor((x - origin_x) / resolution));
-    iy = static_cast<int>(std::floor((y - origin_y) / resolution));
-    return inside(ix, iy);
-  }
-  /// Code at a world point (CELL_UNKNOWN outside).
-  int8_t atWorld(double x, double y) const
-  {
-    int ix, iy;
-    return cellOf(x, y, ix, iy) ? data[iy * width + ix] : CELL_UNKNOWN;
-  }
-  /// Centre of a cell in world coordinates.
-  Eigen::Vector2d cellCenter(int ix, int iy) const
-  {
-    return {origin_x + (ix + 0.5) * resolution, origin_y + (iy + 0.5) * resolution};
-  }
-};
-
-/// Fixed transform camera_link -> left optical frame used by the simulator's ground truth:
-/// same origin (camera_link sits at the left camera's centre), optical z = link x,
-/// optical x = -link y, optical y = -link z.
-inline Eigen::Isometry3d linkToLeftOptical()
-{
-  Eigen::Matrix3d r;
-  r << 0, 0, 1,
-      -1, 0, 0,
-       0, -1, 0;
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = r;  // columns: optical axes expressed in link
-  return t;
-}
-
+using assistive_eval::CELL_FREE;
+using assistive_eval::CELL_OBSTACLE;
+using assistive_eval::CELL_STEP;
+using assistive_eval::CELL_UNKNOWN;
+using assistive_eval::ImuSample;
+using assistive_eval::linkToLeftOptical;
+using assistive_eval::OccupancyGrid;
+using assistive_eval::StereoCalib;
+using assistive_eval::StereoFrame;
 }  // namespace assistive_sim

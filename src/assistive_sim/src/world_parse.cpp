@@ -1,0 +1,517 @@
+// World files (README "World files"): YAML parsing into World, with errors that name the file,
+// line and field, and the lookup of shipped worlds. Geometry and occupancy: world_occupancy.cpp.
+#include <assistive_sim/world.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+namespace assistive_sim
+{
+namespace
+{
+constexpr double DEG = M_PI / 180.0;
+
+/// Parsing context: file name for messages.
+struct Ctx
+{
+  std::string origin;
+
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& field, const std::string& what) const
+  {
+    std::ostringstream s;
+    s << origin << ":" << (n.Mark().line >= 0 ? n.Mark().line + 1 : 0) << ": field '" << field
+      << "': " << what;
+    throw WorldError(s.str());
+  }
+
+  void checkKeys(const YAML::Node& map, const std::string& field, const std::set<std::string>& allowed) const
+  {
+    if (!map.IsMap()) fail(map, field, "expected a mapping");
+    for (const auto& kv : map)
+    {
+      const std::string k = kv.first.as<std::string>();
+      if (!allowed.count(k))
+      {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        fail(kv.first, field.empty() ? k : field + "." + k, "unknown field (allowed: " + list + ")");
+      }
+    }
+  }
+
+  double num(const YAML::Node& map, const std::string& key, const std::string& field, double def,
+             bool required = false, double lo = -1e9, double hi = 1e9) const
+  {
+    const YAML::Node n = map[key];
+    const std::string f = field.empty() ? key : field + "." + key;
+    if (!n)
+    {
+      if (required) fail(map, f, "missing (required)");
+      return def;
+    }
+    double v;
+    try
+    {
+      if (!n.IsScalar()) throw YAML::Exception(n.Mark(), "");
+      v = n.as<double>();
+    }
+    catch (const YAML::Exception&)
+    {
+      fail(n, f, "expected a number");
+    }
+    if (!std::isfinite(v) || v < lo || v > hi)
+    {
+      std::ostringstream s;
+      s << "value " << v << " outside [" << lo << ", " << hi << "]";
+      fail(n, f, s.str());
+    }
+    return v;
+  }
+
+  std::vector<double> vec(const YAML::Node& map, const std::string& key, const std::string& field,
+                          size_t count, bool required, std::vector<double> def = {}) const
+  {
+    const YAML::Node n = map[key];
+    const std::string f = field.empty() ? key : field + "." + key;
+    if (!n)
+    {
+      if (required) fail(map, f, "missing (required)");
+      return def;
+    }
+    if (!n.IsSequence() || n.size() != count)
+      fail(n, f, "expected a list of " + std::to_string(count) + " numbers");
+    std::vector<double> out;
+    for (size_t i = 0; i < count; ++i)
+    {
+      try
+      {
+        out.push_back(n[i].as<double>());
+      }
+      catch (const YAML::Exception&)
+      {
+        fail(n[i], f + "[" + std::to_string(i) + "]", "expected a number");
+      }
+      if (!std::isfinite(out.back())) fail(n[i], f, "not finite");
+    }
+    return out;
+  }
+
+  std::string str(const YAML::Node& map, const std::string& key, const std::string& field,
+                  const std::string& def, bool required = false) const
+  {
+    const YAML::Node n = map[key];
+    const std::string f = field.empty() ? key : field + "." + key;
+    if (!n)
+    {
+      if (required) fail(map, f, "missing (required)");
+      return def;
+    }
+    if (!n.IsScalar()) fail(n, f, "expected a string");
+    return n.as<std::string>();
+  }
+
+  bool boolean(const YAML::Node& map, const std::string& key, const std::string& field, bool def) const
+  {
+    const YAML::Node n = map[key];
+    if (!n) return def;
+    try
+    {
+      return n.as<bool>();
+    }
+    catch (const YAML::Exception&)
+    {
+      fail(n, field + "." + key, "expected true or false");
+    }
+  }
+};
+
+Pattern parsePattern(const Ctx& c, const YAML::Node& n, const std::string& field)
+{
+  static const std::map<std::string, Pattern> names = {{"plain", Pattern::PLAIN},
+                                                       {"noise", Pattern::NOISE},
+                                                       {"bricks", Pattern::BRICKS},
+                                                       {"tiles", Pattern::TILES},
+                                                       {"posters", Pattern::POSTERS}};
+  const std::string s = c.str(n, "pattern", field, "noise");
+  auto it = names.find(s);
+  if (it == names.end()) c.fail(n["pattern"], field + ".pattern", "unknown pattern '" + s + "' (plain, noise, bricks, tiles, posters)");
+  return it->second;
+}
+
+int materialRef(const Ctx& c, const YAML::Node& n, const std::string& field,
+                const std::map<std::string, int>& ids, int def)
+{
+  if (!n["material"]) return def;
+  const std::string s = c.str(n, "material", field, "");
+  auto it = ids.find(s);
+  if (it == ids.end()) c.fail(n["material"], field + ".material", "unknown material '" + s + "'");
+  return it->second;
+}
+
+Solid box(double cx, double cy, double sx, double sy, double yaw, double z0, double z1, int mat,
+          const std::string& src)
+{
+  Solid s;
+  s.shape = Solid::BOX;
+  s.center = {cx, cy};
+  s.half = {sx / 2, sy / 2};
+  s.yaw = yaw;
+  s.z0 = z0;
+  s.z1 = z1;
+  s.material = mat;
+  s.source = src;
+  return s;
+}
+
+World parseRoot(const YAML::Node& root, const Ctx& c)
+{
+  World w;
+  if (!root.IsMap()) c.fail(root, "", "a world file is a mapping (name, materials, floor, elements, trajectory)");
+  c.checkKeys(root, "", {"name", "description", "materials", "floor", "ceiling", "sky", "light", "elements", "trajectory"});
+  w.name = c.str(root, "name", "", "world");
+  w.description = c.str(root, "description", "", "");
+
+  // Materials: a default one first.
+  std::map<std::string, int> ids;
+  Material def;
+  def.name = "default";
+  w.materials.push_back(def);
+  ids["default"] = 0;
+  if (root["materials"])
+  {
+    const YAML::Node ms = root["materials"];
+    if (!ms.IsMap()) c.fail(ms, "materials", "expected a mapping name -> {pattern, albedo, contrast, scale, seed}");
+    uint32_t auto_seed = 11;
+    for (const auto& kv : ms)
+    {
+      const std::string name = kv.first.as<std::string>();
+      const std::string f = "materials." + name;
+      const YAML::Node m = kv.second;
+      c.checkKeys(m, f, {"pattern", "albedo", "contrast", "scale", "seed"});
+      Material mat;
+      mat.name = name;
+      mat.pattern = parsePattern(c, m, f);
+      mat.albedo = c.num(m, "albedo", f, 0.5, false, 0.0, 1.0);
+      mat.contrast = c.num(m, "contrast", f, mat.pattern == Pattern::PLAIN ? 0.02 : 0.5, false, 0.0, 1.0);
+      mat.scale = c.num(m, "scale", f, 0.2, false, 0.01, 10.0);
+      mat.seed = static_cast<uint32_t>(c.num(m, "seed", f, auto_seed += 7, false, 0, 1e9));
+      ids[name] = static_cast<int>(w.materials.size());
+      w.materials.push_back(mat);
+    }
+  }
+
+  // Floor.
+  const YAML::Node fl = root["floor"];
+  if (!fl) c.fail(root, "floor", "missing (required): {min: [x, y], max: [x, y], material}");
+  c.checkKeys(fl, "floor", {"min", "max", "material"});
+  auto fmin = c.vec(fl, "min", "floor", 2, true);
+  auto fmax = c.vec(fl, "max", "floor", 2, true);
+  if (fmax[0] <= fmin[0] || fmax[1] <= fmin[1]) c.fail(fl, "floor.max", "must be larger than floor.min");
+  w.floor_min = {fmin[0], fmin[1]};
+  w.floor_max = {fmax[0], fmax[1]};
+  w.floor_material = materialRef(c, fl, "floor", ids, 0);
+
+  if (root["ceiling"])
+  {
+    const YAML::Node n = root["ceiling"];
+    c.checkKeys(n, "ceiling", {"height", "material"});
+    w.has_ceiling = true;
+    w.ceiling_height = c.num(n, "height", "ceiling", 2.7, false, 2.0, 20.0);
+    w.ceiling_material = materialRef(c, n, "ceiling", ids, 0);
+  }
+  if (root["sky"])
+  {
+    const YAML::Node n = root["sky"];
+    c.checkKeys(n, "sky", {"brightness"});
+    w.sky_brightness = c.num(n, "brightness", "sky", 0.75, false, 0.0, 1.0);
+  }
+  if (root["light"])
+  {
+    auto d = c.vec(root, "light", "", 3, true);
+    Eigen::Vector3d v(d[0], d[1], d[2]);
+    if (v.norm() < 1e-6) c.fail(root["light"], "light", "zero vector");
+    w.light_dir = v.normalized();
+  }
+
+  // Elements.
+  if (root["elements"])
+  {
+    const YAML::Node es = root["elements"];
+    if (!es.IsSequence()) c.fail(es, "elements", "expected a list");
+    for (size_t i = 0; i < es.size(); ++i)
+    {
+      const YAML::Node e = es[i];
+      std::string f = "elements[" + std::to_string(i) + "]";
+      if (!e.IsMap()) c.fail(e, f, "expected a mapping with a 'type'");
+      const std::string type = c.str(e, "type", f, "", true);
+      const std::string src = f + " (" + type + ")";
+      f += "(" + type + ")";
+      const int mat = materialRef(c, e, f, ids, 0);
+      const double yaw = c.num(e, "yaw", f, 0.0, false, -360, 360) * DEG;
+      if (type == "wall")
+      {
+        c.checkKeys(e, f, {"type", "from", "to", "height", "thickness", "base", "material", "openings"});
+        auto a = c.vec(e, "from", f, 2, true), b = c.vec(e, "to", f, 2, true);
+        const double h = c.num(e, "height", f, 2.5, false, 0.01, 50);
+        const double th = c.num(e, "thickness", f, 0.15, false, 0.01, 5);
+        const double base = c.num(e, "base", f, 0.0, false, -5, 50);
+        const Eigen::Vector2d A(a[0], a[1]), B(b[0], b[1]);
+        const double len = (B - A).norm();
+        if (len < 0.01) c.fail(e["to"], f + ".to", "wall has zero length");
+        const Eigen::Vector2d dir = (B - A) / len;
+        const double wyaw = std::atan2(dir.y(), dir.x());
+        // Openings (doorways): split the wall, keep a lintel above each.
+        struct Op { double s0, s1, h; };
+        std::vector<Op> ops;
+        if (e["openings"])
+        {
+          const YAML::Node os = e["openings"];
+          if (!os.IsSequence()) c.fail(os, f + ".openings", "expected a list of {at, width, height}");
+          for (size_t k = 0; k < os.size(); ++k)
+          {
+            const std::string of = f + ".openings[" + std::to_string(k) + "]";
+            c.checkKeys(os[k], of, {"at", "width", "height"});
+            const double at = c.num(os[k], "at", of, 0, true, 0, len);
+            const double wd = c.num(os[k], "width", of, 0.9, false, 0.1, len);
+            const double oh = c.num(os[k], "height", of, 2.1, false, 0.5, 50);
+            if (at - wd / 2 < -1e-9 || at + wd / 2 > len + 1e-9) c.fail(os[k], of + ".at", "opening extends past the wall's ends");
+            ops.push_back({at - wd / 2, at + wd / 2, oh});
+          }
+          std::sort(ops.begin(), ops.end(), [](const Op& x, const Op& y) { return x.s0 < y.s0; });
+        }
+        double s = 0.0;
+        auto seg = [&](double s0, double s1, double z0, double z1) {
+          if (s1 - s0 < 1e-3 || z1 - z0 < 1e-3) return;
+          const Eigen::Vector2d mid = A + dir * (0.5 * (s0 + s1));
+          w.solids.push_back(box(mid.x(), mid.y(), s1 - s0, th, wyaw, z0, z1, mat, src));
+        };
+        for (const Op& o : ops)
+        {
+          seg(s, o.s0, base, base + h);
+          seg(o.s0, o.s1, base + o.h, base + h);
+          s = std::max(s, o.s1);
+        }
+        seg(s, len, base, base + h);
+      }
+      else if (type == "box")
+      {
+        c.checkKeys(e, f, {"type", "center", "size", "yaw", "base", "material"});
+        auto ctr = c.vec(e, "center", f, 2, true);
+        auto sz = c.vec(e, "size", f, 3, true);
+        if (sz[0] <= 0 || sz[1] <= 0 || sz[2] <= 0) c.fail(e["size"], f + ".size", "sizes must be positive");
+        const double base = c.num(e, "base", f, 0.0, false, -5, 50);
+        w.solids.push_back(box(ctr[0], ctr[1], sz[0], sz[1], yaw, base, base + sz[2], mat, src));
+      }
+      else if (type == "column")
+      {
+        c.checkKeys(e, f, {"type", "center", "radius", "height", "base", "material"});
+        auto ctr = c.vec(e, "center", f, 2, true);
+        Solid s;
+        s.shape = Solid::CYLINDER;
+        s.center = {ctr[0], ctr[1]};
+        s.radius = c.num(e, "radius", f, 0.2, false, 0.01, 10);
+        s.z0 = c.num(e, "base", f, 0.0, false, -5, 50);
+        s.z1 = s.z0 + c.num(e, "height", f, 3.0, false, 0.01, 50);
+        s.material = mat;
+        s.source = src;
+        w.solids.push_back(s);
+      }
+      else if (type == "table" || type == "bench")
+      {
+        c.checkKeys(e, f, {"type", "center", "size", "height", "yaw", "top_thickness", "leg", "material"});
+        auto ctr = c.vec(e, "center", f, 2, true);
+        auto sz = c.vec(e, "size", f, 2, true);
+        if (sz[0] <= 0 || sz[1] <= 0) c.fail(e["size"], f + ".size", "sizes must be positive");
+        const double h = c.num(e, "height", f, type == "table" ? 0.75 : 0.45, false, 0.05, 5);
+        const double top = c.num(e, "top_thickness", f, type == "table" ? 0.04 : 0.06, false, 0.005, h);
+        const double leg = c.num(e, "leg", f, 0.05, false, 0.01, 1);
+        w.solids.push_back(box(ctr[0], ctr[1], sz[0], sz[1], yaw, h - top, h, mat, src));
+        const double cy = std::cos(yaw), sy = std::sin(yaw);
+        for (int lx = -1; lx <= 1; lx += 2)
+          for (int ly = -1; ly <= 1; ly += 2)
+          {
+            const double ox = lx * (sz[0] / 2 - leg), oy = ly * (sz[1] / 2 - leg);
+            w.solids.push_back(box(ctr[0] + cy * ox - sy * oy, ctr[1] + sy * ox + cy * oy, leg, leg, yaw,
+                                   0.0, h - top, mat, src));
+          }
+      }
+      else if (type == "overhang" || type == "sign")
+      {
+        c.checkKeys(e, f, {"type", "center", "size", "bottom", "top", "yaw", "material"});
+        auto ctr = c.vec(e, "center", f, 2, true);
+        auto sz = c.vec(e, "size", f, 2, true);
+        const double z0 = c.num(e, "bottom", f, 1.5, true, 0.0, 50);
+        const double z1 = c.num(e, "top", f, 1.9, true, 0.0, 50);
+        if (z1 <= z0) c.fail(e["top"], f + ".top", "must be above bottom");
+        if (sz[0] <= 0 || sz[1] <= 0) c.fail(e["size"], f + ".size", "sizes must be positive");
+        w.solids.push_back(box(ctr[0], ctr[1], sz[0], sz[1], yaw, z0, z1, mat, src));
+      }
+      else if (type == "step" || type == "curb")
+      {
+        c.checkKeys(e, f, {"type", "center", "size", "height", "yaw", "material"});
+        auto ctr = c.vec(e, "center", f, 2, true);
+        auto sz = c.vec(e, "size", f, 2, true);
+        if (sz[0] <= 0 || sz[1] <= 0) c.fail(e["size"], f + ".size", "sizes must be positive");
+        const double h = c.num(e, "height", f, 0.15, false, 0.01, 0.5);
+        Solid s = box(ctr[0], ctr[1], sz[0], sz[1], yaw, 0.0, h, mat, src);
+        s.walkable = true;
+        w.solids.push_back(s);
+      }
+      else if (type == "glass")
+      {
+        c.checkKeys(e, f, {"type", "from", "to", "bottom", "top", "thickness", "reflectance"});
+        auto a = c.vec(e, "from", f, 2, true), b = c.vec(e, "to", f, 2, true);
+        const Eigen::Vector2d A(a[0], a[1]), B(b[0], b[1]);
+        const double len = (B - A).norm();
+        if (len < 0.01) c.fail(e["to"], f + ".to", "glass panel has zero length");
+        const Eigen::Vector2d mid = 0.5 * (A + B);
+        const double th = c.num(e, "thickness", f, 0.02, false, 0.001, 0.5);
+        Solid s = box(mid.x(), mid.y(), len, th, std::atan2(B.y() - A.y(), B.x() - A.x()),
+                      c.num(e, "bottom", f, 0.0, false, 0, 50), c.num(e, "top", f, 2.5, false, 0.01, 50), 0, src);
+        if (s.z1 <= s.z0) c.fail(e["top"], f + ".top", "must be above bottom");
+        s.glass = true;
+        s.reflectance = c.num(e, "reflectance", f, 0.12, false, 0.0, 0.5);
+        w.solids.push_back(s);
+      }
+      else
+      {
+        c.fail(e["type"], f + ".type",
+               "unknown element type '" + type + "' (wall, box, column, table, bench, overhang, sign, step, curb, glass)");
+      }
+    }
+  }
+
+  // Trajectory.
+  const YAML::Node tr = root["trajectory"];
+  if (!tr) c.fail(root, "trajectory", "missing (required): {waypoints: [[x, y], ...], ...}");
+  const std::string tf = "trajectory";
+  c.checkKeys(tr, tf, {"waypoints", "loops", "speed", "speed_variation", "eye_height", "start_still",
+                       "corner_radius", "pitch_down", "scan", "bob", "sway", "step_length", "head_turns",
+                       "auto_head_turns"});
+  TrajectoryScript& t = w.trajectory;
+  const YAML::Node wps = tr["waypoints"];
+  if (!wps || !wps.IsSequence() || wps.size() < 2)
+    c.fail(wps ? wps : tr, tf + ".waypoints", "expected a list of at least 2 [x, y] points");
+  for (size_t i = 0; i < wps.size(); ++i)
+  {
+    const std::string f = tf + ".waypoints[" + std::to_string(i) + "]";
+    if (!wps[i].IsSequence() || wps[i].size() != 2) c.fail(wps[i], f, "expected [x, y]");
+    try
+    {
+      t.waypoints.emplace_back(wps[i][0].as<double>(), wps[i][1].as<double>());
+    }
+    catch (const YAML::Exception&)
+    {
+      c.fail(wps[i], f, "expected two numbers");
+    }
+  }
+  t.loops = static_cast<int>(c.num(tr, "loops", tf, 1, false, 1, 100));
+  t.speed = c.num(tr, "speed", tf, t.speed, false, 0.3, 2.5);
+  t.speed_variation = c.num(tr, "speed_variation", tf, t.speed_variation, false, 0.0, 0.5);
+  t.eye_height = c.num(tr, "eye_height", tf, t.eye_height, false, 0.5, 2.5);
+  t.start_still = c.num(tr, "start_still", tf, t.start_still, false, 0.0, 60);
+  t.corner_radius = c.num(tr, "corner_radius", tf, t.corner_radius, false, 0.05, 10);
+  if (tr["pitch_down"])
+  {
+    auto p = c.vec(tr, "pitch_down", tf, 2, true);
+    if (p[1] < p[0]) c.fail(tr["pitch_down"], tf + ".pitch_down", "expected [min, max] in degrees");
+    t.pitch_min = p[0] * DEG;
+    t.pitch_max = p[1] * DEG;
+  }
+  if (tr["scan"])
+  {
+    const YAML::Node s = tr["scan"];
+    c.checkKeys(s, tf + ".scan", {"amplitude", "period"});
+    t.scan_amplitude = c.num(s, "amplitude", tf + ".scan", 8.0, false, 0, 90) * DEG;
+    t.scan_period = c.num(s, "period", tf + ".scan", 7.0, false, 0.5, 600);
+  }
+  t.bob_amplitude = c.num(tr, "bob", tf, t.bob_amplitude, false, 0, 0.2);
+  t.sway_amplitude = c.num(tr, "sway", tf, t.sway_amplitude, false, 0, 0.2);
+  t.step_length = c.num(tr, "step_length", tf, t.step_length, false, 0.2, 1.5);
+  t.auto_head_turns = c.boolean(tr, "auto_head_turns", tf, true);
+  if (tr["head_turns"])
+  {
+    const YAML::Node hs = tr["head_turns"];
+    if (!hs.IsSequence()) c.fail(hs, tf + ".head_turns", "expected a list of {at, yaw, rate}");
+    for (size_t i = 0; i < hs.size(); ++i)
+    {
+      const std::string f = tf + ".head_turns[" + std::to_string(i) + "]";
+      c.checkKeys(hs[i], f, {"at", "yaw", "rate"});
+      HeadTurn h;
+      h.at = c.num(hs[i], "at", f, 0, true, 0, 1e6);
+      h.yaw = c.num(hs[i], "yaw", f, 0, true, -180, 180) * DEG;
+      h.rate = c.num(hs[i], "rate", f, 10, true, 0.1, 500) * DEG;
+      t.head_turns.push_back(h);
+    }
+  }
+  return w;
+}
+}  // namespace
+
+World World::parse(const std::string& text, const std::string& origin)
+{
+  Ctx c{origin};
+  YAML::Node root;
+  try
+  {
+    root = YAML::Load(text);
+  }
+  catch (const YAML::ParserException& e)
+  {
+    std::ostringstream s;
+    s << origin << ":" << e.mark.line + 1 << ": YAML syntax error: " << e.msg;
+    throw WorldError(s.str());
+  }
+  try
+  {
+    return parseRoot(root, c);
+  }
+  catch (const WorldError&)
+  {
+    throw;
+  }
+  catch (const YAML::Exception& e)
+  {
+    std::ostringstream s;
+    s << origin << ":" << e.mark.line + 1 << ": " << e.msg;
+    throw WorldError(s.str());
+  }
+}
+
+World World::load(const std::string& path)
+{
+  std::ifstream in(path);
+  if (!in) throw WorldError(path + ": cannot open world file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse(ss.str(), path);
+}
+
+std::string resolveWorldPath(const std::string& name, const std::string& worlds_dir)
+{
+  {
+    std::ifstream f(name);
+    if (f.good() && (name.find('/') != std::string::npos || name.size() > 5))
+    {
+      // An existing file path.
+      if (name.size() >= 5 && (name.substr(name.size() - 5) == ".yaml" || name.find('/') != std::string::npos))
+        return name;
+    }
+  }
+  for (const char* stem : {"", "_world"})
+  {
+    const std::string p = worlds_dir + "/" + name + stem + ".yaml";
+    std::ifstream f(p);
+    if (f.good()) return p;
+  }
+  throw WorldError("world '" + name + "' is neither a YAML file nor a shipped world in " + worlds_dir +
+                   " (course, corridor, parking, glass, plaza)");
+}
+
+}  // namespace assistive_sim
