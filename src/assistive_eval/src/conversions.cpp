@@ -5,19 +5,27 @@
 #include <stdexcept>
 
 #include <sensor_msgs/image_encodings.h>
+#include <std_msgs/Header.h>
 #include <tf2_eigen/tf2_eigen.h>
 
 namespace assistive_eval
 {
 namespace
 {
+std_msgs::Header header(const std::string& frame, const ros::Time& stamp)
+{
+  std_msgs::Header h;
+  h.stamp = stamp;
+  h.frame_id = frame;
+  return h;
+}
+
 /// An image message of `img` (rows copied; `bytes_per_px` bytes per pixel, one channel).
 sensor_msgs::Image imageMsg(const cv::Mat& img, const char* encoding, size_t bytes_per_px, const std::string& frame,
                             const ros::Time& stamp)
 {
   sensor_msgs::Image m;
-  m.header.stamp = stamp;
-  m.header.frame_id = frame;
+  m.header = header(frame, stamp);
   m.height = img.rows;
   m.width = img.cols;
   m.encoding = encoding;
@@ -45,8 +53,7 @@ sensor_msgs::CameraInfo toCameraInfo(const StereoCalib& c, bool right, const std
                                      const ros::Time& stamp)
 {
   sensor_msgs::CameraInfo info;
-  info.header.stamp = stamp;
-  info.header.frame_id = frame;
+  info.header = header(frame, stamp);
   info.width = c.width;
   info.height = c.height;
   info.distortion_model = "plumb_bob";
@@ -75,8 +82,7 @@ StereoCalib fromCameraInfos(const sensor_msgs::CameraInfo& l, const sensor_msgs:
 nav_msgs::OccupancyGrid toMsg(const OccupancyGrid& g, const std::string& frame, const ros::Time& stamp)
 {
   nav_msgs::OccupancyGrid m;
-  m.header.stamp = stamp;
-  m.header.frame_id = frame;
+  m.header = header(frame, stamp);
   m.info.map_load_time = stamp;
   m.info.resolution = static_cast<float>(g.resolution);
   m.info.width = g.width;
@@ -90,21 +96,15 @@ nav_msgs::OccupancyGrid toMsg(const OccupancyGrid& g, const std::string& frame, 
 
 OccupancyGrid fromMsg(const nav_msgs::OccupancyGrid& m)
 {
-  OccupancyGrid g;
-  g.origin_x = m.info.origin.position.x;
-  g.origin_y = m.info.origin.position.y;
-  g.resolution = m.info.resolution;
-  g.width = m.info.width;
-  g.height = m.info.height;
-  g.data = m.data;
-  return g;
+  const auto& i = m.info;
+  return OccupancyGrid{i.origin.position.x, i.origin.position.y, i.resolution, static_cast<int>(i.width),
+                       static_cast<int>(i.height), m.data};
 }
 
 sensor_msgs::Imu toMsg(const ImuSample& s, const std::string& frame)
 {
   sensor_msgs::Imu m;
-  m.header.stamp = ros::Time(std::max(s.stamp, 1e-9));
-  m.header.frame_id = frame;
+  m.header = header(frame, ros::Time(std::max(s.stamp, 1e-9)));
   m.angular_velocity.x = s.gyro.x();
   m.angular_velocity.y = s.gyro.y();
   m.angular_velocity.z = s.gyro.z();

@@ -119,7 +119,7 @@ TEST(KittiSource, ReadsSixtyRectifiedFramesWithTruth)
   ASSERT_EQ(src->size(), 60u);
   EXPECT_TRUE(src->hasGroundTruth());
   const StereoFrame f = src->frame(19);
-  EXPECT_EQ(f.left.type(), CV_8UC1);
+  ASSERT_EQ(f.left.type(), CV_8UC1);
   EXPECT_EQ(f.left.cols, 1242);
   EXPECT_EQ(f.left.rows, 375);
   EXPECT_EQ(f.calib.width, 1242);

@@ -6,6 +6,8 @@
 
 #include <assistive_eval/disparity_eval.h>
 
+#include <opencv2/imgproc.hpp>
+
 using namespace assistive_eval;
 
 TEST(DisparityEval, KnownAnswers)
@@ -24,11 +26,13 @@ TEST(DisparityEval, KnownAnswers)
 
 TEST(DisparityEval, PeerSgbmFindsTheShiftOfATexturedPair)
 {
-  // A random texture and the same texture 8 px to the left in the right image: the SGBM peer
-  // reports disparity 8 wherever it has an estimate, and has one on most pixels.
-  cv::Mat tex(120, 200, CV_8UC1);
-  cv::RNG(5).fill(tex, cv::RNG::UNIFORM, 0, 256);
-  cv::Mat left = tex(cv::Rect(8, 0, 160, 120)).clone(), right = tex(cv::Rect(0, 0, 160, 120)).clone();
+  // A random texture (blobs of about 2 px) and the same texture 8 px further left in the right
+  // image (a fronto-parallel plane at disparity 8): the SGBM peer reports 8 wherever it has an
+  // estimate, and has one on most pixels.
+  cv::Mat noise(60, 100, CV_8UC1), tex;
+  cv::RNG(5).fill(noise, cv::RNG::UNIFORM, 0, 256);
+  cv::resize(noise, tex, cv::Size(200, 120), 0, 0, cv::INTER_LINEAR);
+  const cv::Mat left = tex(cv::Rect(0, 0, 160, 120)).clone(), right = tex(cv::Rect(8, 0, 160, 120)).clone();
   const cv::Mat d = peerSgbm(left, right, 32);
   ASSERT_EQ(d.type(), CV_32F);
   ASSERT_EQ(d.size(), left.size());

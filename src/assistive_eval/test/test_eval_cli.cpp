@@ -395,12 +395,7 @@ std::string goodStereoBag()
   {
     StereoFrame f;
     f.stamp = 100.0 + i / 15.0;
-    f.calib.width = 160;
-    f.calib.height = 120;
-    f.calib.fx = f.calib.fy = 125.0;
-    f.calib.cx = 79.5;
-    f.calib.cy = 59.5;
-    f.calib.baseline = 0.12;
+    f.calib = StereoCalib{160, 120, 125.0, 125.0, 79.5, 59.5, 0.12};  // width height fx fy cx cy baseline
     f.left = big(cv::Rect(8, 0, 160, 120)).clone();
     f.right = big(cv::Rect(0, 0, 160, 120)).clone();
     f.has_gt_pose = true;

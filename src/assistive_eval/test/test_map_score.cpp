@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <tuple>
+#include <utility>
+#include <vector>
+
 using namespace assistive_eval;
 
 namespace
@@ -115,20 +119,16 @@ TEST(MapScore, EstimateInAnotherFrameIsLookedUpThroughTheTransform)
 
 TEST(MapScore, AccumulatorSumsCountsAndKeepsDistinctFreeWhereObstacleCells)
 {
-  MapScore a, b;
-  a.tp = 3;
-  a.fp = 1;
-  a.fn = 1;
-  a.tn = 5;
-  a.scored = 10;
-  a.gt_known = 12;
-  a.free_where_obstacle_cells = {7, 3};
-  b.tp = 1;
-  b.fn = 1;
-  b.tn = 8;
-  b.scored = 10;
-  b.gt_known = 10;
-  b.free_where_obstacle_cells = {3, 9};
+  // counts of two grids: tp fp fn tn, scored of gt_known, free-where-obstacle cells
+  auto grid = [](size_t tp, size_t fp, size_t fn, size_t tn, size_t gt_known, std::vector<size_t> cells) {
+    MapScore s;
+    std::tie(s.tp, s.fp, s.fn, s.tn) = std::make_tuple(tp, fp, fn, tn);
+    s.scored = tp + fp + fn + tn;
+    s.gt_known = gt_known;
+    s.free_where_obstacle_cells = std::move(cells);
+    return s;
+  };
+  const MapScore a = grid(3, 1, 1, 5, 12, {7, 3}), b = grid(1, 0, 1, 8, 10, {3, 9});
   MapScoreAccumulator acc;
   acc.add(a);
   acc.add(b);

@@ -4,17 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <vector>
 #include <opencv2/imgcodecs.hpp>
 
 using namespace assistive_eval;
 
 TEST(Plots, TopDownAndSideViewAreWritten)
 {
-  Grid floor;
-  floor.resolution = 0.2;
-  floor.width = 60;
-  floor.height = 30;
-  floor.data.assign(60 * 30, CELL_FREE);
+  Grid floor{0.0, 0.0, 0.2, 60, 30, std::vector<int8_t>(60 * 30, CELL_FREE)};  // origin, 0.2 m, 60 x 30
   for (int x = 0; x < 60; ++x)
     floor.data[static_cast<size_t>(29) * 60 + x] = CELL_OBSTACLE;
   PlotSeries gt{"truth", {}, cv::Scalar(0, 160, 0)}, est{"estimate", {}, cv::Scalar(0, 0, 255)};

@@ -25,6 +25,15 @@ struct Published
 {
   double rmse, mean, median, std, min, max;
 };
+/// A trajectory file of item 9 (KITTI 00: "gt", "ORB", "SPTAM").
+Trajectory kitti00(const std::string& which) { return readKitti(realDataDir() + "/" + KITTI00 + "/KITTI_00_" + which + ".txt"); }
+/// Item 10: the fr2/desk truth and the ORB estimate.
+std::pair<Trajectory, Trajectory> fr2Desk()
+{
+  const std::string d = realDataDir() + "/" + FR2;
+  return {readTum(d + "/fr2_desk_groundtruth.txt"), readTum(d + "/fr2_desk_ORB.txt")};
+}
+
 void expectStats(const ErrorStats& s, const Published& p)
 {
   const std::pair<double, double> pairs[] = {{s.rmse, p.rmse}, {s.mean, p.mean}, {s.median, p.median},
@@ -41,8 +50,7 @@ void expectStats(const ErrorStats& s, const Published& p)
 TEST(ReferenceNumbers, Kitti00OrbApeSe3)
 {
   REQUIRE_REAL_DATA(KITTI00);
-  const std::string d = realDataDir() + "/" + KITTI00;
-  const Trajectory gt = readKitti(d + "/KITTI_00_gt.txt"), est = readKitti(d + "/KITTI_00_ORB.txt");
+  const Trajectory gt = kitti00("gt"), est = kitti00("ORB");
   ASSERT_EQ(gt.size(), 4541u);
   ASSERT_EQ(est.size(), 4541u);
   const ErrorStats s = ape(gt, est, AlignMode::SE3);
@@ -54,20 +62,18 @@ TEST(ReferenceNumbers, Kitti00OrbApeSe3)
 TEST(ReferenceNumbers, Kitti00SptamApeSe3)
 {
   REQUIRE_REAL_DATA(KITTI00);
-  const std::string d = realDataDir() + "/" + KITTI00;
-  const ErrorStats s = ape(readKitti(d + "/KITTI_00_gt.txt"), readKitti(d + "/KITTI_00_SPTAM.txt"), AlignMode::SE3);
+  const ErrorStats s = ape(kitti00("gt"), kitti00("SPTAM"), AlignMode::SE3);
   expectStats(s, {3.738488, 3.490977, 3.642585, 1.337675, 0.694787, 7.768977});
 }
 
 TEST(ReferenceNumbers, Kitti00Rpe10m)
 {
   REQUIRE_REAL_DATA(KITTI00);
-  const std::string d = realDataDir() + "/" + KITTI00;
-  const Trajectory gt = readKitti(d + "/KITTI_00_gt.txt");
-  const ErrorStats orb = computeStats(rpeTranslationErrors(gt, readKitti(d + "/KITTI_00_ORB.txt"), 10.0));
+  const Trajectory gt = kitti00("gt");
+  const ErrorStats orb = computeStats(rpeTranslationErrors(gt, kitti00("ORB"), 10.0));
   EXPECT_EQ(orb.n, 353u);
   expectStats(orb, {0.226261, 0.169017, 0.138484, SKIP, 0.025323, 1.272209});
-  const ErrorStats sp = computeStats(rpeTranslationErrors(gt, readKitti(d + "/KITTI_00_SPTAM.txt"), 10.0));
+  const ErrorStats sp = computeStats(rpeTranslationErrors(gt, kitti00("SPTAM"), 10.0));
   EXPECT_EQ(sp.n, 355u);
   expectStats(sp, {0.276071, 0.222848, 0.178334, SKIP, SKIP, 1.206594});
 }
@@ -75,8 +81,7 @@ TEST(ReferenceNumbers, Kitti00Rpe10m)
 TEST(ReferenceNumbers, Fr2DeskTumEvaluateAte)
 {
   REQUIRE_REAL_DATA(FR2);
-  const std::string d = realDataDir() + "/" + FR2;
-  const Trajectory gt = readTum(d + "/fr2_desk_groundtruth.txt"), est = readTum(d + "/fr2_desk_ORB.txt");
+  const auto [gt, est] = fr2Desk();
   ASSERT_EQ(gt.size(), 20957u);
   ASSERT_EQ(est.size(), 2893u);
   const MatchedTrajectories m = match(gt, est, 0.02, AssociationMethod::TUM_GREEDY);
@@ -88,8 +93,7 @@ TEST(ReferenceNumbers, Fr2DeskTumEvaluateAte)
 TEST(ReferenceNumbers, Fr2DeskEvoApeAlign)
 {
   REQUIRE_REAL_DATA(FR2);
-  const std::string d = realDataDir() + "/" + FR2;
-  const Trajectory gt = readTum(d + "/fr2_desk_groundtruth.txt"), est = readTum(d + "/fr2_desk_ORB.txt");
+  const auto [gt, est] = fr2Desk();
   const MatchedTrajectories m = match(gt, est, 0.01, AssociationMethod::EVO_NEAREST);
   ASSERT_EQ(m.gt.size(), 2174u);
   const ErrorStats s = ape(m.gt, m.est, AlignMode::SE3);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
@@ -21,13 +22,7 @@ StereoFrame makeFrame(int i)
 {
   StereoFrame f;
   f.stamp = 10.0 + i / 15.0;
-  f.calib.width = 32;
-  f.calib.height = 24;
-  f.calib.fx = 480.0;
-  f.calib.fy = 490.0;
-  f.calib.cx = 15.5;
-  f.calib.cy = 11.5;
-  f.calib.baseline = 0.12;
+  f.calib = StereoCalib{32, 24, 480.0, 490.0, 15.5, 11.5, 0.12};  // width height fx fy cx cy baseline
   f.left = cv::Mat(24, 32, CV_8UC1, cv::Scalar(i));
   f.right = cv::Mat(24, 32, CV_8UC1, cv::Scalar(100 + i));
   f.left.at<uint8_t>(3, 5) = 255;
@@ -282,22 +277,14 @@ TEST(StereoBag, SizeMismatchesAreErrors)
 
 TEST(Conversions, RoundTrip)
 {
-  StereoCalib c;
-  c.width = 320;
-  c.height = 240;
-  c.fx = 251.0;
-  c.fy = 252.0;
-  c.cx = 160.5;
-  c.cy = 120.25;
-  c.baseline = 0.095;
+  const StereoCalib c{320, 240, 251.0, 252.0, 160.5, 120.25, 0.095};  // width height fx fy cx cy baseline
   const auto li = toCameraInfo(c, false, "l", ros::Time(5.0));
   const auto ri = toCameraInfo(c, true, "r", ros::Time(5.0));
   EXPECT_DOUBLE_EQ(ri.P[3], -251.0 * 0.095);
   const StereoCalib b = fromCameraInfos(li, &ri);
-  EXPECT_DOUBLE_EQ(b.fx, c.fx);
-  EXPECT_DOUBLE_EQ(b.fy, c.fy);
-  EXPECT_DOUBLE_EQ(b.cx, c.cx);
-  EXPECT_DOUBLE_EQ(b.cy, c.cy);
+  for (const auto& [got, want] : {std::make_pair(b.fx, c.fx), std::make_pair(b.fy, c.fy), std::make_pair(b.cx, c.cx),
+                                  std::make_pair(b.cy, c.cy)})
+    EXPECT_DOUBLE_EQ(got, want);
   EXPECT_NEAR(b.baseline, c.baseline, 1e-12);
   EXPECT_EQ(b.width, 320);
 

@@ -131,6 +131,24 @@ struct Ctx
   }
 };
 
+/// Each item of the optional list `parent[key]` (a list of maps with `keys`): fn(item, its field
+/// name "field.key[i]"); `expected` is the message when it is not a list.
+template <typename F>
+void forEachItem(const Ctx& c, const YAML::Node& parent, const std::string& field, const char* key,
+                 const std::set<std::string>& keys, const char* expected, F fn)
+{
+  if (!parent[key])
+    return;
+  const YAML::Node list = parent[key];
+  if (!list.IsSequence()) c.fail(list, field + "." + key, expected);
+  for (size_t k = 0; k < list.size(); ++k)
+  {
+    const std::string item = field + "." + key + "[" + std::to_string(k) + "]";
+    c.checkKeys(list[k], item, keys);
+    fn(list[k], item);
+  }
+}
+
 Pattern parsePattern(const Ctx& c, const YAML::Node& n, const std::string& field)
 {
   static const std::map<std::string, Pattern> names = {{"plain", Pattern::PLAIN},
@@ -269,22 +287,16 @@ World parseRoot(const YAML::Node& root, const Ctx& c)
         // Openings (doorways): split the wall, keep a lintel above each.
         struct Op { double s0, s1, h; };
         std::vector<Op> ops;
-        if (e["openings"])
-        {
-          const YAML::Node os = e["openings"];
-          if (!os.IsSequence()) c.fail(os, f + ".openings", "expected a list of {at, width, height}");
-          for (size_t k = 0; k < os.size(); ++k)
-          {
-            const std::string of = f + ".openings[" + std::to_string(k) + "]";
-            c.checkKeys(os[k], of, {"at", "width", "height"});
-            const double at = c.num(os[k], "at", of, 0, true, 0, len);
-            const double wd = c.num(os[k], "width", of, 0.9, false, 0.1, len);
-            const double oh = c.num(os[k], "height", of, 2.1, false, 0.5, 50);
-            if (at - wd / 2 < -1e-9 || at + wd / 2 > len + 1e-9) c.fail(os[k], of + ".at", "opening extends past the wall's ends");
-            ops.push_back({at - wd / 2, at + wd / 2, oh});
-          }
-          std::sort(ops.begin(), ops.end(), [](const Op& x, const Op& y) { return x.s0 < y.s0; });
-        }
+        forEachItem(c, e, f, "openings", {"at", "width", "height"}, "expected a list of {at, width, height}",
+                    [&](const YAML::Node& o, const std::string& of) {
+                      const double at = c.num(o, "at", of, 0, true, 0, len);
+                      const double wd = c.num(o, "width", of, 0.9, false, 0.1, len);
+                      const double oh = c.num(o, "height", of, 2.1, false, 0.5, 50);
+                      if (at - wd / 2 < -1e-9 || at + wd / 2 > len + 1e-9)
+                        c.fail(o, of + ".at", "opening extends past the wall's ends");
+                      ops.push_back({at - wd / 2, at + wd / 2, oh});
+                    });
+        std::sort(ops.begin(), ops.end(), [](const Op& x, const Op& y) { return x.s0 < y.s0; });
         double s = 0.0;
         auto seg = [&](double s0, double s1, double z0, double z1) {
           if (s1 - s0 < 1e-3 || z1 - z0 < 1e-3) return;
@@ -435,21 +447,14 @@ World parseRoot(const YAML::Node& root, const Ctx& c)
   t.sway_amplitude = c.num(tr, "sway", tf, t.sway_amplitude, false, 0, 0.2);
   t.step_length = c.num(tr, "step_length", tf, t.step_length, false, 0.2, 1.5);
   t.auto_head_turns = c.boolean(tr, "auto_head_turns", tf, true);
-  if (tr["head_turns"])
-  {
-    const YAML::Node hs = tr["head_turns"];
-    if (!hs.IsSequence()) c.fail(hs, tf + ".head_turns", "expected a list of {at, yaw, rate}");
-    for (size_t i = 0; i < hs.size(); ++i)
-    {
-      const std::string f = tf + ".head_turns[" + std::to_string(i) + "]";
-      c.checkKeys(hs[i], f, {"at", "yaw", "rate"});
-      HeadTurn h;
-      h.at = c.num(hs[i], "at", f, 0, true, 0, 1e6);
-      h.yaw = c.num(hs[i], "yaw", f, 0, true, -180, 180) * DEG;
-      h.rate = c.num(hs[i], "rate", f, 10, true, 0.1, 500) * DEG;
-      t.head_turns.push_back(h);
-    }
-  }
+  forEachItem(c, tr, tf, "head_turns", {"at", "yaw", "rate"}, "expected a list of {at, yaw, rate}",
+              [&](const YAML::Node& n, const std::string& f) {
+                HeadTurn h;
+                h.at = c.num(n, "at", f, 0, true, 0, 1e6);
+                h.yaw = c.num(n, "yaw", f, 0, true, -180, 180) * DEG;
+                h.rate = c.num(n, "rate", f, 10, true, 0.1, 500) * DEG;
+                t.head_turns.push_back(h);
+              });
   return w;
 }
 }  // namespace

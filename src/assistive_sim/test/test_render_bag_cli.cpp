@@ -11,8 +11,7 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
-using namespace assistive_sim;
-using assistive_eval::StereoBagReader;
+using namespace assistive_eval;  // render_bag writes the evaluation package's stereo bag layout
 
 class RenderBagCli : public ::testing::TestWithParam<const char*>
 {

@@ -31,12 +31,7 @@ trajectory:
 CameraParams smallCamera(double noise = 0.0)
 {
   CameraParams p;
-  p.calib.width = 160;
-  p.calib.height = 120;
-  p.calib.fx = p.calib.fy = 125.0;
-  p.calib.cx = 79.5;
-  p.calib.cy = 59.5;
-  p.calib.baseline = 0.12;
+  p.calib = StereoCalib{160, 120, 125.0, 125.0, 79.5, 59.5, 0.12};  // width height fx fy cx cy baseline
   p.noise_sigma = noise;
   p.exposure_variation = 0.0;
   return p;
