@@ -16,6 +16,10 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/image_encodings.h>
 #include <tf2_ros/transform_broadcaster.h>
+#include <assistive_common/callback_guard.h>
+#include <assistive_common/ros_params.h>
+#include <assistive_common/wearer.h>
+
 #include "assistive_vo/conversions.h"
 #include "assistive_vo/imu_buffer.h"
 #include "assistive_vo/visual_odometry.h"
@@ -50,16 +54,16 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     left_info_sub_.registerCallback(&StereoOdometryNodelet::countLeftInfo, this);
     right_sub_.registerCallback(&StereoOdometryNodelet::countRight, this);
     right_info_sub_.registerCallback(&StereoOdometryNodelet::countRightInfo, this);
-    if (approximate_sync_)
+    if (node_.approximate_sync)
     {
       approx_ = std::make_shared<message_filters::Synchronizer<ApproxPolicy>>(
-          ApproxPolicy(static_cast<uint32_t>(queue_size_)), left_sub_, left_info_sub_, right_sub_, right_info_sub_);
+          ApproxPolicy(static_cast<uint32_t>(node_.queue_size)), left_sub_, left_info_sub_, right_sub_, right_info_sub_);
       approx_->registerCallback(&StereoOdometryNodelet::stereoCb, this);
     }
     else
     {
       exact_ = std::make_shared<message_filters::Synchronizer<ExactPolicy>>(
-          ExactPolicy(static_cast<uint32_t>(queue_size_)), left_sub_, left_info_sub_, right_sub_, right_info_sub_);
+          ExactPolicy(static_cast<uint32_t>(node_.queue_size)), left_sub_, left_info_sub_, right_sub_, right_info_sub_);
       exact_->registerCallback(&StereoOdometryNodelet::stereoCb, this);
     }
     if (p_.use_imu)
@@ -75,121 +79,28 @@ class StereoOdometryNodelet : public nodelet::Nodelet
 
   void readParams(ros::NodeHandle& pnh)
   {
-    VoParams& p = p_;
-    pnh.param("fast_threshold", p.fast_threshold, p.fast_threshold);
-    pnh.param("target_features", p.target_features, p.target_features);
-    pnh.param("replenish_ratio", p.replenish_ratio, p.replenish_ratio);
-    pnh.param("min_tracks", p.min_tracks, p.min_tracks);
-    pnh.param("replenish_coverage_ratio", p.replenish_coverage_ratio, p.replenish_coverage_ratio);
-    pnh.param("max_disparity", p.max_disparity_px, p.max_disparity_px);
-    pnh.param("stereo_half_window", p.stereo_half_window, p.stereo_half_window);
-    pnh.param("klt_window", p.klt_window, p.klt_window);
-    pnh.param("klt_levels", p.klt_levels, p.klt_levels);
-    pnh.param("keyframe_alignment", p.keyframe_alignment, p.keyframe_alignment);
-    pnh.param("alignment_half_window", p.alignment_half_window, p.alignment_half_window);
-    pnh.param("alignment_iterations", p.alignment_iterations, p.alignment_iterations);
-    pnh.param("alignment_max_shift", p.alignment_max_shift_px, p.alignment_max_shift_px);
-    pnh.param("alignment_min_ncc", p.alignment_min_ncc, p.alignment_min_ncc);
-    pnh.param("alignment_min_eigen_ratio", p.alignment_min_eigen_ratio, p.alignment_min_eigen_ratio);
-    pnh.param("epipolar_filter", p.epipolar_filter, p.epipolar_filter);
-    pnh.param("epipolar_threshold", p.epipolar_threshold_px, p.epipolar_threshold_px);
-    pnh.param("ransac_probability", p.ransac_probability, p.ransac_probability);
-    pnh.param("ransac_max_trials", p.ransac_max_trials, p.ransac_max_trials);
-    pnh.param("inlier_threshold", p.inlier_threshold_px, p.inlier_threshold_px);
-    pnh.param("min_inliers", p.min_inliers, p.min_inliers);
-    pnh.param("ba_iterations", p.ba_iterations, p.ba_iterations);
-    pnh.param("max_speed", p.max_speed_mps, p.max_speed_mps);
-    pnh.param("max_angular_speed", p.max_angular_speed_dps, p.max_angular_speed_dps);
-    pnh.param("max_frame_gap", p.max_frame_gap_s, p.max_frame_gap_s);
-    pnh.param("coast_max", p.coast_max_s, p.coast_max_s);
-    pnh.param("frozen_max_change", p.frozen_max_change, p.frozen_max_change);
-    pnh.param("frozen_min_gyro_rate", p.frozen_min_gyro_dps, p.frozen_min_gyro_dps);
-    pnh.param("frozen_frames", p.frozen_frames, p.frozen_frames);
-    pnh.param("gyro_disagreement", p.gyro_disagreement_deg, p.gyro_disagreement_deg);
-    pnh.param("gyro_disagreement_frames", p.gyro_disagreement_frames, p.gyro_disagreement_frames);
-    pnh.param("stereo_max_error", p.stereo_max_error_px, p.stereo_max_error_px);
-    pnh.param("stereo_min_matched_ratio", p.stereo_min_matched_ratio, p.stereo_min_matched_ratio);
-    pnh.param("stereo_inconsistent_frames", p.stereo_inconsistent_frames, p.stereo_inconsistent_frames);
-    pnh.param("use_imu", p.use_imu, p.use_imu);
-    pnh.param("gyro_rotation_prior", p.gyro_rotation_prior, p.gyro_rotation_prior);
-    pnh.param("gyro_noise_density", p.gyro_noise_density, p.gyro_noise_density);
-    pnh.param("gyro_bias_sigma", p.gyro_bias_sigma, p.gyro_bias_sigma);
-    pnh.param("gravity_time_constant", p.gravity_time_constant_s, p.gravity_time_constant_s);
-    pnh.param("gravity_window", p.gravity_window_s, p.gravity_window_s);
-    pnh.param("camera_height", p.camera_height_m, p.camera_height_m);
-    pnh.param("initial_roll", p.initial_roll_deg, p.initial_roll_deg);
-    pnh.param("initial_pitch", p.initial_pitch_deg, p.initial_pitch_deg);
-    pnh.param("queue_size", queue_size_, queue_size_);
-    pnh.param("approximate_sync", approximate_sync_, approximate_sync_);
-    pnh.param("odom_frame", odom_frame_, odom_frame_);
-    pnh.param("base_frame", base_frame_, base_frame_);
-    pnh.param("publish_tf", publish_tf_, publish_tf_);
-    pnh.param("expected_rate", expected_rate_, expected_rate_);
-    pnh.param("imu_wait", imu_wait_, imu_wait_);
-
-    auto clampI = [this](const char* n, int& v, int lo, int hi) {
-      if (v < lo || v > hi)
-      {
-        NODELET_WARN("%s = %d out of [%d, %d], clamped", n, v, lo, hi);
-        v = std::clamp(v, lo, hi);
-      }
-    };
-    auto clampD = [this](const char* n, double& v, double lo, double hi) {
-      if (!(v >= lo && v <= hi))
-      {
-        NODELET_WARN("%s = %g out of [%g, %g], clamped", n, v, lo, hi);
-        v = std::isfinite(v) ? std::clamp(v, lo, hi) : lo;
-      }
-    };
-    clampI("fast_threshold", p.fast_threshold, p.fast_threshold_min, p.fast_threshold_max);
-    clampI("target_features", p.target_features, 20, 2000);
-    clampD("replenish_ratio", p.replenish_ratio, 0.05, 0.95);
-    clampI("min_tracks", p.min_tracks, 8, 1000);
-    clampD("replenish_coverage_ratio", p.replenish_coverage_ratio, 0.0, 0.95);
-    clampI("max_disparity", p.max_disparity_px, 8, 512);
-    clampI("stereo_half_window", p.stereo_half_window, 1, 15);
-    clampI("klt_window", p.klt_window, 5, 61);
-    clampI("klt_levels", p.klt_levels, 0, 6);
-    clampI("alignment_half_window", p.alignment_half_window, 2, 15);
-    clampI("alignment_iterations", p.alignment_iterations, 1, 50);
-    clampD("alignment_max_shift", p.alignment_max_shift_px, 0.1, 10.0);
-    clampD("alignment_min_ncc", p.alignment_min_ncc, -1.0, 1.0);
-    clampD("alignment_min_eigen_ratio", p.alignment_min_eigen_ratio, 0.0, 1.0);
-    clampD("epipolar_threshold", p.epipolar_threshold_px, 0.1, 10.0);
-    clampD("ransac_probability", p.ransac_probability, 0.5, 0.9999);
-    clampI("ransac_max_trials", p.ransac_max_trials, 10, 10000);
-    clampD("inlier_threshold", p.inlier_threshold_px, 0.3, 20.0);
-    clampI("min_inliers", p.min_inliers, 6, 1000);
-    clampI("ba_iterations", p.ba_iterations, 0, 100);
-    clampD("max_speed", p.max_speed_mps, 0.1, 50.0);
-    clampD("max_angular_speed", p.max_angular_speed_dps, 10.0, 5000.0);
-    clampD("camera_height", p.camera_height_m, 0.0, 5.0);
-    clampD("max_frame_gap", p.max_frame_gap_s, 0.05, 10.0);
-    clampD("coast_max", p.coast_max_s, 0.0, 2.0);
-    clampD("frozen_max_change", p.frozen_max_change, 0.0, 20.0);
-    clampD("frozen_min_gyro_rate", p.frozen_min_gyro_dps, 0.1, 100.0);
-    clampI("frozen_frames", p.frozen_frames, 1, 100);
-    clampD("gyro_disagreement", p.gyro_disagreement_deg, 0.05, 90.0);
-    clampI("gyro_disagreement_frames", p.gyro_disagreement_frames, 1, 100);
-    clampD("stereo_max_error", p.stereo_max_error_px, 0.05, 50.0);
-    clampD("stereo_min_matched_ratio", p.stereo_min_matched_ratio, 0.0, 1.0);
-    clampI("stereo_inconsistent_frames", p.stereo_inconsistent_frames, 1, 100);
-    clampD("gyro_noise_density", p.gyro_noise_density, 1e-6, 1e-1);
-    clampD("gyro_bias_sigma", p.gyro_bias_sigma, 1e-6, 1.0);
-    clampD("gravity_time_constant", p.gravity_time_constant_s, 0.0, 3600.0);
-    clampD("gravity_window", p.gravity_window_s, 0.5, 60.0);
-    clampI("queue_size", queue_size_, 1, 100);
-    clampD("expected_rate", expected_rate_, 0.1, 200.0);
-    clampD("imu_wait", imu_wait_, 0.0, 30.0);
-    min_freq_ = 0.5 * expected_rate_;
-    max_freq_ = 2.0 * expected_rate_;
-    NODELET_INFO("stereo_odometry: fast_threshold %d, target_features %d, replenish %.2f, max_disparity %d, "
-                 "ransac p %.3f (max %d), inlier thr %.2f px, min_inliers %d, ba_iterations %d, use_imu %d, "
-                 "camera_height %.2f m, %s sync (queue %d), frames %s -> %s",
-                 p.fast_threshold, p.target_features, p.replenish_ratio, p.max_disparity_px, p.ransac_probability,
-                 p.ransac_max_trials, p.inlier_threshold_px, p.min_inliers, p.ba_iterations, p.use_imu,
-                 p.camera_height_m, approximate_sync_ ? "approximate" : "exact", queue_size_, odom_frame_.c_str(),
-                 base_frame_.c_str());
+    for (const std::string& m : assistive_common::readParams(pnh, p_))
+      NODELET_WARN("stereo_odometry: %s", m.c_str());
+    for (const std::string& m : assistive_common::readParams(pnh, node_))
+      NODELET_WARN("stereo_odometry: %s", m.c_str());
+    // The wearer's eye height is the URDF's (robot_description); camera_height only without one.
+    double h = 0.0;
+    std::string why;
+    if (assistive_common::cameraHeightFromUrdf(pnh, node_.base_frame, node_.footprint_frame, h, &why))
+    {
+      h = std::round(h * 1e6) / 1e6;  // the URDF holds 6 digits: 1.6, not 1.5999999999999999
+      if (pnh.hasParam("camera_height") && h != p_.camera_height_m)
+        NODELET_WARN("stereo_odometry: camera_height %.3f m ignored: the URDF says %.3f m", p_.camera_height_m, h);
+      p_.camera_height_m = h;
+      for (const std::string& m : assistive_common::clampToTable(p_))
+        NODELET_WARN("stereo_odometry: URDF %s", m.c_str());
+    }
+    else
+      NODELET_INFO("stereo_odometry: camera_height %.2f m from the parameter (%s)", p_.camera_height_m, why.c_str());
+    min_freq_ = 0.5 * node_.expected_rate;
+    max_freq_ = 2.0 * node_.expected_rate;
+    NODELET_INFO("stereo_odometry: %s", assistive_common::describe(p_).c_str());
+    NODELET_INFO("stereo_odometry: %s", assistive_common::describe(node_).c_str());
   }
 
   void countLeft(const sensor_msgs::ImageConstPtr&) { ++n_left_; }
@@ -199,6 +110,11 @@ class StereoOdometryNodelet : public nodelet::Nodelet
 
   void imuCb(const sensor_msgs::ImuConstPtr& m)
   {
+    assistive_common::guarded(getName(), "IMU sample", [&] { imu(m); });
+  }
+
+  void imu(const sensor_msgs::ImuConstPtr& m)
+  {
     const Eigen::Vector3d w(m->angular_velocity.x, m->angular_velocity.y, m->angular_velocity.z);
     const Eigen::Vector3d a(m->linear_acceleration.x, m->linear_acceleration.y, m->linear_acceleration.z);
     if (!w.allFinite() || !a.allFinite())
@@ -206,14 +122,19 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       NODELET_WARN_THROTTLE(5.0, "IMU sample with NaN/inf ignored");
       return;
     }
-    if (!m->header.frame_id.empty() && m->header.frame_id != base_frame_)
+    if (!m->header.frame_id.empty() && m->header.frame_id != node_.base_frame)
       NODELET_WARN_THROTTLE(30.0, "IMU frame '%s' is not '%s': the gyro is assumed to be in %s axes",
-                            m->header.frame_id.c_str(), base_frame_.c_str(), base_frame_.c_str());
+                            m->header.frame_id.c_str(), node_.base_frame.c_str(), node_.base_frame.c_str());
     imu_.add(m->header.stamp.toSec(), w, a);
     ++n_imu_;
   }
 
   void watchdog(const ros::WallTimerEvent&)
+  {
+    assistive_common::guarded(getName(), "watchdog", [&] { checkInputs(); });
+  }
+
+  void checkInputs()
   {
     // Names the missing / unsynchronised input when images arrive but nothing gets processed.
     const bool stalled = n_processed_ == last_processed_;
@@ -226,7 +147,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       else if (n_left_ == last_left_ || n_right_ == last_right_)
         input_problem_ = std::string("only the ") + (n_left_ == last_left_ ? "right" : "left") + " image arrives";
       else
-        input_problem_ = approximate_sync_ ? "stereo inputs arrive but never pair up (approximate sync)"
+        input_problem_ = node_.approximate_sync ? "stereo inputs arrive but never pair up (approximate sync)"
                                            : "stereo inputs are not synchronised (stamps differ; "
                                              "exact sync, see approximate_sync)";
       NODELET_ERROR_THROTTLE(5.0, "stereo_odometry: %s", input_problem_.c_str());
@@ -274,6 +195,12 @@ class StereoOdometryNodelet : public nodelet::Nodelet
 
   void stereoCb(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::CameraInfoConstPtr& li,
                 const sensor_msgs::ImageConstPtr& r, const sensor_msgs::CameraInfoConstPtr& ri)
+  {
+    assistive_common::guarded(getName(), "stereo frame", [&] { stereo(l, li, r, ri); });
+  }
+
+  void stereo(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::CameraInfoConstPtr& li,
+              const sensor_msgs::ImageConstPtr& r, const sensor_msgs::CameraInfoConstPtr& ri)
   {
     ++n_processed_;
     StereoCamera cam;
@@ -335,16 +262,16 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       {
         if (imu_wait_start_ < 0 || t < imu_wait_start_)
           imu_wait_start_ = t;
-        if (t - imu_wait_start_ < imu_wait_)
+        if (t - imu_wait_start_ < node_.imu_wait)
         {
           NODELET_INFO_THROTTLE(1.0, "stereo_odometry: waiting for the IMU (gravity) before starting (%.1f of %.1f s)",
-                                t - imu_wait_start_, imu_wait_);
+                                t - imu_wait_start_, node_.imu_wait);
           input_problem_ = "waiting for the IMU";
           return;
         }
         NODELET_WARN_ONCE("stereo_odometry: no IMU sample within %.1f s; gravity from initial_roll/initial_pitch "
                           "(%.1f / %.1f deg), no gyro prior until it comes",
-                          imu_wait_, p_.initial_roll_deg, p_.initial_pitch_deg);
+                          node_.imu_wait, p_.initial_roll_deg, p_.initial_pitch_deg);
       }
       input_problem_.clear();
     }
@@ -380,10 +307,10 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     }
     // Every processed frame: an untrusted one carries the last trusted pose with
     // kUntrustedVariance and no tf, so nothing downstream guides on a guess.
-    auto odom = boost::make_shared<nav_msgs::Odometry>(toOdometryMsg(o, l->header.stamp, odom_frame_, base_frame_));
+    auto odom = boost::make_shared<nav_msgs::Odometry>(toOdometryMsg(o, l->header.stamp, node_.odom_frame, node_.base_frame));
     odom_pub_.publish(odom);
-    if (publish_tf_ && o.pose_trusted)
-      tf_.sendTransform(toTransformMsg(o.T_odom_link, l->header.stamp, odom_frame_, base_frame_));
+    if (node_.publish_tf && o.pose_trusted)
+      tf_.sendTransform(toTransformMsg(o.T_odom_link, l->header.stamp, node_.odom_frame, node_.base_frame));
     if (feat_pub_.getNumSubscribers() > 0)
     {
       cv_bridge::CvImage ov(l->header, enc::BGR8, vo_->drawOverlay(lc->image));
@@ -458,11 +385,8 @@ class StereoOdometryNodelet : public nodelet::Nodelet
   VoParams p_;
   std::unique_ptr<VisualOdometry> vo_;
   ImuBuffer imu_;
-  int queue_size_ = 5;
-  bool approximate_sync_ = false;
-  std::string odom_frame_ = "odom", base_frame_ = "camera_link";
-  bool publish_tf_ = true;
-  double expected_rate_ = 15.0, min_freq_ = 7.5, max_freq_ = 30.0;
+  VoNodeParams node_;
+  double min_freq_ = 7.5, max_freq_ = 30.0;
 
   message_filters::Subscriber<Image> left_sub_, right_sub_;
   message_filters::Subscriber<Info> left_info_sub_, right_info_sub_;
@@ -479,7 +403,6 @@ class StereoOdometryNodelet : public nodelet::Nodelet
   bool last_trusted_ = false;
   double last_stamp_ = -1.0;
   double imu_wait_start_ = -1.0;  // image stamp of the first frame that waited for the IMU
-  double imu_wait_ = 1.0;         // s of image time
   std::string input_problem_, last_problem_;
   uint64_t n_left_ = 0, n_right_ = 0, n_left_info_ = 0, n_right_info_ = 0, n_imu_ = 0, n_processed_ = 0;
   uint64_t last_left_ = 0, last_right_ = 0, last_processed_ = 0;

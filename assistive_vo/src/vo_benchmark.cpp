@@ -150,59 +150,16 @@ int main(int argc, char** argv)
   VoParams params;
   params.use_imu = imu_on;
   {
-    // --set name=value for the numeric VoParams fields (experiments)
-    std::map<std::string, double*> d{{"pixel_sigma_px", &params.pixel_sigma_px},
-                                     {"gyro_noise_density", &params.gyro_noise_density},
-                                     {"gyro_bias_sigma", &params.gyro_bias_sigma},
-                                     {"vo_rotation_sigma", &params.vo_rotation_sigma},
-                                     {"gravity_time_constant_s", &params.gravity_time_constant_s},
-                                     {"gravity_window_s", &params.gravity_window_s},
-                                     {"inlier_threshold_px", &params.inlier_threshold_px},
-                                     {"ba_huber_px", &params.ba_huber_px},
-                                     {"replenish_ratio", &params.replenish_ratio},
-                                     {"replenish_coverage_ratio", &params.replenish_coverage_ratio},
-                                     {"grid_cell_px", &params.grid_cell_px},
-                                     {"max_rotation_from_keyframe_deg", &params.max_rotation_from_keyframe_deg},
-                                     {"epipolar_threshold_px", &params.epipolar_threshold_px},
-                                     {"max_speed_mps", &params.max_speed_mps},
-                                     {"max_angular_speed_dps", &params.max_angular_speed_dps},
-                                     {"min_depth_m", &params.min_depth_m},
-                                     {"max_depth_m", &params.max_depth_m},
-                                     {"stereo_max_mean_sad", &params.stereo_max_mean_sad},
-                                     {"min_triangulation_disparity_px", &params.min_triangulation_disparity_px},
-                                     {"alignment_max_shift_px", &params.alignment_max_shift_px},
-                                     {"alignment_min_ncc", &params.alignment_min_ncc},
-                                     {"alignment_min_eigen_ratio", &params.alignment_min_eigen_ratio}};
-    std::map<std::string, int*> n{{"target_features", &params.target_features},
-                                  {"min_tracks", &params.min_tracks},
-                                  {"klt_window", &params.klt_window},
-                                  {"klt_levels", &params.klt_levels},
-                                  {"ba_iterations", &params.ba_iterations},
-                                  {"stereo_half_window", &params.stereo_half_window},
-                                  {"fast_threshold", &params.fast_threshold},
-                                  {"max_disparity_px", &params.max_disparity_px},
-                                  {"min_inliers", &params.min_inliers},
-                                  {"alignment_half_window", &params.alignment_half_window},
-                                  {"alignment_iterations", &params.alignment_iterations}};
-    for (const auto& [k, value] : overrides)
+    // --set name=value: the node's parameter names (params.h table), clamped like the node's
+    std::string err;
+    std::vector<std::string> clamped;
+    if (!assistive_common::applyOverrides(params, overrides, &err, &clamped))
     {
-      const double v = std::atof(value.c_str());
-      if (d.count(k))
-        *d[k] = v;
-      else if (n.count(k))
-        *n[k] = static_cast<int>(v);
-      else if (k == "gyro_rotation_prior")
-        params.gyro_rotation_prior = v != 0;
-      else if (k == "epipolar_filter")
-        params.epipolar_filter = v != 0;
-      else if (k == "keyframe_alignment")
-        params.keyframe_alignment = v != 0;
-      else
-      {
-        std::cerr << "vo_benchmark: unknown --set parameter " << k << "\n";
-        return 2;
-      }
+      std::cerr << "vo_benchmark: --set: " << err << "\n";
+      return 2;
     }
+    for (const std::string& c : clamped)
+      std::cerr << "vo_benchmark: " << c << "\n";
   }
   VisualOdometry vo(params);
   ImuBuffer imu(5.0);

@@ -1,125 +1,139 @@
 #pragma once
-// Parameters of the visual odometry core. The initializers are the only defaults (STYLE.md 4);
-// the nodelet and the benchmark read/override them, README.md lists them.
+// Parameters of the visual odometry: ONE table (assistive_common/param_table.h). Each row is the
+// field, its ROS parameter name (also vo_benchmark's --set name), default, range, unit and text;
+// the nodelet reads every row, clamps by the ranges and README.md lists them (test_params).
+#include <string>
+
+#include <assistive_common/param_table.h>
 
 namespace assistive_vo
 {
+// clang-format off
+// X(type, field, ROS name, default, lo, hi, unit, text)
+#define ASSISTIVE_VO_PARAMS(X) \
+  /* --- FAST detection with adaptive threshold (seed 2.2.1.1) --- */ \
+  X(int, fast_threshold_min, "fast_threshold_min", 5, 1, 254, "intensity", "lowest adapted FAST threshold") \
+  X(int, fast_threshold_max, "fast_threshold_max", 120, fast_threshold_min, 255, "intensity", "highest adapted FAST threshold") \
+  X(int, fast_threshold, "fast_threshold", 40, fast_threshold_min, fast_threshold_max, "intensity", "start FAST threshold (adapted)") \
+  X(int, fast_threshold_step, "fast_threshold_step", 4, 1, 50, "intensity", "threshold change per replenishment") \
+  /* 400 features: 15 % less rotational drift over 5 seeds x 5 worlds, but 30-50 % more time at p95 (README) */ \
+  X(int, target_features, "target_features", 250, 20, 2000, "", "features wanted after replenishment") \
+  X(double, grid_cell_px, "grid_cell", 80.0, 10.0, 1000.0, "px", "bucketing grid of round(width / cell) x round(height / cell) cells (8 x 6 at 640x480)") \
+  X(int, border_px, "border", 12, 0, 200, "px", "no features this close to the image border") \
+  X(double, min_feature_distance_px, "min_feature_distance", 12.0, 0.0, 200.0, "px", "new corners this far from existing tracks") \
+  X(double, replenish_ratio, "replenish_ratio", 0.35, 0.05, 0.95, "", "re-detect when tracks alive < ratio x tracks started") \
+  X(int, min_tracks, "min_tracks", 40, 8, 1000, "", "... or when fewer tracks are alive") \
+  X(double, replenish_coverage_ratio, "replenish_coverage_ratio", 0.8, 0.0, 0.95, "", "... or when the tracks hold fewer than ratio x the bucketing-grid cells held at the keyframe (0 = off)") \
+  /* --- sparse stereo along the rectified row --- */ \
+  X(int, stereo_half_window, "stereo_half_window", 4, 1, 15, "px", "SAD window half size") \
+  X(double, min_disparity_px, "min_disparity", 0.5, 0.0, 64.0, "px", "smallest stereo disparity") \
+  X(int, max_disparity_px, "max_disparity", 128, 8, 512, "px", "stereo search range") \
+  X(double, stereo_max_mean_sad, "stereo_max_mean_sad", 18.0, 0.0, 255.0, "intensity", "mean absolute difference per pixel of a stereo match at most this") \
+  X(double, stereo_uniqueness, "stereo_uniqueness", 0.85, 0.0, 1.0, "", "best cost < uniqueness x second best (outside +-1)") \
+  X(double, min_depth_m, "min_depth", 0.2, 0.01, 100.0, "m", "nearest feature depth") \
+  X(double, max_depth_m, "max_depth", 30.0, min_depth_m, 1000.0, "m", "farthest feature depth ...") \
+  X(double, min_triangulation_disparity_px, "min_triangulation_disparity", 5.0, 0.0, 512.0, "px", "... or farther while the disparity stays above this") \
+  /* --- KLT tracking --- */ \
+  X(int, klt_window, "klt_window", 21, 5, 61, "px", "KLT window") \
+  X(int, klt_levels, "klt_levels", 3, 0, 6, "", "KLT pyramid levels") \
+  X(int, klt_iterations, "klt_iterations", 20, 1, 200, "", "KLT iterations at most") \
+  X(double, klt_epsilon, "klt_epsilon", 0.03, 1e-6, 10.0, "px", "KLT convergence step") \
+  X(double, klt_min_eigen, "klt_min_eigen", 1e-4, 0.0, 1.0, "", "KLT minimum eigenvalue (OpenCV's minEigThreshold)") \
+  /* Each KLT position is then refined by aligning the track's keyframe patch with an affine warp */ \
+  /* (patch_alignment.h): no error accumulates over the keyframe span. */ \
+  X(bool, keyframe_alignment, "keyframe_alignment", true, {}, {}, "", "refine KLT positions against the keyframe patch (affine)") \
+  X(int, alignment_half_window, "alignment_half_window", 7, 2, 15, "px", "its patch half size") \
+  X(int, alignment_iterations, "alignment_iterations", 10, 1, 50, "", "Gauss-Newton iterations at most") \
+  X(double, alignment_max_shift_px, "alignment_max_shift", 1.5, 0.1, 10.0, "px", "larger corrections of the KLT position are rejected") \
+  X(double, alignment_min_ncc, "alignment_min_ncc", 0.0, -1.0, 1.0, "", "... and so are alignments correlating less than this") \
+  /* flat or one-dimensional texture: no patch, KLT only */ \
+  X(double, alignment_min_eigen_ratio, "alignment_min_eigen_ratio", 0.01, 0.0, 1.0, "", "smallest / largest eigenvalue of the patch's affine Hessian for a patch to be aligned") \
+  /* --- RANSAC on the epipolar constraint (keyframe -> current left image) --- */ \
+  X(bool, epipolar_filter, "epipolar_filter", true, {}, {}, "", "fundamental-matrix RANSAC on") \
+  X(double, epipolar_threshold_px, "epipolar_threshold", 1.0, 0.1, 10.0, "px", "its inlier distance") \
+  X(double, epipolar_min_flow_px, "epipolar_min_flow", 2.0, 0.0, 100.0, "px", "below this mean flow F is degenerate: no epipolar filter") \
+  /* --- P3P in RANSAC with LMedS scoring (eq. 2.18) --- */ \
+  X(double, ransac_probability, "ransac_probability", 0.99, 0.5, 0.9999, "", "p of eq. 2.18") \
+  X(int, ransac_max_trials, "ransac_max_trials", 300, 10, 10000, "", "trial cap") \
+  X(int, ransac_min_trials, "ransac_min_trials", 10, 1, ransac_max_trials, "", "trials at least") \
+  X(double, inlier_threshold_px, "inlier_threshold", 2.0, 0.3, 20.0, "px", "upper cap on the LMedS inlier threshold") \
+  X(double, inlier_threshold_min_px, "inlier_threshold_min", 0.7, 0.01, inlier_threshold_px, "px", "lower cap on the LMedS inlier threshold") \
+  X(int, min_inliers, "min_inliers", 12, 6, 1000, "", "fewer = failure") \
+  /* --- two-frame sparse bundle adjustment (Levenberg-Marquardt, Schur complement) --- */ \
+  X(int, ba_iterations, "ba_iterations", 8, 0, 100, "", "Levenberg-Marquardt iterations") \
+  X(double, ba_huber_px, "ba_huber", 1.0, 0.01, 100.0, "px", "Huber loss threshold of the bundle adjustment") \
+  X(double, pixel_sigma_px, "pixel_sigma", 0.5, 0.01, 10.0, "px", "feature position noise, for the published covariance") \
+  /* --- failure handling and motion limits --- */ \
+  X(double, max_speed_mps, "max_speed", 4.0, 0.1, 50.0, "m/s", "larger change of velocity against the constant-velocity prediction = failure (no jumps), unless >= 2 x `min_inliers` and half the tracks support the motion") \
+  X(double, max_angular_speed_dps, "max_angular_speed", 400.0, 10.0, 5000.0, "deg/s", "same for rotation") \
+  X(double, max_frame_gap_s, "max_frame_gap", 1.0, 0.05, 10.0, "s", "a larger stamp gap (or time going backwards): pose kept, new keyframe, frame untrusted") \
+  X(double, min_image_stddev, "min_image_stddev", 4.0, 0.0, 128.0, "intensity", "black / saturated / flat frame below this standard deviation") \
+  X(double, max_rotation_from_keyframe_deg, "max_rotation_from_keyframe", 25.0, 1.0, 180.0, "deg", "new keyframe beyond this rotation") \
+  /* --- fail-safe: when the pose is no longer trusted (VoOutput::pose_trusted; README "Fail-safe") --- */ \
+  /* A lost frame coasts on the gyro (rotation) and the damped last velocity for at most coast_max */ \
+  /* after the last tracked frame; beyond it, or at once without a gyro, the pose is untrusted and */ \
+  /* no longer extrapolated until a new keyframe is tracked. */ \
+  X(double, coast_max_s, "coast_max", 0.3, 0.0, 2.0, "s", "a lost frame coasts on the gyro this long after the last tracked frame, then untrusted (at once without gyro)") \
+  /* Frozen camera: the left image (every 4th pixel) differs from the previous one by at most */ \
+  /* frozen_max_change (mean absolute difference) while the gyro turns at least frozen_min_gyro_rate, */ \
+  /* on frozen_frames frames in a row (1: the first repeated frame already; the fault suite saw a */ \
+  /* GUIDANCE cue decided on the first frozen frame with 2). Simulated walks: */ \
+  /* consecutive frames differ by >= 2.4 (1.3 without pixel noise), the gyro turns >= 1.0 deg/s */ \
+  /* (>= 1.5 on 99 % of the frames); gyro bias + noise per frame < 0.6 deg/s. */ \
+  X(double, frozen_max_change, "frozen_max_change", 0.5, 0.0, 20.0, "gray levels", "frozen camera: mean absolute difference to the previous left image at most this ...") \
+  X(double, frozen_min_gyro_dps, "frozen_min_gyro_rate", 1.5, 0.1, 100.0, "deg/s", "... while the gyro turns at least this ...") \
+  X(int, frozen_frames, "frozen_frames", 1, 1, 100, "", "... on this many frames in a row") \
+  /* Image motion contradicting the gyro: the vision-only frame-to-frame rotation differs from the */ \
+  /* integrated gyro by more than gyro_disagreement on gyro_disagreement_frames tracked frames in a */ \
+  /* row (failures in between do not break the run); trust returns after as many agreeing frames. */ \
+  /* Clean walks (12 bags): at most 0.73 deg on 3 frames in a row (2.2 on a single frame). */ \
+  X(double, gyro_disagreement_deg, "gyro_disagreement", 1.5, 0.05, 90.0, "deg", "vision-only frame-to-frame rotation against the gyro: more than this ...") \
+  X(int, gyro_disagreement_frames, "gyro_disagreement_frames", 3, 1, 100, "", "... on this many tracked frames in a row: untrusted (as many agreeing frames to recover)") \
+  /* Stereo pair inconsistent with the motion (right image out of sync with the left, a camera */ \
+  /* moved on the rig): the inliers' median disparity differs from the one their 3D point predicts */ \
+  /* at the estimated pose by more than stereo_max_error, or fewer than stereo_min_matched_ratio */ \
+  /* of them find a stereo match, on stereo_inconsistent_frames tracked frames in a row (at once */ \
+  /* when the error exceeds 5 x stereo_max_error); trust returns after as many consistent frames. */ \
+  /* Clean walks: median error 0.03-0.14 px, at most 0.22 px on 3 frames in a row (1.4 on one), */ \
+  /* >= 54 % matched; the real KITTI clip 0.27 px on 3 frames, >= 74 %; a right image 3 frames */ \
+  /* late: up to 74 px and down to 0 % matched with the head turning, but only 0.3-1.2 px and */ \
+  /* 30-70 % with a slow head (parking), which passes (the scale is then off, see README). */ \
+  X(double, stereo_max_error_px, "stereo_max_error", 0.6, 0.05, 50.0, "px", "inliers' median disparity against the pose's prediction: more than this ...") \
+  X(double, stereo_min_matched_ratio, "stereo_min_matched_ratio", 0.3, 0.0, 1.0, "", "... or fewer inliers with a stereo match ...") \
+  X(int, stereo_inconsistent_frames, "stereo_inconsistent_frames", 3, 1, 100, "", "... on this many tracked frames in a row (at once beyond 5 x `stereo_max_error`): untrusted") \
+  /* --- IMU (gyro prior) and odom frame --- */ \
+  X(bool, use_imu, "use_imu", true, {}, {}, "", "gyro prior and gravity from `imu/data`") \
+  X(bool, gyro_rotation_prior, "gyro_rotation_prior", true, {}, {}, "", "gyro rotation prior in the bundle adjustment") \
+  X(double, gyro_noise_density, "gyro_noise_density", 2.0e-4, 1e-6, 1e-1, "rad/s/sqrt(Hz)", "gyro angle random walk") \
+  X(double, gyro_bias_sigma, "gyro_bias_sigma", 5.0e-3, 1e-6, 1.0, "rad/s", "initial gyro bias uncertainty (bias estimated online)") \
+  X(double, gyro_bias_walk, "gyro_bias_walk", 2.0e-5, 0.0, 1e-1, "rad/s^2/sqrt(Hz)", "gyro bias random walk") \
+  X(double, vo_rotation_sigma, "vo_rotation_sigma", 3.0e-4, 1e-6, 1.0, "rad", "floor on the vision rotation error (bias update)") \
+  /* Gravity keeps the odom frame level (gravity_alignment.h). */ \
+  X(double, gravity_time_constant_s, "gravity_time_constant", 120.0, 0.0, 3600.0, "s", "keeps odom level: the tilt against gravity measured over each window is corrected by window / time constant (0 = off: odom keeps the start's gravity and its tilt drifts with the gyro bias)") \
+  X(double, gravity_window_s, "gravity_window", 4.0, 0.5, 60.0, "s", "tracked frames per gravity measurement (a lost frame restarts it)") \
+  X(double, camera_height_m, "camera_height", 1.6, 0.0, 5.0, "m", "height of camera_link above the floor at start: the nodelet takes it from the URDF (`footprint_frame`), this value only without one") \
+  X(double, initial_roll_deg, "initial_roll", 0.0, -90.0, 90.0, "deg", "camera_link roll at start without IMU") \
+  X(double, initial_pitch_deg, "initial_pitch", 0.0, -90.0, 90.0, "deg", "camera_link pitch at start without IMU")
+
+// The nodelet's own parameters (ROS plumbing; vo_benchmark has no use for them).
+#define ASSISTIVE_VO_NODE_PARAMS(X) \
+  X(double, imu_wait, "imu_wait", 1.0, 0.0, 30.0, "s", "with `use_imu`, the first frames wait this long (image time) for an IMU sample before the odom frame is fixed; after it: `initial_roll` / `initial_pitch` and a warning") \
+  X(int, queue_size, "queue_size", 5, 1, 100, "", "synchroniser queue") \
+  X(bool, approximate_sync, "approximate_sync", false, {}, {}, "", "ApproximateTime instead of ExactTime") \
+  X(std::string, odom_frame, "odom_frame", "odom", {}, {}, "", "frame of the odometry") \
+  X(std::string, base_frame, "base_frame", "camera_link", {}, {}, "", "the camera body, child of the odometry") \
+  X(std::string, footprint_frame, "footprint_frame", "base_footprint", {}, {}, "", "URDF frame on the floor under `base_frame`: gives `camera_height`") \
+  X(bool, publish_tf, "publish_tf", true, {}, {}, "", "broadcast odom -> camera_link") \
+  X(double, expected_rate, "expected_rate", 15.0, 0.1, 200.0, "Hz", "for the frequency diagnostic")
+// clang-format on
+
 struct VoParams
 {
-  // --- FAST detection with adaptive threshold (seed 2.2.1.1) ---
-  int fast_threshold = 40;        // start threshold (intensity levels)
-  int fast_threshold_min = 5;
-  int fast_threshold_max = 120;
-  int fast_threshold_step = 4;    // change per replenishment
-  int target_features = 250;      // features wanted after a replenishment (400: 15 % less rotational
-                                  // drift over 5 seeds x 5 worlds, but 30-50 % more time at p95: README)
-  double grid_cell_px = 80.0;     // bucketing grid of about square cells of this side:
-                                  // round(width / cell) x round(height / cell) (8 x 6 at 640x480)
-  int border_px = 12;             // no features this close to the image border
-  double min_feature_distance_px = 12.0;  // new corners this far from existing tracks
-  double replenish_ratio = 0.35;  // re-detect when tracks alive < ratio * tracks started
-  int min_tracks = 40;            // ... or when fewer than this many tracks are alive
-  double replenish_coverage_ratio = 0.8;  // ... or when the tracks hold fewer bucketing-grid cells than
-                                          // ratio x the cells held at the keyframe (0 = off)
+  ASSISTIVE_PARAMS_BODY(ASSISTIVE_VO_PARAMS)
+};
 
-  // --- sparse stereo along the rectified row ---
-  int stereo_half_window = 4;     // SAD window (2h+1)^2
-  double min_disparity_px = 0.5;
-  int max_disparity_px = 128;
-  double stereo_max_mean_sad = 18.0;     // mean absolute difference per pixel
-  double stereo_uniqueness = 0.85;       // best cost < uniqueness * second best (outside +-1)
-  double min_depth_m = 0.2;
-  double max_depth_m = 30.0;             // farthest feature depth ...
-  double min_triangulation_disparity_px = 5.0;  // ... or farther while the disparity stays above this
-
-  // --- KLT tracking ---
-  int klt_window = 21;
-  int klt_levels = 3;
-  int klt_iterations = 20;
-  double klt_epsilon = 0.03;
-  double klt_min_eigen = 1e-4;
-  // Each KLT position is then refined by aligning the track's keyframe patch with an affine warp
-  // (patch_alignment.h): no error accumulates over the keyframe span.
-  bool keyframe_alignment = true;
-  int alignment_half_window = 7;         // patch (2h+1)^2
-  int alignment_iterations = 10;
-  double alignment_max_shift_px = 1.5;   // larger corrections of the KLT position are rejected
-  double alignment_min_ncc = 0.0;        // ... and so are alignments correlating less than this
-  double alignment_min_eigen_ratio = 0.01;  // patch Hessian: smallest / largest eigenvalue (flat or
-                                            // one-dimensional texture: no patch, KLT only)
-
-  // --- RANSAC on the epipolar constraint (keyframe -> current left image) ---
-  bool epipolar_filter = true;
-  double epipolar_threshold_px = 1.0;
-  double epipolar_min_flow_px = 2.0;     // below this mean flow F is degenerate: skip the filter
-
-  // --- P3P in RANSAC with LMedS scoring (eq. 2.18) ---
-  double ransac_probability = 0.99;
-  int ransac_max_trials = 300;
-  int ransac_min_trials = 10;
-  double inlier_threshold_px = 2.0;      // upper cap on the LMedS-derived inlier threshold
-  double inlier_threshold_min_px = 0.7;  // lower cap
-  int min_inliers = 12;
-
-  // --- two-frame sparse bundle adjustment (Levenberg-Marquardt, Schur complement) ---
-  int ba_iterations = 8;
-  double ba_huber_px = 1.0;
-  double pixel_sigma_px = 0.5;           // for the published covariance
-
-  // --- failure handling and motion limits ---
-  double max_speed_mps = 4.0;            // larger frame-to-frame translation = failure
-  double max_angular_speed_dps = 400.0;  // larger frame-to-frame rotation = failure
-  double max_frame_gap_s = 1.0;          // a larger stamp gap (or time going backwards): the pose is
-                                         // kept (not extrapolated), a new keyframe, the frame untrusted
-  double min_image_stddev = 4.0;         // black / saturated / flat frame detection
-  double max_rotation_from_keyframe_deg = 25.0;  // new keyframe beyond this
-
-  // --- fail-safe: when the pose is no longer trusted (VoOutput::pose_trusted; README "Fail-safe") ---
-  // A lost frame coasts on the gyro (rotation) and the damped last velocity for at most this long
-  // after the last tracked frame; beyond it, or at once without a gyro, the pose is untrusted and
-  // no longer extrapolated until a new keyframe is tracked.
-  double coast_max_s = 0.3;
-  // Frozen camera: the left image (every 4th pixel) differs from the previous one by at most this
-  // mean absolute difference (gray levels) while the gyro turns at least frozen_min_gyro_dps, on
-  // frozen_frames frames in a row (1: the first repeated frame already; the fault suite saw a
-  // GUIDANCE cue decided on the first frozen frame with 2). Simulated walks:
-  // consecutive frames differ by >= 2.4 (1.3 without pixel noise), the gyro turns >= 1.0 deg/s
-  // (>= 1.5 on 99 % of the frames); gyro bias + noise per frame < 0.6 deg/s.
-  double frozen_max_change = 0.5;
-  double frozen_min_gyro_dps = 1.5;
-  int frozen_frames = 1;
-  // Image motion contradicting the gyro: the vision-only frame-to-frame rotation differs from the
-  // integrated gyro by more than this on this many tracked frames in a row (failures in between
-  // do not break the run); trust returns after as many agreeing frames. Clean walks (12 bags):
-  // at most 0.73 deg on 3 frames in a row (2.2 on a single frame), on the corridor's bare end.
-  double gyro_disagreement_deg = 1.5;
-  int gyro_disagreement_frames = 3;
-  // Stereo pair inconsistent with the motion (right image out of sync with the left, a camera
-  // moved on the rig): the inliers' median disparity differs from the one their 3D point predicts
-  // at the estimated pose by more than stereo_max_error_px, or fewer than stereo_min_matched_ratio
-  // of them find a stereo match, on stereo_inconsistent_frames tracked frames in a row (at once
-  // when the error exceeds 5 x stereo_max_error_px); trust returns after as many consistent
-  // frames. Clean walks: median error 0.03-0.14 px, at most 0.22 px on 3 frames in a row (1.4 on
-  // one), >= 54 % matched; the real KITTI clip 0.27 px on 3 frames, >= 74 %; a right image 3
-  // frames late: up to 74 px and down to 0 % matched with the head turning, but only 0.3-1.2 px
-  // and 30-70 % with a slow head (parking), which passes (the scale is then off, see README).
-  double stereo_max_error_px = 0.6;
-  double stereo_min_matched_ratio = 0.3;
-  int stereo_inconsistent_frames = 3;
-
-  // --- IMU (gyro prior) and odom frame ---
-  bool use_imu = true;
-  bool gyro_rotation_prior = true;       // fuse the integrated gyro into the bundle adjustment
-  double gyro_noise_density = 2.0e-4;    // rad/s/sqrt(Hz)
-  double gyro_bias_sigma = 5.0e-3;       // rad/s, initial bias uncertainty (bias estimated online)
-  double gyro_bias_walk = 2.0e-5;        // rad/s^2/sqrt(Hz)
-  double vo_rotation_sigma = 3.0e-4;     // rad, floor on the vision rotation error (bias update)
-  // Gravity keeps the odom frame level (gravity_alignment.h): the tilt measured over each window
-  // is corrected by window / time constant (0 = off; the odom frame then keeps the start's gravity).
-  double gravity_time_constant_s = 120.0;
-  double gravity_window_s = 4.0;
-  double camera_height_m = 1.6;          // origin of odom on the floor under the camera start
-  double initial_roll_deg = 0.0;         // camera_link roll/pitch at start when no IMU
-  double initial_pitch_deg = 0.0;
+struct VoNodeParams
+{
+  ASSISTIVE_PARAMS_BODY(ASSISTIVE_VO_NODE_PARAMS)
 };
 }  // namespace assistive_vo
