@@ -17,7 +17,12 @@
 #include <std_srvs/Trigger.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/buffer.h>
+#include <tf2_ros/message_filter.h>
 #include <tf2_ros/transform_listener.h>
+
+#include <assistive_common/callback_guard.h>
+#include <assistive_common/ros_params.h>
+#include <assistive_common/wearer.h>
 
 #include <assistive_obstacles/conversions.h>
 #include <assistive_obstacles/disparity.h>
@@ -53,119 +58,75 @@ public:
     pub_markers_ = nh.advertise<visualization_msgs::MarkerArray>("octomap_markers", 1);
     pub_dropout_ = nh.advertise<nav_msgs::OccupancyGrid>("dropout", 1);
     srv_save_ = nh.advertiseService("save_octomap", &ObstaclesNodelet::saveOctomap, this);
-    bool use_odom = true;
-    pnh.param("use_odom", use_odom, use_odom);
-    if (use_odom)
+    if (node_.use_odom)
       sub_odom_ = nh.subscribe("odom", 5, &ObstaclesNodelet::odomCb, this);
 
     diag_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
     diag_->setHardwareID("stereo camera");
     diag_->add("obstacle map", this, &ObstaclesNodelet::diagnose);
-    diag_timer_ = nh.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { diag_->update(); });
+    diag_timer_ = nh.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) {
+      assistive_common::guarded(getName(), "diagnostics", [&] { diag_->update(); });
+    });
 
     sub_l_.subscribe(nh, "left/image_rect", 1);
     sub_r_.subscribe(nh, "right/image_rect", 1);
     sub_li_.subscribe(nh, "left/camera_info", 1);
     sub_ri_.subscribe(nh, "right/camera_info", 1);
-    if (approximate_sync_)
+    sub_l_.registerCallback(&ObstaclesNodelet::inputCb, this);
+    // The left image waits for its pose in the tf filter (no blocking lookup in a callback); the
+    // synchroniser pairs it with the rest of the frame afterwards.
+    tf_filter_ = std::make_unique<tf2_ros::MessageFilter<Image>>(sub_l_, *tf_buffer_, node_.world_frame,
+                                                                 node_.queue_size, nh);
+    tf_filter_->registerFailureCallback(
+        [this](const sensor_msgs::ImageConstPtr& l, tf2_ros::filter_failure_reasons::FilterFailureReason) {
+          std::lock_guard<std::mutex> lock(stats_mutex_);
+          ++tf_failures_;
+          NODELET_WARN_THROTTLE(5.0, "obstacles: no pose %s -> %s at %.3f: frame dropped", node_.world_frame.c_str(),
+                                l->header.frame_id.c_str(), l->header.stamp.toSec());
+        });
+    if (node_.approximate_sync)
     {
-      approx_ = std::make_shared<message_filters::Synchronizer<ApproxPolicy>>(ApproxPolicy(queue_size_), sub_l_, sub_r_,
-                                                                               sub_li_, sub_ri_);
+      approx_ = std::make_shared<message_filters::Synchronizer<ApproxPolicy>>(ApproxPolicy(node_.queue_size),
+                                                                               *tf_filter_, sub_r_, sub_li_, sub_ri_);
       approx_->registerCallback(&ObstaclesNodelet::frameCb, this);
     }
     else
     {
-      exact_ = std::make_shared<message_filters::Synchronizer<ExactPolicy>>(ExactPolicy(queue_size_), sub_l_, sub_r_,
-                                                                             sub_li_, sub_ri_);
+      exact_ = std::make_shared<message_filters::Synchronizer<ExactPolicy>>(ExactPolicy(node_.queue_size), *tf_filter_,
+                                                                             sub_r_, sub_li_, sub_ri_);
       exact_->registerCallback(&ObstaclesNodelet::frameCb, this);
     }
   }
 
 private:
-  template <typename T>
-  void param(ros::NodeHandle& pnh, const std::string& name, T& v)
-  {
-    pnh.param(name, v, v);
-  }
-
   void readParams(ros::NodeHandle& pnh)
   {
     ObstaclesParams& p = params_;
-    param(pnh, "disparity_method", p.disparity_method);
-    param(pnh, "disparity_scale", p.disparity_scale);
-    param(pnh, "max_disparity", p.max_disparity);
-    param(pnh, "block_size", p.block_size);
-    param(pnh, "uniqueness_ratio", p.uniqueness_ratio);
-    param(pnh, "speckle_window_size", p.speckle_window_size);
-    param(pnh, "speckle_range", p.speckle_range);
-    param(pnh, "disp12_max_diff", p.disp12_max_diff);
-    param(pnh, "sgbm_p1", p.sgbm_p1);
-    param(pnh, "sgbm_p2", p.sgbm_p2);
-    param(pnh, "min_depth", p.min_depth);
-    param(pnh, "max_depth", p.max_depth);
-    param(pnh, "point_stride", p.point_stride);
-    param(pnh, "edge_filter", p.edge_filter);
-    param(pnh, "texture_max_depth_sigma", p.texture_max_depth_sigma);
-    param(pnh, "image_noise_sigma", p.image_noise_sigma);
-    param(pnh, "cell_size", p.cell_size);
-    param(pnh, "window_radius", p.window_radius);
-    param(pnh, "min_points_per_cell", p.min_points_per_cell);
-    param(pnh, "gap_height", p.gap_height);
-    param(pnh, "step_height", p.step_height);
-    param(pnh, "min_step", p.min_step);
-    param(pnh, "head_clearance", p.head_clearance);
-    param(pnh, "camera_height", p.camera_height);
-    param(pnh, "max_surface_rise", p.max_surface_rise);
-    param(pnh, "max_surface_drop", p.max_surface_drop);
-    param(pnh, "cluster_gap", p.cluster_gap);
-    param(pnh, "min_cluster_points", p.min_cluster_points);
-    param(pnh, "thickness_trim", p.thickness_trim);
-    param(pnh, "min_traversable_edges", p.min_traversable_edges);
-    param(pnh, "closing_radius", p.closing_radius);
-    param(pnh, "fine_factor", p.fine_factor);
-    param(pnh, "peak_fraction", p.peak_fraction);
-    param(pnh, "ground_quantile", p.ground_quantile);
-    param(pnh, "surface_push", p.surface_push);
-    param(pnh, "surface_push_normal", p.surface_push_normal);
-    param(pnh, "closing_weight", p.closing_weight);
-    param(pnh, "disparity_sigma", p.disparity_sigma);
-    param(pnh, "obstacle_max_sigma", p.obstacle_max_sigma);
-    param(pnh, "min_observations", p.min_observations);
-    param(pnh, "obstacle_ratio", p.obstacle_ratio);
-    param(pnh, "permanent_flips", p.permanent_flips);
-    param(pnh, "max_count", p.max_count);
-    param(pnh, "full_weight_range", p.full_weight_range);
-    param(pnh, "dropout_max_range", p.dropout_max_range);
-    param(pnh, "dropout_free_weight", p.dropout_free_weight);
-    param(pnh, "vote_max_range", p.vote_max_range);
-    param(pnh, "octomap_enabled", p.octomap_enabled);
-    param(pnh, "octomap_resolution", p.octomap_resolution);
-    param(pnh, "octomap_max_range", p.octomap_max_range);
-    param(pnh, "octomap_point_stride", p.octomap_point_stride);
-    param(pnh, "octomap_save_path", p.octomap_save_path);
-    param(pnh, "max_frame_gap_s", p.max_frame_gap_s);
-    param(pnh, "rebuild_frames", p.rebuild_frames);
-    param(pnh, "min_fresh_points", p.min_fresh_points);
-    for (const std::string& w : clampParams(p)) NODELET_WARN("%s", w.c_str());
-    pnh.param("world_frame", world_frame_, world_frame_);
-    pnh.param("queue_size", queue_size_, queue_size_);
-    pnh.param("approximate_sync", approximate_sync_, approximate_sync_);
-    pnh.param("tf_timeout", tf_timeout_, tf_timeout_);
-    pnh.param("octomap_insert_every", octomap_every_, octomap_every_);
-    if (queue_size_ < 1)
+    for (const std::string& w : assistive_common::readParams(pnh, p)) NODELET_WARN("obstacles: %s", w.c_str());
+    for (const std::string& w : assistive_common::readParams(pnh, node_)) NODELET_WARN("obstacles: %s", w.c_str());
+    // The wearer's eye height is the URDF's (robot_description); camera_height only without one.
+    double h = 0.0;
+    std::string why;
+    if (assistive_common::cameraHeightFromUrdf(pnh, node_.camera_frame, node_.footprint_frame, h, &why))
     {
-      NODELET_WARN("queue_size %d < 1, using 1", queue_size_);
-      queue_size_ = 1;
+      h = std::round(h * 1e6) / 1e6;  // the URDF holds 6 digits: 1.6, not 1.5999999999999999
+      if (pnh.hasParam("camera_height") && h != p.camera_height)
+        NODELET_WARN("obstacles: camera_height %.3f m ignored: the URDF says %.3f m", p.camera_height, h);
+      p.camera_height = h;
     }
-    if (octomap_every_ < 1)
-    {
-      NODELET_WARN("octomap_insert_every %d < 1, using 1", octomap_every_);
-      octomap_every_ = 1;
-    }
-    NODELET_INFO("obstacles: %s disparity at scale %.2f (%d px full res), cells %.2f m, window %.1f m, G %.2f m, "
-                 "T %.2f m, world frame '%s'",
-                 p.disparity_method.c_str(), p.disparity_scale, p.max_disparity, p.cell_size, p.window_radius,
-                 p.gap_height, p.step_height, world_frame_.c_str());
+    else
+      NODELET_INFO("obstacles: camera_height %.2f m from the parameter (%s)", p.camera_height, why.c_str());
+    for (const std::string& w : clampParams(p)) NODELET_WARN("obstacles: %s", w.c_str());
+    NODELET_INFO("obstacles: %s", assistive_common::describe(p).c_str());
+    NODELET_INFO("obstacles: %s", assistive_common::describe(node_).c_str());
+  }
+
+  /// Every left image, before it waits for its pose: the diagnostics tell "input stopped" from
+  /// "no pose".
+  void inputCb(const sensor_msgs::ImageConstPtr&)
+  {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    last_input_ = ros::WallTime::now();
   }
 
   /// vo/odom marks a pose it cannot trust with variances of 9999: the map built on the old pose
@@ -183,8 +144,17 @@ private:
   void frameCb(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::ImageConstPtr& r,
                const sensor_msgs::CameraInfoConstPtr& li, const sensor_msgs::CameraInfoConstPtr& ri)
   {
+    if (!assistive_common::guarded(getName(), "stereo frame", [&] { frame(l, r, li, ri); }))
+    {
+      std::lock_guard<std::mutex> lock(stats_mutex_);
+      ++bad_input_;
+    }
+  }
+
+  void frame(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::ImageConstPtr& r,
+             const sensor_msgs::CameraInfoConstPtr& li, const sensor_msgs::CameraInfoConstPtr& ri)
+  {
     const auto t0 = std::chrono::steady_clock::now();
-    last_input_ = ros::WallTime::now();
     StereoModel model;
     if (!fromMsg(*li, *ri, model) || model.width != static_cast<int>(l->width) ||
         model.height != static_cast<int>(l->height) || l->width != r->width || l->height != r->height)
@@ -235,14 +205,15 @@ private:
     Eigen::Isometry3f T_world_cam;
     try
     {
-      const auto tf = tf_buffer_->lookupTransform(world_frame_, l->header.frame_id, l->header.stamp,
-                                                  ros::Duration(tf_timeout_));
+      // Available: the tf filter let the left image through (no timeout, no wait).
+      const auto tf = tf_buffer_->lookupTransform(node_.world_frame, l->header.frame_id, l->header.stamp);
       T_world_cam = tf2::transformToEigen(tf).cast<float>();
     }
     catch (const tf2::TransformException& e)
     {
-      NODELET_WARN_THROTTLE(5.0, "obstacles: no pose %s -> %s at %.3f: %s", world_frame_.c_str(),
+      NODELET_WARN_THROTTLE(5.0, "obstacles: no pose %s -> %s at %.3f: %s", node_.world_frame.c_str(),
                             l->header.frame_id.c_str(), l->header.stamp.toSec(), e.what());
+      std::lock_guard<std::mutex> lock(stats_mutex_);
       ++tf_failures_;
       return;
     }
@@ -271,12 +242,12 @@ private:
     if (verdict == FrameGate::Verdict::FRESH)
     {
       map_->grid(grid);
-      pub_grid_.publish(boost::make_shared<nav_msgs::OccupancyGrid>(toMsg(grid, world_frame_, l->header.stamp)));
+      pub_grid_.publish(boost::make_shared<nav_msgs::OccupancyGrid>(toMsg(grid, node_.world_frame, l->header.stamp)));
     }
     if (pub_dropout_.getNumSubscribers() > 0)
-      pub_dropout_.publish(boost::make_shared<nav_msgs::OccupancyGrid>(toMsg(map_->dropout(), world_frame_, l->header.stamp)));
+      pub_dropout_.publish(boost::make_shared<nav_msgs::OccupancyGrid>(toMsg(map_->dropout(), node_.world_frame, l->header.stamp)));
     ++frames_;
-    if (params_.octomap_enabled && frames_ % octomap_every_ == 0)
+    if (params_.octomap_enabled && frames_ % node_.octomap_insert_every == 0)
     {
       map_->insertOctomap();
       if (pub_markers_.getNumSubscribers() > 0)
@@ -284,7 +255,7 @@ private:
         std::vector<Eigen::Vector3f> c;
         std::vector<float> s;
         map_->octree().occupiedCenters(c, s);
-        pub_markers_.publish(boost::make_shared<visualization_msgs::MarkerArray>(toMarkers(c, s, world_frame_, l->header.stamp)));
+        pub_markers_.publish(boost::make_shared<visualization_msgs::MarkerArray>(toMarkers(c, s, node_.world_frame, l->header.stamp)));
       }
     }
     std::lock_guard<std::mutex> lock(stats_mutex_);
@@ -335,11 +306,7 @@ private:
   }
 
   ObstaclesParams params_;
-  std::string world_frame_ = "odom";
-  int queue_size_ = 5;
-  bool approximate_sync_ = false;
-  double tf_timeout_ = 0.1;
-  int octomap_every_ = 5;
+  ObstaclesNodeParams node_;
   std::unique_ptr<DisparityEstimator> disparity_;
   std::unique_ptr<ObstacleMap> map_;
   FrameGate gate_;
@@ -352,6 +319,7 @@ private:
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   message_filters::Subscriber<Image> sub_l_, sub_r_;
+  std::unique_ptr<tf2_ros::MessageFilter<Image>> tf_filter_;
   message_filters::Subscriber<CameraInfo> sub_li_, sub_ri_;
   std::shared_ptr<message_filters::Synchronizer<ExactPolicy>> exact_;
   std::shared_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_;

@@ -58,21 +58,6 @@ struct Sum
   }
   double coverage() const { return known ? static_cast<double>(tp + fp + fn + tn) / known : NAN; }
 };
-bool setParam(ObstaclesParams& p, const std::string& k, const std::string& v)
-{
-#define D(n) if (k == #n) { p.n = std::stod(v); return true; }
-#define I(n) if (k == #n) { p.n = std::stoi(v); return true; }
-  D(disparity_scale) I(max_disparity) I(block_size) I(uniqueness_ratio) I(speckle_window_size) I(speckle_range)
-  I(disp12_max_diff) D(edge_filter) D(texture_max_depth_sigma) D(image_noise_sigma) D(min_depth) D(max_depth) I(point_stride) D(cell_size) D(window_radius) I(min_points_per_cell)
-  D(gap_height) D(step_height) D(min_step) D(head_clearance) D(camera_height) D(max_surface_rise) D(max_surface_drop)
-  D(cluster_gap) I(min_cluster_points) D(thickness_trim) I(min_traversable_edges) I(closing_radius) I(fine_factor) D(peak_fraction) D(ground_quantile) D(surface_push) I(surface_push_normal) I(closing_weight) D(disparity_sigma) D(obstacle_max_sigma) I(sgbm_p1) I(sgbm_p2)
-  I(min_observations) D(obstacle_ratio) I(permanent_flips) I(max_count) D(full_weight_range) D(dropout_max_range) I(dropout_free_weight) D(vote_max_range)
-#undef D
-#undef I
-  if (k == "disparity_method") { p.disparity_method = v; return true; }
-  return false;
-}
-
 eval::OccupancyGrid toSim(const GridData& g)
 {
   return eval::OccupancyGrid{g.origin_x, g.origin_y, g.resolution, g.width, g.height, g.data};
@@ -110,16 +95,15 @@ int main(int argc, char** argv)
   if (!has_truth) std::cerr << "obstacles_benchmark: no /ground_truth/occupancy in the bag: map not scored\n";
 
   ObstaclesParams params;  // defaults
-  for (const auto& [k, v] : overrides)
+  std::string set_error;  // --set name=value: the node's parameter names (params.h table)
+  std::vector<std::string> clamped;
+  if (!assistive_common::applyOverrides(params, overrides, &set_error, &clamped))
   {
-    if (!setParam(params, k, v))
-    {
-      std::cerr << "obstacles_benchmark: unknown parameter in --set " << k << "=" << v << "\n";
-      return 2;
-    }
-    std::cerr << "[obstacles_benchmark] override " << k << " = " << v << "\n";
+    std::cerr << "obstacles_benchmark: --set: " << set_error << "\n";
+    return 2;
   }
-  for (const std::string& w : clampParams(params)) std::cerr << "[obstacles_benchmark] " << w << "\n";
+  for (const std::string& w : clampParams(params)) clamped.push_back(w);
+  for (const std::string& w : clamped) std::cerr << "[obstacles_benchmark] " << w << "\n";
   DisparityEstimator disparity(params);
   ObstacleMap map(params);
   std::vector<double> ms_disp, ms_map, npts;

@@ -1,109 +1,118 @@
 #pragma once
-// All parameters of the obstacle stage. The initializers are the only defaults (STYLE.md 4);
-// the nodelet reads every field as a ROS parameter of the same name and clamps it with clampParams().
+// All parameters of the obstacle stage: ONE table (assistive_common/param_table.h). Each row is
+// the field, its ROS parameter name (also obstacles_benchmark's --set name), default, range,
+// unit and text; the nodelet reads every row, clampParams() clamps by the ranges and README.md
+// lists them (test_params).
 #include <string>
 #include <vector>
 
+#include <assistive_common/param_table.h>
+
 namespace assistive_obstacles
 {
+// clang-format off
+// X(type, field, ROS name, default, lo, hi, unit, text)
+#define ASSISTIVE_OBSTACLES_PARAMS(X) \
+  /* --- dense disparity --- */ \
+  /* hh/hh4: fewer errors, but 10x slower than sgbm3way on 450x375 inputs */ \
+  X(std::string, disparity_method, "disparity_method", "sgbm3way", {}, {}, "", "`sgbm3way`, `sgbm`, `hh`, `hh4` or `bm` (another: sgbm3way)") \
+  X(double, disparity_scale, "disparity_scale", 0.5, 0.125, 1.0, "", "image scale the matcher runs at (1 = full resolution)") \
+  X(int, max_disparity, "max_disparity", 128, 16, 512, "px", "at FULL resolution (min depth = fx*B/max_disparity)") \
+  X(int, block_size, "block_size", 5, 1, 21, "px", "at the matcher's scale, odd (an even value is made odd)") \
+  X(int, uniqueness_ratio, "uniqueness_ratio", 10, 0, 100, "%", "matcher uniqueness margin") \
+  X(int, speckle_window_size, "speckle_window_size", 100, 0, 1000, "px^2", "at the matcher's scale (0 disables)") \
+  X(int, speckle_range, "speckle_range", 2, 0, 64, "disparity levels", "speckle filter range") \
+  X(int, disp12_max_diff, "disp12_max_diff", 1, -1, 64, "px", "left-right check at the matcher's scale (<0 disables)") \
+  /* OpenCV's sample uses 8; 4 keeps slanted floors and walls from being pulled onto fronto-parallel planes */ \
+  X(int, sgbm_p1, "sgbm_p1", 4, 0, 1000, "", "SGBM P1 (disparity change of 1) = sgbm_p1 * block_size^2") \
+  X(int, sgbm_p2, "sgbm_p2", 64, sgbm_p1 + 1, 10000, "", "SGBM P2 (larger disparity jumps) = sgbm_p2 * block_size^2") \
+  /* --- points --- */ \
+  X(double, min_depth, "min_depth", 0.3, 0.05, 10.0, "m", "closer points are dropped") \
+  X(double, max_depth, "max_depth", 6.0, min_depth + 0.1, 50.0, "m", "farther points are dropped (disparity noise grows as z^2)") \
+  X(int, point_stride, "point_stride", 1, 1, 16, "", "take every n-th pixel of the scaled disparity in u and v") \
+  X(double, edge_filter, "edge_filter", 0.5, 0.0, 1000.0, "px", "at the matcher's scale: pixels whose 3x3 disparity range exceeds this lie on a depth discontinuity and give no point (0 disables)") \
+  /* a near-textureless wall matches at +-1-2 px and scatters points in front of it */ \
+  X(double, texture_max_depth_sigma, "texture_max_depth_sigma", 0.15, 0.0, 100.0, "m", "pixels whose depth is less precise than this (Cramer-Rao bound of the block's texture) give no point (0 disables)") \
+  X(double, image_noise_sigma, "image_noise_sigma", 2.0, 0.01, 100.0, "grey levels", "the camera's pixel noise, for that bound") \
+  /* --- elevation map / MLS (wearer-tied, not scene-tied) --- */ \
+  X(double, cell_size, "cell_size", 0.2, 0.02, 2.0, "m", "elevation cell edge") \
+  X(double, window_radius, "window_radius", 5.0, 2 * cell_size, 50.0, "m", "processed circle around the wearer (scrolls)") \
+  X(int, min_points_per_cell, "min_points_per_cell", 10, 1, 100000, "", "cells with fewer points are dropped as noise") \
+  X(double, gap_height, "gap_height", 1.9, 0.5, 5.0, "m", "G: intervals split at vertical gaps larger than this (wearer height + margin)") \
+  X(double, step_height, "step_height", 0.2, 0.01, 1.0, "m", "T: thicker intervals are vertical (obstacle); also max climbable height difference") \
+  X(double, min_step, "min_step", 0.065, 0.0, step_height, "m", "a traversable cell whose neighbour differs by more is a step/curb") \
+  X(double, head_clearance, "head_clearance", 0.3, 0.0, 3.0, "m", "above the camera: higher points cannot touch the wearer") \
+  X(double, camera_height, "camera_height", 1.6, 0.0, 3.0, "m", "camera above the wearer's feet (feet level = camera z - this): the nodelet takes it from the URDF (`footprint_frame`), this value only without one") \
+  X(double, max_surface_rise, "max_surface_rise", 0.45, 0.0, 5.0, "m", "walkable surfaces lie at most this far above the feet ...") \
+  X(double, max_surface_drop, "max_surface_drop", 0.6, 0.0, 5.0, "m", "... or this far below them (else obstacle / drop-off)") \
+  X(double, cluster_gap, "cluster_gap", 0.1, 0.0, 1.0, "m", "heights closer than this form one sub-cluster (outlier rejection)") \
+  X(int, min_cluster_points, "min_cluster_points", 3, 1, 1000, "", "sub-clusters with fewer points are noise") \
+  /* A camera sees the front face of a solid, the solid lies behind it, so a face on a cell border */ \
+  /* (depth noise splits its points) lands in the solid's cell; keep it below the thinnest obstacle. */ \
+  X(double, surface_push, "surface_push", 0.04, 0.0, 0.5, "m", "elevated points are moved this far away from the camera along the horizontal ray (0 disables)") \
+  X(bool, surface_push_normal, "surface_push_normal", true, {}, {}, "", "steep surfaces pushed along their horizontal normal (disparity gradient) instead of the viewing ray") \
+  /* above the median, so a cell holding a curb edge takes the curb's height as the ground truth */ \
+  /* does (highest walkable surface in the cell) */ \
+  X(double, ground_quantile, "ground_quantile", 0.7, 0.0, 1.0, "", "quantile of the lowest interval's heights taken as the cell's ground height") \
+  X(double, thickness_trim, "thickness_trim", 0.05, 0.0, 0.45, "", "fraction of an interval's heights trimmed at each end for its thickness") \
+  X(int, min_traversable_edges, "min_traversable_edges", 5, 0, 8, "", "compatible 8-neighbours needed to be traversable") \
+  X(int, closing_radius, "closing_radius", 1, 0, 5, "cells", "morphological closing of the obstacle mask, filling cells without a vote (0 disables)") \
+  X(int, closing_weight, "closing_weight", 1, 1, 4, "", "vote weight of a cell the closing filled; such votes never decide a cell on their own") \
+  X(int, fine_factor, "fine_factor", 4, 1, 10, "", "elevated points are also counted on a grid this many times finer (5 cm) ...") \
+  /* suppresses the depth-noise spill of a wall into the cell in front of it */ \
+  X(double, peak_fraction, "peak_fraction", 0.5, 0.0, 1.0, "", "... and a vertical cell stays an obstacle only if one of its fine bins holds at least this fraction of the densest fine bin within 2 fine bins (0 disables)") \
+  /* --- temporal filter --- */ \
+  X(int, min_observations, "min_observations", 5, 1, 1000, "", "O+S before a cell is decided") \
+  X(double, obstacle_ratio, "obstacle_ratio", 0.5, 0.0, 1.0, "", "obstacle if O/(O+S) > this") \
+  X(int, permanent_flips, "permanent_flips", 15, 1, 60000, "", "I at which a cell becomes an obstacle for good") \
+  X(int, max_count, "max_count", 40, min_observations, 60000, "", "O+S are halved above this many full-weight votes (keeps the filter responsive)") \
+  /* depth error grows as Z^2; a cell behind a wall is otherwise only ever voted on from afar (by */ \
+  /* noise) and never corrected up close */ \
+  X(double, vote_max_range, "vote_max_range", 3.5, 0.0, 50.0, "m", "cells farther than this from the wearer take no vote (0 = whole window)") \
+  X(double, full_weight_range, "full_weight_range", 2.5, 0.0, 50.0, "m", "votes of nearer cells weigh 4, farther ones 4*(r0/r)^2 (>= 1) (0: every vote weighs 1)") \
+  X(double, disparity_sigma, "disparity_sigma", 0.3, 0.0, 100.0, "px", "at full resolution: stereo disparity noise assumed for the depth error") \
+  /* 2.45 m for the 12 cm, 500 px rig; free votes reach vote_max_range */ \
+  X(double, obstacle_max_sigma, "obstacle_max_sigma", 0.03, 0.0, 100.0, "m", "obstacle votes only where sigma_Z = Z^2 * disparity_sigma / (fx * B) <= this (0 = no limit)") \
+  /* --- dropout / glass policy --- */ \
+  X(double, dropout_max_range, "dropout_max_range", 4.0, 0.0, 50.0, "m", "obstacle cells in view this close but without depth are reported") \
+  /* 0 locks the cell (a false obstacle in front of the floor could then never be cleared), 1 */ \
+  /* lets seen-through cells fade after ~4x as many frames as made them obstacles */ \
+  X(int, dropout_free_weight, "dropout_free_weight", 1, 0, 4, "", "weight of the free vote such a cell still takes (0 = locked for good)") \
+  /* --- trust in the input ("never guide on a guess", FrameGate) --- */ \
+  X(double, max_frame_gap_s, "max_frame_gap_s", 0.5, 0.05, 60.0, "s", "a longer gap between frames, or time going back, clears the map") \
+  X(int, rebuild_frames, "rebuild_frames", 5, 1, 1000, "", "fresh frames after a clear before the grid is published again") \
+  /* black, saturated, covered or textureless view */ \
+  X(int, min_fresh_points, "min_fresh_points", 500, 0, 10000000, "", "a frame with fewer 3D points yields no depth: it neither updates the map nor refreshes the grid's stamp") \
+  /* --- OctoMap of what was seen --- */ \
+  X(bool, octomap_enabled, "octomap_enabled", true, {}, {}, "", "build the OctoMap") \
+  X(double, octomap_resolution, "octomap_resolution", 0.1, 0.01, 2.0, "m", "OctoMap voxel size") \
+  X(double, octomap_max_range, "octomap_max_range", 5.0, 0.1, 50.0, "m", "ray length for insertion") \
+  X(int, octomap_point_stride, "octomap_point_stride", 8, 1, 1000, "", "insert every n-th point (ray casting cost)") \
+  X(std::string, octomap_save_path, "octomap_save_path", "/tmp/assistive_obstacles.bt", {}, {}, "", "where `save_octomap` writes")
+
+// The nodelet's own parameters (ROS plumbing; obstacles_benchmark has no use for them).
+#define ASSISTIVE_OBSTACLES_NODE_PARAMS(X) \
+  X(std::string, world_frame, "world_frame", "odom", {}, {}, "", "frame of the grid; each frame waits for its pose on tf (tf2_ros::MessageFilter)") \
+  X(std::string, camera_frame, "camera_frame", "camera_link", {}, {}, "", "the head, for `camera_height` from the URDF") \
+  X(std::string, footprint_frame, "footprint_frame", "base_footprint", {}, {}, "", "URDF frame on the floor under `camera_frame`: gives `camera_height`") \
+  X(int, queue_size, "queue_size", 5, 1, 100, "", "synchroniser and tf-filter queue") \
+  X(bool, approximate_sync, "approximate_sync", false, {}, {}, "", "ApproximateTime instead of ExactTime") \
+  X(bool, use_odom, "use_odom", true, {}, {}, "", "clear the map when `odom` marks a pose untrusted") \
+  X(int, octomap_insert_every, "octomap_insert_every", 5, 1, 1000, "frames", "OctoMap insertion period")
+// clang-format on
+
 struct ObstaclesParams
 {
-  // --- dense disparity -------------------------------------------------------------------
-  std::string disparity_method = "sgbm3way";  ///< "sgbm3way", "sgbm", "hh", "hh4" or "bm" (hh/hh4: fewer
-                                              ///< errors, but 10x slower than sgbm3way on 450x375 inputs)
-  double disparity_scale = 0.5;     ///< image scale the matcher runs at (1 = full resolution)
-  int max_disparity = 128;          ///< px at FULL resolution (min depth = fx*B/max_disparity)
-  int block_size = 5;               ///< px at the matcher's scale, odd
-  int uniqueness_ratio = 10;        ///< %
-  int speckle_window_size = 100;    ///< px^2 at the matcher's scale (0 disables)
-  int speckle_range = 2;            ///< disparity levels
-  int disp12_max_diff = 1;          ///< left-right check, px at the matcher's scale (<0 disables)
-  int sgbm_p1 = 4;                  ///< SGBM smoothness penalty P1 (disparity change of 1) per pixel of the block:
-                                    ///< P1 = sgbm_p1 * block_size^2 (OpenCV's sample uses 8; 4 keeps slanted floors
-                                    ///< and walls from being pulled onto fronto-parallel planes)
-  int sgbm_p2 = 64;                 ///< P2 (larger disparity jumps) = sgbm_p2 * block_size^2 (must exceed sgbm_p1)
-
-  // --- points ----------------------------------------------------------------------------
-  double min_depth = 0.3;           ///< m, closer points are dropped
-  double max_depth = 6.0;           ///< m, farther points are dropped (disparity noise grows as z^2)
-  int point_stride = 1;             ///< take every n-th pixel of the scaled disparity in u and v
-  double edge_filter = 0.5;         ///< px at the matcher's scale: pixels whose 3x3 disparity range exceeds this
-                                    ///< lie on a depth discontinuity ("flying pixels") and give no point (0 disables)
-  double texture_max_depth_sigma = 0.15;  ///< m: pixels whose depth is less precise than this by the Cramer-Rao bound
-                                         ///< of their block's horizontal texture give no point (0 disables): a
-                                         ///< near-textureless wall matches at +-1-2 px and scatters points in front of it
-  double image_noise_sigma = 2.0;   ///< grey levels: the camera's pixel noise, for that bound
-
-  // --- elevation map / MLS (wearer-tied, not scene-tied) ----------------------------------
-  double cell_size = 0.2;           ///< m, elevation cell edge
-  double window_radius = 5.0;       ///< m, processed circle around the wearer (scrolls)
-  int min_points_per_cell = 10;     ///< cells with fewer points are dropped as noise
-  double gap_height = 1.9;          ///< G, m: intervals split at vertical gaps larger than this (wearer height + margin)
-  double step_height = 0.2;         ///< T, m: thicker intervals are vertical (obstacle); also max climbable height difference
-  double min_step = 0.065;          ///< m: a traversable cell whose neighbour differs by more is a step/curb
-  double head_clearance = 0.3;      ///< m above the camera: higher points cannot touch the wearer
-  double camera_height = 1.6;       ///< m, camera above the wearer's feet (feet level = camera z - this)
-  double max_surface_rise = 0.45;   ///< m: walkable surfaces lie at most this far above the feet ...
-  double max_surface_drop = 0.6;    ///< m: ... or this far below them (else obstacle / drop-off)
-  double cluster_gap = 0.1;         ///< m: heights closer than this form one sub-cluster (outlier rejection)
-  int min_cluster_points = 3;       ///< sub-clusters with fewer points are noise
-  double surface_push = 0.04;       ///< m: elevated points are moved this far away from the camera along the horizontal
-                                    ///< ray: a camera sees the front face of a solid, the solid lies behind it, so a face
-                                    ///< on a cell border (depth noise splits its points) lands in the solid's cell; keep it
-                                    ///< below the thinnest obstacle (0 disables)
-  bool surface_push_normal = true;  ///< push along the surface's horizontal normal (from the disparity gradient) where
-                                    ///< the surface is steep, instead of the viewing ray
-  double ground_quantile = 0.7;     ///< quantile of the lowest interval's heights taken as the cell's ground height:
-                                    ///< above the median, so a cell holding a curb edge takes the curb's height as
-                                    ///< the ground truth does (highest walkable surface in the cell)
-  double thickness_trim = 0.05;     ///< fraction of an interval's heights trimmed at each end for its thickness
-  int min_traversable_edges = 5;    ///< compatible 8-neighbours needed to be traversable
-  int closing_radius = 1;           ///< cells, morphological closing of the obstacle mask, filling cells without a vote (0 disables)
-  int closing_weight = 1;           ///< vote weight (1..4) of a cell the closing filled; such votes never decide a cell
-                                    ///< on their own (a cell never seen itself stays unknown)
-  int fine_factor = 4;              ///< elevated points are also counted on a grid this many times finer (5 cm) ...
-  double peak_fraction = 0.5;       ///< ... and a vertical cell stays an obstacle only if one of its fine bins holds at
-                                    ///< least this fraction of the densest fine bin within 2 fine bins (suppresses the
-                                    ///< depth-noise spill of a wall into the cell in front of it; 0 disables)
-
-  // --- temporal filter ---------------------------------------------------------------------
-  int min_observations = 5;         ///< O+S before a cell is decided
-  double obstacle_ratio = 0.5;      ///< obstacle if O/(O+S) > this
-  int permanent_flips = 15;         ///< I at which a cell becomes an obstacle for good
-  int max_count = 40;               ///< O+S are halved above this many full-weight votes (keeps the filter responsive)
-  double vote_max_range = 3.5;      ///< m: cells farther than this from the wearer take no vote (0 = whole window):
-                                    ///< depth error grows as Z^2; a cell behind a wall is otherwise only ever voted
-                                    ///< on from afar (by noise) and never corrected up close
-  double full_weight_range = 2.5;   ///< m: votes of cells nearer than this weigh 4, farther ones 4*(r0/r)^2 (>= 1),
-                                    ///< as stereo depth noise grows with r^2 (0: every vote weighs 1, as in the seed)
-
-  double disparity_sigma = 0.3;     ///< px at FULL resolution: stereo disparity noise assumed for the depth error
-  double obstacle_max_sigma = 0.03; ///< m: cells take obstacle votes only within the range where the depth error
-                                    ///< sigma_Z = Z^2 * disparity_sigma / (fx * baseline) is at most this (2.45 m for
-                                    ///< the 12 cm, 500 px rig); free votes reach vote_max_range (0 disables; needs the
-                                    ///< camera model passed to ObstacleMap::update)
-
-  // --- dropout / glass policy ----------------------------------------------------------------
-  double dropout_max_range = 4.0;   ///< m: obstacle cells in view this close but without depth are reported
-  int dropout_free_weight = 1;      ///< vote weight (0..4) of the free label such a cell still gets: 0 locks the cell
-                                    ///< (a false obstacle in front of the floor could then never be cleared), 1 lets
-                                    ///< seen-through cells fade after ~4x as many frames as made them obstacles
-
-  // --- trust in the input ("never guide on a guess", FrameGate) ---------------------------
-  double max_frame_gap_s = 0.5;     ///< s: a longer gap between frames, or time going back, clears the map
-  int rebuild_frames = 5;           ///< fresh frames after a clear before the grid is published again
-  int min_fresh_points = 500;       ///< a frame with fewer 3D points yields no depth: it neither updates the map nor
-                                    ///< refreshes the grid's stamp (black, saturated, covered or textureless view)
-
-  // --- OctoMap of what was seen ------------------------------------------------------------
-  bool octomap_enabled = true;
-  double octomap_resolution = 0.1;  ///< m
-  double octomap_max_range = 5.0;   ///< m, ray length for insertion
-  int octomap_point_stride = 8;     ///< insert every n-th point (ray casting cost)
-  std::string octomap_save_path = "/tmp/assistive_obstacles.bt";
+  ASSISTIVE_PARAMS_BODY(ASSISTIVE_OBSTACLES_PARAMS)
 };
 
-/// Clamps `p` into valid ranges; returns one message per changed field (for NODELET_WARN).
+struct ObstaclesNodeParams
+{
+  ASSISTIVE_PARAMS_BODY(ASSISTIVE_OBSTACLES_NODE_PARAMS)
+};
+
+/// Clamps `p` by the table's ranges, then the rules a range cannot say (a known disparity
+/// method, an odd block size); returns one message per changed field (for NODELET_WARN).
 std::vector<std::string> clampParams(ObstaclesParams& p);
 
 }  // namespace assistive_obstacles
