@@ -14,6 +14,9 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
+#include <assistive_common/callback_guard.h>
+#include <assistive_common/ros_params.h>
+
 #include "assistive_planner/conversions.h"
 #include "assistive_planner/input_monitor.h"
 #include "assistive_planner/planner.h"
@@ -27,48 +30,11 @@ private:
   {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
-    pnh.param("world_frame", world_frame_, world_frame_);
-    pnh.param("camera_frame", camera_frame_, camera_frame_);
-    PlannerParams& p = params_;
-    pnh.param("motion_update_distance", p.motion_update_distance, p.motion_update_distance);
-    pnh.param("heading_update_angle", p.heading_update_angle, p.heading_update_angle);
-    pnh.param("triangle_length", p.triangle_length, p.triangle_length);
-    pnh.param("triangle_half_angle", p.triangle_half_angle, p.triangle_half_angle);
-    pnh.param("switch_area_ratio", p.switch_area_ratio, p.switch_area_ratio);
-    pnh.param("abandon_angle", p.abandon_angle, p.abandon_angle);
-    pnh.param("reached_distance", p.reached_distance, p.reached_distance);
-    pnh.param("step_cost", p.step_cost, p.step_cost);
-    pnh.param("clearance_weight", p.clearance_weight, p.clearance_weight);
-    pnh.param("clearance_radius", p.clearance_radius, p.clearance_radius);
-    pnh.param("unknown_traversable", p.unknown_traversable, p.unknown_traversable);
-    pnh.param("path_lookahead", p.path_lookahead, p.path_lookahead);
-    pnh.param("free_ray_max", p.free_ray_max, p.free_ray_max);
-    pnh.param("unknown_ahead_m", p.unknown_ahead_m, p.unknown_ahead_m);
-    pnh.param("grid_timeout", p.grid_timeout, p.grid_timeout);
-    pnh.param("use_odom", p.use_odom, p.use_odom);
-    pnh.param("max_input_age_s", p.max_input_age_s, p.max_input_age_s);
-    pnh.param("max_frame_gap_s", p.max_frame_gap_s, p.max_frame_gap_s);
-    clamp("motion_update_distance", p.motion_update_distance, 0.05, 10.0);
-    clamp("heading_update_angle", p.heading_update_angle, 0.0, 180.0);
-    clamp("triangle_length", p.triangle_length, 0.2, 20.0);
-    clamp("triangle_half_angle", p.triangle_half_angle, 1.0, 89.0);
-    clamp("switch_area_ratio", p.switch_area_ratio, 0.0, 100.0);
-    clamp("abandon_angle", p.abandon_angle, 0.0, 180.0);
-    clamp("reached_distance", p.reached_distance, 0.0, 5.0);
-    clamp("step_cost", p.step_cost, 0.0, 1000.0);
-    clamp("clearance_weight", p.clearance_weight, 0.0, 1000.0);
-    clamp("clearance_radius", p.clearance_radius, 0.0, 5.0);
-    clamp("path_lookahead", p.path_lookahead, 0.05, 10.0);
-    clamp("free_ray_max", p.free_ray_max, 0.1, 50.0);
-    clamp("unknown_ahead_m", p.unknown_ahead_m, 0.0, 5.0);
-    clamp("grid_timeout", p.grid_timeout, 0.05, 60.0);
-    clamp("max_input_age_s", p.max_input_age_s, 0.05, 10.0);
-    clamp("max_frame_gap_s", p.max_frame_gap_s, 0.05, 60.0);
-    NODELET_INFO_STREAM("planner: world_frame " << world_frame_ << ", camera_frame " << camera_frame_
-                        << ", triangle " << p.triangle_length << " m / +-" << p.triangle_half_angle
-                        << " deg, motion " << p.motion_update_distance << " m / " << p.heading_update_angle
-                        << " deg, step_cost " << p.step_cost << ", clearance " << p.clearance_weight << " within "
-                        << p.clearance_radius << " m, unknown_traversable " << p.unknown_traversable);
+    for (const std::string& w : assistive_common::readParams(pnh, params_)) NODELET_WARN("planner: %s", w.c_str());
+    for (const std::string& w : assistive_common::readParams(pnh, node_)) NODELET_WARN("planner: %s", w.c_str());
+    const PlannerParams& p = params_;
+    NODELET_INFO("planner: %s", assistive_common::describe(p).c_str());
+    NODELET_INFO("planner: %s", assistive_common::describe(node_).c_str());
     planner_ = std::make_unique<Planner>(p);
     monitor_ = InputMonitor(p.max_input_age_s, p.max_frame_gap_s);
 
@@ -80,7 +46,7 @@ private:
     markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 1);
     grid_sub_ = nh.subscribe("traversability", 1, &PlannerNodelet::gridCb, this);
     goal_sub_ = nh.subscribe("goal", 1, &PlannerNodelet::goalCb, this);
-    if (p.use_odom)
+    if (node_.use_odom)
       odom_sub_ = nh.subscribe("odom", 5, &PlannerNodelet::odomCb, this);
 
     diag_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh);
@@ -89,35 +55,26 @@ private:
     timer_ = nh.createTimer(ros::Duration(0.5), &PlannerNodelet::timerCb, this);
   }
 
-  void clamp(const char* name, double& v, double lo, double hi)
-  {
-    if (!(v >= lo && v <= hi))
-    {
-      const double c = std::isfinite(v) ? std::min(std::max(v, lo), hi) : lo;
-      NODELET_WARN("planner: parameter %s = %g outside [%g, %g], using %g", name, v, lo, hi, c);
-      v = c;
-    }
-  }
-
   bool wearerPose(const ros::Time& stamp, Point2& pos, double& yaw)
   {
     geometry_msgs::TransformStamped t;
     try
     {
-      t = tf_buffer_->lookupTransform(world_frame_, camera_frame_, stamp, ros::Duration(0.05));
+      // No timeout: a callback never waits for tf (the grid's pose came before the grid).
+      t = tf_buffer_->lookupTransform(node_.world_frame, node_.camera_frame, stamp);
     }
     catch (const tf2::TransformException&)
     {
       try
       {
-        t = tf_buffer_->lookupTransform(world_frame_, camera_frame_, ros::Time(0));
+        t = tf_buffer_->lookupTransform(node_.world_frame, node_.camera_frame, ros::Time(0));
         if (std::abs((t.header.stamp - stamp).toSec()) > 0.5)
           throw tf2::TransformException("latest pose too old");
       }
       catch (const tf2::TransformException& e)
       {
-        NODELET_WARN_THROTTLE(5.0, "planner: no wearer pose %s -> %s: %s", world_frame_.c_str(),
-                              camera_frame_.c_str(), e.what());
+        NODELET_WARN_THROTTLE(5.0, "planner: no wearer pose %s -> %s: %s", node_.world_frame.c_str(),
+                              node_.camera_frame.c_str(), e.what());
         return false;
       }
     }
@@ -134,6 +91,11 @@ private:
   /// The VO's verdict on its own pose comes with every frame: an untrusted pose or a map that no
   /// longer follows the camera stops the guidance at once, without waiting for a grid.
   void odomCb(const nav_msgs::Odometry::ConstPtr& msg)
+  {
+    assistive_common::guarded(getName(), "pose", [&] { odom(msg); });
+  }
+
+  void odom(const nav_msgs::Odometry::ConstPtr& msg)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     const bool trusted = poseTrusted(*msg);
@@ -154,7 +116,7 @@ private:
     if (!v.ok())
     {
       std_msgs::Header h;
-      h.frame_id = world_frame_;
+      h.frame_id = node_.world_frame;
       h.stamp = msg->header.stamp;
       NODELET_WARN_THROTTLE(2.0, "planner: %s", v.reason.c_str());
       publish(status(v.status, v.reason), h, msg->header.stamp);
@@ -174,11 +136,16 @@ private:
 
   void gridCb(const nav_msgs::OccupancyGrid::ConstPtr& msg)
   {
+    assistive_common::guarded(getName(), "grid", [&] { grid(msg); });
+  }
+
+  void grid(const nav_msgs::OccupancyGrid::ConstPtr& msg)
+  {
     std::lock_guard<std::mutex> lock(mutex_);
     last_grid_time_ = ros::WallTime::now();
     have_grid_ = true;
     std_msgs::Header header;
-    header.frame_id = world_frame_;
+    header.frame_id = node_.world_frame;
     header.stamp = msg->header.stamp;
     if (!monitor_.onGrid(msg->header.stamp.toSec()))
     {
@@ -186,17 +153,17 @@ private:
                             msg->header.stamp.toSec());
       return;
     }
-    const InputVerdict v = monitor_.check(params_.use_odom);
+    const InputVerdict v = monitor_.check(node_.use_odom);
     if (!v.ok())
     {
       publish(status(v.status, v.reason), header, msg->header.stamp);
       return;
     }
     Grid grid;
-    if (!msg->header.frame_id.empty() && msg->header.frame_id != world_frame_)
+    if (!msg->header.frame_id.empty() && msg->header.frame_id != node_.world_frame)
     {
       NODELET_ERROR_THROTTLE(5.0, "planner: grid frame '%s' is not the world frame '%s'",
-                             msg->header.frame_id.c_str(), world_frame_.c_str());
+                             msg->header.frame_id.c_str(), node_.world_frame.c_str());
       publish(status(PlanStatus::NO_MAP, "grid frame differs from world_frame"), header, msg->header.stamp);
       return;
     }
@@ -221,6 +188,11 @@ private:
 
   void goalCb(const geometry_msgs::PoseStamped::ConstPtr& msg)
   {
+    assistive_common::guarded(getName(), "goal", [&] { goal(msg); });
+  }
+
+  void goal(const geometry_msgs::PoseStamped::ConstPtr& msg)
+  {
     std::lock_guard<std::mutex> lock(mutex_);
     if (msg->header.frame_id.empty())
     {
@@ -231,12 +203,12 @@ private:
     try
     {
       geometry_msgs::PoseStamped g;
-      tf_buffer_->transform(*msg, g, world_frame_, ros::Duration(0.1));
+      tf_buffer_->transform(*msg, g, node_.world_frame);  // no timeout: no wait in a callback
       if (!std::isfinite(g.pose.position.x) || !std::isfinite(g.pose.position.y))
         throw tf2::TransformException("non-finite goal");
       planner_->setGoal({ g.pose.position.x, g.pose.position.y });
       NODELET_INFO("planner: explicit goal (%.2f, %.2f) in %s", g.pose.position.x, g.pose.position.y,
-                   world_frame_.c_str());
+                   node_.world_frame.c_str());
     }
     catch (const tf2::TransformException& e)
     {
@@ -244,15 +216,20 @@ private:
     }
   }
 
-  void timerCb(const ros::TimerEvent&)
+  void timerCb(const ros::TimerEvent& e)
+  {
+    assistive_common::guarded(getName(), "timer", [&] { timer(e); });
+  }
+
+  void timer(const ros::TimerEvent&)
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    const bool stale = !have_grid_ || (ros::WallTime::now() - last_grid_time_).toSec() > params_.grid_timeout;
+    const bool stale = !have_grid_ || (ros::WallTime::now() - last_grid_time_).toSec() > node_.grid_timeout;
     if (stale)
     {
-      NODELET_WARN_THROTTLE(10.0, "planner: no traversability grid for %.1f s", params_.grid_timeout);
+      NODELET_WARN_THROTTLE(10.0, "planner: no traversability grid for %.1f s", node_.grid_timeout);
       std_msgs::Header h;
-      h.frame_id = world_frame_;
+      h.frame_id = node_.world_frame;
       h.stamp = ros::Time::now();
       publish(status(PlanStatus::NO_MAP, have_grid_ ? "traversability grid is stale" : "no traversability grid yet"),
               h, ros::Time(0));
@@ -305,9 +282,8 @@ private:
     st.add("resets_after_gap", monitor_.resets());
   }
 
-  std::string world_frame_ = "odom";
-  std::string camera_frame_ = "camera_link";
   PlannerParams params_;
+  PlannerNodeParams node_;
   std::unique_ptr<Planner> planner_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;

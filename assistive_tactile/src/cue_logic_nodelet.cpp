@@ -10,6 +10,9 @@
 #include <algorithm>
 #include <mutex>
 
+#include <assistive_common/callback_guard.h>
+#include <assistive_common/ros_params.h>
+
 #include "assistive_tactile/conversions.h"
 #include "assistive_tactile/cue_logic.h"
 
@@ -29,41 +32,8 @@ private:
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     CueParams p;
-    pnh.param("guidance_min_waypoint_m", p.guidance_min_waypoint_m, p.guidance_min_waypoint_m);
-    pnh.param("turn_on_deg", p.turn_on_deg, p.turn_on_deg);
-    pnh.param("turn_off_deg", p.turn_off_deg, p.turn_off_deg);
-    pnh.param("turn_full_deg", p.turn_full_deg, p.turn_full_deg);
-    pnh.param("min_intensity", p.min_intensity, p.min_intensity);
-    pnh.param("proximity_m", p.proximity_m, p.proximity_m);
-    pnh.param("alert_m", p.alert_m, p.alert_m);
-    pnh.param("hysteresis_m", p.hysteresis_m, p.hysteresis_m);
-    pnh.param("side_free_m", p.side_free_m, p.side_free_m);
-    pnh.param("side_switch_m", p.side_switch_m, p.side_switch_m);
-    pnh.param("state_timeout_s", p.state_timeout_s, p.state_timeout_s);
-    pnh.param("max_input_age_s", p.max_input_age_s, p.max_input_age_s);
-    pnh.param("heartbeat_hz", p.heartbeat_hz, p.heartbeat_hz);
-    pnh.param("body_frame", p.body_frame, p.body_frame);
-    auto warn = [this](bool clamped, const char* name, double v) {
-      if (clamped)
-        NODELET_WARN("cue_logic: %s out of range, clamped to %g", name, v);
-    };
-    warn(clampParam(p.turn_on_deg, 1.0, 170.0), "turn_on_deg", p.turn_on_deg);
-    warn(clampParam(p.turn_off_deg, 0.0, p.turn_on_deg), "turn_off_deg (<= turn_on_deg)", p.turn_off_deg);
-    warn(clampParam(p.turn_full_deg, p.turn_on_deg, 180.0), "turn_full_deg (>= turn_on_deg)", p.turn_full_deg);
-    warn(clampParam(p.min_intensity, 0.0, 1.0), "min_intensity", p.min_intensity);
-    warn(clampParam(p.alert_m, 0.0, 10.0), "alert_m", p.alert_m);
-    warn(clampParam(p.proximity_m, p.alert_m, 10.0), "proximity_m (>= alert_m)", p.proximity_m);
-    warn(clampParam(p.guidance_min_waypoint_m, 0.0, 20.0), "guidance_min_waypoint_m", p.guidance_min_waypoint_m);
-    warn(clampParam(p.hysteresis_m, 0.0, 1.0), "hysteresis_m", p.hysteresis_m);
-    warn(clampParam(p.side_free_m, 0.0, 10.0), "side_free_m", p.side_free_m);
-    warn(clampParam(p.side_switch_m, 0.0, 10.0), "side_switch_m", p.side_switch_m);
-    warn(clampParam(p.state_timeout_s, 0.05, 10.0), "state_timeout_s", p.state_timeout_s);
-    warn(clampParam(p.max_input_age_s, 0.05, 10.0), "max_input_age_s", p.max_input_age_s);
-    warn(clampParam(p.heartbeat_hz, 1.0, 100.0), "heartbeat_hz", p.heartbeat_hz);
-    NODELET_INFO("cue_logic: turn on/off/full %.0f/%.0f/%.0f deg, proximity %.2f m, alert %.2f m, "
-                 "hysteresis %.2f m, side free %.2f m, state timeout %.2f s, max input age %.2f s, heartbeat %.1f Hz",
-                 p.turn_on_deg, p.turn_off_deg, p.turn_full_deg, p.proximity_m, p.alert_m, p.hysteresis_m,
-                 p.side_free_m, p.state_timeout_s, p.max_input_age_s, p.heartbeat_hz);
+    for (const std::string& w : assistive_common::readParams(pnh, p)) NODELET_WARN("cue_logic: %s", w.c_str());
+    NODELET_INFO("cue_logic: %s", assistive_common::describe(p).c_str());
     logic_ = CueLogic(p);
 
     cue_pub_ = nh.advertise<assistive_msgs::TactileCue>("tactile/cue", 1);
@@ -79,6 +49,11 @@ private:
 
   void stateCb(const assistive_msgs::NavigationState::ConstPtr& msg)
   {
+    assistive_common::guarded(getName(), "planner state", [&] { handleState(msg); });
+  }
+
+  void handleState(const assistive_msgs::NavigationState::ConstPtr& msg)
+  {
     std::lock_guard<std::mutex> lock(mutex_);
     const ros::Time now = ros::Time::now();
     const Cue cue = logic_.update(fromMsg(*msg), now.toSec());
@@ -88,7 +63,12 @@ private:
     ++states_;
   }
 
-  void timerCb(const ros::TimerEvent&)
+  void timerCb(const ros::TimerEvent& e)
+  {
+    assistive_common::guarded(getName(), "timer", [&] { handleTimer(e); });
+  }
+
+  void handleTimer(const ros::TimerEvent&)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     const ros::Time now = ros::Time::now();

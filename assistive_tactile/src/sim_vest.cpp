@@ -1,4 +1,5 @@
 #include "assistive_tactile/sim_vest.h"
+#include "assistive_tactile/vest_bridge.h"  // describeDuty
 
 #include <errno.h>
 #include <fcntl.h>
@@ -83,13 +84,6 @@ std::array<double, VEST_NUM_MOTORS> SimVest::onSeconds(uint32_t now_ms) const
   return out;
 }
 
-std::string SimVest::describe(const uint8_t* d)
-{
-  char buf[96];
-  std::snprintf(buf, sizeof(buf), "L-sh %3u  R-sh %3u  L-w %3u  R-w %3u", d[0], d[1], d[2], d[3]);
-  return buf;
-}
-
 void SimVest::reportIfChanged(uint32_t now_ms, const char* why)
 {
   bool changed = false;
@@ -109,7 +103,7 @@ void SimVest::reportIfChanged(uint32_t now_ms, const char* why)
     reported_[i] = fw_.duty[i];
   }
   if (on_change)
-    on_change(now_ms, describe(fw_.duty) + "  (" + why + ")");
+    on_change(now_ms, describeDuty(fw_.duty) + "  (" + why + ")");
 }
 
 bool SimVest::inject(const uint8_t* data, size_t len)

@@ -10,6 +10,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 namespace assistive_tactile
@@ -22,6 +23,13 @@ constexpr double kWakeMarginS = 0.010;
 
 std::atomic<bool> g_signalled{ false };
 }  // namespace
+
+std::string describeDuty(const uint8_t* d)
+{
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), "L-sh %3u  R-sh %3u  L-w %3u  R-w %3u", d[0], d[1], d[2], d[3]);
+  return buf;
+}
 
 const char* cueCheckName(CueCheck c)
 {

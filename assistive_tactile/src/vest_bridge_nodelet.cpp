@@ -11,8 +11,10 @@
 #include <limits>
 #include <mutex>
 
+#include <assistive_common/callback_guard.h>
+#include <assistive_common/ros_params.h>
+
 #include "assistive_tactile/conversions.h"
-#include "assistive_tactile/sim_vest.h"
 #include "assistive_tactile/vest_bridge.h"
 
 namespace assistive_tactile
@@ -36,32 +38,10 @@ private:
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     BridgeParams p;
-    pnh.param("port", p.port, p.port);
-    pnh.param("baud", p.baud, p.baud);
-    pnh.param("resend_hz", p.resend_hz, p.resend_hz);
-    pnh.param("stale_s", p.stale_s, p.stale_s);
-    pnh.param("max_source_age_s", p.max_source_age_s, p.max_source_age_s);
-    pnh.param("reopen_s", p.reopen_s, p.reopen_s);
-    pnh.param("link_timeout_s", p.link_timeout_s, p.link_timeout_s);
-    pnh.param("realtime_priority", p.realtime_priority, p.realtime_priority);
-    unsigned int speed = 0;
-    if (!baudToSpeed(p.baud, &speed))
-    {
-      NODELET_WARN("vest_bridge: unsupported baud %d, using 57600", p.baud);
-      p.baud = 57600;
-    }
-    if (clampParam(p.resend_hz, 1.0, 200.0))
-      NODELET_WARN("vest_bridge: resend_hz clamped to %g", p.resend_hz);
-    if (clampParam(p.stale_s, 0.05, 5.0))
-      NODELET_WARN("vest_bridge: stale_s clamped to %g", p.stale_s);
-    if (clampParam(p.max_source_age_s, 0.05, 5.0))
-      NODELET_WARN("vest_bridge: max_source_age_s clamped to %g", p.max_source_age_s);
-    if (clampParam(p.reopen_s, 0.05, 60.0))
-      NODELET_WARN("vest_bridge: reopen_s clamped to %g", p.reopen_s);
-    if (clampParam(p.link_timeout_s, 0.1, 60.0))
-      NODELET_WARN("vest_bridge: link_timeout_s clamped to %g", p.link_timeout_s);
-    if (clampParam(p.realtime_priority, 0, 99))
-      NODELET_WARN("vest_bridge: realtime_priority clamped to %d", p.realtime_priority);
+    std::vector<std::string> clamped = assistive_common::readParams(pnh, p);
+    for (const std::string& w : clampParams(p))
+      clamped.push_back(w);  // the rules a range cannot say
+    for (const std::string& w : clamped) NODELET_WARN("vest_bridge: %s", w.c_str());
     NODELET_INFO("vest_bridge: port %s @ %d baud, protocol v%u, resend %.1f Hz, stale %.3f s, max source age "
                  "%.3f s, reopen %.2f s",
                  p.port.c_str(), p.baud, VEST_PROTOCOL_VERSION, p.resend_hz, p.stale_s, p.max_source_age_s,
@@ -88,6 +68,11 @@ private:
   }
 
   void cueCb(const assistive_msgs::TactileCue::ConstPtr& msg)
+  {
+    assistive_common::guarded(getName(), "cue", [&] { handleCue(msg); });
+  }
+
+  void handleCue(const assistive_msgs::TactileCue::ConstPtr& msg)
   {
     // Ages in ROS time (simulated in bag replay), like the stamps; an unstamped cue cannot be
     // judged (infinitely old), a zero source_stamp is unknown.
@@ -163,8 +148,8 @@ private:
     stat.add("garbage bytes", s.garbage_bytes);
     stat.add("rejected packets", s.rejected_packets);
     stat.add("version mismatches", s.version_mismatches);
-    stat.add("commanded", SimVest::describe(snap_sent_.data()));
-    stat.add("vest reports", s.status_packets ? SimVest::describe(s.last_status.intensity) : std::string("-"));
+    stat.add("commanded", describeDuty(snap_sent_.data()));
+    stat.add("vest reports", s.status_packets ? describeDuty(s.last_status.intensity) : std::string("-"));
   }
 
   BridgeParams params_;

@@ -11,7 +11,9 @@
 #include <map>
 
 #include "assistive_tactile/sim_vest.h"
+#include "assistive_tactile/vest_bridge.h"
 
+using assistive_tactile::describeDuty;
 using assistive_tactile::SimVest;
 using Duty = std::array<uint8_t, 4>;
 
@@ -101,7 +103,7 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
   {
     h.cue = s.first;
     const Duty want = s.second;
-    ASSERT_TRUE(h.runUntil([&] { return h.vest.duty() == want; }, 10.0)) << SimVest::describe(want.data());
+    ASSERT_TRUE(h.runUntil([&] { return h.vest.duty() == want; }, 10.0)) << describeDuty(want.data());
   }
 
   // Cues stop: the bridge itself sends all-off (the vest's own watchdog does not have to).

@@ -333,7 +333,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     if (last_trusted_)
       NODELET_ERROR("stereo_odometry: pose not trusted: %s", why.c_str());
     last_trusted_ = false;
-    odom_pub_.publish(boost::make_shared<nav_msgs::Odometry>(toOdometryMsg(u, stamp, odom_frame_, base_frame_)));
+    odom_pub_.publish(boost::make_shared<nav_msgs::Odometry>(toOdometryMsg(u, stamp, node_.odom_frame, node_.base_frame)));
   }
 
   void diagStatus(diagnostic_updater::DiagnosticStatusWrapper& s)

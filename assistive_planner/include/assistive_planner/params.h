@@ -1,37 +1,56 @@
 #pragma once
+// All planner parameters: ONE table (assistive_common/param_table.h). Each row is the field, its
+// ROS parameter name, default, range, unit and text; the nodelet reads every row, clamps by the
+// ranges and README.md lists them (test_params).
+#include <string>
+
+#include <assistive_common/param_table.h>
 
 namespace assistive_planner
 {
-/// All planner parameters. The initializers are the only defaults (README table matches).
+// clang-format off
+// X(type, field, ROS name, default, lo, hi, unit, text)
+#define ASSISTIVE_PLANNER_PARAMS(X) \
+  /* Motion vector (seed 4.3.1) */ \
+  X(double, motion_update_distance, "motion_update_distance", 1.0, 0.05, 10.0, "m", "the previous position moves only after this travel") \
+  X(double, heading_update_angle, "heading_update_angle", 15.0, 0.0, 180.0, "deg", "the heading follows the head only beyond this yaw change") \
+  /* Waypoint search triangle */ \
+  X(double, triangle_length, "triangle_length", 4.0, 0.2, 20.0, "m", "search triangle: apex (wearer) to base") \
+  X(double, triangle_half_angle, "triangle_half_angle", 30.0, 1.0, 89.0, "deg", "half the apex angle") \
+  X(double, switch_area_ratio, "switch_area_ratio", 1.0, 0.0, 100.0, "", "a new waypoint replaces the current one only if its free area > ratio x current") \
+  X(double, abandon_angle, "abandon_angle", 90.0, 0.0, 180.0, "deg", "a waypoint this far off the motion vector is given up (turn-around)") \
+  X(double, reached_distance, "reached_distance", 0.5, 0.0, 5.0, "m", "a waypoint this close is reached and replaced") \
+  /* Costs */ \
+  X(double, step_cost, "step_cost", 2.0, 0.0, 1000.0, "per cell length", "extra cost on step/curb cells (free = 1)") \
+  X(double, clearance_weight, "clearance_weight", 2.0, 0.0, 1000.0, "per cell length", "extra cost at an obstacle's side, decaying to 0 at `clearance_radius`") \
+  X(double, clearance_radius, "clearance_radius", 0.6, 0.0, 5.0, "m", "reach of the clearance cost") \
+  X(bool, unknown_traversable, "unknown_traversable", true, {}, {}, "", "unknown cells: a last resort at a cost above any known path (false: blocked)") \
+  /* Outputs */ \
+  X(double, path_lookahead, "path_lookahead", 1.0, 0.05, 10.0, "m", "along the path for `path_heading`") \
+  X(double, free_ray_max, "free_ray_max", 5.0, 0.1, 50.0, "m", "longest free-distance ray") \
+  /* after a map reset (a fault, a gap) the floor just ahead lies below the camera's view until the */ \
+  /* wearer has walked on: unseen floor must not read as an obstacle to the cue logic */ \
+  X(double, unknown_ahead_m, "unknown_ahead_m", 1.0, 0.0, 5.0, "m", "when the ray ahead ends in unmapped floor (not at an obstacle) closer than this, the status is `IN_UNKNOWN` (vest quiet) instead of a proximity or stop cue decided on floor nobody has seen (0 switches it off)") \
+  /* Trust in the inputs (InputMonitor) */ \
+  X(double, max_input_age_s, "max_input_age_s", 0.5, 0.05, 10.0, "s", "grid or pose lagging the newest camera frame by more -> `NO_MAP` / `NO_POSE`") \
+  X(double, max_frame_gap_s, "max_frame_gap_s", 0.5, 0.05, 60.0, "s", "a longer pause between poses, or time going back, resets the planner")
+
+// The nodelet's own parameters.
+#define ASSISTIVE_PLANNER_NODE_PARAMS(X) \
+  X(std::string, world_frame, "world_frame", "odom", {}, {}, "", "frame the planner runs in; the grid must be in it") \
+  X(std::string, camera_frame, "camera_frame", "camera_link", {}, {}, "", "the wearer's head") \
+  X(double, grid_timeout, "grid_timeout", 2.0, 0.05, 60.0, "s", "wall time without any grid -> `NO_MAP` (the last line of defence)") \
+  X(bool, use_odom, "use_odom", true, {}, {}, "", "judge the VO's trust and the grid's freshness against `vo/odom`; false trusts tf alone (tests that publish tf without a VO)")
+// clang-format on
+
+/// All planner parameters. The table's initializers are the only defaults (README table matches).
 struct PlannerParams
 {
-  // Motion vector (seed 4.3.1)
-  double motion_update_distance = 1.0;   ///< m, the previous position moves only after this travel
-  double heading_update_angle = 15.0;    ///< deg, the heading follows the head only beyond this yaw change
+  ASSISTIVE_PARAMS_BODY(ASSISTIVE_PLANNER_PARAMS)
+};
 
-  // Waypoint search triangle
-  double triangle_length = 4.0;          ///< m, apex (wearer) to base
-  double triangle_half_angle = 30.0;     ///< deg, half the apex angle
-  double switch_area_ratio = 1.0;        ///< a new waypoint replaces the current one only if its free area > ratio * current
-  double abandon_angle = 90.0;           ///< deg, a waypoint this far off the motion vector is given up (turn-around)
-  double reached_distance = 0.5;         ///< m, a waypoint this close is reached and replaced
-
-  // Costs
-  double step_cost = 2.0;                ///< extra cost per unit length on step/curb cells (free = 1)
-  double clearance_weight = 2.0;         ///< extra cost at an obstacle's side, decaying to 0 at clearance_radius
-  double clearance_radius = 0.6;         ///< m
-  bool unknown_traversable = true;       ///< unknown cells: a last resort at a cost above any known path (false: blocked)
-
-  // Outputs
-  double path_lookahead = 1.0;           ///< m along the path for path_heading
-  double free_ray_max = 5.0;             ///< m, longest free-distance ray
-  double unknown_ahead_m = 1.0;          ///< m: unmapped floor (not an obstacle) closer ahead -> IN_UNKNOWN (vest quiet)
-
-  // Node
-  double grid_timeout = 2.0;             ///< s of wall time without any grid -> NO_MAP (the last line of defence)
-  bool use_odom = true;                  ///< judge the VO's trust (vo/odom covariance) and freshness, not only tf's age
-  double max_input_age_s = 0.5;          ///< s: grid or pose lagging the newest camera frame by more -> NO_MAP / NO_POSE
-  double max_frame_gap_s = 0.5;          ///< s: a longer pause between poses, or time going back, resets the planner
-  double camera_height = 1.6;            ///< m, informational: the pose is projected onto the ground (z = 0)
+struct PlannerNodeParams
+{
+  ASSISTIVE_PARAMS_BODY(ASSISTIVE_PLANNER_NODE_PARAMS)
 };
 }  // namespace assistive_planner

@@ -1,59 +1,65 @@
 #pragma once
-
+// Cue logic and vest bridge parameters: ONE table each (assistive_common/param_table.h). Each
+// row is the field, its ROS parameter name, default, range, unit and text; the nodelets read
+// every row, clamp by the ranges and README.md lists them (test_params).
 #include <string>
+#include <vector>
+
+#include <assistive_common/param_table.h>
 
 namespace assistive_tactile
 {
-/// Cue logic parameters. These initializers are the only defaults (README and config match).
+// clang-format off
+// X(type, field, ROS name, default, lo, hi, unit, text)
+#define ASSISTIVE_CUE_PARAMS(X) \
+  /* Guidance (shoulder motors) */ \
+  X(double, guidance_min_waypoint_m, "guidance_min_waypoint_m", 1.0, 0.0, 20.0, "m", "guidance only when the waypoint is at least this far") \
+  X(double, turn_on_deg, "turn_on_deg", 20.0, 1.0, 170.0, "deg", "start a turn cue when the path deviates from the motion by more") \
+  X(double, turn_off_deg, "turn_off_deg", 8.0, 0.0, turn_on_deg, "deg", "keep it until the deviation falls below this") \
+  X(double, turn_full_deg, "turn_full_deg", 90.0, turn_on_deg, 180.0, "deg", "deviation at which intensity reaches 1") \
+  X(double, min_intensity, "min_intensity", 0.25, 0.0, 1.0, "", "weakest drive that is still felt") \
+  /* Proximity (waist motors) and alert (all four) */ \
+  X(double, alert_m, "alert_m", 0.5, 0.0, 10.0, "m", "free distance ahead under which all four motors fire") \
+  X(double, proximity_m, "proximity_m", 1.0, alert_m, 10.0, "m", "free distance ahead under which proximity mode starts") \
+  X(double, hysteresis_m, "hysteresis_m", 0.1, 0.0, 1.0, "m", "a mode entered at d is left only above d + hysteresis_m") \
+  X(double, side_free_m, "side_free_m", 0.6, 0.0, 10.0, "m", "free distance to a side that counts as room to side-step") \
+  X(double, side_switch_m, "side_switch_m", 0.2, 0.0, 10.0, "m", "the other side must be this much freer to switch waist motor") \
+  /* Freshness of the planner state */ \
+  X(double, state_timeout_s, "state_timeout_s", 0.5, 0.05, 10.0, "s", "no planner state for this long -> UNSURE, motors off") \
+  /* 0.4 s keeps UNSURE within 0.5 s of a fault that only staleness reveals (a desynchronised pair */ \
+  /* never reaches the VO): the last good image is up to a frame older than the fault, and the check */ \
+  /* runs every 20 ms (0.5 gave 0.44-0.45 s in the fault suite). Clean cues: 0.014 s old (median). */ \
+  X(double, max_input_age_s, "max_input_age_s", 0.4, 0.05, 10.0, "s", "a state whose `source_stamp` (camera image) is older than this at the current ROS time, or zero -> UNSURE; the heartbeat stops repeating the last cue then") \
+  X(double, heartbeat_hz, "heartbeat_hz", 10.0, 1.0, 100.0, "Hz", "cue re-published at least this often (bridge stale guard)") \
+  X(std::string, body_frame, "body_frame", "torso", {}, {}, "", "frame of the cue and of the markers' text")
+
+#define ASSISTIVE_BRIDGE_PARAMS(X) \
+  X(std::string, port, "port", "/dev/ttyUSB0", {}, {}, "", "serial device or the simulated vest's link") \
+  X(int, baud, "baud", 57600, 9600, 921600, "bit/s", "a standard rate (another: 57600)") \
+  X(double, resend_hz, "resend_hz", 20.0, 1.0, 200.0, "Hz", "COMMAND re-sent at this rate") \
+  X(double, stale_s, "stale_s", 0.3, 0.05, 5.0, "s", "a cue drives the motors until `header.stamp + stale_s`, then all off; an older cue is ignored") \
+  X(double, max_source_age_s, "max_source_age_s", 0.5, 0.05, 5.0, "s", "a motor-driving cue drives only until `source_stamp + max_source_age_s`; an older one is ignored") \
+  X(double, reopen_s, "reopen_s", 1.0, 0.05, 60.0, "s", "retry period while the port is closed") \
+  X(double, link_timeout_s, "link_timeout_s", 1.0, 0.1, 60.0, "s", "no STATUS from the vest for this long -> link WARN") \
+  /* without the right (CAP_SYS_NICE or an rtprio limit for the user, e.g. `@audio - rtprio 20` in */ \
+  /* limits.conf) the bridge warns and runs the thread normally */ \
+  X(int, realtime_priority, "realtime_priority", 10, 0, 99, "", "SCHED_FIFO priority of the housekeeping thread that sends the all-off at a cue's expiry (0 = normal scheduling)")
+// clang-format on
+
+/// Cue logic parameters. The table's initializers are the only defaults.
 struct CueParams
 {
-  // Guidance (shoulder motors)
-  double guidance_min_waypoint_m = 1.0;  ///< guidance only when the waypoint is at least this far
-  double turn_on_deg = 20.0;             ///< start a turn cue when |path - motion| exceeds this
-  double turn_off_deg = 8.0;             ///< keep it until the deviation falls below this
-  double turn_full_deg = 90.0;           ///< deviation at which intensity reaches 1
-  double min_intensity = 0.25;           ///< weakest drive that is still felt (0..1)
-  // Proximity (waist motors) and alert (all four)
-  double proximity_m = 1.0;    ///< free distance ahead under which proximity mode starts
-  double alert_m = 0.5;        ///< free distance ahead under which all four motors fire
-  double hysteresis_m = 0.1;   ///< a mode entered at d is left only above d + hysteresis_m
-  double side_free_m = 0.6;    ///< free distance to a side that counts as room to side-step
-  double side_switch_m = 0.2;  ///< the other side must be this much freer to switch waist motor
-  // Freshness of the planner state
-  double state_timeout_s = 0.5;  ///< older planner state -> UNSURE, motors off
-  double max_input_age_s = 0.4;  ///< state whose camera image (source_stamp) is older -> UNSURE (0.1 s inside the 0.5 s goal)
-  double heartbeat_hz = 10.0;    ///< cue re-published at least this often (bridge stale guard)
-  std::string body_frame = "torso";
+  ASSISTIVE_PARAMS_BODY(ASSISTIVE_CUE_PARAMS)
 };
 
 /// Vest bridge parameters.
 struct BridgeParams
 {
-  std::string port = "/dev/ttyUSB0";  ///< serial device (or the simulated vest's pty link)
-  int baud = 57600;                   ///< 9600 .. 921600
-  double resend_hz = 20.0;            ///< COMMAND re-sent at this rate
-  double stale_s = 0.3;               ///< a cue drives until header.stamp + stale_s, then all off
-  double max_source_age_s = 0.5;      ///< a cue drives until source_stamp + this (camera image age)
-  double reopen_s = 1.0;              ///< retry period while the port is closed
-  double link_timeout_s = 1.0;        ///< no STATUS from the vest for this long -> link WARN
-  int realtime_priority = 10;         ///< SCHED_FIFO priority of the housekeeping thread, 0 = normal
+  ASSISTIVE_PARAMS_BODY(ASSISTIVE_BRIDGE_PARAMS)
 };
 
-/// Clamps a value into [lo, hi]; returns true when it had to.
-template <typename T>
-inline bool clampParam(T& v, T lo, T hi)
-{
-  if (!(v >= lo))  // also catches NaN
-  {
-    v = lo;
-    return true;
-  }
-  if (v > hi)
-  {
-    v = hi;
-    return true;
-  }
-  return false;
-}
+/// Clamps by the table, then a baud rate the serial port cannot set -> 57600. One message per
+/// change (the nodelet logs them).
+std::vector<std::string> clampParams(BridgeParams& p);
 
 }  // namespace assistive_tactile

@@ -50,9 +50,6 @@ public:
   std::function<void(uint32_t now_ms, const std::string& line)> on_change;
   bool reply_status = true;
 
-  /// "L-sh 200  R-sh   0  L-w   0  R-w   0"
-  static std::string describe(const uint8_t* duty);
-
 private:
   void reportIfChanged(uint32_t now_ms, const char* why);
 

@@ -62,6 +62,9 @@ enum class CueCheck : uint8_t
 };
 const char* cueCheckName(CueCheck c);
 
+/// "L-sh 200  R-sh   0  L-w   0  R-w   0": motor duties as the diagnostics and the simulated vest write them.
+std::string describeDuty(const uint8_t* duty);
+
 /**
  * The vest bridge's core (no ROS): owns the serial port (opened exclusively), turns cue
  * intensities into COMMAND packets (vest_protocol.h), sends each new cue at once and re-sends

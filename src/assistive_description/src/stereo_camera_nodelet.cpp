@@ -1,5 +1,7 @@
 // Glue: params, camera_info_manager, the capture thread calling StereoCamera::grab(),
 // publishing and diagnostics. No pixel work here.
+#include <assistive_common/callback_guard.h>
+#include <assistive_common/ros_params.h>
 #include <assistive_description/conversions.h>
 #include <assistive_description/stereo_camera.h>
 
@@ -35,22 +37,10 @@ private:
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     StereoCameraParams& p = params_;
-    pnh.param("device", p.device, p.device);
-    pnh.param("width", p.width, p.width);
-    pnh.param("height", p.height, p.height);
-    pnh.param("fps", p.fps, p.fps);
-    pnh.param("fourcc", p.fourcc, p.fourcc);
-    pnh.param("swap_halves", p.swap_halves, p.swap_halves);
-    pnh.param("time_offset", p.time_offset, p.time_offset);
-    pnh.param("retry_period", p.retry_period, p.retry_period);
-    pnh.param("left_frame_id", p.left_frame_id, p.left_frame_id);
-    pnh.param("right_frame_id", p.right_frame_id, p.right_frame_id);
-    pnh.param("left_camera_name", p.left_camera_name, p.left_camera_name);
-    pnh.param("right_camera_name", p.right_camera_name, p.right_camera_name);
-    pnh.param("left_camera_info_url", p.left_camera_info_url, p.left_camera_info_url);
-    pnh.param("right_camera_info_url", p.right_camera_info_url, p.right_camera_info_url);
-    pnh.param("synthetic_disparity", p.synthetic_disparity, p.synthetic_disparity);
-    for (const std::string& msg : p.clamp()) NODELET_WARN("%s", msg.c_str());
+    std::vector<std::string> clamped = assistive_common::readParams(pnh, p);
+    for (const std::string& msg : p.clamp())
+      clamped.push_back(msg);  // the rules a range cannot say
+    for (const std::string& msg : clamped) NODELET_WARN("%s", msg.c_str());
     NODELET_INFO("stereo_camera: device %s %dx%d @ %.1f Hz %s, swap_halves %d, time_offset %.4f s, "
                  "retry_period %.1f s, frames %s / %s, calibration '%s' / '%s'",
                  p.device.c_str(), p.width, p.height, p.fps, p.fourcc.c_str(), p.swap_halves,
@@ -81,7 +71,7 @@ private:
         diagnostic_updater::FrequencyStatusParam(&min_rate_, &max_rate_, 0.2, 10),
         diagnostic_updater::TimeStampStatusParam(-1.0, 1.0));
     diag_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) {
-      updater_->update();
+      assistive_common::guarded(getName(), "diagnostics", [&] { updater_->update(); });
     });
 
     running_ = true;
@@ -122,36 +112,43 @@ private:
     StereoOutput out;
     while (running_ && ros::ok())
     {
-      updateCalibration();
-      const GrabStatus status = camera_->grab(monotonicNow(), out);
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        status_ = status;
-        open_ = camera_->isOpen();
-        frames_ = camera_->frames();
-        rate_ = camera_->frameRate();
-        if (status != GrabStatus::OK && status != GrabStatus::WAITING_TO_RETRY)
-          last_error_ = camera_->lastError();
-      }
-      switch (status)
-      {
-        case GrabStatus::OK:
-          publish(out);
-          break;
-        case GrabStatus::WAITING_TO_RETRY:
-          std::this_thread::sleep_for(std::chrono::milliseconds(50));
-          break;
-        case GrabStatus::OPEN_FAILED:
-        case GrabStatus::READ_FAILED:
-          NODELET_ERROR_THROTTLE(10.0, "stereo_camera: %s (%s); retrying every %.1f s",
-                                  camera_->lastError().c_str(), toString(status),
-                                  params_.retry_period);
-          break;
-        case GrabStatus::BAD_FRAME:
-        case GrabStatus::STALE_STAMP:
-          NODELET_ERROR_THROTTLE(10.0, "stereo_camera: %s", camera_->lastError().c_str());
-          break;
-      }
+      // An exception escaping this thread would end the whole manager process: log it, go on.
+      if (!assistive_common::guarded(getName(), "capture", [&] { captureOnce(out); }))
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  }
+
+  void captureOnce(StereoOutput& out)
+  {
+    updateCalibration();
+    const GrabStatus status = camera_->grab(monotonicNow(), out);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      status_ = status;
+      open_ = camera_->isOpen();
+      frames_ = camera_->frames();
+      rate_ = camera_->frameRate();
+      if (status != GrabStatus::OK && status != GrabStatus::WAITING_TO_RETRY)
+        last_error_ = camera_->lastError();
+    }
+    switch (status)
+    {
+      case GrabStatus::OK:
+        publish(out);
+        break;
+      case GrabStatus::WAITING_TO_RETRY:
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        break;
+      case GrabStatus::OPEN_FAILED:
+      case GrabStatus::READ_FAILED:
+        NODELET_ERROR_THROTTLE(10.0, "stereo_camera: %s (%s); retrying every %.1f s",
+                                camera_->lastError().c_str(), toString(status),
+                                params_.retry_period);
+        break;
+      case GrabStatus::BAD_FRAME:
+      case GrabStatus::STALE_STAMP:
+        NODELET_ERROR_THROTTLE(10.0, "stereo_camera: %s", camera_->lastError().c_str());
+        break;
     }
   }
 

@@ -1,31 +1,45 @@
 #pragma once
-// Parameters of the side-by-side stereo camera driver. The initializers are the only defaults;
-// the nodelet reads every field as `pnh.param(name, p.x, p.x)` and then calls clamp().
+// Parameters of the side-by-side stereo camera driver: ONE table (assistive_common/param_table.h).
+// Each row is the field, its ROS parameter name, default, range, unit and text; the nodelet
+// reads every row, then calls clamp(); README.md lists them (test_params).
 #include <string>
 #include <vector>
 
+#include <assistive_common/param_table.h>
+
 namespace assistive_description
 {
+// clang-format off
+// X(type, field, ROS name, default, lo, hi, unit, text)
+#define ASSISTIVE_STEREO_CAMERA_PARAMS(X) \
+  X(std::string, device, "device", "/dev/video0", {}, {}, "", "V4L2 path, a bare index (`0`), or `synthetic` (a built-in textured plane at `synthetic_disparity`, paced at `fps`; for demos and tests); empty: /dev/video0") \
+  X(int, width, "width", 1280, 2, 8192, "px", "full side-by-side frame width (both eyes); an odd width is made even") \
+  X(int, height, "height", 480, 1, 8192, "px", "frame height") \
+  X(double, fps, "fps", 30.0, 0.5, 240.0, "Hz", "requested rate; also the expected rate in diagnostics") \
+  X(std::string, fourcc, "fourcc", "MJPG", {}, {}, "", "pixel format asked from the camera, 4 characters (MJPG gives the full rate on USB 2; another length: MJPG)") \
+  X(bool, swap_halves, "swap_halves", false, {}, {}, "", "true when the camera puts the left eye in the right half (a positive right `P[3]` in the calibration is reported as a hint)") \
+  /* Stamps are the driver's V4L2 buffer time (monotonic clock) moved to the wall clock, or the */ \
+  /* wall clock at capture when the driver gives none. Frames whose stamp is not after the */ \
+  /* previous one are dropped. */ \
+  X(double, time_offset, "time_offset", 0.0, -1.0, 1.0, "s", "added to every capture stamp (negative: extra latency)") \
+  X(double, retry_period, "retry_period", 2.0, 0.1, 3600.0, "s", "a missing, refusing or failed device is (re)opened this often") \
+  X(std::string, left_frame_id, "left_frame_id", "camera_left_optical_frame", {}, {}, "", "frame of the left image") \
+  X(std::string, right_frame_id, "right_frame_id", "camera_right_optical_frame", {}, {}, "", "frame of the right image") \
+  X(std::string, left_camera_name, "left_camera_name", "left", {}, {}, "", "camera_info_manager name (checked in the calibration file)") \
+  X(std::string, right_camera_name, "right_camera_name", "right", {}, {}, "", "camera_info_manager name of the right eye") \
+  /* The shipped config/{left,right}.yaml are EXAMPLES for a 640x480-per-eye camera with a 0.12 m */ \
+  /* baseline, not a calibration of your camera. */ \
+  X(std::string, left_camera_info_url, "left_camera_info_url", "", {}, {}, "", "calibration file (camera_info_manager URL, e.g. package://...)") \
+  X(std::string, right_camera_info_url, "right_camera_info_url", "", {}, {}, "", "calibration file of the right eye") \
+  X(double, synthetic_disparity, "synthetic_disparity", 16.0, 0.0, width / 4.0, "px", "disparity between the halves of `device:=synthetic`")
+// clang-format on
+
 struct StereoCameraParams
 {
-  /// V4L2 device path ("/dev/video0"), a bare index ("0"), or "synthetic" (built-in test pattern).
-  std::string device = "/dev/video0";
-  int width = 1280;               ///< full side-by-side frame width, px (both eyes)
-  int height = 480;               ///< frame height, px
-  double fps = 30.0;              ///< requested frame rate, Hz
-  std::string fourcc = "MJPG";    ///< requested pixel format (4 characters, e.g. MJPG, YUYV)
-  bool swap_halves = false;       ///< true when the camera puts the left eye in the right half
-  double time_offset = 0.0;       ///< s, added to every capture stamp (negative = extra latency)
-  double retry_period = 2.0;      ///< s between attempts to (re)open a missing or failed device
-  std::string left_frame_id = "camera_left_optical_frame";
-  std::string right_frame_id = "camera_right_optical_frame";
-  std::string left_camera_name = "left";    ///< camera_info_manager names (checked in the YAML)
-  std::string right_camera_name = "right";
-  std::string left_camera_info_url;         ///< camera_info_manager URL, e.g. package://...
-  std::string right_camera_info_url;
-  double synthetic_disparity = 16.0;        ///< px, shift between the halves of "synthetic"
+  ASSISTIVE_PARAMS_BODY(ASSISTIVE_STEREO_CAMERA_PARAMS)
 
-  /// Clamp out-of-range values to usable ones; returns one human-readable message per change.
+  /// Clamps by the table, then the rules a range cannot say (even width, 4-character fourcc,
+  /// non-empty device); returns one human-readable message per change.
   std::vector<std::string> clamp();
 };
 

@@ -1,0 +1,15 @@
+// The parameter table (params.h) is the only place of the defaults: the README's table and
+// config/default.yaml (overrides only) must agree with it.
+#include <gtest/gtest.h>
+
+#include <assistive_common/doc_check.h>
+
+#include "assistive_description/params.h"
+
+TEST(Params, ReadmeAndYamlMatchTheTable)
+{
+  using namespace assistive_description;
+  for (const std::string& e : assistive_common::checkPackage(PKG_DIR "/README.md", PKG_DIR "/config/default.yaml", "",
+                                                             StereoCameraParams()))
+    ADD_FAILURE() << e;
+}
