@@ -236,6 +236,39 @@ TEST_F(PlannerNodeletTest, UntrustedPoseAndUnrefreshedMapStopTheGuidance)
   EXPECT_NE(rec_.state->message.find("not refreshed"), std::string::npos) << rec_.state->message;
 }
 
+// Callback hygiene: malformed grids (wrong data size, NaN resolution, rotated, another frame)
+// each get a NO_MAP answer, and the nodelet keeps planning on the next good grid.
+TEST_F(PlannerNodeletTest, MalformedGridsDoNotStopThePlanner)
+{
+  ASSERT_TRUE(step(0.0, 0.0, 0.0, false));
+  for (int kind = 0; kind < 4; ++kind)
+  {
+    const ros::Time stamp = ros::Time::now();
+    odom_pub_.publish(odom(0.0, 0.0, stamp, true));
+    auto g = makeGrid(0.0, 0.0, false, stamp);
+    if (kind == 0)
+      g.data.resize(17);
+    else if (kind == 1)
+      g.info.resolution = std::nanf("");
+    else if (kind == 2)
+      g.info.origin.orientation.z = g.info.origin.orientation.w = std::sqrt(0.5);
+    else
+      g.header.frame_id = "elsewhere";
+    ros::WallDuration(0.05).sleep();
+    grid_pub_.publish(g);
+    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(2.0);
+    while (ros::WallTime::now() < until && !(rec_.state && rec_.state->source_stamp == stamp))
+    {
+      ros::spinOnce();
+      ros::WallDuration(0.01).sleep();
+    }
+    ASSERT_TRUE(rec_.state && rec_.state->source_stamp == stamp) << "no answer to malformed grid " << kind;
+    EXPECT_EQ(rec_.state->status, assistive_msgs::NavigationState::NO_MAP) << kind << ": " << rec_.state->message;
+  }
+  ASSERT_TRUE(step(0.2, 0.0, 0.0, false)) << "the planner stopped after the malformed grids";
+  EXPECT_NE(rec_.state->status, assistive_msgs::NavigationState::NO_MAP) << rec_.state->message;
+}
+
 int main(int argc, char** argv)
 {
   testing::InitGoogleTest(&argc, argv);
