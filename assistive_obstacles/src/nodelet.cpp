@@ -105,17 +105,13 @@ private:
     for (const std::string& w : assistive_common::readParams(pnh, p)) NODELET_WARN("obstacles: %s", w.c_str());
     for (const std::string& w : assistive_common::readParams(pnh, node_)) NODELET_WARN("obstacles: %s", w.c_str());
     // The wearer's eye height is the URDF's (robot_description); camera_height only without one.
-    double h = 0.0;
-    std::string why;
-    if (assistive_common::cameraHeightFromUrdf(pnh, node_.camera_frame, node_.footprint_frame, h, &why))
-    {
-      h = std::round(h * 1e6) / 1e6;  // the URDF holds 6 digits: 1.6, not 1.5999999999999999
-      if (pnh.hasParam("camera_height") && h != p.camera_height)
-        NODELET_WARN("obstacles: camera_height %.3f m ignored: the URDF says %.3f m", p.camera_height, h);
-      p.camera_height = h;
-    }
+    bool overridden = false;
+    const std::string h = assistive_common::wearerCameraHeight(pnh, node_.camera_frame, node_.footprint_frame,
+                                                               "camera_height", p.camera_height, &overridden);
+    if (overridden)
+      NODELET_WARN("obstacles: %s", h.c_str());
     else
-      NODELET_INFO("obstacles: camera_height %.2f m from the parameter (%s)", p.camera_height, why.c_str());
+      NODELET_INFO("obstacles: %s", h.c_str());
     for (const std::string& w : clampParams(p)) NODELET_WARN("obstacles: %s", w.c_str());
     NODELET_INFO("obstacles: %s", assistive_common::describe(p).c_str());
     NODELET_INFO("obstacles: %s", assistive_common::describe(node_).c_str());

@@ -84,19 +84,15 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     for (const std::string& m : assistive_common::readParams(pnh, node_))
       NODELET_WARN("stereo_odometry: %s", m.c_str());
     // The wearer's eye height is the URDF's (robot_description); camera_height only without one.
-    double h = 0.0;
-    std::string why;
-    if (assistive_common::cameraHeightFromUrdf(pnh, node_.base_frame, node_.footprint_frame, h, &why))
-    {
-      h = std::round(h * 1e6) / 1e6;  // the URDF holds 6 digits: 1.6, not 1.5999999999999999
-      if (pnh.hasParam("camera_height") && h != p_.camera_height_m)
-        NODELET_WARN("stereo_odometry: camera_height %.3f m ignored: the URDF says %.3f m", p_.camera_height_m, h);
-      p_.camera_height_m = h;
-      for (const std::string& m : assistive_common::clampToTable(p_))
-        NODELET_WARN("stereo_odometry: URDF %s", m.c_str());
-    }
+    bool overridden = false;
+    const std::string h = assistive_common::wearerCameraHeight(pnh, node_.base_frame, node_.footprint_frame,
+                                                               "camera_height", p_.camera_height_m, &overridden);
+    if (overridden)
+      NODELET_WARN("stereo_odometry: %s", h.c_str());
     else
-      NODELET_INFO("stereo_odometry: camera_height %.2f m from the parameter (%s)", p_.camera_height_m, why.c_str());
+      NODELET_INFO("stereo_odometry: %s", h.c_str());
+    for (const std::string& m : assistive_common::clampToTable(p_))
+      NODELET_WARN("stereo_odometry: %s", m.c_str());
     min_freq_ = 0.5 * node_.expected_rate;
     max_freq_ = 2.0 * node_.expected_rate;
     NODELET_INFO("stereo_odometry: %s", assistive_common::describe(p_).c_str());

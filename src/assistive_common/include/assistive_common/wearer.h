@@ -3,6 +3,7 @@
 // (assistive_description/urdf, generated with the wearer's eye height), not from copies in every
 // stage's parameters.
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include <ros/node_handle.h>
@@ -67,5 +68,29 @@ inline bool cameraHeightFromUrdf(const ros::NodeHandle& nh, const std::string& c
     return false;
   }
   return true;
+}
+/// A stage's camera height: the URDF's (cameraHeightFromUrdf(), rounded to the URDF's 6 digits:
+/// 1.6, not 1.5999999999999999) when robot_description holds the chain, else `height` is kept
+/// (the parameter `param`, or its table default). Returns the line to log; `overridden` is set
+/// when an explicit `param` differing from the URDF was ignored (log it as a warning).
+inline std::string wearerCameraHeight(const ros::NodeHandle& pnh, const std::string& camera_frame,
+                                      const std::string& ground_frame, const std::string& param, double& height,
+                                      bool* overridden)
+{
+  *overridden = false;
+  double h = 0.0;
+  std::string why;
+  char buf[160];
+  if (!cameraHeightFromUrdf(pnh, camera_frame, ground_frame, h, &why))
+  {
+    std::snprintf(buf, sizeof(buf), "%s %.3f m from the parameter (", param.c_str(), height);
+    return buf + why + ")";
+  }
+  h = std::round(h * 1e6) / 1e6;
+  *overridden = pnh.hasParam(param) && h != height;
+  std::snprintf(buf, sizeof(buf), "%s %.3f m from the URDF (%s above %s)%s", param.c_str(), h, camera_frame.c_str(),
+                ground_frame.c_str(), *overridden ? ": the parameter's value is ignored" : "");
+  height = h;
+  return buf;
 }
 }  // namespace assistive_common
