@@ -12,19 +12,12 @@
 namespace assistive_common
 {
 /// Height of `camera_frame` above `ground_frame` (the z of camera_frame in ground_frame) from the
-/// fixed joints of the URDF on `param` (looked up from `nh` upwards). False, with `why`, when
-/// there is no URDF or it does not hold a fixed chain between the two frames; the caller then
-/// keeps its parameter (the table's default: benchmarks and tests run without a URDF).
-inline bool cameraHeightFromUrdf(const ros::NodeHandle& nh, const std::string& camera_frame,
-                                 const std::string& ground_frame, double& height, std::string* why,
-                                 const std::string& param = "robot_description")
+/// fixed joints of the URDF text `xml`. False, with `why`, when it is not a URDF or does not hold a
+/// fixed chain between the two frames.
+inline bool cameraHeightFromUrdfText(const std::string& xml, const std::string& camera_frame,
+                                     const std::string& ground_frame, double& height, std::string* why,
+                                     const std::string& param = "robot_description")
 {
-  std::string key, xml;
-  if (!nh.searchParam(param, key) || !nh.getParam(key, xml))
-  {
-    *why = "no " + param + " parameter";
-    return false;
-  }
   urdf::Model model;
   if (!model.initString(xml))
   {
@@ -69,6 +62,22 @@ inline bool cameraHeightFromUrdf(const ros::NodeHandle& nh, const std::string& c
   }
   return true;
 }
+/// The same from the URDF on the parameter `param` (looked up from `nh` upwards). False, with
+/// `why`, also when there is no such parameter; the caller then keeps its parameter (the table's
+/// default: benchmarks and tests run without a URDF).
+inline bool cameraHeightFromUrdf(const ros::NodeHandle& nh, const std::string& camera_frame,
+                                 const std::string& ground_frame, double& height, std::string* why,
+                                 const std::string& param = "robot_description")
+{
+  std::string key, xml;
+  if (!nh.searchParam(param, key) || !nh.getParam(key, xml))
+  {
+    *why = "no " + param + " parameter";
+    return false;
+  }
+  return cameraHeightFromUrdfText(xml, camera_frame, ground_frame, height, why, param);
+}
+
 /// A stage's camera height: the URDF's (cameraHeightFromUrdf(), rounded to the URDF's 6 digits:
 /// 1.6, not 1.5999999999999999) when robot_description holds the chain, else `height` is kept
 /// (the parameter `param`, or its table default). Returns the line to log; `overridden` is set
