@@ -10,14 +10,20 @@ using namespace assistive_tactile;
 
 TEST(Params, ReadmeAndYamlMatchTheTables)
 {
+  using namespace assistive_common;
   // One README with both nodelets' tables; the yaml has a section per nodelet.
-  for (const std::string& e :
-       assistive_common::checkPackage(PKG_DIR "/README.md", PKG_DIR "/config/default.yaml", "cue_logic", CueParams(),
-                                      BridgeParams()))
+  std::vector<std::string> rows = readmeRows(CueParams()), all = names(CueParams());
+  for (const std::string& r : readmeRows(BridgeParams()))
+    rows.push_back(r);
+  for (const std::string& n : names(BridgeParams()))
+    all.push_back(n);
+  for (const std::string& e : checkReadme(slurp(PKG_DIR "/README.md"), rows, all))
     ADD_FAILURE() << e;
-  const std::string yaml = assistive_common::slurp(PKG_DIR "/config/default.yaml");
-  for (const std::string& e :
-       assistive_common::checkOverrides(assistive_common::yamlSection(yaml, "vest_bridge"), "vest_bridge", BridgeParams()))
+  const std::string yaml = slurp(PKG_DIR "/config/default.yaml");
+  ASSERT_FALSE(yaml.empty());
+  for (const std::string& e : checkOverrides(yamlSection(yaml, "cue_logic"), "cue_logic", CueParams()))
+    ADD_FAILURE() << e;
+  for (const std::string& e : checkOverrides(yamlSection(yaml, "vest_bridge"), "vest_bridge", BridgeParams()))
     ADD_FAILURE() << e;
 }
 
