@@ -20,6 +20,7 @@
 #include <sstream>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace assistive_common
@@ -155,11 +156,26 @@ bool setFromText(P& p, const std::string& name, const std::string& text, std::st
   return ok;
 }
 
-/// "name=value" overrides (the benchmarks' --set), then clampToTable(); the clamp messages are
+/// (name, value) overrides (the benchmarks' --set), then clampToTable(); the clamp messages are
 /// appended to `msgs`. False, with `err`, at the first bad override.
+template <class P>
+bool applyOverrides(P& p, const std::vector<std::pair<std::string, std::string>>& sets, std::string* err,
+                    std::vector<std::string>* msgs = nullptr)
+{
+  for (const auto& s : sets)
+    if (!setFromText(p, s.first, s.second, err))
+      return false;
+  const std::vector<std::string> c = clampToTable(p);
+  if (msgs)
+    msgs->insert(msgs->end(), c.begin(), c.end());
+  return true;
+}
+
+/// The same from "name=value" texts.
 template <class P>
 bool applyOverrides(P& p, const std::vector<std::string>& sets, std::string* err, std::vector<std::string>* msgs = nullptr)
 {
+  std::vector<std::pair<std::string, std::string>> pairs;
   for (const std::string& s : sets)
   {
     const size_t eq = s.find('=');
@@ -169,13 +185,9 @@ bool applyOverrides(P& p, const std::vector<std::string>& sets, std::string* err
         *err = "'" + s + "' is not name=value";
       return false;
     }
-    if (!setFromText(p, s.substr(0, eq), s.substr(eq + 1), err))
-      return false;
+    pairs.emplace_back(s.substr(0, eq), s.substr(eq + 1));
   }
-  const std::vector<std::string> c = clampToTable(p);
-  if (msgs)
-    msgs->insert(msgs->end(), c.begin(), c.end());
-  return true;
+  return applyOverrides(p, pairs, err, msgs);
 }
 
 /// "name value, name value, ..." of every parameter (for the effective-values log line).
