@@ -57,7 +57,9 @@ private:
     updater_->add("vest link", this, &VestBridgeNodelet::diagnose);
     // Housekeeping in its own thread (100 Hz and at each cue's expiry): the all-off does not wait
     // for the manager's callback queue.
-    runner_.reset(new VestBridgeRunner(p, 0.01, [this](const VestBridge& b, double now) { afterSpin(b, now); }));
+    runner_.reset(new VestBridgeRunner(p, 0.01, [this](const VestBridge& b, double now) {
+      assistive_common::guarded(getName(), "vest housekeeping", [&] { afterSpin(b, now); });
+    }));
     const std::string sched = runner_->schedulingError();
     if (!sched.empty())
       NODELET_WARN("vest_bridge: housekeeping thread on normal scheduling (%s): under CPU overload the all-off "
