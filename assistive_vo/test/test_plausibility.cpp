@@ -33,7 +33,9 @@ TEST(PlausibilityMonitor, GapsAndTimeJumpsAreCounted)
 
 TEST(PlausibilityMonitor, FrozenCameraSkipsThenUntrustsOncePerEpisode)
 {
-  PlausibilityMonitor m;  // frozen_max_change 0.5, frozen_min_gyro_dps 1.5, frozen_frames 2
+  VoParams p;  // frozen_max_change 0.5, frozen_min_gyro_dps 1.5
+  p.frozen_frames = 2;
+  PlausibilityMonitor m(p);
   std::string why;
   bool untrusted = true;
   // changing image: nothing to do
@@ -57,6 +59,12 @@ TEST(PlausibilityMonitor, FrozenCameraSkipsThenUntrustsOncePerEpisode)
   EXPECT_FALSE(untrusted);
   EXPECT_TRUE(m.frozen(0.1, true, 10.0, why, untrusted));
   EXPECT_EQ(m.counters().frozen, 2);
+  // frozen_frames 1: untrusted on the first frozen frame
+  p.frozen_frames = 1;
+  PlausibilityMonitor one(p);
+  EXPECT_TRUE(one.frozen(0.1, true, 10.0, why, untrusted));
+  EXPECT_TRUE(untrusted);
+  EXPECT_EQ(one.counters().frozen, 1);
 }
 
 TEST(PlausibilityMonitor, MotionJumpsAreRejected)
