@@ -1,5 +1,10 @@
 #include <assistive_obstacles/conversions.h>
 
+#include <cstdint>
+#include <type_traits>
+#include <nav_msgs/OccupancyGrid.h>
+#include "assistive_obstacles/cell_values.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -10,6 +15,14 @@
 
 namespace assistive_obstacles
 {
+// The grid codes (assistive_common/codes.h) are nav_msgs/OccupancyGrid values: int8 cells, -1
+// unknown, occupancy 0..100 with the step code in between.
+static_assert(std::is_same<nav_msgs::OccupancyGrid::_data_type::value_type, int8_t>::value,
+              "nav_msgs/OccupancyGrid cells are int8");
+static_assert(CELL_UNKNOWN == -1, "nav_msgs/OccupancyGrid: -1 is unknown");
+static_assert(CELL_FREE == 0 && CELL_OBSTACLE == 100, "nav_msgs/OccupancyGrid: occupancy 0 (free) .. 100 (occupied)");
+static_assert(CELL_FREE < CELL_STEP && CELL_STEP < CELL_OBSTACLE, "the step code lies between free and obstacle");
+
 nav_msgs::OccupancyGrid toMsg(const GridData& g, const std::string& frame, const ros::Time& stamp)
 {
   nav_msgs::OccupancyGrid m;

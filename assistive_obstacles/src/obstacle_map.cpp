@@ -126,7 +126,7 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   dropout_.origin_y = window_.oy * window_.res;
   dropout_.resolution = window_.res;
   dropout_.width = dropout_.height = n;
-  dropout_.data.assign(static_cast<size_t>(n) * n, UNKNOWN);
+  dropout_.data.assign(static_cast<size_t>(n) * n, CELL_UNKNOWN);
   const bool check_depth = camera && disparity && !disparity->empty() && disparity->type() == CV_32F;
   const Eigen::Isometry3f T_cam_world = T_world_cam.inverse();
   const float tol = static_cast<float>(std::max(0.3, 1.5 * params_.cell_size));
@@ -148,7 +148,7 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
       if (elevation_.count(c) > 0) ++stats_.cells_observed;
       FrameLabel lab = labels_[c];
       bool dropout = false;
-      if (check_depth && temporal_.code(gx, gy) == OBSTACLE && lab != FrameLabel::OBSTACLE)
+      if (check_depth && temporal_.code(gx, gy) == CELL_OBSTACLE && lab != FrameLabel::OBSTACLE)
       {
         // Dropout / glass: a mapped obstacle seen "through" or without depth keeps its label.
         int bad = 0, good = 0;
@@ -162,7 +162,7 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
         }
         if (bad > 0 && good == 0)
         {
-          dropout_.data[c] = OBSTACLE;
+          dropout_.data[c] = CELL_OBSTACLE;
           ++stats_.dropout_cells;
           dropout = true;
           if (params_.dropout_free_weight <= 0)
@@ -213,7 +213,7 @@ void ObstacleMap::grid(GridData& out) const
   out.origin_y = window_.oy * window_.res;
   out.resolution = window_.res;
   out.width = out.height = n;
-  out.data.assign(static_cast<size_t>(n) * n, UNKNOWN);
+  out.data.assign(static_cast<size_t>(n) * n, CELL_UNKNOWN);
   for (int ly = 0; ly < n; ++ly)
     for (int lx = 0; lx < n; ++lx) out.data[window_.index(lx, ly)] = temporal_.code(window_.ox + lx, window_.oy + ly);
 }

@@ -62,22 +62,22 @@ void TemporalFilter::vote(int gx, int gy, FrameLabel label, int weight, bool obs
   }
   if (c.votes < params_.min_observations) return;
   const double ratio = static_cast<double>(c.o) / (c.o + c.s);
-  const int8_t next = ratio > params_.obstacle_ratio ? OBSTACLE : FREE;
-  if (c.state != UNKNOWN && next != c.state) ++c.flips;
+  const int8_t next = ratio > params_.obstacle_ratio ? CELL_OBSTACLE : CELL_FREE;
+  if (c.state != CELL_UNKNOWN && next != c.state) ++c.flips;
   c.state = next;
   if (c.flips >= params_.permanent_flips)
   {
     c.permanent = true;
-    c.state = OBSTACLE;
+    c.state = CELL_OBSTACLE;
   }
 }
 
 int8_t TemporalFilter::code(int gx, int gy) const
 {
   const CellCounters* c = find(gx, gy);
-  if (!c || c->state == UNKNOWN) return UNKNOWN;
-  if (c->state == OBSTACLE) return OBSTACLE;
-  return (2 * c->step > c->s) ? STEP : FREE;
+  if (!c || c->state == CELL_UNKNOWN) return CELL_UNKNOWN;
+  if (c->state == CELL_OBSTACLE) return CELL_OBSTACLE;
+  return (2 * c->step > c->s) ? CELL_STEP : CELL_FREE;
 }
 
 }  // namespace assistive_obstacles

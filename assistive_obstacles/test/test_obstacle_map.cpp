@@ -36,14 +36,14 @@ TEST(ObstacleMap, FlatFloorIsFreeAndUnseenIsUnknown)
   Points w;
   synthetic::patch(w, 1.0, 3.0, -1.0, 1.0, 0.0, 5, 0.01);
   run(m, w);
-  EXPECT_EQ(codeAt(m, 2.05, 0.05), FREE);
-  EXPECT_EQ(codeAt(m, 1.1, 0.1), FREE);   // edge cell: 5 compatible neighbours
-  EXPECT_EQ(codeAt(m, -2.0, 0.0), UNKNOWN);  // behind the wearer, never seen
-  EXPECT_EQ(codeAt(m, 4.0, 0.0), UNKNOWN);
+  EXPECT_EQ(codeAt(m, 2.05, 0.05), CELL_FREE);
+  EXPECT_EQ(codeAt(m, 1.1, 0.1), CELL_FREE);   // edge cell: 5 compatible neighbours
+  EXPECT_EQ(codeAt(m, -2.0, 0.0), CELL_UNKNOWN);  // behind the wearer, never seen
+  EXPECT_EQ(codeAt(m, 4.0, 0.0), CELL_UNKNOWN);
   // Only after 5 observations.
   ObstacleMap m2;
   run(m2, w, 4);
-  EXPECT_EQ(codeAt(m2, 2.05, 0.05), UNKNOWN);
+  EXPECT_EQ(codeAt(m2, 2.05, 0.05), CELL_UNKNOWN);
 }
 
 TEST(ObstacleMap, DoorwayWithFloorAndLintelInOneCellIsFree)
@@ -58,11 +58,11 @@ TEST(ObstacleMap, DoorwayWithFloorAndLintelInOneCellIsFree)
   synthetic::wallX(w, 2.5, 0.4, 1.6, 0.0, 2.5);
   synthetic::wallX(w, 2.5, -0.4, 0.4, 2.05, 2.5);  // lintel
   run(m, w);
-  EXPECT_EQ(codeAt(m, 2.5, 0.1), FREE);
-  EXPECT_EQ(codeAt(m, 2.5, -0.1), FREE);
-  EXPECT_EQ(codeAt(m, 2.5, 1.0), OBSTACLE);
-  EXPECT_EQ(codeAt(m, 2.5, -1.0), OBSTACLE);
-  EXPECT_EQ(codeAt(m, 1.7, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 2.5, 0.1), CELL_FREE);
+  EXPECT_EQ(codeAt(m, 2.5, -0.1), CELL_FREE);
+  EXPECT_EQ(codeAt(m, 2.5, 1.0), CELL_OBSTACLE);
+  EXPECT_EQ(codeAt(m, 2.5, -1.0), CELL_OBSTACLE);
+  EXPECT_EQ(codeAt(m, 1.7, 0.1), CELL_FREE);
 }
 
 TEST(ObstacleMap, StepIsItsOwnClassHighLedgeIsObstacle)
@@ -73,10 +73,10 @@ TEST(ObstacleMap, StepIsItsOwnClassHighLedgeIsObstacle)
   synthetic::patch(w, 2.1, 3.6, -1.0, 1.0, 0.15);  // a 15 cm curb at x = 2.1
   synthetic::wallX(w, 2.1, -1.0, 1.0, 0.0, 0.15);
   run(m, w);
-  EXPECT_EQ(codeAt(m, 2.1, 0.1), STEP);
-  EXPECT_EQ(codeAt(m, 1.9, 0.1), STEP);
-  EXPECT_EQ(codeAt(m, 1.1, 0.1), FREE);
-  EXPECT_EQ(codeAt(m, 3.1, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 2.1, 0.1), CELL_STEP);
+  EXPECT_EQ(codeAt(m, 1.9, 0.1), CELL_STEP);
+  EXPECT_EQ(codeAt(m, 1.1, 0.1), CELL_FREE);
+  EXPECT_EQ(codeAt(m, 3.1, 0.1), CELL_FREE);
 
   ObstacleMap m2;
   Points w2;
@@ -84,8 +84,8 @@ TEST(ObstacleMap, StepIsItsOwnClassHighLedgeIsObstacle)
   synthetic::patch(w2, 2.1, 3.6, -1.0, 1.0, 0.4);  // 40 cm ledge: not a step
   synthetic::wallX(w2, 2.1, -1.0, 1.0, 0.0, 0.4);
   run(m2, w2);
-  EXPECT_EQ(codeAt(m2, 2.1, 0.1), OBSTACLE);
-  EXPECT_EQ(codeAt(m2, 1.1, 0.1), FREE);
+  EXPECT_EQ(codeAt(m2, 2.1, 0.1), CELL_OBSTACLE);
+  EXPECT_EQ(codeAt(m2, 1.1, 0.1), CELL_FREE);
 }
 
 TEST(ObstacleMap, OverhangAtHeadHeightIsObstacle)
@@ -96,10 +96,10 @@ TEST(ObstacleMap, OverhangAtHeadHeightIsObstacle)
   synthetic::patch(w, 2.0, 2.6, -0.4, 0.4, 1.55);  // a sign board at 1.55 m over free floor
   synthetic::patch(w, 3.0, 3.6, -1.0, -0.4, 0.75);  // a table top, floor seen below
   run(m, w);
-  EXPECT_EQ(codeAt(m, 2.3, 0.1), OBSTACLE);
-  EXPECT_EQ(codeAt(m, 3.3, -0.7), OBSTACLE);
-  EXPECT_EQ(codeAt(m, 1.2, 0.1), FREE);
-  EXPECT_EQ(codeAt(m, 3.3, 0.7), FREE);
+  EXPECT_EQ(codeAt(m, 2.3, 0.1), CELL_OBSTACLE);
+  EXPECT_EQ(codeAt(m, 3.3, -0.7), CELL_OBSTACLE);
+  EXPECT_EQ(codeAt(m, 1.2, 0.1), CELL_FREE);
+  EXPECT_EQ(codeAt(m, 3.3, 0.7), CELL_FREE);
 
   // Table top seen without the floor under it: still an obstacle (above the feet by > rise).
   ObstacleMap m2;
@@ -107,7 +107,7 @@ TEST(ObstacleMap, OverhangAtHeadHeightIsObstacle)
   synthetic::patch(w2, 0.6, 2.0, -1.0, 1.0, 0.0);
   synthetic::patch(w2, 2.0, 3.0, -1.0, 1.0, 0.75);
   run(m2, w2);
-  EXPECT_EQ(codeAt(m2, 2.5, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m2, 2.5, 0.1), CELL_OBSTACLE);
 }
 
 TEST(ObstacleMap, ThinPoleIsObstacleNeighboursStayFree)
@@ -117,9 +117,9 @@ TEST(ObstacleMap, ThinPoleIsObstacleNeighboursStayFree)
   synthetic::patch(w, 0.6, 4.0, -1.0, 1.0, 0.0);
   synthetic::pole(w, 2.3, 0.1, 0.025, 1.2);
   run(m, w);
-  EXPECT_EQ(codeAt(m, 2.3, 0.1), OBSTACLE);
-  EXPECT_EQ(codeAt(m, 2.7, 0.1), FREE);
-  EXPECT_EQ(codeAt(m, 1.9, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 2.3, 0.1), CELL_OBSTACLE);
+  EXPECT_EQ(codeAt(m, 2.7, 0.1), CELL_FREE);
+  EXPECT_EQ(codeAt(m, 1.9, 0.1), CELL_FREE);
 }
 
 TEST(ObstacleMap, NoiseOnlyCellsAreDropped)
@@ -131,8 +131,8 @@ TEST(ObstacleMap, NoiseOnlyCellsAreDropped)
   for (int c = 0; c < 10; ++c)
     for (int i = 0; i < 6; ++i) w.emplace_back(3.05f + 0.2f * c, 0.05f, 0.1f * i + 0.05f * c);
   run(m, w);
-  for (int c = 0; c < 10; ++c) EXPECT_EQ(codeAt(m, 3.05 + 0.2 * c, 0.05), UNKNOWN) << c;
-  EXPECT_EQ(codeAt(m, 1.3, 0.05), FREE);
+  for (int c = 0; c < 10; ++c) EXPECT_EQ(codeAt(m, 3.05 + 0.2 * c, 0.05), CELL_UNKNOWN) << c;
+  EXPECT_EQ(codeAt(m, 1.3, 0.05), CELL_FREE);
 }
 
 TEST(ObstacleMap, FlickeringCellBecomesPermanentObstacle)
@@ -151,8 +151,8 @@ TEST(ObstacleMap, FlickeringCellBecomesPermanentObstacle)
   ASSERT_NE(c, nullptr);
   EXPECT_TRUE(c->permanent);
   for (int i = 0; i < 50; ++i) m.update(cf, T);
-  EXPECT_EQ(codeAt(m, 2.3, 0.1), OBSTACLE);
-  EXPECT_EQ(codeAt(m, 1.5, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 2.3, 0.1), CELL_OBSTACLE);
+  EXPECT_EQ(codeAt(m, 1.5, 0.1), CELL_FREE);
 }
 
 TEST(ObstacleMap, GlassDropoutKeepsObstacleAndIsReported)
@@ -169,20 +169,20 @@ TEST(ObstacleMap, GlassDropoutKeepsObstacleAndIsReported)
   cv::Mat near_disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 2.1f));  // consistent with the wall
   cv::Mat far_disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 8.0f));   // depth passes through
   for (int i = 0; i < 6; ++i) m.update(cb, T, &cam, &near_disp);
-  ASSERT_EQ(codeAt(m, 2.1, 0.1), OBSTACLE);
+  ASSERT_EQ(codeAt(m, 2.1, 0.1), CELL_OBSTACLE);
   EXPECT_EQ(m.stats().dropout_cells, 0);
   for (int i = 0; i < 20; ++i) m.update(ca, T, &cam, &far_disp);
-  EXPECT_EQ(codeAt(m, 2.1, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m, 2.1, 0.1), CELL_OBSTACLE);
   EXPECT_GT(m.stats().dropout_cells, 0);
   const GridData& d = m.dropout();
   const int ix = static_cast<int>(std::floor((2.1 - d.origin_x) / d.resolution));
   const int iy = static_cast<int>(std::floor((0.1 - d.origin_y) / d.resolution));
-  EXPECT_EQ(d.data[iy * d.width + ix], OBSTACLE);
+  EXPECT_EQ(d.data[iy * d.width + ix], CELL_OBSTACLE);
   // Without the depth check (no camera model) the floor votes would have freed it.
   ObstacleMap m2;
   for (int i = 0; i < 6; ++i) m2.update(cb, T);
   for (int i = 0; i < 20; ++i) m2.update(ca, T);
-  EXPECT_EQ(codeAt(m2, 2.1, 0.1), FREE);
+  EXPECT_EQ(codeAt(m2, 2.1, 0.1), CELL_FREE);
 }
 
 // Regression: the dropout policy used to drop every free vote of a mapped obstacle whose depth
@@ -206,12 +206,12 @@ TEST(ObstacleMap, FalseObstacleSeenThroughIsClearedEventually)
     p.dropout_free_weight = w;
     ObstacleMap m(p);
     for (int i = 0; i < 6; ++i) m.update(cn, T, &cam, &near_disp);
-    ASSERT_EQ(codeAt(m, 2.1, 0.1), OBSTACLE);
+    ASSERT_EQ(codeAt(m, 2.1, 0.1), CELL_OBSTACLE);
     for (int i = 0; i < 20; ++i) m.update(cf, T, &cam, &far_disp);
-    EXPECT_EQ(codeAt(m, 2.1, 0.1), OBSTACLE) << "weight " << w;  // glass keeps its obstacle for a while
+    EXPECT_EQ(codeAt(m, 2.1, 0.1), CELL_OBSTACLE) << "weight " << w;  // glass keeps its obstacle for a while
     EXPECT_GT(m.stats().dropout_cells, 0);
     for (int i = 0; i < 40; ++i) m.update(cf, T, &cam, &far_disp);
-    EXPECT_EQ(codeAt(m, 2.1, 0.1), w == 0 ? OBSTACLE : FREE) << "weight " << w;
+    EXPECT_EQ(codeAt(m, 2.1, 0.1), w == 0 ? CELL_OBSTACLE : CELL_FREE) << "weight " << w;
   }
 }
 
@@ -224,19 +224,19 @@ TEST(ObstacleMap, NoVotesBeyondVoteRange)
   p.vote_max_range = 3.5;
   ObstacleMap m(p);
   run(m, w);
-  EXPECT_EQ(codeAt(m, 2.05, 0.05), FREE);
-  EXPECT_EQ(codeAt(m, 3.9, 0.1), UNKNOWN);  // seen, but too far for a reliable vote
-  EXPECT_EQ(codeAt(m, 4.5, 0.1), UNKNOWN);
+  EXPECT_EQ(codeAt(m, 2.05, 0.05), CELL_FREE);
+  EXPECT_EQ(codeAt(m, 3.9, 0.1), CELL_UNKNOWN);  // seen, but too far for a reliable vote
+  EXPECT_EQ(codeAt(m, 4.5, 0.1), CELL_UNKNOWN);
   p.vote_max_range = 0.0;  // whole window
   ObstacleMap m2(p);
   run(m2, w);
-  EXPECT_EQ(codeAt(m2, 3.9, 0.1), FREE);
-  EXPECT_EQ(codeAt(m2, 4.5, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m2, 3.9, 0.1), CELL_FREE);
+  EXPECT_EQ(codeAt(m2, 4.5, 0.1), CELL_OBSTACLE);
 }
 
 // A cell holding a curb's edge takes the curb's height (its highest walkable surface, as the
 // ground truth does), so the curb top beyond it is not a step; with the median the edge cell
-// sat between the two levels and both of its neighbours became steps (plaza: 5000 false STEP
+// sat between the two levels and both of its neighbours became steps (plaza: 5000 false CELL_STEP
 // codes along the curb).
 TEST(ObstacleMap, CellHoldingTheCurbEdgeTakesTheCurbHeight)
 {
@@ -246,15 +246,15 @@ TEST(ObstacleMap, CellHoldingTheCurbEdgeTakesTheCurbHeight)
   synthetic::wallX(w, 2.13, -1.0, 1.0, 0.0, 0.15);
   ObstacleMap m;
   run(m, w);
-  EXPECT_EQ(codeAt(m, 1.9, 0.1), STEP);
-  EXPECT_EQ(codeAt(m, 2.1, 0.1), STEP);
-  EXPECT_EQ(codeAt(m, 2.3, 0.1), FREE);
-  EXPECT_EQ(codeAt(m, 1.7, 0.1), FREE);
+  EXPECT_EQ(codeAt(m, 1.9, 0.1), CELL_STEP);
+  EXPECT_EQ(codeAt(m, 2.1, 0.1), CELL_STEP);
+  EXPECT_EQ(codeAt(m, 2.3, 0.1), CELL_FREE);
+  EXPECT_EQ(codeAt(m, 1.7, 0.1), CELL_FREE);
   ObstaclesParams p;
   p.ground_quantile = 0.5;
   ObstacleMap m2(p);
   run(m2, w);
-  EXPECT_EQ(codeAt(m2, 2.3, 0.1), STEP);  // the median's extra false step
+  EXPECT_EQ(codeAt(m2, 2.3, 0.1), CELL_STEP);  // the median's extra false step
 }
 
 // Obstacle votes only within the range where sigma_Z = Z^2 sigma_d / (f B) <= obstacle_max_sigma
@@ -276,14 +276,14 @@ TEST(ObstacleMap, ObstacleEvidenceOnlyWhereDepthIsPrecise)
   };
   ObstacleMap m(p);
   runAt(m, 0.0);
-  EXPECT_EQ(codeAt(m, 3.1, 0.1), UNKNOWN);  // 3.1 m away: seen, but no obstacle evidence yet
-  EXPECT_EQ(codeAt(m, 2.1, 0.1), FREE);     // free votes from afar still count
+  EXPECT_EQ(codeAt(m, 3.1, 0.1), CELL_UNKNOWN);  // 3.1 m away: seen, but no obstacle evidence yet
+  EXPECT_EQ(codeAt(m, 2.1, 0.1), CELL_FREE);     // free votes from afar still count
   runAt(m, 1.0);                            // 2.1 m away
-  EXPECT_EQ(codeAt(m, 3.1, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m, 3.1, 0.1), CELL_OBSTACLE);
   p.obstacle_max_sigma = 0.0;  // no limit
   ObstacleMap m2(p);
   runAt(m2, 0.0);
-  EXPECT_EQ(codeAt(m2, 3.1, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m2, 3.1, 0.1), CELL_OBSTACLE);
 }
 
 // Beyond the obstacle evidence range a cell holding only a neighbour's spill (elevated points
@@ -302,13 +302,13 @@ TEST(ObstacleMap, SpillCellTakesNoFreeVoteFromAfar)
   p.surface_push = 0.0;  // keep the points where they are
   ObstacleMap m(p);
   for (int i = 0; i < 6; ++i) m.update(c, T, &cam, &disp);
-  EXPECT_EQ(codeAt(m, 2.7, 0.1), FREE);
-  EXPECT_EQ(codeAt(m, 2.9, 0.1), UNKNOWN);
+  EXPECT_EQ(codeAt(m, 2.7, 0.1), CELL_FREE);
+  EXPECT_EQ(codeAt(m, 2.9, 0.1), CELL_UNKNOWN);
   p.obstacle_max_sigma = 0.0;  // no range limit: the spill cell is judged floor
   ObstacleMap m2(p);
   for (int i = 0; i < 6; ++i) m2.update(c, T, &cam, &disp);
-  EXPECT_EQ(codeAt(m2, 2.9, 0.1), FREE);
-  EXPECT_EQ(codeAt(m2, 3.1, 0.1), OBSTACLE);
+  EXPECT_EQ(codeAt(m2, 2.9, 0.1), CELL_FREE);
+  EXPECT_EQ(codeAt(m2, 3.1, 0.1), CELL_OBSTACLE);
 }
 
 // The closing fills a cell without a vote between obstacles, but that label is inferred: a cell
@@ -325,9 +325,9 @@ TEST(ObstacleMap, ClosingNeverDecidesAnUnseenCell)
   synthetic::pole(w, 2.7, 0.1, 0.025, 1.2);
   ObstacleMap m;
   run(m, w, 10);
-  EXPECT_EQ(codeAt(m, 2.3, 0.1), OBSTACLE);
-  EXPECT_EQ(codeAt(m, 2.7, 0.1), OBSTACLE);
-  EXPECT_EQ(codeAt(m, 2.5, 0.1), UNKNOWN);
+  EXPECT_EQ(codeAt(m, 2.3, 0.1), CELL_OBSTACLE);
+  EXPECT_EQ(codeAt(m, 2.7, 0.1), CELL_OBSTACLE);
+  EXPECT_EQ(codeAt(m, 2.5, 0.1), CELL_UNKNOWN);
   EXPECT_EQ(m.temporal().find(12, 0)->o, 10);  // ten inferred obstacle votes of weight 1, none counted
 }
 
@@ -345,14 +345,14 @@ TEST(ObstacleMap, WallFaceOnCellBorderStaysInItsCell)
       w.emplace_back(static_cast<float>(2.4 + noise(rng)), static_cast<float>(y), static_cast<float>(z));
   ObstacleMap m;
   run(m, w);
-  EXPECT_EQ(codeAt(m, 2.5, 0.1), OBSTACLE);
-  EXPECT_EQ(codeAt(m, 2.3, 0.1), FREE);
-  EXPECT_EQ(codeAt(m, 2.3, -0.5), FREE);
+  EXPECT_EQ(codeAt(m, 2.5, 0.1), CELL_OBSTACLE);
+  EXPECT_EQ(codeAt(m, 2.3, 0.1), CELL_FREE);
+  EXPECT_EQ(codeAt(m, 2.3, -0.5), CELL_FREE);
   ObstaclesParams p;
   p.surface_push = 0.0;
   ObstacleMap m2(p);
   run(m2, w);
-  EXPECT_EQ(codeAt(m2, 2.3, 0.1), OBSTACLE);  // without the push the face's noise makes it an obstacle
+  EXPECT_EQ(codeAt(m2, 2.3, 0.1), CELL_OBSTACLE);  // without the push the face's noise makes it an obstacle
 }
 
 // A wall along the walking direction, seen at a grazing angle, its face on a cell border, with depth
@@ -388,10 +388,10 @@ TEST(ObstacleMap, GrazingWallFacePushedAlongItsNormal)
   int spilled = 0;
   for (double x : {1.7, 2.1, 2.5})
   {
-    EXPECT_EQ(codeAt(along_normal, x, -1.1), OBSTACLE) << x;
-    EXPECT_EQ(codeAt(along_normal, x, -0.9), FREE) << x;
-    EXPECT_EQ(codeAt(along_ray, x, -1.1), OBSTACLE) << x;
-    spilled += codeAt(along_ray, x, -0.9) != FREE;
+    EXPECT_EQ(codeAt(along_normal, x, -1.1), CELL_OBSTACLE) << x;
+    EXPECT_EQ(codeAt(along_normal, x, -0.9), CELL_FREE) << x;
+    EXPECT_EQ(codeAt(along_ray, x, -1.1), CELL_OBSTACLE) << x;
+    spilled += codeAt(along_ray, x, -0.9) != CELL_FREE;
   }
   EXPECT_GT(spilled, 0);  // the ray push leaves the wall fattened into the walkway
 }
@@ -402,7 +402,7 @@ TEST(ObstacleMap, WindowScrollsWithTheWearer)
   Points w;
   synthetic::patch(w, 1.0, 3.0, -1.0, 1.0, 0.0);
   run(m, w, 6, 0.0);
-  EXPECT_EQ(codeAt(m, 2.05, 0.05), FREE);
+  EXPECT_EQ(codeAt(m, 2.05, 0.05), CELL_FREE);
   // Walk 20 m away: the old cells leave the window; the grid moves along.
   const Eigen::Isometry3f T = synthetic::cameraAt(20.0, 0.0, 1.6);
   m.update({}, T);
@@ -412,5 +412,5 @@ TEST(ObstacleMap, WindowScrollsWithTheWearer)
   EXPECT_EQ(codeAt(m, 2.05, 0.05), -2);  // outside the grid
   // Come back: they were forgotten (not stale).
   run(m, {}, 1, 0.0);
-  EXPECT_EQ(codeAt(m, 2.05, 0.05), UNKNOWN);
+  EXPECT_EQ(codeAt(m, 2.05, 0.05), CELL_UNKNOWN);
 }

@@ -8,18 +8,18 @@ TEST(TemporalFilter, UndecidedUntilFiveObservations)
 {
   TemporalFilter f;
   f.resize(52);
-  EXPECT_EQ(f.code(3, 4), UNKNOWN);
+  EXPECT_EQ(f.code(3, 4), CELL_UNKNOWN);
   for (int i = 0; i < 4; ++i) f.vote(3, 4, FrameLabel::FREE);
-  EXPECT_EQ(f.code(3, 4), UNKNOWN);
+  EXPECT_EQ(f.code(3, 4), CELL_UNKNOWN);
   f.vote(3, 4, FrameLabel::NONE);  // no vote
-  EXPECT_EQ(f.code(3, 4), UNKNOWN);
+  EXPECT_EQ(f.code(3, 4), CELL_UNKNOWN);
   f.vote(3, 4, FrameLabel::FREE);
-  EXPECT_EQ(f.code(3, 4), FREE);
+  EXPECT_EQ(f.code(3, 4), CELL_FREE);
   // Majority rule: O/(O+S) > 0.5 -> obstacle.
   for (int i = 0; i < 5; ++i) f.vote(3, 4, FrameLabel::OBSTACLE);
-  EXPECT_EQ(f.code(3, 4), FREE);  // 5/10 is not > 0.5
+  EXPECT_EQ(f.code(3, 4), CELL_FREE);  // 5/10 is not > 0.5
   f.vote(3, 4, FrameLabel::OBSTACLE);
-  EXPECT_EQ(f.code(3, 4), OBSTACLE);
+  EXPECT_EQ(f.code(3, 4), CELL_OBSTACLE);
   EXPECT_EQ(f.find(3, 4)->flips, 1);
 }
 
@@ -28,10 +28,10 @@ TEST(TemporalFilter, InferredVotesNeverDecide)
   TemporalFilter f;
   f.resize(10);
   for (int i = 0; i < 20; ++i) f.vote(1, 1, FrameLabel::OBSTACLE, 1, false);
-  EXPECT_EQ(f.code(1, 1), UNKNOWN);
+  EXPECT_EQ(f.code(1, 1), CELL_UNKNOWN);
   EXPECT_EQ(f.find(1, 1)->votes, 0);
   for (int i = 0; i < 5; ++i) f.vote(1, 1, FrameLabel::FREE, 4);  // observed: 20 free vs 20 inferred obstacle
-  EXPECT_EQ(f.code(1, 1), FREE);
+  EXPECT_EQ(f.code(1, 1), CELL_FREE);
 }
 
 TEST(TemporalFilter, StepVotesGiveStepCode)
@@ -39,7 +39,7 @@ TEST(TemporalFilter, StepVotesGiveStepCode)
   TemporalFilter f;
   f.resize(10);
   for (int i = 0; i < 6; ++i) f.vote(0, 0, FrameLabel::STEP);
-  EXPECT_EQ(f.code(0, 0), STEP);
+  EXPECT_EQ(f.code(0, 0), CELL_STEP);
 }
 
 TEST(TemporalFilter, FlickeringCellBecomesPermanentObstacleAfter15Flips)
@@ -50,7 +50,7 @@ TEST(TemporalFilter, FlickeringCellBecomesPermanentObstacleAfter15Flips)
   int votes = 0;
   for (int i = 0; i < 3; ++i, ++votes) f.vote(7, -2, FrameLabel::OBSTACLE);
   for (int i = 0; i < 2; ++i, ++votes) f.vote(7, -2, FrameLabel::FREE);
-  ASSERT_EQ(f.code(7, -2), OBSTACLE);
+  ASSERT_EQ(f.code(7, -2), CELL_OBSTACLE);
   int flips_seen = 0;
   bool alt = false;
   while (!f.find(7, -2)->permanent && votes < 200)
@@ -66,9 +66,9 @@ TEST(TemporalFilter, FlickeringCellBecomesPermanentObstacleAfter15Flips)
   }
   ASSERT_TRUE(f.find(7, -2)->permanent);
   EXPECT_EQ(f.find(7, -2)->flips, 15);
-  EXPECT_EQ(f.code(7, -2), OBSTACLE);
+  EXPECT_EQ(f.code(7, -2), CELL_OBSTACLE);
   for (int i = 0; i < 100; ++i) f.vote(7, -2, FrameLabel::FREE);
-  EXPECT_EQ(f.code(7, -2), OBSTACLE);  // for good
+  EXPECT_EQ(f.code(7, -2), CELL_OBSTACLE);  // for good
 }
 
 TEST(TemporalFilter, RingSlotReusedForAnotherCellStartsUnknown)
@@ -76,9 +76,9 @@ TEST(TemporalFilter, RingSlotReusedForAnotherCellStartsUnknown)
   TemporalFilter f;
   f.resize(10);
   for (int i = 0; i < 6; ++i) f.vote(1, 1, FrameLabel::OBSTACLE);
-  EXPECT_EQ(f.code(1, 1), OBSTACLE);
-  EXPECT_EQ(f.code(11, 1), UNKNOWN);  // same slot, other cell: not inherited
+  EXPECT_EQ(f.code(1, 1), CELL_OBSTACLE);
+  EXPECT_EQ(f.code(11, 1), CELL_UNKNOWN);  // same slot, other cell: not inherited
   f.vote(11, 1, FrameLabel::FREE);
-  EXPECT_EQ(f.code(1, 1), UNKNOWN);   // scrolled out
-  EXPECT_EQ(f.code(-9, 1), UNKNOWN);
+  EXPECT_EQ(f.code(1, 1), CELL_UNKNOWN);   // scrolled out
+  EXPECT_EQ(f.code(-9, 1), CELL_UNKNOWN);
 }

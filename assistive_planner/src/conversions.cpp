@@ -1,9 +1,29 @@
 #include "assistive_planner/conversions.h"
 
+#include <cstdint>
+#include <type_traits>
+#include <assistive_msgs/NavigationState.h>
+#include <nav_msgs/OccupancyGrid.h>
+
 #include <cmath>
 
 namespace assistive_planner
 {
+// The grid codes (assistive_common/codes.h) are nav_msgs/OccupancyGrid values: int8 cells, -1
+// unknown, occupancy 0..100 with the step code in between.
+static_assert(std::is_same<nav_msgs::OccupancyGrid::_data_type::value_type, int8_t>::value,
+              "nav_msgs/OccupancyGrid cells are int8");
+static_assert(CELL_UNKNOWN == -1, "nav_msgs/OccupancyGrid: -1 is unknown");
+static_assert(CELL_FREE == 0 && CELL_OBSTACLE == 100, "nav_msgs/OccupancyGrid: occupancy 0 (free) .. 100 (occupied)");
+static_assert(CELL_FREE < CELL_STEP && CELL_STEP < CELL_OBSTACLE, "the step code lies between free and obstacle");
+// The navigation status (assistive_common/codes.h) is assistive_msgs/NavigationState.status.
+static_assert(static_cast<int>(PlanStatus::OK) == static_cast<int>(assistive_msgs::NavigationState::OK), "NavigationState.OK");
+static_assert(static_cast<int>(PlanStatus::NO_POSE) == static_cast<int>(assistive_msgs::NavigationState::NO_POSE), "NavigationState.NO_POSE");
+static_assert(static_cast<int>(PlanStatus::NO_MAP) == static_cast<int>(assistive_msgs::NavigationState::NO_MAP), "NavigationState.NO_MAP");
+static_assert(static_cast<int>(PlanStatus::IN_UNKNOWN) == static_cast<int>(assistive_msgs::NavigationState::IN_UNKNOWN), "NavigationState.IN_UNKNOWN");
+static_assert(static_cast<int>(PlanStatus::NO_PATH) == static_cast<int>(assistive_msgs::NavigationState::NO_PATH), "NavigationState.NO_PATH");
+static_assert(static_cast<int>(PlanStatus::NO_WAYPOINT) == static_cast<int>(assistive_msgs::NavigationState::NO_WAYPOINT), "NavigationState.NO_WAYPOINT");
+
 namespace
 {
 geometry_msgs::Point toPoint(const Point2& p, double z = 0.0)

@@ -1,10 +1,33 @@
 #include "assistive_tactile/conversions.h"
 
+#include <cstdint>
+#include <assistive_msgs/NavigationState.h>
+#include <assistive_msgs/TactileCue.h>
+
 #include <algorithm>
 #include <cmath>
 
 namespace assistive_tactile
 {
+// The navigation status (assistive_common/codes.h) is assistive_msgs/NavigationState.status.
+static_assert(static_cast<int>(NavStatus::OK) == static_cast<int>(assistive_msgs::NavigationState::OK), "NavigationState.OK");
+static_assert(static_cast<int>(NavStatus::NO_POSE) == static_cast<int>(assistive_msgs::NavigationState::NO_POSE), "NavigationState.NO_POSE");
+static_assert(static_cast<int>(NavStatus::NO_MAP) == static_cast<int>(assistive_msgs::NavigationState::NO_MAP), "NavigationState.NO_MAP");
+static_assert(static_cast<int>(NavStatus::IN_UNKNOWN) == static_cast<int>(assistive_msgs::NavigationState::IN_UNKNOWN), "NavigationState.IN_UNKNOWN");
+static_assert(static_cast<int>(NavStatus::NO_PATH) == static_cast<int>(assistive_msgs::NavigationState::NO_PATH), "NavigationState.NO_PATH");
+static_assert(static_cast<int>(NavStatus::NO_WAYPOINT) == static_cast<int>(assistive_msgs::NavigationState::NO_WAYPOINT), "NavigationState.NO_WAYPOINT");
+// The cue modes (assistive_common/codes.h) are assistive_msgs/TactileCue.mode.
+static_assert(static_cast<int>(CueMode::IDLE) == static_cast<int>(assistive_msgs::TactileCue::IDLE), "TactileCue.IDLE");
+static_assert(static_cast<int>(CueMode::GUIDANCE) == static_cast<int>(assistive_msgs::TactileCue::GUIDANCE), "TactileCue.GUIDANCE");
+static_assert(static_cast<int>(CueMode::PROXIMITY) == static_cast<int>(assistive_msgs::TactileCue::PROXIMITY), "TactileCue.PROXIMITY");
+static_assert(static_cast<int>(CueMode::ALERT) == static_cast<int>(assistive_msgs::TactileCue::ALERT), "TactileCue.ALERT");
+static_assert(static_cast<int>(CueMode::UNSURE) == static_cast<int>(assistive_msgs::TactileCue::UNSURE), "TactileCue.UNSURE");
+// Motor indices of the intensity array (TactileCue constants).
+static_assert(static_cast<int>(LEFT_SHOULDER) == static_cast<int>(assistive_msgs::TactileCue::LEFT_SHOULDER), "TactileCue.LEFT_SHOULDER");
+static_assert(static_cast<int>(RIGHT_SHOULDER) == static_cast<int>(assistive_msgs::TactileCue::RIGHT_SHOULDER), "TactileCue.RIGHT_SHOULDER");
+static_assert(static_cast<int>(LEFT_WAIST) == static_cast<int>(assistive_msgs::TactileCue::LEFT_WAIST), "TactileCue.LEFT_WAIST");
+static_assert(static_cast<int>(RIGHT_WAIST) == static_cast<int>(assistive_msgs::TactileCue::RIGHT_WAIST), "TactileCue.RIGHT_WAIST");
+
 NavInput fromMsg(const assistive_msgs::NavigationState& msg)
 {
   NavInput in;

@@ -36,9 +36,9 @@ private:
     NODELET_INFO("cue_logic: %s", assistive_common::describe(p).c_str());
     logic_ = CueLogic(p);
 
-    cue_pub_ = nh.advertise<assistive_msgs::TactileCue>("tactile/cue", 1);
-    marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("tactile/markers", 1);
-    state_sub_ = nh.subscribe("planner/state", 1, &CueLogicNodelet::stateCb, this);
+    cue_pub_ = nh.advertise<assistive_msgs::TactileCue>("cue", 1);
+    marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 1);
+    state_sub_ = nh.subscribe("state", 1, &CueLogicNodelet::stateCb, this);
     updater_.reset(new diagnostic_updater::Updater(nh, pnh, getName()));
     updater_->setHardwareID("cue_logic");
     updater_->add("cue logic", this, &CueLogicNodelet::diagnose);

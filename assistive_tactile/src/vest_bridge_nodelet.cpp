@@ -66,7 +66,7 @@ private:
                    "may be late; the vest's TTL still ends each cue (grant rtprio, e.g. limits.conf)",
                    sched.c_str());
 
-    cue_sub_ = nh.subscribe("tactile/cue", 1, &VestBridgeNodelet::cueCb, this, ros::TransportHints().tcpNoDelay());
+    cue_sub_ = nh.subscribe("cue", 1, &VestBridgeNodelet::cueCb, this, ros::TransportHints().tcpNoDelay());
   }
 
   void cueCb(const assistive_msgs::TactileCue::ConstPtr& msg)

@@ -22,6 +22,7 @@
 
 #include "assistive_vo/conversions.h"
 #include "assistive_vo/imu_buffer.h"
+#include "assistive_vo/startup_rule.h"
 #include "assistive_vo/visual_odometry.h"
 
 namespace assistive_vo
@@ -41,9 +42,13 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     readParams(pnh);
     vo_ = std::make_unique<VisualOdometry>(p_);
+    StartupRule::Options so;
+    so.expect_imu = p_.use_imu;
+    so.wait_s = node_.imu_wait;
+    startup_.setOptions(so);
 
-    odom_pub_ = nh.advertise<nav_msgs::Odometry>("vo/odom", 10);
-    feat_pub_ = nh.advertise<sensor_msgs::Image>("vo/features", 1);
+    odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 10);
+    feat_pub_ = nh.advertise<sensor_msgs::Image>("features", 1);
 
     left_sub_.subscribe(nh, "left/image_rect", 2);
     left_info_sub_.subscribe(nh, "left/camera_info", 2);
@@ -245,31 +250,26 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       NODELET_WARN_THROTTLE(5.0, "stereo_odometry: time went backwards (%.3f -> %.3f, bag loop?): re-initialising",
                             last_stamp_, t);
     }
-    if (p_.use_imu && !vo_->started())
+    if (!vo_->started())
     {
-      // The odom frame takes gravity from the accelerometer at the first frame. The IMU and image
-      // subscriptions connect independently, so the first images can come before any IMU sample:
-      // wait for it (up to imu_wait of image time) rather than assume a level camera, which would
-      // tilt the whole map (a pitched-down head sees the floor as a slope, i.e. obstacles).
-      Eigen::Vector3d a;
-      if (imu_.meanAccel(t, 0.5, a) && a.norm() > 5.0 && a.norm() < 15.0)
-        vo_->setInitialUp(a);
-      else
+      // The start-up rule of the core (startup_rule.h), the same as vo_benchmark's.
+      Eigen::Vector3d up;
+      const StartupRule::Decision d = startup_.decide(t, imu_, up);
+      if (d == StartupRule::Decision::START_WITH_GRAVITY)
+        vo_->setInitialUp(up);
+      else if (d == StartupRule::Decision::WAIT_FOR_IMU)
       {
-        if (imu_wait_start_ < 0 || t < imu_wait_start_)
-          imu_wait_start_ = t;
-        if (t - imu_wait_start_ < node_.imu_wait)
-        {
-          NODELET_INFO_THROTTLE(1.0, "stereo_odometry: waiting for the IMU (gravity) before starting (%.1f of %.1f s)",
-                                t - imu_wait_start_, node_.imu_wait);
-          input_problem_ = "waiting for the IMU";
-          return;
-        }
+        NODELET_INFO_THROTTLE(1.0, "stereo_odometry: waiting for the IMU (gravity) before starting (%.1f of %.1f s)",
+                              startup_.waited(t), node_.imu_wait);
+        input_problem_ = "waiting for the IMU";
+        return;
+      }
+      else if (p_.use_imu)
         NODELET_WARN_ONCE("stereo_odometry: no IMU sample within %.1f s; gravity from initial_roll/initial_pitch "
                           "(%.1f / %.1f deg), no gyro prior until it comes",
                           node_.imu_wait, p_.initial_roll_deg, p_.initial_pitch_deg);
-      }
-      input_problem_.clear();
+      if (p_.use_imu)
+        input_problem_.clear();
     }
     Eigen::Quaterniond gyro;
     Eigen::Vector3d dv;
@@ -398,7 +398,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
   VoOutput last_;
   bool last_trusted_ = false;
   double last_stamp_ = -1.0;
-  double imu_wait_start_ = -1.0;  // image stamp of the first frame that waited for the IMU
+  StartupRule startup_;
   std::string input_problem_, last_problem_;
   uint64_t n_left_ = 0, n_right_ = 0, n_left_info_ = 0, n_right_info_ = 0, n_imu_ = 0, n_processed_ = 0;
   uint64_t last_left_ = 0, last_right_ = 0, last_processed_ = 0;

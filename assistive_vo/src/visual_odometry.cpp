@@ -68,7 +68,7 @@ const char* toString(TrackingState s)
 }
 
 VisualOdometry::VisualOdometry(const VoParams& p, const StereoCamera& cam)
-  : p_(p), cam_(cam), detector_(p), stereo_(p), gravity_(gravityOptions(p))
+  : p_(p), cam_(cam), detector_(p), stereo_(p), checks_(p), bias_(p), gravity_(gravityOptions(p))
 {
 }
 
@@ -78,6 +78,8 @@ void VisualOdometry::setParams(const VoParams& p)
   gravity_.setOptions(gravityOptions(p));
   detector_.setParams(p);
   stereo_.setParams(p);
+  checks_.setParams(p);
+  bias_.setParams(p);
 }
 
 void VisualOdometry::setCamera(const StereoCamera& cam)
@@ -127,20 +129,16 @@ void VisualOdometry::reset()
   cov_cur_.setZero();
   resets_ = 0;
   last_dt_ = 0;
-  gyro_bias_link_.setZero();
-  gyro_bias_var_ = -1.0;
-  ov_from_.clear();
-  ov_to_.clear();
-  ov_inlier_.clear();
+  bias_.reset();
+  clearOverlay();
   gravity_.clear();
   untrusted_ = true;
   untrusted_why_.clear();
   have_trusted_ = false;
   prev_thumb_.release();
-  frozen_run_ = disagree_run_ = agree_needed_ = stereo_bad_run_ = stereo_agree_needed_ = 0;
   level_pending_ = have_up_hint_ = false;
   R_kf_prev_vision_.setIdentity();
-  fs_ = FailSafeCounters();
+  checks_.reset();
 }
 
 bool VisualOdometry::mayCoast(double stamp, bool have_gyro) const
@@ -175,12 +173,7 @@ void VisualOdometry::applyTrust(VoOutput& o, double stamp, bool coast_ok, const 
   else if (why.empty())
   {
     if (o.state == TrackingState::TRACKING)
-    {
-      if (agree_needed_ > 0)
-        why = "image motion contradicted the gyro: " + std::to_string(agree_needed_) + " agreeing frames to go";
-      else if (stereo_agree_needed_ > 0)
-        why = "stereo pair was inconsistent: " + std::to_string(stereo_agree_needed_) + " consistent frames to go";
-    }
+      why = checks_.pendingReason();
     else if (o.state == TrackingState::INITIALISING)
       why = "no keyframe yet";
     else if (!coast_ok)
@@ -208,7 +201,7 @@ void VisualOdometry::applyTrust(VoOutput& o, double stamp, bool coast_ok, const 
   {
     untrusted_ = true;
     untrusted_why_ = why;
-    ++fs_.untrusted_frames;
+    checks_.countUntrusted();
   }
   if (have_trusted_)
   {
@@ -401,213 +394,251 @@ VoOutput VisualOdometry::fail(const std::string& why, const cv::Mat* left, const
   return o;
 }
 
+// ---- the frame, in order: input checks, prediction, keyframe tracking, motion estimation,
+// plausibility, acceptance (gyro bias, new keyframe, gravity) ----
 VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, double stamp,
                                  const Eigen::Quaterniond* gyro_link, const Eigen::Vector3d* dv_link)
 {
   const auto t_start = Clock::now();
   FrameStats st;
   st.fast_threshold = detector_.threshold();
-  std::string force_untrusted;  // gap / time jump, frozen camera, gyro contradiction, unusable input
-  bool coast_ok = false;        // a lost frame may still coast (decided once the gyro is known)
+  FrameContext fc;
+  fc.stamp = stamp;
   const bool have_up_hint = have_up_hint_;  // setGravityHint() holds for this frame only
   have_up_hint_ = false;
   auto finish = [&](VoOutput o) {
-    applyTrust(o, stamp, coast_ok, force_untrusted);
+    applyTrust(o, stamp, fc.coast_ok, fc.force_untrusted);
     o.stats.ms_total = msSince(t_start);
     return o;
   };
 
-  // ---- input checks: nothing here may throw or produce NaN ----
-  std::string why;
-  if (!cam_.valid())
-  {
-    VoOutput o = makeOutput(TrackingState::LOST, st, Eigen::Isometry3d::Identity(), 0);
-    o.message = "invalid stereo calibration (fx, baseline, size)";
-    force_untrusted = o.message;
+  VoOutput o;
+  if (!checkInput(left, right, st, fc, o))
     return finish(o);
-  }
-  if (left.empty() || right.empty() || left.type() != CV_8UC1 || right.type() != CV_8UC1 ||
-      left.size() != right.size() || left.cols != cam_.width || left.rows != cam_.height)
-  {
-    VoOutput o = makeOutput(have_pose_ ? TrackingState::LOST : TrackingState::INITIALISING, st,
-                            Eigen::Isometry3d::Identity(), 0);
-    o.message = "stereo images empty, not mono8, or of a size different from camera_info";
-    force_untrusted = o.message;
+  fc.first = !have_pose_;
+  if (fc.first)
+    startPose(stamp);
+  checkTiming(fc);
+  predictMotion(gyro_link, fc, st);
+  levelAfterGap(have_up_hint, fc);
+  fc.coast_ok = mayCoast(stamp, fc.have_gyro);
+  if (rejectImages(left, right, fc, st, o))
     return finish(o);
-  }
-
-  const bool first_frame = !have_pose_;
-  if (!have_pose_)
-  {
-    const Eigen::Isometry3d T_odom_link0 =
-        have_up_ && p_.use_imu ? startPoseFromUp(up_link_, p_.camera_height_m)
-                               : startPoseFromRollPitch(p_.initial_roll_deg * M_PI / 180.0,
-                                                        p_.initial_pitch_deg * M_PI / 180.0, p_.camera_height_m);
-    Eigen::Isometry3d T_link_opt = Eigen::Isometry3d::Identity();
-    T_link_opt.linear() = R_link_optical();
-    T_odom_o0_ = T_odom_link0 * T_link_opt;
-    T_w_cur_ = T_w_kf_ = Eigen::Isometry3d::Identity();
-    have_pose_ = true;
-    last_stamp_ = stamp;
-  }
-
-  // A stamp gap or time going backwards (bag loop), whatever the tracking state: the motion over
-  // it is unknown, so the pose is kept (not extrapolated; rotated by the gyro only when it covers
-  // the gap), a new keyframe is started and the frame is untrusted.
-  double dt = stamp - last_stamp_;
-  const double dt_real = dt;
-  bool gap = false;
-  if (!first_frame && (dt <= 0.0 || dt > p_.max_frame_gap_s))
-  {
-    char buf[160];
-    if (dt <= 0.0)
-    {
-      std::snprintf(buf, sizeof(buf), "time went backwards or repeated stamp (%.3f s): pose kept, re-initialising", dt);
-      ++fs_.time_jumps;
-    }
-    else
-    {
-      std::snprintf(buf, sizeof(buf), "gap of %.2f s in the image stream (> max_frame_gap_s): pose kept, re-initialising",
-                    dt);
-      ++fs_.gaps;
-    }
-    why = buf;
-    force_untrusted = why;
-    gap = true;
-    dt = last_dt_ > 0 ? last_dt_ : 1.0 / 15.0;
-  }
-
-  // Predicted motion prev -> cur in the optical frame.
-  Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();
-  const Eigen::Matrix3d R_lo = R_link_optical();
-  if (!gap && last_dt_ > 1e-6)
-  {
-    const double s = std::clamp(dt / last_dt_, 0.0, 3.0);
-    T_pred.translation() = last_T_prev_cur_.translation() * s * 0.9;
-    Eigen::AngleAxisd aa(last_T_prev_cur_.linear());
-    T_pred.linear() = Eigen::AngleAxisd(aa.angle() * s, aa.axis()).toRotationMatrix();
-  }
-  last_stamp_pending_ = stamp;
-  if (gyro_bias_var_ < 0)
-    gyro_bias_var_ = p_.gyro_bias_sigma * p_.gyro_bias_sigma;
-  const bool have_gyro = gyro_link && p_.use_imu && gyro_link->coeffs().allFinite() && dt_real > 0;
-  Eigen::Matrix3d R_gyro_opt = Eigen::Matrix3d::Identity();
-  if (have_gyro)
-  {
-    // bias-corrected: R = R_meas * exp(-b dt) (body frame), over the real interval (also a gap's)
-    const Eigen::Vector3d bdt = gyro_bias_link_ * dt_real;
-    const Eigen::Matrix3d Rl = gyro_link->normalized().toRotationMatrix() *
-                               (bdt.norm() > 0 ? Eigen::AngleAxisd(-bdt.norm(), bdt.normalized()).toRotationMatrix()
-                                               : Eigen::Matrix3d::Identity());
-    R_gyro_opt = R_lo.transpose() * Rl * R_lo;
-    T_pred.linear() = R_gyro_opt;
-    st.gyro_rate_dps = angleOf(Rl) / dt_real * 180.0 / M_PI;
-  }
-  if (gap)
-    T_pred.translation().setZero();
-  // Tilt over a gap the gyro does not cover is unknown: level by the accelerometer's next hint.
-  if (gap && !have_gyro && hints_seen_ && p_.use_imu)
-  {
-    level_pending_ = true;
-    level_pending_since_ = stamp;
-  }
-  if (level_pending_ && have_up_hint)
-  {
-    levelByGravity(up_hint_);
-    ++fs_.gravity_relevels;
-    level_pending_ = false;
-  }
-  else if (level_pending_ && stamp - level_pending_since_ > kLevelWaitS)
-    level_pending_ = false;  // no accelerometer after all: carry on with the old tilt
-  else if (level_pending_ && force_untrusted.empty())
-    force_untrusted = "tilt unknown after a gap the gyro did not cover: waiting for the accelerometer";
-  coast_ok = mayCoast(stamp, have_gyro);
-  // Motion of a lost frame: the prediction while coasting, else none (the gyro's rotation only).
-  auto lostMotion = [&]() {
-    Eigen::Isometry3d T = T_pred;
-    if (!coast_ok || !force_untrusted.empty())
-    {
-      T.translation().setZero();
-      if (!have_gyro)
-        T.linear().setIdentity();
-    }
-    return T;
-  };
-
-  st.image_change = imageChange(left);
-  if (!imageUsable(left, why) || !imageUsable(right, why))
-  {
-    last_dt_ = dt;
-    VoOutput o = fail(why, nullptr, nullptr, lostMotion(), stamp, st);
-    o.state = TrackingState::LOST;
-    return finish(o);
-  }
-
-  // Frozen camera: the image does not change while the gyro says the head turns. Such a frame
-  // carries no motion information (skipped: pose predicted); frozen_frames of them in a row make
-  // the pose untrusted until the image changes and a new keyframe is tracked. An unchanged image
-  // with a still head is normal (and with a noise-free camera, identical).
-  const bool unchanged = st.image_change >= 0 && st.image_change <= p_.frozen_max_change;
-  if (!unchanged)
-    frozen_run_ = 0;
-  else if (have_gyro && st.gyro_rate_dps >= p_.frozen_min_gyro_dps)
-    ++frozen_run_;
-  if (unchanged && frozen_run_ > 0)
-  {
-    char buf[160];
-    std::snprintf(buf, sizeof(buf), "frozen camera: image unchanged (%.2f) while the gyro turns %.1f deg/s",
-                  st.image_change, std::max(0.0, st.gyro_rate_dps));
-    if (frozen_run_ >= std::max(1, p_.frozen_frames))
-    {
-      if (frozen_run_ == std::max(1, p_.frozen_frames))
-        ++fs_.frozen;
-      if (force_untrusted.empty())
-        force_untrusted = buf;
-    }
-    last_dt_ = dt;
-    VoOutput o = fail(buf, nullptr, nullptr, lostMotion(), stamp, st);
-    o.state = TrackingState::LOST;
-    return finish(o);
-  }
 
   // ---- pyramid of the current left image ----
   auto t0 = Clock::now();
   const cv::Size win(p_.klt_window, p_.klt_window);
   cv::buildOpticalFlowPyramid(left, cur_pyr_, win, p_.klt_levels, true);
   st.ms_pyramid = msSince(t0);
+  if (!have_keyframe_ || fc.gap)
+    return finish(restartKeyframe(left, right, fc, st));
 
-  if (!have_keyframe_ || gap)
+  // ---- keyframe tracking, motion estimation ----
+  const Eigen::Isometry3d T_kf_pred = T_kf_prev_ * fc.T_pred;
+  trackFrame(left, T_kf_pred, st);
+  filterEpipolar(st);
+  matchStereo(left, right, st);
+  MotionEstimate m;
+  const bool pose_found = estimatePose(T_kf_pred, st, m);
+  last_dt_ = fc.dt;
+  if (!pose_found)
+    return finish(fail("too few inliers (" + std::to_string(m.rr.inliers.size()) + "): re-initialising", &left,
+                       &right, fc.lostMotion(), stamp, st));
+  refinePose(fc, st, m);
+
+  // ---- plausibility ----
+  measureStereoConsistency(m, st);
+  const std::string bad = checkPlausibility(m, gyro_link != nullptr, fc, st);
+  if (!bad.empty())
+    return finish(fail(bad + ": re-initialising", &left, &right, fc.lostMotion(), stamp, st));
+  R_kf_prev_vision_ = m.R_vision;
+
+  // ---- accept; gyro bias and a new keyframe at the end of a keyframe span; gravity ----
+  accept(m, st);
+  if (needKeyframe(m.T_kf_cur))
   {
-    // First frame, a frame after a failure, or a stream gap: start a keyframe here, keeping the
-    // pose chain (the pose is predicted over the gap).
-    const bool first = last_state_ == TrackingState::INITIALISING;
-    if (gap)
-    {
-      ++resets_;
-      st.reset = true;
-    }
-    if (!first)
-    {
-      T_w_cur_ = T_w_cur_ * lostMotion();
-      last_T_prev_cur_ = lostMotion();
-    }
-    gravity_.clear();
-    last_dt_ = dt;
-    startKeyframe(left, right, false, st);
-    std::swap(prev_pyr_, cur_pyr_);
-    last_stamp_ = stamp;
-    const TrackingState s = have_keyframe_ ? (first ? TrackingState::TRACKING : TrackingState::REINITIALISING)
-                                           : (first ? TrackingState::INITIALISING : TrackingState::LOST);
-    VoOutput o = makeOutput(s, st, first ? Eigen::Isometry3d::Identity() : lostMotion(), dt);
-    o.message = why;
-    if (!have_keyframe_)
-      o.message = "too few features with stereo depth to start tracking";
-    return finish(o);
+    updateGyroBias(m);
+    startKeyframe(left, right, true, st);
   }
+  levelWithGravity(stamp, dv_link);
 
-  // ---- KLT from the previous frame, initial guess from the predicted motion ----
-  t0 = Clock::now();
-  const Eigen::Isometry3d T_kf_pred = T_kf_prev_ * T_pred;
+  std::swap(prev_pyr_, cur_pyr_);
+  last_stamp_ = stamp;
+  return finish(makeOutput(TrackingState::TRACKING, st, m.T_prev_cur, fc.dt));
+}
+
+Eigen::Isometry3d VisualOdometry::FrameContext::lostMotion() const
+{
+  Eigen::Isometry3d T = T_pred;
+  if (!coast_ok || !force_untrusted.empty())
+  {
+    T.translation().setZero();
+    if (!have_gyro)
+      T.linear().setIdentity();
+  }
+  return T;
+}
+
+bool VisualOdometry::checkInput(const cv::Mat& left, const cv::Mat& right, FrameStats& st, FrameContext& fc,
+                                VoOutput& o)
+{
+  // Nothing here may throw or produce NaN.
+  if (!cam_.valid())
+  {
+    o = makeOutput(TrackingState::LOST, st, Eigen::Isometry3d::Identity(), 0);
+    o.message = "invalid stereo calibration (fx, baseline, size)";
+    fc.force_untrusted = o.message;
+    return false;
+  }
+  if (left.empty() || right.empty() || left.type() != CV_8UC1 || right.type() != CV_8UC1 ||
+      left.size() != right.size() || left.cols != cam_.width || left.rows != cam_.height)
+  {
+    o = makeOutput(have_pose_ ? TrackingState::LOST : TrackingState::INITIALISING, st, Eigen::Isometry3d::Identity(),
+                   0);
+    o.message = "stereo images empty, not mono8, or of a size different from camera_info";
+    fc.force_untrusted = o.message;
+    return false;
+  }
+  return true;
+}
+
+void VisualOdometry::startPose(double stamp)
+{
+  const Eigen::Isometry3d T_odom_link0 =
+      have_up_ && p_.use_imu ? startPoseFromUp(up_link_, p_.camera_height_m)
+                             : startPoseFromRollPitch(p_.initial_roll_deg * M_PI / 180.0,
+                                                      p_.initial_pitch_deg * M_PI / 180.0, p_.camera_height_m);
+  Eigen::Isometry3d T_link_opt = Eigen::Isometry3d::Identity();
+  T_link_opt.linear() = R_link_optical();
+  T_odom_o0_ = T_odom_link0 * T_link_opt;
+  T_w_cur_ = T_w_kf_ = Eigen::Isometry3d::Identity();
+  have_pose_ = true;
+  last_stamp_ = stamp;
+}
+
+void VisualOdometry::checkTiming(FrameContext& fc)
+{
+  // A stamp gap or time going backwards (bag loop), whatever the tracking state: the motion over
+  // it is unknown, so the pose is kept (not extrapolated; rotated by the gyro only when it covers
+  // the gap), a new keyframe is started and the frame is untrusted.
+  fc.dt = fc.stamp - last_stamp_;
+  fc.dt_real = fc.dt;
+  if (fc.first)
+    return;
+  const std::string why = checks_.checkTiming(fc.dt);
+  if (why.empty())
+    return;
+  fc.why = why;
+  fc.force_untrusted = why;
+  fc.gap = true;
+  fc.dt = last_dt_ > 0 ? last_dt_ : 1.0 / 15.0;
+}
+
+void VisualOdometry::predictMotion(const Eigen::Quaterniond* gyro_link, FrameContext& fc, FrameStats& st)
+{
+  // Predicted motion prev -> cur in the optical frame: constant velocity (translation damped),
+  // the gyro's rotation when there is one.
+  const Eigen::Matrix3d R_lo = R_link_optical();
+  if (!fc.gap && last_dt_ > 1e-6)
+  {
+    const double s = std::clamp(fc.dt / last_dt_, 0.0, 3.0);
+    fc.T_pred.translation() = last_T_prev_cur_.translation() * s * 0.9;
+    Eigen::AngleAxisd aa(last_T_prev_cur_.linear());
+    fc.T_pred.linear() = Eigen::AngleAxisd(aa.angle() * s, aa.axis()).toRotationMatrix();
+  }
+  last_stamp_pending_ = fc.stamp;
+  bias_.initialise();
+  fc.have_gyro = gyro_link && p_.use_imu && gyro_link->coeffs().allFinite() && fc.dt_real > 0;
+  if (fc.have_gyro)
+  {
+    // bias-corrected over the real interval (also a gap's)
+    const Eigen::Matrix3d Rl = bias_.correct(*gyro_link, fc.dt_real);
+    fc.R_gyro_opt = R_lo.transpose() * Rl * R_lo;
+    fc.T_pred.linear() = fc.R_gyro_opt;
+    st.gyro_rate_dps = angleOf(Rl) / fc.dt_real * 180.0 / M_PI;
+  }
+  if (fc.gap)
+    fc.T_pred.translation().setZero();
+}
+
+void VisualOdometry::levelAfterGap(bool have_up_hint, FrameContext& fc)
+{
+  if (fc.gap && !fc.have_gyro && hints_seen_ && p_.use_imu)
+  {
+    level_pending_ = true;
+    level_pending_since_ = fc.stamp;
+  }
+  if (level_pending_ && have_up_hint)
+  {
+    levelByGravity(up_hint_);
+    checks_.countGravityRelevel();
+    level_pending_ = false;
+  }
+  else if (level_pending_ && fc.stamp - level_pending_since_ > kLevelWaitS)
+    level_pending_ = false;  // no accelerometer after all: carry on with the old tilt
+  else if (level_pending_ && fc.force_untrusted.empty())
+    fc.force_untrusted = "tilt unknown after a gap the gyro did not cover: waiting for the accelerometer";
+}
+
+bool VisualOdometry::rejectImages(const cv::Mat& left, const cv::Mat& right, FrameContext& fc, FrameStats& st,
+                                  VoOutput& o)
+{
+  st.image_change = imageChange(left);
+  if (!imageUsable(left, fc.why) || !imageUsable(right, fc.why))
+  {
+    last_dt_ = fc.dt;
+    o = fail(fc.why, nullptr, nullptr, fc.lostMotion(), fc.stamp, st);
+    o.state = TrackingState::LOST;
+    return true;
+  }
+  // Frozen camera: the image does not change while the gyro says the head turns. Such a frame
+  // carries no motion information (skipped: pose predicted); frozen_frames of them in a row make
+  // the pose untrusted until the image changes and a new keyframe is tracked.
+  std::string frozen_why;
+  bool untrusted = false;
+  if (!checks_.frozen(st.image_change, fc.have_gyro, st.gyro_rate_dps, frozen_why, untrusted))
+    return false;
+  if (untrusted && fc.force_untrusted.empty())
+    fc.force_untrusted = frozen_why;
+  last_dt_ = fc.dt;
+  o = fail(frozen_why, nullptr, nullptr, fc.lostMotion(), fc.stamp, st);
+  o.state = TrackingState::LOST;
+  return true;
+}
+
+VoOutput VisualOdometry::restartKeyframe(const cv::Mat& left, const cv::Mat& right, FrameContext& fc,
+                                         FrameStats& st)
+{
+  // Keeps the pose chain (the pose is predicted over the gap).
+  const bool first = last_state_ == TrackingState::INITIALISING;
+  if (fc.gap)
+  {
+    ++resets_;
+    st.reset = true;
+  }
+  if (!first)
+  {
+    T_w_cur_ = T_w_cur_ * fc.lostMotion();
+    last_T_prev_cur_ = fc.lostMotion();
+  }
+  gravity_.clear();
+  last_dt_ = fc.dt;
+  startKeyframe(left, right, false, st);
+  std::swap(prev_pyr_, cur_pyr_);
+  last_stamp_ = fc.stamp;
+  const TrackingState s = have_keyframe_ ? (first ? TrackingState::TRACKING : TrackingState::REINITIALISING)
+                                         : (first ? TrackingState::INITIALISING : TrackingState::LOST);
+  VoOutput o = makeOutput(s, st, first ? Eigen::Isometry3d::Identity() : fc.lostMotion(), fc.dt);
+  o.message = fc.why;
+  if (!have_keyframe_)
+    o.message = "too few features with stereo depth to start tracking";
+  return o;
+}
+
+void VisualOdometry::trackFrame(const cv::Mat& left, const Eigen::Isometry3d& T_kf_pred, FrameStats& st)
+{
+  const auto t0 = Clock::now();
+  const cv::Size win(p_.klt_window, p_.klt_window);
   const Eigen::Isometry3d T_pred_kf = T_kf_pred.inverse();
   std::vector<cv::Point2f> p0(tracks_.size()), p1(tracks_.size());
   for (size_t i = 0; i < tracks_.size(); ++i)
@@ -631,9 +662,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
                              cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, p_.klt_iterations,
                                               p_.klt_epsilon),
                              cv::OPTFLOW_USE_INITIAL_FLOW, p_.klt_min_eigen);
-  ov_from_.clear();
-  ov_to_.clear();
-  ov_inlier_.clear();
+  clearOverlay();
   {
     std::vector<Track> alive;
     alive.reserve(tracks_.size());
@@ -667,9 +696,11 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   }
   st.klt_tracked = static_cast<int>(tracks_.size());
   st.ms_klt = msSince(t0);
+}
 
-  // ---- RANSAC on the epipolar constraint (keyframe -> current) ----
-  t0 = Clock::now();
+void VisualOdometry::filterEpipolar(FrameStats& st)
+{
+  const auto t0 = Clock::now();
   if (p_.epipolar_filter && tracks_.size() >= 15)
   {
     std::vector<cv::Point2f> a(tracks_.size()), c(tracks_.size());
@@ -699,11 +730,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
             if (mask[i])
               keep.push_back(tracks_[i]);
             else
-            {
-              ov_from_.push_back(tracks_[i].prev);
-              ov_to_.push_back(tracks_[i].cur);
-              ov_inlier_.push_back(0);
-            }
+              addOverlay(tracks_[i], false);
           tracks_.swap(keep);
         }
       }
@@ -711,21 +738,23 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   }
   st.epipolar_kept = static_cast<int>(tracks_.size());
   st.ms_epipolar = msSince(t0);
+}
 
-  // ---- sparse stereo for the tracked points ----
-  t0 = Clock::now();
-  {
-    std::vector<cv::Point2f> pts(tracks_.size());
-    for (size_t i = 0; i < tracks_.size(); ++i)
-      pts[i] = tracks_[i].cur;
-    const std::vector<float> d = stereo_.match(left, right, pts, maxDisparity());
-    for (size_t i = 0; i < tracks_.size(); ++i)
-      tracks_[i].cur_disp = d[i];
-  }
+void VisualOdometry::matchStereo(const cv::Mat& left, const cv::Mat& right, FrameStats& st)
+{
+  const auto t0 = Clock::now();
+  std::vector<cv::Point2f> pts(tracks_.size());
+  for (size_t i = 0; i < tracks_.size(); ++i)
+    pts[i] = tracks_[i].cur;
+  const std::vector<float> d = stereo_.match(left, right, pts, maxDisparity());
+  for (size_t i = 0; i < tracks_.size(); ++i)
+    tracks_[i].cur_disp = d[i];
   st.ms_stereo = msSince(t0);
+}
 
-  // ---- P3P RANSAC (LMedS) against the keyframe's 3D points ----
-  t0 = Clock::now();
+bool VisualOdometry::estimatePose(const Eigen::Isometry3d& T_kf_pred, FrameStats& st, MotionEstimate& m)
+{
+  const auto t0 = Clock::now();
   Vec3List X(tracks_.size());
   Vec2List x(tracks_.size());
   for (size_t i = 0; i < tracks_.size(); ++i)
@@ -739,26 +768,26 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   ro.min_trials = p_.ransac_min_trials;
   ro.threshold_max_px = p_.inlier_threshold_px;
   ro.threshold_min_px = p_.inlier_threshold_min_px;
-  const RansacResult rr = ransac_.estimate(cam_, X, x, ro, &T_kf_pred);
-  st.ransac_trials = rr.trials;
+  m.rr = ransac_.estimate(cam_, X, x, ro, &T_kf_pred);
+  st.ransac_trials = m.rr.trials;
   st.ms_ransac = msSince(t0);
-  last_dt_ = dt;
-  if (!rr.ok || static_cast<int>(rr.inliers.size()) < p_.min_inliers)
+  if (!m.rr.ok || static_cast<int>(m.rr.inliers.size()) < p_.min_inliers)
   {
-    st.inliers = static_cast<int>(rr.inliers.size());
-    return finish(fail("too few inliers (" + std::to_string(rr.inliers.size()) + "): re-initialising", &left,
-                       &right, lostMotion(), stamp, st));
+    st.inliers = static_cast<int>(m.rr.inliers.size());
+    return false;
   }
+  return true;
+}
 
-  // ---- two-frame sparse bundle adjustment over the inliers ----
-  t0 = Clock::now();
-  Vec3List Xin;
+void VisualOdometry::refinePose(const FrameContext& fc, FrameStats& st, MotionEstimate& m)
+{
+  const auto t0 = Clock::now();
   std::vector<StereoObservation> oref, ocur;
-  Xin.reserve(rr.inliers.size());
-  for (int i : rr.inliers)
+  m.X_in.reserve(m.rr.inliers.size());
+  for (int i : m.rr.inliers)
   {
     const Track& t = tracks_[static_cast<size_t>(i)];
-    Xin.push_back(t.X_kf);
+    m.X_in.push_back(t.X_kf);
     oref.push_back(t.kf_obs);
     ocur.push_back(StereoObservation{t.cur.x, t.cur.y, t.cur_disp > 0 ? t.cur.x - t.cur_disp : -1.0});
   }
@@ -766,207 +795,163 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   bo.iterations = p_.ba_iterations;
   bo.huber_px = p_.ba_huber_px;
   bo.pixel_sigma_px = p_.pixel_sigma_px;
-  BundleAdjustmentResult br = ba_.optimize(cam_, rr.T_ref_cur, Xin, oref, ocur, bo);
+  m.br = ba_.optimize(cam_, m.rr.T_ref_cur, m.X_in, oref, ocur, bo);
   // Vision-only rotation (kept for the online gyro bias estimate).
-  const Eigen::Matrix3d R_vision = br.ok ? Eigen::Matrix3d(br.T_ref_cur.linear()) : Eigen::Matrix3d(rr.T_ref_cur.linear());
-  const Eigen::Matrix<double, 6, 6> cov_vision = br.covariance;
-  if (have_gyro)
-    R_kf_gyro_ = R_kf_gyro_ * R_gyro_opt;
+  m.R_vision = m.br.ok ? Eigen::Matrix3d(m.br.T_ref_cur.linear()) : Eigen::Matrix3d(m.rr.T_ref_cur.linear());
+  m.cov_vision = m.br.covariance;
+  if (fc.have_gyro)
+    R_kf_gyro_ = R_kf_gyro_ * fc.R_gyro_opt;
   else
     gyro_since_kf_ = false;
-  const double dt_kf = stamp - t_kf_;
-  if (br.ok && gyro_since_kf_ && p_.gyro_rotation_prior && dt_kf > 0)
+  m.dt_kf = fc.stamp - t_kf_;
+  if (m.br.ok && gyro_since_kf_ && p_.gyro_rotation_prior && m.dt_kf > 0)
   {
     // Second pass with the integrated (bias-corrected) gyro as a rotation prior: angle random
     // walk + bias uncertainty over the keyframe span.
-    const double var_g = p_.gyro_noise_density * p_.gyro_noise_density * dt_kf + gyro_bias_var_ * dt_kf * dt_kf + 1e-10;
+    const double var_g = bias_.rotationVariance(m.dt_kf);
     bo.use_rotation_prior = true;
     bo.rotation_prior = R_kf_gyro_;
     bo.rotation_prior_weight = p_.pixel_sigma_px * p_.pixel_sigma_px / var_g;
     bo.iterations = std::max(2, p_.ba_iterations / 2);
-    const BundleAdjustmentResult b2 = ba_.optimize(cam_, br.T_ref_cur, Xin, oref, ocur, bo);
+    const BundleAdjustmentResult b2 = ba_.optimize(cam_, m.br.T_ref_cur, m.X_in, oref, ocur, bo);
     if (b2.ok)
-      br = b2;
+      m.br = b2;
   }
   st.ms_ba = msSince(t0);
-  const Eigen::Isometry3d T_kf_cur = br.ok ? br.T_ref_cur : rr.T_ref_cur;
+  m.T_kf_cur = m.br.ok ? m.br.T_ref_cur : m.rr.T_ref_cur;
+  m.T_prev_cur = T_kf_prev_.inverse() * m.T_kf_cur;
+}
+
+void VisualOdometry::measureStereoConsistency(const MotionEstimate& m, FrameStats& st) const
+{
+  // The current disparity of the inliers against the one their refined 3D point predicts at the
+  // estimated pose (median). A right image out of sync with the left (or a moved camera) gives
+  // pixels of error; a good pair, a tenth of a pixel.
+  std::vector<double> res;
+  res.reserve(m.rr.inliers.size());
+  const Eigen::Isometry3d T_cur_kf = m.T_kf_cur.inverse();
+  int matched = 0;
+  for (size_t k = 0; k < m.rr.inliers.size(); ++k)
   {
-    // Stereo consistency: the current disparity of the inliers against the one their refined 3D
-    // point predicts at the estimated pose (median). A right image out of sync with the left (or a
-    // moved camera) gives pixels of error; a good pair, a tenth of a pixel.
-    std::vector<double> res;
-    res.reserve(rr.inliers.size());
-    const Eigen::Isometry3d T_cur_kf = T_kf_cur.inverse();
-    int matched = 0;
-    for (size_t k = 0; k < rr.inliers.size(); ++k)
-    {
-      const Track& t = tracks_[static_cast<size_t>(rr.inliers[k])];
-      const Eigen::Vector3d Xc = T_cur_kf * Xin[k];
-      matched += t.cur_disp > 0;
-      if (t.cur_disp > 0 && Xc.z() > 0.1)
-        res.push_back(std::abs(t.cur_disp - cam_.fx * cam_.baseline / Xc.z()));
-    }
-    st.stereo_matched_ratio = rr.inliers.empty() ? -1.0 : matched / static_cast<double>(rr.inliers.size());
-    if (res.size() >= 5)
-    {
-      std::nth_element(res.begin(), res.begin() + res.size() / 2, res.end());
-      st.stereo_error_px = res[res.size() / 2];
-    }
+    const Track& t = tracks_[static_cast<size_t>(m.rr.inliers[k])];
+    const Eigen::Vector3d Xc = T_cur_kf * m.X_in[k];
+    matched += t.cur_disp > 0;
+    if (t.cur_disp > 0 && Xc.z() > 0.1)
+      res.push_back(std::abs(t.cur_disp - cam_.fx * cam_.baseline / Xc.z()));
   }
-  // ---- plausibility: no jumps ----
-  const Eigen::Isometry3d T_prev_cur = T_kf_prev_.inverse() * T_kf_cur;
-  // Translation: the change against the constant-velocity prediction is bounded by max_speed
-  // (a walking head cannot jump; a vehicle moving fast but steadily is fine). A solution that a
-  // clear majority of the tracks supports (>= 2 x min_inliers and >= half the tracks) is accepted
-  // even when it exceeds the bound: that is the start of tracking on a fast platform, not a jump.
-  const double max_t = p_.max_speed_mps * dt + 0.02;
-  const double max_r = p_.max_angular_speed_dps * M_PI / 180.0 * dt + 0.02;
-  const int n_in = static_cast<int>(rr.inliers.size());
+  st.stereo_matched_ratio = m.rr.inliers.empty() ? -1.0 : matched / static_cast<double>(m.rr.inliers.size());
+  if (res.size() >= 5)
+  {
+    std::nth_element(res.begin(), res.begin() + res.size() / 2, res.end());
+    st.stereo_error_px = res[res.size() / 2];
+  }
+}
+
+std::string VisualOdometry::checkPlausibility(const MotionEstimate& m, bool gyro_given, FrameContext& fc,
+                                              FrameStats& st)
+{
+  // No jumps. A solution that a clear majority of the tracks supports (>= 2 x min_inliers and
+  // >= half the tracks) is accepted even when it exceeds the speed bound: that is the start of
+  // tracking on a fast platform, not a jump.
+  const int n_in = static_cast<int>(m.rr.inliers.size());
   const bool strong = n_in >= 2 * p_.min_inliers && 2 * n_in >= static_cast<int>(tracks_.size());
-  std::string bad;
-  if (!T_kf_cur.matrix().allFinite())
-    bad = "non-finite motion";
-  else if ((T_prev_cur.translation() - T_pred.translation()).norm() > max_t && !strong)
-    bad = "implausible translation";
-  else if (angleOf(T_prev_cur.linear()) > max_r)
-    bad = "implausible rotation";
-  else if (gyro_link && p_.use_imu &&
-           angleOf(T_prev_cur.linear().transpose() * T_pred.linear()) > 0.05 + 0.5 * angleOf(T_pred.linear()))
-    bad = "rotation disagrees with the gyro";
-  // Image motion contradicting the gyro (camera loose on the head, the view filled by something
-  // moving): the vision-only rotation of this frame against the gyro's, over several frames.
-  if (have_gyro && bad.empty())
+  std::string bad = checks_.checkMotion(m.T_kf_cur, m.T_prev_cur, fc.T_pred, fc.dt, strong, gyro_given && p_.use_imu);
+  // Image motion contradicting the gyro: the vision-only rotation of this frame against the
+  // gyro's, over several frames.
+  if (fc.have_gyro && bad.empty())
   {
-    const Eigen::Matrix3d R_vis_prev_cur = R_kf_prev_vision_.transpose() * R_vision;
-    st.gyro_disagreement_deg = angleOf(R_vis_prev_cur.transpose() * R_gyro_opt) * 180.0 / M_PI;
-    if (st.gyro_disagreement_deg > p_.gyro_disagreement_deg)
-      ++disagree_run_;
-    else
-    {
-      disagree_run_ = 0;
-      agree_needed_ = std::max(0, agree_needed_ - 1);
-    }
-    const int n = std::max(1, p_.gyro_disagreement_frames);
-    if (disagree_run_ >= n)
-    {
-      if (disagree_run_ == n)
-        ++fs_.gyro_disagreement;
-      agree_needed_ = n;
-      char buf[160];
-      std::snprintf(buf, sizeof(buf), "image motion contradicts the gyro (%.1f deg on %d frames)",
-                    st.gyro_disagreement_deg, disagree_run_);
-      bad = buf;
-      force_untrusted = bad;
-    }
+    const Eigen::Matrix3d R_vis_prev_cur = R_kf_prev_vision_.transpose() * m.R_vision;
+    st.gyro_disagreement_deg = angleOf(R_vis_prev_cur.transpose() * fc.R_gyro_opt) * 180.0 / M_PI;
+    const std::string why = checks_.checkGyroAgreement(st.gyro_disagreement_deg);
+    if (!why.empty())
+      bad = fc.force_untrusted = why;
   }
-  else if (!have_gyro)
-  {
-    disagree_run_ = 0;
-    agree_needed_ = std::max(0, agree_needed_ - 1);  // nothing to check against
-  }
-  // Stereo pair inconsistent with the motion (right image out of sync, camera moved): over
-  // stereo_inconsistent_frames tracked frames in a row, or at once when 5 x the threshold.
+  else if (!fc.have_gyro)
+    checks_.noGyro();
+  // Stereo pair inconsistent with the motion (right image out of sync, camera moved).
   if (bad.empty() && st.stereo_matched_ratio >= 0)
   {
-    const int n = std::max(1, p_.stereo_inconsistent_frames);
-    if (st.stereo_error_px > p_.stereo_max_error_px || st.stereo_matched_ratio < p_.stereo_min_matched_ratio)
-      stereo_bad_run_ = st.stereo_error_px > 5 * p_.stereo_max_error_px ? std::max(n, stereo_bad_run_ + 1)
-                                                                        : stereo_bad_run_ + 1;
-    else
-    {
-      stereo_bad_run_ = 0;
-      stereo_agree_needed_ = std::max(0, stereo_agree_needed_ - 1);
-    }
-    if (stereo_bad_run_ >= n)
-    {
-      if (stereo_agree_needed_ == 0)
-        ++fs_.stereo_inconsistent;
-      stereo_agree_needed_ = n;
-      char buf[160];
-      std::snprintf(buf, sizeof(buf),
-                    "stereo pair inconsistent: disparity off by %.1f px, %.0f %% matched (right image out of sync?)",
-                    st.stereo_error_px, 100.0 * st.stereo_matched_ratio);
-      bad = buf;
-      force_untrusted = bad;
-    }
+    const std::string why = checks_.checkStereo(st.stereo_error_px, st.stereo_matched_ratio);
+    if (!why.empty())
+      bad = fc.force_untrusted = why;
   }
-  if (!bad.empty())
-    return finish(fail(bad + ": re-initialising", &left, &right, lostMotion(), stamp, st));
-  R_kf_prev_vision_ = R_vision;
+  return bad;
+}
 
-  // ---- accept ----
+void VisualOdometry::accept(const MotionEstimate& m, FrameStats& st)
+{
   std::vector<uint8_t> is_in(tracks_.size(), 0);
-  for (size_t k = 0; k < rr.inliers.size(); ++k)
+  for (size_t k = 0; k < m.rr.inliers.size(); ++k)
   {
-    const size_t i = static_cast<size_t>(rr.inliers[k]);
+    const size_t i = static_cast<size_t>(m.rr.inliers[k]);
     is_in[i] = 1;
-    tracks_[i].X_kf = Xin[k];  // refined by the bundle adjustment
+    tracks_[i].X_kf = m.X_in[k];  // refined by the bundle adjustment
   }
+  std::vector<Track> keep;
+  keep.reserve(m.rr.inliers.size());
+  for (size_t i = 0; i < tracks_.size(); ++i)
   {
-    std::vector<Track> keep;
-    keep.reserve(rr.inliers.size());
-    for (size_t i = 0; i < tracks_.size(); ++i)
-    {
-      ov_from_.push_back(tracks_[i].prev);
-      ov_to_.push_back(tracks_[i].cur);
-      ov_inlier_.push_back(is_in[i]);
-      if (is_in[i])
-        keep.push_back(tracks_[i]);
-    }
-    tracks_.swap(keep);
+    addOverlay(tracks_[i], is_in[i] != 0);
+    if (is_in[i])
+      keep.push_back(tracks_[i]);
   }
-  st.inliers = static_cast<int>(rr.inliers.size());
-  T_w_cur_ = T_w_kf_ * T_kf_cur;
-  T_kf_prev_ = T_kf_cur;
-  last_T_prev_cur_ = T_prev_cur;
+  tracks_.swap(keep);
+  st.inliers = static_cast<int>(m.rr.inliers.size());
+  T_w_cur_ = T_w_kf_ * m.T_kf_cur;
+  T_kf_prev_ = m.T_kf_cur;
+  last_T_prev_cur_ = m.T_prev_cur;
   // BA covariance is of the current frame relative to the keyframe (current-frame axes).
-  cov_rel_ = br.ok ? br.covariance : Eigen::Matrix<double, 6, 6>::Identity() * 1e-2;
-  cov_cur_ = cov_kf_ + rotateCov(cov_rel_, T_kf_cur.linear());
+  cov_rel_ = m.br.ok ? m.br.covariance : Eigen::Matrix<double, 6, 6>::Identity() * 1e-2;
+  cov_cur_ = cov_kf_ + rotateCov(cov_rel_, m.T_kf_cur.linear());
+}
 
-  // ---- replenish (new keyframe) ----
-  if (static_cast<int>(tracks_.size()) < p_.replenish_ratio * tracks_started_ ||
-      occupiedCells() < p_.replenish_coverage_ratio * cells_started_ ||
-      static_cast<int>(tracks_.size()) < p_.min_tracks ||
-      angleOf(T_kf_cur.linear()) > p_.max_rotation_from_keyframe_deg * M_PI / 180.0)
-  {
-    // Online gyro bias: vision rotation over the keyframe span vs the integrated gyro,
-    // scalar Kalman update (R_vision^T R_gyro ~ exp((b - b_est) dt)).
-    if (gyro_since_kf_ && br.ok && dt_kf > 0.3)
-    {
-      const Eigen::AngleAxisd aa(R_vision.transpose() * R_kf_gyro_);
-      const Eigen::Vector3d b_err = R_lo * (aa.angle() * aa.axis()) / dt_kf;
-      const double s_vo = std::max(p_.vo_rotation_sigma, std::sqrt(std::max(0.0, cov_vision.bottomRightCorner<3, 3>().trace() / 3)));
-      const double var_m = s_vo * s_vo / (dt_kf * dt_kf);
-      const double K = gyro_bias_var_ / (gyro_bias_var_ + var_m);
-      if (b_err.allFinite() && b_err.norm() < 0.1)
-      {
-        gyro_bias_link_ += K * b_err;
-        gyro_bias_var_ = (1 - K) * gyro_bias_var_ + p_.gyro_bias_walk * p_.gyro_bias_walk * dt_kf;
-      }
-    }
-    startKeyframe(left, right, true, st);
-  }
+bool VisualOdometry::needKeyframe(const Eigen::Isometry3d& T_kf_cur) const
+{
+  return static_cast<int>(tracks_.size()) < p_.replenish_ratio * tracks_started_ ||
+         occupiedCells() < p_.replenish_coverage_ratio * cells_started_ ||
+         static_cast<int>(tracks_.size()) < p_.min_tracks ||
+         angleOf(T_kf_cur.linear()) > p_.max_rotation_from_keyframe_deg * M_PI / 180.0;
+}
 
-  // ---- gravity: keep the odom frame level (about the current position: no jump) ----
-  if (dv_link && p_.use_imu)
+void VisualOdometry::updateGyroBias(const MotionEstimate& m)
+{
+  // Vision rotation over the keyframe span vs the integrated gyro; only over spans long enough
+  // for the bias to show.
+  if (gyro_since_kf_ && m.br.ok && m.dt_kf > 0.3)
+    bias_.update(m.R_vision, R_kf_gyro_, m.dt_kf, m.cov_vision.bottomRightCorner<3, 3>().trace() / 3);
+}
+
+void VisualOdometry::levelWithGravity(double stamp, const Eigen::Vector3d* dv_link)
+{
+  if (!(dv_link && p_.use_imu))
   {
-    const Eigen::Isometry3d T_odom_link = linkPose(T_odom_o0_ * T_w_cur_);
-    Eigen::Matrix3d C;
-    if (gravity_.add(stamp, T_odom_link, *dv_link, C))
-    {
-      const Eigen::Vector3d pos = T_odom_link.translation();
-      Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
-      M.linear() = C;
-      M.translation() = pos - C * pos;
-      T_odom_o0_ = M * T_odom_o0_;
-    }
-  }
-  else
     gravity_.clear();
+    return;
+  }
+  const Eigen::Isometry3d T_odom_link = linkPose(T_odom_o0_ * T_w_cur_);
+  Eigen::Matrix3d C;
+  if (gravity_.add(stamp, T_odom_link, *dv_link, C))
+  {
+    const Eigen::Vector3d pos = T_odom_link.translation();
+    Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
+    M.linear() = C;
+    M.translation() = pos - C * pos;
+    T_odom_o0_ = M * T_odom_o0_;
+  }
+}
 
-  std::swap(prev_pyr_, cur_pyr_);
-  last_stamp_ = stamp;
-  return finish(makeOutput(TrackingState::TRACKING, st, T_prev_cur, dt));
+void VisualOdometry::clearOverlay()
+{
+  ov_from_.clear();
+  ov_to_.clear();
+  ov_inlier_.clear();
+}
+
+void VisualOdometry::addOverlay(const Track& t, bool inlier)
+{
+  ov_from_.push_back(t.prev);
+  ov_to_.push_back(t.cur);
+  ov_inlier_.push_back(inlier ? 1 : 0);
 }
 
 cv::Mat VisualOdometry::drawOverlay(const cv::Mat& left) const

@@ -27,6 +27,7 @@
 #include <assistive_eval/stereo_bag.h>
 #include "assistive_vo/frames.h"
 #include "assistive_vo/imu_buffer.h"
+#include "assistive_vo/startup_rule.h"
 #include "assistive_vo/visual_odometry.h"
 
 using namespace assistive_vo;
@@ -163,6 +164,9 @@ int main(int argc, char** argv)
   }
   VisualOdometry vo(params);
   ImuBuffer imu(5.0);
+  StartupRule::Options startup_options;
+  startup_options.expect_imu = imu_on && !reader->imuSamples().empty();  // a bag without an IMU: no wait
+  StartupRule startup(startup_options);
   Peer peer;
   peer.max_translation_m = peer_max_t;
   ev::Trajectory gt, est, peer_est;
@@ -194,17 +198,21 @@ int main(int argc, char** argv)
     Eigen::Quaterniond gyro;
     Eigen::Vector3d dv;
     bool have_gyro = false;
-    if (imu_on)
+    if (!vo.started())
     {
-      if (frames == 0)
+      // The nodelet's start-up rule (startup_rule.h): gravity from the IMU, else wait, else level.
+      Eigen::Vector3d up;
+      const StartupRule::Decision d = startup.decide(f.stamp, imu, up);
+      if (d == StartupRule::Decision::WAIT_FOR_IMU)
       {
-        Eigen::Vector3d a;
-        if (imu.meanAccel(f.stamp, 0.5, a))
-          vo.setInitialUp(a);
+        ++frames;
+        continue;
       }
-      else
-        have_gyro = imu.integrate(prev_stamp, f.stamp, gyro, dv);
+      if (d == StartupRule::Decision::START_WITH_GRAVITY)
+        vo.setInitialUp(up);
     }
+    else if (imu_on)
+      have_gyro = imu.integrate(prev_stamp, f.stamp, gyro, dv);
     prev_stamp = f.stamp;
 
     const ev::Stopwatch timer;

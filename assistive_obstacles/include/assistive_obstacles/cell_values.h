@@ -1,14 +1,16 @@
 #pragma once
-// Cell codes of the traversability grid (README "Grid cell codes"), and per-frame labels.
+// Cell codes of the traversability grid (README "Grid cell codes": one definition for every
+// stage, assistive_common/codes.h), and per-frame labels.
 #include <cstdint>
+#include <assistive_common/codes.h>
 
 namespace assistive_obstacles
 {
 /// Output codes (nav_msgs/OccupancyGrid data values).
-constexpr int8_t UNKNOWN = -1;   ///< never observed (or not yet decided)
-constexpr int8_t FREE = 0;       ///< traversable floor
-constexpr int8_t STEP = 50;      ///< step or curb: traversable with care
-constexpr int8_t OBSTACLE = 100; ///< anything between the floor and head height plus a margin
+using assistive_common::CELL_FREE;
+using assistive_common::CELL_OBSTACLE;
+using assistive_common::CELL_STEP;
+using assistive_common::CELL_UNKNOWN;
 
 /// Per-frame label of one cell (before the temporal filter).
 enum class FrameLabel : uint8_t

@@ -63,8 +63,8 @@ public:
 
   /// Traversability codes of the current window.
   void grid(GridData& out) const;
-  /// Dropout / glass report of the last frame: OBSTACLE where a mapped obstacle is in view but
-  /// had no depth, UNKNOWN elsewhere (same geometry as grid()).
+  /// Dropout / glass report of the last frame: CELL_OBSTACLE where a mapped obstacle is in view but
+  /// had no depth, CELL_UNKNOWN elsewhere (same geometry as grid()).
   const GridData& dropout() const { return dropout_; }
   const FrameStats& stats() const { return stats_; }
   const Window& window() const { return window_; }

@@ -20,7 +20,7 @@ struct CellCounters
   uint16_t step = 0;        ///< free votes that were steps (weighted)
   uint16_t votes = 0;       ///< number of votes (unweighted, saturating): decide after min_observations
   uint16_t flips = 0;       ///< I
-  int8_t state = UNKNOWN;   ///< UNKNOWN (undecided), FREE or OBSTACLE
+  int8_t state = CELL_UNKNOWN;   ///< CELL_UNKNOWN (undecided), CELL_FREE or CELL_OBSTACLE
   bool used = false;
   bool permanent = false;
 };
@@ -40,7 +40,7 @@ public:
   /// but not to the number of votes, so a cell never observed itself is never decided.
   void vote(int gx, int gy, FrameLabel label, int weight = 1, bool observed = true);
   static constexpr int MAX_VOTE_WEIGHT = 4;
-  /// Output code of global cell (gx, gy): UNKNOWN, FREE, STEP or OBSTACLE.
+  /// Output code of global cell (gx, gy): CELL_UNKNOWN, CELL_FREE, CELL_STEP or CELL_OBSTACLE.
   int8_t code(int gx, int gy) const;
   /// Counters of a cell (nullptr when the slot holds another cell or was never used).
   const CellCounters* find(int gx, int gy) const;

@@ -3,18 +3,19 @@
 #include <cmath>
 #include <cstdint>
 #include <vector>
+#include <assistive_common/codes.h>
 
 namespace assistive_planner
 {
-/// Cell codes of the traversability grid (README "Grid cell codes").
-constexpr int8_t CELL_UNKNOWN = -1;
-constexpr int8_t CELL_FREE = 0;
-constexpr int8_t CELL_STEP = 50;
-constexpr int8_t CELL_OBSTACLE = 100;
-
-inline bool isTraversableCode(int8_t c) { return c == CELL_FREE || c == CELL_STEP; }
-inline bool isObstacleCode(int8_t c) { return c > CELL_STEP; }  // 51..100: obstacle
-inline bool isUnknownCode(int8_t c) { return c < 0; }
+/// Cell codes of the traversability grid (README "Grid cell codes"; one definition for every
+/// stage in assistive_common/codes.h).
+using assistive_common::CELL_FREE;
+using assistive_common::CELL_OBSTACLE;
+using assistive_common::CELL_STEP;
+using assistive_common::CELL_UNKNOWN;
+using assistive_common::isObstacleCode;
+using assistive_common::isTraversableCode;
+using assistive_common::isUnknownCode;
 
 /// ROS-free copy of an OccupancyGrid: row-major, cell (x, y) at data[y * width + x],
 /// cell centre at origin + (x + 0.5, y + 0.5) * resolution. The grid is axis aligned with the world frame.

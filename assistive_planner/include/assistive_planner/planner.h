@@ -13,16 +13,8 @@
 
 namespace assistive_planner
 {
-/// Same values as assistive_msgs/NavigationState.
-enum class PlanStatus : uint8_t
-{
-  OK = 0,
-  NO_POSE = 1,
-  NO_MAP = 2,
-  IN_UNKNOWN = 3,
-  NO_PATH = 4,
-  NO_WAYPOINT = 5
-};
+/// The navigation status (assistive_common/codes.h; the values of assistive_msgs/NavigationState).
+using PlanStatus = assistive_common::NavStatus;
 
 struct PlanOutput
 {

@@ -5,30 +5,15 @@
 #include <limits>
 #include <string>
 
+#include <assistive_common/codes.h>
 #include "assistive_tactile/params.h"
 
 namespace assistive_tactile
 {
-/// Mirrors assistive_msgs/NavigationState status codes.
-enum class NavStatus : uint8_t
-{
-  OK = 0,
-  NO_POSE = 1,
-  NO_MAP = 2,
-  IN_UNKNOWN = 3,
-  NO_PATH = 4,
-  NO_WAYPOINT = 5
-};
-
-/// Mirrors assistive_msgs/TactileCue modes.
-enum class CueMode : uint8_t
-{
-  IDLE = 0,
-  GUIDANCE = 1,
-  PROXIMITY = 2,
-  ALERT = 3,
-  UNSURE = 4
-};
+/// Navigation status and cue modes: one definition for every stage (assistive_common/codes.h;
+/// the values of assistive_msgs/NavigationState and TactileCue).
+using assistive_common::CueMode;
+using assistive_common::NavStatus;
 
 enum Motor : int
 {

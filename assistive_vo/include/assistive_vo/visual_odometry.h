@@ -7,9 +7,11 @@
 #include "assistive_vo/bundle_adjustment.h"
 #include "assistive_vo/feature_detector.h"
 #include "assistive_vo/gravity_alignment.h"
+#include "assistive_vo/gyro_bias_estimator.h"
 #include "assistive_vo/p3p_ransac.h"
 #include "assistive_vo/params.h"
 #include "assistive_vo/patch_alignment.h"
+#include "assistive_vo/plausibility.h"
 #include "assistive_vo/sparse_stereo.h"
 #include "assistive_vo/stereo_camera.h"
 
@@ -43,18 +45,6 @@ struct FrameStats
   double stereo_matched_ratio = -1;  ///< inliers with a stereo match in this frame
 };
 
-/// Fail-safe event counters (since construction / reset()).
-struct FailSafeCounters
-{
-  int frozen = 0;             ///< frozen-camera episodes detected
-  int gyro_disagreement = 0;  ///< episodes of image motion contradicting the gyro
-  int gaps = 0;               ///< frames after a stamp gap > max_frame_gap_s
-  int time_jumps = 0;         ///< frames whose stamp went backwards (or repeated)
-  int stereo_inconsistent = 0;  ///< episodes of a stereo pair inconsistent with the motion (desync)
-  int gravity_relevels = 0;   ///< gaps / time jumps the gyro did not cover, levelled by the accelerometer
-  int untrusted_frames = 0;   ///< frames output with pose_trusted = false
-};
-
 struct VoOutput
 {
   TrackingState state = TrackingState::INITIALISING;
@@ -82,6 +72,9 @@ struct VoOutput
 /// Motion is always estimated against the keyframe (the frame the tracks were (re)started in), so
 /// drift only accumulates at keyframe changes. On failure the pose is predicted (gyro / constant
 /// velocity), a new keyframe is started and the pose chain continues.
+/// process() runs named parts (README "Overview"): keyframe tracking (trackFrame, matchStereo,
+/// startKeyframe), motion estimation (filterEpipolar, estimatePose, refinePose), plausibility
+/// (checkPlausibility, PlausibilityMonitor), gyro bias (GyroBiasEstimator), gravity, overlay.
 class VisualOdometry
 {
 public:
@@ -114,9 +107,9 @@ public:
   /// Flow vectors of the last frame over the left image (BGR): green = inlier, red = rejected.
   cv::Mat drawOverlay(const cv::Mat& left) const;
   int resets() const { return resets_; }
-  const FailSafeCounters& failSafe() const { return fs_; }
+  const FailSafeCounters& failSafe() const { return checks_.counters(); }
   /// Current gyro bias estimate (camera_link axes, rad/s).
-  const Eigen::Vector3d& gyroBias() const { return gyro_bias_link_; }
+  const Eigen::Vector3d& gyroBias() const { return bias_.bias(); }
   bool started() const { return have_pose_; }
   /// Gravity alignment: tilt of the odom frame measured in the last window (deg) and the windows
   /// accepted / rejected so far.
@@ -133,9 +126,84 @@ private:
     std::shared_ptr<const KeyframePatch> patch;  ///< keyframe appearance (null: KLT only)
     Eigen::Matrix2f warp = Eigen::Matrix2f::Identity();  ///< keyframe patch axes in the current image
   };
+  /// What one frame knows before it is tracked: its timing, the gyro and the predicted motion,
+  /// and the fail-safe verdicts so far.
+  struct FrameContext
+  {
+    double stamp = 0.0;
+    double dt = 0.0;        ///< step for the motion model (over a gap: the last regular step)
+    double dt_real = 0.0;   ///< stamp step as it came (also a gap's)
+    bool first = false;     ///< the first frame: the origin of odom
+    bool gap = false;       ///< a stamp gap or time jump before this frame
+    bool have_gyro = false;
+    Eigen::Matrix3d R_gyro_opt = Eigen::Matrix3d::Identity();  ///< bias-corrected gyro, prev -> cur, optical axes
+    Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();  ///< predicted motion prev -> cur, optical
+    bool coast_ok = false;        ///< a lost frame may still coast (mayCoast)
+    std::string force_untrusted;  ///< gap / time jump, frozen camera, gyro contradiction, unusable input
+    std::string why;              ///< message of the frame
+    /// Motion of a lost frame: the prediction while coasting, else none (the gyro's rotation only).
+    Eigen::Isometry3d lostMotion() const;
+  };
+  /// Motion of the current frame against the keyframe (P3P RANSAC, then the bundle adjustment).
+  struct MotionEstimate
+  {
+    RansacResult rr;
+    BundleAdjustmentResult br;
+    Vec3List X_in;  ///< the inliers' keyframe points, refined by the bundle adjustment
+    Eigen::Matrix3d R_vision = Eigen::Matrix3d::Identity();  ///< vision-only rotation keyframe -> current
+    Eigen::Matrix<double, 6, 6> cov_vision = Eigen::Matrix<double, 6, 6>::Identity();
+    Eigen::Isometry3d T_kf_cur = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_prev_cur = Eigen::Isometry3d::Identity();
+    double dt_kf = 0.0;  ///< time since the keyframe
+  };
+
+  // ---- frame set-up (process() in order) ----
+  /// Camera and image checks; false: `o` is the frame's (untrusted) output.
+  bool checkInput(const cv::Mat& left, const cv::Mat& right, FrameStats& st, FrameContext& fc, VoOutput& o);
+  /// The first frame: odom's origin from gravity (or initial_roll / initial_pitch).
+  void startPose(double stamp);
+  /// Stamp gap / time jump (the motion over it is unknown: pose kept, new keyframe, untrusted).
+  void checkTiming(FrameContext& fc);
+  /// Predicted motion prev -> cur (constant velocity, gyro rotation) and the bias-corrected gyro.
+  void predictMotion(const Eigen::Quaterniond* gyro_link, FrameContext& fc, FrameStats& st);
+  /// Tilt over a gap the gyro does not cover is unknown: level by the accelerometer's next hint
+  /// (`have_up_hint`: this frame's setGravityHint()), untrusted until then (at most kLevelWaitS).
+  void levelAfterGap(bool have_up_hint, FrameContext& fc);
   /// Turns odom about the current position so that `up_link` points along odom z.
   void levelByGravity(const Eigen::Vector3d& up_link);
+  /// Unusable or frozen images: the frame is lost; true with its output in `o`.
+  bool rejectImages(const cv::Mat& left, const cv::Mat& right, FrameContext& fc, FrameStats& st, VoOutput& o);
+  /// First frame, a frame after a failure, or a stream gap: a new keyframe here.
+  VoOutput restartKeyframe(const cv::Mat& left, const cv::Mat& right, FrameContext& fc, FrameStats& st);
+
+  // ---- keyframe tracking ----
   void startKeyframe(const cv::Mat& left, const cv::Mat& right, bool from_current_tracks, FrameStats& st);
+  /// KLT from the previous frame (initial guess from the predicted motion), then each track
+  /// refined against its keyframe patch.
+  void trackFrame(const cv::Mat& left, const Eigen::Isometry3d& T_pred, FrameStats& st);
+  /// Stereo disparity of the tracked points in the current pair.
+  void matchStereo(const cv::Mat& left, const cv::Mat& right, FrameStats& st);
+  /// Time for a new keyframe: too few tracks left, too little image covered, turned too far.
+  bool needKeyframe(const Eigen::Isometry3d& T_kf_cur) const;
+  /// Cells of the detector's bucketing grid (bucketGrid) that hold a track.
+  int occupiedCells() const;
+
+  // ---- motion estimation ----
+  /// RANSAC on the epipolar constraint keyframe -> current: drops tracks off the epipolar lines.
+  void filterEpipolar(FrameStats& st);
+  /// P3P RANSAC (LMedS) against the keyframe's 3D points; false: too few inliers.
+  bool estimatePose(const Eigen::Isometry3d& T_kf_pred, FrameStats& st, MotionEstimate& m);
+  /// Two-frame bundle adjustment over the inliers, then again with the integrated gyro as a
+  /// rotation prior.
+  void refinePose(const FrameContext& fc, FrameStats& st, MotionEstimate& m);
+  /// Accepts the estimate: inliers kept (points refined), pose and covariance updated.
+  void accept(const MotionEstimate& m, FrameStats& st);
+
+  // ---- plausibility (fail-safe) ----
+  /// Median disparity error of the inliers at the estimated pose, share matched.
+  void measureStereoConsistency(const MotionEstimate& m, FrameStats& st) const;
+  /// Jumps, gyro contradiction, stereo inconsistency: the reason to reject the frame (empty: fine).
+  std::string checkPlausibility(const MotionEstimate& m, bool gyro_given, FrameContext& fc, FrameStats& st);
   VoOutput fail(const std::string& why, const cv::Mat* left, const cv::Mat* right,
                 const Eigen::Isometry3d& T_prev_cur_pred, double stamp, FrameStats& st);
   VoOutput makeOutput(TrackingState s, const FrameStats& st, const Eigen::Isometry3d& T_prev_cur, double dt);
@@ -148,8 +216,17 @@ private:
   /// there is no previous image of the same size. Keeps this image for the next frame.
   double imageChange(const cv::Mat& left);
   bool imageUsable(const cv::Mat& img, std::string& why) const;
-  /// Cells of the detector's bucketing grid (bucketGrid) that hold a track.
-  int occupiedCells() const;
+
+  // ---- gyro bias, gravity ----
+  /// Gyro bias from the keyframe span that ends here (before a new keyframe).
+  void updateGyroBias(const MotionEstimate& m);
+  /// Keeps the odom frame level (about the current position: no jump).
+  void levelWithGravity(double stamp, const Eigen::Vector3d* dv_link);
+
+  // ---- overlay ----
+  void clearOverlay();
+  void addOverlay(const Track& t, bool inlier);
+
   /// Stereo search range: disparity of the nearest useful depth (fx * baseline / min_depth_m),
   /// capped by max_disparity_px.
   double maxDisparity() const
@@ -163,6 +240,8 @@ private:
   SparseStereo stereo_;
   P3PRansac ransac_;
   TwoFrameBundleAdjuster ba_;
+  PlausibilityMonitor checks_;
+  GyroBiasEstimator bias_;
 
   bool have_pose_ = false;       ///< T_w_cur_ is meaningful
   bool have_keyframe_ = false;   ///< tracks_ and prev_pyr_ are meaningful
@@ -191,12 +270,10 @@ private:
   std::vector<cv::Point2f> ov_from_, ov_to_;
   std::vector<uint8_t> ov_inlier_;
   TrackingState last_state_ = TrackingState::INITIALISING;
-  // gyro since the keyframe (bias-corrected, optical axes) and the online bias estimate
+  // gyro since the keyframe (bias-corrected, optical axes)
   Eigen::Matrix3d R_kf_gyro_ = Eigen::Matrix3d::Identity();
   bool gyro_since_kf_ = false;
   double t_kf_ = 0.0;
-  Eigen::Vector3d gyro_bias_link_ = Eigen::Vector3d::Zero();
-  double gyro_bias_var_ = -1.0;  // < 0: not initialised
   double last_stamp_pending_ = 0.0;
   GravityAligner gravity_;
   // fail-safe state
@@ -207,12 +284,6 @@ private:
   Eigen::Matrix<double, 6, 6> trusted_cov_ = Eigen::Matrix<double, 6, 6>::Zero();
   bool have_trusted_ = false;
   cv::Mat prev_thumb_;                ///< left image of the previous frame, every 4th pixel
-  int frozen_run_ = 0;                ///< unchanged frames while the gyro turned
-  int disagree_run_ = 0;              ///< consecutive tracked frames contradicting the gyro
-  int agree_needed_ = 0;              ///< agreeing tracked frames still needed after a contradiction
-  int stereo_bad_run_ = 0;            ///< consecutive tracked frames with an inconsistent stereo pair
-  int stereo_agree_needed_ = 0;       ///< consistent tracked frames still needed after that
   Eigen::Matrix3d R_kf_prev_vision_ = Eigen::Matrix3d::Identity();  ///< vision-only, keyframe -> previous
-  FailSafeCounters fs_;
 };
 }  // namespace assistive_vo

@@ -1,5 +1,9 @@
 #include <assistive_eval/conversions.h>
 
+#include <cstdint>
+#include <type_traits>
+#include <nav_msgs/OccupancyGrid.h>
+
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
@@ -10,6 +14,14 @@
 
 namespace assistive_eval
 {
+// The ground-truth occupancy codes (assistive_common/codes.h) are nav_msgs/OccupancyGrid values: int8 cells, -1
+// unknown, occupancy 0..100 with the step code in between.
+static_assert(std::is_same<nav_msgs::OccupancyGrid::_data_type::value_type, int8_t>::value,
+              "nav_msgs/OccupancyGrid cells are int8");
+static_assert(CELL_UNKNOWN == -1, "nav_msgs/OccupancyGrid: -1 is unknown");
+static_assert(CELL_FREE == 0 && CELL_OBSTACLE == 100, "nav_msgs/OccupancyGrid: occupancy 0 (free) .. 100 (occupied)");
+static_assert(CELL_FREE < CELL_STEP && CELL_STEP < CELL_OBSTACLE, "the step code lies between free and obstacle");
+
 namespace
 {
 std_msgs::Header header(const std::string& frame, const ros::Time& stamp)

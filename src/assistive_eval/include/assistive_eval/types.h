@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <assistive_common/codes.h>
 
 namespace assistive_eval
 {
@@ -53,11 +54,12 @@ struct StereoFrame
   std::vector<ImuSample> imu;
 };
 
-/// Grid cell codes (README "Grid cell codes").
-constexpr int8_t CELL_UNKNOWN = -1;
-constexpr int8_t CELL_FREE = 0;
-constexpr int8_t CELL_STEP = 50;
-constexpr int8_t CELL_OBSTACLE = 100;
+/// Grid cell codes (README "Grid cell codes"; one definition for every stage in
+/// assistive_common/codes.h).
+using assistive_common::CELL_FREE;
+using assistive_common::CELL_OBSTACLE;
+using assistive_common::CELL_STEP;
+using assistive_common::CELL_UNKNOWN;
 
 /// 2D occupancy grid in gt_world (axis-aligned, like nav_msgs/OccupancyGrid with identity
 /// origin orientation). Cell (ix, iy) covers x in [origin_x + ix*res, origin_x + (ix+1)*res).

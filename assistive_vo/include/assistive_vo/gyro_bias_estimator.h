@@ -1,0 +1,41 @@
+#pragma once
+// Online gyro bias (seed 2.2.1, gyro prior): the vision rotation over a keyframe span against
+// the integrated gyro, a scalar Kalman update per span (R_vision^T R_gyro ~ exp((b - b_est) dt)).
+#include <Eigen/Geometry>
+#include "assistive_vo/params.h"
+
+namespace assistive_vo
+{
+class GyroBiasEstimator
+{
+public:
+  explicit GyroBiasEstimator(const VoParams& p = VoParams()) : p_(p) {}
+  void setParams(const VoParams& p) { p_ = p; }
+  /// Forgets the estimate (bias 0, variance not initialised).
+  void reset();
+  /// Starts the variance at gyro_bias_sigma^2 unless it runs already.
+  void initialise();
+
+  /// The gyro's rotation of camera_link over `dt` s (R_prev_cur, as integrated) with the bias
+  /// taken out: R_meas * exp(-b dt) (body frame).
+  Eigen::Matrix3d correct(const Eigen::Quaterniond& R_meas_link, double dt) const;
+  /// Variance (rad^2) of the bias-corrected gyro rotation integrated over `span_s`: angle random
+  /// walk plus the bias uncertainty (the weight of the gyro prior).
+  double rotationVariance(double span_s) const;
+  /// Update from one keyframe span of `span_s` s: `R_vision_opt` and `R_gyro_opt` are the vision
+  /// and the (bias-corrected) gyro rotation keyframe -> current (optical axes), `vision_rot_var`
+  /// the vision rotation's variance per axis (rad^2; floored by vo_rotation_sigma). An error
+  /// above 0.1 rad/s is no bias and is ignored.
+  void update(const Eigen::Matrix3d& R_vision_opt, const Eigen::Matrix3d& R_gyro_opt, double span_s,
+              double vision_rot_var);
+
+  /// Bias estimate (camera_link axes, rad/s) and its variance (< 0: not initialised).
+  const Eigen::Vector3d& bias() const { return bias_link_; }
+  double variance() const { return var_; }
+
+private:
+  VoParams p_;
+  Eigen::Vector3d bias_link_ = Eigen::Vector3d::Zero();
+  double var_ = -1.0;
+};
+}  // namespace assistive_vo
