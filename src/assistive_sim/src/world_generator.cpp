@@ -189,7 +189,10 @@ public:
         sx = len, sy = depth;
       }
       const double r = 0.5 * len;
-      bool ok = true;
+      // Against its own wall only: no other wall (a partition) across it or at its ends.
+      const double ax = side < 2 ? 0.0 : 1.0, ay = side < 2 ? 1.0 : 0.0;
+      bool ok = wallDist(x, y) > 0.25 && wallDist(x + ax * (r + 0.1), y + ay * (r + 0.1)) > 0.25 &&
+                wallDist(x - ax * (r + 0.1), y - ay * (r + 0.1)) > 0.25;
       for (const Item& it : items_) ok = ok && std::hypot(x - it.x, y - it.y) > r + it.r + PASSAGE;
       for (const Item& kp : keep_) ok = ok && std::hypot(x - kp.x, y - kp.y) > r + kp.r;
       if (!ok) continue;
