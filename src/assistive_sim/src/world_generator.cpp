@@ -618,7 +618,6 @@ bool walk(Builder& b, const Plan& p, std::ostringstream& tr, double& length)
       if ((seg[i] - wps.back()).norm() > 0.3) wps.push_back(seg[i]);
   }
   wps.push_back(end);
-  // Drop doubling back (a point whose neighbours are both within 0.3 m) is left to the check below.
   length = 0.0;
   for (size_t i = 1; i < wps.size(); ++i) length += (wps[i] - wps[i - 1]).norm();
 
