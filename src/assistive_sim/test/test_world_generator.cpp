@@ -1,0 +1,142 @@
+// The world generator: for seeds 1-20 and every kind, the YAML parses with the world parser, the
+// walk keeps 0.3 m from every obstacle and stays on free truth cells, the truth grid matches the
+// elements, the walk contains its scripted features, and a seed gives byte-identical output.
+#include <assistive_sim/motion.h>
+#include <assistive_sim/world_generator.h>
+
+#include <gtest/gtest.h>
+
+using namespace assistive_sim;
+
+namespace
+{
+/// Distance from (x, y) to a solid's footprint (0 inside), by bisection on the inflation.
+double clearance(const Solid& s, double x, double y)
+{
+  if (s.containsXY(x, y, 0.0)) return 0.0;
+  double lo = 0.0, hi = 3.0;
+  if (!s.containsXY(x, y, hi)) return hi;
+  for (int it = 0; it < 20; ++it)
+  {
+    const double mid = 0.5 * (lo + hi);
+    (s.containsXY(x, y, mid) ? hi : lo) = mid;
+  }
+  return lo;
+}
+}  // namespace
+
+class Generated : public ::testing::TestWithParam<std::tuple<std::string, int>>
+{
+};
+
+TEST_P(Generated, ParsesWalkIsClearTruthMatches)
+{
+  const auto [kind, seed] = GetParam();
+  const GeneratedWorld g = WorldGenerator(seed, kind).generate();
+  const std::string tag = kind + " seed " + std::to_string(seed);
+  // Parses with the project's parser (from the text, as a file would).
+  const World w = World::parse(g.yaml, tag);
+  EXPECT_EQ(w.solids.size(), g.world.solids.size()) << tag;
+  EXPECT_GE(g.elements, 8) << tag;
+  EXPECT_GT(g.walk_length, 10.0) << tag;
+
+  // The walk: the camera keeps 0.3 m from every obstacle below the head, on free truth cells.
+  const WearerMotion m(w.trajectory, 1);
+  const OccupancyGrid grid = computeOccupancy(w);
+  double min_clear = 1e9;
+  for (double t = 0.0; t <= m.duration(); t += 0.05)
+  {
+    const Eigen::Vector3d c = m.linkPose(t).translation();
+    ASSERT_EQ(grid.atWorld(c.x(), c.y()), CELL_FREE) << tag << " t=" << t;
+    for (const Solid& s : w.solids)
+    {
+      if (s.z1 <= 0.02 || s.z0 >= c.z() + 0.3) continue;  // lintels above the head
+      min_clear = std::min(min_clear, clearance(s, c.x(), c.y()));
+    }
+  }
+  EXPECT_GT(min_clear, 0.3) << tag;
+
+  // Truth grid vs elements: every obstacle's footprint centre is an obstacle cell, every step's
+  // centre is not; every obstacle cell is touched by an obstacle's footprint.
+  const OccupancyParams op;
+  const double head = w.trajectory.eye_height + op.head_above_eye + op.head_margin;
+  int obstacles = 0;
+  for (const Solid& s : w.solids)
+  {
+    if (s.walkable)
+    {
+      EXPECT_NE(grid.atWorld(s.center.x(), s.center.y()), CELL_OBSTACLE) << tag << " " << s.source;
+      continue;
+    }
+    if (s.z0 >= head || s.z1 <= op.min_obstacle_height) continue;
+    ++obstacles;
+    EXPECT_EQ(grid.atWorld(s.center.x(), s.center.y()), CELL_OBSTACLE) << tag << " " << s.source;
+  }
+  EXPECT_GT(obstacles, 5) << tag;
+  const double half_diag = 0.5 * grid.resolution * std::sqrt(2.0) + 1e-6;
+  for (int iy = 0; iy < grid.height; ++iy)
+    for (int ix = 0; ix < grid.width; ++ix)
+    {
+      if (grid.at(ix, iy) != CELL_OBSTACLE) continue;
+      const double x = grid.origin_x + (ix + 0.5) * grid.resolution, y = grid.origin_y + (iy + 0.5) * grid.resolution;
+      bool touched = false;
+      for (const Solid& s : w.solids)
+        touched = touched || (!s.walkable && s.z0 < head && s.containsXY(x, y, half_diag));
+      EXPECT_TRUE(touched) << tag << " obstacle cell at " << x << ", " << y;
+    }
+}
+
+TEST_P(Generated, WalkHasItsFeatures)
+{
+  const auto [kind, seed] = GetParam();
+  const World w = WorldGenerator(seed, kind).generate().world;
+  const TrajectoryScript& s = w.trajectory;
+  const std::string tag = kind + " seed " + std::to_string(seed);
+  // Turning on the spot while standing: a turn of at least 60 deg (and back) before walking starts.
+  ASSERT_EQ(s.head_turns.size(), 2u) << tag;
+  EXPECT_GE(std::abs(s.head_turns[0].yaw), 60.0 * M_PI / 180 - 1e-3) << tag;
+  EXPECT_NEAR(s.head_turns[0].yaw, -s.head_turns[1].yaw, 1e-6) << tag;
+  EXPECT_LT(s.head_turns[1].at + 1.875 * std::abs(s.head_turns[1].yaw) / s.head_turns[1].rate, s.start_still) << tag;
+  // Facing a plain wall at the end: the last leg runs straight at a plain-material wall that
+  // stands 0.8-1.0 m ahead of the last waypoint.
+  const Eigen::Vector2d end = s.waypoints.back(), dir = (end - s.waypoints[s.waypoints.size() - 2]).normalized();
+  double hit = 1e9;
+  const Solid* wall = nullptr;
+  for (const Solid& so : w.solids)
+    for (double d = 0.0; d < 2.0; d += 0.01)
+      if (so.z0 < 1.0 && so.z1 > 2.0 && so.containsXY(end.x() + d * dir.x(), end.y() + d * dir.y()) && d < hit)
+        hit = d, wall = &so;
+  ASSERT_NE(wall, nullptr) << tag;
+  EXPECT_GT(hit, 0.8) << tag;
+  EXPECT_LT(hit, 1.0) << tag;
+  EXPECT_EQ(w.materials[wall->material].pattern, Pattern::PLAIN) << tag;
+  // Passing close to furniture: some waypoint within 0.75 m of a solid that is not a wall.
+  double closest = 1e9;
+  for (const auto& p : s.waypoints)
+    for (const Solid& so : w.solids)
+      if (!so.walkable && so.source.find("(wall)") == std::string::npos && so.z0 < 2.0)
+        closest = std::min(closest, clearance(so, p.x(), p.y()));
+  EXPECT_LT(closest, 0.75) << tag;
+}
+
+TEST_P(Generated, SameSeedSameBytes)
+{
+  const auto [kind, seed] = GetParam();
+  EXPECT_EQ(WorldGenerator(seed, kind).generate().yaml, WorldGenerator(seed, kind).generate().yaml);
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, Generated,
+                         ::testing::Combine(::testing::Values("office", "lobby", "corridor", "hall", "street"),
+                                            ::testing::Range(1, 21)),
+                         [](const auto& info) {
+                           return std::get<0>(info.param) + "_" + std::to_string(std::get<1>(info.param));
+                         });
+
+TEST(WorldGenerator, KindsAndErrors)
+{
+  EXPECT_EQ(WorldGenerator::kinds().size(), 5u);
+  EXPECT_THROW(WorldGenerator(1, "castle"), std::invalid_argument);
+  EXPECT_EQ(WorldGenerator(3).kind(), WorldGenerator::kinds()[3 % 5]);
+  // Different seeds give different worlds.
+  EXPECT_NE(WorldGenerator(1, "office").generate().yaml, WorldGenerator(2, "office").generate().yaml);
+}
