@@ -14,7 +14,7 @@ import unittest
 import rospy
 import rostest
 
-PKG = "assistive_tactile"
+PKG = "assistive_bringup"
 ALL_FAULTS = ("black", "saturated", "frozen", "gap", "loop", "desync", "nan_info", "size")
 
 
