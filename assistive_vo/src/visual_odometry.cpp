@@ -111,8 +111,12 @@ void VisualOdometry::levelByGravity(const Eigen::Vector3d& up_link)
   const Eigen::Isometry3d T_odom_link = linkPose(T_odom_o0_ * T_w_cur_);
   const Eigen::Vector3d up_odom = T_odom_link.linear() * up_link.normalized();
   // the smallest rotation taking the measured up to odom z: a tilt about a horizontal axis (yaw kept)
-  const Eigen::Matrix3d C = Eigen::Quaterniond::FromTwoVectors(up_odom, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const Eigen::Vector3d pos = T_odom_link.translation();
+  turnOdomAbout(T_odom_link.translation(),
+                Eigen::Quaterniond::FromTwoVectors(up_odom, Eigen::Vector3d::UnitZ()).toRotationMatrix());
+}
+
+void VisualOdometry::turnOdomAbout(const Eigen::Vector3d& pos, const Eigen::Matrix3d& C)
+{
   Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
   M.linear() = C;
   M.translation() = pos - C * pos;
@@ -931,13 +935,7 @@ void VisualOdometry::levelWithGravity(double stamp, const Eigen::Vector3d* dv_li
   const Eigen::Isometry3d T_odom_link = linkPose(T_odom_o0_ * T_w_cur_);
   Eigen::Matrix3d C;
   if (gravity_.add(stamp, T_odom_link, *dv_link, C))
-  {
-    const Eigen::Vector3d pos = T_odom_link.translation();
-    Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
-    M.linear() = C;
-    M.translation() = pos - C * pos;
-    T_odom_o0_ = M * T_odom_o0_;
-  }
+    turnOdomAbout(T_odom_link.translation(), C);
 }
 
 void VisualOdometry::clearOverlay()

@@ -171,6 +171,8 @@ private:
   void levelAfterGap(bool have_up_hint, FrameContext& fc);
   /// Turns odom about the current position so that `up_link` points along odom z.
   void levelByGravity(const Eigen::Vector3d& up_link);
+  /// Rotates the odom frame by C about `pos` (odom coordinates): the pose there does not jump.
+  void turnOdomAbout(const Eigen::Vector3d& pos, const Eigen::Matrix3d& C);
   /// Unusable or frozen images: the frame is lost; true with its output in `o`.
   bool rejectImages(const cv::Mat& left, const cv::Mat& right, FrameContext& fc, FrameStats& st, VoOutput& o);
   /// First frame, a frame after a failure, or a stream gap: a new keyframe here.
