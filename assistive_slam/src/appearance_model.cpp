@@ -244,39 +244,38 @@ AppearanceResult AppearanceModel::query(const cv::Mat& descriptors, int current_
   for (std::size_t i = 0; i < cand.size(); ++i)
     index[cand[i]] = i;
 
-  // ---- observed features (first factor of eq. 3.48): each feature is looked up from the finest
-  // grid to the coarsest, for each submap separately; the first grid where the submap has hit the
-  // word gives Upsilon (1/R) and p(W = 1 | M_i). A submap that never hit it in any grid gets the
-  // floor probability at the coarsest grid's Upsilon.
-  const std::size_t last = grids_.size() - 1;
-  const double base = std::log(detectorProbability(last) * params_.word_probability_min);
-  std::vector<double> loglik(cand.size(), base * static_cast<double>(nf));
-  double loglik_new = base * static_cast<double>(nf);
-  std::vector<int> found(cand.size(), -1);  // feature index that last assigned each submap
+  // ---- observed features (first factor of eq. 3.48). As in the seed, a feature's word is looked up
+  // from the finest grid to the coarsest and the search stops at the first grid holding it (the
+  // grids are shared by all submaps); that grid gives Upsilon (1/R, eq. 3.49) and each submap's
+  // counters in that bin give p(W = 1 | M_i) (floored). A feature found only in the coarse grids
+  // (beyond evidence_grids) is a new feature: it weighs the same for every hypothesis and is left out.
+  std::vector<double> loglik(cand.size(), 0.0);
+  const std::size_t evidence = std::min<std::size_t>(grids_.size(), static_cast<std::size_t>(std::max(0, params_.evidence_grids)));
+  std::vector<int> at_floor(grids_.size(), 0);  // features per grid, counted at the floor for every submap
   for (std::size_t f = 0; f < nf; ++f)
   {
-    bool new_found = false;
     for (std::size_t g = 0; g < grids_.size(); ++g)
     {
       const auto* s = grids_[g].submaps(w[g][f]);
       if (!s)
         continue;
-      const double ups = std::log(detectorProbability(g));
-      if (!new_found)
-      {
-        loglik_new += ups + std::log(backgroundProbability(g, w[g][f])) - base;
-        new_found = true;
-      }
+      if (g >= evidence)
+        break;
+      ++res.evidence_features;
+      ++at_floor[g];
       for (const auto& kv : *s)
       {
         const auto it = index.find(kv.first);
-        if (it == index.end() || kv.second.hits <= 0 || found[it->second] == static_cast<int>(f))
+        if (it == index.end() || kv.second.hits <= 0)
           continue;
-        found[it->second] = static_cast<int>(f);
-        loglik[it->second] += ups + std::log(wordProbability(g, w[g][f], kv.first)) - base;
+        loglik[it->second] += std::log(wordProbability(g, w[g][f], kv.first) / params_.word_probability_min);
       }
+      break;
     }
   }
+  for (std::size_t g = 0; g < grids_.size(); ++g)
+    for (auto& l : loglik)
+      l += at_floor[g] * std::log(detectorProbability(g) * params_.word_probability_min);
 
   // ---- discriminative words not observed (second factor of eq. 3.48, the F^0 set, 3.2.4.3)
   std::unordered_set<HashedGrid::Key> seen(w.front().begin(), w.front().end());
@@ -303,9 +302,18 @@ AppearanceResult AppearanceModel::query(const cv::Mat& descriptors, int current_
       const double p1 = c.hits + c.misses > 0 ? static_cast<double>(c.hits) / (c.hits + c.misses) : 0.0;
       loglik[it->second] += std::log((1.0 - p1) + delta * p1);
     }
-    const double pn = static_cast<double>(hits) / std::max(1, keyframes_);
-    loglik_new += std::log((1.0 - std::min(pn, 1.0)) + delta * std::min(pn, 1.0));
   }
+
+  // ---- the new place: the seed leaves its likelihood open. A place never seen looks like a typical
+  // stored one, so its log-likelihood is the candidates' mean plus new_place_std standard
+  // deviations (RTAB-Map's normalisation of its new-location hypothesis is of the same kind): a
+  // submap must stand out from the rest to win over it.
+  double mean = 0.0, var = 0.0;
+  for (double l : loglik)
+    mean += l / static_cast<double>(loglik.size());
+  for (double l : loglik)
+    var += (l - mean) * (l - mean) / static_cast<double>(loglik.size());
+  const double loglik_new = mean + params_.new_place_std * std::sqrt(var);
 
   // ---- recursive Bayes (eq. 3.39) with the new-place hypothesis
   const std::vector<double> pr = prior(cand);

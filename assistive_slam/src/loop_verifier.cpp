@@ -156,7 +156,7 @@ LoopVerification LoopVerifier::verifyEpipolar(const LoopKeyframe& query, const L
   LoopVerification v;
   const auto m = match(query.descriptors, match_kf.descriptors);
   v.matches = static_cast<int>(m.size());
-  if (v.matches < std::max(5, params_.min_inliers))
+  if (v.matches < std::max(5, params_.min_inliers_epipolar))
   {
     v.reason = "too few descriptor matches (" + std::to_string(v.matches) + ")";
     return v;
@@ -183,7 +183,7 @@ LoopVerification LoopVerifier::verifyEpipolar(const LoopKeyframe& query, const L
       iq.push_back(pq[i]);
       im.push_back(pm[i]);
     }
-  if (static_cast<int>(iq.size()) >= std::max(5, params_.min_inliers))
+  if (static_cast<int>(iq.size()) >= std::max(5, params_.min_inliers_epipolar))
   {
     cv::Mat mask2;
     const cv::Mat E2 = cv::findEssentialMat(iq, im, cv::Mat(K_), cv::LMEDS, params_.confidence, params_.epipolar_px, mask2);
@@ -203,8 +203,8 @@ LoopVerification LoopVerifier::verifyEpipolar(const LoopKeyframe& query, const L
   v.T_match_query.linear() = Re;
   v.T_match_query.translation() = Eigen::Vector3d(t.at<double>(0), t.at<double>(1), t.at<double>(2));
   std::ostringstream why;
-  if (v.inliers < params_.min_inliers)
-    why << "too few inliers (" << v.inliers << " < " << params_.min_inliers << ")";
+  if (v.inliers < params_.min_inliers_epipolar)
+    why << "too few inliers (" << v.inliers << " < " << params_.min_inliers_epipolar << ")";
   else if (v.inliers < params_.min_inlier_ratio * v.matches)
     why << "inlier ratio " << static_cast<double>(v.inliers) / v.matches << " < " << params_.min_inlier_ratio;
   v.reason = why.str();

@@ -34,6 +34,7 @@ AppearanceParams rawParams()
   p.likelihood_exponent = 1.0;
   p.distinctive_min_hits = 2;
   p.max_candidates = 5;
+  p.evidence_grids = 2;
   return p;
 }
 
@@ -89,12 +90,24 @@ TEST(AppearanceModel, PosteriorOnHandMadeWords)
   m.add(0, 1, desc({8.f}));   // submap A: finest word 0
   m.add(1, 2, desc({40.f}));  // submap B: finest word 2, coarsest word 0
   const auto r = m.query(desc({8.f}), 3);
-  // Upsilon_16 = 16/17, Upsilon_256 = 1/17. A explains the feature at R = 16 (p = 1), B only at
-  // R = 256 (p = 1), the new place at R = 16 with the background rate 1/2 keyframes.
-  // Priors 0.4, 0.4, 0.2: A 0.4*16/17, B 0.4*1/17, new 0.2*8/17 -> 6.4 : 0.4 : 1.6.
-  EXPECT_NEAR(post(r, 1), 6.4 / 8.4, 1e-9);
-  EXPECT_NEAR(post(r, 2), 0.4 / 8.4, 1e-9);
-  EXPECT_NEAR(r.new_place_probability, 1.6 / 8.4, 1e-9);
+  // The finest grid holding the word is R = 16 (Upsilon 16/17 for every hypothesis): A has hit it
+  // (p = 1), B not (floor 0.01). The new place: mean + 1 standard deviation of the two
+  // log-likelihoods, which for two values is the larger one (A's).
+  // Priors 0.4, 0.4, 0.2: A 0.4*1, B 0.4*0.01, new 0.2*1 -> 0.4 : 0.004 : 0.2.
+  EXPECT_NEAR(post(r, 1), 0.4 / 0.604, 1e-9);
+  EXPECT_NEAR(post(r, 2), 0.004 / 0.604, 1e-9);
+  EXPECT_NEAR(r.new_place_probability, 0.2 / 0.604, 1e-9);
+  EXPECT_EQ(r.evidence_features, 1);
+  // a feature found only in the coarsest grid is no evidence when evidence_grids = 1
+  AppearanceParams p1 = rawParams();
+  p1.evidence_grids = 1;
+  AppearanceModel m1(p1);
+  m1.add(0, 1, desc({8.f}));
+  m1.add(1, 2, desc({40.f}));
+  const auto r1 = m1.query(desc({100.f}), 3);
+  EXPECT_EQ(r1.evidence_features, 0);
+  EXPECT_NEAR(post(r1, 1), 0.4, 1e-9);
+  EXPECT_NEAR(r1.new_place_probability, 0.2, 1e-9);
   ASSERT_FALSE(r.candidates.empty());
   EXPECT_EQ(r.candidates.front().submap_id, 1);
   EXPECT_EQ(r.candidates.front().keyframe_id, 0);
@@ -114,13 +127,13 @@ TEST(AppearanceModel, AbsentDiscriminativeWordPenalisesItsSubmap)
   const auto r = m.query(desc({8.f}), 3);
   // Observed word 0 is equally likely everywhere (A, B: p = 1; new: 4 hits / 4 keyframes). The
   // discriminative word 12 was not seen: delta = misses/(hits+misses) = 0, floored to 0.01;
-  // A: (1 - 1) + 0.01 * 1 = 0.01; B never had it: 1; new: p = 2/4 -> 0.5 + 0.01 * 0.5 = 0.505.
-  // 0.4*0.01 : 0.4 : 0.2*0.505
-  const double z = 0.004 + 0.4 + 0.101;
+  // A: (1 - 1) + 0.01 * 1 = 0.01; B never had it: 1; new: mean + 1 std of two = B's.
+  // 0.4*0.01 : 0.4 : 0.2
+  const double z = 0.004 + 0.4 + 0.2;
   EXPECT_EQ(r.discriminative_absent, 1);
   EXPECT_NEAR(post(r, 1), 0.004 / z, 1e-9);
   EXPECT_NEAR(post(r, 2), 0.4 / z, 1e-9);
-  EXPECT_NEAR(r.new_place_probability, 0.101 / z, 1e-9);
+  EXPECT_NEAR(r.new_place_probability, 0.2 / z, 1e-9);
 }
 
 TEST(AppearanceModel, RecentSubmapsAreNotCandidates)
@@ -157,8 +170,8 @@ TEST(AppearanceModel, PriorCarriesThePosteriorToTheNextPlace)
   // 3 in 3; 9 had none. s1 = a/2 + b/3, s2 = a/2 + b/3 + c/3, s3 = b/3 + c/3, s9 = c/3.
   const double s1 = a / 2 + b / 3, s2 = a / 2 + b / 3 + c / 3, s9 = c / 3;
   const double S = a + b + c;
-  // likelihoods: every submap explains word 0/1 ... at R = 256 except none at R = 16; the new
-  // place the same way (background rate: all 4 keyframes share the R = 256 word) -> equal.
+  // likelihoods: every submap has the query's word at R = 256 (none at R = 16): all equal, and so
+  // the new place's (mean + 0 std).
   EXPECT_NEAR(post(r2, 1), 0.8 * s1 / S, 1e-9);
   EXPECT_NEAR(post(r2, 2), 0.8 * s2 / S, 1e-9);
   EXPECT_NEAR(post(r2, 9), 0.8 * s9 / S, 1e-9);

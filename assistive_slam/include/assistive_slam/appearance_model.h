@@ -29,20 +29,27 @@ struct AppearanceParams
   int projection_tables = 4;
   double projection_scale = 64.0;  ///< grid units per standard deviation of a projection
   unsigned projection_seed = 20090601u;
+  /// Only features whose finest word lies in the first evidence_grids grids count as evidence; a
+  /// feature found only coarser is new to every stored submap alike (on the 84-image real set the
+  /// R >= 64 words mostly measured how busy an image is, not where it was taken).
+  int evidence_grids = 2;
   /// Words of the finest grid with distinctiveness (eq. 3.52) above this are "discriminative".
   double distinctiveness_min = 0.95;
   /// A discriminative word must have been hit at least this often to count as stable.
   int distinctive_min_hits = 2;
   /// Prior mass of the new-place hypothesis at every update.
   double new_place_prior = 0.2;
+  /// log p(z | new place) = mean + new_place_std * standard deviation of the candidates' log p(z | M_i).
+  double new_place_std = 1.0;
   /// Fraction of the prior carried over from the previous posterior (the recursive part of eq.
   /// 3.39); the rest is spread uniformly over the candidate submaps.
   double prior_memory = 0.5;
   /// Floor of p(word | submap): a word never seen in a submap is unlikely there, not impossible.
   double word_probability_min = 0.01;
   /// Log-likelihoods are scaled by this before normalising (1 = the seed's product of
-  /// independent features; < 1 tempers their over-confidence, as the features are not independent).
-  double likelihood_exponent = 1.0;
+  /// independent features; < 1 tempers their over-confidence, as the features are not independent:
+  /// at 1 the posterior is 0 or 1 and cannot rank candidates; 0.1 on the 84-image real set).
+  double likelihood_exponent = 0.1;
   /// The submaps most recently added (the current one included) are not loop candidates: a place
   /// still in view is not a revisit.
   int recent_submaps_excluded = 1;
@@ -66,6 +73,7 @@ struct AppearanceResult
   std::vector<LoopCandidate> candidates;  ///< best first
   int features = 0;                       ///< descriptors of the query
   int discriminative_absent = 0;          ///< discriminative words not observed (the F^0 set)
+  int evidence_features = 0;              ///< observations found in the evidence grids
   /// The posterior of every candidate submap (submap id, probability), in submap order.
   std::vector<std::pair<int, double>> posterior;
 };

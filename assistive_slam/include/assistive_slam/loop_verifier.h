@@ -25,7 +25,7 @@ struct VerifierParams
 {
   double ratio = 0.8;                ///< Lowe's ratio test on the two nearest descriptors
   int min_inliers = 25;              ///< RANSAC inliers needed to accept
-  double min_inlier_ratio = 0.25;    ///< inliers / matches needed to accept
+  double min_inlier_ratio = 0.4;     ///< inliers / matches needed to accept
   double reprojection_px = 2.0;      ///< RANSAC inlier threshold (pixels)
   int ransac_iterations = 1000;
   double confidence = 0.999;
@@ -34,6 +34,7 @@ struct VerifierParams
   double consistency_m = 0.10;
   double consistency_deg = 2.0;
   double epipolar_px = 1.5;          ///< essential-matrix RANSAC threshold (pixels)
+  int min_inliers_epipolar = 10;     ///< inliers the epipolar variant needs (no 3D to check)
 };
 
 struct LoopVerification
