@@ -71,8 +71,18 @@ cv::Mat AppearanceModel::mapDescriptors(const cv::Mat& descriptors) const
 {
   if (descriptors.empty() || params_.projection_dims <= 0)
     return descriptors;
+  // binary descriptors (ORB): one dimension per bit, so the L2 distance below is the Hamming distance
+  const bool binary = descriptors.depth() == CV_8U;
   cv::Mat d;
-  descriptors.convertTo(d, CV_32F);
+  if (binary)
+  {
+    d.create(descriptors.rows, descriptors.cols * 8, CV_32F);
+    for (int i = 0; i < descriptors.rows; ++i)
+      for (int c = 0; c < descriptors.cols * 8; ++c)
+        d.at<float>(i, c) = static_cast<float>((descriptors.at<std::uint8_t>(i, c / 8) >> (c % 8)) & 1);
+  }
+  else
+    descriptors.convertTo(d, CV_32F);
   const int dims = d.cols;
   if (projection_.empty() || projection_.rows != dims)
   {
@@ -88,17 +98,24 @@ cv::Mat AppearanceModel::mapDescriptors(const cv::Mat& descriptors) const
     const int k = std::min(dims, params_.projection_dims * std::max(1, params_.projection_tables));
     projection_ = u.colRange(0, k).clone();
   }
-  // RootSIFT (L1-normalise, square root: unit L2 norm, Hellinger distance), centred so each
-  // projection has about zero mean and standard deviation 1/sqrt(dims).
+  // Float: RootSIFT (L1-normalise, square root: unit L2 norm, Hellinger distance). Binary: bits
+  // centred on 0.5, unit L2 norm. Both centred so each projection has about zero mean and standard
+  // deviation 1/sqrt(dims).
   cv::Mat r(d.rows, dims, CV_32F);
   const float centre = 1.0f / std::sqrt(static_cast<float>(dims));
   for (int i = 0; i < d.rows; ++i)
   {
     const float* src = d.ptr<float>(i);
+    float* dst = r.ptr<float>(i);
+    if (binary)
+    {
+      for (int c = 0; c < dims; ++c)
+        dst[c] = (src[c] - 0.5f) * 2.0f * centre;
+      continue;
+    }
     double l1 = 0.0;
     for (int c = 0; c < dims; ++c)
       l1 += std::abs(src[c]);
-    float* dst = r.ptr<float>(i);
     for (int c = 0; c < dims; ++c)
       dst[c] = std::sqrt(std::abs(src[c]) / static_cast<float>(l1 + 1e-12)) - centre;
   }

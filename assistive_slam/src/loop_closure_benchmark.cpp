@@ -47,8 +47,11 @@ double nowMs()
 // a low contrast threshold: the indoor/low-texture images give few features at the default 0.04
 double g_sift_contrast = 0.02;
 int g_sift_features = 1000;
-cv::Ptr<cv::SIFT> makeSift()
+bool g_orb = false;  // --set features.orb=1: ORB instead of SIFT (what the SLAM keyframes may use)
+cv::Ptr<cv::Feature2D> makeSift()
 {
+  if (g_orb)
+    return cv::ORB::create(g_sift_features);
   return cv::SIFT::create(g_sift_features, 3, g_sift_contrast);
 }
 
@@ -329,7 +332,8 @@ std::vector<PairResult> runStereoPairs(const fs::path& dir, const VerifierParams
         const double disp = kl[i].pt.x - kr[j].pt.x;
         if (std::abs(kl[i].pt.y - kr[j].pt.y) > 1.0 || disp <= 0.5 || disp > 200)
           continue;
-        const double dd = cv::norm(dl.row(static_cast<int>(i)), dr.row(static_cast<int>(j)), cv::NORM_L2);
+        const double dd = cv::norm(dl.row(static_cast<int>(i)), dr.row(static_cast<int>(j)),
+                                   dl.depth() == CV_8U ? cv::NORM_HAMMING : cv::NORM_L2);
         if (dd < b1)
         {
           b2 = b1;
@@ -439,6 +443,7 @@ int main(int argc, char** argv)
     else if (k == "appearance.projection_scale") ap.projection_scale = x;
     else if (k == "appearance.distinctiveness_min") ap.distinctiveness_min = x;
     else if (k == "sift.contrast") g_sift_contrast = x;
+    else if (k == "features.orb") g_orb = x != 0.0;
     else if (k == "sift.features") g_sift_features = static_cast<int>(x);
     else if (k == "verifier.min_inliers") vp.min_inliers = static_cast<int>(x);
     else if (k == "verifier.min_inliers_epipolar") vp.min_inliers_epipolar = static_cast<int>(x);

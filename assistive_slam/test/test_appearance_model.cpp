@@ -177,3 +177,27 @@ TEST(AppearanceModel, PriorCarriesThePosteriorToTheNextPlace)
   EXPECT_NEAR(post(r2, 9), 0.8 * s9 / S, 1e-9);
   EXPECT_NEAR(r2.new_place_probability, 0.2, 1e-9);
 }
+
+TEST(AppearanceModel, BinaryDescriptorsFindTheirKeyframe)
+{
+  // ORB-like 32-byte descriptors through the default mapping (bits, random projections): a
+  // keyframe seen again is found, among two others of unrelated descriptors.
+  cv::RNG rng(7);
+  std::vector<cv::Mat> kf(3);
+  for (auto& d : kf)
+  {
+    d.create(200, 32, CV_8U);
+    rng.fill(d, cv::RNG::UNIFORM, 0, 256);
+  }
+  AppearanceParams p;
+  p.recent_submaps_excluded = 0;
+  AppearanceModel m(p);
+  for (int i = 0; i < 3; ++i)
+    m.add(i, 10 + i, kf[i]);
+  const auto r = m.query(kf[1], 99);
+  ASSERT_FALSE(r.candidates.empty());
+  EXPECT_EQ(r.candidates.front().submap_id, 11);
+  EXPECT_EQ(r.candidates.front().keyframe_id, 1);
+  EXPECT_GT(r.candidates.front().probability, 0.99);
+  EXPECT_EQ(r.evidence_features, 200 * p.projection_tables);
+}

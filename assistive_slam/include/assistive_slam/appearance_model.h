@@ -10,6 +10,8 @@
 // mapped to RootSIFT and projected on `projection_tables` fixed random orthonormal 8-D bases (from a
 // fixed seed: data-independent, nothing trained), standardised into the grids' 0..255 range; the
 // grids then quantise those values by R as in the seed. projection_dims = 0 hashes raw values.
+// Binary descriptors (ORB, CV_8U) are unpacked to one dimension per bit (L2 = Hamming) instead of
+// RootSIFT and projected the same way.
 #include <cstdint>
 #include <unordered_map>
 #include <unordered_set>
