@@ -12,6 +12,13 @@ namespace assistive_slam
 {
 namespace
 {
+// every descriptor row needs its keypoint (and, for stereo, its 3D point, NaN allowed)
+bool wellFormed(const LoopKeyframe& k, bool need_points)
+{
+  const std::size_t n = static_cast<std::size_t>(k.descriptors.rows);
+  return k.keypoints.size() == n && (!need_points || k.points.size() == n);
+}
+
 bool finite(const cv::Point3f& p)
 {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && p.z > 0.f;
@@ -109,6 +116,11 @@ std::vector<cv::DMatch> LoopVerifier::match(const cv::Mat& query, const cv::Mat&
 LoopVerification LoopVerifier::verifyStereo(const LoopKeyframe& query, const LoopKeyframe& match_kf) const
 {
   LoopVerification v;
+  if (!wellFormed(query, true) || !wellFormed(match_kf, true))
+  {
+    v.reason = "keyframe malformed: keypoints, descriptors and 3D points differ in number";
+    return v;
+  }
   const auto m = match(query.descriptors, match_kf.descriptors);
   v.matches = static_cast<int>(m.size());
   if (v.matches < params_.min_inliers)
@@ -154,6 +166,11 @@ LoopVerification LoopVerifier::verifyStereo(const LoopKeyframe& query, const Loo
 LoopVerification LoopVerifier::verifyEpipolar(const LoopKeyframe& query, const LoopKeyframe& match_kf) const
 {
   LoopVerification v;
+  if (!wellFormed(query, false) || !wellFormed(match_kf, false))
+  {
+    v.reason = "keyframe malformed: keypoints and descriptors differ in number";
+    return v;
+  }
   const auto m = match(query.descriptors, match_kf.descriptors);
   v.matches = static_cast<int>(m.size());
   if (v.matches < std::max(5, params_.min_inliers_epipolar))

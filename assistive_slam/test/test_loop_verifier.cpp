@@ -100,6 +100,12 @@ TEST(LoopVerifier, RejectsAWrongPair)
   const auto u = lv.verifyStereo(other.query, p.match);
   EXPECT_FALSE(u.accepted);
   EXPECT_LT(u.matches, 25);
-  // empty input: a reason, no crash
+  // empty or malformed input: a reason, no crash
   EXPECT_FALSE(lv.verifyStereo(LoopKeyframe(), p.match).accepted);
+  LoopKeyframe bad = other.query;
+  bad.keypoints.resize(10);
+  const auto b = lv.verifyStereo(bad, p.match);
+  EXPECT_FALSE(b.accepted);
+  EXPECT_NE(b.reason.find("malformed"), std::string::npos);
+  EXPECT_FALSE(lv.verifyEpipolar(bad, p.match).accepted);
 }

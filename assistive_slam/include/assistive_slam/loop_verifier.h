@@ -13,7 +13,8 @@ namespace assistive_slam
 {
 /// One keyframe as the verifier sees it: rectified left-image keypoints, one descriptor row per
 /// keypoint, and the keypoint's 3D point in the keyframe's camera frame (x right, y down, z
-/// forward; NaN where there is no stereo depth). `points` may be empty for single images.
+/// forward; NaN where there is no stereo depth), all three of the same length (a keyframe that is
+/// not is rejected with a reason). `points` may be empty for the epipolar variant.
 struct LoopKeyframe
 {
   std::vector<cv::Point2f> keypoints;
