@@ -163,18 +163,6 @@ double AppearanceModel::wordProbability(std::size_t grid, HashedGrid::Key word, 
   return std::max(p, params_.word_probability_min);
 }
 
-double AppearanceModel::backgroundProbability(std::size_t grid, HashedGrid::Key word) const
-{
-  // The new place: a word is as likely there as in an average stored keyframe.
-  const auto* s = grids_.at(grid).submaps(word);
-  int hits = 0;
-  if (s)
-    for (const auto& kv : *s)
-      hits += kv.second.hits;
-  const double p = keyframes_ > 0 ? static_cast<double>(hits) / keyframes_ : 0.0;
-  return std::max(std::min(p, 1.0), params_.word_probability_min);
-}
-
 double AppearanceModel::distinctiveness(HashedGrid::Key word) const
 {
   const int n = submapCount();

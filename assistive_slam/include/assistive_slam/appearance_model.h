@@ -133,8 +133,6 @@ public:
   double distinctiveness(HashedGrid::Key word) const;
   /// Upsilon of grid g: (1/R_g) / sum_k (1/R_k) (eq. 3.49).
   double detectorProbability(std::size_t grid) const;
-  /// p(W = 1 | new place): the word's hits over all stored keyframes, floored.
-  double backgroundProbability(std::size_t grid, HashedGrid::Key word) const;
   /// words[g][f]: the word of observation f in grid g (projection_tables observations per row).
   std::vector<std::vector<HashedGrid::Key>> words(const cv::Mat& descriptors) const;
 
