@@ -1,4 +1,6 @@
 // rosrun assistive_obstacles obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N]
+//   several bags or --generated N [--kinds K,...] [--imperfect] [--keep DIR]: the set run
+//   (assistive_eval/bench_set.h): per-bag rows, mean and worst (bag named); --png is then a folder.
 // Replays a stereo bag through the obstacle stage's core (no roscore) with the GROUND-TRUTH camera
 // poses of the bag, so the map is scored independently of VO. Per frame: dense disparity, points,
 // elevation + MLS + temporal update (timed separately); the map is scored against the bag's
@@ -22,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include <assistive_eval/bench_set.h>
 #include <assistive_eval/benchmark.h>
 #include <assistive_eval/map_score.h>
 #include <assistive_eval/plots.h>
@@ -68,14 +71,20 @@ int main(int argc, char** argv)
 {
   const char* usage =
       "usage: obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N] [--gt-depth] [--set PARAM=VALUE ...]\n"
-      "  Runs the obstacle stage on a stereo bag with ground truth; last stdout line: JSON.\n";
+      "       obstacles_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect]\n"
+      "                           [--keep DIR] [--png DIR] [other options as above]\n"
+      "  Runs the obstacle stage on a stereo bag with ground truth; last stdout line: JSON.\n"
+      "  A set (several bags, or worlds seeds 1..N made by generate_world and render_bag): per-bag rows,\n"
+      "  mean and worst of each figure (worst bag named); JSON keys <key>_mean, <key>_worst, <key>_worst_bag.\n";
   std::string bag;
   int max_frames = -1, skip = 0;
   bool gt_depth = false;  // --gt-depth: feed the bag's true depth instead of SGBM (isolates stereo noise)
   eval::CommandLine::Sets overrides;  // --set name=value (tuning; the figures of record use the defaults)
   std::string png;
   eval::CommandLine cl("obstacles_benchmark", usage);
-  cl.positional(&bag, "bag", true)
+  eval::SetOptions set_options;
+  set_options.addTo(cl);
+  cl
       .flag("--gt-depth", &gt_depth)
       .count("--frames", &max_frames, 0)
       .count("--skip", &skip, 0)
@@ -83,6 +92,19 @@ int main(int argc, char** argv)
       .sets(&overrides);
   if (const int rc = cl.parse(argc, argv); rc >= 0)
     return rc;
+  if (set_options.isSet())
+  {
+    // Worst = the smaller where more is better (recall, precision, coverage), else the larger.
+    const std::vector<eval::SetFigure> figures{
+        {"recall_3m", true}, {"precision_3m", true}, {"free_where_obstacle_cells", false, true},
+        {"misclassified_3m"}, {"recall_5m", true}, {"precision_5m", true}, {"coverage_3m", true},
+        {"ms_p95_map"}, {"ms_p95_disparity"}, {"points_per_frame", true}, {"frames", true}};
+    return eval::runSetFromCommandLine(cl, argc, argv, set_options, figures, "--png", png, "_obstacles_map.png",
+                                       max_frames);
+  }
+  if (set_options.bags.empty())
+    return cl.usageError("no bag given");
+  bag = set_options.bags.front();
   if (png.empty())
     png = bag.size() > 4 && bag.substr(bag.size() - 4) == ".bag" ? bag.substr(0, bag.size() - 4) + "_obstacles_map.png"
                                                                  : bag + "_obstacles_map.png";

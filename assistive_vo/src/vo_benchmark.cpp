@@ -1,9 +1,11 @@
-// vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--verbose] [--dump FILE] [--set name=value ...]
+// vo_benchmark FILE.bag [BAG2.bag ...] [--generated N [--kinds K,...] [--imperfect] [--keep DIR]] [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--verbose] [--dump FILE] [--set name=value ...]
 // (--dump FILE: per-frame ground truth and estimated pose as text rows, for analysis;
 //  --verbose: per-frame stage counts on stderr: KLT tracks, epipolar kept, P3P inliers, corners)
 // Runs the VO core on every stereo frame of a bag (no roscore), and on the same frames the peer:
 // OpenCV contrib's cv::rgbd::RgbdOdometry fed with StereoSGBM depth. Prints per-stage times,
 // trajectory errors against the bag's ground truth (assistive_eval), then one JSON line.
+// Several bags or --generated N: the set run (assistive_eval/bench_set.h) runs this program once per
+// bag and prints per-bag rows, the mean and the worst (bag named); --plot is then a folder.
 // Times are CPU time of this thread (one core; OpenCV threading off), wall times reported too.
 #include <algorithm>
 #include <cmath>
@@ -20,6 +22,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/rgbd.hpp>
+#include <assistive_eval/bench_set.h>
 #include <assistive_eval/benchmark.h>
 #include <assistive_eval/metrics.h>
 #include <assistive_eval/plots.h>
@@ -124,9 +127,15 @@ int main(int argc, char** argv)
   const char* usage =
       "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--peer-max-translation M]\n"
       "                    [--verbose] [--dump FILE] [--set name=value ...]\n"
-      "  Runs the visual odometry on a stereo bag (README \"Topics of a stereo bag\"); last stdout line: JSON.\n";
+      "       vo_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect] [--keep DIR]\n"
+      "                    [--plot DIR] [other options as above]\n"
+      "  Runs the visual odometry on a stereo bag (README \"Topics of a stereo bag\"); last stdout line: JSON.\n"
+      "  A set (several bags, or worlds seeds 1..N made by generate_world and render_bag): per-bag rows,\n"
+      "  mean and worst of each figure (worst bag named); JSON keys <key>_mean, <key>_worst, <key>_worst_bag.\n";
   ev::CommandLine cl("vo_benchmark", usage);
-  cl.positional(&bag, "bag", true)
+  ev::SetOptions set_options;
+  set_options.addTo(cl);
+  cl
       .flag("--no-peer", &peer_on, false)
       .flag("--no-imu", &imu_on, false)
       .flag("--verbose", &verbose)
@@ -137,6 +146,25 @@ int main(int argc, char** argv)
       .sets(&overrides);
   if (const int rc = cl.parse(argc, argv); rc >= 0)
     return rc;
+  if (set_options.isSet())
+  {
+    // Worst = the larger, except where more is better; rot_drift_over_gyro_floor: the target ratio (<= 2).
+    const std::vector<ev::SetFigure> figures{
+        {"drift_pct"}, {"drift_deg_per_m"}, {"rot_drift_over_gyro_floor"}, {"gyro_floor_deg_per_m"},
+        {"ate_rmse_m"}, {"max_jump_m"}, {"endpoint_drift_pct"}, {"resets", false, true},
+        {"frames_not_tracking", false, true}, {"recovery_frames_max", false, true}, {"ms_p95"},
+        {"ms_median"}, {"peer_drift_pct"}, {"peer_ms_p95"}, {"path_length_m", true}, {"frames", true}};
+    return ev::runSetFromCommandLine(cl, argc, argv, set_options, figures, "--plot", plot, "_vo_trajectory.png",
+                                     max_frames, [](ev::BagResult& b) {
+                                       const auto d = b.values.find("drift_deg_per_m");
+                                       const auto g = b.values.find("gyro_floor_deg_per_m");
+                                       if (d != b.values.end() && g != b.values.end() && g->second > 0)
+                                         b.values["rot_drift_over_gyro_floor"] = d->second / g->second;
+                                     });
+  }
+  if (set_options.bags.empty())
+    return cl.usageError("no bag given");
+  bag = set_options.bags.front();
   if (plot.empty())
   {
     const size_t dot = bag.rfind(".bag");

@@ -243,6 +243,36 @@ CommandLine& CommandLine::positional(std::string* out, const std::string& what, 
   return *this;
 }
 
+CommandLine& CommandLine::positionals(std::vector<std::string>* out, const std::string& what, size_t min_count)
+{
+  positionals_ = out;
+  positional_what_ = what;
+  positionals_min_ = min_count;
+  return *this;
+}
+
+std::vector<std::string> CommandLine::passthrough(int argc, char** argv, const std::vector<std::string>& drop) const
+{
+  std::vector<std::string> out;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    const auto o = std::find_if(options_.begin(), options_.end(), [&](const Option& x) { return x.name == a; });
+    if (o == options_.end())
+      continue;  // a positional argument
+    const bool dropped = std::find(drop.begin(), drop.end(), a) != drop.end();
+    if (!dropped)
+      out.push_back(a);
+    if (o->takes_value && i + 1 < argc)
+    {
+      ++i;
+      if (!dropped)
+        out.push_back(argv[i]);
+    }
+  }
+  return out;
+}
+
 int CommandLine::usageError(const std::string& message) const
 {
   std::cerr << program_ << ": " << message << "\n" << usage_;
@@ -276,6 +306,8 @@ int CommandLine::parse(int argc, char** argv) const
     }
     else if (a.size() > 1 && a[0] == '-')
       return usageError("unknown option " + a);
+    else if (positionals_)
+      positionals_->push_back(a);
     else if (!positional_)
       return usageError("unexpected argument '" + a + "'");
     else if (have_positional)
@@ -287,6 +319,8 @@ int CommandLine::parse(int argc, char** argv) const
     }
   }
   if (positional_ && positional_required_ && !have_positional)
+    return usageError("no " + positional_what_ + " given");
+  if (positionals_ && positionals_->size() < positionals_min_)
     return usageError("no " + positional_what_ + " given");
   return -1;
 }

@@ -102,6 +102,12 @@ public:
   CommandLine& sets(Sets* out);
   /// The one argument that is not an option, e.g. the bag; `what` names it in messages.
   CommandLine& positional(std::string* out, const std::string& what, bool required);
+  /// Instead of positional(): any number (>= `min_count`) of arguments that are not options, e.g.
+  /// several bags (bench_set.h runs a benchmark on each).
+  CommandLine& positionals(std::vector<std::string>* out, const std::string& what, size_t min_count);
+  /// argv without the program, the positional arguments and the options named in `drop` (with
+  /// their values): what a set run passes on to the run of one bag. Call after a successful parse().
+  std::vector<std::string> passthrough(int argc, char** argv, const std::vector<std::string>& drop) const;
 
   /// Parses argv. Returns -1 when the program should go on, else its exit code (0 after --help,
   /// 2 after a usage error, already printed).
@@ -123,6 +129,8 @@ private:
   std::string program_, usage_;
   std::vector<Option> options_;
   std::string* positional_ = nullptr;
+  std::vector<std::string>* positionals_ = nullptr;
+  size_t positionals_min_ = 0;
   std::string positional_what_;
   bool positional_required_ = false;
 };
