@@ -21,6 +21,7 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/image_encodings.h>
+#include <std_msgs/String.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
 
@@ -183,6 +184,13 @@ void StereoBagWriter::writeOccupancy(const OccupancyGrid& g, double stamp)
 {
   const ros::Time t = toRos(stamp);
   bag_->write(topics_.gt_occupancy, t, toMsg(g, topics_.gt_world_frame, t));
+}
+
+void StereoBagWriter::writeString(const std::string& topic, const std::string& text, double stamp)
+{
+  std_msgs::String m;
+  m.data = text;
+  bag_->write(topic, toRos(stamp), m);
 }
 
 // ---------------------------------------------------------------------------------- reader

@@ -1,13 +1,21 @@
 // render_bag: render a world's scripted walk into a stereo bag with ground truth (no roscore).
 //   rosrun assistive_sim render_bag --world course --out course.bag [--seed N] [--frames N]
 //       [--width W --height H] [--rate HZ] [--noise SIGMA] [--exposure-time S] [--imu-rate HZ]
+//       [--imperfect] [--baseline-error X] [--focal-error X] [--right-rotation-deg RX,RY,RZ]
+//       [--distortion K1[,K2]] [--rolling-shutter S] [--ae-step X] [--ae-interval S]
+// The camera imperfections (README "Camera imperfections"): the images come from the imperfect rig,
+// the bag's camera_info keeps the nominal calibration; what was applied is written to the bag
+// (/sim/camera_errors, std_msgs/String, JSON) and to the summary's JSON line.
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <assistive_sim/motion.h>
 #include <assistive_sim/renderer.h>
@@ -24,6 +32,12 @@ void usage(std::ostream& os = std::cerr)
   os << "usage: render_bag --world WORLD --out FILE.bag [--seed N] [--frames N] [--width W --height H]\n"
                "                  [--rate HZ] [--noise SIGMA] [--exposure-time S] [--exposure-variation X] [--imu-rate HZ]\n"
                "                  [--depth]  (also write the left ground-truth depth, /ground_truth/left/depth)\n"
+               "                  [--imperfect]  random camera errors inside the published ranges, drawn from the seed\n"
+               "                  [--baseline-error X] [--focal-error X]  true = nominal * (1 + X); camera_info stays nominal\n"
+               "                  [--right-rotation-deg RX,RY,RZ]  right camera rotated against the rectified rig\n"
+               "                  [--distortion K1[,K2]]  residual radial distortion   [--rolling-shutter S]  readout time\n"
+               "                  [--ae-step X] [--ae-interval S]  auto-exposure gain steps (1+X)^+-1, per camera\n"
+               "                  (explicit options override the --imperfect draw; README \"Camera imperfections\")\n"
                "  WORLD: a shipped world (course, corridor, parking, glass, plaza) or a world YAML path\n";
 }
 
@@ -67,7 +81,16 @@ int main(int argc, char** argv)
   CameraParams cam;
   ImuParams imu_p;
   double rate = 15.0;
-  bool write_depth = false;
+  bool write_depth = false, imperfect = false, exposure_given = false;
+  // Explicit imperfections (applied over the --imperfect draw): name -> value(s)
+  std::vector<std::pair<std::string, std::vector<double>>> explicit_errors;
+  auto numbers = [](const std::string& s) {
+    std::vector<double> v;
+    std::stringstream ss(s);
+    std::string part;
+    while (std::getline(ss, part, ',')) v.push_back(std::stod(part));
+    return v;
+  };
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -90,7 +113,21 @@ int main(int argc, char** argv)
       else if (a == "--height") cam.calib.height = std::stoi(val());
       else if (a == "--rate") rate = std::stod(val());
       else if (a == "--noise") cam.noise_sigma = std::stod(val());
-      else if (a == "--exposure-time") cam.exposure_time = std::stod(val());
+      else if (a == "--exposure-time")
+      {
+        cam.exposure_time = std::stod(val());
+        exposure_given = true;
+      }
+      else if (a == "--imperfect") imperfect = true;
+      else if (a == "--baseline-error" || a == "--focal-error" || a == "--right-rotation-deg" || a == "--distortion" ||
+               a == "--rolling-shutter" || a == "--ae-step" || a == "--ae-interval")
+      {
+        const std::vector<double> v = numbers(val());
+        const size_t want = a == "--right-rotation-deg" ? 3 : 1;
+        if (v.size() != want && !(a == "--distortion" && (v.size() == 1 || v.size() == 2)))
+          throw std::invalid_argument(a);
+        explicit_errors.emplace_back(a, v);
+      }
       else if (a == "--exposure-variation") cam.exposure_variation = std::stod(val());
       else if (a == "--imu-rate") imu_p.rate = std::stod(val());
       else if (a == "--depth") write_depth = true;
@@ -130,6 +167,34 @@ int main(int argc, char** argv)
   cam.calib.cx = (cam.calib.width - 1) / 2.0;
   cam.calib.cy = (cam.calib.height - 1) / 2.0;
   cam.seed = seed;
+  if (imperfect)
+  {
+    double exposure = 0.0;
+    cam.errors = CameraErrors::random(seed, &exposure);
+    if (!exposure_given) cam.exposure_time = exposure;  // motion blur drawn too unless given
+  }
+  for (const auto& [name, v] : explicit_errors)
+  {
+    CameraErrors& e = cam.errors;
+    if (name == "--baseline-error") e.baseline_scale = v[0];
+    else if (name == "--focal-error") e.focal_scale = v[0];
+    else if (name == "--right-rotation-deg") e.right_rotation = Eigen::Vector3d(v[0], v[1], v[2]) * M_PI / 180.0;
+    else if (name == "--distortion") e.k1 = v[0], e.k2 = v.size() > 1 ? v[1] : 0.0;
+    else if (name == "--rolling-shutter") e.rolling_shutter_s = v[0];
+    else if (name == "--ae-step") e.ae_step = v[0];
+    else if (name == "--ae-interval") e.ae_interval_s = v[0];
+  }
+  {
+    const CameraErrors& e = cam.errors;
+    if (std::abs(e.baseline_scale) >= 0.5 || std::abs(e.focal_scale) >= 0.5 || e.right_rotation.norm() > 0.2 ||
+        e.rolling_shutter_s < 0 || e.rolling_shutter_s > 0.2 || e.ae_step < 0 || e.ae_step >= 1 || e.ae_interval_s <= 0)
+    {
+      std::cerr << "render_bag: camera errors out of range (|baseline, focal error| < 0.5, rotation <= 11 deg,\n"
+                   "  rolling shutter in [0, 0.2] s, ae step in [0, 1), ae interval > 0)\n";
+      return 2;
+    }
+  }
+  const std::string errors_json = cam.errors.json(cam.exposure_time);
 
   try
   {
@@ -144,6 +209,7 @@ int main(int argc, char** argv)
 
     StereoBagWriter writer(out);
     writer.writeOccupancy(computeOccupancy(world), t0);
+    writer.writeString("/sim/camera_errors", errors_json, t0);
     RenderOutput ro;
     double render_s = 0.0, render_cpu_s = 0.0;
     const auto wall0 = std::chrono::steady_clock::now();
@@ -157,7 +223,7 @@ int main(int argc, char** argv)
       const Eigen::Vector3d omega_opt = R_lo.transpose() * motion.angularVelocity(t);
       const auto r0 = std::chrono::steady_clock::now();
       const double c0 = threadCpuSeconds();
-      renderer.render(T, t, static_cast<uint64_t>(k), ro, omega_opt);
+      renderer.render(T, t, static_cast<uint64_t>(k), ro, omega_opt, motion.velocity(t));
       render_cpu_s += threadCpuSeconds() - c0;
       render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
       f.stamp = t0 + t;
@@ -188,10 +254,12 @@ int main(int argc, char** argv)
     std::printf("render_fps_wall  %.1f stereo frames/s (rendering only, wall clock; lower when the machine is shared)\n",
                 render_fps_wall);
     std::printf("total_fps        %.1f frames/s (with IMU, ground truth and bag writing)\n", n / wall);
+    std::printf("camera_errors    %s%s\n", errors_json.c_str(), cam.errors.any() ? "" : " (ideal rig)");
     std::printf("{\"frames\": %d, \"render_fps\": %.2f, \"render_fps_wall\": %.2f, \"total_fps\": %.2f, \"world\": \"%s\", \"seed\": %u, "
-                "\"width\": %d, \"height\": %d, \"rate_hz\": %.3f, \"duration_s\": %.3f, \"path_length_m\": %.3f}\n",
+                "\"width\": %d, \"height\": %d, \"rate_hz\": %.3f, \"duration_s\": %.3f, \"path_length_m\": %.3f, "
+                "\"camera_errors\": %s}\n",
                 n, render_fps, render_fps_wall, n / wall, world.name.c_str(), seed, cam.calib.width, cam.calib.height, rate, t_last,
-                motion.pathLength());
+                motion.pathLength(), errors_json.c_str());
   }
   catch (const std::exception& e)
   {

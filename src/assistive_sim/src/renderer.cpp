@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <cstdio>
 #include <random>
 #include <stdexcept>
 
@@ -39,8 +40,50 @@ uint64_t mix64(uint64_t x)
 }
 }  // namespace
 
+bool CameraErrors::any() const
+{
+  return baseline_scale != 0.0 || focal_scale != 0.0 || !right_rotation.isZero() || k1 != 0.0 || k2 != 0.0 ||
+         rolling_shutter_s > 0.0 || ae_step > 0.0;
+}
+
+CameraErrors CameraErrors::random(uint32_t seed, double* exposure_time_s)
+{
+  // Ranges: README "Camera imperfections" (sources there). Uniform, independent, from the seed.
+  std::mt19937 rng(seed * 2654435761u + 17u);
+  auto U = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+  CameraErrors e;
+  e.baseline_scale = U(-0.01, 0.01);
+  e.focal_scale = U(-0.005, 0.005);
+  const double rot = 0.1 * M_PI / 180.0;
+  e.right_rotation = Eigen::Vector3d(U(-rot, rot), U(-rot, rot), U(-rot, rot));
+  e.k1 = U(-0.005, 0.005);
+  e.k2 = U(-0.002, 0.002);
+  e.rolling_shutter_s = U(0.010, 0.033);
+  e.ae_step = U(0.05, 0.20);
+  e.ae_interval_s = U(2.0, 8.0);
+  const double exposure = U(0.002, 0.012);
+  if (exposure_time_s) *exposure_time_s = exposure;
+  return e;
+}
+
+std::string CameraErrors::json(double exposure_time_s) const
+{
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "{\"baseline_scale\": %.6f, \"focal_scale\": %.6f, \"right_rotation_deg\": [%.5f, %.5f, %.5f], "
+                "\"k1\": %.6f, \"k2\": %.6f, \"rolling_shutter_ms\": %.3f, \"ae_step\": %.4f, \"ae_interval_s\": %.3f, "
+                "\"exposure_time_ms\": %.3f}",
+                baseline_scale, focal_scale, right_rotation.x() * 180 / M_PI, right_rotation.y() * 180 / M_PI,
+                right_rotation.z() * 180 / M_PI, k1, k2, rolling_shutter_s * 1e3, ae_step, ae_interval_s,
+                exposure_time_s * 1e3);
+  return buf;
+}
+
 struct StereoRenderer::Impl
 {
+  /// Auto-exposure schedule per camera: step times and the gain level after each (in steps).
+  std::vector<double> ae_times[2];
+  std::vector<int> ae_levels[2];
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   std::vector<float> verts;  // xyz
@@ -177,9 +220,13 @@ struct StereoRenderer::Impl
   }
 
   /// Transmitted and reflected rays for the pending glass pixels, 16 at a time.
-  void resolveGlass(const Eigen::Vector3f& org, float inv_f, float* rad, float* depth, int /*W*/,
+  /// `row_org`: the camera origin per image row (one entry: the same for all rows).
+  void resolveGlass(const std::vector<Eigen::Vector3f>& row_org, float inv_f, float* rad, float* depth, int W,
                     RTCIntersectContext* ctx) const
   {
+    auto originOf = [&](uint32_t idx) -> const Eigen::Vector3f& {
+      return row_org.size() == 1 ? row_org[0] : row_org[std::min<size_t>(idx / static_cast<uint32_t>(W), row_org.size() - 1)];
+    };
     alignas(64) RTCRayHit16 tr, rf;
     alignas(64) int valid[16];
     for (size_t base = 0; base < pending.size(); base += 16)
@@ -189,6 +236,7 @@ struct StereoRenderer::Impl
       {
         valid[i] = i < n ? -1 : 0;
         const GlassRay& g = pending[base + std::min(i, n - 1)];
+        const Eigen::Vector3f& org = originOf(g.idx);
         const Prim& p = prims[g.prim];
         const Eigen::Vector3f dir(g.dx, g.dy, g.dz);
         const Eigen::Vector3f nrm(p.n[0], p.n[1], p.n[2]);
@@ -222,6 +270,7 @@ struct StereoRenderer::Impl
       for (int i = 0; i < n; ++i)
       {
         const GlassRay& g = pending[base + i];
+        const Eigen::Vector3f& org = originOf(g.idx);
         const Prim& gp = prims[g.prim];
         const Eigen::Vector3f dir(g.dx, g.dy, g.dz);
         const float dn = dir.norm();
@@ -366,6 +415,34 @@ StereoRenderer::StereoRenderer(const World& world, const CameraParams& params)
   for (float& v : d.noise) v = N(rng);
   d.radiance.resize(static_cast<size_t>(params_.calib.width) * params_.calib.height);
   d.pending.reserve(d.radiance.size());
+
+  // Auto-exposure steps, one independent schedule per camera (an hour; a step every 0.5-1.5
+  // intervals; the level walks +-1, turned back at +-2 steps).
+  const CameraErrors& e = params_.errors;
+  if (e.ae_step > 0.0 && e.ae_interval_s > 0.0)
+    for (int cam = 0; cam < 2; ++cam)
+    {
+      std::mt19937 ae(params_.seed * 104729u + 7u + static_cast<uint32_t>(cam) * 7919u);
+      std::uniform_real_distribution<double> U(0.5, 1.5);
+      int level = 0;
+      for (double t = e.ae_interval_s * U(ae); t < 3600.0; t += e.ae_interval_s * U(ae))
+      {
+        const bool up = level <= -2 ? true : level >= 2 ? false : (ae() & 1u);
+        level += up ? 1 : -1;
+        d.ae_times[cam].push_back(t);
+        d.ae_levels[cam].push_back(level);
+      }
+    }
+}
+
+double StereoRenderer::autoExposureGain(int cam, double stamp) const
+{
+  const CameraErrors& e = params_.errors;
+  const auto& times = impl_->ae_times[cam == 0 ? 0 : 1];
+  const auto it = std::upper_bound(times.begin(), times.end(), stamp);
+  if (it == times.begin()) return 1.0;
+  const int level = impl_->ae_levels[cam == 0 ? 0 : 1][static_cast<size_t>(it - times.begin()) - 1];
+  return std::pow(1.0 + e.ae_step, level);
 }
 
 StereoRenderer::~StereoRenderer()
@@ -403,28 +480,41 @@ constexpr int TW = 4, TH = 4;  // 16-ray packet tile
 }
 
 void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_t frame_index, RenderOutput& out,
-                            const Eigen::Vector3d& omega)
+                            const Eigen::Vector3d& omega, const Eigen::Vector3d& velocity)
 {
   Impl& d = *impl_;
   const StereoCalib& c = params_.calib;
+  const CameraErrors& err = params_.errors;
   const int W = c.width, H = c.height;
   if (static_cast<int>(d.radiance.size()) != W * H) d.radiance.resize(static_cast<size_t>(W) * H);
-  const Eigen::Matrix3f R = T_wl.linear().cast<float>();
-  const float ifx = static_cast<float>(1.0 / c.fx), ify = static_cast<float>(1.0 / c.fy);
+  // The true rig (the bag's calibration stays the nominal c): focal and baseline scaled.
+  const double fx_true = c.fx * (1.0 + err.focal_scale), fy_true = c.fy * (1.0 + err.focal_scale);
+  const double baseline_true = c.baseline * (1.0 + err.baseline_scale);
+  const float ifx = static_cast<float>(1.0 / fx_true), ify = static_cast<float>(1.0 / fy_true);
   const float cx = static_cast<float>(c.cx), cy = static_cast<float>(c.cy);
-  const float inv_f = static_cast<float>(2.0 / (c.fx + c.fy));
-  const Eigen::Vector3f c0 = R.col(0), c1 = R.col(1), c2 = R.col(2);
+  const float inv_f = static_cast<float>(2.0 / (fx_true + fy_true));
+  const float k1 = static_cast<float>(err.k1), k2 = static_cast<float>(err.k2);
+  const bool distorted = k1 != 0.f || k2 != 0.f;
+  const double rn = err.right_rotation.norm();
+  const Eigen::Matrix3d R_err =
+      rn > 0 ? Eigen::AngleAxisd(rn, err.right_rotation / rn).toRotationMatrix() : Eigen::Matrix3d::Identity();
 
   // Exposure (gain) over time, shared by both cameras.
   const double ev = params_.exposure_variation;
   const double ph = (params_.seed % 97) * 0.1;
   const double gain = params_.gain * (1.0 + ev * std::sin(2 * M_PI * stamp / params_.exposure_period + ph)) *
                       (1.0 + 0.4 * ev * std::sin(2 * M_PI * stamp / (0.37 * params_.exposure_period) + 2 * ph));
-  const float scale = static_cast<float>(255.0 * gain);
 
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+
+  // Per-row camera rotation and origin: one pose (the stamp's) for a global shutter; for a rolling
+  // shutter the pose at the row's exposure time, extrapolated with the body rates (rotation
+  // R(t + dt) = R(t) exp([omega] dt), origin + v dt).
+  const bool rolling = err.rolling_shutter_s > 0.0 && H > 1;
+  std::vector<Eigen::Matrix3f> row_R(rolling ? H : 1);
+  std::vector<Eigen::Vector3f> row_org(rolling ? H : 1);
 
   for (int cam = 0; cam < 2; ++cam)
   {
@@ -433,13 +523,30 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
     img.create(H, W, CV_8UC1);
     depth.create(H, W, CV_32FC1);
     if (cam == 0) out.glass_left.create(H, W, CV_8UC1);
-    const Eigen::Vector3d o_d = T_wl * Eigen::Vector3d(cam == 0 ? 0.0 : c.baseline, 0, 0);
-    const Eigen::Vector3f org = o_d.cast<float>();
+    const Eigen::Vector3d offset(cam == 0 ? 0.0 : baseline_true, 0, 0);
+    const Eigen::Matrix3d R_cam = cam == 0 ? Eigen::Matrix3d::Identity() : R_err;
+    for (size_t r = 0; r < row_R.size(); ++r)
+    {
+      Eigen::Matrix3d R_l = T_wl.linear();
+      Eigen::Vector3d o_l = T_wl.translation();
+      if (rolling)
+      {
+        const double dt = (static_cast<double>(r) / (H - 1) - 0.5) * err.rolling_shutter_s;
+        const Eigen::Vector3d w = omega * dt;
+        if (w.norm() > 0) R_l = R_l * Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+        o_l += velocity * dt;
+      }
+      row_R[r] = (R_l * R_cam).cast<float>();
+      row_org[r] = (o_l + R_l * offset).cast<float>();
+    }
+    const float scale =
+        static_cast<float>(255.0 * gain * (err.ae_step > 0.0 ? autoExposureGain(cam, stamp) : 1.0));
     float* rad = d.radiance.data();
     d.pending.clear();
 
     alignas(64) RTCRayHit16 rh;
     alignas(64) int valid[16];
+    alignas(64) float ray_x[16], ray_y[16];
     for (int ty = 0; ty < H; ty += TH)
       for (int tx = 0; tx < W; tx += TW)
       {
@@ -447,13 +554,25 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
         {
           const int u = tx + (i & 3), v = ty + (i >> 2);
           valid[i] = (u < W && v < H) ? -1 : 0;
-          const float x = (u - cx) * ifx, y = (v - cy) * ify;
+          float x = (u - cx) * ifx, y = (v - cy) * ify;
+          if (distorted)
+          {
+            // Residual distortion: the pixel sees the ray scaled by 1 + k1 r^2 + k2 r^4.
+            const float r2 = x * x + y * y, s = 1.f + r2 * (k1 + k2 * r2);
+            x *= s;
+            y *= s;
+          }
+          ray_x[i] = x;
+          ray_y[i] = y;
+          const size_t row = rolling ? static_cast<size_t>(std::min(v, H - 1)) : 0;
+          const Eigen::Matrix3f& R = row_R[row];
+          const Eigen::Vector3f& org = row_org[row];
           rh.ray.org_x[i] = org.x();
           rh.ray.org_y[i] = org.y();
           rh.ray.org_z[i] = org.z();
-          rh.ray.dir_x[i] = c0.x() * x + c1.x() * y + c2.x();
-          rh.ray.dir_y[i] = c0.y() * x + c1.y() * y + c2.y();
-          rh.ray.dir_z[i] = c0.z() * x + c1.z() * y + c2.z();
+          rh.ray.dir_x[i] = R(0, 0) * x + R(0, 1) * y + R(0, 2);
+          rh.ray.dir_y[i] = R(1, 0) * x + R(1, 1) * y + R(1, 2);
+          rh.ray.dir_z[i] = R(2, 0) * x + R(2, 1) * y + R(2, 2);
           rh.ray.tnear[i] = 0.f;
           rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
           rh.ray.mask[i] = 0xFFFFFFFF;
@@ -468,8 +587,9 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
           const int u = tx + (i & 3), v = ty + (i >> 2);
           const size_t idx = static_cast<size_t>(v) * W + u;
           const float dx = rh.ray.dir_x[i], dy = rh.ray.dir_y[i], dz = rh.ray.dir_z[i];
-          const float x = (u - cx) * ifx, y = (v - cy) * ify;
+          const float x = ray_x[i], y = ray_y[i];
           const float dn = std::sqrt(1.f + x * x + y * y);
+          const Eigen::Vector3f& org = row_org[rolling ? static_cast<size_t>(v) : 0];
           uint8_t glass = 0;
           float r, t;
           if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID)
@@ -501,7 +621,7 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
         }
       }
 
-    if (!d.pending.empty()) d.resolveGlass(org, inv_f, rad, depth.ptr<float>(), W, &ctx);
+    if (!d.pending.empty()) d.resolveGlass(row_org, inv_f, rad, depth.ptr<float>(), W, &ctx);
     d.pending.clear();
 
     // Motion blur: a line kernel along the image motion of the principal point during the exposure.

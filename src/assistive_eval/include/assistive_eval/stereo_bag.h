@@ -62,6 +62,8 @@ public:
   void writeImu(const ImuSample& sample);
   /// Ground-truth occupancy (written once per bag, latched semantics).
   void writeOccupancy(const OccupancyGrid& grid, double stamp);
+  /// A std_msgs/String on `topic` (e.g. render_bag's /sim/camera_errors: what the simulator applied).
+  void writeString(const std::string& topic, const std::string& text, double stamp);
   void close();
 
   /// camera_link -> left optical transform used for the gt tf chain (default linkToLeftOptical()).

@@ -3,6 +3,7 @@
 // is measured on one core); one instance per thread.
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -14,6 +15,37 @@
 
 namespace assistive_sim
 {
+/// The imperfections of a real head-mounted rig (issue 17; README "Camera imperfections" gives the
+/// ranges and where they come from). The rendering uses the true (imperfect) rig; the calibration
+/// written to the bag (CameraParams::calib) stays the nominal one: what a real pipeline is handed is
+/// a calibration with residual errors, while the world is seen through the physical cameras.
+/// All zero: the ideal rig.
+struct CameraErrors
+{
+  double baseline_scale = 0.0;  ///< true baseline = calib.baseline * (1 + baseline_scale)
+  double focal_scale = 0.0;     ///< true fx, fy = calib.fx, fy * (1 + focal_scale), both cameras
+  /// Rotation of the right camera against the nominal (rectified, parallel) rig, rad, about the
+  /// left optical frame's x (pitch: vertical misalignment), y (yaw: a disparity offset), z (roll).
+  Eigen::Vector3d right_rotation = Eigen::Vector3d::Zero();
+  /// Residual radial distortion (normalised image coordinates, both cameras): pixel (x, y) sees the
+  /// ray (x, y) * (1 + k1 r^2 + k2 r^4), r^2 = x^2 + y^2 (a barrel residual for k1 > 0).
+  double k1 = 0.0, k2 = 0.0;
+  /// Rolling shutter: time from the first to the last row (s); row v is exposed at
+  /// stamp + (v / (H - 1) - 0.5) * readout (the middle row at the stamp, where the truth is).
+  double rolling_shutter_s = 0.0;
+  /// Auto-exposure steps: each camera (a side-by-side pair of UVC cameras runs one auto exposure
+  /// each) changes its gain by a factor (1 + ae_step)^+-1 at seeded times, on average every
+  /// ae_interval_s seconds; the level stays within +-2 steps.
+  double ae_step = 0.0, ae_interval_s = 4.0;
+
+  bool any() const;
+  /// Values drawn uniformly inside the published ranges (README), deterministic in `seed`; motion
+  /// blur (an exposure time) is drawn too and returned in *exposure_time_s when not null.
+  static CameraErrors random(uint32_t seed, double* exposure_time_s = nullptr);
+  /// One line of JSON: the values applied (for the bag's /sim/camera_errors and the summary).
+  std::string json(double exposure_time_s) const;
+};
+
 /// Camera / sensor model options (render_bag and the nodelet read these).
 struct CameraParams
 {
@@ -24,6 +56,7 @@ struct CameraParams
   double exposure_period = 11.0;     ///< s
   double exposure_time = 0.0;        ///< s, motion blur when > 0 (e.g. 0.01)
   uint32_t seed = 1;
+  CameraErrors errors;               ///< the rig's imperfections (default: none)
 };
 
 /// One rendered stereo pair with per-pixel truth.
@@ -45,9 +78,14 @@ public:
 
   /// Render the pair for the left optical frame's pose in the world (z forward, x right, y down).
   /// `stamp` (s) drives the exposure changes, `frame_index` (with the seed) the noise.
-  /// `angular_velocity` (rad/s, left optical frame) drives motion blur when exposure_time > 0.
+  /// `angular_velocity` (rad/s, left optical frame) drives motion blur when exposure_time > 0 and,
+  /// with `linear_velocity` (m/s, world frame), the rolling shutter's per-row poses.
   void render(const Eigen::Isometry3d& T_world_left, double stamp, uint64_t frame_index, RenderOutput& out,
-              const Eigen::Vector3d& angular_velocity = Eigen::Vector3d::Zero());
+              const Eigen::Vector3d& angular_velocity = Eigen::Vector3d::Zero(),
+              const Eigen::Vector3d& linear_velocity = Eigen::Vector3d::Zero());
+
+  /// The auto-exposure gain factor of camera `cam` (0 left, 1 right) at `stamp` (1 without steps).
+  double autoExposureGain(int cam, double stamp) const;
 
   /// Cast a single ray (world frame); returns hit distance or -1 (tests, the nodelet's probes).
   double castRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const;
