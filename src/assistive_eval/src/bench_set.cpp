@@ -455,11 +455,13 @@ int runBenchmarkSet(const std::string& program, std::vector<std::string> bags, c
         continue;
       }
       std::vector<std::string> r = toolCommand("render_bag");
-      r.insert(r.end(), {"--world", world, "--out", bag + ".tmp", "--seed", std::to_string(s)});
+      // render_bag's default seed (walk noise, pixel noise), as the shared generated set is rendered:
+      // --generated N gives the same bags; the camera errors are drawn from the world's seed.
+      r.insert(r.end(), {"--world", world, "--out", bag + ".tmp"});
       if (gen.frames > 0)
         r.insert(r.end(), {"--frames", std::to_string(gen.frames)});
       if (gen.imperfect)
-        r.push_back("--imperfect");
+        r.insert(r.end(), {"--imperfect", "--errors-seed", std::to_string(s)});
       std::cerr << "[" << program << "] set: rendering world " << s << "/" << gen.n << "\n";
       if (runCapture(r, &ignored) != 0)
       {

@@ -1,7 +1,7 @@
 // render_bag: render a world's scripted walk into a stereo bag with ground truth (no roscore).
 //   rosrun assistive_sim render_bag --world course --out course.bag [--seed N] [--frames N]
 //       [--width W --height H] [--rate HZ] [--noise SIGMA] [--exposure-time S] [--imu-rate HZ]
-//       [--imperfect] [--baseline-error X] [--focal-error X] [--right-rotation-deg RX,RY,RZ]
+//       [--imperfect [--errors-seed N]] [--baseline-error X] [--focal-error X] [--right-rotation-deg RX,RY,RZ]
 //       [--distortion K1[,K2]] [--rolling-shutter S] [--ae-step X] [--ae-interval S]
 // The camera imperfections (README "Camera imperfections"): the images come from the imperfect rig,
 // the bag's camera_info keeps the nominal calibration; what was applied is written to the bag
@@ -33,6 +33,7 @@ void usage(std::ostream& os = std::cerr)
                "                  [--rate HZ] [--noise SIGMA] [--exposure-time S] [--exposure-variation X] [--imu-rate HZ]\n"
                "                  [--depth]  (also write the left ground-truth depth, /ground_truth/left/depth)\n"
                "                  [--imperfect]  random camera errors inside the published ranges, drawn from the seed\n"
+               "                  [--errors-seed N]  draw them from N instead (the walk and noise keep --seed)\n"
                "                  [--baseline-error X] [--focal-error X]  true = nominal * (1 + X); camera_info stays nominal\n"
                "                  [--right-rotation-deg RX,RY,RZ]  right camera rotated against the rectified rig\n"
                "                  [--distortion K1[,K2]]  residual radial distortion   [--rolling-shutter S]  readout time\n"
@@ -82,6 +83,7 @@ int main(int argc, char** argv)
   ImuParams imu_p;
   double rate = 15.0;
   bool write_depth = false, imperfect = false, exposure_given = false;
+  long errors_seed = -1;  // --errors-seed: the imperfections' draw (default: --seed)
   // Explicit imperfections (applied over the --imperfect draw): name -> value(s)
   std::vector<std::pair<std::string, std::vector<double>>> explicit_errors;
   auto numbers = [](const std::string& s) {
@@ -119,6 +121,11 @@ int main(int argc, char** argv)
         exposure_given = true;
       }
       else if (a == "--imperfect") imperfect = true;
+      else if (a == "--errors-seed")
+      {
+        errors_seed = std::stol(val());
+        if (errors_seed < 0) throw std::invalid_argument(a);
+      }
       else if (a == "--baseline-error" || a == "--focal-error" || a == "--right-rotation-deg" || a == "--distortion" ||
                a == "--rolling-shutter" || a == "--ae-step" || a == "--ae-interval")
       {
@@ -170,7 +177,7 @@ int main(int argc, char** argv)
   if (imperfect)
   {
     double exposure = 0.0;
-    cam.errors = CameraErrors::random(seed, &exposure);
+    cam.errors = CameraErrors::random(errors_seed >= 0 ? static_cast<uint32_t>(errors_seed) : seed, &exposure);
     if (!exposure_given) cam.exposure_time = exposure;  // motion blur drawn too unless given
   }
   for (const auto& [name, v] : explicit_errors)
