@@ -22,13 +22,14 @@ using namespace assistive_eval;
 
 namespace
 {
-// Bounds: the baseline code (main at issue 17's start) gives, on these three worlds,
-// free_where_obstacle_cells 3 / 4 / 0, recall_3m 0.948 / 0.916 / 1.000, precision_3m 0.837 /
-// 0.883 / 0.900, VO drift null (office: 0.46 m walked) / 0.36 / 0.34 %, max jump <= 3.3 mm,
-// ATE <= 3.5 mm. No more obstacle cells reported free than that code; the rest with margin.
-constexpr double FREE_WHERE_OBSTACLE_MAX = 4;
+// Bounds: the baseline code (main at issue 17's start, dedbf51) gives, on these three worlds,
+// free_where_obstacle_cells 3 / 3 / 0, recall_3m 0.948 / 0.933 / 1.000, precision_3m 0.837 /
+// 0.915 / 0.891, VO drift null (office: 0.46 m walked) / 0.20 / 0.89 %, max jump <= 2.7 mm,
+// ATE <= 4.0 mm. No more obstacle cells reported free than that code; recall and precision with
+// margin; VO drift at the issue's targets (mean 1 %, worst 2 %), jumps and ATE with margin.
+constexpr double FREE_WHERE_OBSTACLE_MAX = 3;
 constexpr double RECALL_3M_WORST_MIN = 0.85, RECALL_3M_MEAN_MIN = 0.90, PRECISION_3M_WORST_MIN = 0.75;
-constexpr double DRIFT_PCT_WORST_MAX = 1.0, DRIFT_PCT_MEAN_MAX = 0.75, MAX_JUMP_M_WORST_MAX = 0.05,
+constexpr double DRIFT_PCT_WORST_MAX = 2.0, DRIFT_PCT_MEAN_MAX = 1.0, MAX_JUMP_M_WORST_MAX = 0.05,
                  ATE_RMSE_M_WORST_MAX = 0.03;
 
 std::string libDir()
