@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <random>
 
 #include <opencv2/imgproc.hpp>
@@ -95,6 +97,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   double next_plan = 0.0, clear_sum = 0.0;
   r.min_clearance_m = 1e9;
   long steps = 0;
+  const bool trace = std::getenv("MOBILITY_TRIALS_TRACE") != nullptr;  // per-cycle state on stderr
   double t = 0.0;
   for (; t < timeout; t += opt.dt)
   {
@@ -128,6 +131,11 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
         in.source_time = t;  // truth: the occupancy is current
         const assistive_tactile::Cue cue = cues.update(in, t);
         ++r.cue_modes[std::min<size_t>(4, size_t(cue.mode))];
+        if (trace)
+          std::fprintf(stderr, "t %.2f xy %.2f %.2f yaw %.0f head %.0f | st %d wp %.2f %.2f d %.2f ph %.0f h %.0f fa %.2f fl %.2f fr %.2f | %s %s\n",
+                       t, s.xy.x(), s.xy.y(), s.yaw / DEG, s.head_yaw / DEG, int(out.status), out.waypoint.x,
+                       out.waypoint.y, out.waypoint_distance, out.path_heading / DEG, out.heading / DEG, out.free_ahead,
+                       out.free_left, out.free_right, assistive_tactile::modeName(cue.mode), cue.reason.c_str());
         motors = opt.cues_enabled ? cue.intensity : std::array<float, 4>{ { 0.f, 0.f, 0.f, 0.f } };
       }
       wearer.step(t, opt.dt, motors, &body);
