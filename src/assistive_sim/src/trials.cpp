@@ -78,7 +78,11 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   std::vector<Eigen::Vector2d> route = courseOf(world);
   route.erase(route.begin());
   if (route.empty()) route.push_back(r.start.xy + Eigen::Vector2d(cos(r.start.yaw), sin(r.start.yaw)) * 5.0);
+  // The trial ends within goal_radius of the exit: so does the guide's walk (its last metre is
+  // not walked, at cruise speed).
   r.guide_time_s = sightedGuideTime(world, opt.wearer, r.start.xy, route);
+  if (r.guide_time_s > 0.0)
+    r.guide_time_s = std::max(0.5 * r.guide_time_s, r.guide_time_s - opt.goal_radius_m / opt.wearer.walk_speed);
   const double timeout = opt.timeout_factor * std::max(r.guide_time_s, 5.0) + 20.0;
 
   // Truth mode's chain: the world's occupancy (what a perfect obstacle stage would report).
@@ -98,6 +102,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   r.min_clearance_m = 1e9;
   long steps = 0;
   const bool trace = std::getenv("MOBILITY_TRIALS_TRACE") != nullptr;  // per-cycle state on stderr
+  int reported = 0;
   double t = 0.0;
   for (; t < timeout; t += opt.dt)
   {
@@ -145,6 +150,12 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
       cane.step(t, opt.dt, route[next], body);
     }
     const BodyState& now = opt.mode == TrialMode::TRUTH ? wearer.state() : cane.state();
+    if (trace && int(body.collisionPlaces().size()) > reported)
+    {
+      reported = int(body.collisionPlaces().size());
+      std::fprintf(stderr, "COLLISION t %.2f at %.2f %.2f yaw %.0f speed %.2f\n", t, now.xy.x(), now.xy.y(), now.yaw / DEG,
+                   now.speed);
+    }
     r.path.push_back(now.xy);
     const double c = body.clearance(now.xy);
     clear_sum += c;

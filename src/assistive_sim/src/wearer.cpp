@@ -111,6 +111,15 @@ Eigen::Vector2d BodyCollider::move(const Eigen::Vector2d& from, const Eigen::Vec
     const std::vector<Contact> hit = contacts(next);
     if (!hit.empty())
     {
+      // A body brushing a wall slides along it: keep the part of the step that does not go in
+      // (one axis at a time); the contact still counts.
+      const Eigen::Vector2d d = (to - from) / n;
+      for (const Eigen::Vector2d& alt : { Eigen::Vector2d(at.x() + d.x(), at.y()), Eigen::Vector2d(at.x(), at.y() + d.y()) })
+        if ((alt - at).norm() > 1e-9 && contacts(alt).empty() && (alt - at).norm() > 0.3 * d.norm())
+        {
+          at = alt;
+          break;
+        }
       bumped = true;
       for (const Contact& c : hit)
         if (touching_.insert(c.object).second)
@@ -160,7 +169,9 @@ void VestWearer::step(double t, double dt, const std::array<float, 4>& motors, B
   {
     // Stop and explore: turn on the spot (one side, kept while the alert lasts) so the camera sees
     // new space; the system returns to guidance when it finds a way.
-    if (explore_side_ == 0) explore_side_ = pickSide();
+    // A wearer who was just turning goes on turning that way (told to turn right, then to stop
+    // and explore, one does not swing back); otherwise a side at random.
+    if (explore_side_ == 0) explore_side_ = (last_turn_side_ != 0 && t - last_turn_time_ < 2.0) ? last_turn_side_ : pickSide();
     action_ = EXPLORE;
     stop();
     s_.yaw = wrap(s_.yaw + explore_side_ * p_.explore_rate_deg * DEG * dt);
@@ -170,6 +181,8 @@ void VestWearer::step(double t, double dt, const std::array<float, 4>& motors, B
   {
     const int side = ls ? +1 : -1;
     last_turn_side_ = side;
+    last_turn_time_ = t;
+    explore_side_ = 0;  // the next alert continues this turn
     last_turn_rate_ = (ls ? m[0] : m[1]) * p_.turn_rate_deg * DEG;
     turn_until_ = t + dt + p_.overturn_s;  // the turn goes on this long after the buzz is felt to stop
     action_ = TURN;
@@ -227,13 +240,26 @@ CaneWalker::CaneWalker(const WearerParams& wp, const CaneParams& cp, const BodyS
 
 bool CaneWalker::caneContact(const BodyCollider& collider, double yaw) const
 {
+  double lo, hi;
+  return caneContact(collider, yaw, lo, hi);
+}
+
+bool CaneWalker::caneContact(const BodyCollider& collider, double yaw, double& lo_deg, double& hi_deg) const
+{
+  lo_deg = 1e9;
+  hi_deg = -1e9;
   for (double a = -cp_.sweep_deg; a <= cp_.sweep_deg + 1e-9; a += 2.0)
   {
     const Eigen::Vector2d dir(std::cos(yaw + a * DEG), std::sin(yaw + a * DEG));
     for (double r = collider.radius(); r <= cp_.reach + 1e-9; r += 0.04)
-      if (collider.occupied(s_.xy + r * dir, 0.0, cp_.tip_height)) return true;
+      if (collider.occupied(s_.xy + r * dir, 0.0, cp_.tip_height))
+      {
+        lo_deg = std::min(lo_deg, a);
+        hi_deg = std::max(hi_deg, a);
+        break;
+      }
   }
-  return false;
+  return hi_deg >= lo_deg;
 }
 
 void CaneWalker::step(double t, double dt, const Eigen::Vector2d& target, BodyCollider& collider)
@@ -245,13 +271,15 @@ void CaneWalker::step(double t, double dt, const Eigen::Vector2d& target, BodyCo
     return;
   }
   const double bearing = std::atan2(target.y() - s_.xy.y(), target.x() - s_.xy.x()) + bias_;
-  const bool touch = caneContact(collider, s_.yaw);
+  double lo, hi;
+  const bool touch = caneContact(collider, s_.yaw, lo, hi);
   if (touch)
   {
-    // Blocked: stop, keep to the side chosen (wall following), or pick one at random.
+    // Blocked: stop, keep to the side chosen (wall following); a contact only on one side of the
+    // sweep says which way is open, one across the middle (blocked) leaves a choice at random.
     if (side_ == 0)
     {
-      side_ = pickSide();
+      side_ = lo > 10.0 ? -1 : hi < -10.0 ? +1 : pickSide();
       turned_ = 0.0;
       ++contacts_;
     }

@@ -127,6 +127,7 @@ private:
   Action action_ = WALK;
   int last_turn_side_ = 0;
   double last_turn_rate_ = 0.0;
+  double last_turn_time_ = -1e9;
   double turn_until_ = -1.0;   ///< over-turning goes on until this time
   int explore_side_ = 0;
   double explore_until_ = -1.0;
@@ -134,12 +135,13 @@ private:
 
 /// The cane-only baseline. The cane senses contact within its reach and sweep ahead, low down
 /// (nothing at head height); the walker heads for the next place of the route it was told,
-/// follows what the cane touches on one side, and picks that side at random when blocked (seed
+/// turns away from a contact on one side of the sweep, keeps to that side (following what it touches),
+/// and picks a side at random when blocked across the middle (seed
 /// 5.4.2.2: cane users "were forced to choose randomly to go left or right").
 struct CaneParams
 {
   double reach = 1.0;         ///< m ahead of the body's centre that the tip reaches
-  double sweep_deg = 35.0;    ///< half-angle of the arc the tip sweeps
+  double sweep_deg = 20.0;    ///< half-angle of the arc the tip sweeps (+-0.34 m at 1 m: shoulder width and a bit)
   double tip_height = 0.3;    ///< m: the cane feels what lies between the floor and this height
   double heading_rate_deg = 30.0;  ///< deg/s turning back towards the route while the cane is clear
   double avoid_step_deg = 30.0;    ///< deg turned away at each contact
@@ -156,6 +158,8 @@ public:
   const BodyState& state() const { return s_; }
   /// Does the cane touch anything now (tip arc within reach, low down)?
   bool caneContact(const BodyCollider& collider, double yaw) const;
+  /// The same, with the sweep angles (deg, + = left) of the leftmost and rightmost contact.
+  bool caneContact(const BodyCollider& collider, double yaw, double& lo_deg, double& hi_deg) const;
   int contacts() const { return contacts_; }
 
 private:
