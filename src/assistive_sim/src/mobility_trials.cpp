@@ -23,7 +23,7 @@ namespace
 void usage(std::ostream& os = std::cerr)
 {
   os << "usage: mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S] [--plot FILE.png]\n"
-        "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--overturn S]\n"
+        "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--overturn S] [--turn-on DEG] [--turn-off DEG]\n"
         "  W: a shipped world's name (course corridor parking glass plaza) or a world YAML.\n"
         "  truth: the world's occupancy -> planner core -> cue logic core -> simulated vest wearer (no ROS);\n"
         "  cane: the cane-only walker. --no-cues removes the cue stage (the vest stays silent).\n"
@@ -78,6 +78,8 @@ int main(int argc, char** argv)
       else if (a == "--reaction") opt.wearer.reaction_s = std::stod(val());
       else if (a == "--turn-rate") opt.wearer.turn_rate_deg = std::stod(val());
       else if (a == "--overturn") opt.wearer.overturn_s = std::stod(val());
+      else if (a == "--turn-on") opt.cues.turn_on_deg = std::stod(val());
+      else if (a == "--turn-off") opt.cues.turn_off_deg = std::stod(val());
       else if (a == "-h" || a == "--help")
       {
         usage(std::cout);
