@@ -27,6 +27,10 @@ bool MotionVector::update(const Point2& position, double head_yaw)
   {
     heading_ = wrapAngle(head_yaw);
     ref_yaw_ = heading_;
+    // The travel before a turn is not the direction after it: the next chord starts here (else,
+    // 1 m after turning on the spot, the heading became the chord across the turn and the wearer
+    // walking straight on was told it was on course while heading for a wall; mobility trials).
+    anchor_ = position;
     return true;
   }
   return false;

@@ -59,6 +59,19 @@ TEST(MotionVector, PositionMovesOnlyAfterOneMetre)
   EXPECT_NEAR(mv.heading(), M_PI_2, 1e-9);
 }
 
+TEST(MotionVector, ATurnOnTheSpotStartsTheNextChordThere)
+{
+  // walk 0.9 m along x, turn on the spot to +90 deg, walk 1.05 m along y: the heading is the
+  // direction walked since the turn, not the chord across it (atan2(1.05, 0.9) = 49 deg)
+  MotionVector mv;
+  mv.update({ 0, 0 }, 0.0);
+  mv.update({ 0.9, 0 }, 0.0);
+  EXPECT_TRUE(mv.update({ 0.9, 0 }, M_PI_2));
+  EXPECT_NEAR(mv.anchor().x, 0.9, 1e-12);
+  EXPECT_TRUE(mv.update({ 0.9, 1.05 }, M_PI_2));
+  EXPECT_NEAR(mv.heading(), M_PI_2, 1e-9);
+}
+
 TEST(Triangle, FarthestFreeCellAndUnknownIsNotFree)
 {
   Grid g = freeGrid();

@@ -127,7 +127,22 @@ Cue CueLogic::update(const NavInput& in, double now)
   {
     case NavStatus::OK:
     {
+      const int turning = turn_side_;
       c = decideProximity(in, true);
+      // Near an obstacle (not yet at alert distance) with the path turning away from it, the turn
+      // is the cue: the wearer stops and turns on the spot, which is safe. A side-step there kept
+      // the wearer facing the obstacle and stepping left and right in front of it (mobility trials:
+      // stuck in front of the course's 2 m wall with the way round 50 deg to the left).
+      if (c.mode == CueMode::PROXIMITY && in.waypoint_distance >= params_.guidance_min_waypoint_m)
+      {
+        const double dev = std::fabs(wrapAngle(in.path_heading - in.heading)) * kRadToDeg;
+        if (dev > params_.turn_on_deg || (turning != 0 && dev > params_.turn_off_deg))
+        {
+          waist_side_ = 0;
+          turn_side_ = turning;  // keep the turn's hysteresis
+          c = decideGuidance(in);
+        }
+      }
       if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
         c = decideGuidance(in);
       break;

@@ -1,0 +1,184 @@
+#pragma once
+// The simulated wearer of the mobility trials (issue 19, seed 5.2 and 5.5): a body that walks in a
+// world and reacts only to the vest's four motors as the study told its subjects to, a body
+// collider that counts collisions by obstacle kind, and a cane-only walker for the baseline.
+// ROS-free. The wearer never reads the map: it knows only what the vest tells it.
+#include <array>
+#include <deque>
+#include <map>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include <assistive_sim/world.h>
+
+namespace assistive_sim
+{
+/// What kind of thing the body touched (for `<kind>_collisions_per_trial`).
+enum class ObstacleKind
+{
+  WALL,       ///< `wall` elements (doorway lintels included)
+  OVERHANG,   ///< anything whose underside is above `overhang_min_z` (a sign at head height)
+  GLASS,      ///< `glass` panels
+  FURNITURE,  ///< boxes, columns, tables, benches
+  NUM_KINDS
+};
+const char* kindName(ObstacleKind k);  ///< "wall", "overhang", "glass", "furniture"
+
+/// Reaction to the vest. Where the seed gives no number its observation is quoted and the default
+/// is a typical adult figure; all of them are options of mobility_trials.
+struct WearerParams
+{
+  double walk_speed = 1.1;        ///< m/s cruise; the sighted-guide run uses it too (worlds' scripts: 1.1)
+  double accel = 1.2;             ///< m/s^2 to start and to stop walking
+  double reaction_s = 0.3;        ///< s from a motor's change to the body's (vibrotactile reaction ~0.3 s;
+                                  ///< seed 5.5.3.3: late cues made wearers act too late)
+  double turn_rate_deg = 90.0;    ///< deg/s turning on the spot at intensity 1 (rate = intensity x this)
+  double overturn_s = 0.2;        ///< s the turn goes on after the buzz is felt to stop (seed 5.5.3.3:
+                                  ///< "subjects overcompensated when turning")
+  double sidestep_speed = 0.3;    ///< m/s sideways while a waist motor buzzes
+  double explore_rate_deg = 40.0; ///< deg/s turning on the spot to explore on an alert (seed 5.2)
+  double scan_amplitude_deg = 8.0;///< head yaw scanning while walking (the worlds' default)
+  double scan_period_s = 7.0;
+  double body_radius = 0.25;      ///< m, the body's cylinder (shoulders)
+  double eye_height = 1.6;        ///< m; the body reaches 0.12 m above it
+  double bump_explore_s = 1.0;    ///< s exploring (turning) after bumping into something
+};
+
+/// The body's collider against a world's solids (glass included; walkable steps never collide).
+class BodyCollider
+{
+public:
+  struct Contact
+  {
+    std::string object;  ///< the world element (`Solid::source`): one per table, wall, sign...
+    ObstacleKind kind;
+  };
+  BodyCollider(const World& world, double radius, double height, double overhang_min_z = 1.0);
+  /// Elements whose solids the cylinder at xy (floor to `height`) overlaps.
+  std::vector<Contact> contacts(const Eigen::Vector2d& xy) const;
+  bool free(const Eigen::Vector2d& xy) const { return contacts(xy).empty(); }
+  /// Distance from the body's surface to the nearest solid at body height (m, < 0 inside).
+  double clearance(const Eigen::Vector2d& xy) const;
+  /// Solids whose z range overlaps [z0, z1] at ground point xy (the cane's tip, a probe).
+  bool occupied(const Eigen::Vector2d& xy, double z0, double z1) const;
+  /// Move from `from` towards `to`; returns where the body ends (it stops at first contact, in
+  /// 2 cm steps), and registers collision events: an element counts once per contact episode
+  /// (it must be left by more than 5 cm before it can count again).
+  Eigen::Vector2d move(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool& bumped);
+  /// Collision events so far, per kind, and their places.
+  const std::array<int, size_t(ObstacleKind::NUM_KINDS)>& collisions() const { return counts_; }
+  int totalCollisions() const;
+  const std::vector<Eigen::Vector2d>& collisionPlaces() const { return places_; }
+  double radius() const { return radius_; }
+
+private:
+  double distance(const Solid& s, const Eigen::Vector2d& xy) const;  // footprint distance, < 0 inside
+  ObstacleKind classify(const Solid& s) const;
+  void release(const Eigen::Vector2d& xy);
+
+  std::vector<Solid> solids_;  ///< only those at body height
+  double radius_, height_, overhang_min_z_;
+  std::set<std::string> touching_;
+  std::array<int, size_t(ObstacleKind::NUM_KINDS)> counts_{};
+  std::vector<Eigen::Vector2d> places_;
+};
+
+/// Body state on the floor: position, body yaw, head yaw, walking speed.
+struct BodyState
+{
+  Eigen::Vector2d xy = Eigen::Vector2d::Zero();
+  double yaw = 0.0;       ///< body (torso) yaw, rad
+  double head_yaw = 0.0;  ///< rad, body yaw + scanning
+  double speed = 0.0;     ///< m/s forward
+};
+
+/**
+ * The vest wearer (seed 5.2): "In the absence of any cues, the user simply keeps walking straight
+ * ahead. When a cue is received, walking motion is suspended and the turn/side-step is executed.
+ * The subject keeps turning or side-stepping as long as the vibration is on. Once the motor(s) are
+ * switched off, normal walking is resumed. In case of a collision alert, the user can explore the
+ * region until the system detects a new safe path." Motors are felt `reaction_s` late; a turn's
+ * rate follows the shoulder motor's intensity and goes on `overturn_s` after the buzz stops.
+ */
+class VestWearer
+{
+public:
+  VestWearer(const WearerParams& p, const BodyState& start, uint32_t seed);
+  /// Advance by dt at time t (s) with the motors' intensities now (0..1: left shoulder, right
+  /// shoulder, left waist, right waist). `collider` may be null (free space).
+  void step(double t, double dt, const std::array<float, 4>& motors, BodyCollider* collider);
+  const BodyState& state() const { return s_; }
+  /// What the wearer is doing, for the per-trial summary.
+  enum Action { WALK, TURN, SIDESTEP, EXPLORE, STOPPED };
+  Action action() const { return action_; }
+
+private:
+  std::array<float, 4> felt(double t) const;
+
+  WearerParams p_;
+  BodyState s_;
+  std::mt19937 rng_;
+  double scan_phase_ = 0.0;
+  std::deque<std::pair<double, std::array<float, 4>>> history_;
+  Action action_ = WALK;
+  int last_turn_side_ = 0;
+  double last_turn_rate_ = 0.0;
+  double last_turn_time_ = -1e9;
+  double turn_until_ = -1.0;   ///< over-turning goes on until this time
+  int explore_side_ = 0;
+  double explore_until_ = -1.0;
+};
+
+/// The cane-only baseline. The cane senses contact within its reach and sweep ahead, low down
+/// (nothing at head height); the walker heads for the next place of the route it was told,
+/// turns away from a contact on one side of the sweep, keeps to that side (following what it touches),
+/// and picks a side at random when blocked across the middle (seed
+/// 5.4.2.2: cane users "were forced to choose randomly to go left or right").
+struct CaneParams
+{
+  double reach = 1.0;         ///< m ahead of the body's centre that the tip reaches
+  double sweep_deg = 20.0;    ///< half-angle of the arc the tip sweeps (+-0.34 m at 1 m: shoulder width and a bit)
+  double tip_height = 0.3;    ///< m: the cane feels what lies between the floor and this height
+  double heading_rate_deg = 30.0;  ///< deg/s turning back towards the route while the cane is clear
+  double avoid_step_deg = 30.0;    ///< deg turned away at each contact
+  double heading_noise_deg = 10.0; ///< sigma of the walker's sense of the route's direction
+  double follow_m = 1.0;      ///< m walked along what was touched before heading back to the route
+};
+
+class CaneWalker
+{
+public:
+  CaneWalker(const WearerParams& wp, const CaneParams& cp, const BodyState& start, uint32_t seed);
+  /// Advance by dt; `target` is the next place of the route (m).
+  void step(double t, double dt, const Eigen::Vector2d& target, BodyCollider& collider);
+  const BodyState& state() const { return s_; }
+  /// Does the cane touch anything now (tip arc within reach, low down)?
+  bool caneContact(const BodyCollider& collider, double yaw) const;
+  /// The same, with the sweep angles (deg, + = left) of the leftmost and rightmost contact.
+  bool caneContact(const BodyCollider& collider, double yaw, double& lo_deg, double& hi_deg) const;
+  int contacts() const { return contacts_; }
+
+private:
+  WearerParams wp_;
+  CaneParams cp_;
+  BodyState s_;
+  std::mt19937 rng_;
+  int side_ = 0;              ///< side chosen when blocked: +1 left, -1 right, 0 none
+  double turned_ = 0.0;       ///< rad turned away on this side without progress
+  double follow_left_ = 0.0;  ///< m still to walk along the obstacle
+  double bias_ = 0.0;         ///< the walker's error on the route's direction (rad)
+  double pause_until_ = -1.0;
+  int contacts_ = 0;
+};
+
+/// A sighted guide's walk from `start` to `goal` on the shortest collision-free path at the
+/// wearer's cruise speed (seed 5.5.2.2, PWS): returns the time (s), or a negative value when there
+/// is no path. `path` (if given) receives the walked points.
+double sightedGuideTime(const World& world, const WearerParams& p, const Eigen::Vector2d& start,
+                        const std::vector<Eigen::Vector2d>& route, std::vector<Eigen::Vector2d>* path = nullptr);
+
+}  // namespace assistive_sim

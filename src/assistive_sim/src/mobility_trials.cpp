@@ -1,0 +1,200 @@
+// mobility_trials: a simulated wearer walks a world's course closed loop (issue 19, seed 5.4-5.5).
+//   rosrun assistive_sim mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S]
+//       [--plot FILE.png] [--no-cues] [--reaction S] [--turn-rate DEG_S] [--overturn S]
+// Prints one row per trial, a summary table, and as the last line the JSON keys of SPEC.md.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <assistive_sim/trials.h>
+
+using namespace assistive_sim;
+
+namespace
+{
+void usage(std::ostream& os = std::cerr)
+{
+  os << "usage: mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S] [--plot FILE.png]\n"
+        "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--overturn S] [--turn-on DEG] [--turn-off DEG]\n"
+        "  W: a shipped world's name (course corridor parking glass plaza) or a world YAML.\n"
+        "  truth: the world's occupancy -> planner core -> cue logic core -> simulated vest wearer (no ROS);\n"
+        "  cane: the cane-only walker. --no-cues removes the cue stage (the vest stays silent).\n"
+        "  Heat map: --plot (default mobility_<world>_<mode>.png in the current folder).\n";
+}
+
+std::string worldsDir()
+{
+  for (const char* d : { ASSISTIVE_SIM_SOURCE_WORLDS, ASSISTIVE_SIM_SHARE_WORLDS })
+  {
+    struct stat st;
+    if (stat(d, &st) == 0) return d;
+  }
+  return ".";
+}
+
+std::string num(double v, int prec = 3)
+{
+  if (!std::isfinite(v)) return "null";
+  char b[64];
+  std::snprintf(b, sizeof(b), "%.*f", prec, v);
+  return b;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  std::string world_arg, mode = "truth", plot;
+  int trials = 20;
+  long seed = 1;
+  TrialOptions opt;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    auto val = [&]() -> std::string {
+      if (i + 1 >= argc)
+      {
+        std::cerr << "mobility_trials: " << a << " needs a value\n";
+        usage();
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    try
+    {
+      if (a == "--world") world_arg = val();
+      else if (a == "--trials") trials = std::stoi(val());
+      else if (a == "--mode") mode = val();
+      else if (a == "--seed") seed = std::stol(val());
+      else if (a == "--plot") plot = val();
+      else if (a == "--no-cues") opt.cues_enabled = false;
+      else if (a == "--reaction") opt.wearer.reaction_s = std::stod(val());
+      else if (a == "--turn-rate") opt.wearer.turn_rate_deg = std::stod(val());
+      else if (a == "--overturn") opt.wearer.overturn_s = std::stod(val());
+      else if (a == "--turn-on") opt.cues.turn_on_deg = std::stod(val());
+      else if (a == "--turn-off") opt.cues.turn_off_deg = std::stod(val());
+      else if (a == "-h" || a == "--help")
+      {
+        usage(std::cout);
+        return 0;
+      }
+      else
+      {
+        std::cerr << "mobility_trials: unknown option " << a << "\n";
+        usage();
+        return 2;
+      }
+    }
+    catch (const std::exception&)
+    {
+      std::cerr << "mobility_trials: bad value for " << a << "\n";
+      return 2;
+    }
+  }
+  if (world_arg.empty() || trials < 1)
+  {
+    usage();
+    return 2;
+  }
+  if (mode == "truth") opt.mode = TrialMode::TRUTH;
+  else if (mode == "cane") opt.mode = TrialMode::CANE;
+  else if (mode == "vision")
+  {
+    std::cerr << "mobility_trials: --mode vision is not built yet (truth and cane are); see README\n";
+    return 2;
+  }
+  else
+  {
+    std::cerr << "mobility_trials: --mode must be truth, cane or vision\n";
+    return 2;
+  }
+  World world;
+  try
+  {
+    world = World::load(resolveWorldPath(world_arg, worldsDir()));
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "mobility_trials: " << e.what() << "\n";
+    return 2;
+  }
+  opt.wearer.eye_height = world.trajectory.eye_height;
+  opt.wearer.walk_speed = world.trajectory.speed;
+  const std::string label = mode + (opt.cues_enabled ? "" : " (no cues)");
+
+  std::vector<TrialResult> res;
+  const bool tty = isatty(2);
+  std::printf("%-5s %-7s %-9s %-8s %-8s %-6s %-5s %-8s %-6s %-7s %-9s\n", "trial", "seed", "completed", "time_s",
+              "guide_s", "ppws", "coll", "wall/ovh", "glass", "furn", "clear_m");
+  for (int k = 0; k < trials; ++k)
+  {
+    const uint32_t s = uint32_t(seed * 1000 + k);
+    res.push_back(runTrial(world, opt, s, k));
+    const TrialResult& r = res.back();
+    std::printf("%-5d %-7u %-9s %-8.1f %-8.1f %-6.0f %-5d %d/%-6d %-6d %-7d %-9.2f\n", k, s, r.completed ? "yes" : "NO",
+                r.time_s, r.guide_time_s, r.ppws_pct, r.totalCollisions(), r.collisions[0], r.collisions[1],
+                r.collisions[2], r.collisions[3], r.mean_clearance_m);
+    std::fflush(stdout);
+    const int w = 30, done = (k + 1) * w / trials;
+    std::fprintf(stderr, "%s[%s%s] %d/%d trials", tty ? "\r" : "", std::string(size_t(done), '#').c_str(),
+                 std::string(size_t(w - done), '.').c_str(), k + 1, trials);
+    if (!tty || k + 1 == trials) std::fprintf(stderr, "\n");
+  }
+  const double n = double(res.size());
+  double coll = 0, comp = 0, ppws = 0, nppws = 0, clear = 0, tmean = 0, worst = 0;
+  std::array<double, size_t(ObstacleKind::NUM_KINDS)> kinds{};
+  std::array<double, 5> modes{};
+  for (const TrialResult& r : res)
+  {
+    coll += r.totalCollisions();
+    worst = std::max(worst, double(r.totalCollisions()));
+    comp += r.completed;
+    if (r.completed)
+    {
+      ppws += r.ppws_pct;
+      tmean += r.time_s;
+      ++nppws;
+    }
+    clear += r.mean_clearance_m;
+    for (size_t i = 0; i < kinds.size(); ++i) kinds[i] += r.collisions[i];
+    for (size_t i = 0; i < modes.size(); ++i) modes[i] += r.cue_modes[i];
+  }
+  const double cycles = std::accumulate(modes.begin(), modes.end(), 0.0);
+  const double ppws_mean = nppws ? ppws / nppws : NAN, t_mean = nppws ? tmean / nppws : NAN;
+  if (plot.empty()) plot = "mobility_" + world.name + "_" + mode + (opt.cues_enabled ? "" : "_nocues") + ".png";
+  const cv::Mat img = heatMap(world, res, opt.dt,
+                              world.name + ": " + label + ", " + std::to_string(trials) + " trials, " +
+                                  num(coll / n, 2) + " collisions/trial");
+  const bool wrote = cv::imwrite(plot, img);
+
+  std::printf("\nmobility_trials %s, mode %s, %d trials (seed %ld)\n", world.name.c_str(), label.c_str(), trials, seed);
+  std::printf("  completion           %.0f %%\n", 100.0 * comp / n);
+  std::printf("  collisions / trial   %.2f (worst trial %.0f): wall %.2f, overhang %.2f, glass %.2f, furniture %.2f\n",
+              coll / n, worst, kinds[0] / n, kinds[1] / n, kinds[2] / n, kinds[3] / n);
+  std::printf("  time to completion   %s s (mean of completed), PPWS %s %% (sighted guide = 100)\n", num(t_mean, 1).c_str(),
+              num(ppws_mean, 1).c_str());
+  std::printf("  mean clearance       %.2f m (body surface to the nearest obstacle)\n", clear / n);
+  if (cycles > 0)
+    std::printf("  cues                 idle %.0f %%, guidance %.0f %%, proximity %.0f %%, alert %.0f %%, unsure %.0f %%\n",
+                100 * modes[0] / cycles, 100 * modes[1] / cycles, 100 * modes[2] / cycles, 100 * modes[3] / cycles,
+                100 * modes[4] / cycles);
+  std::printf("  latency              n/a in %s mode (no camera pipeline)\n", mode.c_str());
+  std::printf("  heat map             %s%s\n", plot.c_str(), wrote ? "" : " (could not write)");
+  std::printf("{\"world\": \"%s\", \"mode\": \"%s\", \"cues\": %s, \"trials\": %d, \"collisions_per_trial\": %s, "
+              "\"collisions_worst\": %.0f, \"completion_rate\": %s, \"time_s_mean\": %s, \"ppws_pct\": %s, "
+              "\"mean_clearance_m\": %s, \"latency_ms_median\": null, \"latency_ms_p99\": null, "
+              "\"wall_collisions_per_trial\": %s, \"overhang_collisions_per_trial\": %s, "
+              "\"glass_collisions_per_trial\": %s, \"furniture_collisions_per_trial\": %s, \"unsure_cue_pct\": %s}\n",
+              world.name.c_str(), mode.c_str(), opt.cues_enabled ? "true" : "false", trials, num(coll / n).c_str(), worst,
+              num(comp / n).c_str(), num(t_mean, 2).c_str(), num(ppws_mean, 1).c_str(), num(clear / n).c_str(),
+              num(kinds[0] / n).c_str(), num(kinds[1] / n).c_str(), num(kinds[2] / n).c_str(), num(kinds[3] / n).c_str(),
+              cycles > 0 ? num(100 * modes[4] / cycles, 1).c_str() : "null");
+  return 0;
+}

@@ -1,0 +1,432 @@
+// The simulated wearer of the mobility trials: body collider, vest wearer, cane walker, sighted
+// guide (wearer.h).
+#include <assistive_sim/wearer.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+
+namespace assistive_sim
+{
+namespace
+{
+constexpr double DEG = M_PI / 180.0;
+double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
+}  // namespace
+
+const char* kindName(ObstacleKind k)
+{
+  switch (k)
+  {
+    case ObstacleKind::WALL: return "wall";
+    case ObstacleKind::OVERHANG: return "overhang";
+    case ObstacleKind::GLASS: return "glass";
+    case ObstacleKind::FURNITURE: return "furniture";
+    default: return "?";
+  }
+}
+
+// ---------------------------------------------------------------- BodyCollider
+BodyCollider::BodyCollider(const World& world, double radius, double height, double overhang_min_z)
+  : radius_(radius), height_(height), overhang_min_z_(overhang_min_z)
+{
+  for (const Solid& s : world.solids)
+    if (!s.walkable && s.z1 > 0.05 && s.z0 < height) solids_.push_back(s);
+}
+
+double BodyCollider::distance(const Solid& s, const Eigen::Vector2d& xy) const
+{
+  const Eigen::Vector2d d = xy - s.center;
+  if (s.shape == Solid::CYLINDER) return d.norm() - s.radius;
+  const double c = std::cos(s.yaw), sn = std::sin(s.yaw);
+  const double lx = std::abs(c * d.x() + sn * d.y()) - s.half.x();
+  const double ly = std::abs(-sn * d.x() + c * d.y()) - s.half.y();
+  if (lx <= 0.0 && ly <= 0.0) return std::max(lx, ly);
+  return std::hypot(std::max(lx, 0.0), std::max(ly, 0.0));
+}
+
+ObstacleKind BodyCollider::classify(const Solid& s) const
+{
+  if (s.glass) return ObstacleKind::GLASS;
+  if (s.z0 >= overhang_min_z_) return ObstacleKind::OVERHANG;  // a lintel too: it hits the head
+  if (s.source.find("(wall)") != std::string::npos) return ObstacleKind::WALL;
+  return ObstacleKind::FURNITURE;
+}
+
+std::vector<BodyCollider::Contact> BodyCollider::contacts(const Eigen::Vector2d& xy) const
+{
+  std::vector<Contact> out;
+  for (const Solid& s : solids_)
+    if (distance(s, xy) < radius_)
+    {
+      bool seen = false;
+      for (const Contact& c : out) seen = seen || c.object == s.source;
+      if (!seen) out.push_back({s.source, classify(s)});
+    }
+  return out;
+}
+
+double BodyCollider::clearance(const Eigen::Vector2d& xy) const
+{
+  double best = std::numeric_limits<double>::infinity();
+  for (const Solid& s : solids_) best = std::min(best, distance(s, xy) - radius_);
+  return best;
+}
+
+bool BodyCollider::occupied(const Eigen::Vector2d& xy, double z0, double z1) const
+{
+  for (const Solid& s : solids_)
+    if (s.z0 < z1 && s.z1 > z0 && distance(s, xy) <= 0.0) return true;
+  return false;
+}
+
+int BodyCollider::totalCollisions() const
+{
+  int n = 0;
+  for (int c : counts_) n += c;
+  return n;
+}
+
+void BodyCollider::release(const Eigen::Vector2d& xy)
+{
+  for (auto it = touching_.begin(); it != touching_.end();)
+  {
+    double d = std::numeric_limits<double>::infinity();
+    for (const Solid& s : solids_)
+      if (s.source == *it) d = std::min(d, distance(s, xy));
+    it = d > radius_ + 0.05 ? touching_.erase(it) : std::next(it);
+  }
+}
+
+Eigen::Vector2d BodyCollider::move(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool& bumped)
+{
+  bumped = false;
+  const double len = (to - from).norm();
+  const int n = std::max(1, int(std::ceil(len / 0.02)));
+  Eigen::Vector2d at = from;
+  for (int i = 1; i <= n; ++i)
+  {
+    const Eigen::Vector2d next = from + (to - from) * (double(i) / n);
+    const std::vector<Contact> hit = contacts(next);
+    if (!hit.empty())
+    {
+      // A body brushing a wall slides along it: keep the part of the step that does not go in
+      // (one axis at a time); the contact still counts.
+      const Eigen::Vector2d d = (to - from) / n;
+      for (const Eigen::Vector2d& alt : { Eigen::Vector2d(at.x() + d.x(), at.y()), Eigen::Vector2d(at.x(), at.y() + d.y()) })
+        if ((alt - at).norm() > 1e-9 && contacts(alt).empty() && (alt - at).norm() > 0.3 * d.norm())
+        {
+          at = alt;
+          break;
+        }
+      bumped = true;
+      for (const Contact& c : hit)
+        if (touching_.insert(c.object).second)
+        {
+          ++counts_[size_t(c.kind)];
+          places_.push_back(next);
+        }
+      break;
+    }
+    at = next;
+  }
+  release(at);
+  return at;
+}
+
+// ---------------------------------------------------------------- VestWearer
+VestWearer::VestWearer(const WearerParams& p, const BodyState& start, uint32_t seed) : p_(p), s_(start), rng_(seed)
+{
+  scan_phase_ = std::uniform_real_distribution<double>(0.0, 2.0 * M_PI)(rng_);
+  s_.head_yaw = s_.yaw;
+}
+
+std::array<float, 4> VestWearer::felt(double t) const
+{
+  std::array<float, 4> m{ { 0.f, 0.f, 0.f, 0.f } };
+  for (const auto& h : history_)
+  {
+    if (h.first > t - p_.reaction_s + 1e-9) break;
+    m = h.second;
+  }
+  return m;
+}
+
+void VestWearer::step(double t, double dt, const std::array<float, 4>& motors, BodyCollider* collider)
+{
+  history_.emplace_back(t, motors);
+  while (history_.size() > 2 && history_[1].first <= t - p_.reaction_s + 1e-9) history_.pop_front();
+  const std::array<float, 4> m = felt(t);
+  const float on = 0.01f;
+  const bool ls = m[0] > on, rs = m[1] > on, lw = m[2] > on, rw = m[3] > on;
+  const bool alert = ls && rs && lw && rw;
+  auto pickSide = [&]() { return std::bernoulli_distribution(0.5)(rng_) ? +1 : -1; };
+  auto stop = [&]() { s_.speed = std::max(0.0, s_.speed - 2.0 * p_.accel * dt); };
+  Eigen::Vector2d side_move = Eigen::Vector2d::Zero();
+
+  if (alert || t < explore_until_)
+  {
+    // Stop and explore: turn on the spot (one side, kept while the alert lasts) so the camera sees
+    // new space; the system returns to guidance when it finds a way.
+    // A wearer who was just turning goes on turning that way (told to turn right, then to stop
+    // and explore, one does not swing back); otherwise a side at random.
+    if (explore_side_ == 0) explore_side_ = (last_turn_side_ != 0 && t - last_turn_time_ < 2.0) ? last_turn_side_ : pickSide();
+    action_ = EXPLORE;
+    stop();
+    s_.yaw = wrap(s_.yaw + explore_side_ * p_.explore_rate_deg * DEG * dt);
+    turn_until_ = -1.0;
+  }
+  else if (ls != rs && !(lw || rw))
+  {
+    const int side = ls ? +1 : -1;
+    last_turn_side_ = side;
+    last_turn_time_ = t;
+    explore_side_ = 0;  // the next alert continues this turn
+    last_turn_rate_ = (ls ? m[0] : m[1]) * p_.turn_rate_deg * DEG;
+    turn_until_ = t + dt + p_.overturn_s;  // the turn goes on this long after the buzz is felt to stop
+    action_ = TURN;
+    stop();
+    s_.yaw = wrap(s_.yaw + side * last_turn_rate_ * dt);
+  }
+  else if (lw != rw)
+  {
+    action_ = SIDESTEP;
+    stop();
+    const double sgn = lw ? +1.0 : -1.0;
+    side_move = sgn * p_.sidestep_speed * dt * Eigen::Vector2d(-std::sin(s_.yaw), std::cos(s_.yaw));
+    turn_until_ = -1.0;
+  }
+  else if (t < turn_until_)
+  {
+    action_ = TURN;  // over-turning
+    stop();
+    s_.yaw = wrap(s_.yaw + last_turn_side_ * last_turn_rate_ * dt);
+  }
+  else
+  {
+    action_ = WALK;
+    explore_side_ = 0;
+    s_.speed = std::min(p_.walk_speed, s_.speed + p_.accel * dt);
+  }
+  const Eigen::Vector2d target =
+      s_.xy + s_.speed * dt * Eigen::Vector2d(std::cos(s_.yaw), std::sin(s_.yaw)) + side_move;
+  if (collider)
+  {
+    bool bumped = false;
+    s_.xy = collider->move(s_.xy, target, bumped);
+    if (bumped)
+    {
+      // A person who bumps into something stops and feels around before going on.
+      s_.speed = 0.0;
+      if (t >= explore_until_) explore_side_ = pickSide();
+      explore_until_ = t + p_.bump_explore_s;
+    }
+  }
+  else
+  {
+    s_.xy = target;
+  }
+  s_.head_yaw = wrap(s_.yaw + p_.scan_amplitude_deg * DEG * std::sin(2.0 * M_PI * t / p_.scan_period_s + scan_phase_));
+}
+
+// ---------------------------------------------------------------- CaneWalker
+CaneWalker::CaneWalker(const WearerParams& wp, const CaneParams& cp, const BodyState& start, uint32_t seed)
+  : wp_(wp), cp_(cp), s_(start), rng_(seed)
+{
+  bias_ = std::normal_distribution<double>(0.0, cp_.heading_noise_deg * DEG)(rng_);
+  s_.head_yaw = s_.yaw;
+}
+
+bool CaneWalker::caneContact(const BodyCollider& collider, double yaw) const
+{
+  double lo, hi;
+  return caneContact(collider, yaw, lo, hi);
+}
+
+bool CaneWalker::caneContact(const BodyCollider& collider, double yaw, double& lo_deg, double& hi_deg) const
+{
+  lo_deg = 1e9;
+  hi_deg = -1e9;
+  for (double a = -cp_.sweep_deg; a <= cp_.sweep_deg + 1e-9; a += 2.0)
+  {
+    const Eigen::Vector2d dir(std::cos(yaw + a * DEG), std::sin(yaw + a * DEG));
+    for (double r = collider.radius(); r <= cp_.reach + 1e-9; r += 0.04)
+      if (collider.occupied(s_.xy + r * dir, 0.0, cp_.tip_height))
+      {
+        lo_deg = std::min(lo_deg, a);
+        hi_deg = std::max(hi_deg, a);
+        break;
+      }
+  }
+  return hi_deg >= lo_deg;
+}
+
+void CaneWalker::step(double t, double dt, const Eigen::Vector2d& target, BodyCollider& collider)
+{
+  auto pickSide = [&]() { return std::bernoulli_distribution(0.5)(rng_) ? +1 : -1; };
+  if (t < pause_until_)
+  {
+    s_.speed = 0.0;
+    return;
+  }
+  const double bearing = std::atan2(target.y() - s_.xy.y(), target.x() - s_.xy.x()) + bias_;
+  double lo, hi;
+  const bool touch = caneContact(collider, s_.yaw, lo, hi);
+  if (touch)
+  {
+    // Blocked: stop, keep to the side chosen (wall following); a contact only on one side of the
+    // sweep says which way is open, one across the middle (blocked) leaves a choice at random.
+    if (side_ == 0)
+    {
+      side_ = lo > 10.0 ? -1 : hi < -10.0 ? +1 : pickSide();
+      turned_ = 0.0;
+      ++contacts_;
+    }
+    s_.speed = 0.0;
+    const double d = 90.0 * DEG * dt;
+    s_.yaw = wrap(s_.yaw + side_ * d);
+    turned_ += d;
+    if (turned_ > 160.0 * DEG)  // a corner, a trap: try the other way
+    {
+      side_ = -side_;
+      turned_ = 0.0;
+    }
+    follow_left_ = cp_.follow_m;
+  }
+  else
+  {
+    s_.speed = std::min(wp_.walk_speed, s_.speed + wp_.accel * dt);
+    if (follow_left_ > 0.0)
+    {
+      follow_left_ -= s_.speed * dt;
+    }
+    else
+    {
+      const double err = wrap(bearing - s_.yaw);
+      const double d = std::clamp(err, -cp_.heading_rate_deg * DEG * dt, cp_.heading_rate_deg * DEG * dt);
+      // Turning back towards the route: the cane must be clear that way first.
+      if (!caneContact(collider, s_.yaw + d)) s_.yaw = wrap(s_.yaw + d);
+      if (std::abs(err) < 20.0 * DEG)
+      {
+        side_ = 0;
+        turned_ = 0.0;
+      }
+    }
+  }
+  bool bumped = false;
+  s_.xy = collider.move(s_.xy, s_.xy + s_.speed * dt * Eigen::Vector2d(std::cos(s_.yaw), std::sin(s_.yaw)), bumped);
+  if (bumped)
+  {
+    // Hit something the cane did not feel (head height, a table top): stop, step round it.
+    s_.speed = 0.0;
+    pause_until_ = t + 0.5;
+    if (side_ == 0) side_ = pickSide();
+    s_.yaw = wrap(s_.yaw + side_ * cp_.avoid_step_deg * DEG);
+    follow_left_ = cp_.follow_m;
+  }
+  s_.head_yaw = s_.yaw;
+}
+
+// ---------------------------------------------------------------- sighted guide
+namespace
+{
+/// Shortest collision-free polyline between two points on a 0.1 m grid (8-connected Dijkstra),
+/// shortened by line of sight. Empty when there is none.
+std::vector<Eigen::Vector2d> guidePath(const World& w, const BodyCollider& body, const Eigen::Vector2d& a,
+                                       const Eigen::Vector2d& b)
+{
+  const double res = 0.1, margin = 0.05;
+  const double x0 = w.floor_min.x(), y0 = w.floor_min.y();
+  const int W = int(std::ceil((w.floor_max.x() - x0) / res)), H = int(std::ceil((w.floor_max.y() - y0) / res));
+  auto cellOf = [&](const Eigen::Vector2d& p, int& x, int& y) {
+    x = std::clamp(int(std::floor((p.x() - x0) / res)), 0, W - 1);
+    y = std::clamp(int(std::floor((p.y() - y0) / res)), 0, H - 1);
+  };
+  auto centre = [&](int x, int y) { return Eigen::Vector2d(x0 + (x + 0.5) * res, y0 + (y + 0.5) * res); };
+  std::vector<char> ok(size_t(W) * H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) ok[size_t(y) * W + x] = body.clearance(centre(x, y)) >= margin;
+  int sx, sy, gx, gy;
+  cellOf(a, sx, sy);
+  cellOf(b, gx, gy);
+  ok[size_t(sy) * W + sx] = ok[size_t(gy) * W + gx] = 1;
+  std::vector<double> dist(ok.size(), 1e300);
+  std::vector<int> prev(ok.size(), -1);
+  using Q = std::pair<double, int>;
+  std::priority_queue<Q, std::vector<Q>, std::greater<Q>> q;
+  const int s = sy * W + sx, g = gy * W + gx;
+  dist[size_t(s)] = 0.0;
+  q.push({ 0.0, s });
+  while (!q.empty())
+  {
+    const auto [d, i] = q.top();
+    q.pop();
+    if (d > dist[size_t(i)]) continue;
+    if (i == g) break;
+    const int x = i % W, y = i / W;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+      {
+        const int nx = x + dx, ny = y + dy;
+        if ((!dx && !dy) || nx < 0 || ny < 0 || nx >= W || ny >= H || !ok[size_t(ny) * W + nx]) continue;
+        const int j = ny * W + nx;
+        const double nd = d + res * std::hypot(dx, dy);
+        if (nd < dist[size_t(j)])
+        {
+          dist[size_t(j)] = nd;
+          prev[size_t(j)] = i;
+          q.push({ nd, j });
+        }
+      }
+  }
+  if (dist[size_t(g)] >= 1e299) return {};
+  std::vector<Eigen::Vector2d> cells;
+  for (int i = g; i >= 0; i = prev[size_t(i)]) cells.push_back(centre(i % W, i / W));
+  std::reverse(cells.begin(), cells.end());
+  cells.front() = a;
+  cells.back() = b;
+  auto visible = [&](const Eigen::Vector2d& p, const Eigen::Vector2d& q2) {
+    const int n = std::max(1, int(std::ceil((q2 - p).norm() / 0.05)));
+    for (int k = 1; k < n; ++k)
+      if (body.clearance(p + (q2 - p) * (double(k) / n)) < 0.0) return false;
+    return true;
+  };
+  std::vector<Eigen::Vector2d> out{ cells.front() };
+  size_t i = 0;
+  while (i + 1 < cells.size())
+  {
+    size_t j = cells.size() - 1;
+    while (j > i + 1 && !visible(cells[i], cells[j])) --j;
+    out.push_back(cells[j]);
+    i = j;
+  }
+  return out;
+}
+}  // namespace
+
+double sightedGuideTime(const World& world, const WearerParams& p, const Eigen::Vector2d& start,
+                        const std::vector<Eigen::Vector2d>& route, std::vector<Eigen::Vector2d>* path)
+{
+  BodyCollider body(world, p.body_radius, p.eye_height + 0.12);
+  double len = 0.0;
+  Eigen::Vector2d from = start;
+  if (path) path->assign(1, start);
+  for (const Eigen::Vector2d& to : route)
+  {
+    const std::vector<Eigen::Vector2d> seg = guidePath(world, body, from, to);
+    if (seg.empty()) return -1.0;
+    for (size_t i = 1; i < seg.size(); ++i)
+    {
+      len += (seg[i] - seg[i - 1]).norm();
+      if (path) path->push_back(seg[i]);
+    }
+    from = to;
+  }
+  // Walked at cruise speed after speeding up from standing (no stops: the guide sees the way).
+  const double ramp = p.walk_speed / p.accel;
+  const double ramp_len = 0.5 * p.accel * ramp * ramp;
+  return len <= ramp_len ? std::sqrt(2.0 * len / p.accel) : ramp + (len - ramp_len) / p.walk_speed;
+}
+
+}  // namespace assistive_sim
