@@ -191,12 +191,12 @@ int main(int argc, char** argv)
     size_t k = 0;
     for (size_t i = 0; i < gt.size(); ++i)
     {
-      while (k + 1 < kfs.size() && kfs[k + 1].stamp <= gt[i].stamp)
+      while (k + 1 < kfs.size() && kfs[k + 1].stamp <= gt[i].t)
         ++k;
       Eigen::Isometry3d T = frame_odom[i];
-      if (!kfs.empty() && kfs[k].stamp <= gt[i].stamp)
+      if (!kfs.empty() && kfs[k].stamp <= gt[i].t)
         T = kfs[k].T_map_cam * kfs[k].T_odom_cam.inverse() * frame_odom[i];
-      slam_est.push_back({gt[i].stamp, T});
+      slam_est.push_back({gt[i].t, T});
     }
   }
 
