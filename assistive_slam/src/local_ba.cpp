@@ -102,9 +102,9 @@ BaResult bundleAdjust(BaProblem& pb, const StereoModel& cam, const BaOptions& op
   const double w = 1.0 / opt.pixel_sigma_px;
   for (const BaObservation& o : pb.observations)
   {
-    auto* cost = new ceres::AutoDiffCostFunction<StereoReprojection, 3, 3, 4, 3>(new StereoReprojection(cam, o.uvr, w));
+    auto* cost = new ceres::AutoDiffCostFunction<StereoReprojection, 3, 3, 4, 3>(new StereoReprojection(cam, o.uvr, w / o.scale));
     // Huber threshold in whitened units (the residuals are divided by sigma)
-    problem.AddResidualBlock(cost, new ceres::HuberLoss(opt.huber_px * w), p[o.frame].data(), q[o.frame].data(),
+    problem.AddResidualBlock(cost, new ceres::HuberLoss(opt.huber_px / opt.pixel_sigma_px), p[o.frame].data(), q[o.frame].data(),
                              X.at(o.landmark).data());
   }
   for (const PoseGraphEdge& e : pb.priors)

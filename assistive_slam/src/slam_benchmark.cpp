@@ -280,7 +280,7 @@ int main(int argc, char** argv)
             << " ms); worker per keyframe: median " << percentile(worker_ms, 0.5) << " ms, p95 "
             << percentile(worker_ms, 0.95) << " ms (wall)\n";
   std::cout << "keyframes " << st.keyframes << " (queued " << keyframes_queued << ", dropped " << st.dropped
-            << "), submaps " << st.submaps << ", local BA runs " << st.ba_runs << ", pose-graph runs "
+            << "), submaps " << st.submaps << ", local BA runs " << st.ba_runs << " (rejected " << st.ba_rejected << ")" << ", pose-graph runs "
             << st.pose_graph_runs << ", loop closures " << accepted << " accepted (" << false_closures
             << " false), " << st.loops_rejected << " verified but rejected; revisit runs " << revisit_runs
             << ", missed " << missed << "\n";

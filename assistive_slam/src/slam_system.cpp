@@ -244,7 +244,8 @@ void SlamSystem::localBundleAdjustment()
         continue;
       if (!pb.landmarks.count(id))
         pb.landmarks[id] = kf.T_map_cam * kf.points[i];
-      pb.observations.push_back({fi, id, Eigen::Vector3d(kf.keypoints[i].pt.x, kf.keypoints[i].pt.y, kf.u_right[i])});
+      pb.observations.push_back({fi, id, Eigen::Vector3d(kf.keypoints[i].pt.x, kf.keypoints[i].pt.y, kf.u_right[i]),
+                                 std::pow(1.2, kf.keypoints[i].octave)});
     }
     if (fi > 0)
     {
@@ -264,9 +265,21 @@ void SlamSystem::localBundleAdjustment()
   o.max_iterations = p_.ba_iterations;
   o.huber_px = p_.ba_huber_px;
   o.pixel_sigma_px = p_.pixel_sigma_px;
+  const std::vector<Eigen::Isometry3d> before = pb.poses;
   const BaResult r = bundleAdjust(pb, cam_, o);
-  if (!r.solved)
+  if (!r.solved || !(r.final_rms_px <= r.initial_rms_px))
     return;
+  // A window that moves a keyframe by more than the VO could be off between keyframes is a
+  // failed adjustment (wrong associations, a degenerate window): the VO's poses are kept.
+  for (size_t i = 0; i < before.size(); ++i)
+  {
+    const Eigen::Isometry3d d = before[i].inverse() * pb.poses[i];
+    if (!d.matrix().allFinite() || d.translation().norm() > 0.2 || angleDeg(d) > 2.0)
+    {
+      ++stats_.ba_rejected;
+      return;
+    }
+  }
   std::lock_guard<std::mutex> l(mm_);
   ++stats_.ba_runs;
   for (int k = first + 2; k < n; ++k)

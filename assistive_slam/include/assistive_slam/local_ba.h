@@ -16,6 +16,7 @@ struct BaObservation
   int frame = 0;          ///< index into BaProblem::poses
   int64_t landmark = 0;   ///< key into BaProblem::landmarks
   Eigen::Vector3d uvr;    ///< left u, left v, right u (px)
+  double scale = 1.0;     ///< noise relative to pixel_sigma (ORB: 1.2^pyramid level)
 };
 
 struct BaProblem

@@ -59,7 +59,7 @@ struct SubmapLinkInfo
 struct SlamStats
 {
   int keyframes = 0, submaps = 0, loops_accepted = 0, loops_rejected = 0, queue_depth = 0, dropped = 0;
-  int ba_runs = 0, pose_graph_runs = 0;
+  int ba_runs = 0, ba_rejected = 0, pose_graph_runs = 0;
   double worker_ms_last = 0;
 };
 
