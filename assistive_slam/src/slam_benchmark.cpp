@@ -9,6 +9,7 @@
 #include <sys/resource.h>
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -20,6 +21,7 @@
 #include <assistive_eval/metrics.h>
 #include <assistive_eval/plots.h>
 #include <assistive_eval/stereo_bag.h>
+#include "assistive_slam/map_file.h"
 #include "assistive_slam/slam_system.h"
 #include "assistive_vo/imu_buffer.h"
 #include "assistive_vo/startup_rule.h"
@@ -45,12 +47,12 @@ double angDeg(const Eigen::Matrix3d& R)
 
 int main(int argc, char** argv)
 {
-  std::string bag, plot;
+  std::string bag, plot, map_path;
   bool imu_on = true, realtime = false;
   long max_frames = -1;
   ev::CommandLine::Sets overrides;
   const char* usage =
-      "usage: slam_benchmark FILE.bag [--no-imu] [--plot OUT.png] [--frames N] [--realtime] [--set name=value ...]\n"
+      "usage: slam_benchmark FILE.bag [--no-imu] [--plot OUT.png] [--frames N] [--realtime] [--map FILE] [--set name=value ...]\n"
       "  VO alone and VO + SLAM on the same frames of a stereo bag; last stdout line: JSON.\n"
       "  --set: the SLAM stage's parameters (README table), e.g. --set loop_closure=false\n";
   ev::CommandLine cl("slam_benchmark", usage);
@@ -58,6 +60,7 @@ int main(int argc, char** argv)
       .flag("--no-imu", &imu_on, false)
       .flag("--realtime", &realtime)
       .text("--plot", &plot)
+      .text("--map", &map_path)
       .count("--frames", &max_frames, 0L)
       .sets(&overrides);
   if (const int rc = cl.parse(argc, argv); rc >= 0)
@@ -302,6 +305,21 @@ int main(int argc, char** argv)
   else
     std::cerr << "slam_benchmark: plot not written: " << err << "\n";
 
+  // The map file as slam/save_map would write it: its size.
+  if (map_path.empty())
+    map_path = plot.substr(0, plot.rfind('.')) + ".map";
+  double map_mb = -1;
+  {
+    std::string merr;
+    if (saveMapFile(map_path, exportMap(*slam), &merr))
+    {
+      std::ifstream mf(map_path, std::ios::binary | std::ios::ate);
+      map_mb = static_cast<double>(mf.tellg()) / (1024.0 * 1024.0);
+      std::cout << "map file: " << map_path << " (" << map_mb << " MB)\n";
+    }
+    else
+      std::cerr << "slam_benchmark: " << merr << "\n";
+  }
   auto num = [](double v, int significant = 4) { return ev::jsonNumber(v, significant); };
   ev::JsonLine js;
   js.add("frames", frames)
@@ -325,7 +343,7 @@ int main(int argc, char** argv)
       .add("submaps", st.submaps)
       .add("peak_rss_mb", num(peakRssMb()))
       .addNull("relocalisation_frames")
-      .addNull("map_file_mb")
+      .add("map_file_mb", map_mb >= 0 ? num(map_mb) : "null")
       .add("path_length_m", num(vrep.path_length_m));
   std::cout << js.str() << std::endl;
   return 0;

@@ -360,17 +360,53 @@ void SlamSystem::detectLoop(const KeyframePtr& kf)
       ++stats_.loops_rejected;
       continue;
     }
-    ev.accepted = true;
+    LoopLink link;
     {
-      std::lock_guard<std::mutex> l(mm_);
       const Eigen::Isometry3d& Oa = submaps_[a.submap].T_map_origin;
       const Eigen::Isometry3d& Ob = submaps_[kf->submap].T_map_origin;
       const Eigen::Isometry3d T_b_in_submap = Ob.inverse() * kf->T_map_cam;
-      loop_links_.push_back({a.submap, kf->submap, Oa.inverse() * a.T_map_cam * r.T_a_b * T_b_in_submap.inverse()});
-      events_.push_back(ev);
-      ++stats_.loops_accepted;
+      link = {a.submap, kf->submap, Oa.inverse() * a.T_map_cam * r.T_a_b * T_b_in_submap.inverse()};
     }
-    optimiseGraph();
+    // Temporal consistency: a closure is only accepted when the next keyframe's verified closure
+    // implies the same correction of the map (look-alike places pass one P3P check far more
+    // often than two in a row with the same answer: a generated street had one at 40 inliers).
+    const Eigen::Isometry3d delta = T_map_b * kf->T_map_cam.inverse();
+    auto rejectPending = [&](const std::string& why) {
+      if (!pending_.valid)
+        return;
+      pending_.ev.reason = why;
+      std::lock_guard<std::mutex> l(mm_);
+      events_.push_back(pending_.ev);
+      ++stats_.loops_rejected;
+      pending_.valid = false;
+    };
+    if (pending_.valid && pending_.ev.keyframe_new + 1 == kf->id)
+    {
+      const Eigen::Isometry3d dd = pending_.delta.inverse() * delta;
+      if (dd.translation().norm() <= p_.loop_confirm_m && angleDeg(dd) <= p_.loop_confirm_deg)
+      {
+        ev.accepted = true;
+        pending_.ev.accepted = true;
+        {
+          std::lock_guard<std::mutex> l(mm_);
+          loop_links_.push_back(pending_.link);
+          loop_links_.push_back(link);
+          events_.push_back(pending_.ev);
+          events_.push_back(ev);
+          stats_.loops_accepted += 2;
+        }
+        pending_.valid = false;
+        optimiseGraph();
+        return;
+      }
+      rejectPending("not confirmed: the next keyframe's verified closure implies another correction");
+    }
+    else
+      rejectPending("not confirmed by the next keyframe");
+    pending_.valid = true;
+    pending_.ev = ev;
+    pending_.link = link;
+    pending_.delta = delta;
     return;  // one closure per keyframe
   }
 }

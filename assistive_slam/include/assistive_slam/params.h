@@ -49,6 +49,8 @@ namespace assistive_slam
   X(double, loop_inlier_px, "loop_inlier", 2.0, 0.3, 20.0, "px", "reprojection error of a P3P inlier") \
   X(double, loop_max_correction_m, "loop_max_correction", 3.0, 0.1, 1000.0, "m", "a closure that moves the wearer farther than this (+ 5 % of the path since the candidate) is rejected") \
   X(double, loop_max_correction_deg, "loop_max_correction_deg", 30.0, 1.0, 180.0, "deg", "... or turns them more than this") \
+  X(double, loop_confirm_m, "loop_confirm", 0.3, 0.0, 10.0, "m", "a verified closure is accepted when the next keyframe's implies the same map correction within this ...") \
+  X(double, loop_confirm_deg, "loop_confirm_deg", 3.0, 0.0, 90.0, "deg", "... and this") \
   X(int, loop_candidates, "loop_candidates", 3, 1, 50, "", "candidate keyframes verified per new keyframe") \
   X(double, loop_sigma_m, "loop_sigma", 0.03, 1e-4, 10.0, "m", "translation noise of a verified closure") \
   X(double, loop_sigma_deg, "loop_sigma_deg", 0.5, 1e-3, 90.0, "deg", "rotation noise of a verified closure") \

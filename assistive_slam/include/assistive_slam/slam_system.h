@@ -134,6 +134,14 @@ private:
     Eigen::Isometry3d T;
   };
   std::vector<LoopLink> loop_links_;
+  struct Pending
+  {
+    bool valid = false;
+    LoopEvent ev;
+    LoopLink link{0, 0, Eigen::Isometry3d::Identity()};
+    Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
+  };
+  Pending pending_;  ///< a verified closure waiting for the next keyframe's confirmation
   std::vector<LoopEvent> events_;
   Eigen::Isometry3d T_map_odom_ = Eigen::Isometry3d::Identity();
   SlamStats stats_;
