@@ -17,6 +17,8 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
 #include <std_msgs/String.h>
+#include <std_srvs/Trigger.h>
+#include <ros/file_log.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -26,6 +28,7 @@
 #include <assistive_common/ros_params.h>
 #include <assistive_msgs/SubmapGraph.h>
 
+#include "assistive_slam/map_file.h"
 #include "assistive_slam/slam_system.h"
 
 namespace assistive_slam
@@ -63,6 +66,7 @@ class SlamNodelet : public nodelet::Nodelet
                                                                     left_sub_, left_info_sub_, right_sub_,
                                                                     right_info_sub_, odom_sub_);
     sync_->registerCallback(&SlamNodelet::frameCb, this);
+    save_srv_ = nh.advertiseService("slam/save_map", &SlamNodelet::saveMap, this);
 
     diag_.setHardwareID("slam");
     diag_.add("status", this, &SlamNodelet::diagStatus);
@@ -145,6 +149,31 @@ class SlamNodelet : public nodelet::Nodelet
       ms_max_ = std::max(ms_max_, ms_frame_);
     }
     publishLoopEvents();
+  }
+
+  bool saveMap(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res)
+  {
+    if (!slam_)
+    {
+      res.success = false;
+      res.message = "no map yet (no frame processed)";
+      return true;
+    }
+    std::string path = node_.map_file;
+    if (!path.empty() && path[0] != '/')
+    {
+      const char* home = std::getenv("ROS_HOME");
+      const char* user = std::getenv("HOME");
+      path = (home ? std::string(home) : std::string(user ? user : ".") + "/.ros") + "/" + path;
+    }
+    std::string err;
+    res.success = saveMapFile(path, exportMap(*slam_), &err);
+    res.message = res.success ? "map written to " + path : err;
+    if (res.success)
+      NODELET_INFO("slam: %s", res.message.c_str());
+    else
+      NODELET_ERROR("slam: %s", res.message.c_str());
+    return true;
   }
 
   void publishLoopEvents()
@@ -312,6 +341,7 @@ class SlamNodelet : public nodelet::Nodelet
   std::shared_ptr<message_filters::Synchronizer<Policy>> sync_;
   ros::Publisher path_pub_, graph_pub_, markers_pub_, loop_pub_;
   ros::WallTimer tf_timer_, graph_timer_;
+  ros::ServiceServer save_srv_;
   diagnostic_updater::Updater diag_;
   std::mutex m_;
   ros::Time last_stamp_;

@@ -66,7 +66,8 @@ namespace assistive_slam
   X(double, untrusted_variance, "untrusted_variance", 1000.0, 1.0, 1e9, "m^2", "a vo/odom position variance this large marks the VO pose untrusted (no keyframe)") \
   X(double, tf_rate, "tf_rate", 20.0, 1.0, 200.0, "Hz", "map -> odom is re-broadcast at this rate (future-dated by 1 / rate)") \
   X(double, graph_rate, "graph_rate", 1.0, 0.1, 50.0, "Hz", "path, submap graph and markers are published at this rate") \
-  X(double, expected_rate, "expected_rate", 15.0, 0.1, 200.0, "Hz", "for the frequency diagnostic")
+  X(double, expected_rate, "expected_rate", 15.0, 0.1, 200.0, "Hz", "for the frequency diagnostic") \
+  X(std::string, map_file, "map_file", "assistive_slam.map", {}, {}, "", "slam/save_map writes here (a relative path is under ROS_HOME, default ~/.ros)")
 // clang-format on
 
 struct SlamNodeParams
