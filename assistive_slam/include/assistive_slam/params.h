@@ -1,0 +1,83 @@
+#pragma once
+// Parameters of the SLAM stage: ONE table (assistive_common/param_table.h). Each row is the field,
+// its ROS parameter name (also slam_benchmark's --set name), default, range, unit and text; the
+// nodelet reads every row, clamps by the ranges and README.md lists them.
+#include <string>
+
+#include <assistive_common/param_table.h>
+
+namespace assistive_slam
+{
+// clang-format off
+// X(type, field, ROS name, default, lo, hi, unit, text)
+#define ASSISTIVE_SLAM_PARAMS(X) \
+  /* --- keyframes (seed 3.2.3.3): taken when the VO replenishes its tracks, or by distance / angle --- */ \
+  X(double, keyframe_min_distance_m, "keyframe_min_distance", 0.3, 0.0, 10.0, "m", "a VO replenishment closer than this to the last keyframe (and turned less than keyframe_min_angle) is no keyframe") \
+  X(double, keyframe_min_angle_deg, "keyframe_min_angle", 10.0, 0.0, 180.0, "deg", "... nor turned less than this") \
+  X(double, keyframe_max_distance_m, "keyframe_max_distance", 1.0, keyframe_min_distance_m, 100.0, "m", "a keyframe at the latest this far from the last one") \
+  X(double, keyframe_max_angle_deg, "keyframe_max_angle", 25.0, keyframe_min_angle_deg, 180.0, "deg", "... or turned this far") \
+  /* --- stereo features of a keyframe --- */ \
+  X(int, orb_features, "orb_features", 800, 50, 5000, "", "ORB features detected in the left image") \
+  X(int, orb_fast_threshold, "orb_fast_threshold", 12, 1, 100, "intensity", "ORB's FAST threshold") \
+  X(double, stereo_max_row_diff_px, "stereo_max_row_diff", 1.5, 0.0, 10.0, "px", "left/right match on the same rectified row within this") \
+  X(int, stereo_max_hamming, "stereo_max_hamming", 50, 1, 256, "bits", "stereo match descriptor distance at most this") \
+  X(double, min_depth_m, "min_depth", 0.3, 0.05, 10.0, "m", "nearest keyframe point") \
+  X(double, max_depth_m, "max_depth", 15.0, min_depth_m, 200.0, "m", "farthest keyframe point") \
+  /* --- bounded submaps (seed 3.2.3.1) --- */ \
+  X(int, submap_max_keyframes, "submap_max_keyframes", 8, 1, 1000, "", "a new submap after this many keyframes ...") \
+  X(double, submap_max_extent_m, "submap_max_extent", 4.0, 0.5, 1000.0, "m", "... or this far from the submap's origin") \
+  /* --- local bundle adjustment over a sliding window of keyframes (Ceres, worker thread) --- */ \
+  X(int, ba_window, "ba_window", 8, 2, 50, "", "keyframes in the window (the oldest two are held fixed)") \
+  /* Off by default: on the parking walk the ORB-keyframe adjustment made the VO's rotational drift worse */ \
+  /* (0.042-0.140 deg/m against 0.029 over 450 frames) and diverged once over four loops (README "Figures"). */ \
+  X(int, ba_iterations, "ba_iterations", 0, 0, 200, "", "Levenberg-Marquardt iterations at most (0: no local bundle adjustment)") \
+  X(double, ba_huber_px, "ba_huber", 1.5, 0.1, 50.0, "px", "Huber loss of the reprojection residuals") \
+  X(double, pixel_sigma_px, "pixel_sigma", 0.7, 0.05, 10.0, "px", "keypoint position noise") \
+  X(int, match_max_hamming, "match_max_hamming", 60, 1, 256, "bits", "keyframe-to-keyframe descriptor distance at most this") \
+  X(double, match_gate_px, "match_gate", 25.0, 1.0, 500.0, "px", "a match lies this close to where the VO's motion puts the point") \
+  X(int, ba_min_observations, "ba_min_observations", 2, 2, 10, "", "landmarks seen in fewer keyframes stay out of the adjustment") \
+  /* --- odometry links (VO relative motion): its noise per metre walked and per keyframe --- */ \
+  X(double, odom_sigma_per_m, "odom_sigma_per_m", 0.02, 1e-5, 1.0, "m/m", "translation noise of the VO per metre walked") \
+  X(double, odom_sigma_deg_per_m, "odom_sigma_deg_per_m", 0.3, 1e-4, 10.0, "deg/m", "rotation noise of the VO per metre walked") \
+  X(double, odom_sigma_floor_m, "odom_sigma_floor", 0.01, 1e-5, 1.0, "m", "translation noise floor per link") \
+  X(double, odom_sigma_floor_deg, "odom_sigma_floor_deg", 0.2, 1e-4, 10.0, "deg", "rotation noise floor per link") \
+  /* --- loop closure: candidates from older submaps, verified geometrically before they touch the graph --- */ \
+  X(bool, loop_closure, "loop_closure", true, {}, {}, "", "look for loop closures") \
+  X(int, loop_skip_submaps, "loop_skip_submaps", 3, 1, 1000, "", "the newest submaps are no loop candidates (they are linked by odometry)") \
+  X(int, loop_min_inliers, "loop_min_inliers", 40, 8, 2000, "", "P3P RANSAC inliers needed to accept a closure") \
+  X(double, loop_min_inlier_ratio, "loop_min_inlier_ratio", 0.35, 0.0, 1.0, "", "... and this share of the matches") \
+  X(double, loop_inlier_px, "loop_inlier", 2.0, 0.3, 20.0, "px", "reprojection error of a P3P inlier") \
+  X(double, loop_max_correction_m, "loop_max_correction", 3.0, 0.1, 1000.0, "m", "a closure that moves the wearer farther than this (+ 5 % of the path since the candidate) is rejected") \
+  X(double, loop_max_correction_deg, "loop_max_correction_deg", 30.0, 1.0, 180.0, "deg", "... or turns them more than this") \
+  X(double, loop_confirm_m, "loop_confirm", 0.3, 0.0, 10.0, "m", "a verified closure is accepted when the next keyframe's implies the same map correction within this ...") \
+  X(double, loop_confirm_deg, "loop_confirm_deg", 3.0, 0.0, 90.0, "deg", "... and this") \
+  X(int, loop_candidates, "loop_candidates", 3, 1, 50, "", "candidate keyframes verified per new keyframe") \
+  X(double, loop_sigma_m, "loop_sigma", 0.03, 1e-4, 10.0, "m", "translation noise of a verified closure") \
+  X(double, loop_sigma_deg, "loop_sigma_deg", 0.5, 1e-3, 90.0, "deg", "rotation noise of a verified closure") \
+  /* --- worker thread --- */ \
+  X(int, queue_size, "queue_size", 4, 1, 100, "", "keyframes waiting for the worker at most (the oldest is dropped beyond)")
+
+// The nodelet's own parameters (ROS plumbing; slam_benchmark has no use for them).
+#define ASSISTIVE_SLAM_NODE_PARAMS(X) \
+  X(std::string, map_frame, "map_frame", "map", {}, {}, "", "the map frame (REP-105)") \
+  X(std::string, odom_frame, "odom_frame", "odom", {}, {}, "", "the VO's odometry frame") \
+  X(std::string, optical_frame, "optical_frame", "camera_left_optical_frame", {}, {}, "", "left camera frame (its pose in camera_link from tf, the URDF)") \
+  X(int, sync_queue_size, "sync_queue_size", 10, 1, 100, "", "synchroniser queue (stereo pair + vo/odom, same stamp)") \
+  X(double, untrusted_variance, "untrusted_variance", 1000.0, 1.0, 1e9, "m^2", "a vo/odom position variance this large marks the VO pose untrusted (no keyframe)") \
+  X(double, tf_rate, "tf_rate", 20.0, 1.0, 200.0, "Hz", "map -> odom is re-broadcast at this rate (future-dated by 1 / rate)") \
+  X(double, graph_rate, "graph_rate", 1.0, 0.1, 50.0, "Hz", "path, submap graph and markers are published at this rate") \
+  X(double, expected_rate, "expected_rate", 15.0, 0.1, 200.0, "Hz", "for the frequency diagnostic") \
+  X(std::string, map_file, "map_file", "assistive_slam.map", {}, {}, "", "slam/save_map writes here (a relative path is under ROS_HOME, default ~/.ros)")
+// clang-format on
+
+struct SlamNodeParams
+{
+  ASSISTIVE_PARAMS_BODY(ASSISTIVE_SLAM_NODE_PARAMS)
+};
+
+struct SlamParams
+{
+  ASSISTIVE_PARAMS_BODY(ASSISTIVE_SLAM_PARAMS)
+};
+
+}  // namespace assistive_slam

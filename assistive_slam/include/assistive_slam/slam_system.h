@@ -1,0 +1,152 @@
+#pragma once
+// The SLAM core (seed 3.2.3): keyframes from the VO's frames, bounded submaps linked by relative
+// transforms, a local bundle adjustment over a sliding window of keyframes and a pose-graph
+// optimisation of the submap graph after every accepted loop closure. Keyframe work runs on a
+// worker thread fed by a bounded queue: addFrame() never waits for it.
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+#include "assistive_slam/keyframe.h"
+#include "assistive_slam/local_ba.h"
+#include "assistive_slam/params.h"
+#include "assistive_slam/pose_graph.h"
+#include "assistive_slam/stereo_check.h"
+
+namespace assistive_slam
+{
+/// One frame of the VO: the rectified pair and the VO's pose of the left optical frame in odom.
+struct SlamFrame
+{
+  double stamp = 0;
+  cv::Mat left, right;  ///< mono8; copied only when the frame becomes a keyframe
+  Eigen::Isometry3d T_odom_cam = Eigen::Isometry3d::Identity();
+  bool vo_replenished = false;  ///< the VO started a new keyframe (replenished its tracks) here
+  bool pose_trusted = true;     ///< untrusted VO poses never become keyframes
+};
+
+struct LoopEvent
+{
+  double stamp = 0;
+  uint32_t keyframe_old = 0, keyframe_new = 0, submap_old = 0, submap_new = 0;
+  bool accepted = false;
+  int matches = 0, inliers = 0;
+  double correction_m = 0, correction_deg = 0;  ///< how far the closure moves the new keyframe
+  Eigen::Isometry3d T_old_new = Eigen::Isometry3d::Identity();  ///< verified relative pose
+  std::string reason;                           ///< why rejected (empty when accepted)
+};
+
+struct SubmapInfo
+{
+  uint32_t id = 0;
+  Eigen::Isometry3d T_map_origin = Eigen::Isometry3d::Identity();  ///< pose of its first keyframe
+  std::vector<uint32_t> keyframes;
+};
+
+struct SubmapLinkInfo
+{
+  uint32_t from = 0, to = 0;
+  Eigen::Isometry3d T_from_to = Eigen::Isometry3d::Identity();
+  Matrix6d covariance = Matrix6d::Identity();
+  bool loop_closure = false;
+};
+
+struct SlamStats
+{
+  int keyframes = 0, submaps = 0, loops_accepted = 0, loops_rejected = 0, queue_depth = 0, dropped = 0;
+  int ba_runs = 0, ba_rejected = 0, pose_graph_runs = 0;
+  double worker_ms_last = 0;
+};
+
+/// Candidate keyframes to verify against a new keyframe (ids, best first). The default is the
+/// proximity search of the map; helper "loop"'s appearance model plugs in here.
+using CandidateSource = std::function<std::vector<uint32_t>(const Keyframe& kf)>;
+
+class SlamSystem
+{
+public:
+  /// `threaded`: keyframes are processed on a worker thread (false: inside addFrame, for tests).
+  SlamSystem(const SlamParams& p, const StereoModel& cam, bool threaded = true);
+  ~SlamSystem();
+  SlamSystem(const SlamSystem&) = delete;
+  SlamSystem& operator=(const SlamSystem&) = delete;
+
+  /// Frame loop. Returns true when the frame was queued as a keyframe.
+  bool addFrame(const SlamFrame& f);
+  /// Blocks until the worker's queue is empty and the keyframe in work is done.
+  void waitIdle();
+
+  Eigen::Isometry3d mapToOdom() const;
+  SlamStats stats() const;
+  std::vector<LoopEvent> loopEvents() const;
+  /// Keyframes (copies without images), in order.
+  std::vector<Keyframe> keyframes(bool with_features = false) const;
+  std::vector<SubmapInfo> submaps() const;
+  std::vector<SubmapLinkInfo> links() const;
+  uint32_t currentSubmap() const;
+  /// Extra candidate source (appearance model); proximity candidates are always added.
+  void setCandidateSource(CandidateSource s);
+  const SlamParams& params() const { return p_; }
+
+private:
+  struct Job
+  {
+    SlamFrame frame;
+  };
+  void workerLoop();
+  void processKeyframe(const Job& job);
+  void associate(Keyframe& kf);
+  void localBundleAdjustment();
+  void detectLoop(const KeyframePtr& kf);
+  void optimiseGraph();
+  Matrix6d odomInformation(double path_m) const;
+  Matrix6d odomCovariance(double path_m) const;
+  std::vector<uint32_t> proximityCandidates(const Keyframe& kf) const;
+  Eigen::Isometry3d submapOdometry(uint32_t i) const;  ///< origin_i -> origin_i+1 from the keyframe chain
+
+  SlamParams p_;
+  StereoModel cam_;
+  bool threaded_;
+  StereoFeatureExtractor extractor_;
+  KeyframePolicy policy_;
+
+  // ---- worker queue
+  mutable std::mutex qm_;
+  std::condition_variable qcv_, idle_cv_;
+  std::deque<Job> queue_;
+  bool busy_ = false, stop_ = false;
+  int dropped_ = 0;
+  std::thread worker_;
+
+  // ---- map (written by the worker only; readers lock mm_)
+  mutable std::mutex mm_;
+  std::vector<KeyframePtr> kfs_;
+  std::vector<Eigen::Isometry3d> kf_rel_;  ///< T_prev_cur per keyframe (BA-refined odometry), [0] = identity
+  std::vector<SubmapInfo> submaps_;
+  struct LoopLink
+  {
+    uint32_t from, to;
+    Eigen::Isometry3d T;
+  };
+  std::vector<LoopLink> loop_links_;
+  struct Pending
+  {
+    bool valid = false;
+    LoopEvent ev;
+    LoopLink link{0, 0, Eigen::Isometry3d::Identity()};
+    Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
+  };
+  Pending pending_;  ///< a verified closure waiting for the next keyframe's confirmation
+  std::vector<LoopEvent> events_;
+  Eigen::Isometry3d T_map_odom_ = Eigen::Isometry3d::Identity();
+  SlamStats stats_;
+  int64_t next_landmark_ = 0;
+  CandidateSource candidates_;
+};
+
+}  // namespace assistive_slam

@@ -1,0 +1,358 @@
+// assistive_slam/slam: glue between ROS and the SlamSystem core. Rectified stereo + camera_info +
+// vo/odom (same stamp) in; tf map -> odom, the corrected trajectory, the submap graph, rviz
+// markers, loop-closure events and diagnostics out. Keyframe work runs on the core's worker thread.
+#include <memory>
+#include <mutex>
+#include <cv_bridge/cv_bridge.h>
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/exact_time.h>
+#include <message_filters/synchronizer.h>
+#include <nav_msgs/Odometry.h>
+#include <nav_msgs/Path.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/image_encodings.h>
+#include <std_msgs/String.h>
+#include <std_srvs/Trigger.h>
+#include <ros/file_log.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+#include <visualization_msgs/MarkerArray.h>
+#include <assistive_common/callback_guard.h>
+#include <assistive_common/ros_params.h>
+#include <assistive_msgs/SubmapGraph.h>
+
+#include "assistive_slam/map_file.h"
+#include "assistive_slam/slam_system.h"
+
+namespace assistive_slam
+{
+class SlamNodelet : public nodelet::Nodelet
+{
+  using Image = sensor_msgs::Image;
+  using Info = sensor_msgs::CameraInfo;
+  using Odom = nav_msgs::Odometry;
+  using Policy = message_filters::sync_policies::ExactTime<Image, Info, Image, Info, Odom>;
+
+  void onInit() override
+  {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    for (const std::string& m : assistive_common::readParams(pnh, p_))
+      NODELET_WARN("slam: %s", m.c_str());
+    for (const std::string& m : assistive_common::readParams(pnh, node_))
+      NODELET_WARN("slam: %s", m.c_str());
+    NODELET_INFO("slam: %s", assistive_common::describe(p_).c_str());
+    NODELET_INFO("slam: %s", assistive_common::describe(node_).c_str());
+    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_);
+
+    path_pub_ = nh.advertise<nav_msgs::Path>("slam/path", 1, true);
+    graph_pub_ = nh.advertise<assistive_msgs::SubmapGraph>("slam/submap_graph", 1, true);
+    markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("slam/markers", 1, true);
+    loop_pub_ = nh.advertise<std_msgs::String>("slam/loop_closures", 10);
+
+    left_sub_.subscribe(nh, "left/image_rect", 2);
+    left_info_sub_.subscribe(nh, "left/camera_info", 2);
+    right_sub_.subscribe(nh, "right/image_rect", 2);
+    right_info_sub_.subscribe(nh, "right/camera_info", 2);
+    odom_sub_.subscribe(nh, "vo/odom", 10);
+    sync_ = std::make_shared<message_filters::Synchronizer<Policy>>(Policy(static_cast<uint32_t>(node_.sync_queue_size)),
+                                                                    left_sub_, left_info_sub_, right_sub_,
+                                                                    right_info_sub_, odom_sub_);
+    sync_->registerCallback(&SlamNodelet::frameCb, this);
+    save_srv_ = nh.advertiseService("slam/save_map", &SlamNodelet::saveMap, this);
+
+    diag_.setHardwareID("slam");
+    diag_.add("status", this, &SlamNodelet::diagStatus);
+    tf_timer_ = nh.createWallTimer(ros::WallDuration(1.0 / node_.tf_rate), &SlamNodelet::tfTimer, this);
+    graph_timer_ = nh.createWallTimer(ros::WallDuration(1.0 / node_.graph_rate), &SlamNodelet::graphTimer, this);
+  }
+
+  void frameCb(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::CameraInfoConstPtr& li,
+               const sensor_msgs::ImageConstPtr& r, const sensor_msgs::CameraInfoConstPtr& ri,
+               const nav_msgs::OdometryConstPtr& odom)
+  {
+    assistive_common::guarded(getName(), "stereo frame", [&] { frame(l, li, r, ri, odom); });
+  }
+
+  void frame(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::CameraInfoConstPtr& li,
+             const sensor_msgs::ImageConstPtr& r, const sensor_msgs::CameraInfoConstPtr& ri,
+             const nav_msgs::OdometryConstPtr& odom)
+  {
+    const ros::WallTime t0 = ros::WallTime::now();
+    ++frames_;
+    StereoModel cam;
+    cam.fx = li->P[0];
+    cam.fy = li->P[5];
+    cam.cx = li->P[2];
+    cam.cy = li->P[6];
+    cam.baseline = cam.fx > 0 ? -ri->P[3] / cam.fx : 0.0;
+    if (!cam.valid())
+    {
+      NODELET_ERROR_THROTTLE(5.0, "slam: camera_info without a rectified stereo projection (P): frame ignored");
+      return;
+    }
+    // The optical frame in camera_link (URDF, static): looked up once.
+    if (!have_link_optical_)
+    {
+      try
+      {
+        const auto tf = tf_buffer_.lookupTransform(odom->child_frame_id, l->header.frame_id.empty() ? node_.optical_frame : l->header.frame_id,
+                                                   ros::Time(0));
+        T_link_optical_ = tf2::transformToEigen(tf);
+        have_link_optical_ = true;
+      }
+      catch (const tf2::TransformException& e)
+      {
+        NODELET_WARN_THROTTLE(5.0, "slam: waiting for %s -> %s from the URDF: %s", odom->child_frame_id.c_str(),
+                              node_.optical_frame.c_str(), e.what());
+        return;
+      }
+    }
+    if (!slam_)
+      slam_ = std::make_unique<SlamSystem>(p_, cam, true);
+    cv_bridge::CvImageConstPtr lc, rc;
+    try
+    {
+      lc = cv_bridge::toCvShare(l, sensor_msgs::image_encodings::MONO8);
+      rc = cv_bridge::toCvShare(r, sensor_msgs::image_encodings::MONO8);
+    }
+    catch (const cv_bridge::Exception& e)
+    {
+      NODELET_ERROR_THROTTLE(5.0, "slam: image conversion failed: %s", e.what());
+      return;
+    }
+    Eigen::Isometry3d T_odom_link;
+    tf2::fromMsg(odom->pose.pose, T_odom_link);
+    SlamFrame f;
+    f.stamp = l->header.stamp.toSec();
+    f.left = lc->image;
+    f.right = rc->image;
+    f.T_odom_cam = T_odom_link * T_link_optical_;
+    // The VO marks an untrusted pose by a huge covariance: no keyframe from it. The odometry
+    // message does not say when the VO replenished: keyframes come by distance / angle.
+    f.pose_trusted = odom->pose.covariance[0] < node_.untrusted_variance && T_odom_link.matrix().allFinite();
+    f.vo_replenished = true;
+    slam_->addFrame(f);
+    {
+      std::lock_guard<std::mutex> lk(m_);
+      odom_frame_ = odom->header.frame_id.empty() ? node_.odom_frame : odom->header.frame_id;
+      last_stamp_ = l->header.stamp;
+      T_odom_optical_last_ = f.T_odom_cam;
+      ms_frame_ = (ros::WallTime::now() - t0).toSec() * 1e3;
+      ms_max_ = std::max(ms_max_, ms_frame_);
+    }
+    publishLoopEvents();
+  }
+
+  bool saveMap(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res)
+  {
+    if (!slam_)
+    {
+      res.success = false;
+      res.message = "no map yet (no frame processed)";
+      return true;
+    }
+    std::string path = node_.map_file;
+    if (!path.empty() && path[0] != '/')
+    {
+      const char* home = std::getenv("ROS_HOME");
+      const char* user = std::getenv("HOME");
+      path = (home ? std::string(home) : std::string(user ? user : ".") + "/.ros") + "/" + path;
+    }
+    std::string err;
+    res.success = saveMapFile(path, exportMap(*slam_), &err);
+    res.message = res.success ? "map written to " + path : err;
+    if (res.success)
+      NODELET_INFO("slam: %s", res.message.c_str());
+    else
+      NODELET_ERROR("slam: %s", res.message.c_str());
+    return true;
+  }
+
+  void publishLoopEvents()
+  {
+    const std::vector<LoopEvent> ev = slam_->loopEvents();
+    for (; events_published_ < ev.size(); ++events_published_)
+    {
+      const LoopEvent& e = ev[events_published_];
+      std_msgs::String s;
+      char buf[256];
+      std::snprintf(buf, sizeof(buf), "%s keyframe %u (submap %u) -> keyframe %u (submap %u): %d inliers, correction %.2f m %.1f deg%s%s",
+                    e.accepted ? "accepted" : "rejected", e.keyframe_new, e.submap_new, e.keyframe_old, e.submap_old,
+                    e.inliers, e.correction_m, e.correction_deg, e.reason.empty() ? "" : ": ", e.reason.c_str());
+      s.data = buf;
+      loop_pub_.publish(s);
+      if (e.accepted)
+        NODELET_INFO("slam: loop closure %s", buf);
+      else
+        NODELET_WARN("slam: loop closure %s", buf);
+    }
+  }
+
+  void tfTimer(const ros::WallTimerEvent&)
+  {
+    assistive_common::guarded(getName(), "tf", [&] {
+      if (!slam_)
+        return;
+      std::lock_guard<std::mutex> lk(m_);
+      if (last_stamp_.isZero())
+        return;
+      // Future-dated by one period (the tf convention for map -> odom): lookups at the latest
+      // odom stamp succeed.
+      geometry_msgs::TransformStamped t = tf2::eigenToTransform(slam_->mapToOdom());
+      t.header.stamp = last_stamp_ + ros::Duration(1.0 / node_.tf_rate);
+      t.header.frame_id = node_.map_frame;
+      t.child_frame_id = odom_frame_;
+      tf_pub_.sendTransform(t);
+    });
+  }
+
+  void graphTimer(const ros::WallTimerEvent&)
+  {
+    assistive_common::guarded(getName(), "graph", [&] {
+      diag_.update();
+      if (!slam_)
+        return;
+      ros::Time stamp;
+      {
+        std::lock_guard<std::mutex> lk(m_);
+        stamp = last_stamp_;
+      }
+      const std::vector<Keyframe> kfs = slam_->keyframes();
+      const std::vector<SubmapInfo> sms = slam_->submaps();
+      const std::vector<SubmapLinkInfo> links = slam_->links();
+      nav_msgs::Path path;
+      path.header.stamp = stamp;
+      path.header.frame_id = node_.map_frame;
+      for (const Keyframe& k : kfs)
+      {
+        geometry_msgs::PoseStamped ps;
+        ps.header.stamp = ros::Time(k.stamp);
+        ps.header.frame_id = node_.map_frame;
+        ps.pose = tf2::toMsg(k.T_map_cam);
+        path.poses.push_back(ps);
+      }
+      path_pub_.publish(path);
+
+      assistive_msgs::SubmapGraph g;
+      g.header = path.header;
+      for (const SubmapInfo& s : sms)
+      {
+        g.ids.push_back(s.id);
+        g.origins.push_back(tf2::toMsg(s.T_map_origin));
+      }
+      for (const SubmapLinkInfo& li : links)
+      {
+        assistive_msgs::SubmapLink m;
+        m.from = li.from;
+        m.to = li.to;
+        m.relative_pose = tf2::toMsg(li.T_from_to);
+        for (int i = 0; i < 36; ++i)
+          m.covariance[i] = li.covariance(i / 6, i % 6);
+        m.loop_closure = li.loop_closure;
+        g.links.push_back(m);
+      }
+      g.current = sms.empty() ? 0 : sms.back().id;
+      graph_pub_.publish(g);
+
+      // rviz: submap origins (spheres), odometry links (grey) and loop closures (green)
+      visualization_msgs::MarkerArray ma;
+      visualization_msgs::Marker nodes;
+      nodes.header = path.header;
+      nodes.ns = "submaps";
+      nodes.id = 0;
+      nodes.type = visualization_msgs::Marker::SPHERE_LIST;
+      nodes.scale.x = nodes.scale.y = nodes.scale.z = 0.25;
+      nodes.color.r = 0.1;
+      nodes.color.g = 0.4;
+      nodes.color.b = 1.0;
+      nodes.color.a = 1.0;
+      nodes.pose.orientation.w = 1.0;
+      visualization_msgs::Marker odo = nodes, loops = nodes;
+      odo.ns = "odometry_links";
+      odo.type = visualization_msgs::Marker::LINE_LIST;
+      odo.scale.x = 0.04;
+      odo.color.r = odo.color.g = odo.color.b = 0.6;
+      loops.ns = "loop_closures";
+      loops.type = visualization_msgs::Marker::LINE_LIST;
+      loops.scale.x = 0.06;
+      loops.color.r = 0.0;
+      loops.color.g = 0.9;
+      loops.color.b = 0.2;
+      for (const SubmapInfo& s : sms)
+        nodes.points.push_back(tf2::toMsg(Eigen::Vector3d(s.T_map_origin.translation())));
+      for (const SubmapLinkInfo& li : links)
+      {
+        if (li.from >= sms.size() || li.to >= sms.size())
+          continue;
+        auto& m = li.loop_closure ? loops : odo;
+        m.points.push_back(tf2::toMsg(Eigen::Vector3d(sms[li.from].T_map_origin.translation())));
+        m.points.push_back(tf2::toMsg(Eigen::Vector3d(sms[li.to].T_map_origin.translation())));
+      }
+      ma.markers = {nodes, odo, loops};
+      markers_pub_.publish(ma);
+    });
+  }
+
+  void diagStatus(diagnostic_updater::DiagnosticStatusWrapper& s)
+  {
+    if (!slam_)
+    {
+      s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no synchronised stereo + vo/odom frame yet");
+      return;
+    }
+    const SlamStats st = slam_->stats();
+    std::lock_guard<std::mutex> lk(m_);
+    s.summary(diagnostic_msgs::DiagnosticStatus::OK, "mapping");
+    if (st.dropped > dropped_reported_)
+      s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "the worker fell behind: keyframes dropped");
+    dropped_reported_ = st.dropped;
+    s.add("frames", frames_);
+    s.add("keyframes", st.keyframes);
+    s.add("submaps", st.submaps);
+    s.add("loop closures accepted", st.loops_accepted);
+    s.add("loop closures rejected", st.loops_rejected);
+    s.add("worker queue depth", st.queue_depth);
+    s.add("keyframes dropped", st.dropped);
+    s.add("worker ms (last keyframe)", st.worker_ms_last);
+    s.add("ms per frame", ms_frame_);
+    s.add("ms per frame (max)", ms_max_);
+    ms_max_ = 0;
+  }
+
+  SlamParams p_;
+  SlamNodeParams node_;
+  std::unique_ptr<SlamSystem> slam_;
+  tf2_ros::Buffer tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  tf2_ros::TransformBroadcaster tf_pub_;
+  bool have_link_optical_ = false;
+  Eigen::Isometry3d T_link_optical_ = Eigen::Isometry3d::Identity();
+  message_filters::Subscriber<Image> left_sub_, right_sub_;
+  message_filters::Subscriber<Info> left_info_sub_, right_info_sub_;
+  message_filters::Subscriber<Odom> odom_sub_;
+  std::shared_ptr<message_filters::Synchronizer<Policy>> sync_;
+  ros::Publisher path_pub_, graph_pub_, markers_pub_, loop_pub_;
+  ros::WallTimer tf_timer_, graph_timer_;
+  ros::ServiceServer save_srv_;
+  diagnostic_updater::Updater diag_;
+  std::mutex m_;
+  ros::Time last_stamp_;
+  std::string odom_frame_ = "odom";
+  Eigen::Isometry3d T_odom_optical_last_ = Eigen::Isometry3d::Identity();
+  double ms_frame_ = 0, ms_max_ = 0;
+  long frames_ = 0;
+  size_t events_published_ = 0;
+  int dropped_reported_ = 0;
+};
+
+}  // namespace assistive_slam
+
+PLUGINLIB_EXPORT_CLASS(assistive_slam::SlamNodelet, nodelet::Nodelet)

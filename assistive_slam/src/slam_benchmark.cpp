@@ -1,0 +1,350 @@
+// slam_benchmark FILE.bag [--no-imu] [--plot OUT.png] [--frames N] [--realtime] [--set name=value ...]
+// Runs the VO core (as vo_benchmark does) and the SLAM core on every stereo frame of a bag (no
+// roscore), scores the VO alone and SLAM on the same frames against the bag's ground truth, counts
+// loop closures (false ones: the verified relative pose disagrees with the truth by > 0.5 m or
+// 5 deg; missed ones: runs of keyframes revisiting an older place with no accepted closure), and
+// plots the trajectories with the closures marked. Last stdout line: one JSON object.
+// By default the frame loop waits for the worker after each keyframe, outside the timed part, so
+// that the accuracy figures do not depend on the machine's load; --realtime lets it run free.
+#include <sys/resource.h>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+#include <opencv2/core.hpp>
+#include <assistive_eval/benchmark.h>
+#include <assistive_eval/metrics.h>
+#include <assistive_eval/plots.h>
+#include <assistive_eval/stereo_bag.h>
+#include "assistive_slam/map_file.h"
+#include "assistive_slam/slam_system.h"
+#include "assistive_vo/imu_buffer.h"
+#include "assistive_vo/startup_rule.h"
+#include "assistive_vo/visual_odometry.h"
+
+namespace ev = assistive_eval;
+using ev::percentile;
+using namespace assistive_slam;
+
+namespace
+{
+double peakRssMb()
+{
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss / 1024.0;  // kB on Linux
+}
+double angDeg(const Eigen::Matrix3d& R)
+{
+  return Eigen::AngleAxisd(R).angle() * 180.0 / M_PI;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  std::string bag, plot, map_path;
+  bool imu_on = true, realtime = false;
+  long max_frames = -1;
+  ev::CommandLine::Sets overrides;
+  const char* usage =
+      "usage: slam_benchmark FILE.bag [--no-imu] [--plot OUT.png] [--frames N] [--realtime] [--map FILE] [--set name=value ...]\n"
+      "  VO alone and VO + SLAM on the same frames of a stereo bag; last stdout line: JSON.\n"
+      "  --set: the SLAM stage's parameters (README table), e.g. --set loop_closure=false\n";
+  ev::CommandLine cl("slam_benchmark", usage);
+  cl.positional(&bag, "bag", true)
+      .flag("--no-imu", &imu_on, false)
+      .flag("--realtime", &realtime)
+      .text("--plot", &plot)
+      .text("--map", &map_path)
+      .count("--frames", &max_frames, 0L)
+      .sets(&overrides);
+  if (const int rc = cl.parse(argc, argv); rc >= 0)
+    return rc;
+  if (plot.empty())
+  {
+    const size_t dot = bag.rfind(".bag");
+    plot = (dot == std::string::npos ? bag : bag.substr(0, dot)) + "_slam_trajectory.png";
+  }
+  cv::setNumThreads(1);
+  SlamParams sp;
+  {
+    std::string err;
+    std::vector<std::string> clamped;
+    if (!assistive_common::applyOverrides(sp, overrides, &err, &clamped))
+    {
+      std::cerr << "slam_benchmark: --set: " << err << "\n";
+      return 2;
+    }
+    for (const std::string& c : clamped)
+      std::cerr << "slam_benchmark: " << c << "\n";
+  }
+  const std::unique_ptr<ev::StereoBagReader> reader = ev::openStereoBag("slam_benchmark", bag);
+  if (!reader)
+    return 1;
+
+  assistive_vo::VoParams vp;
+  vp.use_imu = imu_on;
+  assistive_vo::VisualOdometry vo(vp);
+  assistive_vo::ImuBuffer imu(5.0);
+  assistive_vo::StartupRule::Options so;
+  so.expect_imu = imu_on && !reader->imuSamples().empty();
+  assistive_vo::StartupRule startup(so);
+  std::unique_ptr<SlamSystem> slam;
+
+  ev::Trajectory gt, vo_est, online_est;
+  std::vector<Eigen::Isometry3d> frame_odom;  // per scored frame: VO pose (for the final SLAM trajectory)
+  std::map<double, Eigen::Isometry3d> gt_at;  // stamp -> truth
+  std::vector<double> ms_added, ms_vo, worker_ms;
+  int frames = 0, keyframes_queued = 0;
+  double prev_stamp = -1;
+  ev::StereoFrame f;
+  while ((max_frames < 0 || frames < max_frames) && ev::nextFrameOrExit(*reader, f, "slam_benchmark", bag))
+  {
+    const assistive_vo::StereoCamera cam = assistive_vo::StereoCamera::from(f.calib);
+    if (!slam)
+    {
+      vo.setCamera(cam);
+      StereoModel m;
+      m.fx = cam.fx;
+      m.fy = cam.fy;
+      m.cx = cam.cx;
+      m.cy = cam.cy;
+      m.baseline = cam.baseline;
+      slam = std::make_unique<SlamSystem>(sp, m, true);
+    }
+    for (const auto& s : f.imu)
+      imu.add(s.stamp, s.gyro, s.accel);
+    Eigen::Quaterniond gyro;
+    Eigen::Vector3d dv;
+    bool have_gyro = false;
+    if (!vo.started())
+    {
+      Eigen::Vector3d up;
+      const auto d = startup.decide(f.stamp, imu, up);
+      if (d == assistive_vo::StartupRule::Decision::WAIT_FOR_IMU)
+      {
+        ++frames;
+        continue;
+      }
+      if (d == assistive_vo::StartupRule::Decision::START_WITH_GRAVITY)
+        vo.setInitialUp(up);
+    }
+    else if (imu_on)
+      have_gyro = imu.integrate(prev_stamp, f.stamp, gyro, dv);
+    prev_stamp = f.stamp;
+    const ev::Stopwatch vo_timer;
+    const assistive_vo::VoOutput o =
+        vo.process(f.left, f.right, f.stamp, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr);
+    ms_vo.push_back(vo_timer.cpuMs());
+
+    SlamFrame sf;
+    sf.stamp = f.stamp;
+    sf.left = f.left;
+    sf.right = f.right;
+    sf.T_odom_cam = o.T_odom_optical;
+    sf.vo_replenished = o.stats.keyframe;
+    sf.pose_trusted = o.pose_trusted && o.state == assistive_vo::TrackingState::TRACKING;
+    const ev::Stopwatch timer;
+    const bool queued = slam->addFrame(sf);
+    const Eigen::Isometry3d T_map_odom = slam->mapToOdom();
+    ms_added.push_back(timer.cpuMs());
+    if (queued)
+    {
+      ++keyframes_queued;
+      if (!realtime)
+      {
+        slam->waitIdle();
+        worker_ms.push_back(slam->stats().worker_ms_last);
+      }
+    }
+    if (f.has_gt_pose && o.pose_valid)
+    {
+      gt.push_back({f.stamp, f.gt_pose});
+      gt_at[f.stamp] = f.gt_pose;
+      vo_est.push_back({f.stamp, o.T_odom_optical});
+      online_est.push_back({f.stamp, T_map_odom * o.T_odom_optical});
+      frame_odom.push_back(o.T_odom_optical);
+    }
+    ++frames;
+    if (frames % 100 == 0)
+    {
+      const SlamStats st = slam->stats();
+      std::cerr << "[slam_benchmark] " << frames << " frames, " << st.keyframes << " keyframes, " << st.submaps
+                << " submaps, loop closures " << st.loops_accepted << " (rejected " << st.loops_rejected << ")\n";
+    }
+  }
+  if (!slam || gt.size() < 3)
+  {
+    std::cerr << "slam_benchmark: no scored frames (no stereo frames or no ground truth) in " << bag << "\n";
+    return 1;
+  }
+  slam->waitIdle();
+  const SlamStats st = slam->stats();
+  const std::vector<Keyframe> kfs = slam->keyframes();
+  const std::vector<LoopEvent> events = slam->loopEvents();
+
+  // Final SLAM trajectory: each frame rides on the last keyframe before it (optimised pose).
+  ev::Trajectory slam_est;
+  {
+    size_t k = 0;
+    for (size_t i = 0; i < gt.size(); ++i)
+    {
+      while (k + 1 < kfs.size() && kfs[k + 1].stamp <= gt[i].t)
+        ++k;
+      Eigen::Isometry3d T = frame_odom[i];
+      if (!kfs.empty() && kfs[k].stamp <= gt[i].t)
+        T = kfs[k].T_map_cam * kfs[k].T_odom_cam.inverse() * frame_odom[i];
+      slam_est.push_back({gt[i].t, T});
+    }
+  }
+
+  // Loop closures against the truth.
+  auto truthOf = [&](double stamp, Eigen::Isometry3d& T) {
+    auto it = gt_at.find(stamp);
+    if (it == gt_at.end())
+      return false;
+    T = it->second;
+    return true;
+  };
+  int accepted = 0, false_closures = 0;
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> closure_lines;
+  std::set<uint32_t> closed_new;
+  for (const LoopEvent& e : events)
+  {
+    if (!e.accepted)
+      continue;
+    ++accepted;
+    Eigen::Isometry3d Ta, Tb;
+    if (!truthOf(kfs[e.keyframe_old].stamp, Ta) || !truthOf(kfs[e.keyframe_new].stamp, Tb))
+      continue;
+    const Eigen::Isometry3d T_true = Ta.inverse() * Tb;
+    const Eigen::Isometry3d d = T_true.inverse() * e.T_old_new;
+    const bool wrong = d.translation().norm() > 0.5 || angDeg(d.linear()) > 5.0;
+    false_closures += wrong;
+    std::cout << (wrong ? "FALSE " : "") << "loop closure: keyframe " << e.keyframe_new << " (submap "
+              << e.submap_new << ") -> " << e.keyframe_old << " (submap " << e.submap_old << "), " << e.inliers
+              << " inliers, correction " << std::setprecision(3) << e.correction_m << " m " << e.correction_deg
+              << " deg; error vs truth " << d.translation().norm() << " m " << angDeg(d.linear()) << " deg\n";
+    closure_lines.push_back({Ta.translation(), Tb.translation()});
+    closed_new.insert(e.keyframe_new);
+  }
+  // Revisits: keyframes whose true position is within 1 m (view within 30 deg) of a keyframe at
+  // least 15 m of path earlier; consecutive revisiting keyframes form one run; a run with no
+  // accepted closure is missed.
+  int revisit_runs = 0, missed = 0;
+  {
+    std::vector<Eigen::Isometry3d> kgt(kfs.size());
+    std::vector<bool> has(kfs.size(), false);
+    for (size_t i = 0; i < kfs.size(); ++i)
+      has[i] = truthOf(kfs[i].stamp, kgt[i]);
+    bool in_run = false, run_closed = false;
+    for (size_t b = 0; b < kfs.size(); ++b)
+    {
+      bool revisit = false;
+      for (size_t a = 0; a < b && has[b] && !revisit; ++a)
+        revisit = has[a] && kfs[b].path_m - kfs[a].path_m > 15.0 &&
+                  (kgt[a].translation() - kgt[b].translation()).norm() < 1.0 &&
+                  angDeg(kgt[a].linear().transpose() * kgt[b].linear()) < 30.0;
+      if (revisit)
+      {
+        if (!in_run)
+        {
+          ++revisit_runs;
+          run_closed = false;
+        }
+        in_run = true;
+        run_closed = run_closed || closed_new.count(static_cast<uint32_t>(b));
+      }
+      else if (in_run)
+      {
+        missed += !run_closed;
+        in_run = false;
+      }
+    }
+    if (in_run)
+      missed += !run_closed;
+  }
+
+  const ev::TrajectoryReport vrep = ev::evaluateTrajectory(gt, vo_est);
+  const ev::TrajectoryReport srep = ev::evaluateTrajectory(gt, slam_est);
+  const ev::TrajectoryReport orep = ev::evaluateTrajectory(gt, online_est);
+  std::cout << "assistive_slam benchmark: " << bag << "  (" << frames << " frames, " << (imu_on ? "IMU" : "no IMU")
+            << ", " << (realtime ? "realtime" : "worker awaited per keyframe") << ")\n";
+  std::cout << "--- VO alone vs ground truth ---\n" << ev::reportTable(vrep);
+  std::cout << "--- SLAM (final, optimised keyframes) vs ground truth ---\n" << ev::reportTable(srep);
+  std::cout << "--- SLAM (online: map->odom at the time) vs ground truth ---\n" << ev::reportTable(orep);
+  std::cout << std::fixed << std::setprecision(3) << "frame-loop time added by SLAM: median " << percentile(ms_added, 0.5)
+            << " ms, p95 " << percentile(ms_added, 0.95) << " ms (thread CPU; VO p95 " << percentile(ms_vo, 0.95)
+            << " ms); worker per keyframe: median " << percentile(worker_ms, 0.5) << " ms, p95 "
+            << percentile(worker_ms, 0.95) << " ms (wall)\n";
+  std::cout << "keyframes " << st.keyframes << " (queued " << keyframes_queued << ", dropped " << st.dropped
+            << "), submaps " << st.submaps << ", local BA runs " << st.ba_runs << " (rejected " << st.ba_rejected << ")" << ", pose-graph runs "
+            << st.pose_graph_runs << ", loop closures " << accepted << " accepted (" << false_closures
+            << " false), " << st.loops_rejected << " verified but rejected; revisit runs " << revisit_runs
+            << ", missed " << missed << "\n";
+
+  // Plot: truth, VO and SLAM (SE3-aligned like the ATE), closures as green segments (truth positions).
+  std::vector<ev::PlotSeries> series{{"ground truth", ev::positions(gt), cv::Scalar(0, 0, 0)}};
+  series.push_back({"VO alone", ev::positions(ev::applyAlignment(vo_est, vrep.alignment)), cv::Scalar(0, 0, 230)});
+  series.push_back({"SLAM", ev::positions(ev::applyAlignment(slam_est, srep.alignment)), cv::Scalar(230, 120, 0)});
+  for (size_t i = 0; i < closure_lines.size(); ++i)
+    series.push_back({i == 0 ? "loop closures" : "", {closure_lines[i].first, closure_lines[i].second + Eigen::Vector3d(0.15, 0.15, 0)},
+                      cv::Scalar(0, 180, 0)});
+  ev::OccupancyGrid floor;
+  const bool have_floor = reader->readOccupancy(floor);
+  ev::PlotOptions po;
+  po.title = "SLAM trajectory (SE3-aligned): " + bag;
+  std::string err;
+  if (ev::writePng(plot, ev::plotTopDown(series, have_floor ? &floor : nullptr, po), &err))
+    std::cout << "trajectory plot: " << plot << "\n";
+  else
+    std::cerr << "slam_benchmark: plot not written: " << err << "\n";
+
+  // The map file as slam/save_map would write it: its size.
+  if (map_path.empty())
+    map_path = plot.substr(0, plot.rfind('.')) + ".map";
+  double map_mb = -1;
+  {
+    std::string merr;
+    if (saveMapFile(map_path, exportMap(*slam), &merr))
+    {
+      std::ifstream mf(map_path, std::ios::binary | std::ios::ate);
+      map_mb = static_cast<double>(mf.tellg()) / (1024.0 * 1024.0);
+      std::cout << "map file: " << map_path << " (" << map_mb << " MB)\n";
+    }
+    else
+      std::cerr << "slam_benchmark: " << merr << "\n";
+  }
+  auto num = [](double v, int significant = 4) { return ev::jsonNumber(v, significant); };
+  ev::JsonLine js;
+  js.add("frames", frames)
+      .add("ms_p95", num(percentile(ms_added, 0.95)))
+      .add("ms_median", num(percentile(ms_added, 0.5)))
+      .add("worker_ms_p95", num(percentile(worker_ms, 0.95)))
+      .add("ate_rmse_m", num(srep.ate.rmse))
+      .add("ate_rmse_online_m", num(orep.ate.rmse))
+      .add("vo_ate_rmse_m", num(vrep.ate.rmse))
+      .add("drift_deg_per_m", num(srep.drift.drift_deg_per_m, 6))
+      .add("vo_drift_deg_per_m", num(vrep.drift.drift_deg_per_m, 6))
+      .add("drift_pct", num(srep.drift.drift_pct))
+      .add("vo_drift_pct", num(vrep.drift.drift_pct))
+      .add("loop_closures", accepted)
+      .add("false_loop_closures", false_closures)
+      .add("loop_closures_rejected", st.loops_rejected)
+      .add("loop_closures_missed", missed)
+      .add("revisit_runs", revisit_runs)
+      .add("keyframes", st.keyframes)
+      .add("keyframes_dropped", st.dropped)
+      .add("submaps", st.submaps)
+      .add("peak_rss_mb", num(peakRssMb()))
+      .addNull("relocalisation_frames")
+      .add("map_file_mb", map_mb >= 0 ? num(map_mb) : "null")
+      .add("path_length_m", num(vrep.path_length_m));
+  std::cout << js.str() << std::endl;
+  return 0;
+}

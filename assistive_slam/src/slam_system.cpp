@@ -1,0 +1,554 @@
+#include "assistive_slam/slam_system.h"
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <set>
+
+namespace assistive_slam
+{
+namespace
+{
+constexpr double kDeg = M_PI / 180.0;
+
+/// Keyframe optical axis (z) angle between two poses, degrees.
+double viewAngleDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b)
+{
+  const double c = a.linear().col(2).dot(b.linear().col(2));
+  return std::acos(std::clamp(c, -1.0, 1.0)) / kDeg;
+}
+}  // namespace
+
+SlamSystem::SlamSystem(const SlamParams& p, const StereoModel& cam, bool threaded)
+  : p_(p), cam_(cam), threaded_(threaded), extractor_(p), policy_(p)
+{
+  if (threaded_)
+    worker_ = std::thread(&SlamSystem::workerLoop, this);
+}
+
+SlamSystem::~SlamSystem()
+{
+  {
+    std::lock_guard<std::mutex> l(qm_);
+    stop_ = true;
+  }
+  qcv_.notify_all();
+  if (worker_.joinable())
+    worker_.join();
+}
+
+bool SlamSystem::addFrame(const SlamFrame& f)
+{
+  if (!f.pose_trusted || f.left.empty() || f.right.empty())
+    return false;
+  if (!policy_.take(f.T_odom_cam, f.vo_replenished))
+    return false;
+  Job job;
+  job.frame = f;
+  job.frame.left = f.left.clone();
+  job.frame.right = f.right.clone();
+  if (!threaded_)
+  {
+    processKeyframe(job);
+    return true;
+  }
+  {
+    std::lock_guard<std::mutex> l(qm_);
+    // Bounded: the oldest waiting keyframe goes (the frame loop never waits).
+    if (static_cast<int>(queue_.size()) >= p_.queue_size)
+    {
+      queue_.pop_front();
+      ++dropped_;
+    }
+    queue_.push_back(std::move(job));
+  }
+  qcv_.notify_one();
+  return true;
+}
+
+void SlamSystem::waitIdle()
+{
+  if (!threaded_)
+    return;
+  std::unique_lock<std::mutex> l(qm_);
+  idle_cv_.wait(l, [&] { return queue_.empty() && !busy_; });
+}
+
+void SlamSystem::workerLoop()
+{
+  for (;;)
+  {
+    Job job;
+    {
+      std::unique_lock<std::mutex> l(qm_);
+      qcv_.wait(l, [&] { return stop_ || !queue_.empty(); });
+      if (stop_)
+        return;
+      job = std::move(queue_.front());
+      queue_.pop_front();
+      busy_ = true;
+    }
+    processKeyframe(job);
+    {
+      std::lock_guard<std::mutex> l(qm_);
+      busy_ = false;
+    }
+    idle_cv_.notify_all();
+  }
+}
+
+Matrix6d SlamSystem::odomCovariance(double path_m) const
+{
+  const double st = std::max(p_.odom_sigma_floor_m, p_.odom_sigma_per_m * path_m);
+  const double sr = std::max(p_.odom_sigma_floor_deg, p_.odom_sigma_deg_per_m * path_m) * kDeg;
+  Matrix6d C = Matrix6d::Zero();
+  C.diagonal() << st * st, st * st, st * st, sr * sr, sr * sr, sr * sr;
+  return C;
+}
+
+Matrix6d SlamSystem::odomInformation(double path_m) const
+{
+  return odomCovariance(path_m).inverse();
+}
+
+void SlamSystem::processKeyframe(const Job& job)
+{
+  const auto t0 = std::chrono::steady_clock::now();
+  auto kf = std::make_shared<Keyframe>();
+  kf->stamp = job.frame.stamp;
+  kf->T_odom_cam = job.frame.T_odom_cam;
+  extractor_.extract(job.frame.left, job.frame.right, cam_, *kf);
+
+  Eigen::Isometry3d rel = Eigen::Isometry3d::Identity();
+  if (!kfs_.empty())
+  {
+    const Keyframe& prev = *kfs_.back();
+    rel = prev.T_odom_cam.inverse() * kf->T_odom_cam;
+    kf->T_map_cam = prev.T_map_cam * rel;
+    kf->path_m = prev.path_m + rel.translation().norm();
+  }
+  else
+    kf->T_map_cam = kf->T_odom_cam;  // the map starts where odom starts
+  kf->id = static_cast<uint32_t>(kfs_.size());
+
+  {
+    std::lock_guard<std::mutex> l(mm_);
+    // Bounded submaps: a new one after submap_max_keyframes or beyond submap_max_extent.
+    const bool new_submap =
+        submaps_.empty() || static_cast<int>(submaps_.back().keyframes.size()) >= p_.submap_max_keyframes ||
+        (submaps_.back().T_map_origin.inverse() * kf->T_map_cam).translation().norm() > p_.submap_max_extent_m;
+    if (new_submap)
+    {
+      SubmapInfo s;
+      s.id = static_cast<uint32_t>(submaps_.size());
+      s.T_map_origin = kf->T_map_cam;
+      submaps_.push_back(s);
+    }
+    kf->submap = submaps_.back().id;
+    submaps_.back().keyframes.push_back(kf->id);
+    kfs_.push_back(kf);
+    kf_rel_.push_back(rel);
+    stats_.keyframes = static_cast<int>(kfs_.size());
+    stats_.submaps = static_cast<int>(submaps_.size());
+  }
+  associate(*kf);
+  localBundleAdjustment();
+  if (p_.loop_closure)
+    detectLoop(kf);
+  {
+    std::lock_guard<std::mutex> l(mm_);
+    T_map_odom_ = kfs_.back()->T_map_cam * kfs_.back()->T_odom_cam.inverse();
+    stats_.worker_ms_last = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
+}
+
+void SlamSystem::associate(Keyframe& kf)
+{
+  // Match against the last two keyframes: each of their features is projected into the new
+  // keyframe with the current estimate and matched by descriptor inside the gate (mutually best).
+  const int n = static_cast<int>(kfs_.size());
+  for (int back = 2; back <= 3 && n - back >= 0; ++back)
+  {
+    Keyframe& old = *kfs_[n - back];
+    if (old.descriptors.empty() || kf.descriptors.empty())
+      continue;
+    const Eigen::Isometry3d T_new_old = kf.T_map_cam.inverse() * old.T_map_cam;
+    std::vector<int> best_for_new(kf.keypoints.size(), -1);
+    std::vector<int> best_dist_new(kf.keypoints.size(), 1 << 20);
+    std::vector<std::pair<int, int>> cand;  // (old, new)
+    for (size_t i = 0; i < old.points.size(); ++i)
+    {
+      const Eigen::Vector3d X = T_new_old * old.points[i];
+      if (X.z() < p_.min_depth_m)
+        continue;
+      const Eigen::Vector3d uvr = cam_.project(X);
+      int best = -1, bd = 1 << 20, second = 1 << 20;
+      for (size_t j = 0; j < kf.keypoints.size(); ++j)
+      {
+        const cv::Point2f& q = kf.keypoints[j].pt;
+        if (std::abs(q.x - uvr.x()) > p_.match_gate_px || std::abs(q.y - uvr.y()) > p_.match_gate_px)
+          continue;
+        const int d = static_cast<int>(cv::norm(old.descriptors.row(static_cast<int>(i)),
+                                                kf.descriptors.row(static_cast<int>(j)), cv::NORM_HAMMING));
+        if (d < bd)
+        {
+          second = bd;
+          bd = d;
+          best = static_cast<int>(j);
+        }
+        else if (d < second)
+          second = d;
+      }
+      if (best < 0 || bd > p_.match_max_hamming || bd > 0.9 * second)
+        continue;
+      cand.emplace_back(static_cast<int>(i), best);
+      if (bd < best_dist_new[best])
+      {
+        best_dist_new[best] = bd;
+        best_for_new[best] = static_cast<int>(i);
+      }
+    }
+    for (const auto& [i, j] : cand)
+    {
+      if (best_for_new[j] != i || kf.landmark[j] >= 0)
+        continue;
+      if (old.landmark[i] < 0)
+        old.landmark[i] = next_landmark_++;
+      kf.landmark[j] = old.landmark[i];
+    }
+  }
+}
+
+void SlamSystem::localBundleAdjustment()
+{
+  const int n = static_cast<int>(kfs_.size());
+  const int w = std::min(n, p_.ba_window);
+  if (w < 3 || p_.ba_iterations == 0)
+    return;
+  const int first = n - w;
+  BaProblem pb;
+  std::map<int64_t, int> count;
+  for (int k = first; k < n; ++k)
+    for (int64_t id : kfs_[k]->landmark)
+      if (id >= 0)
+        ++count[id];
+  for (int k = first; k < n; ++k)
+  {
+    const Keyframe& kf = *kfs_[k];
+    const int fi = k - first;
+    pb.poses.push_back(kf.T_map_cam);
+    pb.fixed.push_back(fi < 2);  // the oldest two hold the gauge (position, orientation and scale)
+    for (size_t i = 0; i < kf.landmark.size(); ++i)
+    {
+      const int64_t id = kf.landmark[i];
+      if (id < 0 || count[id] < p_.ba_min_observations)
+        continue;
+      if (!pb.landmarks.count(id))
+        pb.landmarks[id] = kf.T_map_cam * kf.points[i];
+      pb.observations.push_back({fi, id, Eigen::Vector3d(kf.keypoints[i].pt.x, kf.keypoints[i].pt.y, kf.u_right[i]),
+                                 std::pow(1.2, kf.keypoints[i].octave)});
+    }
+    if (fi > 0)
+    {
+      // The VO's motion between consecutive keyframes as a weak prior (windows with few shared
+      // landmarks stay where the VO put them).
+      PoseGraphEdge e;
+      e.from = fi - 1;
+      e.to = fi;
+      e.T_from_to = kfs_[k - 1]->T_odom_cam.inverse() * kf.T_odom_cam;
+      e.information = odomInformation(e.T_from_to.translation().norm());
+      pb.priors.push_back(e);
+    }
+  }
+  if (pb.observations.size() < 30)
+    return;
+  BaOptions o;
+  o.max_iterations = p_.ba_iterations;
+  o.huber_px = p_.ba_huber_px;
+  o.pixel_sigma_px = p_.pixel_sigma_px;
+  const std::vector<Eigen::Isometry3d> before = pb.poses;
+  const BaResult r = bundleAdjust(pb, cam_, o);
+  if (!r.solved || !(r.final_rms_px <= r.initial_rms_px))
+    return;
+  // A window that moves a keyframe by more than the VO could be off between keyframes is a
+  // failed adjustment (wrong associations, a degenerate window): the VO's poses are kept.
+  for (size_t i = 0; i < before.size(); ++i)
+  {
+    const Eigen::Isometry3d d = before[i].inverse() * pb.poses[i];
+    if (!d.matrix().allFinite() || d.translation().norm() > 0.2 || angleDeg(d) > 2.0)
+    {
+      ++stats_.ba_rejected;
+      return;
+    }
+  }
+  std::lock_guard<std::mutex> l(mm_);
+  ++stats_.ba_runs;
+  for (int k = first + 2; k < n; ++k)
+  {
+    kfs_[k]->T_map_cam = pb.poses[k - first];
+    kf_rel_[k] = kfs_[k - 1]->T_map_cam.inverse() * kfs_[k]->T_map_cam;
+  }
+  for (SubmapInfo& s : submaps_)
+    s.T_map_origin = kfs_[s.keyframes.front()]->T_map_cam;
+}
+
+std::vector<uint32_t> SlamSystem::proximityCandidates(const Keyframe& kf) const
+{
+  // Keyframes of older submaps near where the map puts the new one, looking the same way; the
+  // radius grows with the path walked since (the drift the closure may have to absorb).
+  std::vector<std::pair<double, uint32_t>> near;
+  const int last_submap = static_cast<int>(kf.submap) - p_.loop_skip_submaps;
+  for (const KeyframePtr& c : kfs_)
+  {
+    if (static_cast<int>(c->submap) > last_submap)
+      break;
+    const double d = (c->T_map_cam.translation() - kf.T_map_cam.translation()).norm();
+    const double radius = p_.loop_max_correction_m + 0.05 * (kf.path_m - c->path_m);
+    if (d < radius && viewAngleDeg(c->T_map_cam, kf.T_map_cam) < 45.0)
+      near.emplace_back(d, c->id);
+  }
+  std::sort(near.begin(), near.end());
+  std::vector<uint32_t> out;
+  for (const auto& [d, id] : near)
+    out.push_back(id);
+  return out;
+}
+
+void SlamSystem::detectLoop(const KeyframePtr& kf)
+{
+  std::vector<uint32_t> cand;
+  if (candidates_)
+    cand = candidates_(*kf);
+  for (uint32_t id : proximityCandidates(*kf))
+    if (std::find(cand.begin(), cand.end(), id) == cand.end())
+      cand.push_back(id);
+  StereoCheckOptions so;
+  so.min_inliers = p_.loop_min_inliers;
+  so.min_inlier_ratio = p_.loop_min_inlier_ratio;
+  so.inlier_px = p_.loop_inlier_px;
+  int tried = 0;
+  for (uint32_t id : cand)
+  {
+    if (tried >= p_.loop_candidates)
+      break;
+    if (id >= kfs_.size() || static_cast<int>(kfs_[id]->submap) > static_cast<int>(kf->submap) - p_.loop_skip_submaps)
+      continue;
+    ++tried;
+    const Keyframe& a = *kfs_[id];
+    const StereoCheckResult r = stereoCheck(a, *kf, cam_, so);
+    LoopEvent ev;
+    ev.stamp = kf->stamp;
+    ev.keyframe_old = a.id;
+    ev.keyframe_new = kf->id;
+    ev.submap_old = a.submap;
+    ev.submap_new = kf->submap;
+    ev.matches = r.matches;
+    ev.inliers = r.inliers;
+    ev.T_old_new = r.T_a_b;
+    if (!r.accepted)
+      continue;  // not verified: no event (most candidates simply do not match)
+    const Eigen::Isometry3d T_map_b = a.T_map_cam * r.T_a_b;
+    const Eigen::Isometry3d corr = kf->T_map_cam.inverse() * T_map_b;
+    ev.correction_m = corr.translation().norm();
+    ev.correction_deg = angleDeg(corr);
+    const double max_m = p_.loop_max_correction_m + 0.05 * (kf->path_m - a.path_m);
+    if (ev.correction_m > max_m || ev.correction_deg > p_.loop_max_correction_deg)
+    {
+      ev.reason = "verified but inconsistent with the map: moves the wearer " + std::to_string(ev.correction_m) +
+                  " m / " + std::to_string(ev.correction_deg) + " deg";
+      std::lock_guard<std::mutex> l(mm_);
+      events_.push_back(ev);
+      ++stats_.loops_rejected;
+      continue;
+    }
+    LoopLink link;
+    {
+      const Eigen::Isometry3d& Oa = submaps_[a.submap].T_map_origin;
+      const Eigen::Isometry3d& Ob = submaps_[kf->submap].T_map_origin;
+      const Eigen::Isometry3d T_b_in_submap = Ob.inverse() * kf->T_map_cam;
+      link = {a.submap, kf->submap, Oa.inverse() * a.T_map_cam * r.T_a_b * T_b_in_submap.inverse()};
+    }
+    // Temporal consistency: a closure is only accepted when the next keyframe's verified closure
+    // implies the same correction of the map (look-alike places pass one P3P check far more
+    // often than two in a row with the same answer: a generated street had one at 40 inliers).
+    const Eigen::Isometry3d delta = T_map_b * kf->T_map_cam.inverse();
+    auto rejectPending = [&](const std::string& why) {
+      if (!pending_.valid)
+        return;
+      pending_.ev.reason = why;
+      std::lock_guard<std::mutex> l(mm_);
+      events_.push_back(pending_.ev);
+      ++stats_.loops_rejected;
+      pending_.valid = false;
+    };
+    if (pending_.valid && pending_.ev.keyframe_new + 1 == kf->id)
+    {
+      const Eigen::Isometry3d dd = pending_.delta.inverse() * delta;
+      if (dd.translation().norm() <= p_.loop_confirm_m && angleDeg(dd) <= p_.loop_confirm_deg)
+      {
+        ev.accepted = true;
+        pending_.ev.accepted = true;
+        {
+          std::lock_guard<std::mutex> l(mm_);
+          loop_links_.push_back(pending_.link);
+          loop_links_.push_back(link);
+          events_.push_back(pending_.ev);
+          events_.push_back(ev);
+          stats_.loops_accepted += 2;
+        }
+        pending_.valid = false;
+        optimiseGraph();
+        return;
+      }
+      rejectPending("not confirmed: the next keyframe's verified closure implies another correction");
+    }
+    else
+      rejectPending("not confirmed by the next keyframe");
+    pending_.valid = true;
+    pending_.ev = ev;
+    pending_.link = link;
+    pending_.delta = delta;
+    return;  // one closure per keyframe
+  }
+}
+
+Eigen::Isometry3d SlamSystem::submapOdometry(uint32_t i) const
+{
+  // Chain of the keyframes' relative motions (VO, refined by the local BA) from the origin of
+  // submap i to the origin of submap i + 1: unaffected by earlier pose-graph corrections.
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const uint32_t a = submaps_[i].keyframes.front(), b = submaps_[i + 1].keyframes.front();
+  for (uint32_t k = a + 1; k <= b; ++k)
+    T = T * kf_rel_[k];
+  return T;
+}
+
+void SlamSystem::optimiseGraph()
+{
+  PoseGraph g;
+  std::lock_guard<std::mutex> l(mm_);
+  for (const SubmapInfo& s : submaps_)
+    g.addNode(s.id, s.T_map_origin);
+  for (size_t i = 0; i + 1 < submaps_.size(); ++i)
+  {
+    PoseGraphEdge e;
+    e.from = static_cast<uint32_t>(i);
+    e.to = static_cast<uint32_t>(i + 1);
+    e.T_from_to = submapOdometry(static_cast<uint32_t>(i));
+    e.information = odomInformation(kfs_[submaps_[i + 1].keyframes.front()]->path_m -
+                                    kfs_[submaps_[i].keyframes.front()]->path_m);
+    g.addEdge(e);
+  }
+  const Matrix6d loop_info = isotropicInformation(p_.loop_sigma_m, p_.loop_sigma_deg * kDeg);
+  for (const LoopLink& ll : loop_links_)
+  {
+    PoseGraphEdge e;
+    e.from = ll.from;
+    e.to = ll.to;
+    e.T_from_to = ll.T;
+    e.information = loop_info;
+    g.addEdge(e);
+  }
+  g.setFixed(0);
+  g.optimise(50);
+  ++stats_.pose_graph_runs;
+  // Every keyframe moves rigidly with its submap.
+  for (SubmapInfo& s : submaps_)
+  {
+    const Eigen::Isometry3d delta = g.pose(s.id) * s.T_map_origin.inverse();
+    for (uint32_t k : s.keyframes)
+      kfs_[k]->T_map_cam = delta * kfs_[k]->T_map_cam;
+    s.T_map_origin = g.pose(s.id);
+  }
+}
+
+Eigen::Isometry3d SlamSystem::mapToOdom() const
+{
+  std::lock_guard<std::mutex> l(mm_);
+  return T_map_odom_;
+}
+
+SlamStats SlamSystem::stats() const
+{
+  SlamStats s;
+  {
+    std::lock_guard<std::mutex> l(mm_);
+    s = stats_;
+  }
+  std::lock_guard<std::mutex> l(qm_);
+  s.queue_depth = static_cast<int>(queue_.size());
+  s.dropped = dropped_;
+  return s;
+}
+
+std::vector<LoopEvent> SlamSystem::loopEvents() const
+{
+  std::lock_guard<std::mutex> l(mm_);
+  return events_;
+}
+
+std::vector<Keyframe> SlamSystem::keyframes(bool with_features) const
+{
+  std::lock_guard<std::mutex> l(mm_);
+  std::vector<Keyframe> out;
+  out.reserve(kfs_.size());
+  for (const KeyframePtr& k : kfs_)
+  {
+    Keyframe c;
+    c.id = k->id;
+    c.submap = k->submap;
+    c.stamp = k->stamp;
+    c.T_odom_cam = k->T_odom_cam;
+    c.T_map_cam = k->T_map_cam;
+    c.path_m = k->path_m;
+    if (with_features)
+    {
+      c.keypoints = k->keypoints;
+      c.u_right = k->u_right;
+      c.descriptors = k->descriptors.clone();
+      c.points = k->points;
+      c.landmark = k->landmark;
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+std::vector<SubmapInfo> SlamSystem::submaps() const
+{
+  std::lock_guard<std::mutex> l(mm_);
+  return submaps_;
+}
+
+std::vector<SubmapLinkInfo> SlamSystem::links() const
+{
+  std::lock_guard<std::mutex> l(mm_);
+  std::vector<SubmapLinkInfo> out;
+  for (size_t i = 0; i + 1 < submaps_.size(); ++i)
+  {
+    SubmapLinkInfo li;
+    li.from = static_cast<uint32_t>(i);
+    li.to = static_cast<uint32_t>(i + 1);
+    li.T_from_to = submapOdometry(static_cast<uint32_t>(i));
+    li.covariance = odomCovariance(kfs_[submaps_[i + 1].keyframes.front()]->path_m -
+                                   kfs_[submaps_[i].keyframes.front()]->path_m);
+    out.push_back(li);
+  }
+  const Matrix6d loop_cov = isotropicInformation(p_.loop_sigma_m, p_.loop_sigma_deg * kDeg).inverse();
+  for (const LoopLink& ll : loop_links_)
+    out.push_back({ll.from, ll.to, ll.T, loop_cov, true});
+  return out;
+}
+
+uint32_t SlamSystem::currentSubmap() const
+{
+  std::lock_guard<std::mutex> l(mm_);
+  return submaps_.empty() ? 0 : submaps_.back().id;
+}
+
+void SlamSystem::setCandidateSource(CandidateSource s)
+{
+  std::lock_guard<std::mutex> l(mm_);
+  candidates_ = std::move(s);
+}
+
+}  // namespace assistive_slam

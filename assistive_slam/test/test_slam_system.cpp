@@ -1,0 +1,142 @@
+// Keyframe policy, stereo features with exact depth on a shifted texture, bounded submaps and the
+// bounded worker queue.
+#include <random>
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+#include "assistive_slam/slam_system.h"
+
+using namespace assistive_slam;
+
+namespace
+{
+StereoModel camera()
+{
+  StereoModel c;
+  c.fx = c.fy = 400;
+  c.cx = 320;
+  c.cy = 240;
+  c.baseline = 0.12;
+  return c;
+}
+/// A fronto-parallel textured plane: the right image is the left shifted by `disp` px.
+void texturePair(int disp, cv::Mat& left, cv::Mat& right)
+{
+  cv::Mat big(480, 640 + disp, CV_8U);
+  cv::RNG rng(5);
+  rng.fill(big, cv::RNG::UNIFORM, 0, 255);
+  cv::GaussianBlur(big, big, cv::Size(0, 0), 1.5);
+  cv::Mat blocks(480 / 8, (640 + disp) / 8 + 1, CV_8U);
+  rng.fill(blocks, cv::RNG::UNIFORM, 0, 255);
+  cv::resize(blocks, blocks, cv::Size(blocks.cols * 8, blocks.rows * 8), 0, 0, cv::INTER_NEAREST);
+  big = big / 2 + blocks(cv::Rect(0, 0, big.cols, big.rows)) / 2;
+  // a point at column X of `big` is at X in the left image and X - disp in the right one
+  left = big(cv::Rect(0, 0, 640, 480)).clone();
+  right = big(cv::Rect(disp, 0, 640, 480)).clone();
+}
+Eigen::Isometry3d along(double z)
+{
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation().z() = z;
+  return T;
+}
+}  // namespace
+
+TEST(KeyframePolicy, ReplenishmentNeedsMotionAndDistanceForcesOne)
+{
+  SlamParams p;
+  KeyframePolicy k(p);
+  EXPECT_TRUE(k.take(along(0), false));                              // the first frame
+  EXPECT_FALSE(k.take(along(0.1), true));                            // replenished but too close
+  EXPECT_TRUE(k.take(along(p.keyframe_min_distance_m + 0.01), true));  // replenished and moved
+  EXPECT_FALSE(k.take(along(p.keyframe_min_distance_m + 0.5), false));  // no replenishment, not far
+  EXPECT_TRUE(k.take(along(p.keyframe_min_distance_m + 0.02 + p.keyframe_max_distance_m), false));
+}
+
+TEST(StereoFeatureExtractor, DepthOfShiftedPlaneIsExact)
+{
+  const int disp = 16;
+  cv::Mat l, r;
+  texturePair(disp, l, r);
+  Keyframe kf;
+  StereoFeatureExtractor(SlamParams()).extract(l, r, camera(), kf);
+  ASSERT_GT(kf.points.size(), 200u);
+  const double z = 400 * 0.12 / disp;  // 3 m
+  // ORB finds corners per pyramid level: at the finest level the shift is exact; a level l
+  // position is rounded on an image 1.2^l times smaller
+  int level0 = 0, within = 0;
+  for (size_t i = 0; i < kf.points.size(); ++i)
+  {
+    const double d = kf.keypoints[i].pt.x - kf.u_right[i];
+    if (kf.keypoints[i].octave == 0)
+    {
+      ++level0;
+      EXPECT_NEAR(d, disp, 1e-3);
+      EXPECT_NEAR(kf.points[i].z(), z, 1e-3 * z);
+    }
+    within += std::abs(d - disp) <= std::pow(1.2, kf.keypoints[i].octave);
+  }
+  EXPECT_GT(level0, 100);
+  EXPECT_GT(within, 0.95 * kf.points.size());
+  EXPECT_EQ(kf.descriptors.rows, static_cast<int>(kf.points.size()));
+}
+
+TEST(SlamSystem, SubmapsAreBoundedAndLinked)
+{
+  SlamParams p;
+  p.loop_closure = false;
+  p.submap_max_keyframes = 3;
+  p.ba_iterations = 0;  // the same images at every pose: only the bookkeeping is tested here
+  cv::Mat l, r;
+  texturePair(16, l, r);
+  SlamSystem s(p, camera(), false);
+  for (int i = 0; i < 10; ++i)
+  {
+    SlamFrame f;
+    f.stamp = i;
+    f.left = l;
+    f.right = r;
+    f.T_odom_cam = along(0.5 * i);  // farther than keyframe_min_distance each time
+    f.vo_replenished = true;
+    EXPECT_TRUE(s.addFrame(f));
+  }
+  EXPECT_EQ(s.stats().keyframes, 10);
+  EXPECT_EQ(s.stats().submaps, 4);  // 3 + 3 + 3 + 1
+  const auto links = s.links();
+  ASSERT_EQ(links.size(), 3u);
+  // consecutive submap origins 3 keyframes = 1.5 m apart along z (the same images: BA may not move them far)
+  EXPECT_NEAR(links[0].T_from_to.translation().z(), 1.5, 0.05);
+  for (const SubmapInfo& m : s.submaps())
+    EXPECT_LE(m.keyframes.size(), 3u);
+}
+
+TEST(SlamSystem, WorkerQueueStaysBounded)
+{
+  SlamParams p;
+  p.queue_size = 2;
+  p.loop_closure = false;
+  cv::Mat l, r;
+  texturePair(16, l, r);
+  SlamSystem s(p, camera(), true);
+  int queued = 0;
+  for (int i = 0; i < 40; ++i)
+  {
+    SlamFrame f;
+    f.stamp = i;
+    f.left = l;
+    f.right = r;
+    f.T_odom_cam = along(1.1 * i);
+    queued += s.addFrame(f);
+    EXPECT_LE(s.stats().queue_depth, 2);
+  }
+  s.waitIdle();
+  const SlamStats st = s.stats();
+  EXPECT_EQ(queued, 40);
+  EXPECT_EQ(st.keyframes + st.dropped, 40);
+  EXPECT_EQ(st.queue_depth, 0);
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
