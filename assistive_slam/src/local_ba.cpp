@@ -2,6 +2,7 @@
 #include <array>
 #include <cmath>
 #include <ceres/ceres.h>
+#include "relative_pose_cost.h"
 
 namespace assistive_slam
 {
@@ -33,31 +34,6 @@ struct StereoReprojection
   StereoModel cam;
   Eigen::Vector3d z;
   double w;
-};
-
-struct RelativePrior
-{
-  RelativePrior(const Eigen::Isometry3d& T, const Matrix6d& L)
-    : t_m(T.translation()), q_m(Eigen::Quaterniond(T.linear()).normalized()), sqrt_info(L)
-  {
-  }
-  template <typename T>
-  bool operator()(const T* pa, const T* qa_, const T* pb, const T* qb_, T* res) const
-  {
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> ta(pa), tb(pb);
-    const Eigen::Map<const Eigen::Quaternion<T>> qa(qa_), qb(qb_);
-    const Eigen::Quaternion<T> q_ab = qa.conjugate() * qb;
-    const Eigen::Matrix<T, 3, 1> t_ab = qa.conjugate() * (tb - ta);
-    const Eigen::Quaternion<T> dq = q_m.template cast<T>().conjugate() * q_ab;
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> r(res);
-    r.template head<3>() = q_m.template cast<T>().conjugate() * (t_ab - t_m.template cast<T>());
-    r.template tail<3>() = T(2.0) * dq.vec();
-    r.applyOnTheLeft(sqrt_info.template cast<T>());
-    return true;
-  }
-  Eigen::Vector3d t_m;
-  Eigen::Quaterniond q_m;
-  Matrix6d sqrt_info;
 };
 }  // namespace
 
@@ -109,10 +85,7 @@ BaResult bundleAdjust(BaProblem& pb, const StereoModel& cam, const BaOptions& op
   }
   for (const PoseGraphEdge& e : pb.priors)
   {
-    const Eigen::LLT<Matrix6d> llt(e.information);
-    auto* cost = new ceres::AutoDiffCostFunction<RelativePrior, 6, 3, 4, 3, 4>(
-        new RelativePrior(e.T_from_to, llt.matrixL().transpose()));
-    problem.AddResidualBlock(cost, nullptr, p[e.from].data(), q[e.from].data(), p[e.to].data(), q[e.to].data());
+    problem.AddResidualBlock(relativePoseCost(e), nullptr, p[e.from].data(), q[e.from].data(), p[e.to].data(), q[e.to].data());
   }
   for (size_t i = 0; i < n; ++i)
   {

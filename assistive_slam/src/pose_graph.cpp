@@ -2,40 +2,10 @@
 #include <array>
 #include <stdexcept>
 #include <ceres/ceres.h>
+#include "relative_pose_cost.h"
 
 namespace assistive_slam
 {
-namespace
-{
-/// Residual of one edge: sqrt(information) * [R_m^T (t_ab - t_m); 2 vec(q_m^-1 q_ab)]
-/// (the 3D pose-graph residual of Ceres' own example).
-struct RelativePoseError
-{
-  RelativePoseError(const Eigen::Isometry3d& T, const Matrix6d& sqrt_info)
-    : t_m(T.translation()), q_m(Eigen::Quaterniond(T.linear()).normalized()), sqrt_info(sqrt_info)
-  {
-  }
-  template <typename T>
-  bool operator()(const T* pa, const T* qa_, const T* pb, const T* qb_, T* res) const
-  {
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> ta(pa), tb(pb);
-    const Eigen::Map<const Eigen::Quaternion<T>> qa(qa_), qb(qb_);
-    const Eigen::Quaternion<T> qa_inv = qa.conjugate();
-    const Eigen::Quaternion<T> q_ab = qa_inv * qb;
-    const Eigen::Matrix<T, 3, 1> t_ab = qa_inv * (tb - ta);
-    const Eigen::Quaternion<T> dq = q_m.template cast<T>().conjugate() * q_ab;
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> r(res);
-    r.template head<3>() = q_m.template cast<T>().conjugate() * (t_ab - t_m.template cast<T>());
-    r.template tail<3>() = T(2.0) * dq.vec();
-    r.applyOnTheLeft(sqrt_info.template cast<T>());
-    return true;
-  }
-  Eigen::Vector3d t_m;
-  Eigen::Quaterniond q_m;
-  Matrix6d sqrt_info;
-};
-}  // namespace
-
 Matrix6d isotropicInformation(double sigma_t, double sigma_r)
 {
   Matrix6d I = Matrix6d::Zero();
@@ -73,12 +43,7 @@ PoseGraphResult PoseGraph::optimise(int max_iterations)
   ceres::Problem problem;
   for (const PoseGraphEdge& e : edges_)
   {
-    // sqrt of the information: its Cholesky factor (upper), so that r^T r = e^T I e
-    const Eigen::LLT<Matrix6d> llt(e.information);
-    const Matrix6d sqrt_info = llt.matrixL().transpose();
-    auto* cost = new ceres::AutoDiffCostFunction<RelativePoseError, 6, 3, 4, 3, 4>(
-        new RelativePoseError(e.T_from_to, sqrt_info));
-    problem.AddResidualBlock(cost, nullptr, p[e.from].data(), q[e.from].data(), p[e.to].data(), q[e.to].data());
+    problem.AddResidualBlock(relativePoseCost(e), nullptr, p[e.from].data(), q[e.from].data(), p[e.to].data(), q[e.to].data());
   }
   for (auto& [id, qq] : q)
     if (problem.HasParameterBlock(qq.data()))
