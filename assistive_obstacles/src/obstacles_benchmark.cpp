@@ -117,15 +117,9 @@ int main(int argc, char** argv)
   if (!has_truth) std::cerr << "obstacles_benchmark: no /ground_truth/occupancy in the bag: map not scored\n";
 
   ObstaclesParams params;  // defaults
-  std::string set_error;  // --set name=value: the node's parameter names (params.h table)
-  std::vector<std::string> clamped;
-  if (!assistive_common::applyOverrides(params, overrides, &set_error, &clamped))
-  {
-    std::cerr << "obstacles_benchmark: --set: " << set_error << "\n";
+  if (!eval::applySets(cl, overrides, params))  // --set: the node's parameter names (params.h table)
     return 2;
-  }
-  for (const std::string& w : clampParams(params)) clamped.push_back(w);
-  for (const std::string& w : clamped) std::cerr << "[obstacles_benchmark] " << w << "\n";
+  for (const std::string& w : clampParams(params)) std::cerr << "obstacles_benchmark: " << w << "\n";
   DisparityEstimator disparity(params);
   ObstacleMap map(params);
   std::vector<double> ms_disp, ms_map, npts;

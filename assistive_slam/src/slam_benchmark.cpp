@@ -72,17 +72,8 @@ int main(int argc, char** argv)
   }
   cv::setNumThreads(1);
   SlamParams sp;
-  {
-    std::string err;
-    std::vector<std::string> clamped;
-    if (!assistive_common::applyOverrides(sp, overrides, &err, &clamped))
-    {
-      std::cerr << "slam_benchmark: --set: " << err << "\n";
-      return 2;
-    }
-    for (const std::string& c : clamped)
-      std::cerr << "slam_benchmark: " << c << "\n";
-  }
+  if (!ev::applySets(cl, overrides, sp))
+    return 2;
   const std::unique_ptr<ev::StereoBagReader> reader = ev::openStereoBag("slam_benchmark", bag);
   if (!reader)
     return 1;

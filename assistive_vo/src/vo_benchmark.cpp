@@ -178,18 +178,8 @@ int main(int argc, char** argv)
 
   VoParams params;
   params.use_imu = imu_on;
-  {
-    // --set name=value: the node's parameter names (params.h table), clamped like the node's
-    std::string err;
-    std::vector<std::string> clamped;
-    if (!assistive_common::applyOverrides(params, overrides, &err, &clamped))
-    {
-      std::cerr << "vo_benchmark: --set: " << err << "\n";
-      return 2;
-    }
-    for (const std::string& c : clamped)
-      std::cerr << "vo_benchmark: " << c << "\n";
-  }
+  if (!ev::applySets(cl, overrides, params))  // --set: the node's parameter names (params.h table)
+    return 2;
   VisualOdometry vo(params);
   ImuBuffer imu(5.0);
   StartupRule::Options startup_options;

@@ -5,9 +5,11 @@
 // line (options, one positional argument, `--set name=value`, `--help`, usage errors).
 // ROS-free (the C++ standard library only); library assistive_eval_core.
 #include <functional>
+#include <iostream>
 #include <string>
 #include <utility>
 #include <vector>
+#include "assistive_common/param_table.h"
 
 namespace assistive_eval
 {
@@ -134,4 +136,22 @@ private:
   std::string positional_what_;
   bool positional_required_ = false;
 };
+
+/// `--set` overrides applied to a stage's parameters by its table (clamped as the node clamps):
+/// prints "<program>: --set: <error>" and returns false at the first bad one; prints each clamp as
+/// "<program>: <message>".
+template <class P>
+bool applySets(const CommandLine& cl, const CommandLine::Sets& sets, P& params)
+{
+  std::string err;
+  std::vector<std::string> clamped;
+  if (!assistive_common::applyOverrides(params, sets, &err, &clamped))
+  {
+    std::cerr << cl.program() << ": --set: " << err << "\n";
+    return false;
+  }
+  for (const std::string& c : clamped)
+    std::cerr << cl.program() << ": " << c << "\n";
+  return true;
+}
 }  // namespace assistive_eval
