@@ -24,14 +24,9 @@ double smooth5(double x)
 }
 }  // namespace
 
-WearerMotion::WearerMotion(const TrajectoryScript& script, uint32_t seed) : script_(script)
+WearerMotion::Leg WearerMotion::buildLeg(const std::vector<Eigen::Vector2d>& poly, double corner_radius)
 {
-  if (script_.waypoints.size() < 2) throw std::invalid_argument("trajectory needs at least 2 waypoints");
-  // Waypoint polyline, repeated for loops (closing back to the first point between loops).
-  std::vector<Eigen::Vector2d> poly;
-  for (int l = 0; l < script_.loops; ++l)
-    for (const auto& p : script_.waypoints)
-      if (poly.empty() || (p - poly.back()).norm() > 1e-6) poly.push_back(p);
+  Leg leg;
   // Densify: points near each corner (corner_radius before/after) and every <= 0.8 m between.
   std::vector<Eigen::Vector2d> dense;
   const size_t n = poly.size();
@@ -39,8 +34,8 @@ WearerMotion::WearerMotion(const TrajectoryScript& script, uint32_t seed) : scri
   for (size_t i = 1; i + 1 < n; ++i)
   {
     const double a = (poly[i] - poly[i - 1]).norm(), b = (poly[i + 1] - poly[i]).norm();
-    rin[i] = std::min(script_.corner_radius, 0.4 * a);
-    rout[i] = std::min(script_.corner_radius, 0.4 * b);
+    rin[i] = std::min(corner_radius, 0.4 * a);
+    rout[i] = std::min(corner_radius, 0.4 * b);
   }
   for (size_t i = 0; i + 1 < n; ++i)
   {
@@ -50,7 +45,7 @@ WearerMotion::WearerMotion(const TrajectoryScript& script, uint32_t seed) : scri
     else dense.push_back(poly[i]), dense.push_back(s);
     const double len = (e - s).norm();
     const int k = std::max(2, static_cast<int>(std::ceil(len / 0.8)));
-    for (int j = (i == 0 ? 1 : 1); j <= k; ++j) dense.push_back(s + (e - s) * (static_cast<double>(j) / k));
+    for (int j = 1; j <= k; ++j) dense.push_back(s + (e - s) * (static_cast<double>(j) / k));
   }
   dense.push_back(poly.back());
   // Remove near-duplicates.
@@ -58,37 +53,122 @@ WearerMotion::WearerMotion(const TrajectoryScript& script, uint32_t seed) : scri
   for (const auto& p : dense)
     if (clean.empty() || (p - clean.back()).norm() > 1e-3) clean.push_back(p);
   // Phantom end points so the curve starts/ends exactly at the first/last waypoint.
-  ctrl_.push_back(2 * clean[0] - clean[1]);
-  ctrl_.insert(ctrl_.end(), clean.begin(), clean.end());
-  ctrl_.push_back(2 * clean.back() - clean[clean.size() - 2]);
-  const int spans = static_cast<int>(ctrl_.size()) - 3;
-  span_s_.assign(spans + 1, 0.0);
-  for (int j = 0; j < spans; ++j) span_s_[j + 1] = span_s_[j] + spanLength(j, 0.0, 1.0);
-  length_ = span_s_.back();
+  leg.ctrl.push_back(2 * clean[0] - clean[1]);
+  leg.ctrl.insert(leg.ctrl.end(), clean.begin(), clean.end());
+  leg.ctrl.push_back(2 * clean.back() - clean[clean.size() - 2]);
+  const int spans = static_cast<int>(leg.ctrl.size()) - 3;
+  leg.span_s.assign(spans + 1, 0.0);
+  for (int j = 0; j < spans; ++j) leg.span_s[j + 1] = leg.span_s[j] + spanLength(leg, j, 0.0, 1.0);
+  leg.length = leg.span_s.back();
+  const Eigen::Vector2d d0 = spline(leg, 0.0, 1), d1 = spline(leg, spans, 1);
+  leg.heading_in = std::atan2(d0.y(), d0.x());
+  leg.heading_out = std::atan2(d1.y(), d1.x());
+  return leg;
+}
 
-  // Timing.
-  t_walk_ = script_.start_still;
-  const double v0 = script_.speed;
-  const double a = script_.speed_variation;
-  const double w = M_PI / 10.0;
-  auto sOf = [&](double t) {
-    const double tau = t - t_walk_;
-    if (tau <= 0) return 0.0;
-    if (tau < t_ramp_)
-    {
-      const double x = tau / t_ramp_;
-      return v0 * t_ramp_ * (x * x * x * x * (2.5 + x * (-3 + x)));
-    }
-    const double tp = tau - t_ramp_;
-    return v0 * t_ramp_ * 0.5 + v0 * (tp + a * (tp / 2 - std::sin(2 * w * tp) / (4 * w)));
-  };
-  double lo = t_walk_, hi = t_walk_ + t_ramp_ + length_ / (0.5 * v0) + 10;
-  for (int it = 0; it < 100; ++it)
+WearerMotion::WearerMotion(const TrajectoryScript& script, uint32_t seed) : script_(script)
+{
+  if (script_.waypoints.size() < 2) throw std::invalid_argument("trajectory needs at least 2 waypoints");
+  // Waypoint polyline, repeated for loops (closing back to the first point between loops).
+  std::vector<Eigen::Vector2d> poly;
+  for (int l = 0; l < script_.loops; ++l)
+    for (const auto& p : script_.waypoints)
+      if (poly.empty() || (p - poly.back()).norm() > 1e-6) poly.push_back(p);
+  if (poly.size() < 2) throw std::invalid_argument("trajectory needs at least 2 distinct waypoints");
+  // Split into legs at corners sharper than turn_on_spot_above: nobody walks a hairpin as a
+  // smooth curve (its tangent would flip 180 deg between two frames); they stop and turn.
+  std::vector<std::vector<Eigen::Vector2d>> pieces(1, std::vector<Eigen::Vector2d>{poly[0]});
+  for (size_t i = 1; i < poly.size(); ++i)
   {
-    const double mid = 0.5 * (lo + hi);
-    (sOf(mid) < length_ ? lo : hi) = mid;
+    pieces.back().push_back(poly[i]);
+    if (i + 1 == poly.size()) break;
+    const Eigen::Vector2d a = poly[i] - poly[i - 1], b = poly[i + 1] - poly[i];
+    const double turn = std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)));
+    if (turn > script_.turn_on_spot_above) pieces.push_back({poly[i]});
   }
-  t_end_ = hi;
+  // A milder corner between short segments can still make the rounded curve too tight to walk:
+  // split where the curve would turn the body faster than max_walk_turn_rate.
+  const double v_max = script_.speed * (1 + script_.speed_variation);
+  for (size_t k = 0; k < pieces.size(); ++k)
+  {
+    const std::vector<Eigen::Vector2d>& piece = pieces[k];
+    if (piece.size() < 3) continue;
+    const Leg leg = buildLeg(piece, script_.corner_radius);
+    double kappa_max = 0.0;
+    Eigen::Vector2d at = piece[0];
+    const int spans = static_cast<int>(leg.ctrl.size()) - 3;
+    for (double u = 0.0; u <= spans; u += 0.02)
+    {
+      const Eigen::Vector2d d1 = spline(leg, u, 1), d2 = spline(leg, u, 2);
+      const double n = d1.norm();
+      if (n < 1e-9) continue;
+      const double kappa = std::abs(d1.x() * d2.y() - d1.y() * d2.x()) / (n * n * n);
+      if (kappa > kappa_max) kappa_max = kappa, at = spline(leg, u, 0);
+    }
+    if (kappa_max * v_max <= script_.max_walk_turn_rate) continue;
+    size_t split = 1;
+    for (size_t i = 2; i + 1 < piece.size(); ++i)
+      if ((piece[i] - at).norm() < (piece[split] - at).norm()) split = i;
+    std::vector<Eigen::Vector2d> tail(piece.begin() + static_cast<long>(split), piece.end());
+    pieces[k].resize(split + 1);
+    pieces.insert(pieces.begin() + static_cast<long>(k) + 1, tail);
+    --k;  // check the shortened piece again
+  }
+
+  // Timing: each leg accelerates from rest; a leg that ends in a turn on the spot slows to a stop.
+  const double v0 = script_.speed;
+  double t = script_.start_still, s0 = 0.0;
+  for (size_t k = 0; k < pieces.size(); ++k)
+  {
+    Leg leg = buildLeg(pieces[k], script_.corner_radius);
+    leg.t0 = t;
+    leg.s0 = s0;
+    leg.stops = k + 1 < pieces.size();
+    if (leg.stops)
+    {
+      // Legs shorter than accelerate + decelerate use a shorter ramp (peak speed v0, briefly).
+      leg.t_ramp = std::min(t_ramp_, leg.length / v0);
+      double lo = 0.0, hi = leg.length / (0.5 * v0) + 10;
+      for (int it = 0; it < 100; ++it)
+      {
+        const double mid = 0.5 * (lo + hi);
+        leg.t_cruise = mid;
+        (legDistance(leg, leg.t_ramp + mid + leg.t_ramp) < leg.length ? lo : hi) = mid;
+      }
+      leg.t_cruise = hi;
+      leg.t1 = leg.t0 + 2 * leg.t_ramp + leg.t_cruise;
+    }
+    else
+    {
+      leg.t_ramp = t_ramp_;
+      double lo = leg.t0, hi = leg.t0 + t_ramp_ + leg.length / (0.5 * v0) + 10;
+      for (int it = 0; it < 100; ++it)
+      {
+        const double mid = 0.5 * (lo + hi);
+        (legDistance(leg, mid - leg.t0) < leg.length ? lo : hi) = mid;
+      }
+      leg.t1 = hi;
+    }
+    t = leg.t1;
+    s0 += leg.length;
+    if (leg.stops)
+    {
+      // Pause, turn (quintic profile, peak rate turn_rate), pause.
+      legs_.push_back(leg);
+      const Leg next = buildLeg(pieces[k + 1], script_.corner_radius);
+      double dh = std::remainder(next.heading_in - leg.heading_out, 2 * M_PI);
+      if (std::abs(dh) > M_PI - 1e-9) dh = M_PI;
+      legs_.back().turn = dh;
+      legs_.back().turn_at = t + 0.3;
+      legs_.back().turn_duration = std::max(0.8, 1.875 * std::abs(dh) / script_.turn_rate);
+      t = legs_.back().turn_at + legs_.back().turn_duration + 0.3;
+    }
+    else
+      legs_.push_back(leg);
+  }
+  length_ = s0;
+  t_walk_ = script_.start_still;
+  t_end_ = legs_.back().t1;
 
   // Phases and head turns.
   std::mt19937 rng(seed * 977u + 5u);
@@ -122,13 +202,13 @@ WearerMotion::WearerMotion(const TrajectoryScript& script, uint32_t seed) : scri
   }
 }
 
-Eigen::Vector2d WearerMotion::spline(double u, int deriv) const
+Eigen::Vector2d WearerMotion::spline(const Leg& leg, double u, int deriv)
 {
-  const int spans = static_cast<int>(ctrl_.size()) - 3;
+  const int spans = static_cast<int>(leg.ctrl.size()) - 3;
   int j = static_cast<int>(std::floor(u));
   j = std::clamp(j, 0, spans - 1);
   const double x = u - j;
-  const Eigen::Vector2d &p0 = ctrl_[j], &p1 = ctrl_[j + 1], &p2 = ctrl_[j + 2], &p3 = ctrl_[j + 3];
+  const Eigen::Vector2d &p0 = leg.ctrl[j], &p1 = leg.ctrl[j + 1], &p2 = leg.ctrl[j + 2], &p3 = leg.ctrl[j + 3];
   if (deriv == 0)
   {
     const double x2 = x * x, x3 = x2 * x;
@@ -140,29 +220,29 @@ Eigen::Vector2d WearerMotion::spline(double u, int deriv) const
   return (1 - x) * p0 + (3 * x - 2) * p1 + (-3 * x + 1) * p2 + x * p3;
 }
 
-double WearerMotion::spanLength(int j, double u0, double u1) const
+double WearerMotion::spanLength(const Leg& leg, int j, double u0, double u1)
 {
   // Composite Gauss-Legendre over 4 pieces.
   double sum = 0.0;
   const double h = (u1 - u0) / 4;
   for (int p = 0; p < 4; ++p)
-    for (int i = 0; i < 5; ++i) sum += GL_W[i] * spline(j + u0 + h * (p + GL_X[i]), 1).norm();
+    for (int i = 0; i < 5; ++i) sum += GL_W[i] * spline(leg, j + u0 + h * (p + GL_X[i]), 1).norm();
   return sum * h;
 }
 
-double WearerMotion::uOfS(double s) const
+double WearerMotion::uOfS(const Leg& leg, double s)
 {
-  s = std::clamp(s, 0.0, length_);
-  const int spans = static_cast<int>(span_s_.size()) - 1;
-  int j = static_cast<int>(std::upper_bound(span_s_.begin(), span_s_.end(), s) - span_s_.begin()) - 1;
+  s = std::clamp(s, 0.0, leg.length);
+  const int spans = static_cast<int>(leg.span_s.size()) - 1;
+  int j = static_cast<int>(std::upper_bound(leg.span_s.begin(), leg.span_s.end(), s) - leg.span_s.begin()) - 1;
   j = std::clamp(j, 0, spans - 1);
-  const double target = s - span_s_[j];
-  const double sl = span_s_[j + 1] - span_s_[j];
+  const double target = s - leg.span_s[j];
+  const double sl = leg.span_s[j + 1] - leg.span_s[j];
   double x = sl > 0 ? target / sl : 0.0;
   for (int it = 0; it < 8; ++it)
   {
-    const double f = spanLength(j, 0.0, x) - target;
-    const double d = spline(j + x, 1).norm();
+    const double f = spanLength(leg, j, 0.0, x) - target;
+    const double d = spline(leg, j + x, 1).norm();
     if (d < 1e-9) break;
     const double step = f / d;
     x = std::clamp(x - step, 0.0, 1.0);
@@ -171,23 +251,33 @@ double WearerMotion::uOfS(double s) const
   return j + x;
 }
 
+double WearerMotion::legDistance(const Leg& leg, double tau) const
+{
+  // Speed: quintic ramp up from rest over t_ramp, cruise v0 (1 + a sin^2(w t)), and for a leg that
+  // stops, a quintic ramp down from the cruise speed reached (its jerk at the joint is ~0.02 m/s^2).
+  const double v0 = script_.speed, a = script_.speed_variation, w = M_PI / 10.0, tr = leg.t_ramp;
+  if (tau <= 0) return 0.0;
+  auto rampInt = [](double x) { return x * x * x * x * (2.5 + x * (-3 + x)); };  // integral of smooth5
+  auto cruise = [&](double tp) { return v0 * tr * 0.5 + v0 * (tp + a * (tp / 2 - std::sin(2 * w * tp) / (4 * w))); };
+  if (tau < tr) return std::min(v0 * tr * rampInt(tau / tr), leg.length);
+  const double tp = tau - tr;
+  if (!leg.stops || tp <= leg.t_cruise) return std::min(cruise(tp), leg.length);
+  const double vc = v0 * (1 + a * std::pow(std::sin(w * leg.t_cruise), 2));
+  const double y = std::min((tp - leg.t_cruise) / tr, 1.0);
+  return std::min(cruise(leg.t_cruise) + vc * tr * (y - rampInt(y)), leg.length);
+}
+
+size_t WearerMotion::legAt(double t) const
+{
+  size_t k = 0;
+  while (k + 1 < legs_.size() && t >= legs_[k + 1].t0) ++k;
+  return k;
+}
+
 double WearerMotion::distance(double t) const
 {
-  const double v0 = script_.speed, a = script_.speed_variation, w = M_PI / 10.0;
-  const double tau = t - t_walk_;
-  if (tau <= 0) return 0.0;
-  double s;
-  if (tau < t_ramp_)
-  {
-    const double x = tau / t_ramp_;
-    s = v0 * t_ramp_ * (x * x * x * x * (2.5 + x * (-3 + x)));
-  }
-  else
-  {
-    const double tp = tau - t_ramp_;
-    s = v0 * t_ramp_ * 0.5 + v0 * (tp + a * (tp / 2 - std::sin(2 * w * tp) / (4 * w)));
-  }
-  return std::min(s, length_);
+  const Leg& leg = legs_[legAt(t)];
+  return leg.s0 + legDistance(leg, t - leg.t0);
 }
 
 double WearerMotion::speed(double t) const
@@ -196,7 +286,12 @@ double WearerMotion::speed(double t) const
   return (distance(t + h) - distance(t - h)) / (2 * h);
 }
 
-Eigen::Vector2d WearerMotion::pathPoint(double s) const { return spline(uOfS(s), 0); }
+Eigen::Vector2d WearerMotion::pathPoint(double s) const
+{
+  size_t k = 0;
+  while (k + 1 < legs_.size() && s >= legs_[k + 1].s0) ++k;
+  return spline(legs_[k], uOfS(legs_[k], s - legs_[k].s0), 0);
+}
 
 double WearerMotion::headYawOffset(double t) const
 {
@@ -213,11 +308,18 @@ double WearerMotion::headYawOffset(double t) const
 Eigen::Isometry3d WearerMotion::linkPose(double t) const
 {
   const TrajectoryScript& sc = script_;
-  const double s = distance(t);
-  const double u = uOfS(s);
-  const Eigen::Vector2d p = spline(u, 0);
-  const Eigen::Vector2d d1 = spline(u, 1);
-  const double heading = std::atan2(d1.y(), d1.x());
+  const Leg& leg = legs_[legAt(t)];
+  const double s = leg.s0 + legDistance(leg, t - leg.t0);
+  const double u = uOfS(leg, s - leg.s0);
+  const Eigen::Vector2d p = spline(leg, u, 0);
+  double heading;
+  if (t < leg.t1 || !leg.stops)
+  {
+    const Eigen::Vector2d d1 = spline(leg, u, 1);
+    heading = std::atan2(d1.y(), d1.x());
+  }
+  else  // standing at the leg's end, turning on the spot
+    heading = leg.heading_out + leg.turn * smooth5((t - leg.turn_at) / leg.turn_duration);
   const Eigen::Vector2d normal(-std::sin(heading), std::cos(heading));
   // Gait: amplitude grows smoothly over the first 0.6 m.
   const double amp = smooth5(s / 0.6);

@@ -404,7 +404,7 @@ World parseRoot(const YAML::Node& root, const Ctx& c)
   if (!tr) c.fail(root, "trajectory", "missing (required): {waypoints: [[x, y], ...], ...}");
   const std::string tf = "trajectory";
   c.checkKeys(tr, tf, {"waypoints", "loops", "speed", "speed_variation", "eye_height", "start_still",
-                       "corner_radius", "pitch_down", "scan", "bob", "sway", "step_length", "head_turns",
+                       "corner_radius", "turn_on_spot_above", "turn_rate", "max_walk_turn_rate", "pitch_down", "scan", "bob", "sway", "step_length", "head_turns",
                        "auto_head_turns"});
   TrajectoryScript& t = w.trajectory;
   const YAML::Node wps = tr["waypoints"];
@@ -429,6 +429,9 @@ World parseRoot(const YAML::Node& root, const Ctx& c)
   t.eye_height = c.num(tr, "eye_height", tf, t.eye_height, false, 0.5, 2.5);
   t.start_still = c.num(tr, "start_still", tf, t.start_still, false, 0.0, 60);
   t.corner_radius = c.num(tr, "corner_radius", tf, t.corner_radius, false, 0.05, 10);
+  t.turn_on_spot_above = c.num(tr, "turn_on_spot_above", tf, t.turn_on_spot_above / DEG, false, 30, 180) * DEG;
+  t.turn_rate = c.num(tr, "turn_rate", tf, t.turn_rate / DEG, false, 5, 720) * DEG;
+  t.max_walk_turn_rate = c.num(tr, "max_walk_turn_rate", tf, t.max_walk_turn_rate / DEG, false, 10, 3600) * DEG;
   if (tr["pitch_down"])
   {
     auto p = c.vec(tr, "pitch_down", tf, 2, true);

@@ -168,3 +168,53 @@ TEST(Motion, NoisyImuDeterministicAndBiased)
   EXPECT_EQ(WearerMotion(w.trajectory, 1).headTurns().size(), m.headTurns().size());
   EXPECT_NE(WearerMotion(w.trajectory, 9).linkPose(8.0).linear(), m.linkPose(8.0).linear());
 }
+
+TEST(Motion, HairpinStopsAndTurnsOnTheSpot)
+{
+  // Out 4 m, straight back, then off at 45 deg: the reversal is a stop and a turn on the spot (the
+  // curve's tangent would otherwise flip 180 deg between two frames); the 45 deg corner is walked
+  // as a curve.
+  TrajectoryScript sc;
+  sc.waypoints = {{0, 0}, {4, 0}, {0.5, 0}, {0.5 - 3 * M_SQRT1_2, 3 * M_SQRT1_2}};
+  sc.auto_head_turns = false;
+  sc.scan_amplitude = 0.0;
+  sc.start_still = 0.5;
+  const WearerMotion m(sc, 1);
+  EXPECT_NEAR(m.pathLength(), 4.0 + 3.5 + 3.0, 0.2);
+  EXPECT_LT((m.pathPoint(m.pathLength()) - sc.waypoints.back()).norm(), 1e-6);
+  // Where the walk reaches (4, 0) it stands still; the heading turns by pi there, smoothly.
+  double t_far = -1.0, max_step = 0.0;
+  for (double t = 0.0; t + 1.0 / 15 <= m.duration(); t += 1.0 / 15)
+  {
+    const Eigen::Isometry3d a = m.linkPose(t), b = m.linkPose(t + 1.0 / 15);
+    max_step = std::max(max_step, Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle());
+    if (t_far < 0 && m.distance(t) > 4.0 - 1e-6) t_far = t;
+  }
+  ASSERT_GT(t_far, 0.0);
+  EXPECT_LT(max_step, 8.0 * M_PI / 180.0);  // 60 deg/s peak turn rate: 4 deg per frame
+  EXPECT_NEAR(m.speed(t_far + 0.5), 0.0, 1e-6);
+  const auto yawAt = [&](double t) {
+    const Eigen::Vector3d x = m.linkPose(t).linear().col(0);
+    return std::atan2(x.y(), x.x());
+  };
+  EXPECT_NEAR(std::abs(yawAt(t_far - 1.0)), 0.0, 0.05);
+  // 180 deg at 60 deg/s peak takes 5.6 s, between pauses of 0.3 s.
+  EXPECT_NEAR(std::abs(yawAt(t_far + 6.3)), M_PI, 0.05);
+  EXPECT_GT(m.speed(t_far + 6.3 + 2.0), 0.3);  // walking back
+  // The gyro says the same as the poses through the turn.
+  Eigen::Matrix3d R = m.linkPose(t_far).linear();
+  const double dt = 0.001;
+  for (double t = t_far; t < t_far + 6.3 - 1e-9; t += dt)
+  {
+    const Eigen::Vector3d w1 = m.angularVelocity(t + dt / 2);
+    R = R * Eigen::AngleAxisd(w1.norm() * dt, w1.norm() > 0 ? w1.normalized() : Eigen::Vector3d::UnitX());
+  }
+  EXPECT_LT(Eigen::AngleAxisd(R.transpose() * m.linkPose(t_far + 6.3).linear()).angle(), 2e-3);
+  // The 45 deg corner (gentler than turn_on_spot_above and max_walk_turn_rate) is walked without
+  // stopping.
+  double min_speed = 1e9;
+  const double s_corner = 4.0 + 3.5;
+  for (double t = 0.0; t < m.duration(); t += 0.02)
+    if (std::abs(m.distance(t) - s_corner) < 0.5) min_speed = std::min(min_speed, m.speed(t));
+  EXPECT_GT(min_speed, 0.5);
+}

@@ -45,14 +45,32 @@ public:
   const std::vector<HeadTurn>& headTurns() const { return turns_; }
 
 private:
-  Eigen::Vector2d spline(double u, int deriv) const;
-  double uOfS(double s) const;
-  double spanLength(int j, double u0, double u1) const;
+  /// One stretch walked without stopping: a B-spline through its waypoints, then (unless it is the
+  /// last) a stop and a turn on the spot towards the next leg.
+  struct Leg
+  {
+    std::vector<Eigen::Vector2d> ctrl;  ///< B-spline control points
+    std::vector<double> span_s;         ///< arc length at the start of each span
+    double length = 0.0;
+    double heading_in = 0.0, heading_out = 0.0;  ///< rad, tangent at the start / end
+    double s0 = 0.0;       ///< distance walked before this leg
+    double t0 = 0.0;       ///< s, the leg starts moving
+    double t1 = 0.0;       ///< s, the leg reaches its end point
+    double t_ramp = 1.5;   ///< s, acceleration (and deceleration) time
+    double t_cruise = 0.0; ///< s, cruise time of a leg that stops
+    bool stops = false;    ///< ends in a stop and a turn on the spot
+    double turn = 0.0, turn_at = 0.0, turn_duration = 0.0;  ///< rad, s, s
+  };
+  static Leg buildLeg(const std::vector<Eigen::Vector2d>& poly, double corner_radius);
+  static Eigen::Vector2d spline(const Leg& leg, double u, int deriv);
+  static double uOfS(const Leg& leg, double s);
+  static double spanLength(const Leg& leg, int j, double u0, double u1);
+  double legDistance(const Leg& leg, double tau) const;
+  size_t legAt(double t) const;
   double headYawOffset(double t) const;
 
   TrajectoryScript script_;
-  std::vector<Eigen::Vector2d> ctrl_;  ///< B-spline control points
-  std::vector<double> span_s_;         ///< arc length at the start of each span
+  std::vector<Leg> legs_;
   double length_ = 0.0;
   double t_walk_ = 0.0;  ///< walking starts
   double t_ramp_ = 1.5;  ///< acceleration phase

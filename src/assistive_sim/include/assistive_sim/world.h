@@ -78,6 +78,9 @@ struct TrajectoryScript
   double eye_height = 1.6;       ///< m, camera height above the floor
   double start_still = 1.0;      ///< s standing still before walking
   double corner_radius = 0.8;    ///< m, rounding of waypoint corners
+  double turn_on_spot_above = 100.0 * M_PI / 180.0;  ///< rad, sharper corners: stop and turn on the spot
+  double turn_rate = 60.0 * M_PI / 180.0;            ///< rad/s, peak rate of a turn on the spot
+  double max_walk_turn_rate = 180.0 * M_PI / 180.0;  ///< rad/s, tighter rounded corners: stop and turn
   double pitch_min = 10.0 * M_PI / 180.0;  ///< rad, head pitch down range
   double pitch_max = 30.0 * M_PI / 180.0;
   double scan_amplitude = 8.0 * M_PI / 180.0;  ///< rad, background yaw scanning
