@@ -20,6 +20,7 @@ MOTOR_Y = 0.13                        # motors' lateral offset from the torso's 
 MOTOR_Z_SHOULDER = 0.18               # above the torso origin
 MOTOR_Z_WAIST = -0.22                 # below the torso origin
 MOTOR_RADIUS = 0.02
+SONAR_XYZ = (0.12, 0.0, 0.05)  # m, on the torso: chest front, above the motors' mid height
 MIN_EYE_HEIGHT = 0.8                  # the body must fit between the eyes and the floor
 OPTICAL_RPY = "-1.5707963267948966 0 -1.5707963267948966"
 
@@ -87,6 +88,10 @@ def make_urdf(baseline, eye_height):
             out.append(link(name, visual('<sphere radius="%s"/>' % fmt(MOTOR_RADIUS),
                                          material="motor")))
             out.append(joint(name + "_joint", "torso", name, (front, sign * MOTOR_Y, z)))
+    # The forward ultrasonic ranger on the chest's front, looking along x (issue 20: it hears the
+    # glass the cameras see through); assistive_sim's linkToSonar() mirrors this mount.
+    out.append(link("sonar_front", visual('<box size="%s"/>' % fmt(0.02, 0.045, 0.02), material="black")))
+    out.append(joint("sonar_front_joint", "torso", "sonar_front", SONAR_XYZ))
     # Ground frame: eye_height below camera_link, straight below it (not below the torso).
     out.append(link("base_footprint"))
     out.append(joint("base_footprint_joint", "torso", "base_footprint",

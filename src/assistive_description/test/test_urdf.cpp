@@ -87,7 +87,8 @@ void checkTree(const urdf::ModelInterfaceSharedPtr& model, double baseline, doub
       {"motor_right_shoulder", "torso"},
       {"motor_left_waist", "torso"},
       {"motor_right_waist", "torso"},
-      {"base_footprint", "torso"}};
+      {"base_footprint", "torso"},
+      {"sonar_front", "torso"}};
   for (const auto& pc : parents)
   {
     urdf::LinkConstSharedPtr l = model->getLink(pc.first);
@@ -96,7 +97,7 @@ void checkTree(const urdf::ModelInterfaceSharedPtr& model, double baseline, doub
     EXPECT_EQ(l->getParent()->name, pc.second) << pc.first;
     EXPECT_EQ(l->parent_joint->type, urdf::Joint::FIXED) << pc.first;
   }
-  EXPECT_EQ(model->links_.size(), 9u);
+  EXPECT_EQ(model->links_.size(), 10u);
 
   // Optical frames: z forward (= camera_link x), x right (= -y), y down (= -z).
   for (const char* name : {"camera_left_optical_frame", "camera_right_optical_frame"})
@@ -129,6 +130,13 @@ void checkTree(const urdf::ModelInterfaceSharedPtr& model, double baseline, doub
     EXPECT_LT(m->p.z, -0.1);
     EXPECT_GT(m->p.z, -eye_height);
   }
+  // The forward ranger: on the chest's front in the head's mid-plane, looking along camera_link's x
+  // (assistive_sim's linkToSonar() casts the simulated cone from this same pose).
+  const Pose sonar = poseInRoot(model, "sonar_front");
+  EXPECT_NEAR(sonar.p.y, mid, 1e-9);
+  EXPECT_LT(sonar.p.z, -0.2);
+  EXPECT_GT(sonar.p.z, -0.6);
+  expectVec(axis(sonar.q, 1, 0, 0), 1, 0, 0, "sonar_front x forward");
   // The visuals the brief asks for: head, torso, motors.
   EXPECT_FALSE(model->getLink("camera_link")->visual_array.empty());
   EXPECT_TRUE(model->getLink("torso")->visual);

@@ -20,6 +20,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
+#include <sensor_msgs/Range.h>
 #include <sensor_msgs/image_encodings.h>
 #include <std_msgs/String.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -178,6 +179,21 @@ void StereoBagWriter::writeImu(const ImuSample& s)
   ImuSample c = s;
   c.stamp = toRos(s.stamp).toSec();
   bag_->write(topics_.imu, toRos(s.stamp), toMsg(c, topics_.imu_frame));
+}
+
+void StereoBagWriter::writeRange(double stamp, double range, double field_of_view, double min_range,
+                                  double max_range)
+{
+  sensor_msgs::Range m;
+  m.header.stamp = toRos(stamp);
+  m.header.seq = seq_;
+  m.header.frame_id = topics_.sonar_frame;
+  m.radiation_type = sensor_msgs::Range::ULTRASOUND;
+  m.field_of_view = static_cast<float>(field_of_view);
+  m.min_range = static_cast<float>(min_range);
+  m.max_range = static_cast<float>(max_range);
+  m.range = static_cast<float>(range);
+  bag_->write(topics_.sonar, m.header.stamp, m);
 }
 
 void StereoBagWriter::writeOccupancy(const OccupancyGrid& g, double stamp)

@@ -12,6 +12,8 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -19,6 +21,7 @@
 
 #include <assistive_sim/motion.h>
 #include <assistive_sim/renderer.h>
+#include <assistive_sim/ultrasonic.h>
 #include <assistive_eval/stereo_bag.h>
 #include <assistive_sim/world.h>
 
@@ -32,6 +35,7 @@ void usage(std::ostream& os = std::cerr)
   os << "usage: render_bag --world WORLD --out FILE.bag [--seed N] [--frames N] [--width W --height H]\n"
                "                  [--rate HZ] [--noise SIGMA] [--exposure-time S] [--exposure-variation X] [--imu-rate HZ]\n"
                "                  [--depth]  (also write the left ground-truth depth, /ground_truth/left/depth)\n"
+               "                  [--no-sonar]  (no /sonar/front: the vest's forward ultrasonic ranger, 20 Hz)\n"
                "                  [--imperfect]  random camera errors inside the published ranges, drawn from the seed\n"
                "                  [--errors-seed N]  draw them from N instead (the walk and noise keep --seed)\n"
                "                  [--baseline-error X] [--focal-error X]  true = nominal * (1 + X); camera_info stays nominal\n"
@@ -81,6 +85,8 @@ int main(int argc, char** argv)
   int frames = -1;
   CameraParams cam;
   ImuParams imu_p;
+  UltrasonicParams sonar_p;
+  bool with_sonar = true;
   double rate = 15.0;
   bool write_depth = false, imperfect = false, exposure_given = false;
   long errors_seed = -1;  // --errors-seed: the imperfections' draw (default: --seed)
@@ -138,6 +144,7 @@ int main(int argc, char** argv)
       else if (a == "--exposure-variation") cam.exposure_variation = std::stod(val());
       else if (a == "--imu-rate") imu_p.rate = std::stod(val());
       else if (a == "--depth") write_depth = true;
+      else if (a == "--no-sonar") with_sonar = false;
       else if (a == "-h" || a == "--help")
       {
         usage(std::cout);
@@ -210,6 +217,8 @@ int main(int argc, char** argv)
     const WearerMotion motion(world.trajectory, seed);
     StereoRenderer renderer(world, cam);
     ImuSimulator imu(imu_p, seed);
+    UltrasonicRanger sonar(world, sonar_p, seed);
+    int sonar_k = 0;
     const int total = static_cast<int>(std::floor(motion.duration() * rate)) + 1;
     const int n = frames > 0 ? std::min(frames, total) : total;
     const double t0 = 100.0;  // bag stamps start here (ros::Time 0 means "unset")
@@ -226,6 +235,12 @@ int main(int argc, char** argv)
       const double t = k / rate;
       StereoFrame f;
       while (imu.nextTime() <= t + 1e-9) f.imu.push_back(imu.next(motion, t0));
+      for (double ts = sonar_k / sonar_p.rate; with_sonar && ts <= t + 1e-9; ts = ++sonar_k / sonar_p.rate)
+      {
+        const std::optional<double> r = sonar.ping(motion.linkPose(ts) * linkToSonar());
+        writer.writeRange(t0 + ts, r ? *r : std::numeric_limits<double>::infinity(), sonar_p.beam_width,
+                          sonar_p.min_range, sonar_p.max_range);
+      }
       const Eigen::Isometry3d T = motion.leftOpticalPose(t);
       const Eigen::Vector3d omega_opt = R_lo.transpose() * motion.angularVelocity(t);
       const auto r0 = std::chrono::steady_clock::now();

@@ -186,7 +186,7 @@ cv::Mat heatMap(const World& world, const std::vector<TrialResult>& trials, doub
   for (const Solid& s : world.solids)
   {
     if (s.walkable || s.z0 >= 2.0) continue;
-    const cv::Scalar col = s.glass ? cv::Scalar(200, 120, 40) : s.z0 >= 1.0 ? cv::Scalar(170, 170, 170)
+    const cv::Scalar col = s.glass || s.glazing ? cv::Scalar(200, 120, 40) : s.z0 >= 1.0 ? cv::Scalar(170, 170, 170)
                                                                             : cv::Scalar(110, 110, 110);
     if (s.shape == Solid::CYLINDER)
     {

@@ -48,7 +48,7 @@ double BodyCollider::distance(const Solid& s, const Eigen::Vector2d& xy) const
 
 ObstacleKind BodyCollider::classify(const Solid& s) const
 {
-  if (s.glass) return ObstacleKind::GLASS;
+  if (s.glass || s.glazing) return ObstacleKind::GLASS;  // the panel, its frame and bands
   if (s.z0 >= overhang_min_z_) return ObstacleKind::OVERHANG;  // a lintel too: it hits the head
   if (s.source.find("(wall)") != std::string::npos) return ObstacleKind::WALL;
   return ObstacleKind::FURNITURE;

@@ -377,7 +377,7 @@ World parseRoot(const YAML::Node& root, const Ctx& c)
       }
       else if (type == "glass")
       {
-        c.checkKeys(e, f, {"type", "from", "to", "bottom", "top", "thickness", "reflectance"});
+        c.checkKeys(e, f, {"type", "from", "to", "bottom", "top", "thickness", "reflectance", "frame", "manifestation"});
         auto a = c.vec(e, "from", f, 2, true), b = c.vec(e, "to", f, 2, true);
         const Eigen::Vector2d A(a[0], a[1]), B(b[0], b[1]);
         const double len = (B - A).norm();
@@ -390,6 +390,47 @@ World parseRoot(const YAML::Node& root, const Ctx& c)
         s.glass = true;
         s.reflectance = c.num(e, "reflectance", f, 0.12, false, 0.0, 0.5);
         w.solids.push_back(s);
+        const double yaw = s.yaw;
+        const Eigen::Vector2d dir = (B - A) / len;
+        // Glazing the camera can see (issue 20): the frame (mullions, head and bottom rails) and
+        // manifestation bands, opaque solids in the panel's plane, a little thicker than the glass
+        // so they are what a ray meets first.
+        auto glazing = [&](double along0, double along1, double z0, double z1, double depth, int m, const std::string& what) {
+          const Eigen::Vector2d cxy = A + dir * (0.5 * (along0 + along1));
+          Solid g = box(cxy.x(), cxy.y(), along1 - along0, depth, yaw, z0, z1, m, src + " " + what);
+          g.glazing = true;
+          w.solids.push_back(g);
+        };
+        if (const YAML::Node fr = e["frame"])
+        {
+          const std::string ff = f + ".frame";
+          c.checkKeys(fr, ff, {"mullion_spacing", "mullion_width", "head_rail", "bottom_rail", "depth", "material"});
+          const int fm = materialRef(c, fr, ff, ids, 0);
+          const double depth = c.num(fr, "depth", ff, 0.06, false, th, 1.0);
+          const double spacing = c.num(fr, "mullion_spacing", ff, 1.5, false, 0.0, 100);
+          const double mw = c.num(fr, "mullion_width", ff, 0.05, false, 0.005, 1.0);
+          const double head = c.num(fr, "head_rail", ff, 0.08, false, 0.0, 2.0);
+          const double bottom = c.num(fr, "bottom_rail", ff, 0.10, false, 0.0, 2.0);
+          if (head + bottom >= s.z1 - s.z0) c.fail(fr, ff, "the rails cover the whole panel");
+          // Mullions at both ends and every mullion_spacing between (0: ends only).
+          const int gaps = spacing > 0 ? std::max(1, static_cast<int>(std::round(len / spacing))) : 1;
+          for (int k = 0; k <= gaps; ++k)
+          {
+            const double at = len * k / gaps;
+            glazing(std::max(0.0, at - mw / 2), std::min(len, at + mw / 2), s.z0, s.z1, depth, fm,
+                    "mullion " + std::to_string(k));
+          }
+          if (head > 0) glazing(0.0, len, s.z1 - head, s.z1, depth, fm, "head rail");
+          if (bottom > 0) glazing(0.0, len, s.z0, s.z0 + bottom, depth, fm, "bottom rail");
+        }
+        forEachItem(c, e, f, "manifestation", {"bottom", "top", "material"},
+                    "expected a list of {bottom, top, material} bands",
+                    [&](const YAML::Node& n, const std::string& bf) {
+                      const double z0 = c.num(n, "bottom", bf, 0.85, true, 0, 50);
+                      const double z1 = c.num(n, "top", bf, 1.0, true, 0, 50);
+                      if (z1 <= z0) c.fail(n["top"], bf + ".top", "must be above bottom");
+                      glazing(0.0, len, z0, z1, th + 0.004, materialRef(c, n, bf, ids, 0), "band");
+                    });
       }
       else
       {

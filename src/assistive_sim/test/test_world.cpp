@@ -160,9 +160,64 @@ TEST(Occupancy, KnownCells)
   EXPECT_EQ(computeOccupancy(low).atWorld(6.0, 1.0), CELL_FREE);
 }
 
+TEST(World, GlassFrameAndManifestationAreOpaqueGlazing)
+{
+  // A 4.5 m panel from (0, 2) to (4.5, 2), 2.5 m high: mullions every 1.5 m (4, at 0, 1.5, 3, 4.5),
+  // head and bottom rails, two manifestation bands; all in the panel's plane, thicker than the glass.
+  const World w = World::parse(R"(
+name: g
+materials: {alu: {pattern: plain}, band: {pattern: tiles}}
+floor: {min: [-1, -1], max: [6, 4]}
+elements:
+  - type: glass
+    from: [0, 2]
+    to: [4.5, 2]
+    top: 2.5
+    frame: {mullion_spacing: 1.5, mullion_width: 0.06, head_rail: 0.1, bottom_rail: 0.12, material: alu}
+    manifestation: [{bottom: 0.85, top: 1.0, material: band}, {bottom: 1.4, top: 1.6}]
+trajectory: {waypoints: [[0, 0], [4, 0]]}
+)", "glass frame");
+  ASSERT_EQ(w.solids.size(), 1u + 4u + 2u + 2u);
+  EXPECT_TRUE(w.solids[0].glass);
+  int mullions = 0, rails = 0, bands = 0;
+  for (size_t i = 1; i < w.solids.size(); ++i)
+  {
+    const Solid& s = w.solids[i];
+    EXPECT_TRUE(s.glazing);
+    EXPECT_FALSE(s.glass);
+    EXPECT_NEAR(s.center.y(), 2.0, 1e-12);
+    EXPECT_GT(s.half.y(), w.solids[0].half.y());  // in front of the glass on both faces
+    if (s.z1 - s.z0 > 2.0)
+    {
+      // Full width inside the panel, half at its two ends (the frame stops at the panel's edge).
+      const bool end = s.center.x() < 0.1 || s.center.x() > 4.4;
+      EXPECT_NEAR(s.half.x(), end ? 0.015 : 0.03, 1e-9) << s.center.x();
+      EXPECT_NEAR(std::remainder(s.center.x(), 1.5), 0.0, end ? 0.016 : 1e-9) << s.center.x();
+      ++mullions;
+    }
+    else if (s.half.x() > 2.0 && (s.z0 == 0.0 || s.z1 == 2.5))
+      ++rails;
+    else
+      ++bands;
+  }
+  EXPECT_EQ(mullions, 4);
+  EXPECT_EQ(rails, 2);
+  EXPECT_EQ(bands, 2);
+  EXPECT_NEAR(w.solids.back().z0, 1.4, 1e-12);
+  EXPECT_NEAR(w.solids.back().z1, 1.6, 1e-12);
+  // A band whose top is below its bottom is refused with its field named.
+  EXPECT_THROW(World::parse(R"(
+name: g
+floor: {min: [-1, -1], max: [6, 4]}
+elements:
+  - {type: glass, from: [0, 2], to: [4.5, 2], manifestation: [{bottom: 1.0, top: 0.9}]}
+trajectory: {waypoints: [[0, 0], [4, 0]]}
+)", "bad band"), WorldError);
+}
+
 TEST(World, ShippedWorldsLoad)
 {
-  for (const char* name : {"course", "corridor", "parking", "glass", "plaza"})
+  for (const char* name : {"course", "corridor", "parking", "glass", "glass_bare", "plaza"})
   {
     const std::string path = resolveWorldPath(name, ASSISTIVE_SIM_SOURCE_WORLDS);
     EXPECT_NE(path.find(name), std::string::npos);

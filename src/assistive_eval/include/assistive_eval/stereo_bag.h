@@ -37,6 +37,8 @@ struct StereoBagTopics
   std::string left_frame = "camera_left_optical_frame";
   std::string right_frame = "camera_right_optical_frame";
   std::string imu_frame = "camera_link";
+  std::string sonar = "/sonar/front";       ///< sensor_msgs/Range of the vest's forward ranger
+  std::string sonar_frame = "sonar_front";
   std::string gt_world_frame = "gt_world";
   std::string gt_link_frame = "gt_camera_link";
   std::string gt_left_frame = "gt_camera_left_optical_frame";
@@ -60,6 +62,9 @@ public:
   void writeGroundTruth(double stamp, const Eigen::Isometry3d& T_world_left_optical,
                         const Eigen::Vector3d& velocity = Eigen::Vector3d::Zero());
   void writeImu(const ImuSample& sample);
+  /// One ranger ping as sensor_msgs/Range (ULTRASOUND): `range` in m, or +Inf for "no echo
+  /// within max_range" (REP-117); field of view in rad, limits in m.
+  void writeRange(double stamp, double range, double field_of_view, double min_range, double max_range);
   /// Ground-truth occupancy (written once per bag, latched semantics).
   void writeOccupancy(const OccupancyGrid& grid, double stamp);
   /// A std_msgs/String on `topic` (e.g. render_bag's /sim/camera_errors: what the simulator applied).

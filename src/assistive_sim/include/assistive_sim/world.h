@@ -50,6 +50,7 @@ struct Solid
   int material = 0;
   bool walkable = false;  ///< steps / curbs: raise the floor instead of blocking
   bool glass = false;     ///< see-through panel (rendered as its mid plane)
+  bool glazing = false;   ///< opaque part of a glass element: frame, rail or manifestation band
   double reflectance = 0.12;  ///< glass only
   std::string source;     ///< e.g. "elements[3] (table)", for messages
 
