@@ -33,8 +33,16 @@ bool ImuBuffer::integrate(double t0, double t1, Eigen::Quaterniond& R, double sl
 
 bool ImuBuffer::integrate(double t0, double t1, Eigen::Quaterniond& R, Eigen::Vector3d& dv, double slack) const
 {
+  Eigen::Vector3d dp;
+  return integrate(t0, t1, R, dv, dp, slack);
+}
+
+bool ImuBuffer::integrate(double t0, double t1, Eigen::Quaterniond& R, Eigen::Vector3d& dv, Eigen::Vector3d& dp,
+                          double slack) const
+{
   R.setIdentity();
   dv.setZero();
+  dp.setZero();
   if (s_.size() < 2 || t1 <= t0 || s_.front().t > t0 + slack || s_.back().t < t1 - slack)
     return false;
   // Piecewise-linear gyro and accelerometer between samples (clamped at the ends), integrated
@@ -55,7 +63,10 @@ bool ImuBuffer::integrate(double t0, double t1, Eigen::Quaterniond& R, Eigen::Ve
   auto step = [&](double te) {
     const Eigen::Vector3d w = 0.5 * (at(t, true) + at(te, true)) * (te - t);
     // accelerometer rotated at the step's middle orientation
-    dv += (q * expq(0.5 * w)) * (0.5 * (at(t, false) + at(te, false))) * (te - t);
+    const Eigen::Vector3d a = (q * expq(0.5 * w)) * (0.5 * (at(t, false) + at(te, false)));
+    const double h = te - t;
+    dp += dv * h + 0.5 * a * h * h;
+    dv += a * h;
     q = q * expq(w);
     t = te;
   };

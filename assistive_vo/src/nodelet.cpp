@@ -272,10 +272,10 @@ class StereoOdometryNodelet : public nodelet::Nodelet
         input_problem_.clear();
     }
     Eigen::Quaterniond gyro;
-    Eigen::Vector3d dv;
+    Eigen::Vector3d dv, dp;
     bool have_gyro = false;
     if (p_.use_imu && !imu_.empty() && last_stamp_ > 0 && t > last_stamp_)
-      have_gyro = imu_.integrate(last_stamp_, t, gyro, dv);
+      have_gyro = imu_.integrate(last_stamp_, t, gyro, dv, dp);
     last_stamp_ = t;
     // Gravity over the last 0.5 s (at least 0.3 s of samples: a step's accelerations average
     // out); the core levels the pose by it after a gap the gyro does not cover.
@@ -285,7 +285,8 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       vo_->setGravityHint(up);
 
     const VoOutput o =
-        vo_->process(lc->image, rc->image, t, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr);
+        vo_->process(lc->image, rc->image, t, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr,
+                     have_gyro ? &dp : nullptr);
     last_ = o;
     freq_->tick();
     if (!o.message.empty())

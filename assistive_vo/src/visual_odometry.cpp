@@ -46,6 +46,14 @@ Eigen::Isometry3d linkPose(const Eigen::Isometry3d& T_x_optical)
   T.linear() = T_x_optical.linear() * R_link_optical().transpose();
   return T;
 }
+InertialCoaster::Options coastOptions(const VoParams& p)
+{
+  InertialCoaster::Options o;
+  o.window_s = p.imu_coast_window_s;
+  o.accel_noise_density = p.accel_noise_density;
+  o.accel_error_sigma = p.accel_error_sigma;
+  return o;
+}
 GravityAligner::Options gravityOptions(const VoParams& p)
 {
   GravityAligner::Options o;
@@ -68,7 +76,8 @@ const char* toString(TrackingState s)
 }
 
 VisualOdometry::VisualOdometry(const VoParams& p, const StereoCamera& cam)
-  : p_(p), cam_(cam), detector_(p), stereo_(p), checks_(p), bias_(p), gravity_(gravityOptions(p))
+  : p_(p), cam_(cam), detector_(p), stereo_(p), checks_(p), bias_(p), gravity_(gravityOptions(p)),
+    coast_(coastOptions(p))
 {
 }
 
@@ -76,6 +85,7 @@ void VisualOdometry::setParams(const VoParams& p)
 {
   p_ = p;
   gravity_.setOptions(gravityOptions(p));
+  coast_.setOptions(coastOptions(p));
   detector_.setParams(p);
   stereo_.setParams(p);
   checks_.setParams(p);
@@ -136,6 +146,7 @@ void VisualOdometry::reset()
   bias_.reset();
   clearOverlay();
   gravity_.clear();
+  coast_.clear();
   untrusted_ = true;
   untrusted_why_.clear();
   have_trusted_ = false;
@@ -145,11 +156,20 @@ void VisualOdometry::reset()
   checks_.reset();
 }
 
-bool VisualOdometry::mayCoast(double stamp, bool have_gyro) const
+bool VisualOdometry::mayCoast(double stamp, const FrameContext& fc) const
 {
   // Coasting is a guess: only with the gyro bounding the rotation, only briefly, and never once
-  // the pose has become untrusted (it stays so until a keyframe is tracked again).
-  return have_gyro && have_trusted_ && !untrusted_ && stamp - last_trusted_stamp_ <= p_.coast_max_s + 1e-6;
+  // the pose has become untrusted (it stays so until a keyframe is tracked again). With the
+  // accelerometer preintegrated and a velocity fitted, longer: while the position's uncertainty
+  // stays small.
+  if (!(fc.have_gyro && have_trusted_ && !untrusted_))
+    return false;
+  const double since = stamp - last_trusted_stamp_;
+  if (fc.have_imu && coast_.available())
+    return since <= p_.imu_coast_max_s + 1e-6 &&
+           (!coast_.coasting() ||
+            coast_.positionVariance(since) <= p_.imu_coast_max_sigma_m * p_.imu_coast_max_sigma_m);
+  return since <= p_.coast_max_s + 1e-6;
 }
 
 double VisualOdometry::imageChange(const cv::Mat& left)
@@ -373,7 +393,8 @@ VoOutput VisualOdometry::fail(const std::string& why, const cv::Mat* left, const
   // in this frame if it is usable, else wait for a usable frame.
   T_w_cur_ = T_w_cur_ * T_prev_cur_pred;
   last_T_prev_cur_ = T_prev_cur_pred;
-  cov_cur_ += Eigen::Matrix<double, 6, 6>::Identity() * 1e-2;
+  if (!imu_coasted_)  // (an IMU-coasted frame has grown the covariance by its own uncertainty)
+    cov_cur_ += Eigen::Matrix<double, 6, 6>::Identity() * 1e-2;
   if (have_keyframe_)  // count the transition tracking -> lost once
   {
     ++resets_;
@@ -401,8 +422,10 @@ VoOutput VisualOdometry::fail(const std::string& why, const cv::Mat* left, const
 // ---- the frame, in order: input checks, prediction, keyframe tracking, motion estimation,
 // plausibility, acceptance (gyro bias, new keyframe, gravity) ----
 VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, double stamp,
-                                 const Eigen::Quaterniond* gyro_link, const Eigen::Vector3d* dv_link)
+                                 const Eigen::Quaterniond* gyro_link, const Eigen::Vector3d* dv_link,
+                                 const Eigen::Vector3d* dp_link)
 {
+  imu_coasted_ = false;
   const auto t_start = Clock::now();
   FrameStats st;
   st.fast_threshold = detector_.threshold();
@@ -418,14 +441,24 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
 
   VoOutput o;
   if (!checkInput(left, right, st, fc, o))
+  {
+    coast_.clear();  // the next frame's IMU interval no longer joins two tracked frames
     return finish(o);
+  }
   fc.first = !have_pose_;
   if (fc.first)
     startPose(stamp);
   checkTiming(fc);
   predictMotion(gyro_link, fc, st);
+  if (fc.have_gyro && dv_link && dp_link && p_.imu_coasting && dv_link->allFinite() && dp_link->allFinite())
+  {
+    fc.have_imu = true;
+    fc.imu.dt = fc.dt_real;
+    fc.imu.dv = *dv_link;
+    fc.imu.dp = *dp_link;
+  }
   levelAfterGap(have_up_hint, fc);
-  fc.coast_ok = mayCoast(stamp, fc.have_gyro);
+  fc.coast_ok = mayCoast(stamp, fc);
   if (rejectImages(left, right, fc, st, o))
     return finish(o);
 
@@ -447,14 +480,14 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   last_dt_ = fc.dt;
   if (!pose_found)
     return finish(fail("too few inliers (" + std::to_string(m.rr.inliers.size()) + "): re-initialising", &left,
-                       &right, fc.lostMotion(), stamp, st));
+                       &right, lostMotion(fc), stamp, st));
   refinePose(fc, st, m);
 
   // ---- plausibility ----
   measureStereoConsistency(m, st);
   const std::string bad = checkPlausibility(m, gyro_link != nullptr, fc, st);
   if (!bad.empty())
-    return finish(fail(bad + ": re-initialising", &left, &right, fc.lostMotion(), stamp, st));
+    return finish(fail(bad + ": re-initialising", &left, &right, lostMotion(fc), stamp, st));
   R_kf_prev_vision_ = m.R_vision;
 
   // ---- accept; gyro bias and a new keyframe at the end of a keyframe span; gravity ----
@@ -465,21 +498,46 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
     startKeyframe(left, right, true, st);
   }
   levelWithGravity(stamp, dv_link);
+  coast_.addTracked(stamp, linkPose(T_odom_o0_ * T_w_cur_), fc.have_imu ? &fc.imu : nullptr);
 
   std::swap(prev_pyr_, cur_pyr_);
   last_stamp_ = stamp;
   return finish(makeOutput(TrackingState::TRACKING, st, m.T_prev_cur, fc.dt));
 }
 
-Eigen::Isometry3d VisualOdometry::FrameContext::lostMotion() const
+const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)
 {
-  Eigen::Isometry3d T = T_pred;
-  if (!coast_ok || !force_untrusted.empty())
+  if (fc.lost_done)
+    return fc.T_lost;
+  fc.lost_done = true;
+  Eigen::Isometry3d& T = fc.T_lost;
+  T = fc.T_pred;
+  const bool was_coasting = coast_.coasting();
+  if (!fc.coast_ok || !fc.force_untrusted.empty())
   {
     T.translation().setZero();
-    if (!have_gyro)
+    if (!fc.have_gyro)
       T.linear().setIdentity();
+    coast_.clear();
   }
+  else if (fc.have_imu && coast_.start())
+  {
+    // IMU coasting: translation from the preintegrated accelerometer and the velocity fitted at
+    // the last tracked frame; the rotation stays the bias-corrected gyro's (T_pred).
+    if (!was_coasting)
+      coast_var_ = 0.0;
+    const Eigen::Isometry3d T_odom_opt = T_odom_o0_ * T_w_cur_;
+    const Eigen::Vector3d dpos = coast_.step(T_odom_opt.linear() * R_link_optical().transpose(), fc.imu);
+    T.translation() = T_odom_opt.linear().transpose() * dpos;
+    // the covariance grows by what the coast adds (isotropic in position: the same in any axes)
+    const double var = coast_.positionVariance(coast_.coastTime());
+    cov_cur_.topLeftCorner<3, 3>() += Eigen::Matrix3d::Identity() * std::max(0.0, var - coast_var_);
+    cov_cur_.bottomRightCorner<3, 3>() += Eigen::Matrix3d::Identity() * bias_.rotationVariance(fc.dt_real);
+    coast_var_ = var;
+    imu_coasted_ = true;
+  }
+  else
+    coast_.clear();  // constant-velocity guess (coast_max_s at most)
   return T;
 }
 
@@ -591,7 +649,7 @@ bool VisualOdometry::rejectImages(const cv::Mat& left, const cv::Mat& right, Fra
   if (!imageUsable(left, fc.why) || !imageUsable(right, fc.why))
   {
     last_dt_ = fc.dt;
-    o = fail(fc.why, nullptr, nullptr, fc.lostMotion(), fc.stamp, st);
+    o = fail(fc.why, nullptr, nullptr, lostMotion(fc), fc.stamp, st);
     o.state = TrackingState::LOST;
     return true;
   }
@@ -605,7 +663,7 @@ bool VisualOdometry::rejectImages(const cv::Mat& left, const cv::Mat& right, Fra
   if (untrusted && fc.force_untrusted.empty())
     fc.force_untrusted = frozen_why;
   last_dt_ = fc.dt;
-  o = fail(frozen_why, nullptr, nullptr, fc.lostMotion(), fc.stamp, st);
+  o = fail(frozen_why, nullptr, nullptr, lostMotion(fc), fc.stamp, st);
   o.state = TrackingState::LOST;
   return true;
 }
@@ -622,8 +680,8 @@ VoOutput VisualOdometry::restartKeyframe(const cv::Mat& left, const cv::Mat& rig
   }
   if (!first)
   {
-    T_w_cur_ = T_w_cur_ * fc.lostMotion();
-    last_T_prev_cur_ = fc.lostMotion();
+    T_w_cur_ = T_w_cur_ * lostMotion(fc);
+    last_T_prev_cur_ = lostMotion(fc);
   }
   gravity_.clear();
   last_dt_ = fc.dt;
@@ -632,7 +690,7 @@ VoOutput VisualOdometry::restartKeyframe(const cv::Mat& left, const cv::Mat& rig
   last_stamp_ = fc.stamp;
   const TrackingState s = have_keyframe_ ? (first ? TrackingState::TRACKING : TrackingState::REINITIALISING)
                                          : (first ? TrackingState::INITIALISING : TrackingState::LOST);
-  VoOutput o = makeOutput(s, st, first ? Eigen::Isometry3d::Identity() : fc.lostMotion(), fc.dt);
+  VoOutput o = makeOutput(s, st, first ? Eigen::Isometry3d::Identity() : lostMotion(fc), fc.dt);
   o.message = fc.why;
   if (!have_keyframe_)
     o.message = "too few features with stereo depth to start tracking";

@@ -1,4 +1,8 @@
 // vo_benchmark FILE.bag [BAG2.bag ...] [--generated N [--kinds K,...] [--imperfect] [--keep DIR]] [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--verbose] [--dump FILE] [--set name=value ...]
+//              [--blackout START:DURATION]
+// (--blackout: the images from START s after the first frame for DURATION s are replaced by a
+//  plain grey (a plain wall filling the view); reports the position error at its end against the
+//  truth, relative to the last frame before it, and the frames to track again)
 // (--dump FILE: per-frame ground truth and estimated pose as text rows, for analysis;
 //  --verbose: per-frame stage counts on stderr: KLT tracks, epipolar kept, P3P inliers, corners)
 // Runs the VO core on every stereo frame of a bag (no roscore), and on the same frames the peer:
@@ -119,14 +123,14 @@ struct Peer
 
 int main(int argc, char** argv)
 {
-  std::string bag, plot, dump;
+  std::string bag, plot, dump, blackout;
   bool peer_on = true, imu_on = true, verbose = false;
   double peer_max_t = 0.15;
   ev::CommandLine::Sets overrides;
   long max_frames = -1;
   const char* usage =
       "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--peer-max-translation M]\n"
-      "                    [--verbose] [--dump FILE] [--set name=value ...]\n"
+      "                    [--verbose] [--dump FILE] [--set name=value ...] [--blackout START:DURATION]\n"
       "       vo_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect] [--keep DIR]\n"
       "                    [--plot DIR] [other options as above]\n"
       "  Runs the visual odometry on a stereo bag (README \"Topics of a stereo bag\"); last stdout line: JSON.\n"
@@ -143,6 +147,7 @@ int main(int argc, char** argv)
       .count("--frames", &max_frames, 0L)
       .number("--peer-max-translation", &peer_max_t)
       .text("--dump", &dump)
+      .text("--blackout", &blackout)
       .sets(&overrides);
   if (const int rc = cl.parse(argc, argv); rc >= 0)
     return rc;
@@ -171,6 +176,21 @@ int main(int argc, char** argv)
     plot = (dot == std::string::npos ? bag : bag.substr(0, dot)) + "_vo_trajectory.png";
   }
   cv::setNumThreads(1);
+  // --blackout START:DURATION (s after the first frame)
+  double bo_start = -1, bo_len = 0;
+  if (!blackout.empty() && (std::sscanf(blackout.c_str(), "%lf:%lf", &bo_start, &bo_len) != 2 || bo_start < 0 || bo_len <= 0))
+  {
+    std::cerr << "vo_benchmark: --blackout wants START:DURATION in seconds, got " << blackout << "\n";
+    return 2;
+  }
+  struct Blackout
+  {
+    bool have_a = false, have_b = false, resumed = false, trusted_end = false;
+    Eigen::Isometry3d gt_a, est_a, gt_b, est_b, gt_c, est_c;
+    double sigma_end = -1;
+    int frames_after = 0, resume_frames = -1;
+  } bo;
+  double first_stamp = -1;
 
   const std::unique_ptr<ev::StereoBagReader> reader = ev::openStereoBag("vo_benchmark", bag);
   if (!reader)
@@ -214,8 +234,17 @@ int main(int argc, char** argv)
     for (const auto& s : f.imu)
       imu.add(s.stamp, s.gyro, s.accel);
     Eigen::Quaterniond gyro;
-    Eigen::Vector3d dv;
+    Eigen::Vector3d dv, dp;
     bool have_gyro = false;
+    if (first_stamp < 0)
+      first_stamp = f.stamp;
+    const double t_rel = f.stamp - first_stamp;
+    const bool blanked = bo_start >= 0 && t_rel >= bo_start && t_rel < bo_start + bo_len;
+    if (blanked)
+    {
+      f.left = cv::Mat(f.left.size(), f.left.type(), cv::Scalar(128));
+      f.right = cv::Mat(f.right.size(), f.right.type(), cv::Scalar(128));
+    }
     if (!vo.started())
     {
       // The nodelet's start-up rule (startup_rule.h): gravity from the IMU, else wait, else level.
@@ -230,11 +259,40 @@ int main(int argc, char** argv)
         vo.setInitialUp(up);
     }
     else if (imu_on)
-      have_gyro = imu.integrate(prev_stamp, f.stamp, gyro, dv);
+      have_gyro = imu.integrate(prev_stamp, f.stamp, gyro, dv, dp);
     prev_stamp = f.stamp;
 
     const ev::Stopwatch timer;
-    const VoOutput o = vo.process(f.left, f.right, f.stamp, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr);
+    const VoOutput o = vo.process(f.left, f.right, f.stamp, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr,
+                                  have_gyro ? &dp : nullptr);
+    if (bo_start >= 0 && f.has_gt_pose && o.pose_valid)
+    {
+      if (t_rel < bo_start)
+      {
+        bo.have_a = true;
+        bo.gt_a = f.gt_pose;
+        bo.est_a = o.T_odom_optical;
+      }
+      else if (blanked && bo.have_a)
+      {
+        bo.have_b = true;
+        bo.gt_b = f.gt_pose;
+        bo.est_b = o.T_odom_optical;
+        bo.trusted_end = o.pose_trusted;
+        bo.sigma_end = std::sqrt(o.pose_covariance.topLeftCorner<3, 3>().trace() / 3.0);
+      }
+      else if (bo.have_b && !bo.resumed)
+      {
+        ++bo.frames_after;
+        if (o.state == TrackingState::TRACKING)
+        {
+          bo.resumed = true;
+          bo.resume_frames = bo.frames_after;
+          bo.gt_c = f.gt_pose;
+          bo.est_c = o.T_odom_optical;
+        }
+      }
+    }
     ms["total"].push_back(timer.cpuMs());
     wall.push_back(timer.wallMs());
     ms["pyramid"].push_back(o.stats.ms_pyramid);
@@ -389,6 +447,22 @@ int main(int argc, char** argv)
     std::cout << "no ground truth in the bag: trajectory errors are null\n";
 
   auto num = [](double v, int significant = 4) { return ev::jsonNumber(v, significant); };
+  // position error of the pose change since the last frame before the blackout (its axes)
+  auto relErr = [&](const Eigen::Isometry3d& gt_x, const Eigen::Isometry3d& est_x) {
+    return ((bo.est_a.inverse() * est_x).translation() - (bo.gt_a.inverse() * gt_x).translation()).norm();
+  };
+  if (bo_start >= 0)
+  {
+    std::cout << "blackout " << bo_start << " s + " << bo_len << " s: ";
+    if (bo.have_b)
+      std::cout << "position error at its end " << relErr(bo.gt_b, bo.est_b) << " m (truth moved "
+                << (bo.gt_a.inverse() * bo.gt_b).translation().norm() << " m; published 1-sigma " << bo.sigma_end
+                << " m, " << (bo.trusted_end ? "trusted" : "untrusted") << "), tracking again after "
+                << bo.resume_frames << " frames"
+                << (bo.resumed ? ", error then " + std::to_string(relErr(bo.gt_c, bo.est_c)) + " m" : "") << "\n";
+    else
+      std::cout << "no frame with a pose in the window\n";
+  }
   ev::JsonLine js;
   js.add("frames", frames).add("ms_median", num(percentile(ms["total"], 0.5)))
       .add("ms_p95", num(percentile(ms["total"], 0.95))).add("ms_p95_wall", num(percentile(wall, 0.95)));
@@ -411,6 +485,13 @@ int main(int argc, char** argv)
   }
   else
     js.addNull("est_net_motion_m").addNull("est_net_rotation_deg");
+  if (bo_start >= 0)
+    js.add("blackout_err_m", bo.have_b ? num(relErr(bo.gt_b, bo.est_b)) : "null")
+        .add("blackout_moved_m", bo.have_b ? num((bo.gt_a.inverse() * bo.gt_b).translation().norm()) : "null")
+        .add("blackout_sigma_m", bo.have_b ? num(bo.sigma_end) : "null")
+        .add("blackout_trusted_end", bo.have_b ? (bo.trusted_end ? "true" : "false") : "null")
+        .add("blackout_resume_frames", bo.resumed ? std::to_string(bo.resume_frames) : "null")
+        .add("blackout_err_resumed_m", bo.resumed ? num(relErr(bo.gt_c, bo.est_c)) : "null");
   js.add("resets", vo.resets()).add("frames_not_tracking", lost).add("max_recovery_frames", max_bad_run)
       .add("recovery_frames_max", recovery.maxUsableInRun()).add("unusable_frames", unusable);
   for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect"})

@@ -21,6 +21,14 @@ public:
   /// dv = sum R_t0_s a_s ds (the velocity increment of IMU preintegration; specific force, so it
   /// holds gravity's +g * dt as well as the motion).
   bool integrate(double t0, double t1, Eigen::Quaterniond& R, Eigen::Vector3d& dv, double slack = 0.02) const;
+  /// The same, and the position increment of IMU preintegration: dp = sum (dv_s ds + R_t0_s a_s ds^2 / 2),
+  /// the double integral of the specific force in camera_link axes at t0. With the velocity v and
+  /// the pose (R, p) at t0 in a frame where gravity is g: p1 = p + v T + g T^2 / 2 + R dp,
+  /// v1 = v + g T + R dv, R1 = R * R_t0_t1 (T = t1 - t0). The gyro is integrated as measured: the
+  /// VO removes its bias estimate from the frame-to-frame rotation; inside one frame interval the
+  /// bias turns the accelerometer by < 1e-3 rad, which is neglected.
+  bool integrate(double t0, double t1, Eigen::Quaterniond& R, Eigen::Vector3d& dv, Eigen::Vector3d& dp,
+                 double slack = 0.02) const;
   /// Mean accelerometer reading over the samples up to `t` (at most `window` s back);
   /// false without samples. `span` (optional): the time those samples cover.
   bool meanAccel(double t, double window, Eigen::Vector3d& a, double* span = nullptr) const;

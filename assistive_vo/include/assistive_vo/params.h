@@ -74,6 +74,15 @@ namespace assistive_vo
   /* after the last tracked frame; beyond it, or at once without a gyro, the pose is untrusted and */ \
   /* no longer extrapolated until a new keyframe is tracked. */ \
   X(double, coast_max_s, "coast_max", 0.3, 0.0, 2.0, "s", "a lost frame coasts on the gyro this long after the last tracked frame, then untrusted (at once without gyro)") \
+  /* With the accelerometer too (use_imu), a lost frame coasts on IMU preintegration (inertial_coasting.h): */ \
+  /* velocity and accelerometer error fitted to the tracked frames of the last imu_coast_window; */ \
+  /* trusted while the position's 1-sigma stays within imu_coast_max_sigma, for at most imu_coast_max. */ \
+  X(bool, imu_coasting, "imu_coasting", true, {}, {}, "", "lost frames coast on the preintegrated accelerometer (needs use_imu)") \
+  X(double, imu_coast_max_s, "imu_coast_max", 2.5, 0.0, 10.0, "s", "an IMU-coasted pose stays trusted at most this long after the last tracked frame ...") \
+  X(double, imu_coast_max_sigma_m, "imu_coast_max_sigma", 0.15, 0.0, 10.0, "m", "... and while its position 1-sigma (per axis) stays within this") \
+  X(double, imu_coast_window_s, "imu_coast_window", 1.5, 0.2, 10.0, "s", "tracked frames the velocity and the accelerometer error are fitted over") \
+  X(double, accel_noise_density, "accel_noise_density", 2.0e-3, 1e-6, 1.0, "m/s^2/sqrt(Hz)", "accelerometer white noise (coasting covariance)") \
+  X(double, accel_error_sigma, "accel_error_sigma", 0.15, 1e-3, 10.0, "m/s^2", "prior on the accelerometer bias + gravity leaking through tilt error, in the coasting fit") \
   /* Frozen camera: the left image (every 4th pixel) differs from the previous one by at most */ \
   /* frozen_max_change (mean absolute difference) while the gyro turns at least frozen_min_gyro_rate, */ \
   /* on frozen_frames frames in a row (1: the first repeated frame already; the fault suite saw a */ \

@@ -8,6 +8,7 @@
 #include "assistive_vo/feature_detector.h"
 #include "assistive_vo/gravity_alignment.h"
 #include "assistive_vo/gyro_bias_estimator.h"
+#include "assistive_vo/inertial_coasting.h"
 #include "assistive_vo/p3p_ransac.h"
 #include "assistive_vo/params.h"
 #include "assistive_vo/patch_alignment.h"
@@ -101,8 +102,13 @@ public:
   /// camera_link from the previous frame to this one (R_prev_cur), integrated from the gyro.
   /// `dv_link` (optional): the accelerometer integrated over the same interval, in camera_link
   /// axes at the previous frame (ImuBuffer::integrate); it keeps the odom frame level.
+  /// `dp_link` (optional, with dv_link): the accelerometer integrated twice (ImuBuffer::integrate);
+  /// with it a lost frame coasts on the IMU (inertial_coasting.h) instead of a constant-velocity guess.
   VoOutput process(const cv::Mat& left, const cv::Mat& right, double stamp,
-                   const Eigen::Quaterniond* gyro_link = nullptr, const Eigen::Vector3d* dv_link = nullptr);
+                   const Eigen::Quaterniond* gyro_link = nullptr, const Eigen::Vector3d* dv_link = nullptr,
+                   const Eigen::Vector3d* dp_link = nullptr);
+  /// Inertial coasting (velocity, accelerometer error fitted, coasting time).
+  const InertialCoaster& coaster() const { return coast_; }
 
   /// Flow vectors of the last frame over the left image (BGR): green = inlier, red = rejected.
   cv::Mat drawOverlay(const cv::Mat& left) const;
@@ -141,9 +147,15 @@ private:
     bool coast_ok = false;        ///< a lost frame may still coast (mayCoast)
     std::string force_untrusted;  ///< gap / time jump, frozen camera, gyro contradiction, unusable input
     std::string why;              ///< message of the frame
-    /// Motion of a lost frame: the prediction while coasting, else none (the gyro's rotation only).
-    Eigen::Isometry3d lostMotion() const;
+    bool have_imu = false;        ///< the accelerometer's preintegration `imu` is given
+    ImuDelta imu;
+    bool lost_done = false;       ///< T_lost computed (lostMotion)
+    Eigen::Isometry3d T_lost = Eigen::Isometry3d::Identity();
   };
+  /// Motion of a lost frame (computed once per frame): IMU coasting when the accelerometer is
+  /// there and a velocity is known, else the prediction while coasting, else none (the gyro's
+  /// rotation only). Coasting grows the pose covariance.
+  const Eigen::Isometry3d& lostMotion(FrameContext& fc);
   /// Motion of the current frame against the keyframe (P3P RANSAC, then the bundle adjustment).
   struct MotionEstimate
   {
@@ -213,7 +225,7 @@ private:
   /// the frame untrusted whatever the state (gap, frozen camera, gyro contradiction).
   void applyTrust(VoOutput& o, double stamp, bool coast_ok, const std::string& force_why);
   /// Lost frame: may it still coast (pose predicted and trusted)?
-  bool mayCoast(double stamp, bool have_gyro) const;
+  bool mayCoast(double stamp, const FrameContext& fc) const;
   /// Mean absolute difference of the left image to the previous one (every 4th pixel); -1 when
   /// there is no previous image of the same size. Keeps this image for the next frame.
   double imageChange(const cv::Mat& left);
@@ -278,6 +290,9 @@ private:
   double t_kf_ = 0.0;
   double last_stamp_pending_ = 0.0;
   GravityAligner gravity_;
+  InertialCoaster coast_;
+  bool imu_coasted_ = false;  ///< this frame's pose was coasted on the IMU (covariance already grown)
+  double coast_var_ = 0.0;    ///< position variance the coast has added so far (per axis)
   // fail-safe state
   bool untrusted_ = true;             ///< latched until a keyframe is tracked again
   std::string untrusted_why_;

@@ -1,0 +1,134 @@
+#include "assistive_vo/inertial_coasting.h"
+#include <algorithm>
+#include <cmath>
+
+namespace assistive_vo
+{
+void InertialCoaster::clear()
+{
+  f_.clear();
+  coasting_ = false;
+  tau_ = 0.0;
+}
+
+void InertialCoaster::addTracked(double stamp, const Eigen::Isometry3d& T_odom_link, const ImuDelta* d)
+{
+  if (coasting_ || !d || f_.empty() || stamp <= f_.back().t || stamp - f_.back().t > o_.max_frame_gap_s)
+    clear();
+  Frame fr{stamp, T_odom_link.translation(), T_odom_link.linear(), d ? *d : ImuDelta()};
+  f_.push_back(fr);
+  // keep window_s, plus the frame just before it
+  while (f_.size() > 2 && f_.back().t - f_[1].t >= o_.window_s)
+    f_.pop_front();
+}
+
+bool InertialCoaster::available() const
+{
+  return coasting_ || (f_.size() >= 3 && f_.back().t - f_.front().t >= o_.min_window_s);
+}
+
+bool InertialCoaster::fit()
+{
+  // Chain the preintegrated IMU over the window from zero velocity (S: position, U: velocity),
+  // and the same for a unit accelerometer bias (Mp, Mv), with the VO's orientation at each
+  // interval's start.
+  const size_t n = f_.size();
+  std::vector<double> t(n);
+  std::vector<Eigen::Vector3d> S(n, Eigen::Vector3d::Zero());
+  std::vector<Eigen::Matrix3d> Mp(n, Eigen::Matrix3d::Zero());
+  Eigen::Vector3d U = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d Mv = Eigen::Matrix3d::Zero();
+  const Eigen::Vector3d g(0, 0, -o_.gravity);
+  for (size_t k = 0; k < n; ++k)
+  {
+    t[k] = f_[k].t - f_[0].t;
+    if (k == 0)
+      continue;
+    const Frame& a = f_[k - 1];
+    const double h = f_[k].t - a.t;
+    S[k] = S[k - 1] + U * h + a.R * f_[k].d.dp;
+    U += a.R * f_[k].d.dv;
+    Mp[k] = Mp[k - 1] + Mv * h + a.R * (0.5 * h * h);
+    Mv += a.R * h;
+  }
+  const double T = t[n - 1];
+  // y_k = p_k - p_0 - g t^2 / 2 - S_k = c + v0 t + b t^2 / 2 - Mp_k ba: rows of A (3 x 12) per frame
+  double sigma = o_.position_sigma_m;
+  Eigen::Matrix<double, 12, 1> x = Eigen::Matrix<double, 12, 1>::Zero();
+  for (int pass = 0; pass < 2; ++pass)
+  {
+    Mat12 N = Mat12::Zero();
+    Eigen::Matrix<double, 12, 1> r = Eigen::Matrix<double, 12, 1>::Zero();
+    std::vector<Eigen::Matrix<double, 3, 12>> A(n);
+    for (size_t k = 0; k < n; ++k)
+    {
+      A[k].setZero();
+      A[k].block<3, 3>(0, 0).setIdentity();
+      A[k].block<3, 3>(0, 3) = Eigen::Matrix3d::Identity() * t[k];
+      A[k].block<3, 3>(0, 6) = Eigen::Matrix3d::Identity() * 0.5 * t[k] * t[k];
+      A[k].block<3, 3>(0, 9) = -Mp[k];
+      const Eigen::Vector3d y = f_[k].p - f_[0].p - 0.5 * g * t[k] * t[k] - S[k];
+      N += A[k].transpose() * A[k] / (sigma * sigma);
+      r += A[k].transpose() * y / (sigma * sigma);
+    }
+    for (int i = 6; i < 12; ++i)  // priors b, ba ~ N(0, sigma_b^2)
+      N(i, i) += 1.0 / (o_.accel_error_sigma * o_.accel_error_sigma);
+    cov_ = N.inverse();
+    if (!cov_.allFinite())
+      return false;
+    x = cov_ * r;
+    // the residuals set the position noise (never below the floor)
+    double ss = 0;
+    for (size_t k = 0; k < n; ++k)
+    {
+      const Eigen::Vector3d y = f_[k].p - f_[0].p - 0.5 * g * t[k] * t[k] - S[k];
+      ss += (y - A[k] * x).squaredNorm();
+    }
+    const double rms = std::sqrt(ss / std::max(1.0, 3.0 * static_cast<double>(n) - 12.0));
+    if (rms <= sigma)
+      break;
+    sigma = rms;
+  }
+  b_ = x.segment<3>(6);
+  ba_ = x.segment<3>(9);
+  v_ = x.segment<3>(3) + (g + b_) * T + U - Mv * ba_;
+  J_vend_.setZero();
+  J_vend_.block<3, 3>(0, 3).setIdentity();
+  J_vend_.block<3, 3>(0, 6) = Eigen::Matrix3d::Identity() * T;
+  J_vend_.block<3, 3>(0, 9) = -Mv;
+  R_end_ = f_.back().R;
+  return v_.allFinite() && b_.allFinite() && ba_.allFinite();
+}
+
+bool InertialCoaster::start()
+{
+  if (coasting_)
+    return true;
+  if (!available() || !fit())
+    return false;
+  coasting_ = true;
+  tau_ = 0.0;
+  return true;
+}
+
+Eigen::Vector3d InertialCoaster::step(const Eigen::Matrix3d& R_odom_link, const ImuDelta& d)
+{
+  const Eigen::Vector3d a = Eigen::Vector3d(0, 0, -o_.gravity) + b_;
+  const double h = d.dt;
+  const Eigen::Vector3d dpos = v_ * h + 0.5 * a * h * h + R_odom_link * (d.dp - 0.5 * h * h * ba_);
+  v_ += a * h + R_odom_link * (d.dv - h * ba_);
+  tau_ += h;
+  return dpos;
+}
+
+double InertialCoaster::positionVariance(double tau) const
+{
+  // from the fit: v_end tau + (b - R ba) tau^2 / 2 (the head's orientation at the last tracked
+  // frame); from the accelerometer's white noise: q tau^3 / 3. Mean over the axes.
+  Eigen::Matrix<double, 3, 12> J = J_vend_ * tau;
+  J.block<3, 3>(0, 6) += Eigen::Matrix3d::Identity() * 0.5 * tau * tau;
+  J.block<3, 3>(0, 9) -= R_end_ * 0.5 * tau * tau;
+  const double q = o_.accel_noise_density * o_.accel_noise_density;
+  return (J * cov_ * J.transpose()).trace() / 3.0 + q * tau * tau * tau / 3.0;
+}
+}  // namespace assistive_vo
