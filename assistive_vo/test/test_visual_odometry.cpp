@@ -676,6 +676,62 @@ TEST(FailSafe, LostFramesCoastOnlyUpToTheLimit)
   EXPECT_FALSE(a.pose_trusted);
 }
 
+// ---- in-motion start and re-initialisation without an IMU ----
+
+/// Walking at 1.2 m/s while turning at 28 deg/s from the very first frame (15 Hz).
+Eigen::Isometry3d turningPose(int k)
+{
+  const double yaw = 28.0 / 15.0 * M_PI / 180.0 * k;  // about optical y (the head's yaw)
+  return test::makePose(0, yaw, 0, 0.02 * k, 0, 0.08 * k);
+}
+
+TEST(InMotionStart, NoImuStartsAndReinitialisesInATurn)
+{
+  StereoCamera cam = test::makeCamera();
+  test::PlaneWorld world;
+  VoParams p;
+  p.use_imu = false;
+  VisualOdometry vo(p, cam);
+  auto frame = [&](int k) {
+    const Eigen::Isometry3d T = turningPose(k);
+    return vo.process(world.render(cam, T, false), world.render(cam, T, true), k / 15.0);
+  };
+  // started while already moving and turning: no frame lost, the first frame is the origin
+  VoOutput o = frame(0);
+  EXPECT_EQ(o.state, TrackingState::TRACKING) << o.message;
+  const Eigen::Isometry3d T0 = o.T_odom_optical;
+  for (int k = 1; k <= 8; ++k)
+  {
+    o = frame(k);
+    EXPECT_EQ(o.state, TrackingState::TRACKING) << "frame " << k << " " << o.message;
+  }
+  const Eigen::Isometry3d est = T0.inverse() * o.T_odom_optical, tru = turningPose(0).inverse() * turningPose(8);
+  EXPECT_LT((est.translation() - tru.translation()).norm(), 0.02);  // of 0.66 m
+  EXPECT_LT(Eigen::AngleAxisd(est.linear().transpose() * tru.linear()).angle() * 180 / M_PI, 0.3);  // of 15 deg
+  // a flat frame mid-turn: lost (untrusted without a gyro), then re-initialised while turning;
+  // tracking again on the next usable frame and the motion from there is right
+  const cv::Mat flat(480, 640, CV_8UC1, cv::Scalar(128));
+  o = vo.process(flat, flat, 9 / 15.0);
+  EXPECT_NE(o.state, TrackingState::TRACKING);
+  EXPECT_FALSE(o.pose_trusted);
+  int lost_after = 0;
+  Eigen::Isometry3d T10;
+  for (int k = 10; k <= 16; ++k)
+  {
+    o = frame(k);
+    if (k == 10)
+      T10 = o.T_odom_optical;
+    if (o.state != TrackingState::TRACKING)
+      ++lost_after;
+  }
+  EXPECT_LE(lost_after, 1);  // the re-initialising frame itself
+  EXPECT_EQ(o.state, TrackingState::TRACKING);
+  EXPECT_TRUE(o.pose_trusted) << o.untrusted_reason;
+  const Eigen::Isometry3d e2 = T10.inverse() * o.T_odom_optical, t2 = turningPose(10).inverse() * turningPose(16);
+  EXPECT_LT((e2.translation() - t2.translation()).norm(), 0.02);
+  EXPECT_LT(Eigen::AngleAxisd(e2.linear().transpose() * t2.linear()).angle() * 180 / M_PI, 0.3);
+}
+
 TEST(VisualOdometry, InvalidCameraIsReported)
 {
   VisualOdometry vo;
