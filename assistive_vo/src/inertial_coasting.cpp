@@ -13,18 +13,26 @@ void InertialCoaster::clear()
 
 void InertialCoaster::addTracked(double stamp, const Eigen::Isometry3d& T_odom_link, const ImuDelta* d)
 {
-  if (coasting_ || !d || f_.empty() || stamp <= f_.back().t || stamp - f_.back().t > o_.max_frame_gap_s)
+  const bool bridged = coasting_ && tau_ <= o_.max_bridge_s + 1e-9;
+  if ((coasting_ && !bridged) || !d || f_.empty() || stamp <= f_.back().t ||
+      stamp - f_.back().t > o_.max_frame_gap_s)
     clear();
-  Frame fr{stamp, T_odom_link.translation(), T_odom_link.linear(), d ? *d : ImuDelta()};
-  f_.push_back(fr);
-  // keep window_s, plus the frame just before it
-  while (f_.size() > 2 && f_.back().t - f_[1].t >= o_.window_s)
+  coasting_ = false;
+  tau_ = 0.0;
+  f_.push_back(Frame{stamp, T_odom_link.translation(), T_odom_link.linear(), d ? *d : ImuDelta(), true});
+  // keep window_s, plus the frame just before it; the window starts at a tracked frame
+  while (f_.size() > 2 && (f_.back().t - f_[1].t >= o_.window_s || !f_.front().measured))
     f_.pop_front();
 }
 
 bool InertialCoaster::available() const
 {
-  return coasting_ || (f_.size() >= 3 && f_.back().t - f_.front().t >= o_.min_window_s);
+  if (coasting_)
+    return true;
+  int measured = 0;
+  for (const Frame& f : f_)
+    measured += f.measured;
+  return measured >= 3 && !f_.empty() && f_.back().measured && f_.back().t - f_.front().t >= o_.min_window_s;
 }
 
 bool InertialCoaster::fit()
@@ -68,6 +76,8 @@ bool InertialCoaster::fit()
       A[k].block<3, 3>(0, 6) = Eigen::Matrix3d::Identity() * 0.5 * t[k] * t[k];
       A[k].block<3, 3>(0, 9) = -Mp[k];
       const Eigen::Vector3d y = f_[k].p - f_[0].p - 0.5 * g * t[k] * t[k] - S[k];
+      if (!f_[k].measured)
+        continue;
       N += A[k].transpose() * A[k] / (sigma * sigma);
       r += A[k].transpose() * y / (sigma * sigma);
     }
@@ -79,12 +89,16 @@ bool InertialCoaster::fit()
     x = cov_ * r;
     // the residuals set the position noise (never below the floor)
     double ss = 0;
+    int rows = 0;
     for (size_t k = 0; k < n; ++k)
     {
+      if (!f_[k].measured)
+        continue;
+      rows += 3;
       const Eigen::Vector3d y = f_[k].p - f_[0].p - 0.5 * g * t[k] * t[k] - S[k];
       ss += (y - A[k] * x).squaredNorm();
     }
-    const double rms = std::sqrt(ss / std::max(1.0, 3.0 * static_cast<double>(n) - 12.0));
+    const double rms = std::sqrt(ss / std::max(1.0, rows - 12.0));
     if (rms <= sigma)
       break;
     sigma = rms;
@@ -118,6 +132,10 @@ Eigen::Vector3d InertialCoaster::step(const Eigen::Matrix3d& R_odom_link, const 
   const Eigen::Vector3d dpos = v_ * h + 0.5 * a * h * h + R_odom_link * (d.dp - 0.5 * h * h * ba_);
   v_ += a * h + R_odom_link * (d.dv - h * ba_);
   tau_ += h;
+  if (!f_.empty() && !f_.back().measured)
+    f_.back().R = R_odom_link;  // the previous coasted frame's own orientation, now known
+  if (!f_.empty())  // the IMU chain goes on through the coasted frame (bridges a short coast)
+    f_.push_back(Frame{f_.back().t + h, f_.back().p + dpos, R_odom_link, d, false});
   return dpos;
 }
 

@@ -38,7 +38,8 @@ public:
     double position_sigma_m = 0.003;   ///< floor on the VO's position noise in the fit
     double accel_error_sigma = 0.15;   ///< prior on b and on ba (tilt x g; accelerometer bias), m/s^2
     double accel_noise_density = 2e-3; ///< m/s^2/sqrt(Hz), for the covariance growth
-    double max_frame_gap_s = 0.2;      ///< a longer interval between tracked frames restarts the window
+    double max_frame_gap_s = 0.2;      ///< a longer interval between frames restarts the window
+    double max_bridge_s = 0.25;        ///< a coast this short keeps the window (see addTracked)
   };
   InertialCoaster() = default;
   explicit InertialCoaster(const Options& o) : o_(o) {}
@@ -46,8 +47,9 @@ public:
   /// Forgets the window and stops coasting.
   void clear();
   /// A tracked frame: camera_link in odom, and the IMU over the interval since the previous frame
-  /// (null: none, the window restarts here). Ends a coast (the window restarts: coasted poses are
-  /// not fitted).
+  /// (null: none, the window restarts here). Ends a coast: after a short one (<= max_bridge_s:
+  /// a single failed frame, a re-initialisation) the window goes on, the coasted frames carrying
+  /// the IMU chain but no position measurement; after a longer one it restarts.
   void addTracked(double stamp, const Eigen::Isometry3d& T_odom_link, const ImuDelta* d);
   /// The window is long enough to coast (or a coast is running).
   bool available() const;
@@ -75,6 +77,7 @@ private:
     Eigen::Vector3d p;
     Eigen::Matrix3d R;
     ImuDelta d;  ///< IMU from the previous frame to this one (unused for the first)
+    bool measured = true;  ///< a tracked frame (false: coasted, IMU chain only)
   };
   bool fit();
   Options o_;
