@@ -528,6 +528,14 @@ const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)
       coast_var_ = 0.0;
     const Eigen::Isometry3d T_odom_opt = T_odom_o0_ * T_w_cur_;
     const Eigen::Vector3d dpos = coast_.step(T_odom_opt.linear() * R_link_optical().transpose(), fc.imu);
+    if (!(coast_.velocity().norm() <= p_.max_speed_mps))
+    {
+      // a coasted speed no wearer reaches (an accelerometer spike, a bad fit): no guess, untrusted
+      T.translation().setZero();
+      coast_.clear();
+      fc.coast_ok = false;
+      return T;
+    }
     T.translation() = T_odom_opt.linear().transpose() * dpos;
     // the covariance grows by what the coast adds (isotropic in position: the same in any axes)
     const double var = coast_.positionVariance(coast_.coastTime());
