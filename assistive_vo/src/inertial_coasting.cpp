@@ -111,6 +111,8 @@ bool InertialCoaster::fit()
   J_vend_.block<3, 3>(0, 6) = Eigen::Matrix3d::Identity() * T;
   J_vend_.block<3, 3>(0, 9) = -Mv;
   R_end_ = f_.back().R;
+  const double sv = o_.velocity_error_floor + o_.velocity_error_frac * v_.norm();
+  v_model_var_ = sv * sv;
   return v_.allFinite() && b_.allFinite() && ba_.allFinite();
 }
 
@@ -141,12 +143,30 @@ Eigen::Vector3d InertialCoaster::step(const Eigen::Matrix3d& R_odom_link, const 
 
 double InertialCoaster::positionVariance(double tau) const
 {
-  // from the fit: v_end tau + (b - R ba) tau^2 / 2 (the head's orientation at the last tracked
-  // frame); from the accelerometer's white noise: q tau^3 / 3. Mean over the axes.
+  // From the fit: v_end tau + (b - R ba) tau^2 / 2 (the head's orientation at the last tracked
+  // frame); from the accelerometer's white noise: q tau^3 / 3; from the VO's correlated velocity
+  // error: (sv tau)^2; from the tilt the gyro adds while coasting (angle random walk qg, bias
+  // error sb), gravity through it integrated twice: g^2 (qg tau^5 / 20 + sb^2 tau^6 / 36), on the
+  // two horizontal axes of three. Mean over the axes.
   Eigen::Matrix<double, 3, 12> J = J_vend_ * tau;
   J.block<3, 3>(0, 6) += Eigen::Matrix3d::Identity() * 0.5 * tau * tau;
   J.block<3, 3>(0, 9) -= R_end_ * 0.5 * tau * tau;
   const double q = o_.accel_noise_density * o_.accel_noise_density;
-  return (J * cov_ * J.transpose()).trace() / 3.0 + q * tau * tau * tau / 3.0;
+  const double qg = o_.gyro_noise_density * o_.gyro_noise_density, sb2 = o_.gyro_bias_sigma * o_.gyro_bias_sigma;
+  const double g2 = o_.gravity * o_.gravity, t2 = tau * tau, t5 = t2 * t2 * tau;
+  const double tilt = g2 * (qg * t5 / 20.0 + sb2 * t5 * tau / 36.0) * 2.0 / 3.0;
+  return (J * cov_ * J.transpose()).trace() / 3.0 + q * t2 * tau / 3.0 + v_model_var_ * t2 + tilt;
+}
+
+double InertialCoaster::velocityVariance(double tau) const
+{
+  Eigen::Matrix<double, 3, 12> J = J_vend_;
+  J.block<3, 3>(0, 6) += Eigen::Matrix3d::Identity() * tau;
+  J.block<3, 3>(0, 9) -= R_end_ * tau;
+  const double q = o_.accel_noise_density * o_.accel_noise_density;
+  const double qg = o_.gyro_noise_density * o_.gyro_noise_density, sb2 = o_.gyro_bias_sigma * o_.gyro_bias_sigma;
+  const double g2 = o_.gravity * o_.gravity, t2 = tau * tau;
+  const double tilt = g2 * (qg * t2 * tau / 3.0 + sb2 * t2 * t2 / 4.0) * 2.0 / 3.0;
+  return (J * cov_ * J.transpose()).trace() / 3.0 + q * tau + v_model_var_ + tilt;
 }
 }  // namespace assistive_vo

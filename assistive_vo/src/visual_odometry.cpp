@@ -52,6 +52,7 @@ InertialCoaster::Options coastOptions(const VoParams& p)
   o.window_s = p.imu_coast_window_s;
   o.accel_noise_density = p.accel_noise_density;
   o.accel_error_sigma = p.accel_error_sigma;
+  o.gyro_noise_density = p.gyro_noise_density;
   return o;
 }
 GravityAligner::Options gravityOptions(const VoParams& p)
@@ -215,6 +216,7 @@ void VisualOdometry::applyTrust(VoOutput& o, double stamp, bool coast_ok, const 
       last_trusted_stamp_ = stamp;  // coasting frames do not extend the coast window
     trusted_T_odom_optical_ = o.T_odom_optical;
     trusted_cov_ = o.pose_covariance;
+    trusted_stamp_ = stamp;
     have_trusted_ = true;
     return;
   }
@@ -231,10 +233,21 @@ void VisualOdometry::applyTrust(VoOutput& o, double stamp, bool coast_ok, const 
   {
     o.T_odom_optical = trusted_T_odom_optical_;
     o.T_odom_link = linkPose(trusted_T_odom_optical_);
+    // The held pose is where the wearer was: where they are now is known only to within how far
+    // they can have walked (max_speed) and turned (max_angular_speed, up to any heading) since.
+    const double since = std::max(0.0, stamp - trusted_stamp_);
+    const double reach = p_.max_speed_mps * since, turn = std::min(M_PI, p_.max_angular_speed_dps * M_PI / 180.0 * since);
     o.pose_covariance = trusted_cov_;
+    o.pose_covariance.topLeftCorner<3, 3>() += Eigen::Matrix3d::Identity() * reach * reach;
+    o.pose_covariance.bottomRightCorner<3, 3>() += Eigen::Matrix3d::Identity() * turn * turn;
   }
+  // no velocity: zero, with the variance of any speed the wearer may have
   o.linear_velocity.setZero();
   o.angular_velocity.setZero();
+  o.twist_covariance.setZero();
+  o.twist_covariance.topLeftCorner<3, 3>() = Eigen::Matrix3d::Identity() * p_.max_speed_mps * p_.max_speed_mps;
+  const double w_max = p_.max_angular_speed_dps * M_PI / 180.0;
+  o.twist_covariance.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() * w_max * w_max;
 }
 
 bool VisualOdometry::imageUsable(const cv::Mat& img, std::string& why) const
@@ -376,6 +389,17 @@ VoOutput VisualOdometry::makeOutput(TrackingState s, const FrameStats& st, const
     o.angular_velocity = R_lo * (Eigen::AngleAxisd(T_prev_cur.linear()).angle() *
                                  Eigen::AngleAxisd(T_prev_cur.linear()).axis()) / dt;
     o.twist_covariance = rotateCov(cov_rel_, R_lo) / (dt * dt);
+    if (s != TrackingState::TRACKING && s != TrackingState::INITIALISING)
+    {
+      // a predicted motion: the variance of the prediction, not the last measured one's
+      o.twist_covariance = Eigen::Matrix<double, 6, 6>::Identity() * (1e-2 / (dt * dt));
+      if (imu_coasted_)
+      {
+        o.twist_covariance.topLeftCorner<3, 3>() =
+            Eigen::Matrix3d::Identity() * coast_.velocityVariance(coast_.coastTime());
+        o.twist_covariance.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() * bias_.rotationVariance(dt) / (dt * dt);
+      }
+    }
   }
   if (!o.T_odom_link.matrix().allFinite())
   {
@@ -386,6 +410,24 @@ VoOutput VisualOdometry::makeOutput(TrackingState s, const FrameStats& st, const
   return o;
 }
 
+void VisualOdometry::growLostCovariance()
+{
+  // An IMU-coasted frame has grown the covariance by its own uncertainty (lostMotion); any other
+  // lost frame (a constant-velocity guess, or the gyro's rotation only) by 0.1 m and 0.1 rad.
+  if (!imu_coasted_)
+    cov_cur_ += Eigen::Matrix<double, 6, 6>::Identity() * 1e-2;
+}
+
+void VisualOdometry::setCoastGyro()
+{
+  // the gyro's noise and its bias estimate's error tilt the coasted pose (gravity leaks through)
+  InertialCoaster::Options o = coastOptions(p_);
+  o.gyro_bias_sigma = std::sqrt(std::max(0.0, bias_.variance()));
+  if (bias_.variance() < 0)
+    o.gyro_bias_sigma = p_.gyro_bias_sigma;
+  coast_.setOptions(o);
+}
+
 VoOutput VisualOdometry::fail(const std::string& why, const cv::Mat* left, const cv::Mat* right,
                               const Eigen::Isometry3d& T_prev_cur_pred, double stamp, FrameStats& st)
 {
@@ -393,8 +435,7 @@ VoOutput VisualOdometry::fail(const std::string& why, const cv::Mat* left, const
   // in this frame if it is usable, else wait for a usable frame.
   T_w_cur_ = T_w_cur_ * T_prev_cur_pred;
   last_T_prev_cur_ = T_prev_cur_pred;
-  if (!imu_coasted_)  // (an IMU-coasted frame has grown the covariance by its own uncertainty)
-    cov_cur_ += Eigen::Matrix<double, 6, 6>::Identity() * 1e-2;
+  growLostCovariance();
   if (have_keyframe_)  // count the transition tracking -> lost once
   {
     ++resets_;
@@ -421,7 +462,33 @@ VoOutput VisualOdometry::fail(const std::string& why, const cv::Mat* left, const
 
 // ---- the frame, in order: input checks, prediction, keyframe tracking, motion estimation,
 // plausibility, acceptance (gyro bias, new keyframe, gravity) ----
-VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, double stamp,
+void VisualOdometry::normaliseBrightness(const cv::Mat& in, cv::Mat& out) const
+{
+  // One gain per image, to a fixed mean (subsampled): a camera's gain (exposure, auto-exposure)
+  // multiplies every intensity, so it cancels; saturated pixels stay saturated.
+  if (p_.brightness_target <= 0)
+  {
+    out = in;
+    return;
+  }
+  double s = 0;
+  int n = 0;
+  for (int y = 0; y < in.rows; y += 4)
+  {
+    const uint8_t* r = in.ptr<uint8_t>(y);
+    for (int x = 0; x < in.cols; x += 4, ++n)
+      s += r[x];
+  }
+  const double mean = n > 0 ? s / n : 0.0;
+  if (mean < 1.0)
+  {
+    out = in;
+    return;
+  }
+  in.convertTo(out, CV_8U, p_.brightness_target / mean);
+}
+
+VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_raw, double stamp,
                                  const Eigen::Quaterniond* gyro_link, const Eigen::Vector3d* dv_link,
                                  const Eigen::Vector3d* dp_link)
 {
@@ -440,7 +507,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   };
 
   VoOutput o;
-  if (!checkInput(left, right, st, fc, o))
+  if (!checkInput(left_raw, right_raw, st, fc, o))
   {
     coast_.clear();  // the next frame's IMU interval no longer joins two tracked frames
     return finish(o);
@@ -459,8 +526,15 @@ VoOutput VisualOdometry::process(const cv::Mat& left, const cv::Mat& right, doub
   }
   levelAfterGap(have_up_hint, fc);
   fc.coast_ok = mayCoast(stamp, fc);
-  if (rejectImages(left, right, fc, st, o))
+  if (rejectImages(left_raw, right_raw, fc, st, o))
     return finish(o);
+  // Everything after works on images of the same global brightness (auto-exposure steps, a gain
+  // different in the two cameras): the SAD stereo match and the KLT tracking compare intensities.
+  cv::Mat left_n, right_n;
+  normaliseBrightness(left_raw, left_n);
+  normaliseBrightness(right_raw, right_n);
+  const cv::Mat& left = left_n;
+  const cv::Mat& right = right_n;
 
   // ---- pyramid of the current left image ----
   auto t0 = Clock::now();
@@ -520,12 +594,12 @@ const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)
       T.linear().setIdentity();
     coast_.clear();
   }
-  else if (fc.have_imu && coast_.start())
+  else if (fc.have_imu && (was_coasting || (setCoastGyro(), coast_.start())))
   {
+    if (!was_coasting)
+      coast_var_ = coast_rot_var_ = 0.0;
     // IMU coasting: translation from the preintegrated accelerometer and the velocity fitted at
     // the last tracked frame; the rotation stays the bias-corrected gyro's (T_pred).
-    if (!was_coasting)
-      coast_var_ = 0.0;
     const Eigen::Isometry3d T_odom_opt = T_odom_o0_ * T_w_cur_;
     const Eigen::Vector3d dpos = coast_.step(T_odom_opt.linear() * R_link_optical().transpose(), fc.imu);
     if (!(coast_.velocity().norm() <= p_.max_speed_mps))
@@ -538,10 +612,13 @@ const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)
     }
     T.translation() = T_odom_opt.linear().transpose() * dpos;
     // the covariance grows by what the coast adds (isotropic in position: the same in any axes)
+    // (and the rotation by the gyro's, over the whole coast: its bias error grows the angle linearly)
     const double var = coast_.positionVariance(coast_.coastTime());
+    const double rvar = bias_.rotationVariance(coast_.coastTime());
     cov_cur_.topLeftCorner<3, 3>() += Eigen::Matrix3d::Identity() * std::max(0.0, var - coast_var_);
-    cov_cur_.bottomRightCorner<3, 3>() += Eigen::Matrix3d::Identity() * bias_.rotationVariance(fc.dt_real);
+    cov_cur_.bottomRightCorner<3, 3>() += Eigen::Matrix3d::Identity() * std::max(0.0, rvar - coast_rot_var_);
     coast_var_ = var;
+    coast_rot_var_ = rvar;
     imu_coasted_ = true;
   }
   else
@@ -690,6 +767,7 @@ VoOutput VisualOdometry::restartKeyframe(const cv::Mat& left, const cv::Mat& rig
   {
     T_w_cur_ = T_w_cur_ * lostMotion(fc);
     last_T_prev_cur_ = lostMotion(fc);
+    growLostCovariance();  // (the pose over the gap is predicted, not measured)
   }
   gravity_.clear();
   last_dt_ = fc.dt;

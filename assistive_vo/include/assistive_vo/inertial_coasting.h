@@ -25,7 +25,9 @@ struct ImuDelta
 /// tracked frames of the last `window_s`: p_k = c + v0 t_k + (g + b) t_k^2 / 2 + S_k - Mp_k ba,
 /// with S_k the preintegrated IMU chained over the window from zero velocity and Mp_k the same
 /// chain for a unit bias (linear least squares, 12 unknowns, priors on b and ba). The position
-/// covariance grows with the fit's uncertainty and the accelerometer's noise: an honest, growing
+/// covariance grows with the fit's uncertainty, the accelerometer's noise, the tilt the gyro's
+/// noise and bias error add while coasting (gravity leaking through it), and the VO's correlated
+/// velocity error that the white-noise fit cannot see (a fraction of the speed): an honest, growing
 /// covariance while coasting.
 class InertialCoaster
 {
@@ -40,6 +42,12 @@ public:
     double accel_noise_density = 2e-3; ///< m/s^2/sqrt(Hz), for the covariance growth
     double max_frame_gap_s = 0.2;      ///< a longer interval between frames restarts the window
     double max_bridge_s = 0.25;        ///< a coast this short keeps the window (see addTracked)
+    double gyro_noise_density = 2e-4;  ///< rad/s/sqrt(Hz): tilt random walk while coasting
+    double gyro_bias_sigma = 0.0;      ///< rad/s: error of the gyro bias estimate (tilt grows linearly)
+    /// The VO's velocity error correlated over the fit window (its drift: the white-noise fit
+    /// sees only the scatter), as a fraction of the speed, plus a floor in m/s.
+    double velocity_error_frac = 0.02;
+    double velocity_error_floor = 0.005;
   };
   InertialCoaster() = default;
   explicit InertialCoaster(const Options& o) : o_(o) {}
@@ -67,6 +75,8 @@ public:
   /// Variance (m^2, per axis) of the coasted position against the last tracked frame's, after
   /// `tau` s of coasting.
   double positionVariance(double tau) const;
+  /// Variance (m^2/s^2, per axis) of the coasted velocity after `tau` s of coasting.
+  double velocityVariance(double tau) const;
   /// Coasting time so far.
   double coastTime() const { return tau_; }
 
@@ -88,6 +98,7 @@ private:
   Mat12 cov_ = Mat12::Zero();                          ///< of (c, v0, b, ba)
   Eigen::Matrix<double, 3, 12> J_vend_ = Eigen::Matrix<double, 3, 12>::Zero();  ///< d v_end / d (c, v0, b, ba)
   Eigen::Matrix3d R_end_ = Eigen::Matrix3d::Identity();  ///< orientation at the last tracked frame
+  double v_model_var_ = 0.0;  ///< velocity variance of the VO's correlated error (per axis), at the fit
   double tau_ = 0.0;
 };
 }  // namespace assistive_vo

@@ -156,6 +156,12 @@ private:
   /// there and a velocity is known, else the prediction while coasting, else none (the gyro's
   /// rotation only). Coasting grows the pose covariance.
   const Eigen::Isometry3d& lostMotion(FrameContext& fc);
+  /// Grows the pose covariance over a lost frame whose motion was predicted, not measured.
+  void growLostCovariance();
+  /// `in` scaled to the mean brightness `brightness_target` (out = in when it is off or black).
+  void normaliseBrightness(const cv::Mat& in, cv::Mat& out) const;
+  /// Sets the coaster's gyro noise and bias error (before a coast starts).
+  void setCoastGyro();
   /// Motion of the current frame against the keyframe (P3P RANSAC, then the bundle adjustment).
   struct MotionEstimate
   {
@@ -293,6 +299,8 @@ private:
   InertialCoaster coast_;
   bool imu_coasted_ = false;  ///< this frame's pose was coasted on the IMU (covariance already grown)
   double coast_var_ = 0.0;    ///< position variance the coast has added so far (per axis)
+  double coast_rot_var_ = 0.0;  ///< rotation variance the coast has added so far (per axis)
+  double trusted_stamp_ = 0.0;  ///< stamp of the last trusted pose (held while untrusted)
   // fail-safe state
   bool untrusted_ = true;             ///< latched until a keyframe is tracked again
   std::string untrusted_why_;
