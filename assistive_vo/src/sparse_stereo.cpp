@@ -107,9 +107,9 @@ float SparseStereo::matchOne(const cv::Mat& left, const cv::Mat& right, const cv
     if (std::abs(step) < 0.005)
       break;
   }
-  if (std::abs(d - (dmin + best_d)) > 1.5 || d < p_.min_disparity_px)
+  if (std::abs(d - (dmin + best_d)) > 1.5 || d + offset_ < p_.min_disparity_px)
     return -1.f;
-  return static_cast<float>(d);
+  return static_cast<float>(d + offset_);
 }
 
 std::vector<float> SparseStereo::match(const cv::Mat& left, const cv::Mat& right,

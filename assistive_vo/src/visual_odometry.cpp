@@ -410,6 +410,27 @@ VoOutput VisualOdometry::makeOutput(TrackingState s, const FrameStats& st, const
   return o;
 }
 
+void VisualOdometry::estimateDisparityOffset(const MotionEstimate& m)
+{
+  std::vector<DisparityOffsetEstimator::Obs> kf, cur;
+  for (const int k : m.rr.inliers)
+  {
+    const Track& t = tracks_[static_cast<size_t>(k)];
+    if (t.cur_disp <= 0 || t.kf_obs.ur < 0)
+      continue;
+    kf.push_back({t.kf_obs.u, t.kf_obs.v, t.kf_obs.u - t.kf_obs.ur});
+    cur.push_back({t.cur.x, t.cur.y, t.cur_disp});
+  }
+  disp_offset_.add(cam_, kf, cur, m.T_kf_cur.linear().transpose(), m.T_kf_cur.translation().norm());
+  double delta = 0;
+  if (disp_offset_.take(delta))
+  {
+    // a bounded step (the next round measures what is left)
+    const double lim = p_.max_disparity_offset_px;
+    stereo_.setOffset(std::clamp(stereo_.offset() + std::clamp(delta, -0.75, 0.75), -lim, lim));
+  }
+}
+
 void VisualOdometry::growLostCovariance()
 {
   // An IMU-coasted frame has grown the covariance by its own uncertainty (lostMotion); any other
@@ -571,6 +592,8 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
     updateGyroBias(m);
     startKeyframe(left, right, true, st);
   }
+  if (p_.estimate_disparity_offset)
+    estimateDisparityOffset(m);
   levelWithGravity(stamp, dv_link);
   coast_.addTracked(stamp, linkPose(T_odom_o0_ * T_w_cur_), fc.have_imu ? &fc.imu : nullptr);
 

@@ -387,6 +387,7 @@ int main(int argc, char** argv)
               << std::setw(10) << percentile(ms[k], 0.5) << std::setw(9) << percentile(ms[k], 0.95) << "\n";
   std::cout << "  total (wall)" << std::setw(10) << percentile(wall, 0.5) << std::setw(9) << percentile(wall, 0.95)
             << "\n";
+  std::cout << "stereo disparity offset estimated " << vo.disparityOffset() << " px\n";
   std::cout << "resets " << vo.resets() << ", frames not tracking " << lost << ", longest non-tracking run "
             << max_bad_run << " frames; usable frames needed to track again (recovery_frames_max) "
             << recovery.maxUsableInRun() << ", unusable frames " << unusable << "\n";

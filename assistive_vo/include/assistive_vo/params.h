@@ -70,6 +70,10 @@ namespace assistive_vo
   /* Auto-exposure steps and a gain different in the two cameras: every image is scaled to this */ \
   /* mean brightness before stereo matching and tracking (0: off; the input checks see the raw image). */ \
   X(double, brightness_target, "brightness_target", 110.0, 0.0, 250.0, "intensity", "images scaled to this mean before matching and tracking (gain/auto-exposure invariance; 0: off)") \
+  /* A constant disparity offset (the right camera turned about its vertical axis: calibration */ \
+  /* residual) scales far depths and so the translation; estimated online (disparity_offset.h). */ \
+  X(bool, estimate_disparity_offset, "estimate_disparity_offset", true, {}, {}, "", "estimate a constant stereo disparity offset online and add it to every disparity") \
+  X(double, max_disparity_offset_px, "max_disparity_offset", 2.0, 0.0, 10.0, "px", "the offset estimated is kept within +- this") \
   X(double, min_image_stddev, "min_image_stddev", 4.0, 0.0, 128.0, "intensity", "black / saturated / flat frame below this standard deviation") \
   X(double, max_rotation_from_keyframe_deg, "max_rotation_from_keyframe", 25.0, 1.0, 180.0, "deg", "new keyframe beyond this rotation") \
   /* --- fail-safe: when the pose is no longer trusted (VoOutput::pose_trusted; README "Fail-safe") --- */ \

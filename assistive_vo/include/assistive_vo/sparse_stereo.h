@@ -13,6 +13,10 @@ class SparseStereo
 public:
   explicit SparseStereo(const VoParams& p = VoParams()) : p_(p) {}
   void setParams(const VoParams& p) { p_ = p; }
+  /// Added to every disparity found (a right camera turned about its vertical axis shifts them
+  /// all; disparity_offset.h estimates it).
+  void setOffset(double px) { offset_ = px; }
+  double offset() const { return offset_; }
 
   /// Disparity (pixels, > 0) for each point, or a negative value where no reliable match exists.
   /// `max_disparity` bounds the search (pixels).
@@ -24,5 +28,6 @@ public:
 
 private:
   VoParams p_;
+  double offset_ = 0.0;
 };
 }  // namespace assistive_vo

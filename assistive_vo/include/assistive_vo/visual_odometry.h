@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 #include "assistive_vo/bundle_adjustment.h"
+#include "assistive_vo/disparity_offset.h"
 #include "assistive_vo/feature_detector.h"
 #include "assistive_vo/gravity_alignment.h"
 #include "assistive_vo/gyro_bias_estimator.h"
@@ -109,6 +110,8 @@ public:
                    const Eigen::Vector3d* dp_link = nullptr);
   /// Inertial coasting (velocity, accelerometer error fitted, coasting time).
   const InertialCoaster& coaster() const { return coast_; }
+  /// The stereo disparity offset estimated so far (px, added to every disparity).
+  double disparityOffset() const { return stereo_.offset(); }
 
   /// Flow vectors of the last frame over the left image (BGR): green = inlier, red = rejected.
   cv::Mat drawOverlay(const cv::Mat& left) const;
@@ -297,6 +300,9 @@ private:
   double last_stamp_pending_ = 0.0;
   GravityAligner gravity_;
   InertialCoaster coast_;
+  DisparityOffsetEstimator disp_offset_;
+  /// Feeds the disparity offset estimator with the inliers of a tracked frame; applies an estimate.
+  void estimateDisparityOffset(const MotionEstimate& m);
   bool imu_coasted_ = false;  ///< this frame's pose was coasted on the IMU (covariance already grown)
   double coast_var_ = 0.0;    ///< position variance the coast has added so far (per axis)
   double coast_rot_var_ = 0.0;  ///< rotation variance the coast has added so far (per axis)
