@@ -483,11 +483,13 @@ VoOutput VisualOdometry::fail(const std::string& why, const cv::Mat* left, const
 
 // ---- the frame, in order: input checks, prediction, keyframe tracking, motion estimation,
 // plausibility, acceptance (gyro bias, new keyframe, gravity) ----
-void VisualOdometry::normaliseBrightness(const cv::Mat& in, cv::Mat& out) const
+void VisualOdometry::normaliseBrightness(const cv::Mat& in, cv::Mat& out)
 {
-  // One gain per image, to a fixed mean (subsampled): a camera's gain (exposure, auto-exposure)
-  // multiplies every intensity, so it cancels; saturated pixels stay saturated.
-  if (p_.brightness_target <= 0)
+  // One gain per image, to one mean (subsampled) for the whole run: a camera's gain (exposure,
+  // auto-exposure) multiplies every intensity, so it cancels; saturated pixels stay saturated.
+  // The mean is the first image's (brightness_target < 0), so a rig without gain steps sees its
+  // images nearly unchanged, or brightness_target; 0: off.
+  if (p_.brightness_target == 0)
   {
     out = in;
     return;
@@ -506,7 +508,9 @@ void VisualOdometry::normaliseBrightness(const cv::Mat& in, cv::Mat& out) const
     out = in;
     return;
   }
-  in.convertTo(out, CV_8U, p_.brightness_target / mean);
+  if (brightness_ref_ <= 0)
+    brightness_ref_ = p_.brightness_target > 0 ? p_.brightness_target : mean;
+  in.convertTo(out, CV_8U, brightness_ref_ / mean);
 }
 
 VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_raw, double stamp,

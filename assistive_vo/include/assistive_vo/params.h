@@ -67,12 +67,12 @@ namespace assistive_vo
   X(double, max_speed_mps, "max_speed", 4.0, 0.1, 50.0, "m/s", "larger change of velocity against the constant-velocity prediction = failure (no jumps), unless >= 2 x `min_inliers` and half the tracks support the motion") \
   X(double, max_angular_speed_dps, "max_angular_speed", 400.0, 10.0, 5000.0, "deg/s", "same for rotation") \
   X(double, max_frame_gap_s, "max_frame_gap", 1.0, 0.05, 10.0, "s", "a larger stamp gap (or time going backwards): pose kept, new keyframe, frame untrusted") \
-  /* Auto-exposure steps and a gain different in the two cameras: every image is scaled to this */ \
-  /* mean brightness before stereo matching and tracking (0: off; the input checks see the raw image). */ \
-  X(double, brightness_target, "brightness_target", 110.0, 0.0, 250.0, "intensity", "images scaled to this mean before matching and tracking (gain/auto-exposure invariance; 0: off)") \
+  /* Auto-exposure steps and a gain different in the two cameras: every image is scaled to one */ \
+  /* mean brightness before stereo matching and tracking (the input checks see the raw image). */ \
+  X(double, brightness_target, "brightness_target", -1.0, -1.0, 250.0, "intensity", "images scaled to this mean before matching and tracking (gain/auto-exposure invariance; -1: the first image's mean; 0: off)") \
   /* A constant disparity offset (the right camera turned about its vertical axis: calibration */ \
   /* residual) scales far depths and so the translation; estimated online (disparity_offset.h). */ \
-  X(bool, estimate_disparity_offset, "estimate_disparity_offset", true, {}, {}, "", "estimate a constant stereo disparity offset online and add it to every disparity") \
+  X(bool, estimate_disparity_offset, "estimate_disparity_offset", false, {}, {}, "", "estimate a constant stereo disparity offset online and add it to every disparity") \
   X(double, max_disparity_offset_px, "max_disparity_offset", 2.0, 0.0, 10.0, "px", "the offset estimated is kept within +- this") \
   X(double, min_image_stddev, "min_image_stddev", 4.0, 0.0, 128.0, "intensity", "black / saturated / flat frame below this standard deviation") \
   X(double, max_rotation_from_keyframe_deg, "max_rotation_from_keyframe", 25.0, 1.0, 180.0, "deg", "new keyframe beyond this rotation") \

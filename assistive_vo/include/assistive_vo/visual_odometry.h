@@ -161,8 +161,9 @@ private:
   const Eigen::Isometry3d& lostMotion(FrameContext& fc);
   /// Grows the pose covariance over a lost frame whose motion was predicted, not measured.
   void growLostCovariance();
-  /// `in` scaled to the mean brightness `brightness_target` (out = in when it is off or black).
-  void normaliseBrightness(const cv::Mat& in, cv::Mat& out) const;
+  /// `in` scaled to one mean brightness for the run (out = in when it is off or black).
+  void normaliseBrightness(const cv::Mat& in, cv::Mat& out);
+  double brightness_ref_ = 0.0;  ///< the mean every image is scaled to (set by the first image)
   /// Sets the coaster's gyro noise and bias error (before a coast starts).
   void setCoastGyro();
   /// Motion of the current frame against the keyframe (P3P RANSAC, then the bundle adjustment).
