@@ -145,7 +145,7 @@ double InertialCoaster::positionVariance(double tau) const
 {
   // From the fit: v_end tau + (b - R ba) tau^2 / 2 (the head's orientation at the last tracked
   // frame); from the accelerometer's white noise: q tau^3 / 3; from the VO's correlated velocity
-  // error: (sv tau)^2; from the tilt the gyro adds while coasting (angle random walk qg, bias
+  // error: (sv tau)^2; from acceleration the fit cannot follow: (sa tau^2 / 2)^2; from the tilt the gyro adds while coasting (angle random walk qg, bias
   // error sb), gravity through it integrated twice: g^2 (qg tau^5 / 20 + sb^2 tau^6 / 36), on the
   // two horizontal axes of three. Mean over the axes.
   Eigen::Matrix<double, 3, 12> J = J_vend_ * tau;
@@ -155,7 +155,8 @@ double InertialCoaster::positionVariance(double tau) const
   const double qg = o_.gyro_noise_density * o_.gyro_noise_density, sb2 = o_.gyro_bias_sigma * o_.gyro_bias_sigma;
   const double g2 = o_.gravity * o_.gravity, t2 = tau * tau, t5 = t2 * t2 * tau;
   const double tilt = g2 * (qg * t5 / 20.0 + sb2 * t5 * tau / 36.0) * 2.0 / 3.0;
-  return (J * cov_ * J.transpose()).trace() / 3.0 + q * t2 * tau / 3.0 + v_model_var_ * t2 + tilt;
+  const double am = 0.5 * o_.accel_model_sigma * t2;
+  return (J * cov_ * J.transpose()).trace() / 3.0 + q * t2 * tau / 3.0 + v_model_var_ * t2 + tilt + am * am;
 }
 
 double InertialCoaster::velocityVariance(double tau) const
@@ -167,6 +168,7 @@ double InertialCoaster::velocityVariance(double tau) const
   const double qg = o_.gyro_noise_density * o_.gyro_noise_density, sb2 = o_.gyro_bias_sigma * o_.gyro_bias_sigma;
   const double g2 = o_.gravity * o_.gravity, t2 = tau * tau;
   const double tilt = g2 * (qg * t2 * tau / 3.0 + sb2 * t2 * t2 / 4.0) * 2.0 / 3.0;
-  return (J * cov_ * J.transpose()).trace() / 3.0 + q * tau + v_model_var_ + tilt;
+  const double am = o_.accel_model_sigma * tau;
+  return (J * cov_ * J.transpose()).trace() / 3.0 + q * tau + v_model_var_ + tilt + am * am;
 }
 }  // namespace assistive_vo
