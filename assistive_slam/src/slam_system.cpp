@@ -545,6 +545,68 @@ uint32_t SlamSystem::currentSubmap() const
   return submaps_.empty() ? 0 : submaps_.back().id;
 }
 
+bool SlamSystem::tagPlace(const std::string& name, const Eigen::Isometry3d& T_odom_cam, double stamp, Place* out,
+                          std::string* err)
+{
+  std::lock_guard<std::mutex> l(mm_);
+  if (kfs_.empty())
+  {
+    if (err)
+      *err = "no keyframe yet: the map cannot hold a place before its first keyframe";
+    return false;
+  }
+  if (!T_odom_cam.matrix().allFinite())
+  {
+    if (err)
+      *err = "the current VO pose is not finite";
+    return false;
+  }
+  const Keyframe& kf = *kfs_.back();
+  Place p;
+  p.name = name.empty() ? "place" + std::to_string(places_.size() + 1) : name;
+  p.keyframe = kf.id;
+  // The VO's own motion since the keyframe: independent of any map correction.
+  p.T_kf_place = kf.T_odom_cam.inverse() * T_odom_cam;
+  p.stamp = stamp;
+  places_.erase(std::remove_if(places_.begin(), places_.end(), [&](const Place& q) { return q.name == p.name; }),
+                places_.end());
+  places_.push_back(p);
+  if (out)
+    *out = p;
+  return true;
+}
+
+bool SlamSystem::placePose(const std::string& name, Eigen::Isometry3d* T_map_place, std::string* err) const
+{
+  std::lock_guard<std::mutex> l(mm_);
+  if (places_.empty())
+  {
+    if (err)
+      *err = "no place tagged";
+    return false;
+  }
+  auto it = name.empty() ? std::prev(places_.end())
+                         : std::find_if(places_.begin(), places_.end(), [&](const Place& q) { return q.name == name; });
+  if (it == places_.end() || it->keyframe >= kfs_.size())
+  {
+    if (err)
+      *err = "no place named '" + name + "'";
+    return false;
+  }
+  *T_map_place = kfs_[it->keyframe]->T_map_cam * it->T_kf_place;
+  return true;
+}
+
+std::vector<std::pair<Place, Eigen::Isometry3d>> SlamSystem::places() const
+{
+  std::lock_guard<std::mutex> l(mm_);
+  std::vector<std::pair<Place, Eigen::Isometry3d>> out;
+  for (const Place& p : places_)
+    if (p.keyframe < kfs_.size())
+      out.emplace_back(p, kfs_[p.keyframe]->T_map_cam * p.T_kf_place);
+  return out;
+}
+
 void SlamSystem::setCandidateSource(CandidateSource s)
 {
   std::lock_guard<std::mutex> l(mm_);

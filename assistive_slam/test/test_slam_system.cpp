@@ -135,6 +135,49 @@ TEST(SlamSystem, WorkerQueueStaysBounded)
   EXPECT_EQ(st.queue_depth, 0);
 }
 
+TEST(SlamSystem, PlacesRideOnTheirKeyframe)
+{
+  SlamParams p;
+  p.loop_closure = false;
+  cv::Mat l, r;
+  texturePair(16, l, r);
+  SlamSystem s(p, camera(), false);
+  std::string err;
+  Eigen::Isometry3d T;
+  EXPECT_FALSE(s.tagPlace("door", along(0), 0, nullptr, &err));  // no keyframe yet
+  EXPECT_NE(err.find("no keyframe"), std::string::npos);
+  EXPECT_FALSE(s.placePose("", &T, &err));
+  SlamFrame f;
+  f.left = l;
+  f.right = r;
+  f.vo_replenished = true;
+  ASSERT_TRUE(s.addFrame(f));  // keyframe 0 at the odom origin: map = odom until a closure
+  Eigen::Isometry3d door = along(0.1);
+  door.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  Place tagged;
+  ASSERT_TRUE(s.tagPlace("door", door, 1.0, &tagged, &err)) << err;
+  EXPECT_EQ(tagged.keyframe, 0u);
+  f.stamp = 2;
+  f.T_odom_cam = along(1.2);
+  ASSERT_TRUE(s.addFrame(f));  // keyframe 1
+  ASSERT_TRUE(s.tagPlace("", along(1.5), 3.0, &tagged, &err));
+  EXPECT_EQ(tagged.name, "place2");
+  EXPECT_EQ(tagged.keyframe, 1u);
+  EXPECT_TRUE(tagged.T_kf_place.isApprox(along(0.3), 1e-12));  // the VO's motion since keyframe 1
+  ASSERT_TRUE(s.placePose("door", &T, &err));
+  EXPECT_TRUE(T.isApprox(door, 1e-12));
+  ASSERT_TRUE(s.placePose("", &T, &err));  // the last tagged
+  EXPECT_TRUE(T.isApprox(along(1.5), 1e-12));
+  EXPECT_FALSE(s.placePose("lift", &T, &err));
+  EXPECT_NE(err.find("lift"), std::string::npos);
+  ASSERT_TRUE(s.tagPlace("door", along(1.4), 4.0, nullptr, &err));  // tagged again: moved, now the last
+  const auto places = s.places();
+  ASSERT_EQ(places.size(), 2u);
+  EXPECT_EQ(places[0].first.name, "place2");
+  EXPECT_EQ(places[1].first.name, "door");
+  EXPECT_TRUE(places[1].second.isApprox(along(1.4), 1e-12));
+}
+
 int main(int argc, char** argv)
 {
   testing::InitGoogleTest(&argc, argv);

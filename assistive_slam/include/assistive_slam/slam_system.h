@@ -56,6 +56,16 @@ struct SubmapLinkInfo
   bool loop_closure = false;
 };
 
+/// A tagged place (the way back): the wearer's pose when tagged, anchored to the newest keyframe
+/// then, so that it moves with that keyframe when the map is corrected.
+struct Place
+{
+  std::string name;
+  uint32_t keyframe = 0;
+  Eigen::Isometry3d T_kf_place = Eigen::Isometry3d::Identity();  ///< left optical frame at the tag, in the keyframe
+  double stamp = 0;
+};
+
 struct SlamStats
 {
   int keyframes = 0, submaps = 0, loops_accepted = 0, loops_rejected = 0, queue_depth = 0, dropped = 0;
@@ -89,6 +99,15 @@ public:
   std::vector<SubmapInfo> submaps() const;
   std::vector<SubmapLinkInfo> links() const;
   uint32_t currentSubmap() const;
+  /// Tags the place at the VO pose `T_odom_cam` (the newest frame), anchored to the newest
+  /// processed keyframe by the VO's motion since it. An empty name becomes "place<N>"; a name
+  /// already tagged is moved. False with `err` before the first keyframe is processed.
+  bool tagPlace(const std::string& name, const Eigen::Isometry3d& T_odom_cam, double stamp, Place* out,
+                std::string* err);
+  /// The place's pose in map now (empty name: the last tagged). False with `err` when unknown.
+  bool placePose(const std::string& name, Eigen::Isometry3d* T_map_place, std::string* err) const;
+  /// Tagged places in tag order, with their poses in map now.
+  std::vector<std::pair<Place, Eigen::Isometry3d>> places() const;
   /// Extra candidate source (appearance model); proximity candidates are always added.
   void setCandidateSource(CandidateSource s);
   const SlamParams& params() const { return p_; }
@@ -147,6 +166,7 @@ private:
   SlamStats stats_;
   int64_t next_landmark_ = 0;
   CandidateSource candidates_;
+  std::vector<Place> places_;  ///< guarded by mm_; tag order (the last is the default way back)
 };
 
 }  // namespace assistive_slam
