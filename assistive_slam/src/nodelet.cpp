@@ -200,6 +200,7 @@ class SlamNodelet : public nodelet::Nodelet
     if (res.success)
     {
       res.name = p.name;
+      res.stamp = ros::Time(p.stamp);
       const Eigen::Vector3d x = (slam_->mapToOdom() * T_odom_cam * T_link_optical_.inverse()).translation();
       char buf[160];
       std::snprintf(buf, sizeof(buf), "place '%s' tagged at (%.2f, %.2f, %.2f) in %s, on keyframe %u", p.name.c_str(),
