@@ -72,6 +72,13 @@ class SlamNodelet : public nodelet::Nodelet
                                                                     right_info_sub_, odom_sub_);
     sync_->registerCallback(&SlamNodelet::frameCb, this);
     save_srv_ = nh.advertiseService("slam/save_map", &SlamNodelet::saveMap, this);
+    load_srv_ = nh.advertiseService("slam/load_map", &SlamNodelet::loadMap, this);
+    if (node_.load_map_at_start)
+    {
+      std_srvs::Trigger::Request rq;
+      std_srvs::Trigger::Response rs;
+      loadMap(rq, rs);
+    }
     tag_srv_ = nh.advertiseService("slam/tag_place", &SlamNodelet::tagPlace, this);
     guide_srv_ = nh.advertiseService("slam/guide_to_place", &SlamNodelet::guideToPlace, this);
 
@@ -123,7 +130,19 @@ class SlamNodelet : public nodelet::Nodelet
       }
     }
     if (!slam_)
+    {
+      std::lock_guard<std::mutex> lk(m_);
       slam_ = std::make_unique<SlamSystem>(p_, cam, true);
+      if (pending_map_)
+      {
+        std::string err;
+        if (slam_->loadMap(*pending_map_, &err))
+          NODELET_INFO("slam: map installed (%zu keyframes): relocalising", pending_map_->keyframes.size());
+        else
+          NODELET_ERROR("slam: the loaded map was refused: %s; mapping from scratch", err.c_str());
+        pending_map_.reset();
+      }
+    }
     cv_bridge::CvImageConstPtr lc, rc;
     try
     {
@@ -158,6 +177,49 @@ class SlamNodelet : public nodelet::Nodelet
     publishLoopEvents();
   }
 
+  std::string mapPath() const
+  {
+    std::string path = node_.map_file;
+    if (!path.empty() && path[0] != '/')
+    {
+      const char* home = std::getenv("ROS_HOME");
+      const char* user = std::getenv("HOME");
+      path = (home ? std::string(home) : std::string(user ? user : ".") + "/.ros") + "/" + path;
+    }
+    return path;
+  }
+
+  /// Reads map_file into pending_map_; it is installed before the first frame (the core takes a map
+  /// only then). A damaged file is refused with the reason and nothing changes.
+  bool loadMap(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res)
+  {
+    std::lock_guard<std::mutex> lk(m_);
+    if (slam_)
+    {
+      res.success = false;
+      res.message = "a map can only be loaded before the first frame (restart the stage to load one)";
+      NODELET_WARN("slam: %s", res.message.c_str());
+      return true;
+    }
+    const std::string path = mapPath();
+    auto m = std::make_shared<MapData>();
+    std::string err;
+    res.success = loadMapFile(path, *m, &err);
+    if (res.success)
+    {
+      pending_map_ = m;
+      res.message = "map " + path + " read: " + std::to_string(m->keyframes.size()) + " keyframes, " +
+                    std::to_string(m->places.size()) + " places; not localised until a stored place is in view";
+      NODELET_INFO("slam: %s", res.message.c_str());
+    }
+    else
+    {
+      res.message = "map " + path + " refused: " + err;
+      NODELET_ERROR("slam: %s", res.message.c_str());
+    }
+    return true;
+  }
+
   bool saveMap(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res)
   {
     if (!slam_)
@@ -166,13 +228,7 @@ class SlamNodelet : public nodelet::Nodelet
       res.message = "no map yet (no frame processed)";
       return true;
     }
-    std::string path = node_.map_file;
-    if (!path.empty() && path[0] != '/')
-    {
-      const char* home = std::getenv("ROS_HOME");
-      const char* user = std::getenv("HOME");
-      path = (home ? std::string(home) : std::string(user ? user : ".") + "/.ros") + "/" + path;
-    }
+    const std::string path = mapPath();
     std::string err;
     res.success = saveMapFile(path, exportMap(*slam_), &err);
     res.message = res.success ? "map written to " + path : err;
@@ -220,7 +276,9 @@ class SlamNodelet : public nodelet::Nodelet
   {
     std::string err = "no frame processed yet";
     Eigen::Isometry3d T_map_place;
-    res.success = slam_ && slam_->placePose(req.name, &T_map_place, &err);
+    if (slam_ && !slam_->localised())
+      err = "not localised in the loaded map yet";
+    res.success = slam_ && slam_->localised() && slam_->placePose(req.name, &T_map_place, &err);
     if (!res.success)
     {
       res.message = "no way back: " + err;
@@ -253,7 +311,7 @@ class SlamNodelet : public nodelet::Nodelet
       std_msgs::String s;
       char buf[256];
       std::snprintf(buf, sizeof(buf), "%s keyframe %u (submap %u) -> keyframe %u (submap %u): %d inliers, correction %.2f m %.1f deg%s%s",
-                    e.accepted ? "accepted" : "rejected", e.keyframe_new, e.submap_new, e.keyframe_old, e.submap_old,
+                    e.relocalisation ? "relocalised" : e.accepted ? "accepted" : "rejected", e.keyframe_new, e.submap_new, e.keyframe_old, e.submap_old,
                     e.inliers, e.correction_m, e.correction_deg, e.reason.empty() ? "" : ": ", e.reason.c_str());
       s.data = buf;
       loop_pub_.publish(s);
@@ -272,6 +330,12 @@ class SlamNodelet : public nodelet::Nodelet
       std::lock_guard<std::mutex> lk(m_);
       if (last_stamp_.isZero())
         return;
+      if (!slam_->localised())
+      {
+        // After a load: map -> odom is unknown until a stored place is recognised; none is invented.
+        NODELET_WARN_THROTTLE(10.0, "slam: not localised in the loaded map yet: no map -> odom");
+        return;
+      }
       // Future-dated by one period (the tf convention for map -> odom): lookups at the latest
       // odom stamp succeed.
       geometry_msgs::TransformStamped t = tf2::eigenToTransform(slam_->mapToOdom());
@@ -403,6 +467,8 @@ class SlamNodelet : public nodelet::Nodelet
     const SlamStats st = slam_->stats();
     std::lock_guard<std::mutex> lk(m_);
     s.summary(diagnostic_msgs::DiagnosticStatus::OK, "mapping");
+    if (!st.localised)
+      s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "not localised: map loaded, waiting for a stored place in view");
     if (st.dropped > dropped_reported_)
       s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "the worker fell behind: keyframes dropped");
     dropped_reported_ = st.dropped;
@@ -413,6 +479,8 @@ class SlamNodelet : public nodelet::Nodelet
     s.add("loop closures rejected", st.loops_rejected);
     s.add("worker queue depth", st.queue_depth);
     s.add("keyframes dropped", st.dropped);
+    s.add("localised", st.localised);
+    s.add("relocalisation keyframes tried", st.relocalisation_queries);
     s.add("worker ms (last keyframe)", st.worker_ms_last);
     s.add("ms per frame", ms_frame_);
     s.add("ms per frame (max)", ms_max_);
@@ -433,7 +501,8 @@ class SlamNodelet : public nodelet::Nodelet
   std::shared_ptr<message_filters::Synchronizer<Policy>> sync_;
   ros::Publisher path_pub_, graph_pub_, markers_pub_, loop_pub_, goal_pub_;
   ros::WallTimer tf_timer_, graph_timer_;
-  ros::ServiceServer save_srv_, tag_srv_, guide_srv_;
+  ros::ServiceServer save_srv_, load_srv_, tag_srv_, guide_srv_;
+  std::shared_ptr<MapData> pending_map_;  ///< read by slam/load_map, installed before the first frame
   diagnostic_updater::Updater diag_;
   std::mutex m_;
   ros::Time last_stamp_;
