@@ -14,6 +14,12 @@ constexpr double kDeg = M_PI / 180.0;
 /// between them in the pose graph is then weak (the relocalisation is the real link).
 constexpr double kSessionGapM = 100.0;
 
+/// The descriptors the appearance model sees: the first n rows (its memory grows with them).
+cv::Mat appearanceRows(const cv::Mat& d, int n)
+{
+  return d.rows > n ? d.rowRange(0, n) : d;
+}
+
 /// Keyframe optical axis (z) angle between two poses, degrees.
 double viewAngleDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b)
 {
@@ -189,10 +195,11 @@ void SlamSystem::processKeyframe(const Job& job)
     associate(*kf);  // (the first keyframe of a session has no odometry to the stored ones)
   localBundleAdjustment();
   std::vector<uint32_t> seen;
-  if (appearance_)
+  if (appearance_ && p_.appearance_loop)
   {
     // the model learns every mapped keyframe; its candidates come from older submaps only
-    for (const LoopCandidate& c : appearance_->process(static_cast<int>(kf->id), static_cast<int>(kf->submap), kf->descriptors).candidates)
+    for (const LoopCandidate& c : appearance_->process(static_cast<int>(kf->id), static_cast<int>(kf->submap),
+                                                             appearanceRows(kf->descriptors, p_.appearance_features)).candidates)
       if (c.keyframe_id >= 0)
         seen.push_back(static_cast<uint32_t>(c.keyframe_id));
   }
@@ -600,11 +607,16 @@ bool SlamSystem::relocalise(const KeyframePtr& kf)
 {
   // The stored keyframes the appearance model proposes (every stored submap is a candidate),
   // verified like a loop closure; two consecutive keyframes must agree on map -> odom.
-  std::lock_guard<std::mutex> lq(mm_);  // the map is read only; held so that readers see one state
-  const int query = ++stats_.relocalisation_queries;
+  // The map is only read here and only the worker writes it: no lock while verifying (readers in
+  // the frame loop must never wait for this); the state is written under mm_ below.
+  int query;
+  {
+    std::lock_guard<std::mutex> l(mm_);
+    query = ++stats_.relocalisation_queries;
+  }
   if (!appearance_ || kf->descriptors.empty())
     return false;
-  const AppearanceResult ar = appearance_->query(kf->descriptors, -1, 0);
+  const AppearanceResult ar = appearance_->query(appearanceRows(kf->descriptors, p_.appearance_features), -1, 0);
   StereoCheckOptions so;
   so.min_inliers = p_.loop_min_inliers;
   so.min_inlier_ratio = p_.loop_min_inlier_ratio;
@@ -641,9 +653,12 @@ bool SlamSystem::relocalise(const KeyframePtr& kf)
       return false;
     reloc_done_ = now;
     reloc_pending_.valid = false;
+    std::lock_guard<std::mutex> l(mm_);
     T_map_odom_ = T_mo;
     localised_ = true;
     session_start_ = true;
+    if (!p_.appearance_loop)
+      appearance_.reset();  // relocalisation is done: its grids would only cost memory
     stats_.localised = true;
     stats_.relocalised_stamp = kf->stamp;
     return true;
@@ -689,7 +704,7 @@ bool SlamSystem::loadMap(const MapData& m, std::string* err)
     kf_rel_.push_back(kfs_.empty() ? Eigen::Isometry3d::Identity() : kfs_.back()->T_map_cam.inverse() * kf->T_map_cam);
     kfs_.push_back(kf);
     if (appearance_)
-      appearance_->add(static_cast<int>(kf->id), static_cast<int>(kf->submap), kf->descriptors);
+      appearance_->add(static_cast<int>(kf->id), static_cast<int>(kf->submap), appearanceRows(kf->descriptors, p_.appearance_features));
   }
   submaps_ = m.submaps;
   for (const SubmapLinkInfo& li : m.loop_links)
