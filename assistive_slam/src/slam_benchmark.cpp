@@ -7,6 +7,7 @@
 // By default the frame loop waits for the worker after each keyframe, outside the timed part, so
 // that the accuracy figures do not depend on the machine's load; --realtime lets it run free.
 #include <sys/resource.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -38,6 +39,13 @@ double peakRssMb()
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return u.ru_maxrss / 1024.0;  // kB on Linux
+}
+double currentRssMb()
+{
+  std::ifstream f("/proc/self/statm");
+  long pages = 0, resident = 0;
+  f >> pages >> resident;
+  return resident * (sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0));
 }
 double angDeg(const Eigen::Matrix3d& R)
 {
@@ -98,6 +106,7 @@ int main(int argc, char** argv)
   std::map<double, Eigen::Isometry3d> gt_at;  // stamp -> truth
   std::vector<std::pair<double, Eigen::Isometry3d>> session_truth;  // every run frame's truth, in order
   std::vector<double> ms_added, ms_vo, worker_ms;
+  std::vector<std::pair<double, double>> rss_samples;  // (keyframes, resident MB) every 100 frames
   int frames = 0, keyframes_queued = 0;
   double prev_stamp = -1;
   long skipped = 0;
@@ -202,8 +211,11 @@ int main(int argc, char** argv)
     if (frames % 100 == 0)
     {
       const SlamStats st = slam->stats();
+      const double rss = currentRssMb();
+      rss_samples.push_back({static_cast<double>(st.keyframes), rss});
       std::cerr << "[slam_benchmark] " << frames << " frames, " << st.keyframes << " keyframes, " << st.submaps
-                << " submaps, loop closures " << st.loops_accepted << " (rejected " << st.loops_rejected << ")\n";
+                << " submaps, loop closures " << st.loops_accepted << " (rejected " << st.loops_rejected << "), RSS "
+                << rss << " MB\n";
     }
   }
   if (!slam || gt.size() < 3)
@@ -416,6 +428,25 @@ int main(int argc, char** argv)
     else
       std::cerr << "slam_benchmark: " << merr << "\n";
   }
+  // Memory: least-squares slope of the resident size against the keyframes (second half of the
+  // samples: the start-up allocations are behind).
+  double rss_slope = -1;
+  {
+    const size_t h = rss_samples.size() / 2;
+    double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (size_t i = h; i < rss_samples.size(); ++i, ++n)
+    {
+      sx += rss_samples[i].first;
+      sy += rss_samples[i].second;
+      sxx += rss_samples[i].first * rss_samples[i].first;
+      sxy += rss_samples[i].first * rss_samples[i].second;
+    }
+    if (n >= 3 && n * sxx - sx * sx > 0)
+      rss_slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    std::cout << "resident memory: " << (rss_samples.empty() ? 0.0 : rss_samples.back().second) << " MB at "
+              << (rss_samples.empty() ? 0.0 : rss_samples.back().first) << " keyframes; slope " << rss_slope * 1024
+              << " kB per keyframe (second half of the run)\n";
+  }
   auto num = [](double v, int significant = 4) { return ev::jsonNumber(v, significant); };
   ev::JsonLine js;
   js.add("frames", frames)
@@ -438,6 +469,7 @@ int main(int argc, char** argv)
       .add("keyframes_dropped", st.dropped)
       .add("submaps", st.submaps)
       .add("peak_rss_mb", num(peakRssMb()))
+      .add("rss_mb_per_keyframe", rss_slope >= 0 ? num(rss_slope) : "null")
       .add("relocalisation_frames", reloc_frames >= 0 ? num(reloc_frames) : "null")
       .add("relocalisation_err_m", reloc_err_m >= 0 ? num(reloc_err_m) : "null")
       .add("relocalisation_err_deg", reloc_err_deg >= 0 ? num(reloc_err_deg) : "null")
