@@ -197,6 +197,7 @@ int main(int argc, char** argv)
     }
     if (reloc_frame < 0 && !load_path.empty() && slam->localised())
       reloc_frame = frames;
+
     if (f.has_gt_pose)
       session_truth.push_back({f.stamp, f.gt_pose});
     if (f.has_gt_pose && o.pose_valid)

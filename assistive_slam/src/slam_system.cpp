@@ -621,14 +621,27 @@ bool SlamSystem::relocalise(const KeyframePtr& kf)
   so.min_inliers = p_.loop_min_inliers;
   so.min_inlier_ratio = p_.loop_min_inlier_ratio;
   so.inlier_px = p_.loop_inlier_px;
+  // The model ranks submaps; its keyframe within a submap is a weak guess (on a generated parking
+  // walk it was the submap's first for 8 queries in a row while another of its keyframes matched),
+  // so every keyframe of a proposed submap is verified and the one with the most inliers is kept.
   for (const LoopCandidate& c : ar.candidates)
   {
-    if (c.keyframe_id < 0 || static_cast<size_t>(c.keyframe_id) >= kfs_.size())
+    if (c.submap_id < 0 || static_cast<size_t>(c.submap_id) >= submaps_.size())
       continue;
-    const Keyframe& a = *kfs_[c.keyframe_id];
-    const StereoCheckResult r = stereoCheck(a, *kf, cam_, so);
-    if (!r.accepted)
+    const Keyframe* best = nullptr;
+    StereoCheckResult r;
+    for (uint32_t id : submaps_[c.submap_id].keyframes)
+    {
+      const StereoCheckResult ri = stereoCheck(*kfs_[id], *kf, cam_, so);
+      if (ri.accepted && (!best || ri.inliers > r.inliers))
+      {
+        best = kfs_[id].get();
+        r = ri;
+      }
+    }
+    if (!best)
       continue;
+    const Keyframe& a = *best;
     const Eigen::Isometry3d T_map_b = a.T_map_cam * r.T_a_b;
     const Eigen::Isometry3d T_mo = T_map_b * kf->T_odom_cam.inverse();
     Reloc now;
