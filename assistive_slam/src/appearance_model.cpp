@@ -194,11 +194,11 @@ double AppearanceModel::distinctiveness(HashedGrid::Key word) const
   return (hmax - h) / hmax;                               // eq. 3.52
 }
 
-std::vector<int> AppearanceModel::candidateSubmaps(int current_submap) const
+std::vector<int> AppearanceModel::candidateSubmaps(int current_submap, int recent_excluded) const
 {
   std::vector<int> c;
   const int n = submapCount();
-  const int keep = n - std::max(0, params_.recent_submaps_excluded);
+  const int keep = n - std::max(0, recent_excluded >= 0 ? recent_excluded : params_.recent_submaps_excluded);
   for (int i = 0; i < keep; ++i)
     if (submap_order_[i] != current_submap)
       c.push_back(submap_order_[i]);
@@ -236,13 +236,13 @@ std::vector<double> AppearanceModel::prior(const std::vector<int>& candidates) c
   return pr;
 }
 
-AppearanceResult AppearanceModel::query(const cv::Mat& descriptors, int current_submap) const
+AppearanceResult AppearanceModel::query(const cv::Mat& descriptors, int current_submap, int recent_excluded) const
 {
   AppearanceResult res;
   const auto w = words(descriptors);
   const std::size_t nf = w.empty() ? 0 : w.front().size();
   res.features = static_cast<int>(nf);
-  const std::vector<int> cand = candidateSubmaps(current_submap);
+  const std::vector<int> cand = candidateSubmaps(current_submap, recent_excluded);
   if (cand.empty())
     return res;  // nothing to close a loop with: certainly a new place
   std::unordered_map<int, std::size_t> index;

@@ -126,10 +126,12 @@ std::string encode(const MapData& m)
       w.pod(l.covariance(i / 6, i % 6));
   }
   w.pod(static_cast<uint64_t>(m.places.size()));
-  for (const auto& [name, T] : m.places)
+  for (const Place& p : m.places)
   {
-    w.str(name);
-    w.pose(T);
+    w.str(p.name);
+    w.pod(p.keyframe);
+    w.pose(p.T_kf_place);
+    w.pod(p.stamp);
   }
   return w.b;
 }
@@ -207,8 +209,14 @@ bool decode(const std::string& b, MapData& m)
   const uint64_t np = r.count(8);
   for (uint64_t n = 0; n < np && r.ok; ++n)
   {
-    const std::string name = r.str();
-    m.places[name] = r.pose();
+    Place p;
+    p.name = r.str();
+    p.keyframe = r.pod<uint32_t>();
+    p.T_kf_place = r.pose();
+    p.stamp = r.pod<double>();
+    if (p.keyframe >= m.keyframes.size())
+      r.ok = false;  // a place must sit on a stored keyframe
+    m.places.push_back(std::move(p));
   }
   return r.ok && r.i == b.size();
 }
@@ -217,6 +225,9 @@ bool decode(const std::string& b, MapData& m)
 MapData exportMap(const SlamSystem& slam)
 {
   MapData m;
+  // Places first: each sits on a keyframe that exists already, so the keyframes read after hold it.
+  for (const auto& pp : slam.places())
+    m.places.push_back(pp.first);
   m.keyframes = slam.keyframes(true);
   m.submaps = slam.submaps();
   for (const SubmapLinkInfo& l : slam.links())

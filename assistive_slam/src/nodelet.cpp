@@ -26,7 +26,10 @@
 #include <visualization_msgs/MarkerArray.h>
 #include <assistive_common/callback_guard.h>
 #include <assistive_common/ros_params.h>
+#include <assistive_msgs/GuideToPlace.h>
 #include <assistive_msgs/SubmapGraph.h>
+#include <assistive_msgs/TagPlace.h>
+#include <geometry_msgs/PoseStamped.h>
 
 #include "assistive_slam/map_file.h"
 #include "assistive_slam/slam_system.h"
@@ -56,6 +59,8 @@ class SlamNodelet : public nodelet::Nodelet
     graph_pub_ = nh.advertise<assistive_msgs::SubmapGraph>("slam/submap_graph", 1, true);
     markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("slam/markers", 1, true);
     loop_pub_ = nh.advertise<std_msgs::String>("slam/loop_closures", 10);
+    // Latched: a planner started later still receives the way back.
+    goal_pub_ = nh.advertise<geometry_msgs::PoseStamped>("planner/goal", 1, true);
 
     left_sub_.subscribe(nh, "left/image_rect", 2);
     left_info_sub_.subscribe(nh, "left/camera_info", 2);
@@ -67,6 +72,15 @@ class SlamNodelet : public nodelet::Nodelet
                                                                     right_info_sub_, odom_sub_);
     sync_->registerCallback(&SlamNodelet::frameCb, this);
     save_srv_ = nh.advertiseService("slam/save_map", &SlamNodelet::saveMap, this);
+    load_srv_ = nh.advertiseService("slam/load_map", &SlamNodelet::loadMap, this);
+    if (node_.load_map_at_start)
+    {
+      std_srvs::Trigger::Request rq;
+      std_srvs::Trigger::Response rs;
+      loadMap(rq, rs);
+    }
+    tag_srv_ = nh.advertiseService("slam/tag_place", &SlamNodelet::tagPlace, this);
+    guide_srv_ = nh.advertiseService("slam/guide_to_place", &SlamNodelet::guideToPlace, this);
 
     diag_.setHardwareID("slam");
     diag_.add("status", this, &SlamNodelet::diagStatus);
@@ -116,7 +130,19 @@ class SlamNodelet : public nodelet::Nodelet
       }
     }
     if (!slam_)
+    {
+      std::lock_guard<std::mutex> lk(m_);
       slam_ = std::make_unique<SlamSystem>(p_, cam, true);
+      if (pending_map_)
+      {
+        std::string err;
+        if (slam_->loadMap(*pending_map_, &err))
+          NODELET_INFO("slam: map installed (%zu keyframes): relocalising", pending_map_->keyframes.size());
+        else
+          NODELET_ERROR("slam: the loaded map was refused: %s; mapping from scratch", err.c_str());
+        pending_map_.reset();
+      }
+    }
     cv_bridge::CvImageConstPtr lc, rc;
     try
     {
@@ -151,6 +177,49 @@ class SlamNodelet : public nodelet::Nodelet
     publishLoopEvents();
   }
 
+  std::string mapPath() const
+  {
+    std::string path = node_.map_file;
+    if (!path.empty() && path[0] != '/')
+    {
+      const char* home = std::getenv("ROS_HOME");
+      const char* user = std::getenv("HOME");
+      path = (home ? std::string(home) : std::string(user ? user : ".") + "/.ros") + "/" + path;
+    }
+    return path;
+  }
+
+  /// Reads map_file into pending_map_; it is installed before the first frame (the core takes a map
+  /// only then). A damaged file is refused with the reason and nothing changes.
+  bool loadMap(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res)
+  {
+    std::lock_guard<std::mutex> lk(m_);
+    if (slam_)
+    {
+      res.success = false;
+      res.message = "a map can only be loaded before the first frame (restart the stage to load one)";
+      NODELET_WARN("slam: %s", res.message.c_str());
+      return true;
+    }
+    const std::string path = mapPath();
+    auto m = std::make_shared<MapData>();
+    std::string err;
+    res.success = loadMapFile(path, *m, &err);
+    if (res.success)
+    {
+      pending_map_ = m;
+      res.message = "map " + path + " read: " + std::to_string(m->keyframes.size()) + " keyframes, " +
+                    std::to_string(m->places.size()) + " places; not localised until a stored place is in view";
+      NODELET_INFO("slam: %s", res.message.c_str());
+    }
+    else
+    {
+      res.message = "map " + path + " refused: " + err;
+      NODELET_ERROR("slam: %s", res.message.c_str());
+    }
+    return true;
+  }
+
   bool saveMap(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res)
   {
     if (!slam_)
@@ -159,13 +228,7 @@ class SlamNodelet : public nodelet::Nodelet
       res.message = "no map yet (no frame processed)";
       return true;
     }
-    std::string path = node_.map_file;
-    if (!path.empty() && path[0] != '/')
-    {
-      const char* home = std::getenv("ROS_HOME");
-      const char* user = std::getenv("HOME");
-      path = (home ? std::string(home) : std::string(user ? user : ".") + "/.ros") + "/" + path;
-    }
+    const std::string path = mapPath();
     std::string err;
     res.success = saveMapFile(path, exportMap(*slam_), &err);
     res.message = res.success ? "map written to " + path : err;
@@ -173,6 +236,69 @@ class SlamNodelet : public nodelet::Nodelet
       NODELET_INFO("slam: %s", res.message.c_str());
     else
       NODELET_ERROR("slam: %s", res.message.c_str());
+    return true;
+  }
+
+  bool tagPlace(assistive_msgs::TagPlace::Request& req, assistive_msgs::TagPlace::Response& res)
+  {
+    Eigen::Isometry3d T_odom_cam;
+    double stamp = 0;
+    {
+      std::lock_guard<std::mutex> lk(m_);
+      T_odom_cam = T_odom_optical_last_;
+      stamp = last_stamp_.toSec();
+    }
+    std::string err;
+    Place p;
+    res.success = slam_ && stamp > 0 && slam_->tagPlace(req.name, T_odom_cam, stamp, &p, &err);
+    if (!slam_ || stamp <= 0)
+      err = "no frame processed yet";
+    if (res.success)
+    {
+      res.name = p.name;
+      res.stamp = ros::Time(p.stamp);
+      const Eigen::Vector3d x = (slam_->mapToOdom() * T_odom_cam * T_link_optical_.inverse()).translation();
+      char buf[160];
+      std::snprintf(buf, sizeof(buf), "place '%s' tagged at (%.2f, %.2f, %.2f) in %s, on keyframe %u", p.name.c_str(),
+                    x.x(), x.y(), x.z(), node_.map_frame.c_str(), p.keyframe);
+      res.message = buf;
+      NODELET_INFO("slam: %s", buf);
+    }
+    else
+    {
+      res.message = "place not tagged: " + err;
+      NODELET_WARN("slam: %s", res.message.c_str());
+    }
+    return true;
+  }
+
+  bool guideToPlace(assistive_msgs::GuideToPlace::Request& req, assistive_msgs::GuideToPlace::Response& res)
+  {
+    std::string err = "no frame processed yet";
+    Eigen::Isometry3d T_map_place;
+    if (slam_ && !slam_->localised())
+      err = "not localised in the loaded map yet";
+    res.success = slam_ && slam_->localised() && slam_->placePose(req.name, &T_map_place, &err);
+    if (!res.success)
+    {
+      res.message = "no way back: " + err;
+      NODELET_WARN("slam: %s", res.message.c_str());
+      return true;
+    }
+    // The goal stays in map (the planner transforms it to its own frame with the latest
+    // map -> odom). Stamp 0: "the latest transform", since map -> odom is future-dated.
+    // The place is stored as the left optical frame; the goal is the head (camera_link) there.
+    geometry_msgs::PoseStamped g;
+    g.header.frame_id = node_.map_frame;
+    g.pose = tf2::toMsg(Eigen::Isometry3d(T_map_place * T_link_optical_.inverse()));
+    goal_pub_.publish(g);
+    res.goal = g;
+    char buf[160];
+    std::snprintf(buf, sizeof(buf), "the way back to '%s': planner goal (%.2f, %.2f) in %s",
+                  req.name.empty() ? "the last place" : req.name.c_str(), g.pose.position.x, g.pose.position.y,
+                  node_.map_frame.c_str());
+    res.message = buf;
+    NODELET_INFO("slam: %s", buf);
     return true;
   }
 
@@ -185,7 +311,7 @@ class SlamNodelet : public nodelet::Nodelet
       std_msgs::String s;
       char buf[256];
       std::snprintf(buf, sizeof(buf), "%s keyframe %u (submap %u) -> keyframe %u (submap %u): %d inliers, correction %.2f m %.1f deg%s%s",
-                    e.accepted ? "accepted" : "rejected", e.keyframe_new, e.submap_new, e.keyframe_old, e.submap_old,
+                    e.relocalisation ? "relocalised" : e.accepted ? "accepted" : "rejected", e.keyframe_new, e.submap_new, e.keyframe_old, e.submap_old,
                     e.inliers, e.correction_m, e.correction_deg, e.reason.empty() ? "" : ": ", e.reason.c_str());
       s.data = buf;
       loop_pub_.publish(s);
@@ -204,6 +330,12 @@ class SlamNodelet : public nodelet::Nodelet
       std::lock_guard<std::mutex> lk(m_);
       if (last_stamp_.isZero())
         return;
+      if (!slam_->localised())
+      {
+        // After a load: map -> odom is unknown until a stored place is recognised; none is invented.
+        NODELET_WARN_THROTTLE(10.0, "slam: not localised in the loaded map yet: no map -> odom");
+        return;
+      }
       // Future-dated by one period (the tf convention for map -> odom): lookups at the latest
       // odom stamp succeed.
       geometry_msgs::TransformStamped t = tf2::eigenToTransform(slam_->mapToOdom());
@@ -296,7 +428,31 @@ class SlamNodelet : public nodelet::Nodelet
         m.points.push_back(tf2::toMsg(Eigen::Vector3d(sms[li.from].T_map_origin.translation())));
         m.points.push_back(tf2::toMsg(Eigen::Vector3d(sms[li.to].T_map_origin.translation())));
       }
+      // tagged places: a yellow sphere and its name
+      visualization_msgs::Marker place_pts = nodes;
+      place_pts.ns = "places";
+      place_pts.scale.x = place_pts.scale.y = place_pts.scale.z = 0.4;
+      place_pts.color.r = 1.0;
+      place_pts.color.g = 0.85;
+      place_pts.color.b = 0.0;
       ma.markers = {nodes, odo, loops};
+      int label_id = 0;
+      for (const auto& [pl, T] : slam_->places())
+      {
+        const Eigen::Vector3d x = (T * T_link_optical_.inverse()).translation();
+        place_pts.points.push_back(tf2::toMsg(x));
+        visualization_msgs::Marker label = place_pts;
+        label.ns = "place_names";
+        label.id = label_id++;
+        label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+        label.points.clear();
+        label.scale.x = label.scale.y = 0;
+        label.scale.z = 0.4;
+        label.pose.position = tf2::toMsg(Eigen::Vector3d(x + Eigen::Vector3d(0, 0, 0.5)));
+        label.text = pl.name;
+        ma.markers.push_back(label);
+      }
+      ma.markers.push_back(place_pts);
       markers_pub_.publish(ma);
     });
   }
@@ -311,6 +467,8 @@ class SlamNodelet : public nodelet::Nodelet
     const SlamStats st = slam_->stats();
     std::lock_guard<std::mutex> lk(m_);
     s.summary(diagnostic_msgs::DiagnosticStatus::OK, "mapping");
+    if (!st.localised)
+      s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "not localised: map loaded, waiting for a stored place in view");
     if (st.dropped > dropped_reported_)
       s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "the worker fell behind: keyframes dropped");
     dropped_reported_ = st.dropped;
@@ -321,6 +479,8 @@ class SlamNodelet : public nodelet::Nodelet
     s.add("loop closures rejected", st.loops_rejected);
     s.add("worker queue depth", st.queue_depth);
     s.add("keyframes dropped", st.dropped);
+    s.add("localised", st.localised);
+    s.add("relocalisation keyframes tried", st.relocalisation_queries);
     s.add("worker ms (last keyframe)", st.worker_ms_last);
     s.add("ms per frame", ms_frame_);
     s.add("ms per frame (max)", ms_max_);
@@ -339,9 +499,10 @@ class SlamNodelet : public nodelet::Nodelet
   message_filters::Subscriber<Info> left_info_sub_, right_info_sub_;
   message_filters::Subscriber<Odom> odom_sub_;
   std::shared_ptr<message_filters::Synchronizer<Policy>> sync_;
-  ros::Publisher path_pub_, graph_pub_, markers_pub_, loop_pub_;
+  ros::Publisher path_pub_, graph_pub_, markers_pub_, loop_pub_, goal_pub_;
   ros::WallTimer tf_timer_, graph_timer_;
-  ros::ServiceServer save_srv_;
+  ros::ServiceServer save_srv_, load_srv_, tag_srv_, guide_srv_;
+  std::shared_ptr<MapData> pending_map_;  ///< read by slam/load_map, installed before the first frame
   diagnostic_updater::Updater diag_;
   std::mutex m_;
   ros::Time last_stamp_;

@@ -7,6 +7,7 @@
 // By default the frame loop waits for the worker after each keyframe, outside the timed part, so
 // that the accuracy figures do not depend on the machine's load; --realtime lets it run free.
 #include <sys/resource.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -39,6 +40,13 @@ double peakRssMb()
   getrusage(RUSAGE_SELF, &u);
   return u.ru_maxrss / 1024.0;  // kB on Linux
 }
+double currentRssMb()
+{
+  std::ifstream f("/proc/self/statm");
+  long pages = 0, resident = 0;
+  f >> pages >> resident;
+  return resident * (sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0));
+}
 double angDeg(const Eigen::Matrix3d& R)
 {
   return Eigen::AngleAxisd(R).angle() * 180.0 / M_PI;
@@ -47,13 +55,17 @@ double angDeg(const Eigen::Matrix3d& R)
 
 int main(int argc, char** argv)
 {
-  std::string bag, plot, map_path;
+  std::string bag, plot, map_path, load_path;
+  long skip_frames = 0;
   bool imu_on = true, realtime = false;
   long max_frames = -1;
   ev::CommandLine::Sets overrides;
   const char* usage =
-      "usage: slam_benchmark FILE.bag [--no-imu] [--plot OUT.png] [--frames N] [--realtime] [--map FILE] [--set name=value ...]\n"
+      "usage: slam_benchmark FILE.bag [--no-imu] [--plot OUT.png] [--frames N] [--skip N] [--realtime] [--map FILE]\n"
+      "                     [--load-map FILE] [--set name=value ...]\n"
       "  VO alone and VO + SLAM on the same frames of a stereo bag; last stdout line: JSON.\n"
+      "  --map: where the map is written at the end; --load-map: start from a saved map (relocalisation);\n"
+      "  --skip N: the first N frames are not run (e.g. the first loop, mapped by an earlier run).\n"
       "  --set: the SLAM stage's parameters (README table), e.g. --set loop_closure=false\n";
   ev::CommandLine cl("slam_benchmark", usage);
   cl.positional(&bag, "bag", true)
@@ -61,6 +73,8 @@ int main(int argc, char** argv)
       .flag("--realtime", &realtime)
       .text("--plot", &plot)
       .text("--map", &map_path)
+      .text("--load-map", &load_path)
+      .count("--skip", &skip_frames, 0L)
       .count("--frames", &max_frames, 0L)
       .sets(&overrides);
   if (const int rc = cl.parse(argc, argv); rc >= 0)
@@ -90,12 +104,25 @@ int main(int argc, char** argv)
   ev::Trajectory gt, vo_est, online_est;
   std::vector<Eigen::Isometry3d> frame_odom;  // per scored frame: VO pose (for the final SLAM trajectory)
   std::map<double, Eigen::Isometry3d> gt_at;  // stamp -> truth
+  std::vector<std::pair<double, Eigen::Isometry3d>> session_truth;  // every run frame's truth, in order
   std::vector<double> ms_added, ms_vo, worker_ms;
+  std::vector<std::pair<double, double>> rss_samples;  // (keyframes, resident MB) every 100 frames
   int frames = 0, keyframes_queued = 0;
   double prev_stamp = -1;
+  long skipped = 0;
+  size_t stored_keyframes = 0;
+  std::vector<Eigen::Isometry3d> loaded_poses;  // the stored keyframes' map poses as loaded
+  int reloc_frame = -1;       // session frame at which the wearer was relocalised
   ev::StereoFrame f;
   while ((max_frames < 0 || frames < max_frames) && ev::nextFrameOrExit(*reader, f, "slam_benchmark", bag))
   {
+    if (skipped < skip_frames)
+    {
+      ++skipped;
+      if (f.has_gt_pose)
+        gt_at[f.stamp] = f.gt_pose;  // the truth of a stored map's keyframes (same bag)
+      continue;
+    }
     const assistive_vo::StereoCamera cam = assistive_vo::StereoCamera::from(f.calib);
     if (!slam)
     {
@@ -107,6 +134,21 @@ int main(int argc, char** argv)
       m.cy = cam.cy;
       m.baseline = cam.baseline;
       slam = std::make_unique<SlamSystem>(sp, m, true);
+      if (!load_path.empty())
+      {
+        MapData md;
+        std::string err;
+        if (!loadMapFile(load_path, md, &err) || !slam->loadMap(md, &err))
+        {
+          std::cerr << "slam_benchmark: map " << load_path << " not loaded: " << err << "\n";
+          return 1;
+        }
+        stored_keyframes = md.keyframes.size();
+        for (const Keyframe& k : md.keyframes)
+          loaded_poses.push_back(k.T_map_cam);
+        std::cerr << "[slam_benchmark] map " << load_path << ": " << md.keyframes.size() << " keyframes, "
+                  << md.submaps.size() << " submaps, " << md.places.size() << " places\n";
+      }
     }
     for (const auto& s : f.imu)
       imu.add(s.stamp, s.gyro, s.accel);
@@ -153,6 +195,11 @@ int main(int argc, char** argv)
         worker_ms.push_back(slam->stats().worker_ms_last);
       }
     }
+    if (reloc_frame < 0 && !load_path.empty() && slam->localised())
+      reloc_frame = frames;
+
+    if (f.has_gt_pose)
+      session_truth.push_back({f.stamp, f.gt_pose});
     if (f.has_gt_pose && o.pose_valid)
     {
       gt.push_back({f.stamp, f.gt_pose});
@@ -165,8 +212,11 @@ int main(int argc, char** argv)
     if (frames % 100 == 0)
     {
       const SlamStats st = slam->stats();
+      const double rss = currentRssMb();
+      rss_samples.push_back({static_cast<double>(st.keyframes), rss});
       std::cerr << "[slam_benchmark] " << frames << " frames, " << st.keyframes << " keyframes, " << st.submaps
-                << " submaps, loop closures " << st.loops_accepted << " (rejected " << st.loops_rejected << ")\n";
+                << " submaps, loop closures " << st.loops_accepted << " (rejected " << st.loops_rejected << "), RSS "
+                << rss << " MB\n";
     }
   }
   if (!slam || gt.size() < 3)
@@ -177,6 +227,7 @@ int main(int argc, char** argv)
   slam->waitIdle();
   const SlamStats st = slam->stats();
   const std::vector<Keyframe> kfs = slam->keyframes();
+  const std::vector<Keyframe> session_kfs(kfs.begin() + static_cast<long>(std::min(stored_keyframes, kfs.size())), kfs.end());
   const std::vector<LoopEvent> events = slam->loopEvents();
 
   // Final SLAM trajectory: each frame rides on the last keyframe before it (optimised pose).
@@ -185,11 +236,11 @@ int main(int argc, char** argv)
     size_t k = 0;
     for (size_t i = 0; i < gt.size(); ++i)
     {
-      while (k + 1 < kfs.size() && kfs[k + 1].stamp <= gt[i].t)
+      while (k + 1 < session_kfs.size() && session_kfs[k + 1].stamp <= gt[i].t)
         ++k;
       Eigen::Isometry3d T = frame_odom[i];
-      if (!kfs.empty() && kfs[k].stamp <= gt[i].t)
-        T = kfs[k].T_map_cam * kfs[k].T_odom_cam.inverse() * frame_odom[i];
+      if (!session_kfs.empty() && session_kfs[k].stamp <= gt[i].t)
+        T = session_kfs[k].T_map_cam * session_kfs[k].T_odom_cam.inverse() * frame_odom[i];
       slam_est.push_back({gt[i].t, T});
     }
   }
@@ -261,6 +312,73 @@ int main(int argc, char** argv)
       missed += !run_closed;
   }
 
+  // Relocalisation (--load-map): frames from the first one with a stored keyframe in view (truly
+  // within 1 m and 30 deg; needs the stored keyframes' truth, i.e. the same bag) to the one that
+  // relocalised, and the error of the relocalised pose in world through the fit of the stored
+  // keyframes' map poses to their truth.
+  double reloc_frames = -1, reloc_err_m = -1, reloc_err_deg = -1;
+  if (!load_path.empty())
+  {
+    std::vector<Eigen::Isometry3d> stored_gt;
+    Eigen::Matrix3Xd a(3, 0), b(3, 0);
+    for (size_t i = 0; i < stored_keyframes; ++i)
+    {
+      Eigen::Isometry3d T;
+      if (!truthOf(kfs[i].stamp, T))
+        continue;
+      stored_gt.push_back(T);
+      a.conservativeResize(3, a.cols() + 1);
+      b.conservativeResize(3, b.cols() + 1);
+      a.col(a.cols() - 1) = loaded_poses[i].translation();
+      b.col(b.cols() - 1) = T.translation();
+    }
+    int in_view = stored_gt.empty() ? 0 : -1;
+    for (size_t i = 0; i < session_truth.size() && in_view < 0; ++i)
+      for (const Eigen::Isometry3d& S : stored_gt)
+        if ((S.translation() - session_truth[i].second.translation()).norm() < 1.0 &&
+            angDeg(S.linear().transpose() * session_truth[i].second.linear()) < 30.0)
+        {
+          in_view = static_cast<int>(i);
+          break;
+        }
+    std::cout << "relocalisation: " << (stored_gt.empty() ? "no truth for the stored keyframes (another bag?); " : "")
+              << "first stored place in view at session frame " << in_view << ", relocalised at frame " << reloc_frame
+              << " (" << st.relocalisation_queries << " keyframes tried)\n";
+    if (reloc_frame >= 0 && in_view >= 0)
+      reloc_frames = std::max(0, reloc_frame - in_view);
+    Eigen::Isometry3d Tt;
+    if (st.relocalised_stamp >= 0 && a.cols() >= 3 && truthOf(st.relocalised_stamp, Tt))
+    {
+      Eigen::Isometry3d A;
+      A.matrix() = Eigen::umeyama(a, b, false);
+      for (const LoopEvent& e : events)
+        if (e.relocalisation)
+        {
+          // the pose the relocalisation gave: the stored keyframe times the verified relative pose
+          const Eigen::Isometry3d Tm = A * loaded_poses.at(e.keyframe_old) * e.T_old_new;
+          reloc_err_m = (Tm.translation() - Tt.translation()).norm();
+          reloc_err_deg = angDeg(Tm.linear().transpose() * Tt.linear());
+        }
+      std::cout << "relocalised pose vs truth (world through the fit of the stored keyframes as loaded): " << reloc_err_m << " m, "
+                << reloc_err_deg << " deg\n";
+    }
+  }
+
+  if (!load_path.empty() && st.relocalised_stamp >= 0)
+  {
+    // A loaded map: frames before the relocalisation have no map pose; all figures from it on.
+    auto from = [&](const ev::Trajectory& t) {
+      ev::Trajectory o;
+      for (const auto& p : t)
+        if (p.t >= st.relocalised_stamp)
+          o.push_back(p);
+      return o;
+    };
+    gt = from(gt);
+    vo_est = from(vo_est);
+    slam_est = from(slam_est);
+    online_est = from(online_est);
+  }
   const ev::TrajectoryReport vrep = ev::evaluateTrajectory(gt, vo_est);
   const ev::TrajectoryReport srep = ev::evaluateTrajectory(gt, slam_est);
   const ev::TrajectoryReport orep = ev::evaluateTrajectory(gt, online_est);
@@ -311,6 +429,25 @@ int main(int argc, char** argv)
     else
       std::cerr << "slam_benchmark: " << merr << "\n";
   }
+  // Memory: least-squares slope of the resident size against the keyframes (second half of the
+  // samples: the start-up allocations are behind).
+  double rss_slope = -1;
+  {
+    const size_t h = rss_samples.size() / 2;
+    double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (size_t i = h; i < rss_samples.size(); ++i, ++n)
+    {
+      sx += rss_samples[i].first;
+      sy += rss_samples[i].second;
+      sxx += rss_samples[i].first * rss_samples[i].first;
+      sxy += rss_samples[i].first * rss_samples[i].second;
+    }
+    if (n >= 3 && n * sxx - sx * sx > 0)
+      rss_slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    std::cout << "resident memory: " << (rss_samples.empty() ? 0.0 : rss_samples.back().second) << " MB at "
+              << (rss_samples.empty() ? 0.0 : rss_samples.back().first) << " keyframes; slope " << rss_slope * 1024
+              << " kB per keyframe (second half of the run)\n";
+  }
   auto num = [](double v, int significant = 4) { return ev::jsonNumber(v, significant); };
   ev::JsonLine js;
   js.add("frames", frames)
@@ -333,7 +470,10 @@ int main(int argc, char** argv)
       .add("keyframes_dropped", st.dropped)
       .add("submaps", st.submaps)
       .add("peak_rss_mb", num(peakRssMb()))
-      .addNull("relocalisation_frames")
+      .add("rss_mb_per_keyframe", rss_slope >= 0 ? num(rss_slope) : "null")
+      .add("relocalisation_frames", reloc_frames >= 0 ? num(reloc_frames) : "null")
+      .add("relocalisation_err_m", reloc_err_m >= 0 ? num(reloc_err_m) : "null")
+      .add("relocalisation_err_deg", reloc_err_deg >= 0 ? num(reloc_err_deg) : "null")
       .add("map_file_mb", map_mb >= 0 ? num(map_mb) : "null")
       .add("path_length_m", num(vrep.path_length_m));
   std::cout << js.str() << std::endl;

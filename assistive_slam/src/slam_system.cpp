@@ -1,5 +1,6 @@
 #include "assistive_slam/slam_system.h"
 #include <algorithm>
+#include "assistive_slam/map_file.h"
 #include <chrono>
 #include <cmath>
 #include <set>
@@ -9,6 +10,15 @@ namespace assistive_slam
 namespace
 {
 constexpr double kDeg = M_PI / 180.0;
+/// The path "walked" between the last stored keyframe and the first of a new session: the link
+/// between them in the pose graph is then weak (the relocalisation is the real link).
+constexpr double kSessionGapM = 100.0;
+
+/// The descriptors the appearance model sees: the first n rows (its memory grows with them).
+cv::Mat appearanceRows(const cv::Mat& d, int n)
+{
+  return d.rows > n ? d.rowRange(0, n) : d;
+}
 
 /// Keyframe optical axis (z) angle between two poses, degrees.
 double viewAngleDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b)
@@ -21,6 +31,13 @@ double viewAngleDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b)
 SlamSystem::SlamSystem(const SlamParams& p, const StereoModel& cam, bool threaded)
   : p_(p), cam_(cam), threaded_(threaded), extractor_(p), policy_(p)
 {
+  if (p_.appearance_candidates > 0)
+  {
+    AppearanceParams ap;
+    ap.recent_submaps_excluded = p_.loop_skip_submaps;
+    ap.max_candidates = p_.appearance_candidates;
+    appearance_ = std::make_unique<AppearanceModel>(ap);
+  }
   if (threaded_)
     worker_ = std::thread(&SlamSystem::workerLoop, this);
 }
@@ -117,9 +134,23 @@ void SlamSystem::processKeyframe(const Job& job)
   kf->stamp = job.frame.stamp;
   kf->T_odom_cam = job.frame.T_odom_cam;
   extractor_.extract(job.frame.left, job.frame.right, cam_, *kf);
+  if (!localised_ && !relocalise(kf))
+  {
+    std::lock_guard<std::mutex> l(mm_);
+    stats_.worker_ms_last = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return;  // not in the map: the keyframe was only a query
+  }
 
+  const bool first_of_session = session_start_;
   Eigen::Isometry3d rel = Eigen::Isometry3d::Identity();
-  if (!kfs_.empty())
+  if (session_start_)
+  {
+    // First keyframe after a relocalisation: its map pose from the verified stored keyframe.
+    kf->T_map_cam = T_map_odom_ * kf->T_odom_cam;
+    rel = kfs_.back()->T_map_cam.inverse() * kf->T_map_cam;
+    kf->path_m = kfs_.back()->path_m + kSessionGapM;
+  }
+  else if (!kfs_.empty())
   {
     const Keyframe& prev = *kfs_.back();
     rel = prev.T_odom_cam.inverse() * kf->T_odom_cam;
@@ -134,7 +165,7 @@ void SlamSystem::processKeyframe(const Job& job)
     std::lock_guard<std::mutex> l(mm_);
     // Bounded submaps: a new one after submap_max_keyframes or beyond submap_max_extent.
     const bool new_submap =
-        submaps_.empty() || static_cast<int>(submaps_.back().keyframes.size()) >= p_.submap_max_keyframes ||
+        submaps_.empty() || session_start_ || static_cast<int>(submaps_.back().keyframes.size()) >= p_.submap_max_keyframes ||
         (submaps_.back().T_map_origin.inverse() * kf->T_map_cam).translation().norm() > p_.submap_max_extent_m;
     if (new_submap)
     {
@@ -149,11 +180,31 @@ void SlamSystem::processKeyframe(const Job& job)
     kf_rel_.push_back(rel);
     stats_.keyframes = static_cast<int>(kfs_.size());
     stats_.submaps = static_cast<int>(submaps_.size());
+    if (session_start_)
+    {
+      // the relocalisation is a loop link: stored submap -> the new session's first submap
+      reloc_done_.link.to = kf->submap;
+      loop_links_.push_back(reloc_done_.link);
+      reloc_done_.ev.keyframe_new = kf->id;
+      reloc_done_.ev.submap_new = kf->submap;
+      events_.push_back(reloc_done_.ev);
+      session_start_ = false;
+    }
   }
-  associate(*kf);
+  if (!first_of_session)
+    associate(*kf);  // (the first keyframe of a session has no odometry to the stored ones)
   localBundleAdjustment();
-  if (p_.loop_closure)
-    detectLoop(kf);
+  std::vector<uint32_t> seen;
+  if (appearance_ && p_.appearance_loop)
+  {
+    // the model learns every mapped keyframe; its candidates come from older submaps only
+    for (const LoopCandidate& c : appearance_->process(static_cast<int>(kf->id), static_cast<int>(kf->submap),
+                                                             appearanceRows(kf->descriptors, p_.appearance_features)).candidates)
+      if (c.keyframe_id >= 0)
+        seen.push_back(static_cast<uint32_t>(c.keyframe_id));
+  }
+  if (p_.loop_closure && !first_of_session)  // (the first of a session has just been verified)
+    detectLoop(kf, seen);
   {
     std::lock_guard<std::mutex> l(mm_);
     T_map_odom_ = kfs_.back()->T_map_cam * kfs_.back()->T_odom_cam.inverse();
@@ -313,12 +364,19 @@ std::vector<uint32_t> SlamSystem::proximityCandidates(const Keyframe& kf) const
   return out;
 }
 
-void SlamSystem::detectLoop(const KeyframePtr& kf)
+void SlamSystem::detectLoop(const KeyframePtr& kf, const std::vector<uint32_t>& appearance)
 {
+  // Proximity first (the map knows roughly where the wearer is), then the appearance model's
+  // proposals (places the drift has carried beyond the search radius), each verified alike.
   std::vector<uint32_t> cand;
   if (candidates_)
     cand = candidates_(*kf);
   for (uint32_t id : proximityCandidates(*kf))
+    if (std::find(cand.begin(), cand.end(), id) == cand.end())
+      cand.push_back(id);
+  if (static_cast<int>(cand.size()) > p_.loop_candidates)
+    cand.resize(p_.loop_candidates);
+  for (uint32_t id : appearance)
     if (std::find(cand.begin(), cand.end(), id) == cand.end())
       cand.push_back(id);
   StereoCheckOptions so;
@@ -328,7 +386,7 @@ void SlamSystem::detectLoop(const KeyframePtr& kf)
   int tried = 0;
   for (uint32_t id : cand)
   {
-    if (tried >= p_.loop_candidates)
+    if (tried >= p_.loop_candidates + p_.appearance_candidates)
       break;
     if (id >= kfs_.size() || static_cast<int>(kfs_[id]->submap) > static_cast<int>(kf->submap) - p_.loop_skip_submaps)
       continue;
@@ -543,6 +601,202 @@ uint32_t SlamSystem::currentSubmap() const
 {
   std::lock_guard<std::mutex> l(mm_);
   return submaps_.empty() ? 0 : submaps_.back().id;
+}
+
+bool SlamSystem::relocalise(const KeyframePtr& kf)
+{
+  // The stored keyframes the appearance model proposes (every stored submap is a candidate),
+  // verified like a loop closure; two consecutive keyframes must agree on map -> odom.
+  // The map is only read here and only the worker writes it: no lock while verifying (readers in
+  // the frame loop must never wait for this); the state is written under mm_ below.
+  int query;
+  {
+    std::lock_guard<std::mutex> l(mm_);
+    query = ++stats_.relocalisation_queries;
+  }
+  if (!appearance_ || kf->descriptors.empty())
+    return false;
+  const AppearanceResult ar = appearance_->query(appearanceRows(kf->descriptors, p_.appearance_features), -1, 0);
+  StereoCheckOptions so;
+  so.min_inliers = p_.loop_min_inliers;
+  so.min_inlier_ratio = p_.loop_min_inlier_ratio;
+  so.inlier_px = p_.loop_inlier_px;
+  // The model ranks submaps; its keyframe within a submap is a weak guess (on a generated parking
+  // walk it was the submap's first for 8 queries in a row while another of its keyframes matched),
+  // so every keyframe of a proposed submap is verified and the one with the most inliers is kept.
+  for (const LoopCandidate& c : ar.candidates)
+  {
+    if (c.submap_id < 0 || static_cast<size_t>(c.submap_id) >= submaps_.size())
+      continue;
+    const Keyframe* best = nullptr;
+    StereoCheckResult r;
+    for (uint32_t id : submaps_[c.submap_id].keyframes)
+    {
+      const StereoCheckResult ri = stereoCheck(*kfs_[id], *kf, cam_, so);
+      if (ri.accepted && (!best || ri.inliers > r.inliers))
+      {
+        best = kfs_[id].get();
+        r = ri;
+      }
+    }
+    if (!best)
+      continue;
+    const Keyframe& a = *best;
+    const Eigen::Isometry3d T_map_b = a.T_map_cam * r.T_a_b;
+    const Eigen::Isometry3d T_mo = T_map_b * kf->T_odom_cam.inverse();
+    Reloc now;
+    now.valid = true;
+    now.query = query;
+    now.T_map_odom = T_mo;
+    now.link = {a.submap, 0, submaps_[a.submap].T_map_origin.inverse() * T_map_b};
+    now.ev.stamp = kf->stamp;
+    now.ev.keyframe_old = a.id;
+    now.ev.submap_old = a.submap;
+    now.ev.matches = r.matches;
+    now.ev.inliers = r.inliers;
+    now.ev.T_old_new = r.T_a_b;
+    now.ev.accepted = true;
+    now.ev.relocalisation = true;
+    const bool confirmed = reloc_pending_.valid && reloc_pending_.query + 1 == query && [&] {
+      const Eigen::Isometry3d dd = reloc_pending_.T_map_odom.inverse() * T_mo;
+      return dd.translation().norm() <= p_.loop_confirm_m && angleDeg(dd) <= p_.loop_confirm_deg;
+    }();
+    reloc_pending_ = now;
+    if (!confirmed)
+      return false;
+    reloc_done_ = now;
+    reloc_pending_.valid = false;
+    std::lock_guard<std::mutex> l(mm_);
+    T_map_odom_ = T_mo;
+    localised_ = true;
+    session_start_ = true;
+    if (!p_.appearance_loop)
+      appearance_.reset();  // relocalisation is done: its grids would only cost memory
+    stats_.localised = true;
+    stats_.relocalised_stamp = kf->stamp;
+    return true;
+  }
+  return false;
+}
+
+bool SlamSystem::loadMap(const MapData& m, std::string* err)
+{
+  auto fail = [&](const std::string& e) {
+    if (err)
+      *err = e;
+    return false;
+  };
+  {
+    std::lock_guard<std::mutex> lq(qm_);
+    if (busy_ || !queue_.empty())
+      return fail("a map can only be loaded before the first frame");
+  }
+  std::lock_guard<std::mutex> l(mm_);
+  if (!kfs_.empty())
+    return fail("a map can only be loaded before the first frame");
+  if (m.keyframes.empty() || m.submaps.empty())
+    return fail("the map holds no keyframe");
+  for (size_t i = 0; i < m.keyframes.size(); ++i)
+    if (m.keyframes[i].id != i || m.keyframes[i].submap >= m.submaps.size())
+      return fail("keyframe " + std::to_string(i) + " is out of order or in no submap");
+  for (size_t i = 0; i < m.submaps.size(); ++i)
+  {
+    if (m.submaps[i].id != i || m.submaps[i].keyframes.empty())
+      return fail("submap " + std::to_string(i) + " is out of order or empty");
+    for (uint32_t k : m.submaps[i].keyframes)
+      if (k >= m.keyframes.size() || m.keyframes[k].submap != i)
+        return fail("submap " + std::to_string(i) + " lists a keyframe it does not hold");
+  }
+  for (const SubmapLinkInfo& li : m.loop_links)
+    if (li.from >= m.submaps.size() || li.to >= m.submaps.size())
+      return fail("a loop link joins unknown submaps");
+  for (const Keyframe& k : m.keyframes)
+  {
+    auto kf = std::make_shared<Keyframe>(k);
+    kf->landmark.assign(kf->keypoints.size(), -1);
+    kf_rel_.push_back(kfs_.empty() ? Eigen::Isometry3d::Identity() : kfs_.back()->T_map_cam.inverse() * kf->T_map_cam);
+    kfs_.push_back(kf);
+    if (appearance_)
+      appearance_->add(static_cast<int>(kf->id), static_cast<int>(kf->submap), appearanceRows(kf->descriptors, p_.appearance_features));
+  }
+  submaps_ = m.submaps;
+  for (const SubmapLinkInfo& li : m.loop_links)
+    loop_links_.push_back({li.from, li.to, li.T_from_to});
+  places_ = m.places;
+  localised_ = false;
+  stats_.localised = false;
+  stats_.keyframes = static_cast<int>(kfs_.size());
+  stats_.submaps = static_cast<int>(submaps_.size());
+  return true;
+}
+
+bool SlamSystem::localised() const
+{
+  std::lock_guard<std::mutex> l(mm_);
+  return localised_;
+}
+
+bool SlamSystem::tagPlace(const std::string& name, const Eigen::Isometry3d& T_odom_cam, double stamp, Place* out,
+                          std::string* err)
+{
+  std::lock_guard<std::mutex> l(mm_);
+  if (kfs_.empty() || !localised_)
+  {
+    if (err)
+      *err = kfs_.empty() ? "no keyframe yet: the map cannot hold a place before its first keyframe"
+                          : "not localised in the loaded map yet";
+    return false;
+  }
+  if (!T_odom_cam.matrix().allFinite())
+  {
+    if (err)
+      *err = "the current VO pose is not finite";
+    return false;
+  }
+  const Keyframe& kf = *kfs_.back();
+  Place p;
+  p.name = name.empty() ? "place" + std::to_string(places_.size() + 1) : name;
+  p.keyframe = kf.id;
+  // The VO's own motion since the keyframe: independent of any map correction.
+  p.T_kf_place = kf.T_odom_cam.inverse() * T_odom_cam;
+  p.stamp = stamp;
+  places_.erase(std::remove_if(places_.begin(), places_.end(), [&](const Place& q) { return q.name == p.name; }),
+                places_.end());
+  places_.push_back(p);
+  if (out)
+    *out = p;
+  return true;
+}
+
+bool SlamSystem::placePose(const std::string& name, Eigen::Isometry3d* T_map_place, std::string* err) const
+{
+  std::lock_guard<std::mutex> l(mm_);
+  if (places_.empty())
+  {
+    if (err)
+      *err = "no place tagged";
+    return false;
+  }
+  auto it = name.empty() ? std::prev(places_.end())
+                         : std::find_if(places_.begin(), places_.end(), [&](const Place& q) { return q.name == name; });
+  if (it == places_.end() || it->keyframe >= kfs_.size())
+  {
+    if (err)
+      *err = "no place named '" + name + "'";
+    return false;
+  }
+  *T_map_place = kfs_[it->keyframe]->T_map_cam * it->T_kf_place;
+  return true;
+}
+
+std::vector<std::pair<Place, Eigen::Isometry3d>> SlamSystem::places() const
+{
+  std::lock_guard<std::mutex> l(mm_);
+  std::vector<std::pair<Place, Eigen::Isometry3d>> out;
+  for (const Place& p : places_)
+    if (p.keyframe < kfs_.size())
+      out.emplace_back(p, kfs_[p.keyframe]->T_map_cam * p.T_kf_place);
+  return out;
 }
 
 void SlamSystem::setCandidateSource(CandidateSource s)

@@ -49,8 +49,8 @@ MapData sample()
   l.covariance = Matrix6d::Identity() * 0.01;
   l.loop_closure = true;
   m.loop_links.push_back(l);
-  m.places["entrance"] = pose(0.5, 1.0);
-  m.places["lift"] = pose(-3, -2.0);
+  m.places.push_back({"entrance", 0, pose(0.5, 1.0), 12.5});
+  m.places.push_back({"lift", 2, pose(-3, -2.0), 40.25});
   return m;
 }
 std::string bytes(const std::string& path)
@@ -104,7 +104,11 @@ TEST(MapFile, RoundTripKeepsEverything)
   EXPECT_TRUE(r.loop_links[0].T_from_to.isApprox(m.loop_links[0].T_from_to, 0));
   EXPECT_EQ(r.loop_links[0].covariance, m.loop_links[0].covariance);
   ASSERT_EQ(r.places.size(), 2u);
-  EXPECT_TRUE(r.places.at("lift").isApprox(m.places.at("lift"), 0));
+  EXPECT_EQ(r.places[1].name, "lift");
+  EXPECT_EQ(r.places[1].keyframe, 2u);
+  EXPECT_EQ(r.places[1].stamp, 40.25);
+  EXPECT_TRUE(r.places[1].T_kf_place.isApprox(m.places[1].T_kf_place, 0));
+  EXPECT_EQ(r.places[0].name, "entrance");
   std::remove(path.c_str());
 }
 
@@ -115,15 +119,15 @@ TEST(MapFile, RejectsDamagedFiles)
   ASSERT_TRUE(saveMapFile(path, sample(), &err));
   const std::string good = bytes(path);
   MapData keep;
-  keep.places["untouched"] = Eigen::Isometry3d::Identity();
+  keep.places.push_back({"untouched", 0, Eigen::Isometry3d::Identity(), 0});
   auto rejects = [&](const std::string& b, const std::string& expect) {
     write(bad, b);
     MapData m = keep;
     std::string e;
     EXPECT_FALSE(loadMapFile(bad, m, &e));
     EXPECT_NE(e.find(expect), std::string::npos) << "message: " << e << " (expected: " << expect << ")";
-    EXPECT_EQ(m.places.size(), 1u);
-    EXPECT_TRUE(m.places.count("untouched"));
+    ASSERT_EQ(m.places.size(), 1u);
+    EXPECT_EQ(m.places[0].name, "untouched");
   };
   // truncated anywhere: in the header, in the payload, in the checksum
   for (size_t n : {size_t(10), size_t(20), good.size() / 2, good.size() - 1})
@@ -136,9 +140,12 @@ TEST(MapFile, RejectsDamagedFiles)
     rejects(b, "corrupted");
   }
   rejects(good + "x", "corrupted");
-  std::string v2 = good;
-  v2[8] = 2;  // version field
-  rejects(v2, "version 2");
+  std::string other = good;
+  other[8] = static_cast<char>(kMapFileVersion + 1);  // version field
+  rejects(other, "version " + std::to_string(kMapFileVersion + 1));
+  std::string v1 = good;
+  v1[8] = 1;  // the first format (places not on keyframes)
+  rejects(v1, "version 1");
   rejects("PNG\x1a not a map at all, long enough to hold a header", "not an assistive_slam map file");
   MapData m;
   EXPECT_FALSE(loadMapFile(tmp("missing_file"), m, &err));

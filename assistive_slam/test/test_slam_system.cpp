@@ -3,6 +3,7 @@
 #include <random>
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
+#include "assistive_slam/map_file.h"
 #include "assistive_slam/slam_system.h"
 
 using namespace assistive_slam;
@@ -133,6 +134,118 @@ TEST(SlamSystem, WorkerQueueStaysBounded)
   EXPECT_EQ(queued, 40);
   EXPECT_EQ(st.keyframes + st.dropped, 40);
   EXPECT_EQ(st.queue_depth, 0);
+}
+
+TEST(SlamSystem, PlacesRideOnTheirKeyframe)
+{
+  SlamParams p;
+  p.loop_closure = false;
+  cv::Mat l, r;
+  texturePair(16, l, r);
+  SlamSystem s(p, camera(), false);
+  std::string err;
+  Eigen::Isometry3d T;
+  EXPECT_FALSE(s.tagPlace("door", along(0), 0, nullptr, &err));  // no keyframe yet
+  EXPECT_NE(err.find("no keyframe"), std::string::npos);
+  EXPECT_FALSE(s.placePose("", &T, &err));
+  SlamFrame f;
+  f.left = l;
+  f.right = r;
+  f.vo_replenished = true;
+  ASSERT_TRUE(s.addFrame(f));  // keyframe 0 at the odom origin: map = odom until a closure
+  Eigen::Isometry3d door = along(0.1);
+  door.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  Place tagged;
+  ASSERT_TRUE(s.tagPlace("door", door, 1.0, &tagged, &err)) << err;
+  EXPECT_EQ(tagged.keyframe, 0u);
+  f.stamp = 2;
+  f.T_odom_cam = along(1.2);
+  ASSERT_TRUE(s.addFrame(f));  // keyframe 1
+  ASSERT_TRUE(s.tagPlace("", along(1.5), 3.0, &tagged, &err));
+  EXPECT_EQ(tagged.name, "place2");
+  EXPECT_EQ(tagged.keyframe, 1u);
+  EXPECT_TRUE(tagged.T_kf_place.isApprox(along(0.3), 1e-12));  // the VO's motion since keyframe 1
+  ASSERT_TRUE(s.placePose("door", &T, &err));
+  EXPECT_TRUE(T.isApprox(door, 1e-12));
+  ASSERT_TRUE(s.placePose("", &T, &err));  // the last tagged
+  EXPECT_TRUE(T.isApprox(along(1.5), 1e-12));
+  EXPECT_FALSE(s.placePose("lift", &T, &err));
+  EXPECT_NE(err.find("lift"), std::string::npos);
+  ASSERT_TRUE(s.tagPlace("door", along(1.4), 4.0, nullptr, &err));  // tagged again: moved, now the last
+  const auto places = s.places();
+  ASSERT_EQ(places.size(), 2u);
+  EXPECT_EQ(places[0].first.name, "place2");
+  EXPECT_EQ(places[1].first.name, "door");
+  EXPECT_TRUE(places[1].second.isApprox(along(1.4), 1e-12));
+}
+
+TEST(SlamSystem, LoadedMapRelocalisesOnAStoredPlace)
+{
+  SlamParams p;
+  p.loop_closure = false;
+  p.submap_max_keyframes = 2;
+  // The same images at every pose: every verified relative pose is the identity, so two
+  // consecutive queries 0.3 m apart in odom agree on map -> odom only within 0.4 m.
+  p.loop_confirm_m = 0.5;
+  cv::Mat l, r;
+  texturePair(16, l, r);
+  SlamFrame f;
+  f.left = l;
+  f.right = r;
+  f.vo_replenished = true;
+  MapData m;
+  {
+    SlamSystem first(p, camera(), false);
+    for (int i = 0; i < 4; ++i)
+    {
+      f.stamp = i;
+      f.T_odom_cam = along(0.5 * i);
+      ASSERT_TRUE(first.addFrame(f));
+    }
+    std::string err;
+    ASSERT_TRUE(first.tagPlace("door", along(1.6), 3.5, nullptr, &err)) << err;
+    m = exportMap(first);
+  }
+  ASSERT_EQ(m.keyframes.size(), 4u);
+  ASSERT_EQ(m.places.size(), 1u);
+
+  SlamSystem second(p, camera(), false);
+  std::string err;
+  MapData broken = m;
+  broken.submaps[0].keyframes.push_back(3);  // a keyframe listed by a submap that does not hold it
+  EXPECT_FALSE(second.loadMap(broken, &err));
+  ASSERT_TRUE(second.loadMap(m, &err)) << err;
+  EXPECT_FALSE(second.localised());
+  Eigen::Isometry3d T;
+  EXPECT_FALSE(second.tagPlace("lift", along(0), 10, nullptr, &err));  // not localised: no new place
+  EXPECT_NE(err.find("not localised"), std::string::npos);
+  // the new session's odom starts elsewhere: 5 m further along z
+  f.stamp = 10;
+  f.T_odom_cam = along(5.0);
+  ASSERT_TRUE(second.addFrame(f));
+  EXPECT_FALSE(second.localised());  // one verified keyframe is not enough
+  EXPECT_EQ(second.stats().keyframes, 4);
+  f.stamp = 11;
+  f.T_odom_cam = along(5.4);
+  ASSERT_TRUE(second.addFrame(f));
+  ASSERT_TRUE(second.localised());
+  const SlamStats st = second.stats();
+  EXPECT_EQ(st.relocalised_stamp, 11);
+  EXPECT_EQ(st.relocalisation_queries, 2);
+  EXPECT_EQ(st.keyframes, 5);  // the relocalising keyframe is mapped, in a new submap
+  EXPECT_EQ(st.submaps, 3);
+  // map -> odom: the odom pose 5.3 sits on a stored keyframe (identity relative pose)
+  const Eigen::Vector3d x = (second.mapToOdom() * along(5.4)).translation();
+  bool on_stored = false;
+  for (const Keyframe& k : m.keyframes)
+    on_stored = on_stored || (k.T_map_cam.translation() - x).norm() < 1e-6;
+  EXPECT_TRUE(on_stored) << x.transpose();
+  ASSERT_TRUE(second.placePose("door", &T, &err));
+  EXPECT_TRUE(T.isApprox(along(1.6), 1e-12));  // the stored place, in the stored map
+  const auto ev = second.loopEvents();
+  ASSERT_EQ(ev.size(), 1u);
+  EXPECT_TRUE(ev[0].relocalisation);
+  EXPECT_FALSE(second.loadMap(m, &err));  // only before the first frame
 }
 
 int main(int argc, char** argv)

@@ -116,7 +116,8 @@ public:
   /// Posterior over the stored submaps and the new place for one keyframe's descriptors, without
   /// learning from them. `current_submap` is the submap the keyframe belongs to (excluded with the
   /// other recent ones).
-  AppearanceResult query(const cv::Mat& descriptors, int current_submap) const;
+  /// `recent_excluded` >= 0 overrides params().recent_submaps_excluded (relocalisation: 0).
+  AppearanceResult query(const cv::Mat& descriptors, int current_submap, int recent_excluded = -1) const;
   /// Learn a keyframe: hits for its words in `submap_id`, misses for the submap's words it lacks.
   void add(int keyframe_id, int submap_id, const cv::Mat& descriptors);
   /// query() then add(); the posterior becomes the next update's prior (eq. 3.39).
@@ -138,7 +139,7 @@ public:
 
 private:
   cv::Mat mapDescriptors(const cv::Mat& descriptors) const;
-  std::vector<int> candidateSubmaps(int current_submap) const;
+  std::vector<int> candidateSubmaps(int current_submap, int recent_excluded) const;
   std::vector<double> prior(const std::vector<int>& candidates) const;
 
   AppearanceParams params_;

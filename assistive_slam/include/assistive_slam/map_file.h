@@ -12,17 +12,17 @@
 
 namespace assistive_slam
 {
-constexpr uint32_t kMapFileVersion = 1;
+constexpr uint32_t kMapFileVersion = 2;  ///< 2: places anchored to a keyframe
 
 struct MapData
 {
   std::vector<Keyframe> keyframes;  ///< with features
   std::vector<SubmapInfo> submaps;
   std::vector<SubmapLinkInfo> loop_links;
-  std::map<std::string, Eigen::Isometry3d> places;  ///< tagged places, poses in map
+  std::vector<Place> places;  ///< tagged places, each on its keyframe (tag order)
 };
 
-/// The system's map as it is now (keyframes with features, submaps, loop links; no places).
+/// The system's map as it is now (keyframes with features, submaps, loop links, places).
 MapData exportMap(const SlamSystem& slam);
 
 /// False with `err` when the file cannot be written.

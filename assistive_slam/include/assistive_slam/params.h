@@ -52,6 +52,11 @@ namespace assistive_slam
   X(double, loop_confirm_m, "loop_confirm", 0.3, 0.0, 10.0, "m", "a verified closure is accepted when the next keyframe's implies the same map correction within this ...") \
   X(double, loop_confirm_deg, "loop_confirm_deg", 3.0, 0.0, 90.0, "deg", "... and this") \
   X(int, loop_candidates, "loop_candidates", 3, 1, 50, "", "candidate keyframes verified per new keyframe") \
+  X(int, appearance_candidates, "appearance_candidates", 3, 0, 50, "", "keyframes the appearance model (ORB, its binary path) proposes per keyframe: the only candidates when relocalising after a load (0: no relocalisation)") \
+  /* Off by default: on the parking walks it added no closure to the proximity search's (24 and 102 either way) */ \
+  /* and the model's grids cost about 0.5 MB per keyframe (peak RSS 106 -> 199 MB on the shipped parking walk). */ \
+  X(bool, appearance_loop, "appearance_loop", false, {}, {}, "", "the model also learns every keyframe and its candidates are verified after the proximity ones for loop closure") \
+  X(int, appearance_features, "appearance_features", 200, 10, 5000, "", "descriptors per keyframe the appearance model learns and queries (its memory grows with them)") \
   X(double, loop_sigma_m, "loop_sigma", 0.03, 1e-4, 10.0, "m", "translation noise of a verified closure") \
   X(double, loop_sigma_deg, "loop_sigma_deg", 0.5, 1e-3, 90.0, "deg", "rotation noise of a verified closure") \
   /* --- worker thread --- */ \
@@ -67,7 +72,8 @@ namespace assistive_slam
   X(double, tf_rate, "tf_rate", 20.0, 1.0, 200.0, "Hz", "map -> odom is re-broadcast at this rate (future-dated by 1 / rate)") \
   X(double, graph_rate, "graph_rate", 1.0, 0.1, 50.0, "Hz", "path, submap graph and markers are published at this rate") \
   X(double, expected_rate, "expected_rate", 15.0, 0.1, 200.0, "Hz", "for the frequency diagnostic") \
-  X(std::string, map_file, "map_file", "assistive_slam.map", {}, {}, "", "slam/save_map writes here (a relative path is under ROS_HOME, default ~/.ros)")
+  X(std::string, map_file, "map_file", "assistive_slam.map", {}, {}, "", "slam/save_map and slam/load_map use this file (a relative path is under ROS_HOME, default ~/.ros)") \
+  X(bool, load_map_at_start, "load_map_at_start", false, {}, {}, "", "load map_file before the first frame (then not localised until a stored place is recognised)")
 // clang-format on
 
 struct SlamNodeParams

@@ -12,6 +12,8 @@
 #include <vector>
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <memory>
+#include "assistive_slam/appearance_model.h"
 #include "assistive_slam/keyframe.h"
 #include "assistive_slam/local_ba.h"
 #include "assistive_slam/params.h"
@@ -39,6 +41,7 @@ struct LoopEvent
   double correction_m = 0, correction_deg = 0;  ///< how far the closure moves the new keyframe
   Eigen::Isometry3d T_old_new = Eigen::Isometry3d::Identity();  ///< verified relative pose
   std::string reason;                           ///< why rejected (empty when accepted)
+  bool relocalisation = false;                  ///< the first link to a loaded map, not a loop closure
 };
 
 struct SubmapInfo
@@ -56,12 +59,27 @@ struct SubmapLinkInfo
   bool loop_closure = false;
 };
 
+/// A tagged place (the way back): the wearer's pose when tagged, anchored to the newest keyframe
+/// then, so that it moves with that keyframe when the map is corrected.
+struct Place
+{
+  std::string name;
+  uint32_t keyframe = 0;
+  Eigen::Isometry3d T_kf_place = Eigen::Isometry3d::Identity();  ///< left optical frame at the tag, in the keyframe
+  double stamp = 0;
+};
+
 struct SlamStats
 {
   int keyframes = 0, submaps = 0, loops_accepted = 0, loops_rejected = 0, queue_depth = 0, dropped = 0;
   int ba_runs = 0, ba_rejected = 0, pose_graph_runs = 0;
   double worker_ms_last = 0;
+  bool localised = true;              ///< false after a load until a stored place is recognised
+  double relocalised_stamp = -1;      ///< the keyframe that relocalised the wearer (-1: none)
+  int relocalisation_queries = 0;     ///< keyframes tried against the loaded map
 };
+
+struct MapData;
 
 /// Candidate keyframes to verify against a new keyframe (ids, best first). The default is the
 /// proximity search of the map; helper "loop"'s appearance model plugs in here.
@@ -89,6 +107,22 @@ public:
   std::vector<SubmapInfo> submaps() const;
   std::vector<SubmapLinkInfo> links() const;
   uint32_t currentSubmap() const;
+  /// Installs a stored map (map_file.h) before the first frame: keyframes, submaps, loop links,
+  /// places; the appearance model is rebuilt from the stored descriptors. The wearer is then not
+  /// localised (mapToOdom() is meaningless) until a keyframe and the next one both verify against
+  /// stored keyframes proposed by the appearance model with the same map -> odom. False with `err`
+  /// after the first frame or on an inconsistent map.
+  bool loadMap(const MapData& m, std::string* err);
+  bool localised() const;
+  /// Tags the place at the VO pose `T_odom_cam` (the newest frame), anchored to the newest
+  /// processed keyframe by the VO's motion since it. An empty name becomes "place<N>"; a name
+  /// already tagged is moved. False with `err` before the first keyframe is processed.
+  bool tagPlace(const std::string& name, const Eigen::Isometry3d& T_odom_cam, double stamp, Place* out,
+                std::string* err);
+  /// The place's pose in map now (empty name: the last tagged). False with `err` when unknown.
+  bool placePose(const std::string& name, Eigen::Isometry3d* T_map_place, std::string* err) const;
+  /// Tagged places in tag order, with their poses in map now.
+  std::vector<std::pair<Place, Eigen::Isometry3d>> places() const;
   /// Extra candidate source (appearance model); proximity candidates are always added.
   void setCandidateSource(CandidateSource s);
   const SlamParams& params() const { return p_; }
@@ -102,7 +136,8 @@ private:
   void processKeyframe(const Job& job);
   void associate(Keyframe& kf);
   void localBundleAdjustment();
-  void detectLoop(const KeyframePtr& kf);
+  void detectLoop(const KeyframePtr& kf, const std::vector<uint32_t>& appearance);
+  bool relocalise(const KeyframePtr& kf);
   void optimiseGraph();
   Matrix6d odomInformation(double path_m) const;
   Matrix6d odomCovariance(double path_m) const;
@@ -147,6 +182,20 @@ private:
   SlamStats stats_;
   int64_t next_landmark_ = 0;
   CandidateSource candidates_;
+  std::vector<Place> places_;  ///< guarded by mm_; tag order (the last is the default way back)
+  std::unique_ptr<AppearanceModel> appearance_;  ///< worker only
+  // ---- after a load (worker only, except localised_ under mm_)
+  bool localised_ = true;
+  bool session_start_ = false;  ///< the next mapped keyframe is the first of this session
+  struct Reloc
+  {
+    bool valid = false;
+    int query = 0;
+    Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();
+    LoopLink link{0, 0, Eigen::Isometry3d::Identity()};  ///< stored submap -> (new submap), T_origin_newkf
+    LoopEvent ev;
+  };
+  Reloc reloc_pending_, reloc_done_;
 };
 
 }  // namespace assistive_slam

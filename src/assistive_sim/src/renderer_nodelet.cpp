@@ -3,8 +3,10 @@
 // rendering is StereoRenderer (assistive_sim_core).
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <diagnostic_updater/publisher.h>
@@ -13,6 +15,7 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
+#include <sensor_msgs/Range.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -22,6 +25,7 @@
 #include <assistive_sim/motion.h>
 #include <assistive_sim/renderer.h>
 #include <assistive_sim/renderer_params.h>
+#include <assistive_sim/ultrasonic.h>
 #include <assistive_sim/world.h>
 
 namespace assistive_sim
@@ -34,7 +38,11 @@ using assistive_eval::toMsg;
 class RendererNodelet : public nodelet::Nodelet
 {
 public:
-  ~RendererNodelet() override { timer_.stop(); }
+  ~RendererNodelet() override
+  {
+    timer_.stop();
+    sonar_timer_.stop();
+  }
 
 private:
   void onInit() override
@@ -51,6 +59,8 @@ private:
     pnh.param("imu_frame", p.imu_frame, p.imu_frame);
     pnh.param("rate", p.rate, p.rate);
     pnh.param("imu_rate", p.imu_rate, p.imu_rate);
+    pnh.param("sonar_rate", p.sonar_rate, p.sonar_rate);
+    pnh.param("sonar_frame", p.sonar_frame, p.sonar_frame);
     pnh.param("width", p.width, p.width);
     pnh.param("height", p.height, p.height);
     pnh.param("focal", p.focal, p.focal);
@@ -70,6 +80,7 @@ private:
     };
     clamp(p.rate, 0.1, 200.0, "rate", def.rate);
     clamp(p.imu_rate, 1.0, 2000.0, "imu_rate", def.imu_rate);
+    clamp(p.sonar_rate, 0.0, 100.0, "sonar_rate", def.sonar_rate);
     clamp(p.width, 16, 4096, "width", def.width);
     clamp(p.height, 16, 4096, "height", def.height);
     clamp(p.focal, 10.0, 10000.0, "focal", def.focal);
@@ -137,6 +148,15 @@ private:
       sub_pose_ = nh.subscribe("pose", 1, &RendererNodelet::poseCb, this);
     }
 
+    if (p.sonar_rate > 0)
+    {
+      UltrasonicParams up;
+      up.rate = p.sonar_rate;
+      sonar_.reset(new UltrasonicRanger(world_, up, static_cast<uint32_t>(p.seed)));
+      pub_sonar_ = nh.advertise<sensor_msgs::Range>("sonar/front", 10);
+      sonar_timer_ = nh.createTimer(ros::Duration(1.0 / p.sonar_rate), &RendererNodelet::sonarTick, this);
+    }
+
     updater_.reset(new diagnostic_updater::Updater(nh, pnh, getName()));
     updater_->setHardwareID("simulated stereo camera");
     min_freq_ = max_freq_ = p.rate;
@@ -170,6 +190,32 @@ private:
       s.stamp = (start_ + ros::Duration(ti)).toSec();
       pub_imu_.publish(toMsg(s, p_.imu_frame));
     }
+  }
+
+  void sonarTick(const ros::TimerEvent&)
+  {
+    // One ping from the wearer's pose now: the script's, else the last rendered camera pose.
+    const ros::Time now = ros::Time::now();
+    Eigen::Isometry3d link;
+    if (p_.pose_source == "script")
+      link = motion_->linkPose(scriptTime(now));
+    else
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!have_rendered_) return;  // no pose yet: no range rather than a guess
+      link = last_rendered_ * linkToLeftOptical().inverse();
+    }
+    const std::optional<double> r = sonar_->ping(link * linkToSonar());
+    const UltrasonicParams& up = sonar_->params();
+    sensor_msgs::Range m;
+    m.header.stamp = now;
+    m.header.frame_id = p_.sonar_frame;
+    m.radiation_type = sensor_msgs::Range::ULTRASOUND;
+    m.field_of_view = static_cast<float>(up.beam_width);
+    m.min_range = static_cast<float>(up.min_range);
+    m.max_range = static_cast<float>(up.max_range);
+    m.range = r ? static_cast<float>(*r) : std::numeric_limits<float>::infinity();  // REP-117: no echo
+    pub_sonar_.publish(m);
   }
 
   void poseCb(const geometry_msgs::PoseStampedConstPtr& msg)
@@ -249,6 +295,11 @@ private:
       T = pose_;
     }
     renderer_->render(T, (now - start_).toSec(), frame_++, out_, omega_opt);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      last_rendered_ = T;
+      have_rendered_ = true;
+    }
     const StereoCalib& c = renderer_->params().calib;
     pub_left_.publish(toImageMsg(out_.left, p_.left_frame, now));
     pub_right_.publish(toImageMsg(out_.right, p_.right_frame, now));
@@ -277,10 +328,12 @@ private:
   std::unique_ptr<StereoRenderer> renderer_;
   std::unique_ptr<WearerMotion> motion_;
   std::unique_ptr<ImuSimulator> imu_;
+  std::unique_ptr<UltrasonicRanger> sonar_;
   RenderOutput out_;
-  ros::Publisher pub_left_, pub_right_, pub_left_info_, pub_right_info_, pub_depth_, pub_occ_, pub_imu_, pub_odom_;
+  ros::Publisher pub_left_, pub_right_, pub_left_info_, pub_right_info_, pub_depth_, pub_occ_, pub_imu_, pub_odom_,
+      pub_sonar_;
   ros::Subscriber sub_pose_;
-  ros::Timer timer_, imu_timer_;
+  ros::Timer timer_, imu_timer_, sonar_timer_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
@@ -290,6 +343,8 @@ private:
   std::mutex mutex_;
   Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
   bool have_pose_ = false;
+  Eigen::Isometry3d last_rendered_ = Eigen::Isometry3d::Identity();  ///< left optical pose, last frame
+  bool have_rendered_ = false;
   ros::Time last_pose_time_, start_;
   uint64_t frame_ = 0;
 };

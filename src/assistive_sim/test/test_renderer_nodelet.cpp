@@ -13,6 +13,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
+#include <sensor_msgs/Range.h>
 
 namespace
 {
@@ -56,6 +57,14 @@ TEST(RendererNodelet, ScriptModePublishesStereoBagTopics)
   EXPECT_EQ(imu->header.frame_id, "camera_link");
   EXPECT_NEAR(std::hypot(imu->linear_acceleration.x, std::hypot(imu->linear_acceleration.y, imu->linear_acceleration.z)),
               9.81, 3.0);
+  // The forward ranger: a Range in its frame with the HC-SR04 class limits (a range or +Inf).
+  auto sonar = waitFor<sensor_msgs::Range>("/sonar/front", 10.0);
+  ASSERT_TRUE(sonar);
+  EXPECT_EQ(sonar->header.frame_id, "sonar_front");
+  EXPECT_EQ(sonar->radiation_type, sensor_msgs::Range::ULTRASOUND);
+  EXPECT_NEAR(sonar->min_range, 0.2, 1e-6);
+  EXPECT_NEAR(sonar->max_range, 4.0, 1e-6);
+  EXPECT_TRUE(std::isinf(sonar->range) || (sonar->range >= sonar->min_range && sonar->range <= sonar->max_range));
   auto odom = waitFor<nav_msgs::Odometry>("/ground_truth/odom", 10.0);
   ASSERT_TRUE(odom);
   EXPECT_EQ(odom->header.frame_id, "gt_world");

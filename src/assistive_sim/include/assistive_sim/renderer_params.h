@@ -19,6 +19,8 @@ struct RendererNodeParams
   std::string imu_frame = "camera_link";
   double rate = 15.0;        ///< Hz, frames per second
   double imu_rate = 200.0;   ///< Hz (script mode)
+  double sonar_rate = 20.0;  ///< Hz, the forward ultrasonic ranger (`sonar/front`); 0 = off
+  std::string sonar_frame = "sonar_front";
   int width = 640;           ///< px
   int height = 480;          ///< px
   double focal = 500.0;      ///< px (fx = fy); principal point at the image centre
