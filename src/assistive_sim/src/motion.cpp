@@ -254,7 +254,8 @@ double WearerMotion::uOfS(const Leg& leg, double s)
 double WearerMotion::legDistance(const Leg& leg, double tau) const
 {
   // Speed: quintic ramp up from rest over t_ramp, cruise v0 (1 + a sin^2(w t)), and for a leg that
-  // stops, a quintic ramp down from the cruise speed reached (its jerk at the joint is ~0.02 m/s^2).
+  // stops, a quintic ramp down from the cruise speed reached (the acceleration steps by at most
+  // v0 a w ~ 0.02 m/s^2 where the ramp down starts, well below the IMU noise).
   const double v0 = script_.speed, a = script_.speed_variation, w = M_PI / 10.0, tr = leg.t_ramp;
   if (tau <= 0) return 0.0;
   auto rampInt = [](double x) { return x * x * x * x * (2.5 + x * (-3 + x)); };  // integral of smooth5
