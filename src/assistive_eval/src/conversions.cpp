@@ -146,4 +146,17 @@ ImuSample fromMsg(const sensor_msgs::Imu& m)
   return s;
 }
 
+sensor_msgs::Range toRangeMsg(double range, double field_of_view, double min_range, double max_range,
+                              const std::string& frame, const ros::Time& stamp)
+{
+  sensor_msgs::Range m;
+  m.header = header(frame, stamp);
+  m.radiation_type = sensor_msgs::Range::ULTRASOUND;
+  m.field_of_view = static_cast<float>(field_of_view);
+  m.min_range = static_cast<float>(min_range);
+  m.max_range = static_cast<float>(max_range);
+  m.range = static_cast<float>(range);
+  return m;
+}
+
 }  // namespace assistive_eval

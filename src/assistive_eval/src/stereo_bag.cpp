@@ -20,7 +20,6 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
-#include <sensor_msgs/Range.h>
 #include <sensor_msgs/image_encodings.h>
 #include <std_msgs/String.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -184,16 +183,8 @@ void StereoBagWriter::writeImu(const ImuSample& s)
 void StereoBagWriter::writeRange(double stamp, double range, double field_of_view, double min_range,
                                   double max_range)
 {
-  sensor_msgs::Range m;
-  m.header.stamp = toRos(stamp);
-  m.header.seq = seq_;
-  m.header.frame_id = topics_.sonar_frame;
-  m.radiation_type = sensor_msgs::Range::ULTRASOUND;
-  m.field_of_view = static_cast<float>(field_of_view);
-  m.min_range = static_cast<float>(min_range);
-  m.max_range = static_cast<float>(max_range);
-  m.range = static_cast<float>(range);
-  bag_->write(topics_.sonar, m.header.stamp, m);
+  const ros::Time t = toRos(stamp);
+  bag_->write(topics_.sonar, t, toRangeMsg(range, field_of_view, min_range, max_range, topics_.sonar_frame, t));
 }
 
 void StereoBagWriter::writeOccupancy(const OccupancyGrid& g, double stamp)

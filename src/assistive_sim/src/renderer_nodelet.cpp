@@ -15,7 +15,6 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
-#include <sensor_msgs/Range.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -34,6 +33,7 @@ using assistive_eval::toCameraInfo;  // the bag topics' message conversions
 using assistive_eval::toDepthMsg;
 using assistive_eval::toImageMsg;
 using assistive_eval::toMsg;
+using assistive_eval::toRangeMsg;
 
 class RendererNodelet : public nodelet::Nodelet
 {
@@ -207,14 +207,8 @@ private:
     }
     const std::optional<double> r = sonar_->ping(link * linkToSonar());
     const UltrasonicParams& up = sonar_->params();
-    sensor_msgs::Range m;
-    m.header.stamp = now;
-    m.header.frame_id = p_.sonar_frame;
-    m.radiation_type = sensor_msgs::Range::ULTRASOUND;
-    m.field_of_view = static_cast<float>(up.beam_width);
-    m.min_range = static_cast<float>(up.min_range);
-    m.max_range = static_cast<float>(up.max_range);
-    m.range = r ? static_cast<float>(*r) : std::numeric_limits<float>::infinity();  // REP-117: no echo
+    const double range = r ? *r : std::numeric_limits<double>::infinity();  // REP-117: no echo
+    const sensor_msgs::Range m = toRangeMsg(range, up.beam_width, up.min_range, up.max_range, p_.sonar_frame, now);
     pub_sonar_.publish(m);
   }
 

@@ -6,6 +6,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
+#include <sensor_msgs/Range.h>
 
 #include <assistive_eval/types.h>
 
@@ -27,5 +28,10 @@ OccupancyGrid fromMsg(const nav_msgs::OccupancyGrid& msg);
 
 sensor_msgs::Imu toMsg(const ImuSample& sample, const std::string& frame);
 ImuSample fromMsg(const sensor_msgs::Imu& msg);
+
+/// An ultrasonic ranger's ping: `range` in m, +Inf for "no echo within max_range" (REP-117);
+/// field of view in rad, limits in m.
+sensor_msgs::Range toRangeMsg(double range, double field_of_view, double min_range, double max_range,
+                              const std::string& frame, const ros::Time& stamp);
 
 }  // namespace assistive_eval
