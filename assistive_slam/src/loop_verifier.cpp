@@ -1,5 +1,6 @@
 // Geometric verification of loop-closure candidates. See loop_verifier.h.
 #include "assistive_slam/loop_verifier.h"
+#include "pnp_pose.h"
 
 #include <cmath>
 #include <sstream>
@@ -22,18 +23,6 @@ bool wellFormed(const LoopKeyframe& k, bool need_points)
 bool finite(const cv::Point3f& p)
 {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && p.z > 0.f;
-}
-
-Eigen::Isometry3d toIsometry(const cv::Mat& rvec, const cv::Mat& tvec)
-{
-  cv::Mat R;
-  cv::Rodrigues(rvec, R);
-  Eigen::Matrix3d Re;
-  cv::cv2eigen(R, Re);
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Re;
-  T.translation() = Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
-  return T;
 }
 
 double angleDeg(const Eigen::Matrix3d& R)
@@ -83,7 +72,7 @@ PnpResult pnp(const LoopKeyframe& cam, const LoopKeyframe& obj, const std::vecto
   cv::solvePnPRefineLM(Xi, xi, cv::Mat(K), cv::noArray(), rvec, tvec);
   r.ok = true;
   r.inliers = inl.rows;
-  r.T_cam_obj = toIsometry(rvec, tvec);
+  r.T_cam_obj = isometryFromRvecTvec(rvec, tvec);
   return r;
 }
 }  // namespace

@@ -1,4 +1,5 @@
 #include "assistive_slam/stereo_check.h"
+#include "pnp_pose.h"
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
@@ -43,13 +44,7 @@ StereoCheckResult stereoCheck(const Keyframe& a, const Keyframe& b, const Stereo
     i_in.push_back(img[k]);
   }
   cv::solvePnPRefineLM(o_in, i_in, K, cv::noArray(), rvec, tvec);
-  cv::Mat Rm;
-  cv::Rodrigues(rvec, Rm);
-  Eigen::Matrix3d R;
-  cv::cv2eigen(Rm, R);
-  Eigen::Isometry3d T_b_a = Eigen::Isometry3d::Identity();
-  T_b_a.linear() = R;
-  T_b_a.translation() = Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+  const Eigen::Isometry3d T_b_a = isometryFromRvecTvec(rvec, tvec);
   // The inliers must also agree with b's own stereo depth (a wrong pose fits the left view of a
   // look-alike scene more easily than both views): reprojection of a's point in b's right image.
   int agree = 0;
