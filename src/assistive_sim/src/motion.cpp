@@ -116,14 +116,15 @@ WearerMotion::WearerMotion(const TrajectoryScript& script, uint32_t seed) : scri
   }
 
   // Timing: each leg accelerates from rest; a leg that ends in a turn on the spot slows to a stop.
+  for (const auto& piece : pieces) legs_.push_back(buildLeg(piece, script_.corner_radius));
   const double v0 = script_.speed;
   double t = script_.start_still, s0 = 0.0;
-  for (size_t k = 0; k < pieces.size(); ++k)
+  for (size_t k = 0; k < legs_.size(); ++k)
   {
-    Leg leg = buildLeg(pieces[k], script_.corner_radius);
+    Leg& leg = legs_[k];
     leg.t0 = t;
     leg.s0 = s0;
-    leg.stops = k + 1 < pieces.size();
+    leg.stops = k + 1 < legs_.size();
     if (leg.stops)
     {
       // Legs shorter than accelerate + decelerate use a shorter ramp (peak speed v0, briefly).
@@ -154,17 +155,13 @@ WearerMotion::WearerMotion(const TrajectoryScript& script, uint32_t seed) : scri
     if (leg.stops)
     {
       // Pause, turn (quintic profile, peak rate turn_rate), pause.
-      legs_.push_back(leg);
-      const Leg next = buildLeg(pieces[k + 1], script_.corner_radius);
-      double dh = std::remainder(next.heading_in - leg.heading_out, 2 * M_PI);
+      double dh = std::remainder(legs_[k + 1].heading_in - leg.heading_out, 2 * M_PI);
       if (std::abs(dh) > M_PI - 1e-9) dh = M_PI;
-      legs_.back().turn = dh;
-      legs_.back().turn_at = t + 0.3;
-      legs_.back().turn_duration = std::max(0.8, 1.875 * std::abs(dh) / script_.turn_rate);
-      t = legs_.back().turn_at + legs_.back().turn_duration + 0.3;
+      leg.turn = dh;
+      leg.turn_at = t + 0.3;
+      leg.turn_duration = std::max(0.8, 1.875 * std::abs(dh) / script_.turn_rate);
+      t = leg.turn_at + leg.turn_duration + 0.3;
     }
-    else
-      legs_.push_back(leg);
   }
   length_ = s0;
   t_walk_ = script_.start_still;
