@@ -39,6 +39,37 @@ TEST(FastSlam, StereoNoiseIsTheSeedsClosedForm)
   EXPECT_FALSE(stereoPoint(c, u, v, 0, su, sd, &X, &C));
 }
 
+TEST(FastSlam, ProjectionJacobiansMatchFiniteDifferences)
+{
+  StereoModel c = camera();
+  c.cx = 320;
+  c.cy = 240;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 1, -0.4).normalized()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(0.5, -0.2, 0.1);
+  const Eigen::Vector3d X = T * Eigen::Vector3d(0.4, -0.3, 3.0);
+  Eigen::Vector2d z, zp, zm;
+  Matrix26d Hs;
+  Matrix23d Ht;
+  ASSERT_TRUE(projectWithJacobians(c, T, X, &z, &Hs, &Ht));
+  const double h = 1e-6;
+  for (int i = 0; i < 6; ++i)
+  {
+    Vector6d d = Vector6d::Zero();
+    d(i) = h;
+    projectWithJacobians(c, applyPerturbation(T, d), X, &zp, nullptr, nullptr);
+    projectWithJacobians(c, applyPerturbation(T, -d), X, &zm, nullptr, nullptr);
+    EXPECT_LT(((zp - zm) / (2 * h) - Hs.col(i)).norm(), 1e-5) << i;
+  }
+  for (int i = 0; i < 3; ++i)
+  {
+    const Eigen::Vector3d d = Eigen::Vector3d::Unit(i) * h;
+    projectWithJacobians(c, T, X + d, &zp, nullptr, nullptr);
+    projectWithJacobians(c, T, X - d, &zm, nullptr, nullptr);
+    EXPECT_LT(((zp - zm) / (2 * h) - Ht.col(i)).norm(), 1e-5) << i;
+  }
+}
+
 TEST(FastSlam, LandmarkUpdateMatchesTheClosedForm)
 {
   // Camera at the origin, landmark at (0, 0, 2), isotropic prior s^2 I: the projection's Jacobian is

@@ -71,8 +71,8 @@ namespace assistive_slam
   X(double, fastslam_ncc, "fastslam_ncc", 0.8, -1.0, 1.0, "", "normalised cross-correlation a match must exceed (13x13 template)") \
   X(double, fastslam_window_confidence, "fastslam_window_confidence", 0.99, 0.5, 0.999999, "", "probability mass of the fused Gaussian the search window holds") \
   X(double, fastslam_max_window, "fastslam_max_window", 30.0, 2.0, 500.0, "px", "a candidate whose window's half axis is longer is not searched") \
-  X(double, fastslam_q_floor_m, "fastslam_q_floor", 0.002, 1e-6, 1.0, "m", "translation noise of the VO per frame at least") \
-  X(double, fastslam_q_floor_deg, "fastslam_q_floor_deg", 0.05, 1e-6, 10.0, "deg", "rotation noise of the VO per frame at least") \
+  X(double, fastslam_q_floor_m, "fastslam_q_floor", 0.0005, 1e-6, 1.0, "m", "translation noise of the VO per frame at least") \
+  X(double, fastslam_q_floor_deg, "fastslam_q_floor_deg", 0.01, 1e-6, 10.0, "deg", "rotation noise of the VO per frame at least") \
   X(int, fastslam_seed, "fastslam_seed", 1, 0, 1000000000, "", "random seed of the filter (sampling, resampling)") \
   /* --- worker thread --- */ \
   X(int, queue_size, "queue_size", 4, 1, 100, "", "keyframes waiting for the worker at most (the oldest is dropped beyond)")
