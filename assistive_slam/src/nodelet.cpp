@@ -506,6 +506,15 @@ class SlamNodelet : public nodelet::Nodelet
     s.add("ms per frame", ms_frame_);
     s.add("ms per frame (max)", ms_max_);
     ms_max_ = 0;
+    s.add("metric backend", p_.metric_backend);
+    if (const FastSlam* fs = slam_->filter())  // (callbacks are serialised: the frame thread is idle here)
+    {
+      const FastSlamStats& f = fs->stats();
+      s.add("fastslam particles", f.particles);
+      s.add("fastslam landmarks", f.landmarks);
+      s.add("fastslam matches (last frame)", f.matches_last);
+      s.add("fastslam resamplings", f.resamplings);
+    }
   }
 
   SlamParams p_;

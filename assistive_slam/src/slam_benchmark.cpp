@@ -95,7 +95,10 @@ int runBoth(int argc, char** argv)
   const std::vector<std::string> backends{"keyframe_ba", "fastslam"};
   for (const std::string& b : backends)
   {
-    std::string cmd = "/proc/self/exe";
+    char self[4096] = {0};  // this program (/proc/self/exe inside popen would be the shell)
+    if (readlink("/proc/self/exe", self, sizeof self - 1) <= 0)
+      return 1;
+    std::string cmd = std::string("'") + self + "'";
     for (std::string a : args)
     {
       if (b == "fastslam" && a.size() > 4 && a.substr(a.size() - 4) == ".png")
