@@ -524,6 +524,7 @@ void FastSlam::process(const cv::Mat& left, const cv::Mat& right, const Eigen::I
   {
     uint32_t key;
     double size;
+    bool revisit;  ///< back in view after kRevisitGap frames: searched first (it is what bounds the error)
   };
   std::vector<Cand> cands;
   for (uint32_t k = 0; k < infos_.size(); ++k)
@@ -543,9 +544,10 @@ void FastSlam::process(const cv::Mat& left, const cv::Mat& right, const Eigen::I
     }
     in.last_candidate = stats_.frames;
     const Eigen::Matrix2d L = Eigen::Matrix2d::Identity() * R2 + Ht * l->cov * Ht.transpose() + Hs * Q * Hs.transpose();
-    cands.push_back({k, L.trace()});
+    cands.push_back({k, L.trace(), in.revisit_pending});
   }
-  std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) { return a.size < b.size; });
+  std::sort(cands.begin(), cands.end(),
+            [](const Cand& a, const Cand& b) { return a.revisit != b.revisit ? a.revisit : a.size < b.size; });
   if (static_cast<int>(cands.size()) > p_.fastslam_max_matches)
     cands.resize(static_cast<size_t>(p_.fastslam_max_matches));
   stats_.candidates_last = static_cast<int>(cands.size());
