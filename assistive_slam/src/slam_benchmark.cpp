@@ -321,10 +321,6 @@ int main(int argc, char** argv)
       sf.vo_covariance = A * o.twist_covariance * A.transpose() * (dt * dt);
     }
     prev_vo_stamp = f.stamp;
-    if (std::getenv("FS_DEBUG_Q") && frames % 20 == 0)
-      std::cerr << "Q sqrt diag " << sf.vo_covariance.diagonal().cwiseSqrt().transpose() << "\n";
-    if (std::getenv("FS_NO_VO_Q"))
-      sf.vo_covariance.setZero();
     const ev::Stopwatch timer;
     const bool queued = slam->addFrame(sf);
     const Eigen::Isometry3d T_map_odom = slam->mapToOdom();
