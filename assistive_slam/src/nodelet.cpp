@@ -51,6 +51,11 @@ class SlamNodelet : public nodelet::Nodelet
       NODELET_WARN("slam: %s", m.c_str());
     for (const std::string& m : assistive_common::readParams(pnh, node_))
       NODELET_WARN("slam: %s", m.c_str());
+    if (p_.metric_backend != "keyframe_ba" && p_.metric_backend != "fastslam")
+    {
+      NODELET_WARN("slam: metric_backend '%s' is neither keyframe_ba nor fastslam: keyframe_ba", p_.metric_backend.c_str());
+      p_.metric_backend = "keyframe_ba";
+    }
     NODELET_INFO("slam: %s", assistive_common::describe(p_).c_str());
     NODELET_INFO("slam: %s", assistive_common::describe(node_).c_str());
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_);
@@ -165,6 +170,22 @@ class SlamNodelet : public nodelet::Nodelet
     // message does not say when the VO replenished: keyframes come by distance / angle.
     f.pose_trusted = odom->pose.covariance[0] < node_.untrusted_variance && T_odom_link.matrix().allFinite();
     f.vo_replenished = true;
+    // Q_t of the fastslam backend: the VO's twist covariance (camera_link axes) over the frame
+    // interval, in the optical frame's axes.
+    const double dt = f.stamp - prev_frame_stamp_;
+    if (prev_frame_stamp_ > 0 && dt > 0)
+    {
+      Matrix6d tw;
+      for (int i = 0; i < 36; ++i)
+        tw(i / 6, i % 6) = odom->twist.covariance[static_cast<size_t>(i)];
+      Matrix6d A = Matrix6d::Zero();
+      A.topLeftCorner<3, 3>() = T_link_optical_.linear().transpose();
+      A.bottomRightCorner<3, 3>() = T_link_optical_.linear().transpose();
+      f.vo_covariance = A * tw * A.transpose() * (dt * dt);
+      if (!f.vo_covariance.allFinite())
+        f.vo_covariance.setZero();
+    }
+    prev_frame_stamp_ = f.stamp;
     slam_->addFrame(f);
     {
       std::lock_guard<std::mutex> lk(m_);
@@ -485,6 +506,15 @@ class SlamNodelet : public nodelet::Nodelet
     s.add("ms per frame", ms_frame_);
     s.add("ms per frame (max)", ms_max_);
     ms_max_ = 0;
+    s.add("metric backend", p_.metric_backend);
+    if (const FastSlam* fs = slam_->filter())  // (callbacks are serialised: the frame thread is idle here)
+    {
+      const FastSlamStats& f = fs->stats();
+      s.add("fastslam particles", f.particles);
+      s.add("fastslam landmarks", f.landmarks);
+      s.add("fastslam matches (last frame)", f.matches_last);
+      s.add("fastslam resamplings", f.resamplings);
+    }
   }
 
   SlamParams p_;
@@ -493,6 +523,7 @@ class SlamNodelet : public nodelet::Nodelet
   tf2_ros::Buffer tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   tf2_ros::TransformBroadcaster tf_pub_;
+  double prev_frame_stamp_ = -1;
   bool have_link_optical_ = false;
   Eigen::Isometry3d T_link_optical_ = Eigen::Isometry3d::Identity();
   message_filters::Subscriber<Image> left_sub_, right_sub_;

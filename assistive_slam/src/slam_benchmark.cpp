@@ -10,6 +10,7 @@
 #include <unistd.h>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -51,11 +52,112 @@ double angDeg(const Eigen::Matrix3d& R)
 {
   return Eigen::AngleAxisd(R).angle() * 180.0 / M_PI;
 }
+
+/// The flat JSON object of a run's last line as (key, value text) pairs, in order.
+std::vector<std::pair<std::string, std::string>> parseFlatJson(const std::string& line)
+{
+  std::vector<std::pair<std::string, std::string>> kv;
+  size_t i = line.find('{');
+  while (i != std::string::npos)
+  {
+    const size_t k0 = line.find('"', i);
+    if (k0 == std::string::npos)
+      break;
+    const size_t k1 = line.find('"', k0 + 1);
+    const size_t colon = line.find(':', k1);
+    size_t end = line.find_first_of(",}", colon);
+    if (k1 == std::string::npos || colon == std::string::npos || end == std::string::npos)
+      break;
+    std::string v = line.substr(colon + 1, end - colon - 1);
+    v.erase(0, v.find_first_not_of(' '));
+    kv.push_back({line.substr(k0 + 1, k1 - k0 - 1), v});
+    i = line[end] == '}' ? std::string::npos : end + 1;
+  }
+  return kv;
+}
+
+/// --backend both: this program once per backend on the same bag and frames (the VO is
+/// deterministic, so both see the same VO poses: vo_ate_rmse_m agrees), each in its own process so
+/// that peak memory is its own; their JSON merged with the backend's name as prefix.
+int runBoth(int argc, char** argv)
+{
+  std::vector<std::string> args;
+  for (int i = 1; i < argc; ++i)
+  {
+    if (std::string(argv[i]) == "--backend" && i + 1 < argc)
+    {
+      ++i;
+      continue;
+    }
+    args.push_back(argv[i]);
+  }
+  std::map<std::string, std::vector<std::pair<std::string, std::string>>> res;
+  const std::vector<std::string> backends{"keyframe_ba", "fastslam"};
+  for (const std::string& b : backends)
+  {
+    char self[4096] = {0};  // this program (/proc/self/exe inside popen would be the shell)
+    if (readlink("/proc/self/exe", self, sizeof self - 1) <= 0)
+      return 1;
+    std::string cmd = std::string("'") + self + "'";
+    for (std::string a : args)
+    {
+      if (b == "fastslam" && a.size() > 4 && a.substr(a.size() - 4) == ".png")
+        a = a.substr(0, a.size() - 4) + "_fastslam.png";
+      std::string q;
+      for (char c : a)
+        q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      cmd += " '" + q + "'";
+    }
+    cmd += " --backend " + b;
+    if (b == "fastslam" && std::find(args.begin(), args.end(), "--plot") == args.end())
+      cmd += " --plot-suffix _fastslam";
+    std::cout << "===== backend " << b << " =====" << std::endl;
+    FILE* pipe = popen(cmd.c_str(), "r");
+    if (!pipe)
+      return 1;
+    std::string out, last;
+    char buf[4096];
+    while (fgets(buf, sizeof buf, pipe))
+    {
+      std::cout << buf;
+      const std::string l(buf);
+      if (!l.empty() && l[0] == '{')
+        last = l;
+    }
+    if (pclose(pipe) != 0 || last.empty())
+    {
+      std::cerr << "slam_benchmark: the " << b << " run failed\n";
+      return 1;
+    }
+    res[b] = parseFlatJson(last);
+  }
+  auto get = [&](const std::string& b, const std::string& k) {
+    for (const auto& p : res[b])
+      if (p.first == k)
+        return p.second;
+    return std::string("-");
+  };
+  std::cout << "===== side by side =====\n";
+  std::cout << std::left << std::setw(26) << "figure" << std::setw(14) << "keyframe_ba" << "fastslam\n";
+  for (const char* k : {"ate_rmse_m", "vo_ate_rmse_m", "submap_ate_m", "vo_submap_ate_m", "drift_pct", "drift_deg_per_m",
+                        "ms_median", "ms_p95", "particles", "landmarks", "resamplings", "loop_closures",
+                        "false_loop_closures", "peak_rss_mb", "am_refound_share", "am_false_match_rate"})
+    std::cout << std::setw(26) << k << std::setw(14) << get("keyframe_ba", k) << get("fastslam", k) << "\n";
+  ev::JsonLine js;
+  for (const std::string& b : backends)
+    for (const auto& p : res[b])
+      js.add(b + "_" + p.first, p.second);
+  std::cout << js.str() << std::endl;
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv)
 {
-  std::string bag, plot, map_path, load_path;
+  for (int i = 1; i + 1 < argc; ++i)
+    if (std::string(argv[i]) == "--backend" && std::string(argv[i + 1]) == "both")
+      return runBoth(argc, argv);
+  std::string bag, plot, map_path, load_path, backend, plot_suffix;
   long skip_frames = 0;
   bool imu_on = true, realtime = false;
   long max_frames = -1;
@@ -66,7 +168,9 @@ int main(int argc, char** argv)
       "  VO alone and VO + SLAM on the same frames of a stereo bag; last stdout line: JSON.\n"
       "  --map: where the map is written at the end; --load-map: start from a saved map (relocalisation);\n"
       "  --skip N: the first N frames are not run (e.g. the first loop, mapped by an earlier run).\n"
-      "  --set: the SLAM stage's parameters (README table), e.g. --set loop_closure=false\n";
+      "  --set: the SLAM stage's parameters (README table), e.g. --set loop_closure=false\n"
+      "  --backend keyframe_ba|fastslam|both: the metric layer (default: metric_backend); both: one run\n"
+      "    each on the same frames, JSON keys prefixed keyframe_ba_ and fastslam_\n";
   ev::CommandLine cl("slam_benchmark", usage);
   cl.positional(&bag, "bag", true)
       .flag("--no-imu", &imu_on, false)
@@ -74,6 +178,8 @@ int main(int argc, char** argv)
       .text("--plot", &plot)
       .text("--map", &map_path)
       .text("--load-map", &load_path)
+      .text("--backend", &backend)
+      .text("--plot-suffix", &plot_suffix)
       .count("--skip", &skip_frames, 0L)
       .count("--frames", &max_frames, 0L)
       .sets(&overrides);
@@ -82,12 +188,19 @@ int main(int argc, char** argv)
   if (plot.empty())
   {
     const size_t dot = bag.rfind(".bag");
-    plot = (dot == std::string::npos ? bag : bag.substr(0, dot)) + "_slam_trajectory.png";
+    plot = (dot == std::string::npos ? bag : bag.substr(0, dot)) + "_slam_trajectory" + plot_suffix + ".png";
   }
   cv::setNumThreads(1);
   SlamParams sp;
   if (!ev::applySets(cl, overrides, sp))
     return 2;
+  if (!backend.empty())
+    sp.metric_backend = backend;
+  if (sp.metric_backend != "keyframe_ba" && sp.metric_backend != "fastslam")
+  {
+    std::cerr << "slam_benchmark: unknown backend " << sp.metric_backend << " (keyframe_ba | fastslam | both)\n";
+    return 2;
+  }
   const std::unique_ptr<ev::StereoBagReader> reader = ev::openStereoBag("slam_benchmark", bag);
   if (!reader)
     return 1;
@@ -103,6 +216,20 @@ int main(int argc, char** argv)
 
   ev::Trajectory gt, vo_est, online_est;
   std::vector<Eigen::Isometry3d> frame_odom;  // per scored frame: VO pose (for the final SLAM trajectory)
+  double prev_vo_stamp = -1;
+  // fastslam: active matching against the truth, the filter's own trajectory per submap
+  std::map<uint32_t, std::pair<Eigen::Isometry3d, Eigen::Vector3d>> am_init;  // landmark -> truth at init, stereo point
+  long am_checked = 0, am_false = 0;
+  std::vector<double> am_err;  // px, each match against the truth
+  struct FilterFrame
+  {
+    double t;
+    Eigen::Isometry3d gt, filter, vo;
+    int segment;
+  };
+  std::vector<FilterFrame> filter_frames;
+  size_t peak_map_nodes = 0;
+  int filter_frames_seen = 0;
   std::map<double, Eigen::Isometry3d> gt_at;  // stamp -> truth
   std::vector<std::pair<double, Eigen::Isometry3d>> session_truth;  // every run frame's truth, in order
   std::vector<double> ms_added, ms_vo, worker_ms;
@@ -182,10 +309,59 @@ int main(int argc, char** argv)
     sf.T_odom_cam = o.T_odom_optical;
     sf.vo_replenished = o.stats.keyframe;
     sf.pose_trusted = o.pose_trusted && o.state == assistive_vo::TrackingState::TRACKING;
+    // Q_t: the VO's twist covariance over the frame interval (eqs. 3.22-3.25 in its bundle
+    // adjustment), from camera_link axes into the optical frame's.
+    if (prev_vo_stamp > 0 && f.stamp > prev_vo_stamp)
+    {
+      const double dt = f.stamp - prev_vo_stamp;
+      const Eigen::Matrix3d R_lo = o.T_odom_link.linear().transpose() * o.T_odom_optical.linear();
+      Matrix6d A = Matrix6d::Zero();
+      A.topLeftCorner<3, 3>() = R_lo.transpose();
+      A.bottomRightCorner<3, 3>() = R_lo.transpose();
+      sf.vo_covariance = A * o.twist_covariance * A.transpose() * (dt * dt);
+    }
+    prev_vo_stamp = f.stamp;
     const ev::Stopwatch timer;
     const bool queued = slam->addFrame(sf);
     const Eigen::Isometry3d T_map_odom = slam->mapToOdom();
     ms_added.push_back(timer.cpuMs());
+    if (const FastSlam* fs = slam->filter())
+    {
+      for (const FastSlamInit& in : fs->lastInits())
+        if (f.has_gt_pose)
+          am_init[in.landmark] = {f.gt_pose, in.X_cam};
+      for (const FastSlamMatch& m : fs->lastMatches())
+      {
+        auto it = am_init.find(m.landmark);
+        if (!f.has_gt_pose || it == am_init.end())
+          continue;
+        // The truth of a match: the landmark lies on the true ray of its first pixel (exact), at a
+        // depth its stereo initialisation knows to a few per cent. A match is false when it lies
+        // more than 3 px from that ray's image between 0.75 and 1.33 x the stereo depth (the
+        // stereo depth alone would blame far landmarks' depth error on the matcher).
+        const Eigen::Isometry3d T_cur_init = f.gt_pose.inverse() * it->second.first;
+        auto proj = [&](double k, Eigen::Vector2d* z) {
+          const Eigen::Vector3d p = T_cur_init * (it->second.second * k);
+          if (p.z() <= 0.05)
+            return false;
+          *z = Eigen::Vector2d(cam.fx * p.x() / p.z() + cam.cx, cam.fy * p.y() / p.z() + cam.cy);
+          return true;
+        };
+        Eigen::Vector2d a, b;
+        if (!proj(0.75, &a) || !proj(1.0 / 0.75, &b))
+          continue;
+        const Eigen::Vector2d ab = b - a;
+        const double tpar = ab.squaredNorm() > 1e-12 ? std::clamp((m.z - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+        const double err = (a + tpar * ab - m.z).norm();
+        ++am_checked;
+        am_false += err > 3.0;
+        am_err.push_back(err);
+      }
+      const bool filtered = fs->stats().frames != filter_frames_seen;  // (untrusted frames are not filtered)
+      filter_frames_seen = fs->stats().frames;
+      if (f.has_gt_pose && o.pose_valid && filtered)
+        filter_frames.push_back({f.stamp, f.gt_pose, fs->pose(), o.T_odom_optical, fs->stats().resets});
+    }
     if (queued)
     {
       ++keyframes_queued;
@@ -211,6 +387,8 @@ int main(int argc, char** argv)
     ++frames;
     if (frames % 100 == 0)
     {
+      if (const FastSlam* fs = slam->filter())
+        peak_map_nodes = std::max(peak_map_nodes, fs->mapNodes());
       const SlamStats st = slam->stats();
       const double rss = currentRssMb();
       rss_samples.push_back({static_cast<double>(st.keyframes), rss});
@@ -449,6 +627,51 @@ int main(int argc, char** argv)
               << " kB per keyframe (second half of the run)\n";
   }
   auto num = [](double v, int significant = 4) { return ev::jsonNumber(v, significant); };
+  // The filter (fastslam): its own per-frame trajectory, whole and per filter submap (between
+  // resets), against the VO's on the same frames; SE3-aligned ATE each.
+  const FastSlamStats fst = slam->filter() ? slam->filter()->stats() : FastSlamStats();
+  double filter_ate = -1, seg_filter = 0, seg_vo = 0;
+  int seg_n = 0, seg_better = 0;
+  if (!filter_frames.empty())
+  {
+    ev::Trajectory g, e;
+    for (const FilterFrame& ff : filter_frames)
+    {
+      g.push_back({ff.t, ff.gt});
+      e.push_back({ff.t, ff.filter});
+    }
+    filter_ate = ev::evaluateTrajectory(g, e).ate.rmse;
+    for (size_t a = 0; a < filter_frames.size();)
+    {
+      size_t b = a;
+      ev::Trajectory sg, sf, sv;
+      while (b < filter_frames.size() && filter_frames[b].segment == filter_frames[a].segment)
+      {
+        sg.push_back({filter_frames[b].t, filter_frames[b].gt});
+        sf.push_back({filter_frames[b].t, filter_frames[b].filter});
+        sv.push_back({filter_frames[b].t, filter_frames[b].vo});
+        ++b;
+      }
+      if (sg.size() >= 20)
+      {
+        const double ef = ev::evaluateTrajectory(sg, sf).ate.rmse, evo = ev::evaluateTrajectory(sg, sv).ate.rmse;
+        seg_filter += ef;
+        seg_vo += evo;
+        ++seg_n;
+        seg_better += ef <= evo + 1e-4;
+      }
+      a = b;
+    }
+    std::cout << "fastslam: " << fst.particles << " particles, " << fst.landmarks_total << " landmarks, "
+              << fst.resamplings << " resamplings, " << fst.resets << " filter submaps, "
+              << static_cast<double>(fst.matches_total) / std::max(1, fst.frames) << " matches per frame (of "
+              << static_cast<double>(fst.candidates_total) / std::max(1, fst.frames)
+              << " candidates); filter ATE " << filter_ate << " m; per filter submap: filter " << seg_filter / std::max(1, seg_n)
+              << " m vs VO " << seg_vo / std::max(1, seg_n) << " m (" << seg_better << " of " << seg_n
+              << " not worse); active matching: " << fst.refound << " of " << fst.revisits << " revisits re-found, "
+              << am_false << " of " << am_checked << " matches > 3 px off the true ray (median " << percentile(am_err, 0.5)
+              << " px, p90 " << percentile(am_err, 0.9) << " px)\n";
+  }
   ev::JsonLine js;
   js.add("frames", frames)
       .add("ms_p95", num(percentile(ms_added, 0.95)))
@@ -475,7 +698,23 @@ int main(int argc, char** argv)
       .add("relocalisation_err_m", reloc_err_m >= 0 ? num(reloc_err_m) : "null")
       .add("relocalisation_err_deg", reloc_err_deg >= 0 ? num(reloc_err_deg) : "null")
       .add("map_file_mb", map_mb >= 0 ? num(map_mb) : "null")
-      .add("path_length_m", num(vrep.path_length_m));
+      .add("path_length_m", num(vrep.path_length_m))
+      .add("backend", "\"" + sp.metric_backend + "\"")
+      .add("particles", fst.particles)
+      .add("landmarks", fst.landmarks_total)
+      .add("resamplings", fst.resamplings)
+      .add("filter_resets", fst.resets)
+      .add("matches_per_frame", fst.frames > 0 ? num(static_cast<double>(fst.matches_total) / fst.frames) : "null")
+      .add("map_nodes_peak", static_cast<long>(peak_map_nodes))
+      .add("filter_ate_rmse_m", filter_ate >= 0 ? num(filter_ate) : "null")
+      .add("submap_ate_m", seg_n > 0 ? num(seg_filter / seg_n) : "null")
+      .add("vo_submap_ate_m", seg_n > 0 ? num(seg_vo / seg_n) : "null")
+      .add("submaps_scored", seg_n)
+      .add("submaps_filter_not_worse", seg_better)
+      .add("am_revisits", fst.revisits)
+      .add("am_refound_share", fst.revisits > 0 ? num(static_cast<double>(fst.refound) / fst.revisits) : "null")
+      .add("am_matches_checked", am_checked)
+      .add("am_false_match_rate", am_checked > 0 ? num(static_cast<double>(am_false) / am_checked) : "null");
   std::cout << js.str() << std::endl;
   return 0;
 }

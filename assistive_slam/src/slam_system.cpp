@@ -38,6 +38,8 @@ SlamSystem::SlamSystem(const SlamParams& p, const StereoModel& cam, bool threade
     ap.max_candidates = p_.appearance_candidates;
     appearance_ = std::make_unique<AppearanceModel>(ap);
   }
+  if (p_.metric_backend == "fastslam")
+    filter_ = std::make_unique<FastSlam>(p_, cam_);
   if (threaded_)
     worker_ = std::thread(&SlamSystem::workerLoop, this);
 }
@@ -57,10 +59,13 @@ bool SlamSystem::addFrame(const SlamFrame& f)
 {
   if (!f.pose_trusted || f.left.empty() || f.right.empty())
     return false;
+  if (filter_)
+    filter_->process(f.left, f.right, f.T_odom_cam, f.vo_covariance);  // every trusted frame
   if (!policy_.take(f.T_odom_cam, f.vo_replenished))
     return false;
   Job job;
   job.frame = f;
+  job.T_metric_cam = filter_ ? filter_->pose() : f.T_odom_cam;
   job.frame.left = f.left.clone();
   job.frame.right = f.right.clone();
   if (!threaded_)
@@ -153,13 +158,14 @@ void SlamSystem::processKeyframe(const Job& job)
   else if (!kfs_.empty())
   {
     const Keyframe& prev = *kfs_.back();
-    rel = prev.T_odom_cam.inverse() * kf->T_odom_cam;
+    rel = prev_metric_.inverse() * job.T_metric_cam;  // the metric layer's motion between keyframes
     kf->T_map_cam = prev.T_map_cam * rel;
     kf->path_m = prev.path_m + rel.translation().norm();
   }
   else
     kf->T_map_cam = kf->T_odom_cam;  // the map starts where odom starts
   kf->id = static_cast<uint32_t>(kfs_.size());
+  prev_metric_ = job.T_metric_cam;
 
   {
     std::lock_guard<std::mutex> l(mm_);
@@ -193,7 +199,8 @@ void SlamSystem::processKeyframe(const Job& job)
   }
   if (!first_of_session)
     associate(*kf);  // (the first keyframe of a session has no odometry to the stored ones)
-  localBundleAdjustment();
+  if (!filter_)
+    localBundleAdjustment();  // (the filter is the metric layer of fastslam)
   std::vector<uint32_t> seen;
   if (appearance_ && p_.appearance_loop)
   {

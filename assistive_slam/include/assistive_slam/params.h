@@ -59,6 +59,21 @@ namespace assistive_slam
   X(int, appearance_features, "appearance_features", 200, 10, 5000, "", "descriptors per keyframe the appearance model learns and queries (its memory grows with them)") \
   X(double, loop_sigma_m, "loop_sigma", 0.03, 1e-4, 10.0, "m", "translation noise of a verified closure") \
   X(double, loop_sigma_deg, "loop_sigma_deg", 0.5, 1e-3, 90.0, "deg", "rotation noise of a verified closure") \
+  /* --- the metric layer of a submap: keyframe_ba (keyframe chain + optional local BA) or fastslam (seed 3.2.1-3.2.2) --- */ \
+  X(std::string, metric_backend, "metric_backend", "keyframe_ba", {}, {}, "", "keyframe_ba: keyframes chained by the VO (local BA if ba_iterations > 0); fastslam: the FastSLAM 2.0 filter with active matching runs on every frame and chains the keyframes") \
+  X(int, fastslam_particles, "fastslam_particles", 50, 1, 2000, "", "particles of the filter") \
+  X(double, fastslam_pixel_sigma, "fastslam_pixel_sigma", 0.1, 0.01, 10.0, "px", "image measurement noise (seed: 0.1)") \
+  X(double, fastslam_disparity_sigma, "fastslam_disparity_sigma", 0.4, 0.01, 10.0, "px", "disparity noise of a new landmark (seed: 0.4)") \
+  X(double, fastslam_resample_neff, "fastslam_resample_neff", 0.5, 0.0, 1.0, "", "systematic resampling when N_eff falls below this share of the particles") \
+  X(int, fastslam_max_matches, "fastslam_max_matches", 40, 4, 1000, "", "candidate landmarks searched per frame at most (smallest windows first)") \
+  X(int, fastslam_min_matches, "fastslam_min_matches", 30, 0, 1000, "", "new landmarks are added while fewer were matched") \
+  X(int, fastslam_new_landmarks, "fastslam_new_landmarks", 30, 0, 1000, "", "new landmarks per frame at most") \
+  X(double, fastslam_ncc, "fastslam_ncc", 0.8, -1.0, 1.0, "", "normalised cross-correlation a match must exceed (13x13 template)") \
+  X(double, fastslam_window_confidence, "fastslam_window_confidence", 0.99, 0.5, 0.999999, "", "probability mass of the fused Gaussian the search window holds") \
+  X(double, fastslam_max_window, "fastslam_max_window", 30.0, 2.0, 500.0, "px", "a candidate whose window's half axis is longer is not searched") \
+  X(double, fastslam_q_floor_m, "fastslam_q_floor", 0.0005, 1e-6, 1.0, "m", "translation noise of the VO per frame at least") \
+  X(double, fastslam_q_floor_deg, "fastslam_q_floor_deg", 0.01, 1e-6, 10.0, "deg", "rotation noise of the VO per frame at least") \
+  X(int, fastslam_seed, "fastslam_seed", 1, 0, 1000000000, "", "random seed of the filter (sampling, resampling)") \
   /* --- worker thread --- */ \
   X(int, queue_size, "queue_size", 4, 1, 100, "", "keyframes waiting for the worker at most (the oldest is dropped beyond)")
 

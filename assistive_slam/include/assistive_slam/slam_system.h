@@ -14,6 +14,7 @@
 #include <opencv2/core.hpp>
 #include <memory>
 #include "assistive_slam/appearance_model.h"
+#include "assistive_slam/fastslam.h"
 #include "assistive_slam/keyframe.h"
 #include "assistive_slam/local_ba.h"
 #include "assistive_slam/params.h"
@@ -30,6 +31,9 @@ struct SlamFrame
   Eigen::Isometry3d T_odom_cam = Eigen::Isometry3d::Identity();
   bool vo_replenished = false;  ///< the VO started a new keyframe (replenished its tracks) here
   bool pose_trusted = true;     ///< untrusted VO poses never become keyframes
+  /// Covariance of the VO's motion since the previous frame (left optical axes, x y z rotx roty
+  /// rotz, right perturbation): Q_t of the fastslam backend (zero: its floor alone).
+  Matrix6d vo_covariance = Matrix6d::Zero();
 };
 
 struct LoopEvent
@@ -126,11 +130,16 @@ public:
   /// Extra candidate source (appearance model); proximity candidates are always added.
   void setCandidateSource(CandidateSource s);
   const SlamParams& params() const { return p_; }
+  /// The FastSLAM filter (metric_backend fastslam; nullptr otherwise). Frame thread only.
+  const FastSlam* filter() const { return filter_.get(); }
 
 private:
   struct Job
   {
     SlamFrame frame;
+    /// The metric layer's pose of the frame: the keyframes are chained by its motion (the VO pose
+    /// for keyframe_ba, the filter's for fastslam).
+    Eigen::Isometry3d T_metric_cam = Eigen::Isometry3d::Identity();
   };
   void workerLoop();
   void processKeyframe(const Job& job);
@@ -149,6 +158,8 @@ private:
   bool threaded_;
   StereoFeatureExtractor extractor_;
   KeyframePolicy policy_;
+  std::unique_ptr<FastSlam> filter_;  ///< frame thread only
+  Eigen::Isometry3d prev_metric_ = Eigen::Isometry3d::Identity();  ///< worker: metric pose of the last mapped keyframe
 
   // ---- worker queue
   mutable std::mutex qm_;

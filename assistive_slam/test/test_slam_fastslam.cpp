@@ -1,0 +1,124 @@
+// The fastslam backend in the running pipeline (see slam_fastslam.test): the filter runs (its
+// particles and landmarks on /diagnostics) and the keyframes it chains stay on the truth.
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+#include <Eigen/Geometry>
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
+#include <nav_msgs/Path.h>
+#include <ros/ros.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <tf2_eigen/tf2_eigen.h>
+
+namespace
+{
+Eigen::Isometry3d toEigen(const geometry_msgs::Pose& p)
+{
+  Eigen::Isometry3d T;
+  tf2::fromMsg(p, T);
+  return T;
+}
+
+bool truthAt(const std::map<double, Eigen::Isometry3d>& truth, double t, Eigen::Isometry3d* T)
+{
+  auto it = truth.lower_bound(t - 1e-4);
+  if (it == truth.end() || std::abs(it->first - t) > 1e-3)
+    return false;
+  *T = it->second;
+  return true;
+}
+
+void spinFor(double wall_s)
+{
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(wall_s);
+  while (ros::ok() && ros::WallTime::now() < end)
+  {
+    ros::spinOnce();
+    ros::WallDuration(0.01).sleep();
+  }
+}
+}  // namespace
+
+TEST(SlamFastSlam, FilterRunsAndKeyframesFollowTheTruth)
+{
+  ros::NodeHandle nh, pnh("~");
+  std::string bag_path;
+  ASSERT_TRUE(pnh.getParam("bag", bag_path));
+  const double duration = pnh.param("duration", 24.0);
+  const double ate_bound = pnh.param("ate_bound_m", 0.05);
+  std::string backend;
+  ASSERT_TRUE(nh.getParam("/slam/metric_backend", backend));
+  EXPECT_EQ(backend, "fastslam");
+
+  std::map<double, Eigen::Isometry3d> truth;  // left optical frame in world
+  {
+    rosbag::Bag bag(bag_path);
+    for (const auto& m : rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{"/ground_truth/odom"})))
+    {
+      auto o = m.instantiate<nav_msgs::Odometry>();
+      truth[o->header.stamp.toSec()] = toEigen(o->pose.pose);
+    }
+  }
+  ASSERT_GT(truth.size(), 100u);
+  const double end = truth.begin()->first + duration;
+
+  nav_msgs::Path path;
+  int particles = -1, landmarks = -1;
+  auto path_sub = nh.subscribe<nav_msgs::Path>("/slam/path", 2, [&](const nav_msgs::Path::ConstPtr& m) { path = *m; });
+  auto diag_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 20, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+    for (const auto& st : m->status)
+      for (const auto& kv : st.values)
+      {
+        if (kv.key == "fastslam particles")
+          particles = std::stoi(kv.value);
+        if (kv.key == "fastslam landmarks")
+          landmarks = std::stoi(kv.value);
+      }
+  });
+  ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(75.0);
+  while (ros::ok() && ros::WallTime::now() < deadline && ros::Time::now().toSec() < end - 0.2)
+    spinFor(0.05);
+  ASSERT_GE(ros::Time::now().toSec(), end - 0.2) << "the bag did not play to " << duration << " s";
+  spinFor(2.5);  // the worker's last keyframes, the newest slam/path and diagnostics
+
+  EXPECT_GT(particles, 0) << "no fastslam figures on /diagnostics";
+  EXPECT_GT(landmarks, 0);
+  std::vector<Eigen::Vector3d> est, gt;
+  for (const auto& ps : path.poses)
+  {
+    Eigen::Isometry3d T;
+    if (truthAt(truth, ps.header.stamp.toSec(), &T))
+    {
+      est.push_back(toEigen(ps.pose).translation());
+      gt.push_back(T.translation());
+    }
+  }
+  ASSERT_GT(est.size(), 10u) << "slam/path has " << path.poses.size() << " keyframes";
+  Eigen::Matrix3Xd a(3, est.size()), b(3, gt.size());
+  for (size_t i = 0; i < est.size(); ++i)
+  {
+    a.col(static_cast<long>(i)) = est[i];
+    b.col(static_cast<long>(i)) = gt[i];
+  }
+  Eigen::Isometry3d A;
+  A.matrix() = Eigen::umeyama(a, b, false);
+  double s = 0;
+  for (size_t i = 0; i < est.size(); ++i)
+    s += (A * est[i] - gt[i]).squaredNorm();
+  const double rmse = std::sqrt(s / static_cast<double>(est.size()));
+  std::printf("slam_fastslam: %zu keyframes, %d particles, %d landmarks in the filter's submap; keyframe ATE %.4f m\n",
+              est.size(), particles, landmarks, rmse);
+  EXPECT_LT(rmse, ate_bound);
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_slam_fastslam");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}
