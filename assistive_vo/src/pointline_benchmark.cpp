@@ -5,7 +5,9 @@
 // 500 px, 640x480), N trials per noise level:
 //   fig 2.9:  rotation and translation error vs noise for the linear, subspace and quaternion
 //             solvers on random mixes of points and lines (each on its minimal set size: linear 4
-//             features, subspace and quaternion 3, the same three features);
+//             features, subspace and quaternion 3, the same three features; the linear's 4th is a
+//             point when the three are points and a line after two points, since {3 points + 1 line}
+//             has rank 11 < 12);
 //   fig 2.10: quaternion-3/4/5 against the three-point algorithm (OpenGV's Kneip P3P on the
 //             points triangulated from views 1-2, bearings of view 3) on points only;
 //   fig 2.12: RANSAC trials until a hypothesis of quaternion-3/4/5 on random mixed samples from
@@ -280,7 +282,8 @@ int main(int argc, char** argv)
         record(sub[ni], timed(sub[ni], [&] { return solveTrifocalSubspace(s.rig, pts, lns).solutions; }), s.motion);
         record(quat[ni], timed(quat[ni], [&] { return solveTrifocalQuaternion(s.rig, pts, lns).solutions; }),
                s.motion);
-        if (coin(rng) % 2)
+        // a 4th feature for the linear solver, never making {3 points + 1 line} (rank 11 < 12)
+        if (np == 3 || (np < 2 && coin(rng) % 2))
           pts.push_back(s.points[static_cast<size_t>(np)]);
         else
           lns.push_back(s.lines[static_cast<size_t>(3 - np)]);

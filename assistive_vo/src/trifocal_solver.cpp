@@ -103,6 +103,26 @@ void residuals(const StereoRig& rig, const PointQuads& points, const LineQuads& 
   }
 }
 
+/// The system with each point's 18 rows reduced to its 3 dominant ones (SVD of the point's block,
+/// rows sigma_i v_i^T): exact data gives those 3 only (seed 2.2.2.2); under noise the other 15
+/// carry mostly noise (the stereo pair's own epipolar constraint, eq. 2.30, and the tensors'
+/// redundant rows) and, weighted like the rest, bias every least-squares step.
+Eigen::MatrixXd compressedSystem(const StereoRig& rig, const PointQuads& points, const LineQuads& lines)
+{
+  const Eigen::MatrixXd full = trifocalSystem(rig, points, lines);
+  Eigen::MatrixXd A(static_cast<Eigen::Index>(3 * points.size() + 4 * lines.size()), 13);
+  for (size_t i = 0; i < points.size(); ++i)
+  {
+    const Eigen::MatrixXd B = full.middleRows(static_cast<Eigen::Index>(18 * i), 18);
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(B, Eigen::ComputeThinV);
+    for (int k = 0; k < 3; ++k)
+      A.row(static_cast<Eigen::Index>(3 * i + k)) = svd.singularValues()(k) * svd.matrixV().col(k).transpose();
+  }
+  A.bottomRows(static_cast<Eigen::Index>(4 * lines.size())) =
+      full.bottomRows(static_cast<Eigen::Index>(4 * lines.size()));
+  return A;
+}
+
 bool finiteMotion(const StereoMotion& m) { return m.R.allFinite() && m.t.allFinite(); }
 
 /// Common checks + the system; empty reason when usable. `min_rows`: independent rows required.
@@ -116,7 +136,7 @@ std::string prepare(const StereoRig& rig, const PointQuads& points, const LineQu
   if (rows < min_rows)
     return "too few constraints: " + std::to_string(rows) + " independent rows, need " + std::to_string(min_rows) +
            (points.empty() && lines.size() == 2 ? " ({2 lines} is refused: unstable)" : "");
-  A = trifocalSystem(rig, points, lines);
+  A = compressedSystem(rig, points, lines);
   // The set must give as many independent rows as its kind promises (collinear points, lines
   // through the baseline, repeated features... give fewer).
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A.leftCols(12));
@@ -266,7 +286,8 @@ TrifocalResult solveTrifocalSubspace(const StereoRig& rig, const PointQuads& poi
   const int k = std::max(0, 12 - rows);  // null-space dimension (eq. 2.31: 3 for {3 points})
   if (k == 0)
     return solveTrifocalLinear(rig, points, lines);
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A.leftCols(12), Eigen::ComputeThinU | Eigen::ComputeThinV);
+  // full V: the null vectors are needed even when A has fewer than 12 rows
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A.leftCols(12), Eigen::ComputeThinU | Eigen::ComputeFullV);
   const Eigen::VectorXd& s = svd.singularValues();
   const int r = 12 - k;
   // particular solution from the rank-r pseudo-inverse, null vectors: the k smallest singular vectors
