@@ -11,7 +11,11 @@ namespace assistive_vo
 {
 namespace
 {
-constexpr double RANK_TOL = 1e-9;  // relative singular value below which a block is rank deficient
+constexpr double RANK_TOL = 1e-9;   // relative singular value below which a block is rank deficient
+constexpr double NEAR_REAL = 0.05;  // |imag| / |root| up to which a root of the quintic counts as real
+// a^2 <= 1 for a unit quaternion, but noise pushes the root of a small rotation (a near 1) past
+// 1: roots up to this are kept, the quaternion normalised afterwards
+constexpr double ALPHA_MAX = 4.0;
 
 Eigen::Vector3d hom(const Eigen::Vector2d& x) { return Eigen::Vector3d(x.x(), x.y(), 1.0); }
 
@@ -573,7 +577,9 @@ TrifocalResult solveTrifocalQuaternion(const StereoRig& rig, const PointQuads& p
   for (int i = 0; i < solver.roots().size(); ++i)
   {
     const std::complex<double> z = solver.roots()(i);
-    if (std::abs(z.imag()) <= 1e-8 * std::max(1.0, std::abs(z)) && z.real() > -1e-9 && z.real() <= 1.0 + 1e-6)
+    // Noise splits a double real root into a close complex pair: such near-real roots are kept
+    // (their real part), otherwise a noisy minimal set often has no solution at all.
+    if (std::abs(z.imag()) <= NEAR_REAL * std::max(0.1, std::abs(z)) && z.real() > -1e-9 && z.real() <= ALPHA_MAX)
       alphas.push_back(std::max(0.0, z.real()));
   }
   for (double alpha : alphas)
