@@ -90,6 +90,9 @@ LineSegments LineDetector::detect(const cv::Mat& gray) const
   if (gray.empty() || gray.type() != CV_8UC1 || gray.rows < 3 || gray.cols < 3)
     return out;
   const cv::Mat E = edges(gray);
+  cv::Mat gx, gy;
+  cv::Sobel(gray, gx, CV_32F, 1, 0, 3);
+  cv::Sobel(gray, gy, CV_32F, 0, 1, 3);
   const int c = std::max(2, p_.cell);
   int nx = (E.cols + c - 1) / c, ny = (E.rows + c - 1) / c;
   // level 0: one blob per 8x8 cell, kept when thin
@@ -158,6 +161,10 @@ LineSegments LineDetector::detect(const cv::Mat& gray) const
       s.covariance = b.cov;
       s.thickness = b.thickness;
       s.points = static_cast<int>(b.pts.size());
+      for (const auto& x : b.pts)
+        s.gradient += Eigen::Vector2d(gx.at<float>(static_cast<int>(x.y()), static_cast<int>(x.x())),
+                                      gy.at<float>(static_cast<int>(x.y()), static_cast<int>(x.x())));
+      s.gradient /= static_cast<double>(b.pts.size());
       if (s.length() >= p_.min_length)
         out.push_back(s);
     }

@@ -32,6 +32,7 @@ struct LineSegment
   Eigen::Matrix2d covariance;      ///< of the edgels
   double thickness = 0;            ///< px
   int points = 0;                  ///< edgels
+  Eigen::Vector2d gradient = Eigen::Vector2d::Zero();  ///< mean Sobel gradient over the edgels (polarity)
   double length() const { return (q - p).norm(); }
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
