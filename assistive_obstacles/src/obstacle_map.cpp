@@ -51,6 +51,7 @@ void ObstacleMap::setParams(const ObstaclesParams& p)
   elevation_.setParams(p);
   mls_.setParams(p);
   temporal_.setParams(p);
+  sonar_.setParams(p);
   const Window w = Window::around(0.0, 0.0, p.window_radius, p.cell_size);
   temporal_.resize(w.n);
   if (!octree_) octree_.reset(new SeenOctree(p));
@@ -59,6 +60,7 @@ void ObstacleMap::setParams(const ObstaclesParams& p)
 void ObstacleMap::reset()
 {
   temporal_.clear();
+  sonar_.clear();
   octree_.reset(new SeenOctree(params_));
   world_.clear();
 }
@@ -116,6 +118,8 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   window_ = Window::around(t.x(), t.y(), params_.window_radius, params_.cell_size);
   temporal_.resize(window_.n);
   temporal_.retain(window_.ox, window_.oy, window_.n);
+  sonar_.retain(window_);
+  last_feet_ = feet;
   const float z_max = t.z() + static_cast<float>(params_.head_clearance);
   elevation_.build(world_, window_, z_max, elevated);
   stats_.points_binned = elevation_.binnedPoints();
@@ -197,8 +201,17 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
         const double dx = window_.centerX(lx) - t.x(), dy = window_.centerY(ly) - t.y();
         if (dx * dx + dy * dy > obstacle_r2) continue;
       }
+      // A cell the ranger hit is never freed by camera rays (they may have passed through glass).
+      if (lab != FrameLabel::OBSTACLE && sonar_.held(gx, gy)) continue;
       temporal_.vote(gx, gy, lab, weight, !filled);
     }
+}
+
+RangeCheck ObstacleMap::addRange(const RangeReading& r)
+{
+  if (!params_.sonar_enabled) return SonarFusion::check(r);
+  const float z_top = last_origin_.z() + static_cast<float>(params_.head_clearance);
+  return sonar_.apply(r, window_, last_feet_, z_top, temporal_);
 }
 
 void ObstacleMap::insertOctomap()
