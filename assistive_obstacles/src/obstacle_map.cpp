@@ -228,7 +228,13 @@ void ObstacleMap::grid(GridData& out) const
   out.width = out.height = n;
   out.data.assign(static_cast<size_t>(n) * n, CELL_UNKNOWN);
   for (int ly = 0; ly < n; ++ly)
-    for (int lx = 0; lx < n; ++lx) out.data[window_.index(lx, ly)] = temporal_.code(window_.ox + lx, window_.oy + ly);
+    for (int lx = 0; lx < n; ++lx)
+    {
+      const int gx = window_.ox + lx, gy = window_.oy + ly;
+      // A cell the ranger hit is an obstacle from that echo on, whatever the filter's counters
+      // still say from camera rays that passed through it before (a panel seen through).
+      out.data[window_.index(lx, ly)] = sonar_.held(gx, gy) ? CELL_OBSTACLE : temporal_.code(gx, gy);
+    }
 }
 
 }  // namespace assistive_obstacles

@@ -80,8 +80,30 @@ RangeCheck SonarFusion::apply(const RangeReading& r, const Window& window, float
     const int gx = static_cast<int>(std::floor(p.x() / window.res)), gy = static_cast<int>(std::floor(p.y() / window.res));
     if (arc.insert(key(gx, gy)).second) arc_cells.push_back({ gx, gy });
   }
+  // An echo the camera's map already explains (an obstacle cell not held by the ranger itself where the arc is, or half a cell
+  // beyond it: a face on a cell border) adds nothing: the arc's other cells are most likely the
+  // free space in front of an oblique wall (up to 2 r sin(incidence) sin(half angle) in front of
+  // it). Only an echo with no mapped obstacle at its range is what the camera cannot see (glass).
+  bool explained = false;
+  for (const auto& c : arc_cells)
+    explained = explained || (filter.code(c.first, c.second) == CELL_OBSTACLE && !held(c.first, c.second));
+  if (!explained)
+  {
+    conePoints(r, r.range + 0.5 * params_.cell_size, half, scratch_);
+    for (const Eigen::Vector3f& p : scratch_)
+    {
+      const int gx = static_cast<int>(std::floor(p.x() / window.res)), gy = static_cast<int>(std::floor(p.y() / window.res));
+      if (p.z() >= z_low && p.z() <= z_top && filter.code(gx, gy) == CELL_OBSTACLE && !held(gx, gy))
+      {
+        explained = true;
+        break;
+      }
+    }
+  }
+  stats_.explained = explained;
   for (const auto& c : arc_cells)
   {
+    if (explained) break;
     const int lx = c.first - window.ox, ly = c.second - window.oy;
     if (lx < 0 || ly < 0 || lx >= window.n || ly >= window.n) continue;
     for (int v = 0; v < params_.sonar_hit_votes; ++v)

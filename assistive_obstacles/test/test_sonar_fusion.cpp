@@ -118,6 +118,24 @@ TEST(SonarFusion, RangerHitCellIsNeverFreedByCameraRays)
   EXPECT_EQ(codeAt(s.map, 2.1, 0.1), CELL_FREE);
 }
 
+TEST(SonarFusion, EchoTheMapAlreadyExplainsAddsNothing)
+{
+  // A wall the camera maps at x = 2.1 .. 2.2: the echo at 2.1 m is that wall; the arc's other
+  // cells (free space in front of an oblique wall, in general) are not held.
+  ObstacleMap m;
+  const Eigen::Isometry3f T = synthetic::cameraAt(0.0, 0.0, 1.6);
+  Points w;
+  synthetic::patch(w, 0.6, 2.1, -1.4, 1.4, 0.0, 5, 0.005);
+  synthetic::wallX(w, 2.15, -1.4, 1.4, 0.0, 1.9);
+  const Points cam = synthetic::toCamera(w, T);
+  for (int i = 0; i < 10; ++i) m.update(cam, T);
+  ASSERT_EQ(codeAt(m, 2.15, 0.1), CELL_OBSTACLE);
+  m.addRange(reading(2.1));
+  EXPECT_TRUE(m.sonar().stats().explained);
+  EXPECT_EQ(m.sonar().stats().arc_cells, 0);
+  EXPECT_EQ(m.sonar().stats().held, 0u);
+}
+
 TEST(SonarFusion, EchoThatMayBeTheFloorIsNoEvidence)
 {
   GlassScene s;

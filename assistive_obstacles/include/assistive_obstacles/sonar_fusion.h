@@ -5,6 +5,9 @@
 // - An echo at range r is obstacle evidence in every cell the cone's arc at r crosses above the
 //   floor (feet + step_height .. camera + head_clearance), voted into the same temporal filter as
 //   the camera's labels (`sonar_hit_votes` full-weight votes per reading and cell).
+// - Only an echo the map cannot explain counts: when a cell the map already holds as an obstacle
+//   lies on the arc (or half a cell beyond), the echo is that obstacle, and the arc's other cells
+//   are most likely the free space in front of an oblique wall: no votes, no holds.
 // - Those cells are HELD: from then on camera free / step votes skip them (camera rays that
 //   passed through a panel never free it).
 // - A hold ends only when the ranger itself sees through the cell: `sonar_release_readings`
@@ -54,6 +57,7 @@ struct SonarStats
   int arc_cells = 0;       ///< cells voted obstacle
   int released = 0;        ///< holds the ranger ended by seeing through
   bool floor_ambiguous = false;  ///< the arc reached the floor: no evidence
+  bool explained = false;  ///< an obstacle the map already has lies on the arc: no new evidence
   size_t held = 0;         ///< holds now
 };
 
