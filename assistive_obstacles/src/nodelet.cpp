@@ -293,7 +293,13 @@ private:
       return;
     }
     if (params_.sonar_enabled)
+    {
       applySonar(l->header.stamp);
+      std::lock_guard<std::mutex> lock(stats_mutex_);
+      if (sonar_used_ > 0 && (ros::WallTime::now() - last_sonar_).toSec() > 1.0)
+        NODELET_WARN_THROTTLE(5.0, "obstacles: no ranger reading for %.1f s: glass is not covered",
+                              (ros::WallTime::now() - last_sonar_).toSec());
+    }
     map_->update(points_, T_world_cam, &model, &disp, want_normals ? &normals_ : nullptr);
     const auto t2 = std::chrono::steady_clock::now();
     GridData grid;

@@ -11,7 +11,7 @@
 // OBST_DEBUG=1 temporal counters of the false-positive cells at the last frame; OBST_CELL=gx,gy
 // per-frame label and heights of one global cell; OBST_FPMAP=1 the most frequent false-positive and
 // false-negative cells within 3 m; OBST_BIAS=1 per-frame SGBM disparity error vs
-// the true depth (needs a --depth bag), binned by metre of depth.
+// the true depth (needs a --depth bag), binned by metre of depth; OBST_SONAR=1 each fused echo.
 // The vest's forward ranger (/sonar/front, sensor_msgs/Range) is fused as the nodelet does it
 // (readings stamped up to a frame are added before that frame's update; the ranger's pose = the
 // ground-truth camera pose, interpolated, times the URDF mount); --no-sonar leaves it out.
@@ -291,6 +291,14 @@ int main(int argc, char** argv)
       r.field_of_view = rs.field_of_view;
       r.T_world_sensor = (T_left * eval::linkToLeftOptical().inverse() * link_to_sonar).cast<float>();
       const RangeCheck rc = map.addRange(r);
+      if (std::getenv("OBST_SONAR") && rc == RangeCheck::ECHO)
+      {
+        const SonarStats& ss = map.sonar().stats();
+        const Eigen::Vector3f o = r.T_world_sensor.translation(), ax = r.T_world_sensor.linear().col(0);
+        std::fprintf(stderr, "sonar t %.2f r %.2f at (%.2f %.2f %.2f) dir (%.2f %.2f %.2f): floor %d explained %d arc %d held %zu\n",
+                     rs.stamp, rs.range, o.x(), o.y(), o.z(), ax.x(), ax.y(), ax.z(), int(ss.floor_ambiguous),
+                     int(ss.explained), ss.arc_cells, ss.held);
+      }
       if (rc == RangeCheck::ECHO) ++ranges_used;
       else if (rc == RangeCheck::NO_ECHO) ++ranges_no_echo;
       else ++ranges_rejected;

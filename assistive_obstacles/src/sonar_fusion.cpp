@@ -65,7 +65,13 @@ RangeCheck SonarFusion::apply(const RangeReading& r, const Window& window, float
   const float z_low = feet + static_cast<float>(params_.step_height);
   const double half = 0.5 * r.field_of_view;
 
-  // The arc: where the echo came from (somewhere on it). Below the step height it may be the floor.
+  // The arc: where the echo came from (somewhere on it). Where it dips below the step height it
+  // may be the floor's echo, but only if the cone holds a ray steep enough for the floor to send
+  // the echo back (specular: sonar_floor_echo_deg below the horizontal); shallower, the floor
+  // returns nothing and the arc's part under it is simply not in the world.
+  const Eigen::Vector3f axis = r.T_world_sensor.linear().col(0);
+  const double steepest = std::asin(std::clamp(-static_cast<double>(axis.z()) / std::max(1e-6f, axis.norm()), -1.0, 1.0)) + half;
+  const bool floor_can_echo = steepest >= params_.sonar_floor_echo_deg * M_PI / 180.0;
   conePoints(r, r.range, half, scratch_);
   std::unordered_set<int64_t> arc;
   std::vector<std::pair<int, int>> arc_cells;
@@ -73,8 +79,12 @@ RangeCheck SonarFusion::apply(const RangeReading& r, const Window& window, float
   {
     if (p.z() < z_low)
     {
-      stats_.floor_ambiguous = true;
-      return verdict;
+      if (floor_can_echo)
+      {
+        stats_.floor_ambiguous = true;
+        return verdict;
+      }
+      continue;
     }
     if (p.z() > z_top) continue;  // above the head: cannot touch the wearer
     const int gx = static_cast<int>(std::floor(p.x() / window.res)), gy = static_cast<int>(std::floor(p.y() / window.res));
@@ -84,16 +94,24 @@ RangeCheck SonarFusion::apply(const RangeReading& r, const Window& window, float
   // beyond it: a face on a cell border) adds nothing: the arc's other cells are most likely the
   // free space in front of an oblique wall (up to 2 r sin(incidence) sin(half angle) in front of
   // it). Only an echo with no mapped obstacle at its range is what the camera cannot see (glass).
+  // "Mapped" includes a cell whose obstacle votes lead before the filter has decided it (a wall
+  // seen for the first time); the ranger's own holds do not count.
+  const auto solid = [&](int gx, int gy) {
+    if (held(gx, gy)) return false;
+    if (filter.code(gx, gy) == CELL_OBSTACLE) return true;
+    const CellCounters* cc = filter.find(gx, gy);
+    return cc && cc->o > cc->s;
+  };
   bool explained = false;
   for (const auto& c : arc_cells)
-    explained = explained || (filter.code(c.first, c.second) == CELL_OBSTACLE && !held(c.first, c.second));
+    explained = explained || solid(c.first, c.second);
   if (!explained)
   {
     conePoints(r, r.range + 0.5 * params_.cell_size, half, scratch_);
     for (const Eigen::Vector3f& p : scratch_)
     {
       const int gx = static_cast<int>(std::floor(p.x() / window.res)), gy = static_cast<int>(std::floor(p.y() / window.res));
-      if (p.z() >= z_low && p.z() <= z_top && filter.code(gx, gy) == CELL_OBSTACLE && !held(gx, gy))
+      if (p.z() >= z_low && p.z() <= z_top && solid(gx, gy))
       {
         explained = true;
         break;

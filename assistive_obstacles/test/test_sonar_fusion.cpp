@@ -136,15 +136,21 @@ TEST(SonarFusion, EchoTheMapAlreadyExplainsAddsNothing)
   EXPECT_EQ(m.sonar().stats().held, 0u);
 }
 
-TEST(SonarFusion, EchoThatMayBeTheFloorIsNoEvidence)
+TEST(SonarFusion, EchoThatMayBeTheFloorIsNoEvidenceElseTheArcAboveItCounts)
 {
   GlassScene s;
   s.frames(10);
-  // Pitched down 35 deg: the cone's lower rim meets the floor at about 1.78 m: the arc at 1.6 m reaches 0.12 m.
-  s.map.addRange(reading(1.6, 35.0 * M_PI / 180.0));
+  // Pitched down 45 deg: the cone's steepest ray (52.5 deg, above sonar_floor_echo_deg) meets the
+  // floor at about 1.51 m: the echo at 1.6 m may be the floor.
+  s.map.addRange(reading(1.6, 45.0 * M_PI / 180.0));
   EXPECT_TRUE(s.map.sonar().stats().floor_ambiguous);
   EXPECT_EQ(s.map.sonar().stats().arc_cells, 0);
   EXPECT_EQ(s.map.sonar().stats().held, 0u);
+  // Pitched down 20 deg (27.5 at the rim: the floor sends the echo away), echo at 2.6 m: the part
+  // of the arc under the step height is dropped, the rest counts.
+  s.map.addRange(reading(2.6, 20.0 * M_PI / 180.0));
+  EXPECT_FALSE(s.map.sonar().stats().floor_ambiguous);
+  EXPECT_GT(s.map.sonar().stats().arc_cells, 0);
 }
 
 TEST(SonarFusion, DisabledTakesNoEvidence)
