@@ -211,7 +211,33 @@ RangeCheck ObstacleMap::addRange(const RangeReading& r)
 {
   if (!params_.sonar_enabled) return SonarFusion::check(r);
   const float z_top = last_origin_.z() + static_cast<float>(params_.head_clearance);
-  return sonar_.apply(r, window_, last_feet_, z_top, temporal_);
+  // Does the camera's last frame hold a surface inside the cone at the echo's range? Then the echo
+  // is that (opaque) surface, mapped or not yet (beyond the camera's obstacle evidence range):
+  // the ranger adds nothing. Glass leaves no point there (the camera's depth passes through it).
+  bool camera_surface = false;
+  if (SonarFusion::check(r) == RangeCheck::ECHO && !world_.empty())
+  {
+    const Eigen::Vector3f o = r.T_world_sensor.translation();
+    const Eigen::Vector3f axis = r.T_world_sensor.linear().col(0).normalized();
+    const float cos_half = static_cast<float>(std::cos(0.5 * r.field_of_view));
+    const float tol = static_cast<float>(2.0 * params_.cell_size);  // stereo depth noise at 2-4 m
+    const float lo = static_cast<float>(r.range) - tol, hi = static_cast<float>(r.range) + tol;
+    const float z_low = last_feet_ + static_cast<float>(params_.step_height);
+    int hits = 0;
+    for (const Eigen::Vector3f& p : world_)
+    {
+      if (p.z() < z_low || p.z() > z_top) continue;
+      const Eigen::Vector3f d = p - o;
+      const float n = d.norm();
+      if (n < lo || n > hi || d.dot(axis) < cos_half * n) continue;
+      if (++hits >= 3)  // a few points: a textureless wall gives few
+      {
+        camera_surface = true;
+        break;
+      }
+    }
+  }
+  return sonar_.apply(r, window_, last_feet_, z_top, temporal_, camera_surface);
 }
 
 void ObstacleMap::insertOctomap()

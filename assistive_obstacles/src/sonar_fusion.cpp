@@ -56,7 +56,8 @@ void SonarFusion::conePoints(const RangeReading& r, double dist, double half_ang
     }
 }
 
-RangeCheck SonarFusion::apply(const RangeReading& r, const Window& window, float feet, float z_top, TemporalFilter& filter)
+RangeCheck SonarFusion::apply(const RangeReading& r, const Window& window, float feet, float z_top, TemporalFilter& filter,
+                              bool camera_surface)
 {
   stats_ = SonarStats();
   stats_.held = holds_.size();
@@ -102,7 +103,7 @@ RangeCheck SonarFusion::apply(const RangeReading& r, const Window& window, float
     const CellCounters* cc = filter.find(gx, gy);
     return cc && cc->o > cc->s;
   };
-  bool explained = false;
+  bool explained = camera_surface;
   for (const auto& c : arc_cells)
     explained = explained || solid(c.first, c.second);
   if (!explained)

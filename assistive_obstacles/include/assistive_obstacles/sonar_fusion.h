@@ -5,9 +5,10 @@
 // - An echo at range r is obstacle evidence in every cell the cone's arc at r crosses above the
 //   floor (feet + step_height .. camera + head_clearance), voted into the same temporal filter as
 //   the camera's labels (`sonar_hit_votes` full-weight votes per reading and cell).
-// - Only an echo the map cannot explain counts: when a cell the map already holds as an obstacle
-//   lies on the arc (or half a cell beyond), the echo is that obstacle, and the arc's other cells
-//   are most likely the free space in front of an oblique wall: no votes, no holds.
+// - Only an echo the camera cannot explain counts: when a cell the map already holds as an obstacle
+//   lies on the arc (or half a cell beyond), or the camera's last frame has points in the cone at
+//   the echo's range (an opaque surface not mapped yet), the echo is that surface, and the arc's
+//   other cells are most likely the free space in front of an oblique wall: no votes, no holds.
 // - Those cells are HELD: from then on camera free / step votes skip them (camera rays that
 //   passed through a panel never free it).
 // - A hold ends only when the ranger itself sees through the cell: `sonar_release_readings`
@@ -72,7 +73,10 @@ public:
   /// Fuses one reading into `filter` within `window`; `feet` = floor height under the wearer,
   /// `z_top` = highest point that can touch the wearer. Returns the reading's check (only ECHO
   /// changes anything).
-  RangeCheck apply(const RangeReading& r, const Window& window, float feet, float z_top, TemporalFilter& filter);
+  /// `camera_surface`: the camera's last frame holds a surface in the cone at the echo's range
+  /// (ObstacleMap checks its points): the echo is explained.
+  RangeCheck apply(const RangeReading& r, const Window& window, float feet, float z_top, TemporalFilter& filter,
+                   bool camera_surface = false);
 
   /// Whether a camera free vote on global cell (gx, gy) must be skipped (the ranger hit it).
   bool held(int gx, int gy) const { return !holds_.empty() && holds_.count(key(gx, gy)) > 0; }
