@@ -1,5 +1,6 @@
 // assistive_obstacles/obstacles: glue between ROS and the core (disparity, ObstacleMap).
 #include <chrono>
+#include <deque>
 #include <memory>
 #include <mutex>
 
@@ -13,6 +14,7 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
+#include <sensor_msgs/Range.h>
 #include <sensor_msgs/image_encodings.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -60,6 +62,8 @@ public:
     srv_save_ = nh.advertiseService("save_octomap", &ObstaclesNodelet::saveOctomap, this);
     if (node_.use_odom)
       sub_odom_ = nh.subscribe("odom", 5, &ObstaclesNodelet::odomCb, this);
+    if (params_.sonar_enabled)
+      sub_sonar_ = nh.subscribe("sonar/front", 20, &ObstaclesNodelet::sonarCb, this);
 
     diag_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
     diag_->setHardwareID("stereo camera");
@@ -123,6 +127,62 @@ private:
   {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     last_input_ = ros::WallTime::now();
+  }
+
+  /// The forward ranger: queued, applied before the next frame's update once its pose is on tf.
+  void sonarCb(const sensor_msgs::Range::ConstPtr& r)
+  {
+    std::lock_guard<std::mutex> lock(sonar_mutex_);
+    sonar_queue_.push_back(r);
+    while (sonar_queue_.size() > 100) sonar_queue_.pop_front();  // no frames: keep the latest 5 s
+  }
+
+  /// Readings stamped up to `stamp` into the map (tf world_frame <- the reading's frame).
+  void applySonar(const ros::Time& stamp)
+  {
+    std::deque<sensor_msgs::Range::ConstPtr> ready;
+    {
+      std::lock_guard<std::mutex> lock(sonar_mutex_);
+      while (!sonar_queue_.empty() && sonar_queue_.front()->header.stamp <= stamp)
+      {
+        ready.push_back(sonar_queue_.front());
+        sonar_queue_.pop_front();
+      }
+    }
+    for (const auto& m : ready)
+    {
+      RangeReading r;
+      r.range = m->range;
+      r.min_range = m->min_range;
+      r.max_range = m->max_range;
+      r.field_of_view = m->field_of_view;
+      try
+      {
+        r.T_world_sensor = tf2::transformToEigen(tf_buffer_->lookupTransform(node_.world_frame, m->header.frame_id,
+                                                                             m->header.stamp)).cast<float>();
+      }
+      catch (const tf2::TransformException& e)
+      {
+        NODELET_WARN_THROTTLE(5.0, "obstacles: ranger reading without a pose (%s): not used", e.what());
+        std::lock_guard<std::mutex> lock(stats_mutex_);
+        ++sonar_tf_failures_;
+        continue;
+      }
+      const RangeCheck rc = map_->addRange(r);
+      std::lock_guard<std::mutex> lock(stats_mutex_);
+      if (rc == RangeCheck::ECHO || rc == RangeCheck::NO_ECHO)
+      {
+        ++sonar_used_;
+        last_sonar_ = ros::WallTime::now();
+      }
+      else
+      {
+        ++sonar_rejected_;
+        sonar_rejection_ = rangeCheckName(rc);
+        NODELET_WARN_THROTTLE(5.0, "obstacles: ranger reading rejected (%s, range %.3f in [%.2f, %.2f]): not used",
+                              rangeCheckName(rc), m->range, m->min_range, m->max_range);
+      }
+    }
   }
 
   /// vo/odom marks a pose it cannot trust with variances of 9999: the map built on the old pose
@@ -232,6 +292,14 @@ private:
       NODELET_WARN_THROTTLE(2.0, "obstacles: %s", gate_.reason().c_str());
       return;
     }
+    if (params_.sonar_enabled)
+    {
+      applySonar(l->header.stamp);
+      std::lock_guard<std::mutex> lock(stats_mutex_);
+      if (sonar_used_ > 0 && (ros::WallTime::now() - last_sonar_).toSec() > 1.0)
+        NODELET_WARN_THROTTLE(5.0, "obstacles: no ranger reading for %.1f s: glass is not covered",
+                              (ros::WallTime::now() - last_sonar_).toSec());
+    }
     map_->update(points_, T_world_cam, &model, &disp, want_normals ? &normals_ : nullptr);
     const auto t2 = std::chrono::steady_clock::now();
     GridData grid;
@@ -258,6 +326,7 @@ private:
     ms_disparity_ = std::chrono::duration<double, std::milli>(t1 - t0).count();
     ms_map_ = std::chrono::duration<double, std::milli>(t2 - t1).count();
     last_stats_ = map_->stats();
+    last_sonar_held_ = map_->sonar().stats().held;
   }
 
   bool saveOctomap(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res)
@@ -299,6 +368,16 @@ private:
     st.add("bad inputs", bad_input_);
     st.add("map clears (gap / time jump)", gate_clears_);
     st.add("frames without depth", gate_no_depth_);
+    st.add("ranger readings used", sonar_used_);
+    st.add("ranger readings rejected", sonar_rejected_);
+    if (!sonar_rejection_.empty())
+      st.add("last ranger rejection", sonar_rejection_);
+    st.add("ranger readings without pose", sonar_tf_failures_);
+    st.add("ranger", !params_.sonar_enabled ? std::string("disabled")
+                     : sonar_used_ == 0 ? std::string("no reading yet (glass is not covered)")
+                     : (ros::WallTime::now() - last_sonar_).toSec() > 1.0 ? std::string("silent for over 1 s (glass is not covered)")
+                     : std::string("ok"));
+    st.add("ranger-held cells", static_cast<int>(last_sonar_held_));
   }
 
   ObstaclesParams params_;
@@ -307,7 +386,13 @@ private:
   std::unique_ptr<ObstacleMap> map_;
   FrameGate gate_;
   std::mutex gate_mutex_;  // odomCb and frameCb run on different threads
-  ros::Subscriber sub_odom_;
+  ros::Subscriber sub_odom_, sub_sonar_;
+  std::mutex sonar_mutex_;
+  std::deque<sensor_msgs::Range::ConstPtr> sonar_queue_;  // under sonar_mutex_
+  long sonar_used_ = 0, sonar_rejected_ = 0, sonar_tf_failures_ = 0;  // under stats_mutex_
+  std::string sonar_rejection_;
+  ros::WallTime last_sonar_;
+  size_t last_sonar_held_ = 0;
   FrameGate::Verdict last_verdict_ = FrameGate::Verdict::REBUILDING;  // these four under stats_mutex_
   std::string gate_reason_;
   long gate_clears_ = 0, gate_no_depth_ = 0;

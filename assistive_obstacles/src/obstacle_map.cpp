@@ -51,6 +51,7 @@ void ObstacleMap::setParams(const ObstaclesParams& p)
   elevation_.setParams(p);
   mls_.setParams(p);
   temporal_.setParams(p);
+  sonar_.setParams(p);
   const Window w = Window::around(0.0, 0.0, p.window_radius, p.cell_size);
   temporal_.resize(w.n);
   if (!octree_) octree_.reset(new SeenOctree(p));
@@ -59,6 +60,7 @@ void ObstacleMap::setParams(const ObstaclesParams& p)
 void ObstacleMap::reset()
 {
   temporal_.clear();
+  sonar_.clear();
   octree_.reset(new SeenOctree(params_));
   world_.clear();
 }
@@ -116,6 +118,8 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   window_ = Window::around(t.x(), t.y(), params_.window_radius, params_.cell_size);
   temporal_.resize(window_.n);
   temporal_.retain(window_.ox, window_.oy, window_.n);
+  sonar_.retain(window_);
+  last_feet_ = feet;
   const float z_max = t.z() + static_cast<float>(params_.head_clearance);
   elevation_.build(world_, window_, z_max, elevated);
   stats_.points_binned = elevation_.binnedPoints();
@@ -197,8 +201,43 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
         const double dx = window_.centerX(lx) - t.x(), dy = window_.centerY(ly) - t.y();
         if (dx * dx + dy * dy > obstacle_r2) continue;
       }
+      // A cell the ranger hit is never freed by camera rays (they may have passed through glass).
+      if (lab != FrameLabel::OBSTACLE && sonar_.held(gx, gy)) continue;
       temporal_.vote(gx, gy, lab, weight, !filled);
     }
+}
+
+RangeCheck ObstacleMap::addRange(const RangeReading& r)
+{
+  if (!params_.sonar_enabled) return SonarFusion::check(r);
+  const float z_top = last_origin_.z() + static_cast<float>(params_.head_clearance);
+  // Does the camera's last frame hold a surface inside the cone at the echo's range? Then the echo
+  // is that (opaque) surface, mapped or not yet (beyond the camera's obstacle evidence range):
+  // the ranger adds nothing. Glass leaves no point there (the camera's depth passes through it).
+  bool camera_surface = false;
+  if (SonarFusion::check(r) == RangeCheck::ECHO && !world_.empty())
+  {
+    const Eigen::Vector3f o = r.T_world_sensor.translation();
+    const Eigen::Vector3f axis = r.T_world_sensor.linear().col(0).normalized();
+    const float cos_half = static_cast<float>(std::cos(0.5 * r.field_of_view));
+    const float tol = static_cast<float>(2.0 * params_.cell_size);  // stereo depth noise at 2-4 m
+    const float lo = static_cast<float>(r.range) - tol, hi = static_cast<float>(r.range) + tol;
+    const float z_low = last_feet_ + static_cast<float>(params_.step_height);
+    int hits = 0;
+    for (const Eigen::Vector3f& p : world_)
+    {
+      if (p.z() < z_low || p.z() > z_top) continue;
+      const Eigen::Vector3f d = p - o;
+      const float n = d.norm();
+      if (n < lo || n > hi || d.dot(axis) < cos_half * n) continue;
+      if (++hits >= 3)  // a few points: a textureless wall gives few
+      {
+        camera_surface = true;
+        break;
+      }
+    }
+  }
+  return sonar_.apply(r, window_, last_feet_, z_top, temporal_, camera_surface);
 }
 
 void ObstacleMap::insertOctomap()
@@ -215,7 +254,13 @@ void ObstacleMap::grid(GridData& out) const
   out.width = out.height = n;
   out.data.assign(static_cast<size_t>(n) * n, CELL_UNKNOWN);
   for (int ly = 0; ly < n; ++ly)
-    for (int lx = 0; lx < n; ++lx) out.data[window_.index(lx, ly)] = temporal_.code(window_.ox + lx, window_.oy + ly);
+    for (int lx = 0; lx < n; ++lx)
+    {
+      const int gx = window_.ox + lx, gy = window_.oy + ly;
+      // A cell the ranger hit is an obstacle from that echo on, whatever the filter's counters
+      // still say from camera rays that passed through it before (a panel seen through).
+      out.data[window_.index(lx, ly)] = sonar_.held(gx, gy) ? CELL_OBSTACLE : temporal_.code(gx, gy);
+    }
 }
 
 }  // namespace assistive_obstacles

@@ -11,7 +11,12 @@
 // OBST_DEBUG=1 temporal counters of the false-positive cells at the last frame; OBST_CELL=gx,gy
 // per-frame label and heights of one global cell; OBST_FPMAP=1 the most frequent false-positive and
 // false-negative cells within 3 m; OBST_BIAS=1 per-frame SGBM disparity error vs
-// the true depth (needs a --depth bag), binned by metre of depth.
+// the true depth (needs a --depth bag), binned by metre of depth; OBST_SONAR=1 each fused echo.
+// The vest's forward ranger (/sonar/front, sensor_msgs/Range) is fused as the nodelet does it
+// (readings stamped up to a frame are added before that frame's update; the ranger's pose = the
+// ground-truth camera pose, interpolated, times the URDF mount); --no-sonar leaves it out.
+// --world W (a shipped world's name or a YAML path: the world the bag was rendered from) adds
+// free_where_glass_cells: distinct glass-pane cells ever reported free while within 5 m.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -32,6 +37,11 @@
 
 #include <assistive_obstacles/disparity.h>
 #include <assistive_obstacles/obstacle_map.h>
+
+#ifdef HAVE_ASSISTIVE_SIM
+#include <assistive_sim/ultrasonic.h>
+#include <assistive_sim/world.h>
+#endif
 
 #include <opencv2/imgproc.hpp>
 
@@ -65,12 +75,33 @@ eval::OccupancyGrid toSim(const GridData& g)
 {
   return eval::OccupancyGrid{g.origin_x, g.origin_y, g.resolution, g.width, g.height, g.data};
 }
+
+/// Ground-truth pose (left optical frame) at `t`, interpolated between the two nearest samples.
+bool poseAt(const std::vector<std::pair<double, Eigen::Isometry3d>>& gt, double t, Eigen::Isometry3d& out)
+{
+  if (gt.empty() || t < gt.front().first - 0.1 || t > gt.back().first + 0.1) return false;
+  auto it = std::lower_bound(gt.begin(), gt.end(), t, [](const auto& a, double v) { return a.first < v; });
+  if (it == gt.begin() || it == gt.end())
+  {
+    out = (it == gt.end() ? gt.back() : gt.front()).second;
+    return true;
+  }
+  const auto& b = *it;
+  const auto& a = *(it - 1);
+  const double u = b.first > a.first ? (t - a.first) / (b.first - a.first) : 0.0;
+  if (b.first - a.first > 0.5) return false;  // a gap: no pose to trust
+  out = Eigen::Isometry3d::Identity();
+  out.linear() = Eigen::Quaterniond(a.second.linear()).slerp(u, Eigen::Quaterniond(b.second.linear())).toRotationMatrix();
+  out.translation() = (1.0 - u) * a.second.translation() + u * b.second.translation();
+  return true;
+}
 }  // namespace
 
 int main(int argc, char** argv)
 {
   const char* usage =
       "usage: obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N] [--gt-depth] [--set PARAM=VALUE ...]\n"
+      "                           [--no-sonar] [--world WORLD]\n"
       "       obstacles_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect]\n"
       "                           [--keep DIR] [--png DIR] [other options as above]\n"
       "  Runs the obstacle stage on a stereo bag with ground truth; last stdout line: JSON.\n"
@@ -81,11 +112,15 @@ int main(int argc, char** argv)
   bool gt_depth = false;  // --gt-depth: feed the bag's true depth instead of SGBM (isolates stereo noise)
   eval::CommandLine::Sets overrides;  // --set name=value (tuning; the figures of record use the defaults)
   std::string png;
+  bool no_sonar = false;  // --no-sonar: leave the bag's /sonar/front out
+  std::string world_name; // --world: for free_where_glass_cells
   eval::CommandLine cl("obstacles_benchmark", usage);
   eval::SetOptions set_options;
   set_options.addTo(cl);
   cl
       .flag("--gt-depth", &gt_depth)
+      .flag("--no-sonar", &no_sonar)
+      .text("--world", &world_name)
       .count("--frames", &max_frames, 0)
       .count("--skip", &skip, 0)
       .text("--png", &png)
@@ -97,6 +132,7 @@ int main(int argc, char** argv)
     // Worst = the smaller where more is better (recall, precision, coverage), else the larger.
     const std::vector<eval::SetFigure> figures{
         {"recall_3m", true}, {"precision_3m", true}, {"free_where_obstacle_cells", false, true},
+        {"free_where_glass_cells", false, true},
         {"misclassified_3m"}, {"recall_5m", true}, {"precision_5m", true}, {"coverage_3m", true},
         {"ms_p95_map"}, {"ms_p95_disparity"}, {"points_per_frame", true}, {"frames", true}};
     return eval::runSetFromCommandLine(cl, argc, argv, set_options, figures, "--png", png, "_obstacles_map.png",
@@ -115,6 +151,55 @@ int main(int argc, char** argv)
   eval::OccupancyGrid truth;
   const bool has_truth = reader->readOccupancy(truth);
   if (!has_truth) std::cerr << "obstacles_benchmark: no /ground_truth/occupancy in the bag: map not scored\n";
+
+  // Glass-pane cells of the world (free_where_glass_cells).
+  eval::OccupancyGrid glass;
+  bool has_glass = false;
+  std::vector<Eigen::Vector2d> glass_cells;  // centres of the glass-pane cells
+  std::set<size_t> ranger_hit_glass, freed_after_hit;  // indices into glass_cells
+  if (!world_name.empty())
+  {
+#ifdef HAVE_ASSISTIVE_SIM
+    try
+    {
+      assistive_sim::World w = assistive_sim::World::load(assistive_sim::resolveWorldPath(world_name, ASSISTIVE_SIM_WORLDS_DIR));
+      std::vector<assistive_sim::Solid> panes;
+      for (const auto& solid : w.solids)
+        if (solid.glass) panes.push_back(solid);
+      w.solids = panes;
+      glass = assistive_sim::computeOccupancy(w);
+      has_glass = true;
+      for (int gy = 0; gy < glass.height; ++gy)
+        for (int gx = 0; gx < glass.width; ++gx)
+          if (glass.data[static_cast<size_t>(gy) * glass.width + gx] == 100)
+            glass_cells.push_back({ glass.origin_x + (gx + 0.5) * glass.resolution, glass.origin_y + (gy + 0.5) * glass.resolution });
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "obstacles_benchmark: --world " << world_name << ": " << e.what() << "\n";
+      return 2;
+    }
+#else
+    std::cerr << "obstacles_benchmark: built without assistive_sim: --world ignored\n";
+#endif
+  }
+  std::vector<eval::RangeSample> ranges;
+  bool sonar_pose = false;
+  Eigen::Isometry3d link_to_sonar = Eigen::Isometry3d::Identity();
+#ifdef HAVE_ASSISTIVE_SIM
+  link_to_sonar = assistive_sim::linkToSonar();
+  sonar_pose = true;
+#endif
+  if (!no_sonar)
+  {
+    if (!reader->readRanges(ranges)) std::cerr << "obstacles_benchmark: no /sonar/front in the bag: map without the ranger\n";
+    if (!sonar_pose && !ranges.empty())
+    {
+      std::cerr << "obstacles_benchmark: built without assistive_sim (the ranger's mount): map without the ranger\n";
+      ranges.clear();
+    }
+  }
+  size_t next_range = 0, ranges_used = 0, ranges_rejected = 0, ranges_no_echo = 0;
 
   ObstaclesParams params;  // defaults
   if (!eval::applySets(cl, overrides, params))  // --set: the node's parameter names (params.h table)
@@ -193,6 +278,31 @@ int main(int argc, char** argv)
     const bool want_normals = map.usesNormals();
     disparity.toPoints(disp, model, points, want_normals ? &normals : nullptr);
     const double t1 = eval::wallMs();
+    // Ranger readings up to this frame (as the nodelet applies them: before the frame's update).
+    for (; next_range < ranges.size() && ranges[next_range].stamp <= f.stamp + 1e-6; ++next_range)
+    {
+      const eval::RangeSample& rs = ranges[next_range];
+      Eigen::Isometry3d T_left;
+      if (!poseAt(reader->groundTruth(), rs.stamp, T_left)) continue;
+      RangeReading r;
+      r.range = rs.range;
+      r.min_range = rs.min_range;
+      r.max_range = rs.max_range;
+      r.field_of_view = rs.field_of_view;
+      r.T_world_sensor = (T_left * eval::linkToLeftOptical().inverse() * link_to_sonar).cast<float>();
+      const RangeCheck rc = map.addRange(r);
+      if (std::getenv("OBST_SONAR") && rc == RangeCheck::ECHO)
+      {
+        const SonarStats& ss = map.sonar().stats();
+        const Eigen::Vector3f o = r.T_world_sensor.translation(), ax = r.T_world_sensor.linear().col(0);
+        std::fprintf(stderr, "sonar t %.2f r %.2f at (%.2f %.2f %.2f) dir (%.2f %.2f %.2f): floor %d explained %d arc %d held %zu\n",
+                     rs.stamp, rs.range, o.x(), o.y(), o.z(), ax.x(), ax.y(), ax.z(), int(ss.floor_ambiguous),
+                     int(ss.explained), ss.arc_cells, ss.held);
+      }
+      if (rc == RangeCheck::ECHO) ++ranges_used;
+      else if (rc == RangeCheck::NO_ECHO) ++ranges_no_echo;
+      else ++ranges_rejected;
+    }
     map.update(points, f.gt_pose.cast<float>(), &model, &disp, want_normals ? &normals : nullptr);
     const double t2 = eval::wallMs();
     if (const char* dc = std::getenv("OBST_CELL"))
@@ -276,6 +386,18 @@ int main(int argc, char** argv)
                            (Eigen::Vector2d(x, y) - wearer).norm(), cc->o, cc->s, cc->votes, cc->flips, int(cc->permanent));
           }
         }
+      // Glass cells the ranger hit (held by the map), and those reported free after that hit.
+      for (size_t k = 0; k < glass_cells.size(); ++k)
+      {
+        const Eigen::Vector2d& c = glass_cells[k];
+        const int gx = static_cast<int>(std::floor(c.x() / params.cell_size)), gy = static_cast<int>(std::floor(c.y() / params.cell_size));
+        if (map.sonar().held(gx, gy)) ranger_hit_glass.insert(k);
+        if (!ranger_hit_glass.count(k)) continue;
+        const int ex = static_cast<int>(std::floor((c.x() - est.origin_x) / est.resolution));
+        const int ey = static_cast<int>(std::floor((c.y() - est.origin_y) / est.resolution));
+        if (ex >= 0 && ey >= 0 && ex < est.width && ey < est.height && est.data[static_cast<size_t>(ey) * est.width + ex] == 0)
+          freed_after_hit.insert(k);
+      }
       const auto sc5 = eval::scoreMap(truth, est, wearer, p5);
       s5.add(sc5);
       free_where_obstacle.insert(sc5.free_where_obstacle_cells.begin(), sc5.free_where_obstacle_cells.end());
@@ -313,6 +435,24 @@ int main(int argc, char** argv)
   std::printf("false positives 3 m: %zu next to a true obstacle, %zu isolated, %zu of them STEP\n", fp_adjacent,
               fp_isolated, fp_step);
   std::printf("ground-truth obstacle cells ever reported free (5 m): %zu\n", free_where_obstacle.size());
+  size_t free_where_glass = 0;
+  if (has_glass && has_truth)
+    for (const size_t i : free_where_obstacle)
+    {
+      const double x = truth.origin_x + (static_cast<double>(i % truth.width) + 0.5) * truth.resolution;
+      const double y = truth.origin_y + (static_cast<double>(i / truth.width) + 0.5) * truth.resolution;
+      const int gx = static_cast<int>(std::floor((x - glass.origin_x) / glass.resolution));
+      const int gy = static_cast<int>(std::floor((y - glass.origin_y) / glass.resolution));
+      if (gx >= 0 && gy >= 0 && gx < glass.width && gy < glass.height &&
+          glass.data[static_cast<size_t>(gy) * glass.width + gx] == 100)
+        ++free_where_glass;
+    }
+  if (has_glass)
+    std::printf("glass-pane cells ever reported free (5 m): %zu; hit by the ranger: %zu, reported free after the hit: %zu\n",
+                free_where_glass, ranger_hit_glass.size(), freed_after_hit.size());
+  std::printf("ranger: %s, %zu echoes fused, %zu no echo, %zu rejected\n",
+              no_sonar ? "off (--no-sonar)" : (ranges.empty() ? "none in the bag" : "on"), ranges_used, ranges_no_echo,
+              ranges_rejected);
   if (has_truth) std::printf("map plot: %s\n", png.c_str());
   if (std::getenv("OBST_FPMAP"))
   {
@@ -341,6 +481,10 @@ int main(int argc, char** argv)
       .add("precision_3m", num(s3.precision())).add("misclassified_3m", num(s3.misclassified()))
       .add("recall_5m", num(s5.recall())).add("precision_5m", num(s5.precision()))
       .add("free_where_obstacle_cells", has_truth ? std::to_string(free_where_obstacle.size()) : "null")
+      .add("free_where_glass_cells", has_truth && has_glass ? std::to_string(free_where_glass) : "null")
+      .add("ranger_hit_glass_cells", has_glass ? std::to_string(ranger_hit_glass.size()) : "null")
+      .add("free_after_ranger_hit_glass_cells", has_glass ? std::to_string(freed_after_hit.size()) : "null")
+      .add("sonar_readings_fused", ranges_used).add("sonar", !no_sonar && !ranges.empty())
       .add("frames", used).add("ms_median_map", num(percentile(ms_map, 0.5), 3))
       .add("ms_median_disparity", num(percentile(ms_disp, 0.5), 3))
       .add("misclassified_5m", num(s5.misclassified())).add("coverage_3m", num(s3.coverage()))

@@ -143,6 +143,50 @@ TEST(Planner, ScrollingWindowKeepsOptimalPath)
   }
 }
 
+// Glass (issue 20): the camera sees the floor beyond a panel, the ranger reports the panel solid,
+// and the map holds the cells it hit as obstacles (assistive_obstacles SonarFusion). The floor
+// seen only through the panel must never become the wearer's way: no path crosses the panel, and
+// a panel across the whole corridor leaves no path to anything beyond it.
+TEST(Planner, NeverThroughAPanelTheRangerReportsSolid)
+{
+  for (const bool gap : { false, true })
+  {
+    PlannerParams p;
+    Planner pl(p);
+    Grid g = makeGrid(-5, -5);
+    // (bounds between cell centres: the centres are 0.1 + 0.2 k)
+    fillRect(g, -5, -5, 5, -1.05, CELL_OBSTACLE);   // corridor walls: cells y = -1.2 .. -1.0 and 1.0 .. 1.2
+    fillRect(g, -5, 1.05, 5, 5, CELL_OBSTACLE);
+    fillRect(g, 2.05, -1.05, 2.15, 1.05, CELL_OBSTACLE);  // the panel (cells x 2.0 .. 2.2), the ranger-held cells
+    if (gap) fillRect(g, 2.05, 0.55, 2.15, 1.05, CELL_FREE);  // an open door beside the panel (y 0.6 .. 1.0)
+    const PlanOutput o = pl.update(g, { 0.1, 0.1 }, 0.0);
+    for (const auto& q : o.path)
+    {
+      int x, y;
+      ASSERT_TRUE(g.worldToCell(q.x, q.y, x, y));
+      EXPECT_NE(g.at(x, y), CELL_OBSTACLE) << "gap " << gap << " path at " << q.x << ", " << q.y;
+      if (!gap)
+      {
+        EXPECT_LT(q.x, 2.0) << "path beyond the panel at " << q.x;
+      }
+      else if (q.x >= 2.0 && q.x <= 2.2)
+      {
+        EXPECT_GE(q.y, 0.6) << "through the panel, not the door";
+      }
+    }
+    if (!gap)
+    {
+      EXPECT_FALSE(o.has_waypoint && !o.path.empty() && o.waypoint.x >= 2.0) << "led beyond the panel";
+      EXPECT_LT(o.free_ahead, 2.0);  // the cue logic's proximity / alert see the panel
+    }
+    else
+    {
+      ASSERT_EQ(o.status, PlanStatus::OK) << o.message;
+      EXPECT_GT(o.waypoint.x, 2.2);  // beyond, through the door
+    }
+  }
+}
+
 TEST(Planner, ExplicitGoalOverridesWaypoint)
 {
   Planner pl;

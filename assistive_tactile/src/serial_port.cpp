@@ -21,7 +21,7 @@ namespace
 constexpr int kMaxFailSafePorts = 8;
 std::atomic<int> g_fail_safe_fds[kMaxFailSafePorts] = { { -1 }, { -1 }, { -1 }, { -1 },
                                                        { -1 }, { -1 }, { -1 }, { -1 } };
-uint8_t g_fail_safe_bytes[32];
+uint8_t g_fail_safe_bytes[64];
 std::atomic<size_t> g_fail_safe_len{ 0 };
 
 void registerFailSafe(int fd)

@@ -8,6 +8,8 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
@@ -113,8 +115,54 @@ bool SimVest::inject(const uint8_t* data, size_t len)
   return ::write(master_, data, len) == static_cast<ssize_t>(len);
 }
 
+void SimVest::press(unsigned button, uint32_t hold_ms, uint32_t now_ms)
+{
+  if (button >= VEST_NUM_BUTTONS)
+    return;
+  down_from_[button] = now_ms;
+  down_until_[button] = now_ms + hold_ms;
+}
+
+void SimVest::sense(uint32_t now_ms)
+{
+  if (master_ < 0 || old_version_2)
+    return;
+  if (static_cast<uint32_t>(now_ms - last_ping_ms_) >= VEST_PING_PERIOD_MS || !pinged_)
+  {
+    pinged_ = true;
+    last_ping_ms_ = now_ms;
+    // The echo line as the sensor drives it: never high without a sensor; high for the round
+    // trip of an echo; high for about 38 ms (then low) when nothing came back.
+    const bool echo = std::isfinite(range_m_) && range_m_ >= 0.0;
+    const uint32_t width_us =
+        echo ? static_cast<uint32_t>(std::min(1e6, std::lround(range_m_ * 2e6 / 343.0) * 1.0)) : 38000u;
+    uint16_t mm = 0;
+    const uint8_t ping = vest_classify_ping(sensor_missing_ ? 0 : 1, 1, width_us, &mm);
+    vest_range_t r;
+    if (vest_firmware_range(&fw_, ping, mm, &r))
+    {
+      uint8_t out[VEST_RANGE_PACKET_SIZE];
+      vest_encode_range(&r, out);
+      if (::write(master_, out, sizeof(out)) == static_cast<ssize_t>(sizeof(out)))
+        ++range_packets_;
+    }
+  }
+  uint8_t down[VEST_NUM_BUTTONS];
+  for (unsigned i = 0; i < VEST_NUM_BUTTONS; ++i)
+    down[i] = static_cast<uint32_t>(now_ms - down_from_[i]) < static_cast<uint32_t>(down_until_[i] - down_from_[i]);
+  vest_buttons_t b;
+  if (vest_firmware_buttons(&fw_, down[0], down[1], now_ms, &b))
+  {
+    uint8_t out[VEST_BUTTONS_PACKET_SIZE];
+    vest_encode_buttons(&b, out);
+    if (::write(master_, out, sizeof(out)) == static_cast<ssize_t>(sizeof(out)))
+      ++button_packets_;
+  }
+}
+
 void SimVest::tick(uint32_t now_ms)
 {
+  sense(now_ms);
   const int r = vest_firmware_tick(&fw_, now_ms);
   if (r == VEST_TICK_WATCHDOG)
     reportIfChanged(now_ms, "watchdog: no valid packet for 500 ms");
@@ -138,6 +186,43 @@ int SimVest::poll(int timeout_ms, uint32_t now_ms)
       for (ssize_t i = 0; i < n; ++i)
       {
         vest_packet_t status;
+        if (old_version_2)
+        {
+          // A version-2 vest: only version-2 COMMANDs are obeyed; anything else CRC-valid is
+          // answered with a version-2 STATUS (what the old firmware did).
+          vest_message_t m;
+          const uint16_t mism = fw_.parser.version_mismatch;
+          const bool ok = vest_parser_feed_message(&fw_.parser, buf[i], &m);
+          if (!ok && fw_.parser.version_mismatch == mism)
+            continue;
+          if (ok && m.version == 2 && m.type == VEST_TYPE_COMMAND)
+          {
+            uint8_t frame[VEST_PACKET_SIZE];
+            vest_encode_version(&m.packet, 2, frame);
+            vest_firmware_t tmp = fw_;
+            vest_packet_t st;
+            for (uint8_t byte : frame)
+              vest_firmware_feed(&tmp, byte, now_ms, &st);
+            fw_ = tmp;
+            ++applied;
+            ++commands_;
+            reportIfChanged(now_ms, "v2 command");
+            vest_firmware_status(&fw_, &status);
+          }
+          else if (ok && m.version != 2)
+            vest_firmware_status(&fw_, &status);
+          else
+            continue;
+          if (reply_status)
+          {
+            uint8_t out[VEST_PACKET_SIZE];
+            vest_encode_version(&status, 2, out);
+            if (::write(master_, out, sizeof(out)) < 0)
+            {
+            }
+          }
+          continue;
+        }
         const int r = vest_firmware_feed(&fw_, buf[i], now_ms, &status);
         if (r != VEST_FEED_NONE)
         {
@@ -152,7 +237,7 @@ int SimVest::poll(int timeout_ms, uint32_t now_ms)
           if (reply_status)
           {
             uint8_t out[VEST_PACKET_SIZE];
-            vest_encode(&status, out);
+            vest_encode_version(&status, fw_.reply_version, out);  // in the COMMAND's version
             if (::write(master_, out, sizeof(out)) < 0)
             {
               // the bridge is not reading; the vest does not care (like the real one)

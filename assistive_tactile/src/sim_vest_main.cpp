@@ -1,13 +1,20 @@
 // sim_vest: the simulated tactile vest on a pseudo-terminal (no ROS needed).
-//   sim_vest [--link PATH] [--quiet] [--no-status] [--duration S]
+//   sim_vest [--link PATH] [--quiet] [--no-status] [--duration S] [--range M|none|missing] [--v2]
 // Prints the pty path, points PATH (default /tmp/assistive_vest) at it, and logs every change of
 // the four motor outputs, as the firmware (vest_protocol.h) would drive them.
+// The forward ranger measures the range it is given (--range, or a line `range M`, `range none`
+// (no echo), `range missing` (sensor unplugged) on stdin); `press a`, `press b`, `press a long`
+// on stdin press the wearer's buttons. --v2 plays an old, version-2 vest (motors only).
+#include <poll.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
+#include <sstream>
 #include <string>
 
 #include "assistive_tactile/sim_vest.h"
@@ -26,6 +33,8 @@ int main(int argc, char** argv)
   std::string link = "/tmp/assistive_vest";
   bool quiet = false, status = true;
   double duration = -1.0;
+  std::string range_arg = "none";
+  bool v2 = false;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -37,9 +46,14 @@ int main(int argc, char** argv)
       status = false;
     else if (a == "--duration" && i + 1 < argc)
       duration = std::atof(argv[++i]);
+    else if (a == "--range" && i + 1 < argc)
+      range_arg = argv[++i];
+    else if (a == "--v2")
+      v2 = true;
     else if (a == "-h" || a == "--help")
     {
-      std::printf("usage: sim_vest [--link PATH] [--quiet] [--no-status] [--duration S]\n");
+      std::printf("usage: sim_vest [--link PATH] [--quiet] [--no-status] [--duration S] [--range M|none|missing] [--v2]\n"
+                  "  stdin: `range M|none|missing`, `press a|b [long]`\n");
       return 0;
     }
     else if (a.rfind("__", 0) == 0 || a.rfind("_", 0) == 0)
@@ -61,6 +75,12 @@ int main(int argc, char** argv)
   };
   assistive_tactile::SimVest vest;
   vest.reply_status = status;
+  vest.old_version_2 = v2;
+  auto setRange = [&](const std::string& what) {
+    vest.setSensorMissing(what == "missing");
+    vest.setRange(what == "none" || what == "missing" ? std::numeric_limits<double>::infinity() : std::atof(what.c_str()));
+  };
+  setRange(range_arg);
   std::string err;
   if (!vest.open(link, nowMs(), &err))
   {
@@ -78,8 +98,35 @@ int main(int argc, char** argv)
       std::fflush(stdout);
     }
   };
+  std::string line;
   while (!g_stop)
   {
+    // Commands on stdin (non-blocking): range / press.
+    struct pollfd in;
+    in.fd = 0;
+    in.events = POLLIN;
+    in.revents = 0;
+    if (::poll(&in, 1, 0) > 0 && (in.revents & POLLIN))
+    {
+      char buf[256];
+      const ssize_t n = ::read(0, buf, sizeof(buf));
+      if (n > 0)
+        line.append(buf, static_cast<size_t>(n));
+      size_t nl;
+      while ((nl = line.find('\n')) != std::string::npos)
+      {
+        std::istringstream cmd(line.substr(0, nl));
+        line.erase(0, nl + 1);
+        std::string verb, arg, kind;
+        cmd >> verb >> arg >> kind;
+        if (verb == "range")
+          setRange(arg);
+        else if (verb == "press" && (arg == "a" || arg == "b"))
+          vest.press(arg == "a" ? VEST_BUTTON_A : VEST_BUTTON_B, kind == "long" ? 1500u : 150u, nowMs());
+        else if (!verb.empty())
+          std::fprintf(stderr, "sim_vest: unknown command '%s' (range M|none|missing, press a|b [long])\n", verb.c_str());
+      }
+    }
     vest.poll(20, nowMs());
     if (duration > 0.0 && nowMs() / 1000.0 > duration)
       break;

@@ -49,6 +49,22 @@ const char* cueCheckName(CueCheck c)
   return "?";
 }
 
+RangeVerdict checkRange(const vest_range_t& r, const BridgeParams& p, double* range_m)
+{
+  if (r.status == VEST_RANGE_SENSOR_MISSING)
+    return RangeVerdict::SENSOR_MISSING;
+  if (r.status == VEST_RANGE_NO_ECHO)
+  {
+    *range_m = std::numeric_limits<double>::infinity();  // REP 117: nothing within max_range
+    return RangeVerdict::NO_ECHO;
+  }
+  const double m = r.range_mm / 1000.0;
+  if (!(m >= p.sonar_min_range && m <= p.sonar_max_range))
+    return RangeVerdict::OUT_OF_LIMITS;
+  *range_m = m;
+  return RangeVerdict::ECHO;
+}
+
 double steadyNow()
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -131,6 +147,9 @@ void VestBridge::tryOpen(double now)
   stats_.last_error.clear();
   pending_.clear();
   vest_parser_init(&parser_);
+  stats_.send_version = VEST_PROTOCOL_VERSION;  // a new port may hold a new vest
+  stats_.vest_version = 0;
+  have_range_seq_ = have_buttons_ = false;
   send(now);  // tell the vest the current state right away
 }
 
@@ -172,7 +191,7 @@ bool VestBridge::send(double now)
       p.motors = static_cast<uint8_t>(p.motors | (1u << i));
   }
   uint8_t buf[VEST_PACKET_SIZE];
-  vest_encode(&p, buf);
+  vest_encode_version(&p, stats_.send_version, buf);
   const ssize_t n = port_.write(buf, sizeof(buf), &err);
   if (n < 0)
   {
@@ -228,7 +247,7 @@ double VestBridge::cueExpiry() const
   return stats_.cue_stale ? std::numeric_limits<double>::infinity() : cue_expiry_;
 }
 
-void VestBridge::readReplies()
+void VestBridge::readReplies(double now)
 {
   uint8_t buf[256];
   std::string err;
@@ -248,12 +267,21 @@ void VestBridge::readReplies()
                    mismatch0 = parser_.version_mismatch;
     for (ssize_t i = 0; i < n; ++i)
     {
-      vest_packet_t p;
-      if (vest_parser_feed(&parser_, buf[i], &p) && p.type == VEST_TYPE_STATUS)
+      vest_message_t m;
+      if (!vest_parser_feed_message(&parser_, buf[i], &m))
+        continue;
+      stats_.vest_version = m.version;
+      if (m.type == VEST_TYPE_STATUS)
       {
         stats_.status_packets++;
-        stats_.last_status = p;
+        stats_.last_status = m.packet;
+        // An old vest answers in its version: speak it (COMMAND is the same), so its motors work.
+        stats_.send_version = m.version;
       }
+      else if (m.type == VEST_TYPE_RANGE)
+        onRange(m.range, now);
+      else if (m.type == VEST_TYPE_BUTTONS)
+        onButtons(m.buttons, now);
     }
     stats_.garbage_bytes += static_cast<uint16_t>(parser_.skipped - skipped0);
     stats_.rejected_packets += static_cast<uint16_t>(parser_.rejected - rejected0);
@@ -263,6 +291,81 @@ void VestBridge::readReplies()
       stats_.vest_version = parser_.peer_version;
     }
   }
+}
+
+void VestBridge::onRange(const vest_range_t& r, double now)
+{
+  stats_.ranges++;
+  if (have_range_seq_)
+    stats_.ranges_lost += static_cast<uint8_t>(r.seq - range_seq_ - 1);
+  have_range_seq_ = true;
+  range_seq_ = r.seq;
+  stats_.last_range_time = now;
+  stats_.last_range_status = r.status;
+  double m = 0.0;
+  switch (checkRange(r, params_, &m))
+  {
+    case RangeVerdict::ECHO:
+    case RangeVerdict::NO_ECHO:
+      stats_.ranges_published++;
+      stats_.last_range_ok_time = now;
+      if (ranges_.size() < 256)
+        ranges_.push_back({ now, m });
+      break;
+    case RangeVerdict::OUT_OF_LIMITS:
+      stats_.ranges_out_of_limits++;
+      break;
+    case RangeVerdict::SENSOR_MISSING:
+      stats_.ranges_sensor_missing++;
+      break;
+  }
+}
+
+void VestBridge::onButtons(const vest_buttons_t& b, double now)
+{
+  stats_.buttons_packets++;
+  ButtonEvent e;
+  e.time = now;
+  e.held = b.held;
+  if (have_buttons_)
+  {
+    e.short_a = static_cast<uint8_t>(b.short_a - last_buttons_.short_a);
+    e.long_a = static_cast<uint8_t>(b.long_a - last_buttons_.long_a);
+    e.short_b = static_cast<uint8_t>(b.short_b - last_buttons_.short_b);
+    e.long_b = static_cast<uint8_t>(b.long_b - last_buttons_.long_b);
+    // A few presses may hide in lost packets; a larger jump is a vest that restarted its
+    // counters: taken as the new base, nothing invented.
+    constexpr int kMaxPresses = 8;
+    if (e.short_a > kMaxPresses || e.long_a > kMaxPresses || e.short_b > kMaxPresses || e.long_b > kMaxPresses)
+    {
+      stats_.button_resyncs++;
+      e.short_a = e.long_a = e.short_b = e.long_b = 0;
+    }
+  }
+  // The first packet after (re)opening is the base: presses before it are not known to be new.
+  const bool changed = !have_buttons_ || e.held != last_buttons_.held || e.short_a || e.long_a || e.short_b || e.long_b;
+  have_buttons_ = true;
+  last_buttons_ = b;
+  stats_.button_presses += static_cast<uint64_t>(e.short_a + e.long_a + e.short_b + e.long_b);
+  if (changed && buttons_.size() < 256)
+    buttons_.push_back(e);
+}
+
+void VestBridge::takeRanges(std::vector<RangeEvent>& out)
+{
+  out.swap(ranges_);
+  ranges_.clear();
+}
+
+void VestBridge::takeButtons(std::vector<ButtonEvent>& out)
+{
+  out.swap(buttons_);
+  buttons_.clear();
+}
+
+bool VestBridge::rangerSilent(double now) const
+{
+  return vestHasSensors() && linkUp(now) && now - stats_.last_range_time > params_.sonar_timeout_s;
 }
 
 void VestBridge::spinOnce(double now)
@@ -287,7 +390,7 @@ void VestBridge::spinOnce(double now)
     return;
   }
   const uint64_t before = stats_.status_packets;
-  readReplies();
+  readReplies(now);
   if (stats_.status_packets != before)
     stats_.last_status_time = now;
   if (!port_.isOpen())
@@ -446,8 +549,10 @@ void installAllOffSignalHandlers()
   vest_packet_t off{};
   off.type = VEST_TYPE_COMMAND;
   off.ttl_ms = 0xFFFF;  // all-off: nothing to expire
-  uint8_t buf[VEST_PACKET_SIZE];
+  // In our version and in version 2 (an old vest obeys only that one; ours obeys both).
+  uint8_t buf[2 * VEST_PACKET_SIZE];
   vest_encode(&off, buf);  // its leading delimiter ends any packet the signal interrupted
+  vest_encode_version(&off, static_cast<uint8_t>(VEST_PROTOCOL_MIN_VERSION), buf + VEST_PACKET_SIZE);
   setFailSafeBytes(buf, sizeof(buf));
   struct sigaction sa;
   std::memset(&sa, 0, sizeof(sa));

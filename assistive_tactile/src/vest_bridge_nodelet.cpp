@@ -6,6 +6,8 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
+#include <sensor_msgs/Joy.h>
+#include <sensor_msgs/Range.h>
 
 #include <cmath>
 #include <limits>
@@ -47,6 +49,10 @@ private:
                  p.port.c_str(), p.baud, VEST_PROTOCOL_VERSION, p.resend_hz, p.stale_s, p.max_source_age_s,
                  p.reopen_s);
     params_ = p;
+    sonar_frame_ = pnh.param<std::string>("sonar_frame", "sonar_front");
+    // Protocol version 3: the forward ranger and the wearer's buttons.
+    pub_range_ = nh.advertise<sensor_msgs::Range>("sonar/front", 10);
+    pub_buttons_ = nh.advertise<sensor_msgs::Joy>("buttons", 10);
 
     // SIGINT/SIGTERM to this process (manager or standalone): all-off written by the handler.
     installAllOffSignalHandlers();
@@ -57,7 +63,7 @@ private:
     updater_->add("vest link", this, &VestBridgeNodelet::diagnose);
     // Housekeeping in its own thread (100 Hz and at each cue's expiry): the all-off does not wait
     // for the manager's callback queue.
-    runner_.reset(new VestBridgeRunner(p, 0.01, [this](const VestBridge& b, double now) {
+    runner_.reset(new VestBridgeRunner(p, 0.01, [this](VestBridge& b, double now) {
       assistive_common::guarded(getName(), "vest housekeeping", [&] { afterSpin(b, now); });
     }));
     const std::string sched = runner_->schedulingError();
@@ -92,9 +98,10 @@ private:
   }
 
   // Runs in the runner's thread with the bridge locked.
-  void afterSpin(const VestBridge& b, double now)
+  void afterSpin(VestBridge& b, double now)
   {
     const LinkStats& s = b.stats();
+    publishSensors(b, now);
     if (!was_stale_ && s.cue_stale)
       NODELET_WARN("vest_bridge: no valid tactile/cue (last one expired %.3f s after its stamp): all motors off",
                    params_.stale_s);
@@ -118,6 +125,55 @@ private:
     updater_->update();  // calls diagnose() at its own rate
   }
 
+  /// RANGE -> sonar/front (+Inf = no echo, REP 117), BUTTONS -> buttons (sensor_msgs/Joy:
+  /// buttons = [A short, A long, B short, B long, A held, B held], presses counted in the message
+  /// that reports them). Bad readings are never published; they are counted and warned about.
+  void publishSensors(VestBridge& b, double now)
+  {
+    const LinkStats& s = b.stats();
+    const ros::Time ros_now = ros::Time::now();
+    b.takeRanges(ranges_);
+    for (const RangeEvent& e : ranges_)
+    {
+      auto m = boost::make_shared<sensor_msgs::Range>();
+      m->header.stamp = ros_now - ros::Duration(std::max(0.0, now - e.time));
+      m->header.frame_id = sonar_frame_;
+      m->radiation_type = sensor_msgs::Range::ULTRASOUND;
+      m->field_of_view = static_cast<float>(params_.sonar_fov_deg * M_PI / 180.0);
+      m->min_range = static_cast<float>(params_.sonar_min_range);
+      m->max_range = static_cast<float>(params_.sonar_max_range);
+      m->range = static_cast<float>(e.range_m);
+      pub_range_.publish(m);
+    }
+    b.takeButtons(buttons_);
+    for (const ButtonEvent& e : buttons_)
+    {
+      auto m = boost::make_shared<sensor_msgs::Joy>();
+      m->header.stamp = ros_now - ros::Duration(std::max(0.0, now - e.time));
+      m->header.frame_id = "vest";
+      m->buttons = { e.short_a, e.long_a, e.short_b, e.long_b, e.held & 1 ? 1 : 0, e.held & 2 ? 1 : 0 };
+      pub_buttons_.publish(m);
+    }
+    if (s.ranges_out_of_limits != out_of_limits_)
+      NODELET_WARN_THROTTLE(5.0, "vest_bridge: %lu ranger readings outside [%.2f, %.2f] m dropped",
+                            static_cast<unsigned long>(s.ranges_out_of_limits), params_.sonar_min_range,
+                            params_.sonar_max_range);
+    if (s.ranges_sensor_missing != sensor_missing_)
+      NODELET_ERROR_THROTTLE(5.0, "vest_bridge: the vest reports its ranger missing (echo line never rises): "
+                                  "nothing published on sonar/front, glass is not covered");
+    if (b.rangerSilent(now))
+      NODELET_ERROR_THROTTLE(5.0, "vest_bridge: no ranger reading for over %.2f s: glass is not covered",
+                             params_.sonar_timeout_s);
+    if (s.status_packets > 0 && s.send_version < VEST_PROTOCOL_VERSION)
+      NODELET_WARN_THROTTLE(30.0, "vest_bridge: the vest speaks protocol version %u (no ranger, no buttons); "
+                                  "driving its motors in version %u. Reflash firmware/vest/vest.ino for both",
+                            s.send_version, s.send_version);
+    out_of_limits_ = s.ranges_out_of_limits;
+    sensor_missing_ = s.ranges_sensor_missing;
+    snap_ranger_silent_ = b.rangerSilent(now);
+    snap_range_age_ = now - s.last_range_ok_time;
+  }
+
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   {
     const LinkStats& s = snap_;
@@ -129,6 +185,14 @@ private:
                        std::to_string(VEST_PROTOCOL_VERSION) + ": reflash the vest");
     else if (!snap_link_up_)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "port open, no reply from the vest");
+    else if (s.send_version < VEST_PROTOCOL_VERSION)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   "old vest (protocol version " + std::to_string(s.send_version) +
+                       "): motors driven, no ranger, no buttons: reflash the vest");
+    else if (s.last_range_status == VEST_RANGE_SENSOR_MISSING && s.ranges > 0)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "ranger missing: glass is not covered");
+    else if (snap_ranger_silent_)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "ranger silent: glass is not covered");
     else if (s.cue_stale)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "link up, no valid cues: motors off");
     else
@@ -136,6 +200,8 @@ private:
     stat.add("port", params_.port);
     stat.add("baud", params_.baud);
     stat.add("protocol version", static_cast<int>(VEST_PROTOCOL_VERSION));
+    stat.add("vest protocol version", static_cast<int>(s.vest_version));
+    stat.add("commands sent in version", static_cast<int>(s.send_version));
     stat.add("link up", snap_link_up_);
     stat.add("cue stale", s.cue_stale);
     stat.add("cues accepted", s.cues_accepted);
@@ -150,6 +216,15 @@ private:
     stat.add("garbage bytes", s.garbage_bytes);
     stat.add("rejected packets", s.rejected_packets);
     stat.add("version mismatches", s.version_mismatches);
+    stat.add("ranger packets", s.ranges);
+    stat.add("ranger readings published", s.ranges_published);
+    stat.add("ranger readings out of limits", s.ranges_out_of_limits);
+    stat.add("ranger missing reports", s.ranges_sensor_missing);
+    stat.add("ranger packets lost", s.ranges_lost);
+    stat.add("ranger last reading age s", snap_range_age_ < 1e9 ? snap_range_age_ : -1.0);
+    stat.add("button packets", s.buttons_packets);
+    stat.add("button presses", s.button_presses);
+    stat.add("button counter resyncs", s.button_resyncs);
     stat.add("commanded", describeDuty(snap_sent_.data()));
     stat.add("vest reports", s.status_packets ? describeDuty(s.last_status.intensity) : std::string("-"));
   }
@@ -164,6 +239,13 @@ private:
   bool snap_link_up_ = false;
   std::array<uint8_t, VEST_NUM_MOTORS> snap_sent_{ { 0, 0, 0, 0 } };
   ros::Subscriber cue_sub_;
+  ros::Publisher pub_range_, pub_buttons_;
+  std::string sonar_frame_;
+  std::vector<RangeEvent> ranges_;
+  std::vector<ButtonEvent> buttons_;
+  uint64_t out_of_limits_ = 0, sensor_missing_ = 0;
+  bool snap_ranger_silent_ = false;
+  double snap_range_age_ = 1e300;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
 };
 

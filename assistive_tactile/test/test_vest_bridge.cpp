@@ -409,8 +409,9 @@ TEST(VestBridge, SecondOpenerOfThePortFails)
 TEST(VestBridge, OtherProtocolVersionFromTheVestIsReported)
 {
   Rig rig;
-  // A STATUS of protocol version 3 (valid CRC): not a STATUS for us, counted with its version.
-  const uint8_t raw[8] = { 3, VEST_TYPE_STATUS, 1, 0, 0, 0, 0, 0 };
+  // A STATUS of a protocol version we do not speak (valid CRC): not a STATUS for us, counted with
+  // its version. (Version 3 became ours with RANGE / BUTTONS: the future one is 4.)
+  const uint8_t raw[8] = { VEST_PROTOCOL_VERSION + 1, VEST_TYPE_STATUS, 1, 0, 0, 0, 0, 0 };
   uint8_t frame[VEST_PACKET_SIZE];
   const uint8_t len = vest_frame(raw, 8, frame);
   rig.bridge->waitForInput(200);  // the STATUS answering the bridge's first packet
@@ -420,8 +421,129 @@ TEST(VestBridge, OtherProtocolVersionFromTheVestIsReported)
   ASSERT_TRUE(rig.bridge->waitForInput(200));
   rig.advance(0.0);
   EXPECT_EQ(rig.bridge->stats().version_mismatches, 1u);
-  EXPECT_EQ(rig.bridge->stats().vest_version, 3);
+  EXPECT_EQ(rig.bridge->stats().vest_version, VEST_PROTOCOL_VERSION + 1);
   EXPECT_EQ(rig.bridge->stats().status_packets, st);
+}
+
+// ---- Protocol version 3: an old vest, the ranger, the buttons. ----
+namespace
+{
+/// Runs bridge and vest side by side for `seconds` in 10 ms steps (both clocks simulated).
+void run(Rig& rig, double seconds)
+{
+  for (double e = 0.0; e < seconds - 1e-9; e += 0.01)
+  {
+    rig.t += 0.01;
+    rig.vest.poll(1, rig.ms());
+    rig.bridge->waitForInput(1);
+    rig.bridge->spinOnce(rig.t);
+  }
+}
+}  // namespace
+
+TEST(VestBridge, OldVestIsDetectedAndItsMotorsStillDriven)
+{
+  Rig rig;
+  rig.vest.old_version_2 = true;  // from now on the vest answers as the version-2 firmware did
+  rig.bridge->setCue({ { 0.f, 1.f, 0.f, 0.f } }, rig.t);
+  run(rig, 0.2);
+  EXPECT_EQ(rig.bridge->stats().vest_version, 2);
+  EXPECT_EQ(rig.bridge->stats().send_version, 2);  // COMMANDs in version 2: the old vest obeys them
+  EXPECT_FALSE(rig.bridge->vestHasSensors());
+  rig.bridge->setCue({ { 0.f, 1.f, 0.f, 0.f } }, rig.t);
+  run(rig, 0.05);
+  EXPECT_EQ(duty(rig.vest), (Duty{ { 0, 255, 0, 0 } }));
+  EXPECT_TRUE(rig.bridge->linkUp(rig.t));
+  EXPECT_EQ(rig.bridge->stats().version_mismatches, 0u);
+  EXPECT_EQ(rig.bridge->stats().ranges, 0u);
+  EXPECT_FALSE(rig.bridge->rangerSilent(rig.t));  // nothing to expect from an old vest
+}
+
+TEST(VestBridge, RangerReadingsPublishedBadOnesRejected)
+{
+  Rig rig;
+  std::vector<RangeEvent> got;
+  rig.vest.setRange(1.5);
+  run(rig, 0.5);
+  rig.bridge->takeRanges(got);
+  ASSERT_GE(got.size(), 5u);
+  for (const RangeEvent& e : got) EXPECT_NEAR(e.range_m, 1.5, 0.0011);
+  EXPECT_TRUE(rig.bridge->vestHasSensors());
+  EXPECT_FALSE(rig.bridge->rangerSilent(rig.t));
+  // Nothing within range: +inf (REP 117), not a distance.
+  rig.vest.setRange(std::numeric_limits<double>::infinity());
+  run(rig, 0.3);
+  rig.bridge->takeRanges(got);
+  ASSERT_FALSE(got.empty());
+  EXPECT_TRUE(std::isinf(got.back().range_m));
+  // Out of the sensor's limits (0.2 - 4 m): dropped, counted.
+  const uint64_t ool = rig.bridge->stats().ranges_out_of_limits;
+  rig.vest.setRange(0.1);
+  run(rig, 0.3);
+  rig.bridge->takeRanges(got);
+  for (const RangeEvent& e : got) EXPECT_FALSE(e.range_m < 0.2) << e.range_m;
+  EXPECT_GT(rig.bridge->stats().ranges_out_of_limits, ool);
+  // Sensor unplugged: reported, nothing published.
+  rig.vest.setRange(1.0);
+  rig.vest.setSensorMissing(true);
+  run(rig, 0.3);
+  rig.bridge->takeRanges(got);
+  run(rig, 0.3);
+  rig.bridge->takeRanges(got);
+  EXPECT_TRUE(got.empty());
+  EXPECT_GT(rig.bridge->stats().ranges_sensor_missing, 0u);
+  EXPECT_EQ(rig.bridge->stats().last_range_status, VEST_RANGE_SENSOR_MISSING);
+  // A RANGE with a bad checksum: rejected, not published.
+  rig.vest.setSensorMissing(false);
+  run(rig, 0.3);
+  rig.bridge->takeRanges(got);
+  const vest_range_t r{ 99, VEST_RANGE_OK, 2500, 3 };
+  uint8_t frame[VEST_RANGE_PACKET_SIZE];
+  vest_encode_range(&r, frame);
+  frame[6] ^= 0x10;
+  const uint64_t rejected = rig.bridge->stats().rejected_packets;
+  ASSERT_TRUE(rig.vest.inject(frame, sizeof(frame)));
+  ASSERT_TRUE(rig.bridge->waitForInput(200));
+  rig.bridge->spinOnce(rig.t);
+  rig.bridge->takeRanges(got);
+  EXPECT_EQ(rig.bridge->stats().rejected_packets, rejected + 1);
+  for (const RangeEvent& e : got) EXPECT_NEAR(e.range_m, 1.0, 0.0011);
+  // A silent ranger (no RANGE for sonar_timeout_s while the link is up): reported.
+  for (int i = 0; i < 70; ++i)
+  {
+    rig.t += 0.01;
+    rig.bridge->spinOnce(rig.t);  // the vest is not polled: no pings
+  }
+  EXPECT_TRUE(rig.bridge->linkUp(rig.t));
+  EXPECT_TRUE(rig.bridge->rangerSilent(rig.t));
+}
+
+TEST(VestBridge, ButtonPressesReportedOnce)
+{
+  Rig rig;
+  std::vector<ButtonEvent> got;
+  run(rig, 0.2);
+  rig.vest.press(VEST_BUTTON_A, 150, rig.ms());
+  run(rig, 0.5);
+  rig.vest.press(VEST_BUTTON_B, 1500, rig.ms());
+  run(rig, 2.5);  // includes heartbeats: they report nothing new
+  rig.bridge->takeButtons(got);
+  int short_a = 0, long_a = 0, short_b = 0, long_b = 0, b_held = 0;
+  for (const ButtonEvent& e : got)
+  {
+    short_a += e.short_a;
+    long_a += e.long_a;
+    short_b += e.short_b;
+    long_b += e.long_b;
+    b_held += (e.held & 2) ? 1 : 0;
+  }
+  EXPECT_EQ(short_a, 1);
+  EXPECT_EQ(long_a, 0);
+  EXPECT_EQ(short_b, 0);
+  EXPECT_EQ(long_b, 1);
+  EXPECT_GE(b_held, 1);
+  EXPECT_EQ(rig.bridge->stats().button_presses, 2u);
+  EXPECT_EQ(got.back().held, 0);
 }
 
 namespace

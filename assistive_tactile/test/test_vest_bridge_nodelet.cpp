@@ -5,8 +5,12 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <nodelet/NodeletUnload.h>
 #include <ros/ros.h>
+#include <sensor_msgs/Joy.h>
+#include <sensor_msgs/Range.h>
 
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <functional>
 #include <map>
 
@@ -145,6 +149,29 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
   h.cue = { { 0, 1.f, 0, 0 } };
   EXPECT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 255, 0, 0 } }; }, 10.0));
   EXPECT_TRUE(h.runUntil([] { return g_diag["link up"] == "True" && g_level == 0; }, 10.0)) << g_message;
+
+  // The ranger and the buttons (protocol version 3): /sonar/front and /vest/buttons.
+  sensor_msgs::Range range;
+  int short_a = 0;
+  ros::Subscriber rs = h.nh.subscribe<sensor_msgs::Range>("/sonar/front", 20, [&](const sensor_msgs::Range::ConstPtr& m) { range = *m; });
+  ros::Subscriber bs = h.nh.subscribe<sensor_msgs::Joy>("/vest/buttons", 20, [&](const sensor_msgs::Joy::ConstPtr& m) {
+    if (m->buttons.size() == 6)
+      short_a += m->buttons[0];
+  });
+  h.vest.setRange(1.5);
+  EXPECT_TRUE(h.runUntil([&] { return std::abs(range.range - 1.5f) < 0.002f; }, 10.0)) << range.range;
+  EXPECT_EQ(range.header.frame_id, "sonar_front");
+  EXPECT_EQ(range.radiation_type, sensor_msgs::Range::ULTRASOUND);
+  EXPECT_NEAR(range.max_range, 4.0, 1e-6);
+  h.vest.setRange(std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(h.runUntil([&] { return std::isinf(range.range); }, 10.0)) << range.range;
+  h.vest.press(VEST_BUTTON_A, 150, nowMs());
+  EXPECT_TRUE(h.runUntil([&] { return short_a == 1; }, 10.0));
+  h.vest.setSensorMissing(true);
+  EXPECT_TRUE(h.runUntil([] { return g_level == diagnostic_msgs::DiagnosticStatus::ERROR &&
+                                     g_message.find("ranger missing") != std::string::npos; }, 10.0)) << g_message;
+  h.vest.setSensorMissing(false);
+  EXPECT_TRUE(h.runUntil([] { return g_level == 0; }, 10.0)) << g_message;
 
   // Unloading the nodelet from its manager switches the motors off (before the vest's watchdog).
   const uint16_t trips2 = h.vest.firmware().timeouts;

@@ -102,18 +102,29 @@ TEST(VestProtocol, CobsTable)
 TEST(VestProtocol, KnownEncoding)
 {
   // seq 7, motors 0x5, duties 200 0 100 0, TTL 300 ms:
-  // raw 02 01 07 05 C8 00 64 00 2C 01 CRC(4 bytes, low first).
-  const std::vector<uint8_t> raw = { 0x02, 0x01, 0x07, 0x05, 200, 0, 100, 0, 0x2C, 0x01 };
-  const uint32_t crc = vest_crc32c(raw.data(), 10);
-  std::vector<uint8_t> want = { 0x00, 0x06, 0x02, 0x01, 0x07, 0x05, 200, 0x02, 100, 0x07, 0x2C, 0x01 };
-  // TTL and CRC bytes (none is 0 here: checked) close the last COBS group.
-  for (int k = 0; k < 4; ++k)
-    ASSERT_NE((crc >> (8 * k)) & 0xFF, 0u) << k;
-  for (int k = 0; k < 4; ++k)
-    want.push_back(static_cast<uint8_t>(crc >> (8 * k)));
-  want.push_back(0x00);
-  EXPECT_EQ(bytes(command(7, 0x5, 200, 0, 100, 0, 300)), want);
-  EXPECT_EQ(want.size(), VEST_PACKET_SIZE);
+  // raw VV 01 07 05 C8 00 64 00 2C 01 CRC(4 bytes, low first), VV = 3 (ours) and 2 (still spoken
+  // to a version-2 peer: the same bytes as the version-2 protocol wrote).
+  for (const uint8_t version : { static_cast<uint8_t>(VEST_PROTOCOL_VERSION), static_cast<uint8_t>(2) })
+  {
+    const std::vector<uint8_t> raw = { version, 0x01, 0x07, 0x05, 200, 0, 100, 0, 0x2C, 0x01 };
+    const uint32_t crc = vest_crc32c(raw.data(), 10);
+    std::vector<uint8_t> want = { 0x00, 0x06, version, 0x01, 0x07, 0x05, 200, 0x02, 100, 0x07, 0x2C, 0x01 };
+    // TTL and CRC bytes (none is 0 here: checked) close the last COBS group.
+    for (int k = 0; k < 4; ++k)
+      ASSERT_NE((crc >> (8 * k)) & 0xFF, 0u) << k;
+    for (int k = 0; k < 4; ++k)
+      want.push_back(static_cast<uint8_t>(crc >> (8 * k)));
+    want.push_back(0x00);
+    const vest_packet_t p = command(7, 0x5, 200, 0, 100, 0, 300);
+    std::vector<uint8_t> got(VEST_PACKET_SIZE);
+    vest_encode_version(&p, version, got.data());
+    EXPECT_EQ(got, want) << "version " << int(version);
+    if (version == VEST_PROTOCOL_VERSION)
+    {
+      EXPECT_EQ(bytes(p), want);
+    }
+    EXPECT_EQ(want.size(), VEST_PACKET_SIZE);
+  }
 }
 
 TEST(VestProtocol, NoDelimiterInsideAnyPacket)
@@ -210,9 +221,11 @@ TEST(VestProtocol, BadFieldsAndOtherVersionsRejected)
   EXPECT_EQ(vest_decode_frame(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &q, nullptr), VEST_FRAME_FIELD);
   f = frameOf({ 2, 0x01, 1, 0x01, 9, 0, 0, 0, 100 });  // our version, one byte short
   EXPECT_EQ(vest_decode_frame(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &q, nullptr), VEST_FRAME_LENGTH);
-  // Another version (same layout, and a longer future one): rejected, reported with its number.
-  for (const std::vector<uint8_t>& raw : { std::vector<uint8_t>{ 1, 0x01, 1, 0x01, 9, 0, 0, 0 },
-                                           std::vector<uint8_t>{ 3, 0x01, 1, 0x01, 9, 0, 0, 0, 5, 6, 7 } })
+  // A version we do not speak (an older one, and a longer future one): rejected, reported with its
+  // number. (Version 3 is ours since RANGE / BUTTONS; version 2 is still spoken.)
+  for (const std::vector<uint8_t>& raw :
+       { std::vector<uint8_t>{ 1, 0x01, 1, 0x01, 9, 0, 0, 0 },
+         std::vector<uint8_t>{ VEST_PROTOCOL_VERSION + 1, 0x01, 1, 0x01, 9, 0, 0, 0, 5, 6, 7 } })
   {
     f = frameOf(raw);
     EXPECT_EQ(vest_decode_frame(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &q, &version),
@@ -465,4 +478,211 @@ TEST(VestFirmware, WatchdogTable)
     // A tripped watchdog trips once; a running one trips later.
     EXPECT_EQ(vest_firmware_tick(&fw, r.tick_ms + 1000), r.on_after ? 1 : 0);
   }
+}
+
+// ---- Protocol version 3: RANGE and BUTTONS (issue 20, issue 24), version-2 peers. ----
+
+extern "C" int assistive_tactile_protocol_c_check(void);
+extern "C" int assistive_tactile_protocol_c_check_v3(void);
+
+TEST(VestProtocol, CRoundTrip)
+{
+  // protocol_c_check.c, compiled as C99: COMMAND, RANGE and BUTTONS round trips.
+  EXPECT_EQ(assistive_tactile_protocol_c_check(), 1);
+  EXPECT_EQ(assistive_tactile_protocol_c_check_v3(), 1);
+}
+
+TEST(VestProtocol, RangeAndButtonsRoundTrip)
+{
+  vest_parser_t ps;
+  vest_parser_init(&ps);
+  for (const vest_range_t& r : { vest_range_t{ 0, VEST_RANGE_OK, 200, 3 }, vest_range_t{ 255, VEST_RANGE_OK, 4000, 2 },
+                                 vest_range_t{ 17, VEST_RANGE_NO_ECHO, 0, 1 },
+                                 vest_range_t{ 18, VEST_RANGE_SENSOR_MISSING, 0, 0 } })
+  {
+    std::vector<uint8_t> b(VEST_RANGE_PACKET_SIZE);
+    vest_encode_range(&r, b.data());
+    EXPECT_EQ(b.front(), 0);
+    EXPECT_EQ(b.back(), 0);
+    for (size_t i = 1; i + 1 < b.size(); ++i) EXPECT_NE(b[i], 0);
+    vest_message_t m;
+    uint8_t version = 0;
+    ASSERT_EQ(vest_decode_message(b.data() + 1, static_cast<uint8_t>(b.size() - 2), &m, &version), VEST_FRAME_OK);
+    EXPECT_EQ(version, VEST_PROTOCOL_VERSION);
+    EXPECT_EQ(m.type, VEST_TYPE_RANGE);
+    EXPECT_EQ(m.range.seq, r.seq);
+    EXPECT_EQ(m.range.status, r.status);
+    EXPECT_EQ(m.range.range_mm, r.range_mm);
+    EXPECT_EQ(m.range.echoes, r.echoes);
+    // Not a COMMAND / STATUS: the motor-side decoders do not take it.
+    vest_packet_t p;
+    EXPECT_EQ(vest_decode_frame(b.data() + 1, static_cast<uint8_t>(b.size() - 2), &p, nullptr), VEST_FRAME_OTHER_TYPE);
+    int got = 0;
+    for (uint8_t byte : b)
+      got += vest_parser_feed_message(&ps, byte, &m);
+    EXPECT_EQ(got, 1);
+  }
+  const vest_buttons_t bt{ 200, 0x3, 255, 0, 7, 1 };
+  std::vector<uint8_t> b(VEST_BUTTONS_PACKET_SIZE);
+  vest_encode_buttons(&bt, b.data());
+  vest_message_t m;
+  ASSERT_EQ(vest_decode_message(b.data() + 1, static_cast<uint8_t>(b.size() - 2), &m, nullptr), VEST_FRAME_OK);
+  EXPECT_EQ(m.type, VEST_TYPE_BUTTONS);
+  EXPECT_EQ(m.buttons.seq, 200);
+  EXPECT_EQ(m.buttons.held, 3);
+  EXPECT_EQ(m.buttons.short_a, 255);
+  EXPECT_EQ(m.buttons.long_a, 0);
+  EXPECT_EQ(m.buttons.short_b, 7);
+  EXPECT_EQ(m.buttons.long_b, 1);
+  // A motor-only parser counts it as a valid packet and hands nothing on.
+  vest_parser_t motor;
+  vest_parser_init(&motor);
+  EXPECT_TRUE(feedAll(&motor, b).empty());
+  EXPECT_EQ(motor.packets, 1);
+  EXPECT_EQ(motor.rejected, 0);
+}
+
+TEST(VestProtocol, RangeAndButtonsBadInputRejected)
+{
+  vest_message_t m;
+  // Every single-bit error of a RANGE frame is caught (CRC-32C).
+  const vest_range_t r{ 5, VEST_RANGE_OK, 1500, 3 };
+  std::vector<uint8_t> good(VEST_RANGE_PACKET_SIZE);
+  vest_encode_range(&r, good.data());
+  for (size_t bit = 0; bit < (good.size() - 2) * 8; ++bit)
+  {
+    std::vector<uint8_t> bad = good;
+    bad[1 + bit / 8] ^= static_cast<uint8_t>(1u << (bit % 8));
+    vest_parser_t ps;
+    vest_parser_init(&ps);
+    int got = 0;
+    for (uint8_t byte : bad) got += vest_parser_feed_message(&ps, byte, &m);
+    EXPECT_EQ(got, 0) << bit;
+  }
+  auto decode = [&](const std::vector<uint8_t>& raw) {
+    const std::vector<uint8_t> f = frameOf(raw);
+    return vest_decode_message(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &m, nullptr);
+  };
+  const uint8_t V = VEST_PROTOCOL_VERSION;
+  EXPECT_EQ(decode({ V, 0x03, 1, 0, 0xDC, 0x05, 3 }), VEST_FRAME_OK);
+  EXPECT_EQ(decode({ V, 0x03, 1, 3, 0, 0, 0 }), VEST_FRAME_FIELD);         // unknown status
+  EXPECT_EQ(decode({ V, 0x03, 1, 0, 0xDC, 0x05, 4 }), VEST_FRAME_FIELD);   // 4 echoes of 3 pings
+  EXPECT_EQ(decode({ V, 0x03, 1, 0, 0xDC, 0x05, 1 }), VEST_FRAME_FIELD);   // OK from one echo
+  EXPECT_EQ(decode({ V, 0x03, 1, 1, 0xDC, 0x05, 1 }), VEST_FRAME_FIELD);   // no echo with a range
+  EXPECT_EQ(decode({ V, 0x03, 1, 0, 0xDC, 0x05 }), VEST_FRAME_LENGTH);     // one byte short
+  EXPECT_EQ(decode({ V, 0x04, 1, 0x04, 0, 0, 0, 0 }), VEST_FRAME_FIELD);   // a third button
+  EXPECT_EQ(decode({ V, 0x04, 1, 0x01, 0, 0, 0, 0, 0 }), VEST_FRAME_LENGTH);
+  EXPECT_EQ(decode({ 2, 0x03, 1, 0, 0xDC, 0x05, 3 }), VEST_FRAME_FIELD);   // no RANGE in version 2
+  EXPECT_EQ(decode({ 2, 0x04, 1, 0x01, 0, 0, 0, 0 }), VEST_FRAME_FIELD);
+}
+
+TEST(VestProtocol, RangerMedianOfThreePings)
+{
+  uint16_t mm = 0;
+  // 343 m/s: 1 m is a 5831 us round trip.
+  EXPECT_EQ(vest_classify_ping(1, 1, 5831, &mm), VEST_PING_ECHO);
+  EXPECT_EQ(mm, 1000);
+  EXPECT_EQ(vest_echo_us_to_mm(1166), 200);
+  EXPECT_EQ(vest_classify_ping(1, 1, 38000, &mm), VEST_PING_NO_ECHO);  // the sensor's "nothing" pulse
+  EXPECT_EQ(vest_classify_ping(1, 1, 24000, &mm), VEST_PING_NO_ECHO);  // beyond 4 m
+  EXPECT_EQ(vest_classify_ping(1, 0, 0, &mm), VEST_PING_NO_ECHO);      // never fell
+  EXPECT_EQ(vest_classify_ping(0, 0, 0, &mm), VEST_PING_MISSING);      // never rose
+  EXPECT_EQ(mm, 0);
+
+  vest_ranger_t rg{};
+  vest_range_t out{};
+  EXPECT_EQ(vest_ranger_ping(&rg, VEST_PING_ECHO, 1000, &out), 0);  // 3 pings first
+  EXPECT_EQ(vest_ranger_ping(&rg, VEST_PING_ECHO, 3000, &out), 0);
+  ASSERT_EQ(vest_ranger_ping(&rg, VEST_PING_ECHO, 1100, &out), 1);
+  EXPECT_EQ(out.status, VEST_RANGE_OK);
+  EXPECT_EQ(out.range_mm, 1100);  // the outlier 3000 is voted out
+  EXPECT_EQ(out.echoes, 3);
+  EXPECT_EQ(out.seq, 0);
+  ASSERT_EQ(vest_ranger_ping(&rg, VEST_PING_NO_ECHO, 0, &out), 1);  // 3000, 1100, none
+  EXPECT_EQ(out.status, VEST_RANGE_OK);
+  EXPECT_EQ(out.range_mm, 3000);  // two echoes: the farther (a missing echo counts as farthest)
+  EXPECT_EQ(out.seq, 1);
+  ASSERT_EQ(vest_ranger_ping(&rg, VEST_PING_NO_ECHO, 0, &out), 1);  // 1100, none, none
+  EXPECT_EQ(out.status, VEST_RANGE_NO_ECHO);
+  EXPECT_EQ(out.range_mm, 0);
+  EXPECT_EQ(out.echoes, 1);
+  ASSERT_EQ(vest_ranger_ping(&rg, VEST_PING_MISSING, 0, &out), 1);  // none, none, missing
+  EXPECT_EQ(out.status, VEST_RANGE_NO_ECHO);
+  ASSERT_EQ(vest_ranger_ping(&rg, VEST_PING_MISSING, 0, &out), 1);  // none, missing, missing
+  EXPECT_EQ(out.status, VEST_RANGE_SENSOR_MISSING);
+}
+
+TEST(VestProtocol, ButtonsDebouncedShortAndLong)
+{
+  vest_button_t b{};
+  // A 10 ms bounce is not a press.
+  EXPECT_EQ(vest_button_update(&b, 1, 1000), VEST_PRESS_NONE);
+  EXPECT_EQ(vest_button_update(&b, 0, 1010), VEST_PRESS_NONE);
+  EXPECT_EQ(vest_button_update(&b, 0, 1100), VEST_PRESS_NONE);
+  EXPECT_EQ(b.stable, 0);
+  // Down 200 ms (bouncing at first): one SHORT, at the release.
+  EXPECT_EQ(vest_button_update(&b, 1, 2000), VEST_PRESS_NONE);
+  EXPECT_EQ(vest_button_update(&b, 0, 2005), VEST_PRESS_NONE);
+  EXPECT_EQ(vest_button_update(&b, 1, 2010), VEST_PRESS_NONE);
+  EXPECT_EQ(vest_button_update(&b, 1, 2040), VEST_PRESS_NONE);
+  EXPECT_EQ(b.stable, 1);
+  EXPECT_EQ(vest_button_update(&b, 1, 2200), VEST_PRESS_NONE);
+  EXPECT_EQ(vest_button_update(&b, 0, 2210), VEST_PRESS_NONE);
+  EXPECT_EQ(vest_button_update(&b, 0, 2240), VEST_PRESS_SHORT);
+  EXPECT_EQ(vest_button_update(&b, 0, 2300), VEST_PRESS_NONE);
+  // Held 1.5 s: LONG once, while held (at 1 s), nothing at the release.
+  int longs = 0, shorts = 0;
+  for (uint32_t t = 3000; t <= 4500; t += 10)
+  {
+    const int r = vest_button_update(&b, 1, t);
+    longs += r == VEST_PRESS_LONG;
+    shorts += r == VEST_PRESS_SHORT;
+    if (r == VEST_PRESS_LONG)
+    {
+      EXPECT_EQ(t, 3030u + VEST_LONG_PRESS_MS);
+    }
+  }
+  for (uint32_t t = 4510; t <= 4600; t += 10) shorts += vest_button_update(&b, 0, t) == VEST_PRESS_SHORT;
+  EXPECT_EQ(longs, 1);
+  EXPECT_EQ(shorts, 0);
+}
+
+TEST(VestProtocol, FirmwareSpeaksVersion2ToAnOldBridgeAndSensorsOnlyToVersion3)
+{
+  vest_firmware_t fw;
+  vest_firmware_init(&fw, 0);
+  vest_packet_t status;
+  vest_range_t range;
+  vest_buttons_t buttons;
+  // An old (version 2) bridge: its COMMAND is obeyed and answered in version 2; no RANGE/BUTTONS.
+  const vest_packet_t p = command(4, 0x1, 200, 0, 0, 0, 300);
+  std::vector<uint8_t> b(VEST_PACKET_SIZE);
+  vest_encode_version(&p, 2, b.data());
+  int applied = 0;
+  for (uint8_t byte : b) applied += vest_firmware_feed(&fw, byte, 10, &status) == VEST_FEED_APPLIED;
+  EXPECT_EQ(applied, 1);
+  EXPECT_EQ(fw.duty[0], 200);
+  EXPECT_EQ(fw.reply_version, 2);
+  EXPECT_EQ(fw.parser.version_mismatch, 0);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(vest_firmware_range(&fw, VEST_PING_ECHO, 1000, &range), 0);
+  EXPECT_EQ(vest_firmware_buttons(&fw, 1, 0, 2000, &buttons), 0);
+  // A version-3 bridge: answered in version 3, sensors go out.
+  vest_encode(&p, b.data());
+  applied = 0;
+  for (uint8_t byte : b) applied += vest_firmware_feed(&fw, byte, 2100, &status) == VEST_FEED_APPLIED;
+  EXPECT_EQ(applied, 1);
+  EXPECT_EQ(fw.reply_version, VEST_PROTOCOL_VERSION);
+  ASSERT_EQ(vest_firmware_range(&fw, VEST_PING_ECHO, 1000, &range), 1);
+  EXPECT_EQ(range.range_mm, 1000);
+  // Buttons: a change of HELD, a SHORT, the heartbeat.
+  ASSERT_EQ(vest_firmware_buttons(&fw, 1, 0, 2200, &buttons), 1);  // A down since 2000 (debounced at 2030)
+  EXPECT_EQ(buttons.held, 1);
+  EXPECT_EQ(vest_firmware_buttons(&fw, 0, 0, 2300, &buttons), 0);  // bouncing? not yet stable
+  ASSERT_EQ(vest_firmware_buttons(&fw, 0, 0, 2340, &buttons), 1);
+  EXPECT_EQ(buttons.held, 0);
+  EXPECT_EQ(buttons.short_a, 1);
+  EXPECT_EQ(buttons.long_a, 0);
+  EXPECT_EQ(vest_firmware_buttons(&fw, 0, 0, 3000, &buttons), 0);
+  ASSERT_EQ(vest_firmware_buttons(&fw, 0, 0, 3340, &buttons), 1);  // heartbeat, 1 s after the last
+  EXPECT_EQ(buttons.short_a, 1);
 }

@@ -13,6 +13,7 @@
 #include <assistive_obstacles/mls_classifier.h>
 #include <assistive_obstacles/params.h>
 #include <assistive_obstacles/seen_octree.h>
+#include <assistive_obstacles/sonar_fusion.h>
 #include <assistive_obstacles/temporal_filter.h>
 
 namespace assistive_obstacles
@@ -58,6 +59,10 @@ public:
   void update(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Isometry3f& T_world_cam,
               const StereoModel* camera = nullptr, const cv::Mat* disparity = nullptr,
               const std::vector<Eigen::Vector3f>* normals_cam = nullptr);
+  /// One forward-ranger reading (sonar_fusion.h) into the current window (after the first
+  /// update()); its pose in the same world frame. Returns its check (only ECHO adds evidence).
+  RangeCheck addRange(const RangeReading& r);
+  const SonarFusion& sonar() const { return sonar_; }
   /// Inserts the last frame's world points into the OctoMap.
   void insertOctomap();
 
@@ -79,6 +84,8 @@ private:
   ElevationMap elevation_;
   MlsClassifier mls_;
   TemporalFilter temporal_;
+  SonarFusion sonar_;
+  float last_feet_ = 0.f;
   std::unique_ptr<SeenOctree> octree_;
   Window window_;
   std::vector<Eigen::Vector3f> world_;

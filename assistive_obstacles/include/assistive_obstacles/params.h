@@ -78,6 +78,12 @@ namespace assistive_obstacles
   /* 0 locks the cell (a false obstacle in front of the floor could then never be cleared), 1 */ \
   /* lets seen-through cells fade after ~4x as many frames as made them obstacles */ \
   X(int, dropout_free_weight, "dropout_free_weight", 1, 0, 4, "", "weight of the free vote such a cell still takes (0 = locked for good)") \
+  /* --- forward ultrasonic ranger (sonar_fusion.h): sees glass the camera sees through --- */ \
+  X(bool, sonar_enabled, "sonar_enabled", true, {}, {}, "", "fuse `sonar/front` (sensor_msgs/Range) into the map") \
+  X(int, sonar_hit_votes, "sonar_hit_votes", 2, 1, 20, "", "full-weight obstacle votes per echo in each cell the cone's arc crosses above the floor") \
+  X(int, sonar_release_readings, "sonar_release_readings", 3, 1, 1000, "", "a ranger-hit cell takes no camera free vote until this many echoes came from beyond it") \
+  X(double, sonar_release_margin, "sonar_release_margin", 0.3, 0.0, 5.0, "m", "... a cell nearer than the echo by at least this (inner half of the cone)") \
+  X(double, sonar_floor_echo_deg, "sonar_floor_echo_deg", 50.0, 0.0, 90.0, "deg", "an echo whose cone holds a ray this steep below the horizontal and whose arc reaches the floor may be the floor: no evidence (shallower, the floor sends the echo away)") \
   /* --- trust in the input ("never guide on a guess", FrameGate) --- */ \
   X(double, max_frame_gap_s, "max_frame_gap_s", 0.5, 0.05, 60.0, "s", "a longer gap between frames, or time going back, clears the map") \
   X(int, rebuild_frames, "rebuild_frames", 5, 1, 1000, "", "fresh frames after a clear before the grid is published again") \

@@ -41,6 +41,11 @@ namespace assistive_tactile
   X(double, max_source_age_s, "max_source_age_s", 0.5, 0.05, 5.0, "s", "a motor-driving cue drives only until `source_stamp + max_source_age_s`; an older one is ignored") \
   X(double, reopen_s, "reopen_s", 1.0, 0.05, 60.0, "s", "retry period while the port is closed") \
   X(double, link_timeout_s, "link_timeout_s", 1.0, 0.1, 60.0, "s", "no STATUS from the vest for this long -> link WARN") \
+  /* the forward ultrasonic ranger (RANGE packets, protocol version 3): HC-SR04 class limits */ \
+  X(double, sonar_min_range, "sonar_min_range", 0.2, 0.0, 10.0, "m", "a range below this is rejected (not published), with a throttled diagnostic") \
+  X(double, sonar_max_range, "sonar_max_range", 4.0, sonar_min_range, 20.0, "m", "a range above this is rejected (the vest reports no echo as its own status: published as +Inf)") \
+  X(double, sonar_fov_deg, "sonar_fov_deg", 15.0, 1.0, 89.0, "deg", "the cone's full angle (`field_of_view` of `sonar/front`)") \
+  X(double, sonar_timeout_s, "sonar_timeout_s", 0.5, 0.05, 60.0, "s", "no RANGE from a version-3 vest for this long -> ranger silent (ERROR)") \
   /* without the right (CAP_SYS_NICE or an rtprio limit for the user, e.g. `@audio - rtprio 20` in */ \
   /* limits.conf) the bridge warns and runs the thread normally */ \
   X(int, realtime_priority, "realtime_priority", 10, 0, 99, "", "SCHED_FIFO priority of the housekeeping thread that sends the all-off at a cue's expiry (0 = normal scheduling)")

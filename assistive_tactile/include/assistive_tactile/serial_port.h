@@ -55,7 +55,7 @@ private:
   bool fail_safe_ = false;
 };
 
-/// Sets the bytes writeFailSafeBytes() sends (at most 32; e.g. the vest's all-off packet).
+/// Sets the bytes writeFailSafeBytes() sends (at most 64; e.g. the vest's all-off packets).
 /// Call before any signal can use them.
 void setFailSafeBytes(const uint8_t* data, size_t len);
 /// Writes the fail-safe bytes to every open port that enabled it. Async-signal-safe (only

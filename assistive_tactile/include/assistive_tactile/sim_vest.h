@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 
 #include "assistive_tactile/vest_protocol.h"
@@ -36,6 +37,21 @@ public:
   /// Watchdog only (no bytes).
   void tick(uint32_t now_ms);
 
+  /// The forward ranger's world: the distance the next pings measure (m; +inf or NaN = nothing
+  /// within range: no echo). Pings run every VEST_PING_PERIOD_MS through the firmware's own
+  /// classification and median; RANGE packets go out once the bridge spoke version 3.
+  void setRange(double range_m) { range_m_ = range_m; }
+  /// Unplugs (true) / plugs the ranger: its echo line never rises -> "sensor missing".
+  void setSensorMissing(bool missing) { sensor_missing_ = missing; }
+  /// Holds button (VEST_BUTTON_A / _B) down from now_ms for hold_ms (a long press:
+  /// >= VEST_LONG_PRESS_MS), through the firmware's debouncer.
+  void press(unsigned button, uint32_t hold_ms, uint32_t now_ms);
+  /// Pretends to be a version-2 vest (tests: the bridge must detect it and keep the motors
+  /// working): frames of version 3 are answered with a version-2 STATUS, never applied.
+  bool old_version_2 = false;
+  uint64_t rangePackets() const { return range_packets_; }
+  uint64_t buttonPackets() const { return button_packets_; }
+
   /// Writes raw bytes towards the bridge (tests: garbage from the device).
   bool inject(const uint8_t* data, size_t len);
 
@@ -52,6 +68,14 @@ public:
 
 private:
   void reportIfChanged(uint32_t now_ms, const char* why);
+  void sense(uint32_t now_ms);  ///< ranger pings and buttons
+
+  double range_m_ = std::numeric_limits<double>::infinity();
+  bool sensor_missing_ = false;
+  bool pinged_ = false;
+  uint32_t last_ping_ms_ = 0;
+  std::array<uint32_t, VEST_NUM_BUTTONS> down_from_{ { 0, 0 } }, down_until_{ { 0, 0 } };
+  uint64_t range_packets_ = 0, button_packets_ = 0;
 
   int master_ = -1;
   int slave_hold_ = -1;  ///< keeps the slave side open so reads never see EIO between clients

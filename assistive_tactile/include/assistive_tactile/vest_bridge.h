@@ -31,8 +31,24 @@ struct LinkStats
   uint64_t status_packets = 0;     ///< valid STATUS packets from the vest
   uint64_t garbage_bytes = 0;      ///< bytes from the vest in rejected frames
   uint64_t rejected_packets = 0;   ///< frames from the vest with a bad COBS / CRC / length / field
-  uint64_t version_mismatches = 0; ///< CRC-valid frames of another protocol version from the vest
-  uint8_t vest_version = 0;        ///< that version (0 = none seen)
+  uint64_t version_mismatches = 0; ///< CRC-valid frames of a protocol version we do not speak
+  uint8_t vest_version = 0;        ///< VERSION of the vest's last CRC-valid frame (0 = none seen)
+  /// VERSION of the COMMANDs sent: ours, or 2 once a version-2 vest answered (it keeps driving
+  /// the motors; it has no ranger and no buttons). Back to ours when the port is reopened.
+  uint8_t send_version = VEST_PROTOCOL_VERSION;
+  // Forward ranger (RANGE packets).
+  uint64_t ranges = 0;             ///< RANGE packets received
+  uint64_t ranges_published = 0;   ///< readings handed on (echo within the limits, or no echo)
+  uint64_t ranges_out_of_limits = 0;  ///< echoes outside [sonar_min_range, sonar_max_range]: dropped
+  uint64_t ranges_sensor_missing = 0; ///< the vest reports the sensor missing / not answering
+  uint64_t ranges_lost = 0;        ///< gaps in the RANGE sequence numbers
+  double last_range_time = -1e300; ///< last RANGE packet (any status)
+  double last_range_ok_time = -1e300;  ///< last published reading
+  uint8_t last_range_status = VEST_RANGE_NO_ECHO;
+  // Buttons (BUTTONS packets).
+  uint64_t buttons_packets = 0;
+  uint64_t button_presses = 0;     ///< short + long presses reported
+  uint64_t button_resyncs = 0;     ///< counters that jumped (vest reset): taken as the new base
   uint64_t cues_accepted = 0;      ///< cues that passed the stamp checks
   uint64_t cues_rejected = 0;      ///< cues ignored by the stamp checks (never drove a motor)
   std::string last_rejection;      ///< why the last one was ignored
@@ -61,6 +77,32 @@ enum class CueCheck : uint8_t
   FUTURE           ///< a stamp more than stale_s ahead of our clock (clock skew): cannot judge
 };
 const char* cueCheckName(CueCheck c);
+
+/// A ranger reading for `sonar/front`: range in m, +inf for no echo within the sensor's range.
+struct RangeEvent
+{
+  double time = 0.0;   ///< monotonic seconds when it arrived
+  double range_m = 0.0;
+};
+
+/// Verdict on a RANGE packet.
+enum class RangeVerdict : uint8_t
+{
+  ECHO = 0,        ///< published (range_m)
+  NO_ECHO,         ///< published as +inf
+  OUT_OF_LIMITS,   ///< dropped
+  SENSOR_MISSING,  ///< dropped; diagnostics ERROR
+};
+/// RANGE -> verdict (+ the range in m for ECHO / NO_ECHO).
+RangeVerdict checkRange(const vest_range_t& r, const BridgeParams& p, double* range_m);
+
+/// What the buttons did since the previous BUTTONS packet (sensor_msgs/Joy on `buttons`).
+struct ButtonEvent
+{
+  double time = 0.0;
+  uint8_t held = 0;  ///< bit 0 = A down, bit 1 = B down
+  int short_a = 0, long_a = 0, short_b = 0, long_b = 0;  ///< presses
+};
 
 /// "L-sh 200  R-sh   0  L-w   0  R-w   0": motor duties as the diagnostics and the simulated vest write them.
 std::string describeDuty(const uint8_t* duty);
@@ -131,16 +173,31 @@ public:
   /// Float intensity (0..1) -> PWM duty; any positive intensity gives at least 1.
   static uint8_t toDuty(float intensity);
 
+  /// Ranger readings / button changes since the last call (moved out; at most 256 kept each).
+  void takeRanges(std::vector<RangeEvent>& out);
+  void takeButtons(std::vector<ButtonEvent>& out);
+  /// The vest speaks a version with the ranger and buttons (it answered in version 3).
+  bool vestHasSensors() const { return stats_.vest_version >= 3; }
+  /// True when the vest speaks version 3, the link is up and no RANGE came for sonar_timeout_s.
+  bool rangerSilent(double now) const;
+
 private:
+  void onRange(const vest_range_t& r, double now);
+  void onButtons(const vest_buttons_t& b, double now);
   bool send(double now);
   void tryOpen(double now);
-  void readReplies();
+  void readReplies(double now);
   void closePort();
 
   BridgeParams params_;
   SerialPort port_;
   LinkStats stats_;
   vest_parser_t parser_{};
+  std::vector<RangeEvent> ranges_;
+  std::vector<ButtonEvent> buttons_;
+  bool have_range_seq_ = false, have_buttons_ = false;
+  uint8_t range_seq_ = 0;
+  vest_buttons_t last_buttons_{};
   std::array<uint8_t, VEST_NUM_MOTORS> duty_{ { 0, 0, 0, 0 } };       ///< from the last valid cue
   std::array<uint8_t, VEST_NUM_MOTORS> sent_duty_{ { 0, 0, 0, 0 } };  ///< in the last packet
   std::vector<uint8_t> pending_;  ///< unwritten tail of the last packet
@@ -165,7 +222,7 @@ double steadyNow();
 class VestBridgeRunner
 {
 public:
-  using Hook = std::function<void(const VestBridge&, double now)>;
+  using Hook = std::function<void(VestBridge&, double now)>;
   explicit VestBridgeRunner(const BridgeParams& p, double period_s = 0.01, Hook after_spin = Hook());
   ~VestBridgeRunner();
   VestBridgeRunner(const VestBridgeRunner&) = delete;

@@ -5,11 +5,18 @@
  * Arduino sketch (firmware/vest/vest.ino includes it through the symlink
  * firmware/vest/vest_protocol.h). Change it here and both sides change.
  *
- * Protocol version 2 (version 1 was SYNC 0xA5 + CRC-8; it let noise through as false COMMANDs).
+ * Protocol version 3 (version 2 had COMMAND and STATUS only; version 1 was SYNC 0xA5 + CRC-8,
+ * which let noise through as false COMMANDs). Version 3 adds RANGE (the forward ultrasonic
+ * ranger, issue 20) and BUTTONS (the wearer's two push buttons, issue 24), both vest -> PC.
+ * COMMAND and STATUS are the same in versions 2 and 3, so both sides speak version 2 to a version-2
+ * peer (VEST_PROTOCOL_MIN_VERSION): the vest answers a COMMAND in the COMMAND's version and sends
+ * RANGE / BUTTONS only to a version-3 peer; the bridge, told by a version-2 STATUS that the vest
+ * is old, sends version-2 COMMANDs (the motors keep working) and reports the old vest (no ranger,
+ * no buttons) in its diagnostics. Frames of any other version are rejected and counted.
  *
- * Packet (14 bytes before framing, both directions):
+ * COMMAND / STATUS (14 bytes before framing):
  *
- *   byte 0    VERSION   VEST_PROTOCOL_VERSION (2); a receiver rejects and counts other versions
+ *   byte 0    VERSION   3 (or 2 to/from a version-2 peer)
  *   byte 1    TYPE      0x01 = COMMAND (PC -> vest), 0x02 = STATUS (vest -> PC)
  *   byte 2    SEQ       sequence number, +1 per packet sent (wraps at 255); a STATUS echoes the
  *                       SEQ of the last COMMAND the vest accepted
@@ -25,14 +32,39 @@
  *                       (CRC-16/CCITT-FALSE let 1 damaged frame through per ~3e7 random
  *                       corruptions in tactile_benchmark; 32 bits make that 65536 times rarer.)
  *
+ * RANGE (vest -> PC, 11 bytes before framing; one per ping, 20 Hz, median of the last 3 pings):
+ *
+ *   byte 0    VERSION   3
+ *   byte 1    TYPE      0x03
+ *   byte 2    SEQ       +1 per RANGE packet (the PC counts lost ones)
+ *   byte 3    STATUS    0 = OK (RANGE_MM holds the median), 1 = NO_ECHO (fewer than 2 of the last
+ *                       3 pings came back within VEST_RANGE_MAX_MM), 2 = SENSOR_MISSING (2 or more
+ *                       of them never raised the echo line: unplugged / dead sensor); others illegal
+ *   byte 4-5  RANGE_MM  uint16, low byte first: distance in mm (speed of sound 343 m/s); 0 unless OK
+ *   byte 6    ECHOES    pings of the last 3 that returned an echo (0..3; OK needs >= 2)
+ *   byte 7-10 CRC       CRC-32C over bytes 0..6
+ *
+ * BUTTONS (vest -> PC, 12 bytes before framing; on every press event and change of HELD, and once
+ * a second as a heartbeat, so a lost packet is healed by the next one):
+ *
+ *   byte 0    VERSION   3
+ *   byte 1    TYPE      0x04
+ *   byte 2    SEQ       +1 per BUTTONS packet
+ *   byte 3    HELD      debounced state now: bit 0 = button A down, bit 1 = B; bits 2..7 must be 0
+ *   byte 4-7  COUNTS    SHORT_A, LONG_A, SHORT_B, LONG_B: presses since power-up (wrap at 255);
+ *                       the PC reports the difference to the previous packet's counts. A press is
+ *                       LONG when held VEST_LONG_PRESS_MS (reported then, while still held), SHORT
+ *                       when released before; the inputs are debounced over VEST_DEBOUNCE_MS.
+ *   byte 8-11 CRC       CRC-32C over bytes 0..7
+ *
  * Framing: COBS (Consistent Overhead Byte Stuffing). The 14 bytes are COBS-encoded (15 bytes, no
  * 0x00 inside) and sent between two 0x00 delimiters: 17 bytes on the wire,
  *
  *   0x00  COBS(packet)  0x00
  *
  * A receiver collects the bytes between delimiters into a frame and accepts it only when the COBS
- * structure is valid, the CRC matches, VERSION is ours, the decoded length is exactly 14 and the
- * fields are legal. Since a frame starts only at a delimiter, a packet is never read at a shifted
+ * structure is valid, the CRC matches, VERSION is one we speak, TYPE is known in that version, the
+ * decoded length is exactly that TYPE's and the fields are legal. Since a frame starts only at a delimiter, a packet is never read at a shifted
  * offset (the SYNC scan of version 1 could); garbage, a truncated or a shifted packet cost that
  * frame only, and the next delimiter resynchronises. The leading delimiter ends any garbage
  * before the packet, so the packet after a burst of noise still arrives. The CRC is checked
@@ -56,15 +88,44 @@
 extern "C" {
 #endif
 
-#define VEST_PROTOCOL_VERSION 2u
+#define VEST_PROTOCOL_VERSION 3u
+#define VEST_PROTOCOL_MIN_VERSION 2u  /* oldest version spoken (COMMAND / STATUS only) */
 #define VEST_DELIMITER 0x00u
 #define VEST_TYPE_COMMAND 0x01u
 #define VEST_TYPE_STATUS 0x02u
+#define VEST_TYPE_RANGE 0x03u    /* version 3 */
+#define VEST_TYPE_BUTTONS 0x04u  /* version 3 */
 #define VEST_CRC_SIZE 4u
 #define VEST_RAW_SIZE 14u                       /* VERSION .. CRC, before COBS */
 #define VEST_COBS_SIZE (VEST_RAW_SIZE + 1u)     /* COBS adds one byte to frames under 254 bytes */
 #define VEST_PACKET_SIZE (VEST_COBS_SIZE + 2u)  /* on the wire, with both delimiters: 17 */
+#define VEST_RANGE_RAW_SIZE 11u
+#define VEST_RANGE_PACKET_SIZE (VEST_RANGE_RAW_SIZE + 3u)      /* 14 on the wire */
+#define VEST_BUTTONS_RAW_SIZE 12u
+#define VEST_BUTTONS_PACKET_SIZE (VEST_BUTTONS_RAW_SIZE + 3u)  /* 15 on the wire */
 #define VEST_MAX_FRAME 32u  /* longest frame a receiver buffers; longer = garbage, dropped */
+
+/* RANGE STATUS */
+#define VEST_RANGE_OK 0u
+#define VEST_RANGE_NO_ECHO 1u
+#define VEST_RANGE_SENSOR_MISSING 2u
+/* One ping (vest_ranger_ping's input) */
+#define VEST_PING_ECHO 0u
+#define VEST_PING_NO_ECHO 1u   /* the echo line rose but no echo came back in time */
+#define VEST_PING_MISSING 2u   /* the echo line never rose: no sensor answering */
+#define VEST_RANGE_MAX_MM 4000u       /* HC-SR04 class: 4 m; a longer echo counts as none */
+#define VEST_ECHO_TIMEOUT_US 30000ul  /* no falling edge this long after the rise: no echo */
+#define VEST_PING_PERIOD_MS 50u       /* 20 Hz; the HC-SR04 needs >= 40 ms between pings */
+/* Buttons */
+#define VEST_NUM_BUTTONS 2u
+#define VEST_BUTTON_A 0u
+#define VEST_BUTTON_B 1u
+#define VEST_DEBOUNCE_MS 30u
+#define VEST_LONG_PRESS_MS 1000u
+#define VEST_BUTTONS_PERIOD_MS 1000u  /* heartbeat BUTTONS packet */
+#define VEST_PRESS_NONE 0
+#define VEST_PRESS_SHORT 1
+#define VEST_PRESS_LONG 2
 #define VEST_NUM_MOTORS 4u
 #define VEST_WATCHDOG_MS 500u
 
@@ -92,7 +153,8 @@ extern "C" {
 #define VEST_FRAME_CRC 3      /* CRC mismatch */
 #define VEST_FRAME_VERSION 4  /* CRC fine, another protocol version */
 #define VEST_FRAME_LENGTH 5   /* our version, wrong length */
-#define VEST_FRAME_FIELD 6    /* unknown TYPE or reserved MOTORS bits set */
+#define VEST_FRAME_FIELD 6    /* unknown TYPE (in this VERSION) or an illegal field */
+#define VEST_FRAME_OTHER_TYPE 7  /* valid, but RANGE / BUTTONS where a COMMAND / STATUS was asked */
 
 typedef struct
 {
@@ -102,6 +164,33 @@ typedef struct
   uint8_t intensity[VEST_NUM_MOTORS];   /* 0..255 */
   uint16_t ttl_ms;                      /* COMMAND: drive at most this long after receipt */
 } vest_packet_t;
+
+/* RANGE */
+typedef struct
+{
+  uint8_t seq;
+  uint8_t status;     /* VEST_RANGE_* */
+  uint16_t range_mm;  /* median of the last 3 pings when status is OK, else 0 */
+  uint8_t echoes;     /* pings of the last 3 with an echo */
+} vest_range_t;
+
+/* BUTTONS */
+typedef struct
+{
+  uint8_t seq;
+  uint8_t held;        /* bit 0 = A down, bit 1 = B down */
+  uint8_t short_a, long_a, short_b, long_b;  /* press counters (wrap) */
+} vest_buttons_t;
+
+/* Any valid packet. */
+typedef struct
+{
+  uint8_t version;  /* VERSION byte (VEST_PROTOCOL_MIN_VERSION .. VEST_PROTOCOL_VERSION) */
+  uint8_t type;     /* VEST_TYPE_* */
+  vest_packet_t packet;    /* COMMAND, STATUS */
+  vest_range_t range;      /* RANGE */
+  vest_buttons_t buttons;  /* BUTTONS */
+} vest_message_t;
 
 /* CRC-32C (Castagnoli), reflected, init/xorout 0xFFFFFFFF. Bitwise: no table in the ATmega's
  * RAM (about 50 us per packet at 16 MHz). */
@@ -180,12 +269,13 @@ static inline uint8_t vest_frame(const uint8_t* payload, uint8_t len, uint8_t* o
   return (uint8_t)(n + 2u);
 }
 
-/* Writes VEST_PACKET_SIZE bytes (delimiter, COBS frame, delimiter) to out; VERSION is ours. */
-static inline void vest_encode(const vest_packet_t* p, uint8_t* out)
+/* Writes VEST_PACKET_SIZE bytes (delimiter, COBS frame, delimiter) to out with VERSION `version`
+ * (COMMAND / STATUS are the same in versions 2 and 3). */
+static inline void vest_encode_version(const vest_packet_t* p, uint8_t version, uint8_t* out)
 {
   uint8_t raw[VEST_RAW_SIZE - VEST_CRC_SIZE];
   uint8_t i;
-  raw[0] = (uint8_t)VEST_PROTOCOL_VERSION;
+  raw[0] = version;
   raw[1] = p->type;
   raw[2] = p->seq;
   raw[3] = (uint8_t)(p->motors & 0x0Fu);
@@ -196,13 +286,48 @@ static inline void vest_encode(const vest_packet_t* p, uint8_t* out)
   vest_frame(raw, (uint8_t)(VEST_RAW_SIZE - VEST_CRC_SIZE), out);
 }
 
-/* Checks one frame (the bytes between two delimiters). Returns VEST_FRAME_OK and fills p when it
- * is a valid packet of our version; else the reason. *version gets the VERSION byte of a
+/* Writes VEST_PACKET_SIZE bytes; VERSION is ours. */
+static inline void vest_encode(const vest_packet_t* p, uint8_t* out)
+{
+  vest_encode_version(p, (uint8_t)VEST_PROTOCOL_VERSION, out);
+}
+
+/* Writes VEST_RANGE_PACKET_SIZE bytes. */
+static inline void vest_encode_range(const vest_range_t* r, uint8_t* out)
+{
+  uint8_t raw[VEST_RANGE_RAW_SIZE - VEST_CRC_SIZE];
+  raw[0] = (uint8_t)VEST_PROTOCOL_VERSION;
+  raw[1] = (uint8_t)VEST_TYPE_RANGE;
+  raw[2] = r->seq;
+  raw[3] = r->status;
+  raw[4] = (uint8_t)(r->range_mm & 0xFFu);
+  raw[5] = (uint8_t)(r->range_mm >> 8);
+  raw[6] = r->echoes;
+  vest_frame(raw, (uint8_t)(VEST_RANGE_RAW_SIZE - VEST_CRC_SIZE), out);
+}
+
+/* Writes VEST_BUTTONS_PACKET_SIZE bytes. */
+static inline void vest_encode_buttons(const vest_buttons_t* b, uint8_t* out)
+{
+  uint8_t raw[VEST_BUTTONS_RAW_SIZE - VEST_CRC_SIZE];
+  raw[0] = (uint8_t)VEST_PROTOCOL_VERSION;
+  raw[1] = (uint8_t)VEST_TYPE_BUTTONS;
+  raw[2] = b->seq;
+  raw[3] = b->held;
+  raw[4] = b->short_a;
+  raw[5] = b->long_a;
+  raw[6] = b->short_b;
+  raw[7] = b->long_b;
+  vest_frame(raw, (uint8_t)(VEST_BUTTONS_RAW_SIZE - VEST_CRC_SIZE), out);
+}
+
+/* Checks one frame (the bytes between two delimiters). Returns VEST_FRAME_OK and fills m when it
+ * is a valid packet of a version we speak; else the reason. *version gets the VERSION byte of a
  * CRC-valid frame (for mismatch reports); it may be NULL. */
-static inline int vest_decode_frame(const uint8_t* frame, uint8_t len, vest_packet_t* p, uint8_t* version)
+static inline int vest_decode_message(const uint8_t* frame, uint8_t len, vest_message_t* m, uint8_t* version)
 {
   uint8_t raw[VEST_MAX_FRAME];
-  uint8_t i;
+  uint8_t i, want;
   int n;
   uint32_t crc;
   if (len > VEST_MAX_FRAME)
@@ -218,18 +343,69 @@ static inline int vest_decode_frame(const uint8_t* frame, uint8_t len, vest_pack
     return VEST_FRAME_CRC;
   if (version)
     *version = raw[0];
-  if (raw[0] != VEST_PROTOCOL_VERSION)
+  if (raw[0] < VEST_PROTOCOL_MIN_VERSION || raw[0] > VEST_PROTOCOL_VERSION)
     return VEST_FRAME_VERSION;
-  if (n != (int)VEST_RAW_SIZE)
+  if (n < 2)
     return VEST_FRAME_LENGTH;
-  if ((raw[1] != VEST_TYPE_COMMAND && raw[1] != VEST_TYPE_STATUS) || (raw[3] & 0xF0u) != 0u)
+  /* TYPE known in this VERSION, then its length, then its fields. */
+  if (raw[1] == VEST_TYPE_COMMAND || raw[1] == VEST_TYPE_STATUS)
+    want = (uint8_t)VEST_RAW_SIZE;
+  else if (raw[1] == VEST_TYPE_RANGE && raw[0] >= 3u)
+    want = (uint8_t)VEST_RANGE_RAW_SIZE;
+  else if (raw[1] == VEST_TYPE_BUTTONS && raw[0] >= 3u)
+    want = (uint8_t)VEST_BUTTONS_RAW_SIZE;
+  else
     return VEST_FRAME_FIELD;
-  p->type = raw[1];
-  p->seq = raw[2];
-  p->motors = raw[3];
+  if (n != (int)want)
+    return VEST_FRAME_LENGTH;
+  memset(m, 0, sizeof(*m));
+  m->version = raw[0];
+  m->type = raw[1];
+  if (raw[1] == VEST_TYPE_RANGE)
+  {
+    m->range.seq = raw[2];
+    m->range.status = raw[3];
+    m->range.range_mm = (uint16_t)(raw[4] | ((uint16_t)raw[5] << 8));
+    m->range.echoes = raw[6];
+    if (m->range.status > VEST_RANGE_SENSOR_MISSING || m->range.echoes > 3u ||
+        (m->range.status == VEST_RANGE_OK && m->range.echoes < 2u) ||
+        (m->range.status != VEST_RANGE_OK && m->range.range_mm != 0u))
+      return VEST_FRAME_FIELD;
+    return VEST_FRAME_OK;
+  }
+  if (raw[1] == VEST_TYPE_BUTTONS)
+  {
+    if ((raw[3] & 0xFCu) != 0u)
+      return VEST_FRAME_FIELD;
+    m->buttons.seq = raw[2];
+    m->buttons.held = raw[3];
+    m->buttons.short_a = raw[4];
+    m->buttons.long_a = raw[5];
+    m->buttons.short_b = raw[6];
+    m->buttons.long_b = raw[7];
+    return VEST_FRAME_OK;
+  }
+  if ((raw[3] & 0xF0u) != 0u)
+    return VEST_FRAME_FIELD;
+  m->packet.type = raw[1];
+  m->packet.seq = raw[2];
+  m->packet.motors = raw[3];
   for (i = 0; i < VEST_NUM_MOTORS; ++i)
-    p->intensity[i] = raw[4 + i];
-  p->ttl_ms = (uint16_t)(raw[8] | ((uint16_t)raw[9] << 8));
+    m->packet.intensity[i] = raw[4 + i];
+  m->packet.ttl_ms = (uint16_t)(raw[8] | ((uint16_t)raw[9] << 8));
+  return VEST_FRAME_OK;
+}
+
+/* vest_decode_message for COMMAND / STATUS only (a valid RANGE / BUTTONS: VEST_FRAME_OTHER_TYPE). */
+static inline int vest_decode_frame(const uint8_t* frame, uint8_t len, vest_packet_t* p, uint8_t* version)
+{
+  vest_message_t m;
+  const int r = vest_decode_message(frame, len, &m, version);
+  if (r != VEST_FRAME_OK)
+    return r;
+  if (m.type != VEST_TYPE_COMMAND && m.type != VEST_TYPE_STATUS)
+    return VEST_FRAME_OTHER_TYPE;
+  *p = m.packet;
   return VEST_FRAME_OK;
 }
 
@@ -258,7 +434,7 @@ typedef struct
   uint8_t buf[VEST_MAX_FRAME];
   uint8_t len;
   uint8_t overflow;           /* the current frame outgrew buf: dropped at the next delimiter */
-  uint8_t peer_version;       /* VERSION of the last CRC-valid frame of another version */
+  uint8_t peer_version;       /* VERSION of the last CRC-valid frame of a version we do not speak */
   uint16_t packets;           /* valid packets (wraps) */
   uint16_t rejected;          /* non-empty frames that failed a check (wraps) */
   uint16_t skipped;           /* bytes in rejected frames (wraps) */
@@ -270,8 +446,8 @@ static inline void vest_parser_init(vest_parser_t* ps)
   memset(ps, 0, sizeof(*ps));
 }
 
-/* Feeds one byte. Returns 1 when it completed a valid packet (copied to *out), else 0. */
-static inline int vest_parser_feed(vest_parser_t* ps, uint8_t byte, vest_packet_t* out)
+/* Feeds one byte. Returns 1 when it completed a valid packet of any type (copied to *out), else 0. */
+static inline int vest_parser_feed_message(vest_parser_t* ps, uint8_t byte, vest_message_t* out)
 {
   int r;
   uint8_t version = 0u, n;
@@ -297,7 +473,7 @@ static inline int vest_parser_feed(vest_parser_t* ps, uint8_t byte, vest_packet_
   }
   if (n == 0u)
     return 0; /* two delimiters in a row: between packets */
-  r = vest_decode_frame(ps->buf, n, out, &version);
+  r = vest_decode_message(ps->buf, n, out, &version);
   if (r == VEST_FRAME_OK)
   {
     ps->packets++;
@@ -313,6 +489,133 @@ static inline int vest_parser_feed(vest_parser_t* ps, uint8_t byte, vest_packet_
   return 0;
 }
 
+/* Feeds one byte. Returns 1 when it completed a valid COMMAND or STATUS (copied to *out), else 0
+ * (a valid RANGE / BUTTONS is counted in packets and dropped). */
+static inline int vest_parser_feed(vest_parser_t* ps, uint8_t byte, vest_packet_t* out)
+{
+  vest_message_t m;
+  if (!vest_parser_feed_message(ps, byte, &m))
+    return 0;
+  if (m.type != VEST_TYPE_COMMAND && m.type != VEST_TYPE_STATUS)
+    return 0;
+  *out = m.packet;
+  return 1;
+}
+
+/* ---- The ranger (HC-SR04 class): trigger, time the echo, median of the last 3 pings. ---- */
+
+/* Echo pulse width -> mm at 343 m/s (round trip: width * 0.1715 mm/us), saturating. */
+static inline uint16_t vest_echo_us_to_mm(uint32_t width_us)
+{
+  const uint32_t mm = (width_us * 343ul + 1000ul) / 2000ul;
+  return mm > 0xFFFFul ? (uint16_t)0xFFFFu : (uint16_t)mm;
+}
+
+/* One ping from its echo line: `rose` = the line went high after the trigger, `fell` = and low
+ * again, after width_us. Returns VEST_PING_*; *mm gets the distance of an echo. */
+static inline uint8_t vest_classify_ping(uint8_t rose, uint8_t fell, uint32_t width_us, uint16_t* mm)
+{
+  *mm = 0u;
+  if (!rose)
+    return (uint8_t)VEST_PING_MISSING;
+  if (!fell || width_us >= VEST_ECHO_TIMEOUT_US)
+    return (uint8_t)VEST_PING_NO_ECHO;
+  *mm = vest_echo_us_to_mm(width_us);
+  if (*mm > VEST_RANGE_MAX_MM)
+  {
+    *mm = 0u;
+    return (uint8_t)VEST_PING_NO_ECHO;  /* the sensor's own "nothing" pulse (about 38 ms) */
+  }
+  return (uint8_t)VEST_PING_ECHO;
+}
+
+typedef struct
+{
+  uint8_t result[3];  /* VEST_PING_* of the last 3 pings (ring) */
+  uint16_t mm[3];
+  uint8_t next, count;
+  uint8_t seq;
+} vest_ranger_t;
+
+/* Adds one ping; once 3 pings are in, fills *out with the median of the last 3 (a ping without an
+ * echo counts as farther than any echo) and returns 1, else 0. */
+static inline int vest_ranger_ping(vest_ranger_t* rg, uint8_t result, uint16_t mm, vest_range_t* out)
+{
+  uint8_t i, echoes = 0u, missing = 0u;
+  uint16_t a, b, c, t;
+  rg->result[rg->next] = result;
+  rg->mm[rg->next] = result == VEST_PING_ECHO ? mm : (uint16_t)0xFFFFu;
+  rg->next = (uint8_t)((rg->next + 1u) % 3u);
+  if (rg->count < 3u)
+    rg->count++;
+  if (rg->count < 3u)
+    return 0;
+  for (i = 0; i < 3u; ++i)
+  {
+    if (rg->result[i] == VEST_PING_ECHO)
+      echoes++;
+    else if (rg->result[i] == VEST_PING_MISSING)
+      missing++;
+  }
+  out->seq = rg->seq++;
+  out->echoes = echoes;
+  out->range_mm = 0u;
+  if (missing >= 2u)
+    out->status = (uint8_t)VEST_RANGE_SENSOR_MISSING;
+  else if (echoes < 2u)
+    out->status = (uint8_t)VEST_RANGE_NO_ECHO;
+  else
+  {
+    a = rg->mm[0];
+    b = rg->mm[1];
+    c = rg->mm[2];
+    if (a > b) { t = a; a = b; b = t; }
+    if (b > c) { t = b; b = c; c = t; }
+    if (a > b) { t = a; a = b; b = t; }
+    out->status = (uint8_t)VEST_RANGE_OK;
+    out->range_mm = b;  /* the median; with 2 echoes the farther one (the third is "none") */
+  }
+  return 1;
+}
+
+/* ---- Push buttons: debounce, short / long presses. ---- */
+typedef struct
+{
+  uint8_t raw;       /* last raw reading (1 = down) */
+  uint8_t stable;    /* debounced state */
+  uint8_t long_sent; /* this press already reported LONG */
+  uint32_t raw_since_ms, down_since_ms;
+} vest_button_t;
+
+/* One reading of a button (1 = down) at now_ms: VEST_PRESS_LONG once it has been down
+ * VEST_LONG_PRESS_MS, VEST_PRESS_SHORT when it is released before, else VEST_PRESS_NONE. */
+static inline int vest_button_update(vest_button_t* b, uint8_t down, uint32_t now_ms)
+{
+  down = down ? 1u : 0u;
+  if (down != b->raw)
+  {
+    b->raw = down;
+    b->raw_since_ms = now_ms;
+  }
+  if (b->raw != b->stable && (uint32_t)(now_ms - b->raw_since_ms) >= VEST_DEBOUNCE_MS)
+  {
+    b->stable = b->raw;
+    if (b->stable)
+    {
+      b->down_since_ms = now_ms;
+      b->long_sent = 0u;
+    }
+    else if (!b->long_sent)
+      return VEST_PRESS_SHORT;
+  }
+  if (b->stable && !b->long_sent && (uint32_t)(now_ms - b->down_since_ms) >= VEST_LONG_PRESS_MS)
+  {
+    b->long_sent = 1u;
+    return VEST_PRESS_LONG;
+  }
+  return VEST_PRESS_NONE;
+}
+
 /* ---- The vest's behaviour (the firmware's loop, also run by the simulated vest). ---- */
 typedef struct
 {
@@ -325,6 +628,12 @@ typedef struct
   uint16_t hold_ms;              /* the last COMMAND drives until last_command_ms + hold_ms */
   uint16_t timeouts;             /* watchdog trips (wraps) */
   uint16_t expiries;             /* commands that ran out of TTL (wraps) */
+  uint8_t peer_version;          /* VERSION of the last accepted COMMAND (0 = none yet) */
+  uint8_t reply_version;         /* VERSION to encode the STATUS vest_firmware_feed asked for */
+  vest_ranger_t ranger;
+  vest_button_t button[VEST_NUM_BUTTONS];
+  vest_buttons_t buttons;        /* counters and held state, sent in BUTTONS */
+  uint32_t last_buttons_ms;      /* when the last BUTTONS went out */
 } vest_firmware_t;
 
 static inline void vest_firmware_init(vest_firmware_t* fw, uint32_t now_ms)
@@ -332,6 +641,14 @@ static inline void vest_firmware_init(vest_firmware_t* fw, uint32_t now_ms)
   memset(fw, 0, sizeof(*fw));
   vest_parser_init(&fw->parser);
   fw->last_command_ms = now_ms;
+  fw->last_buttons_ms = now_ms;
+  fw->reply_version = (uint8_t)VEST_PROTOCOL_VERSION;
+}
+
+/* 1 when the PC speaks version 3 (RANGE and BUTTONS are sent to it), else 0. */
+static inline int vest_firmware_peer_v3(const vest_firmware_t* fw)
+{
+  return fw->peer_version >= 3u;
 }
 
 static inline void vest_firmware_all_off(vest_firmware_t* fw)
@@ -354,25 +671,31 @@ static inline void vest_firmware_status(const vest_firmware_t* fw, vest_packet_t
   status->ttl_ms = 0u;
 }
 
-/* Feeds one received byte. Returns VEST_FEED_APPLIED when a valid COMMAND was applied, and
- * VEST_FEED_VERSION_REPLY when a CRC-valid frame of another protocol version ended (counted in
- * parser.version_mismatch; nothing applied); in both cases *status holds the STATUS packet to
- * send back. STATUS packets and anything invalid are ignored (VEST_FEED_NONE). */
+/* Feeds one received byte. Returns VEST_FEED_APPLIED when a valid COMMAND (version 2 or 3) was
+ * applied, and VEST_FEED_VERSION_REPLY when a CRC-valid frame of a version we do not speak ended
+ * (counted in parser.version_mismatch; nothing applied); in both cases *status holds the STATUS
+ * packet to send back, in version fw->reply_version (the COMMAND's; ours in a version reply, so
+ * that peer learns it). STATUS packets and anything invalid are ignored (VEST_FEED_NONE). */
 static inline int vest_firmware_feed(vest_firmware_t* fw, uint8_t byte, uint32_t now_ms,
                                      vest_packet_t* status)
 {
+  vest_message_t m;
   vest_packet_t p;
   uint8_t i;
   const uint16_t mismatches = fw->parser.version_mismatch;
-  if (!vest_parser_feed(&fw->parser, byte, &p))
+  if (!vest_parser_feed_message(&fw->parser, byte, &m))
   {
     if (fw->parser.version_mismatch == mismatches)
       return VEST_FEED_NONE;
     vest_firmware_status(fw, status); /* our version in the reply: the peer can report it */
+    fw->reply_version = (uint8_t)VEST_PROTOCOL_VERSION;
     return VEST_FEED_VERSION_REPLY;
   }
-  if (p.type != VEST_TYPE_COMMAND)
+  if (m.type != VEST_TYPE_COMMAND)
     return VEST_FEED_NONE;
+  p = m.packet;
+  fw->peer_version = m.version;
+  fw->reply_version = m.version;
   fw->motors = 0u;
   for (i = 0; i < VEST_NUM_MOTORS; ++i)
   {
@@ -386,6 +709,49 @@ static inline int vest_firmware_feed(vest_firmware_t* fw, uint8_t byte, uint32_t
   fw->hold_ms = p.ttl_ms < VEST_WATCHDOG_MS ? p.ttl_ms : (uint16_t)VEST_WATCHDOG_MS;
   vest_firmware_status(fw, status);
   return VEST_FEED_APPLIED;
+}
+
+/* One ping of the ranger (vest_classify_ping's result). Returns 1 when *out holds a RANGE to
+ * send (3 pings in and the PC speaks version 3), else 0. */
+static inline int vest_firmware_range(vest_firmware_t* fw, uint8_t ping, uint16_t mm, vest_range_t* out)
+{
+  return vest_ranger_ping(&fw->ranger, ping, mm, out) && vest_firmware_peer_v3(fw);
+}
+
+/* Reads the two buttons (1 = down) at now_ms. Returns 1 when *out holds a BUTTONS to send (a
+ * press, a change of HELD, or the heartbeat is due, and the PC speaks version 3), else 0. */
+static inline int vest_firmware_buttons(vest_firmware_t* fw, uint8_t a_down, uint8_t b_down, uint32_t now_ms,
+                                        vest_buttons_t* out)
+{
+  uint8_t i, held = 0u, event = 0u;
+  int r;
+  for (i = 0; i < VEST_NUM_BUTTONS; ++i)
+  {
+    r = vest_button_update(&fw->button[i], i == 0u ? a_down : b_down, now_ms);
+    if (r == VEST_PRESS_SHORT)
+    {
+      if (i == 0u) fw->buttons.short_a++; else fw->buttons.short_b++;
+      event = 1u;
+    }
+    else if (r == VEST_PRESS_LONG)
+    {
+      if (i == 0u) fw->buttons.long_a++; else fw->buttons.long_b++;
+      event = 1u;
+    }
+    if (fw->button[i].stable)
+      held = (uint8_t)(held | (1u << i));
+  }
+  if (held != fw->buttons.held)
+    event = 1u;
+  fw->buttons.held = held;
+  if (!event && (uint32_t)(now_ms - fw->last_buttons_ms) < VEST_BUTTONS_PERIOD_MS)
+    return 0;
+  if (!vest_firmware_peer_v3(fw))
+    return 0;
+  fw->last_buttons_ms = now_ms;
+  *out = fw->buttons;
+  fw->buttons.seq++;
+  return 1;
 }
 
 /* TTL and watchdog; call every loop. Returns VEST_TICK_EXPIRED / VEST_TICK_WATCHDOG when it

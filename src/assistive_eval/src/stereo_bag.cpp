@@ -409,6 +409,21 @@ bool StereoBagReader::readOccupancy(OccupancyGrid& g) const
   return found;
 }
 
+bool StereoBagReader::readRanges(std::vector<RangeSample>& out) const
+{
+  out.clear();
+  rosbag::View v(impl_->bag, rosbag::TopicQuery(topics_.sonar));
+  for (const rosbag::MessageInstance& m : v)
+  {
+    auto msg = m.instantiate<sensor_msgs::Range>();
+    if (!msg) continue;
+    out.push_back({ msg->header.stamp.toSec(), msg->range, msg->field_of_view, msg->min_range, msg->max_range,
+                    msg->header.frame_id });
+  }
+  std::stable_sort(out.begin(), out.end(), [](const RangeSample& a, const RangeSample& b) { return a.stamp < b.stamp; });
+  return !out.empty();
+}
+
 std::unique_ptr<StereoBagReader> openStereoBag(const std::string& program, const std::string& path)
 {
   try

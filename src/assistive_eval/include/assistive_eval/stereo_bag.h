@@ -44,6 +44,16 @@ struct StereoBagTopics
   std::string gt_left_frame = "gt_camera_left_optical_frame";
 };
 
+/// One ranger reading of `/sonar/front` (sensor_msgs/Range): range in m, +Inf = no echo.
+struct RangeSample
+{
+  double stamp = 0.0;
+  double range = 0.0;
+  double field_of_view = 0.0;  ///< rad
+  double min_range = 0.0, max_range = 0.0;
+  std::string frame_id;
+};
+
 /// Writes stereo bags. Messages are written with bag time = their stamp.
 class StereoBagWriter
 {
@@ -111,6 +121,8 @@ public:
   bool hasDepth() const { return has_depth_; }
   /// Reads the (last) ground-truth occupancy grid; false when the bag has none.
   bool readOccupancy(OccupancyGrid& grid) const;
+  /// All ranger readings (`topics.sonar`) in stamp order; false when the bag has none.
+  bool readRanges(std::vector<RangeSample>& out) const;
   /// All IMU samples of the bag in stamp order.
   const std::vector<ImuSample>& imuSamples() const { return imu_; }
   /// All ground-truth poses (stamp, pose of the left optical frame in gt_world).
