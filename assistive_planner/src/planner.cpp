@@ -10,6 +10,32 @@ namespace assistive_planner
 {
 Planner::Planner(const PlannerParams& p) : p_(p), motion_(p), waypoints_(p) {}
 
+int markWalkedFloor(Grid& grid, const std::vector<Point2>& walked, double radius)
+{
+  if (grid.empty() || !(radius > 0.0))
+    return 0;
+  int changed = 0;
+  const int r = int(std::ceil(radius / grid.resolution)) + 1;
+  for (const Point2& p : walked)
+  {
+    int cx, cy;
+    grid.worldToCell(p.x, p.y, cx, cy);  // may lie outside: its neighbours may not
+    if (cx < -r || cy < -r || cx >= grid.width + r || cy >= grid.height + r)
+      continue;
+    for (int y = cy - r; y <= cy + r; ++y)
+      for (int x = cx - r; x <= cx + r; ++x)
+      {
+        if (!grid.inside(x, y) || !isUnknownCode(grid.at(x, y)))
+          continue;
+        if (std::hypot(grid.cellX(x) - p.x, grid.cellY(y) - p.y) > radius + 1e-9)
+          continue;
+        grid.data[size_t(grid.index(x, y))] = CELL_FREE;
+        ++changed;
+      }
+  }
+  return changed;
+}
+
 void Planner::setGoal(const Point2& goal)
 {
   has_goal_ = true;
@@ -86,18 +112,30 @@ void Planner::syncCosts(const Grid& grid, PlanOutput& out)
   last_grid_.origin_y = grid.origin_y;
 }
 
-PlanOutput Planner::update(const Grid& grid, const Point2& wearer, double head_yaw)
+PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_yaw)
 {
   PlanOutput out;
   out.wearer = wearer;
   out.head_yaw = wrapAngle(head_yaw);
-  if (grid.empty() || !(grid.resolution > 0.0) || !std::isfinite(wearer.x) || !std::isfinite(wearer.y) ||
+  if (input.empty() || !(input.resolution > 0.0) || !std::isfinite(wearer.x) || !std::isfinite(wearer.y) ||
       !std::isfinite(head_yaw))
   {
-    out.status = grid.empty() ? PlanStatus::NO_MAP : PlanStatus::NO_POSE;
-    out.message = grid.empty() ? "no traversability grid" : "invalid wearer pose";
+    out.status = input.empty() ? PlanStatus::NO_MAP : PlanStatus::NO_POSE;
+    out.message = input.empty() ? "no traversability grid" : "invalid wearer pose";
     return out;
   }
+  // The wearer stands on the floor under its feet even before the camera has seen it (at the start
+  // it lies below the view): the footprint, and every place stood on since, is free floor. Only
+  // places the body has been; unseen floor ahead stays unknown.
+  if (walked_.empty() || std::hypot(wearer.x - walked_.back().x, wearer.y - walked_.back().y) >= 0.05)
+  {
+    walked_.push_back(wearer);
+    if (walked_.size() > 20000)
+      walked_.erase(walked_.begin(), walked_.begin() + 10000);
+  }
+  work_ = input;
+  markWalkedFloor(work_, walked_, p_.footprint_radius_m);
+  const Grid& grid = work_;
   syncCosts(grid, out);
   const bool motion_changed = motion_.update(wearer, head_yaw);
   out.heading = motion_.heading();

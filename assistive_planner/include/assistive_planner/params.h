@@ -31,6 +31,8 @@ namespace assistive_planner
   /* after a map reset (a fault, a gap) the floor just ahead lies below the camera's view until the */ \
   /* wearer has walked on: unseen floor must not read as an obstacle to the cue logic */ \
   X(double, unknown_ahead_m, "unknown_ahead_m", 1.0, 0.0, 5.0, "m", "when the ray ahead ends in unmapped floor (not at an obstacle) closer than this, the status is `IN_UNKNOWN` (vest quiet) instead of a proximity or stop cue decided on floor nobody has seen (0 switches it off)") \
+  /* the wearer stands on the floor under its feet: unseen at the start (below the camera's view) */ \
+  X(double, footprint_radius_m, "footprint_radius_m", 0.25, 0.0, 2.0, "m", "unknown cells whose centre lies within this of a place the wearer has stood since the last reset (the body's footprint, radius 0.25 m) count as free floor; cells ahead that nobody has seen or walked stay unknown (0 switches it off)") \
   /* Trust in the inputs (InputMonitor) */ \
   X(double, max_input_age_s, "max_input_age_s", 0.5, 0.05, 10.0, "s", "grid or pose lagging the newest camera frame by more -> `NO_MAP` / `NO_POSE`") \
   X(double, max_frame_gap_s, "max_frame_gap_s", 0.5, 0.05, 60.0, "s", "a longer pause between poses, or time going back, resets the planner")
