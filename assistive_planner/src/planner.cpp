@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include <algorithm>
 #include <cmath>
 
 #include "assistive_planner/cost_model.h"
@@ -66,6 +67,42 @@ double Planner::freeDistance(const Grid& grid, const Point2& from, double yaw, d
     {
       ends_unknown = isUnknownCode(grid.at(x, y));
       return d;
+    }
+    d = nd;
+  }
+  return d;
+}
+
+double Planner::freeStrip(const Grid& grid, const Point2& from, double yaw, double max_range, double half_width,
+                          bool& ends_unknown)
+{
+  ends_unknown = false;
+  if (!(half_width > 0.0))
+    return freeDistance(grid, from, yaw, max_range, ends_unknown);
+  int x0, y0;
+  if (grid.empty() || !grid.worldToCell(from.x, from.y, x0, y0))
+    return 0.0;
+  const double step = 0.25 * grid.resolution, c = std::cos(yaw), s = std::sin(yaw);
+  const int n = std::max(1, int(std::ceil(half_width / (0.5 * grid.resolution))));  // samples per side
+  double d = 0.0;
+  while (d + step <= max_range)
+  {
+    const double nd = d + step;
+    for (int k = -n; k <= n; ++k)
+    {
+      const double l = half_width * double(k) / double(n);
+      int x, y;
+      if (!grid.worldToCell(from.x + nd * c - l * s, from.y + nd * s + l * c, x, y))
+      {
+        if (k == 0)
+          return d;  // the window's edge straight ahead; beside the line it only narrows the view
+        continue;
+      }
+      if (!(x == x0 && y == y0) && grid.at(x, y) != CELL_FREE)
+      {
+        ends_unknown = isUnknownCode(grid.at(x, y));
+        return d;
+      }
     }
     d = nd;
   }
@@ -142,7 +179,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   out.motion_anchor = motion_.anchor();
   const double h = out.heading;
   bool ahead_unknown = false;
-  out.free_ahead = freeDistance(grid, wearer, h, p_.free_ray_max, ahead_unknown);
+  out.free_ahead = freeStrip(grid, wearer, h, p_.free_ray_max, p_.body_half_width, ahead_unknown);
   out.free_left = freeDistance(grid, wearer, h + M_PI_2, p_.free_ray_max);
   out.free_right = freeDistance(grid, wearer, h - M_PI_2, p_.free_ray_max);
 

@@ -14,6 +14,7 @@ namespace assistive_planner
   /* Motion vector (seed 4.3.1) */ \
   X(double, motion_update_distance, "motion_update_distance", 1.0, 0.05, 10.0, "m", "the previous position moves only after this travel") \
   X(double, heading_update_angle, "heading_update_angle", 15.0, 0.0, 180.0, "deg", "the heading follows the head only beyond this yaw change") \
+  X(double, heading_chord_min, "heading_chord_min", 0.3, 0.0, 10.0, "m", "once the wearer has walked this far from the anchor the heading is the walked chord (updated every cycle), not the head yaw of the last head-turn update; 0 = only after `motion_update_distance`") \
   /* Waypoint search triangle */ \
   X(double, triangle_length, "triangle_length", 4.0, 0.2, 20.0, "m", "search triangle: apex (wearer) to base") \
   X(double, triangle_half_angle, "triangle_half_angle", 30.0, 1.0, 89.0, "deg", "half the apex angle") \
@@ -28,6 +29,7 @@ namespace assistive_planner
   /* Outputs */ \
   X(double, path_lookahead, "path_lookahead", 1.0, 0.05, 10.0, "m", "along the path for `path_heading`") \
   X(double, free_ray_max, "free_ray_max", 5.0, 0.1, 50.0, "m", "longest free-distance ray") \
+  X(double, body_half_width, "body_half_width", 0.0, 0.0, 1.0, "m", "> 0: `free_ahead` is the free length of the strip the body would sweep (this half-width either side of the motion vector) instead of the line; off by default: on 0.2 m cells a 0.25 m strip catches cells beside the body and stops the wearer next to furniture (mobility trials, course: completion 40 % against 70 % with the line)") \
   /* after a map reset (a fault, a gap) the floor just ahead lies below the camera's view until the */ \
   /* wearer has walked on: unseen floor must not read as an obstacle to the cue logic */ \
   X(double, unknown_ahead_m, "unknown_ahead_m", 1.0, 0.0, 5.0, "m", "when the ray ahead ends in unmapped floor (not at an obstacle) closer than this, the status is `IN_UNKNOWN` (vest quiet) instead of a proximity or stop cue decided on floor nobody has seen (0 switches it off)") \

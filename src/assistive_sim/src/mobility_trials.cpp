@@ -35,6 +35,7 @@ void usage(std::ostream& os = std::cerr)
 {
   os << "usage: mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S] [--plot FILE.png]\n"
         "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--overturn S] [--turn-on DEG] [--turn-off DEG]\n"
+        "                       [--body-half-width M] [--chord-min M] (planner: free_ahead strip, heading chord; truth)\n"
         "  W: a shipped world's name (course corridor parking glass plaza) or a world YAML.\n"
         "  truth: the world's occupancy -> planner core -> cue logic core -> simulated vest wearer (no ROS);\n"
         "  cane: the cane-only walker. --no-cues removes the cue stage (the vest stays silent).\n"
@@ -155,6 +156,8 @@ int main(int argc, char** argv)
       else if (a == "--overturn") opt.wearer.overturn_s = std::stod(val());
       else if (a == "--turn-on") opt.cues.turn_on_deg = std::stod(val());
       else if (a == "--turn-off") opt.cues.turn_off_deg = std::stod(val());
+      else if (a == "--body-half-width") opt.planner.body_half_width = std::stod(val());
+      else if (a == "--chord-min") opt.planner.heading_chord_min = std::stod(val());
       else if (a == "-h" || a == "--help")
       {
         usage(std::cout);
