@@ -36,6 +36,7 @@ void usage(std::ostream& os = std::cerr)
   os << "usage: mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S] [--plot FILE.png]\n"
         "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--overturn S] [--turn-on DEG] [--turn-off DEG]\n"
         "                       [--body-half-width M] [--chord-min M] (planner: free_ahead strip, heading chord; truth)\n"
+        "                       [--timeout-factor X] (a trial ends unfinished after X x the guide's time + 20 s; 4)\n"
         "  W: a shipped world's name (course corridor parking glass plaza) or a world YAML.\n"
         "  truth: the world's occupancy -> planner core -> cue logic core -> simulated vest wearer (no ROS);\n"
         "  cane: the cane-only walker. --no-cues removes the cue stage (the vest stays silent).\n"
@@ -158,6 +159,7 @@ int main(int argc, char** argv)
       else if (a == "--turn-off") opt.cues.turn_off_deg = std::stod(val());
       else if (a == "--body-half-width") opt.planner.body_half_width = std::stod(val());
       else if (a == "--chord-min") opt.planner.heading_chord_min = std::stod(val());
+      else if (a == "--timeout-factor") opt.timeout_factor = std::stod(val());
       else if (a == "-h" || a == "--help")
       {
         usage(std::cout);

@@ -3,6 +3,8 @@
 #include <assistive_sim/ros_chain.h>
 
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <thread>
 
@@ -45,6 +47,8 @@ struct RosChain::Impl
   Eigen::Vector2d goal_xy = Eigen::Vector2d::Zero();
   Eigen::Isometry3d world_to_goal_frame = Eigen::Isometry3d::Identity();  // VISION: world -> map
   bool first_frame = true;
+  long frames_since_goal = 0;
+  bool trace = std::getenv("MOBILITY_TRIALS_TRACE") != nullptr;
 };
 
 namespace
@@ -212,8 +216,12 @@ ChainCue RosChain::frame(double t, const BodyState& s)
     for (int i = 0; i < 6; ++i) od.pose.covariance[size_t(i * 7)] = 1e-4;
     d.odom.publish(od);
   }
+  // The goal again every second: the planner drops it when it resets (a VO loss, a gap), as the
+  // experimenter would say it again.
+  if (++d.frames_since_goal >= 15) d.goal_pending = true;
   if ((d.goal_pending || d.first_frame) && d.goal_known)
   {
+    d.frames_since_goal = 0;
     if (d.first_frame && d.o.kind == TRUTH_GRID)
       std::this_thread::sleep_for(std::chrono::milliseconds(30));  // the planner's reset on the gap comes first
     geometry_msgs::PoseStamped g;
@@ -269,6 +277,10 @@ ChainCue RosChain::frame(double t, const BodyState& s)
       out.mode = int(q.mode);
       const auto from = d.o.kind == VISION && d.image_stamp == ns ? d.image_wall : sent;
       out.latency_ms = std::chrono::duration<double, std::milli>(d.cue_wall - from).count();
+      if (d.trace)
+        std::fprintf(stderr, "t %.2f xy %.2f %.2f yaw %.0f head %.0f | mode %d %.2f %.2f %.2f %.2f | %.0f ms | %s\n", t,
+                     s.xy.x(), s.xy.y(), s.yaw * 180 / M_PI, s.head_yaw * 180 / M_PI, out.mode, out.motors[0],
+                     out.motors[1], out.motors[2], out.motors[3], out.latency_ms, q.reason.c_str());
       return out;
     }
     if (!image_seen && d.o.kind == VISION && d.image_stamp == ns)
