@@ -79,34 +79,33 @@ double Planner::freeStrip(const Grid& grid, const Point2& from, double yaw, doub
   ends_unknown = false;
   if (!(half_width > 0.0))
     return freeDistance(grid, from, yaw, max_range, ends_unknown);
+  // The centre line first (the window's edge and what lies straight ahead), then every cell that is
+  // not free whose centre lies inside the strip AHEAD of the body's front arc: a cell beside the
+  // body or under it is contact, not something the next steps run into (on 0.2 m cells the strip
+  // would otherwise stop the wearer beside every piece of furniture it passes).
+  double best = freeDistance(grid, from, yaw, max_range, ends_unknown);
   int x0, y0;
   if (grid.empty() || !grid.worldToCell(from.x, from.y, x0, y0))
-    return 0.0;
-  const double step = 0.25 * grid.resolution, c = std::cos(yaw), s = std::sin(yaw);
-  const int n = std::max(1, int(std::ceil(half_width / (0.5 * grid.resolution))));  // samples per side
-  double d = 0.0;
-  while (d + step <= max_range)
-  {
-    const double nd = d + step;
-    for (int k = -n; k <= n; ++k)
+    return best;
+  const double c = std::cos(yaw), s = std::sin(yaw), res = grid.resolution;
+  const int reach = int(std::ceil((best + half_width) / res)) + 1;
+  for (int y = y0 - reach; y <= y0 + reach; ++y)
+    for (int x = x0 - reach; x <= x0 + reach; ++x)
     {
-      const double l = half_width * double(k) / double(n);
-      int x, y;
-      if (!grid.worldToCell(from.x + nd * c - l * s, from.y + nd * s + l * c, x, y))
-      {
-        if (k == 0)
-          return d;  // the window's edge straight ahead; beside the line it only narrows the view
+      if (!grid.inside(x, y) || (x == x0 && y == y0) || grid.at(x, y) == CELL_FREE)
         continue;
-      }
-      if (!(x == x0 && y == y0) && grid.at(x, y) != CELL_FREE)
+      const double dx = grid.cellX(x) - from.x, dy = grid.cellY(y) - from.y;
+      const double f = dx * c + dy * s, l = -dx * s + dy * c;
+      if (std::abs(l) > half_width || f <= std::sqrt(half_width * half_width - l * l))
+        continue;  // outside the strip, or beside / under the body
+      const double d = std::max(0.0, f - 0.5 * res);
+      if (d < best)
       {
+        best = d;
         ends_unknown = isUnknownCode(grid.at(x, y));
-        return d;
       }
     }
-    d = nd;
-  }
-  return d;
+  return best;
 }
 
 void Planner::syncCosts(const Grid& grid, PlanOutput& out)

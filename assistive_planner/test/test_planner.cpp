@@ -233,12 +233,15 @@ TEST(Planner, WalkedFloorIsTheFootprintAndTheTrailNeverAhead)
 
   // The planner at the start of a walk: only the footprint is known, the floor seen by the camera
   // begins 1.5 m ahead (x >= 2.6). Before: "stands in unmapped space". Now the wearer's cell is
-  // floor; the ray ahead (default body_half_width 0: a line) still ends at unseen floor 0.30 m ahead (cell
+  // floor; the ray ahead (body_half_width 0: the line) still ends at unseen floor 0.30 m ahead (cell
   // (7, 5) starts at x = 1.4): IN_UNKNOWN for that, never a free distance through it. The body's
-  // strip (0.25 m either side) meets the unseen diagonal cells (6, 4), (6, 6) after one 0.05 m step.
+  // strip (0.25 m either side) meets the unseen diagonal cells (6, 4), (6, 6): centres 0.2 m ahead
+  // and 0.2 m aside, in the strip and ahead of the front arc (0.15 m there), near edges 0.10 m ahead.
   Grid start = makeGrid(0.0, 0.0, 40);
   fillRect(start, 0.0, 0.0, 2.5, 8.0, CELL_UNKNOWN);
-  Planner pl;
+  PlannerParams line;
+  line.body_half_width = 0.0;
+  Planner pl(line);
   PlanOutput o = pl.update(start, { 1.1, 1.1 }, 0.0);
   EXPECT_EQ(o.status, PlanStatus::IN_UNKNOWN);
   EXPECT_NE(o.message.find("unmapped floor"), std::string::npos) << o.message;
@@ -248,8 +251,8 @@ TEST(Planner, WalkedFloorIsTheFootprintAndTheTrailNeverAhead)
   strip.body_half_width = 0.25;
   o = Planner(strip).update(start, { 1.1, 1.1 }, 0.0);
   EXPECT_EQ(o.status, PlanStatus::IN_UNKNOWN);
-  EXPECT_NEAR(o.free_ahead, 0.05, 1e-9);
-  PlannerParams off;
+  EXPECT_NEAR(o.free_ahead, 0.10, 1e-9);
+  PlannerParams off = line;
   off.footprint_radius_m = 0.0;
   EXPECT_NE(Planner(off).update(start, { 1.1, 1.1 }, 0.0).message.find("stands in unmapped space"), std::string::npos);
   // When the seen floor begins right at the footprint's edge, the planner guides from the first

@@ -69,9 +69,10 @@ public:
   static double freeDistance(const Grid& grid, const Point2& from, double yaw, double max_range, bool& ends_unknown);
 
   /// Free length of the strip of half-width `half_width` either side of the line from `from`
-  /// along `yaw` (the strip the body sweeps walking on): the first distance at which a sample across
-  /// it (every <= 0.5 cell) falls on a cell that is not free, up to max_range; the wearer's own cell
-  /// never counts. `ends_unknown` as above (the first such cell is unknown). half_width 0 = the ray.
+  /// along `yaw` (the strip the body sweeps walking on): the smaller of the line's free distance and,
+  /// over the cells that are not free whose centre lies inside the strip ahead of the body's front
+  /// arc (not beside or under the body), the distance to the cell's near edge. `ends_unknown`: that
+  /// nearest cell is unknown. half_width 0 = the line (freeDistance).
   static double freeStrip(const Grid& grid, const Point2& from, double yaw, double max_range, double half_width,
                           bool& ends_unknown);
 
