@@ -29,7 +29,7 @@ namespace assistive_planner
   /* Outputs */ \
   X(double, path_lookahead, "path_lookahead", 1.0, 0.05, 10.0, "m", "along the path for `path_heading`") \
   X(double, free_ray_max, "free_ray_max", 5.0, 0.1, 50.0, "m", "longest free-distance ray") \
-  X(double, body_half_width, "body_half_width", 0.25, 0.0, 1.0, "m", "`free_ahead` is the free length of the strip the body sweeps (this half-width either side of the motion vector): the line, and every cell that is not free whose centre lies in the strip ahead of the body's front arc (cells beside or under the body do not count); 0 = the line alone") \
+  X(double, body_half_width, "body_half_width", 0.0, 0.0, 1.0, "m", "> 0: `free_ahead` is the free length of the strip the body sweeps (this half-width either side of the motion vector): the line, and every cell that is not free whose centre lies in the strip ahead of the body's front arc; 0 (default) = the line alone: at 0.25 the fault suite saw false ALERTs on map noise at 0.84-1.04 m") \
   /* after a map reset (a fault, a gap) the floor just ahead lies below the camera's view until the */ \
   /* wearer has walked on: unseen floor must not read as an obstacle to the cue logic */ \
   X(double, unknown_ahead_m, "unknown_ahead_m", 1.0, 0.0, 5.0, "m", "when the ray ahead ends in unmapped floor (not at an obstacle) closer than this, the status is `IN_UNKNOWN` (vest quiet) instead of a proximity or stop cue decided on floor nobody has seen (0 switches it off)") \
