@@ -33,6 +33,12 @@ bool MotionVector::update(const Point2& position, double head_yaw)
     anchor_ = position;
     return true;
   }
+  // The walked chord is the direction of travel as soon as it is long enough to measure: after a
+  // turn (on the spot or while walking) the head-turn update above catches the head mid-turn and
+  // the body turns on (reaction, over-turning), so the heading would stay frozen at the head's yaw
+  // of that moment (mobility trials: "on course, 5 deg off" while walking 16 deg off into a wall).
+  if (p_.heading_chord_min > 0.0 && std::hypot(dx, dy) >= p_.heading_chord_min)
+    heading_ = std::atan2(dy, dx);
   return false;
 }
 }  // namespace assistive_planner

@@ -250,3 +250,62 @@ int main(int argc, char** argv)
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }
+
+TEST(Planner, WalkedFloorIsTheFootprintAndTheTrailNeverAhead)
+{
+  // 0.2 m cells, origin 0: the wearer at (1.1, 1.1) stands on the centre of cell (5, 5). Within
+  // 0.25 m lie the centres of (5, 5) and its 4 neighbours (0.2 m); the diagonals are 0.283 m away.
+  Grid g = makeGrid(0.0, 0.0, 20);
+  g.data.assign(g.data.size(), CELL_UNKNOWN);
+  g.data[size_t(g.index(4, 5))] = CELL_OBSTACLE;  // an obstacle under the footprint stays one
+  std::vector<Point2> walked{ { 1.1, 1.1 } };
+  Grid m = g;
+  EXPECT_EQ(markWalkedFloor(m, walked, 0.25), 4);
+  for (int y = 0; y < 20; ++y)
+    for (int x = 0; x < 20; ++x)
+    {
+      const bool foot = (x == 5 && y == 5) || (x == 6 && y == 5) || (x == 5 && y == 4) || (x == 5 && y == 6);
+      EXPECT_EQ(m.at(x, y), x == 4 && y == 5 ? CELL_OBSTACLE : foot ? CELL_FREE : CELL_UNKNOWN) << x << "," << y;
+    }
+  // a trail: walking 0.4 m on along +x adds the cells under the body there, and nothing else
+  walked.push_back({ 1.5, 1.1 });
+  m = g;
+  EXPECT_EQ(markWalkedFloor(m, walked, 0.25), 8);  // (5..8, 5), (5, 4), (5, 6), (7, 4), (7, 6)
+  EXPECT_EQ(m.at(8, 5), CELL_FREE);                  // centre 1.7: 0.2 m from where it stood
+  EXPECT_EQ(m.at(9, 5), CELL_UNKNOWN);               // centre 1.9: 0.4 m ahead, never stood on
+  EXPECT_EQ(markWalkedFloor(m, walked, 0.0), 0);
+
+  // The planner at the start of a walk: only the footprint is known, the floor seen by the camera
+  // begins 1.5 m ahead (x >= 2.6). Before: "stands in unmapped space". Now the wearer's cell is
+  // floor; the ray ahead (body_half_width 0: the line) still ends at unseen floor 0.30 m ahead (cell
+  // (7, 5) starts at x = 1.4): IN_UNKNOWN for that, never a free distance through it. The body's
+  // strip (0.25 m either side) meets the unseen diagonal cells (6, 4), (6, 6): centres 0.2 m ahead
+  // and 0.2 m aside, in the strip and ahead of the front arc (0.15 m there), near edges 0.10 m ahead.
+  Grid start = makeGrid(0.0, 0.0, 40);
+  fillRect(start, 0.0, 0.0, 2.5, 8.0, CELL_UNKNOWN);
+  PlannerParams line;
+  line.body_half_width = 0.0;
+  Planner pl(line);
+  PlanOutput o = pl.update(start, { 1.1, 1.1 }, 0.0);
+  EXPECT_EQ(o.status, PlanStatus::IN_UNKNOWN);
+  EXPECT_NE(o.message.find("unmapped floor"), std::string::npos) << o.message;
+  EXPECT_GE(o.free_ahead, 0.25 - 1e-9);  // the cell edge at 0.30 m, to the ray's 0.05 m step
+  EXPECT_LE(o.free_ahead, 0.30 + 1e-9);
+  PlannerParams strip;
+  strip.body_half_width = 0.25;
+  o = Planner(strip).update(start, { 1.1, 1.1 }, 0.0);
+  EXPECT_EQ(o.status, PlanStatus::IN_UNKNOWN);
+  EXPECT_NEAR(o.free_ahead, 0.10, 1e-9);
+  PlannerParams off = line;
+  off.footprint_radius_m = 0.0;
+  EXPECT_NE(Planner(off).update(start, { 1.1, 1.1 }, 0.0).message.find("stands in unmapped space"), std::string::npos);
+  // When the seen floor begins right at the footprint's edge, the planner guides from the first
+  // step: OK, free ahead to the window's edge (the ray's 5 m), a path.
+  Grid near = makeGrid(0.0, 0.0, 40);
+  fillRect(near, 0.0, 0.0, 1.2, 8.0, CELL_UNKNOWN);  // cells up to x = 1.2 unseen, (6, 5) at 1.3 seen
+  o = Planner().update(near, { 1.1, 1.1 }, 0.0);
+  EXPECT_EQ(o.status, PlanStatus::OK) << o.message;
+  EXPECT_NEAR(o.free_ahead, 5.0, 0.05 + 1e-9);
+  EXPECT_FALSE(o.path.empty());
+  EXPECT_EQ(Planner(off).update(near, { 1.1, 1.1 }, 0.0).status, PlanStatus::IN_UNKNOWN);
+}

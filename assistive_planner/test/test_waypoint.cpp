@@ -49,7 +49,10 @@ TEST(MotionVector, SmallHeadTurnKeepsHeadingLargeTurnMovesIt)
 
 TEST(MotionVector, PositionMovesOnlyAfterOneMetre)
 {
-  MotionVector mv;
+  // the seed's rule alone (heading_chord_min 0): the heading waits for 1 m of travel
+  PlannerParams p;
+  p.heading_chord_min = 0.0;
+  MotionVector mv(p);
   mv.update({ 0, 0 }, 0.0);
   mv.update({ 0.7, 0.7 }, 0.0);  // 0.99 m: anchor stays
   EXPECT_NEAR(mv.anchor().x, 0.0, 1e-12);
@@ -57,6 +60,32 @@ TEST(MotionVector, PositionMovesOnlyAfterOneMetre)
   mv.update({ 0.0, 1.1 }, 0.0);  // 1.1 m to the left: heading follows the travel
   EXPECT_NEAR(mv.anchor().y, 1.1, 1e-12);
   EXPECT_NEAR(mv.heading(), M_PI_2, 1e-9);
+}
+
+TEST(MotionVector, TheWalkedChordIsTheHeadingFrom30cm)
+{
+  // default heading_chord_min 0.3 m: the anchor still moves only after 1 m, but the heading is the
+  // walked chord as soon as it is 0.3 m long, whatever the head's yaw at the last update was
+  MotionVector mv;
+  mv.update({ 0, 0 }, 0.0);
+  EXPECT_FALSE(mv.update({ 0.2, 0.0 }, 0.0));
+  EXPECT_NEAR(mv.heading(), 0.0, 1e-12);
+  EXPECT_TRUE(mv.update({ 0.2, 0.0 }, 20.0 * DEG));  // a turn caught mid-way: heading = head yaw, anchor here
+  EXPECT_NEAR(mv.heading(), 20.0 * DEG, 1e-12);
+  EXPECT_NEAR(mv.anchor().x, 0.2, 1e-12);
+  // the body turned on to -10 deg (head within 15 deg of the last update: no head-turn update)
+  const double w = -10.0 * DEG;
+  EXPECT_FALSE(mv.update({ 0.2 + 0.29 * std::cos(w), 0.29 * std::sin(w) }, 8.0 * DEG));
+  EXPECT_NEAR(mv.heading(), 20.0 * DEG, 1e-12);  // 0.29 m: not yet
+  EXPECT_FALSE(mv.update({ 0.2 + 0.31 * std::cos(w), 0.31 * std::sin(w) }, 8.0 * DEG));
+  EXPECT_NEAR(mv.heading(), w, 1e-9);  // 0.31 m: the direction actually walked
+  EXPECT_NEAR(mv.anchor().x, 0.2, 1e-12);
+  // an 0.7 m diagonal (0.99 m) walk: the chord, anchor unmoved
+  MotionVector d;
+  d.update({ 0, 0 }, 0.0);
+  d.update({ 0.7, 0.7 }, 0.0);
+  EXPECT_NEAR(d.heading(), M_PI_4, 1e-9);
+  EXPECT_NEAR(d.anchor().x, 0.0, 1e-12);
 }
 
 TEST(MotionVector, ATurnOnTheSpotStartsTheNextChordThere)

@@ -14,6 +14,7 @@ namespace assistive_planner
   /* Motion vector (seed 4.3.1) */ \
   X(double, motion_update_distance, "motion_update_distance", 1.0, 0.05, 10.0, "m", "the previous position moves only after this travel") \
   X(double, heading_update_angle, "heading_update_angle", 15.0, 0.0, 180.0, "deg", "the heading follows the head only beyond this yaw change") \
+  X(double, heading_chord_min, "heading_chord_min", 0.3, 0.0, 10.0, "m", "once the wearer has walked this far from the anchor the heading is the walked chord (updated every cycle), not the head yaw of the last head-turn update; 0 = only after `motion_update_distance`") \
   /* Waypoint search triangle */ \
   X(double, triangle_length, "triangle_length", 4.0, 0.2, 20.0, "m", "search triangle: apex (wearer) to base") \
   X(double, triangle_half_angle, "triangle_half_angle", 30.0, 1.0, 89.0, "deg", "half the apex angle") \
@@ -28,9 +29,12 @@ namespace assistive_planner
   /* Outputs */ \
   X(double, path_lookahead, "path_lookahead", 1.0, 0.05, 10.0, "m", "along the path for `path_heading`") \
   X(double, free_ray_max, "free_ray_max", 5.0, 0.1, 50.0, "m", "longest free-distance ray") \
+  X(double, body_half_width, "body_half_width", 0.0, 0.0, 1.0, "m", "> 0: `free_ahead` is the free length of the strip the body sweeps (this half-width either side of the motion vector): the line, and every cell that is not free whose centre lies in the strip ahead of the body's front arc; 0 (default) = the line alone: at 0.25 the fault suite saw false ALERTs on map noise at 0.84-1.04 m") \
   /* after a map reset (a fault, a gap) the floor just ahead lies below the camera's view until the */ \
   /* wearer has walked on: unseen floor must not read as an obstacle to the cue logic */ \
   X(double, unknown_ahead_m, "unknown_ahead_m", 1.0, 0.0, 5.0, "m", "when the ray ahead ends in unmapped floor (not at an obstacle) closer than this, the status is `IN_UNKNOWN` (vest quiet) instead of a proximity or stop cue decided on floor nobody has seen (0 switches it off)") \
+  /* the wearer stands on the floor under its feet: unseen at the start (below the camera's view) */ \
+  X(double, footprint_radius_m, "footprint_radius_m", 0.25, 0.0, 2.0, "m", "unknown cells whose centre lies within this of a place the wearer has stood since the last reset (the body's footprint, radius 0.25 m) count as free floor; cells ahead that nobody has seen or walked stay unknown (0 switches it off)") \
   /* Trust in the inputs (InputMonitor) */ \
   X(double, max_input_age_s, "max_input_age_s", 0.5, 0.05, 10.0, "s", "grid or pose lagging the newest camera frame by more -> `NO_MAP` / `NO_POSE`") \
   X(double, max_frame_gap_s, "max_frame_gap_s", 0.5, 0.05, 60.0, "s", "a longer pause between poses, or time going back, resets the planner")

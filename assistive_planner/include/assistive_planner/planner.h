@@ -39,6 +39,10 @@ struct PlanOutput
   bool scrolled = false;
 };
 
+/// The floor the wearer has stood on: unknown cells whose centre lies within `radius` of a point
+/// of `walked` become free (obstacles and steps stay). Returns the number of cells changed.
+int markWalkedFloor(Grid& grid, const std::vector<Point2>& walked, double radius);
+
 /// The planning stage without ROS: grid + wearer pose in, waypoint, D* Lite path and free distances out.
 class Planner
 {
@@ -54,6 +58,8 @@ public:
   const DStarLite& dstar() const { return dstar_; }
   const MotionVector& motion() const { return motion_; }
   const WaypointSelector& waypoints() const { return waypoints_; }
+  /// The places the wearer has stood since construction (the planner is rebuilt on a reset).
+  const std::vector<Point2>& walked() const { return walked_; }
 
   /// Free distance from `from` along `yaw` until a cell that is not free (obstacle, step, unknown) or the
   /// grid edge, up to max_range (m).
@@ -61,6 +67,14 @@ public:
   /// The same; `ends_unknown` tells whether the ray stopped at an unknown cell (not at an obstacle,
   /// a step or the window edge).
   static double freeDistance(const Grid& grid, const Point2& from, double yaw, double max_range, bool& ends_unknown);
+
+  /// Free length of the strip of half-width `half_width` either side of the line from `from`
+  /// along `yaw` (the strip the body sweeps walking on): the smaller of the line's free distance and,
+  /// over the cells that are not free whose centre lies inside the strip ahead of the body's front
+  /// arc (not beside or under the body), the distance to the cell's near edge. `ends_unknown`: that
+  /// nearest cell is unknown. half_width 0 = the line (freeDistance).
+  static double freeStrip(const Grid& grid, const Point2& from, double yaw, double max_range, double half_width,
+                          bool& ends_unknown);
 
 private:
   void syncCosts(const Grid& grid, PlanOutput& out);
@@ -74,5 +88,7 @@ private:
   bool ever_planned_ = false;
   bool has_goal_ = false;
   Point2 goal_;
+  std::vector<Point2> walked_;  // the wearer's positions, >= 0.05 m apart
+  Grid work_;                   // the input grid with the walked floor marked
 };
 }  // namespace assistive_planner

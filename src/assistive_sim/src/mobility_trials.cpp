@@ -2,8 +2,16 @@
 //   rosrun assistive_sim mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S]
 //       [--plot FILE.png] [--no-cues] [--reaction S] [--turn-rate DEG_S] [--overturn S]
 // Prints one row per trial, a summary table, and as the last line the JSON keys of SPEC.md.
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
 
 #include <cmath>
 #include <cstdio>
@@ -14,6 +22,9 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <ros/ros.h>
+
+#include <assistive_sim/ros_chain.h>
 #include <assistive_sim/trials.h>
 
 using namespace assistive_sim;
@@ -24,9 +35,13 @@ void usage(std::ostream& os = std::cerr)
 {
   os << "usage: mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S] [--plot FILE.png]\n"
         "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--overturn S] [--turn-on DEG] [--turn-off DEG]\n"
+        "                       [--body-half-width M] [--chord-min M] (planner: free_ahead strip, heading chord; truth)\n"
+        "                       [--timeout-factor X] (a trial ends unfinished after X x the guide's time + 20 s; 4)\n"
         "  W: a shipped world's name (course corridor parking glass plaza) or a world YAML.\n"
         "  truth: the world's occupancy -> planner core -> cue logic core -> simulated vest wearer (no ROS);\n"
         "  cane: the cane-only walker. --no-cues removes the cue stage (the vest stays silent).\n"
+        "  vision: the renderer and the whole pipeline.launch in one nodelet manager (a private roscore and\n"
+        "          roslaunch assistive_sim mobility_vision.launch per trial), lock-stepped on simulated time.\n"
         "  Heat map: --plot (default mobility_<world>_<mode>.png in the current folder).\n";
 }
 
@@ -38,6 +53,68 @@ std::string worldsDir()
     if (stat(d, &st) == 0) return d;
   }
   return ".";
+}
+
+int freePort()
+{
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  a.sin_port = 0;
+  socklen_t len = sizeof(a);
+  int port = 11411;
+  if (fd >= 0 && bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)) == 0 &&
+      getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len) == 0)
+    port = ntohs(a.sin_port);
+  if (fd >= 0) close(fd);
+  return port;
+}
+
+/// A child process in its own process group, output to `log`.
+pid_t spawn(const std::vector<std::string>& args, const std::string& log)
+{
+  const pid_t pid = fork();
+  if (pid == 0)
+  {
+    setpgid(0, 0);
+    FILE* f = std::fopen(log.c_str(), "w");
+    if (f)
+    {
+      dup2(fileno(f), 1);
+      dup2(fileno(f), 2);
+    }
+    std::vector<char*> av;
+    for (const std::string& a : args) av.push_back(const_cast<char*>(a.c_str()));
+    av.push_back(nullptr);
+    execvp(av[0], av.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+void stopChild(pid_t pid, double timeout_s = 20.0)
+{
+  if (pid <= 0) return;
+  kill(-pid, SIGINT);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  int st;
+  while (std::chrono::steady_clock::now() < until)
+  {
+    if (waitpid(pid, &st, WNOHANG) == pid) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  kill(-pid, SIGKILL);
+  waitpid(pid, &st, 0);
+}
+
+bool topicPublished(const std::string& name)
+{
+  ros::master::V_TopicInfo topics;
+  if (!ros::master::getTopics(topics)) return false;
+  for (const auto& t : topics)
+    if (t.name == name) return true;
+  return false;
 }
 
 std::string num(double v, int prec = 3)
@@ -80,6 +157,9 @@ int main(int argc, char** argv)
       else if (a == "--overturn") opt.wearer.overturn_s = std::stod(val());
       else if (a == "--turn-on") opt.cues.turn_on_deg = std::stod(val());
       else if (a == "--turn-off") opt.cues.turn_off_deg = std::stod(val());
+      else if (a == "--body-half-width") opt.planner.body_half_width = std::stod(val());
+      else if (a == "--chord-min") opt.planner.heading_chord_min = std::stod(val());
+      else if (a == "--timeout-factor") opt.timeout_factor = std::stod(val());
       else if (a == "-h" || a == "--help")
       {
         usage(std::cout);
@@ -105,11 +185,7 @@ int main(int argc, char** argv)
   }
   if (mode == "truth") opt.mode = TrialMode::TRUTH;
   else if (mode == "cane") opt.mode = TrialMode::CANE;
-  else if (mode == "vision")
-  {
-    std::cerr << "mobility_trials: --mode vision is not built yet (truth and cane are); see README\n";
-    return 2;
-  }
+  else if (mode == "vision") opt.mode = TrialMode::VISION;
   else
   {
     std::cerr << "mobility_trials: --mode must be truth, cane or vision\n";
@@ -133,10 +209,67 @@ int main(int argc, char** argv)
   const bool tty = isatty(2);
   std::printf("%-5s %-7s %-9s %-8s %-8s %-6s %-5s %-8s %-6s %-7s %-9s\n", "trial", "seed", "completed", "time_s",
               "guide_s", "ppws", "coll", "wall/ovh", "glass", "furn", "clear_m");
+  // vision: a private roscore for the run, a fresh pipeline (roslaunch) for each trial
+  pid_t core = -1;
+  std::string vision_log_dir;
+  if (opt.mode == TrialMode::VISION)
+  {
+    const int port = freePort();
+    const std::string uri = "http://localhost:" + std::to_string(port);
+    setenv("ROS_MASTER_URI", uri.c_str(), 1);
+    char tmpl[] = "/tmp/mobility_vision_XXXXXX";
+    vision_log_dir = mkdtemp(tmpl) ? tmpl : "/tmp";
+    core = spawn({ "roscore", "-p", std::to_string(port) }, vision_log_dir + "/roscore.log");
+    int rargc = 1;
+    char name[] = "mobility_trials";
+    char* rargv[] = { name, nullptr };
+    ros::init(rargc, rargv, "mobility_trials", ros::init_options::NoSigintHandler);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (!ros::master::check() && std::chrono::steady_clock::now() < until)
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    if (!ros::master::check())
+    {
+      std::cerr << "mobility_trials: the private roscore did not come up (" << vision_log_dir << "/roscore.log)\n";
+      stopChild(core);
+      return 1;
+    }
+    ros::start();
+    std::cerr << "mobility_trials: vision mode, master " << uri << ", logs in " << vision_log_dir << "\n";
+  }
   for (int k = 0; k < trials; ++k)
   {
     const uint32_t s = uint32_t(seed * 1000 + k);
-    res.push_back(runTrial(world, opt, s, k));
+    if (opt.mode == TrialMode::VISION)
+    {
+      const std::string log = vision_log_dir + "/trial" + std::to_string(k) + ".log";
+      const pid_t launch = spawn({ "roslaunch", "assistive_sim", "mobility_vision.launch", "world:=" + world_arg }, log);
+      ros::NodeHandle nh;
+      RosChain::Options ro;
+      ro.kind = RosChain::VISION;
+      ro.eye_height = world.trajectory.eye_height;
+      RosChain chain(nh, world, ro);
+      // the pipeline is up when the cue logic publishes and the renderer listens for poses
+      const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+      while (std::chrono::steady_clock::now() < until &&
+             !(topicPublished("/tactile/cue") && topicPublished("/planner/state") && topicPublished("/stereo/left/image_rect")))
+        std::this_thread::sleep_for(std::chrono::milliseconds(250));
+      std::this_thread::sleep_for(std::chrono::seconds(3));  // subscriptions connect, nodelets finish loading
+      ros::spinOnce();
+      try
+      {
+        res.push_back(runTrial(world, opt, s, k, &chain));
+      }
+      catch (const std::exception& e)
+      {
+        std::cerr << "mobility_trials: trial " << k << ": " << e.what() << "\n";
+        stopChild(launch);
+        stopChild(core);
+        return 1;
+      }
+      stopChild(launch);
+    }
+    else
+      res.push_back(runTrial(world, opt, s, k));
     const TrialResult& r = res.back();
     std::printf("%-5d %-7u %-9s %-8.1f %-8.1f %-6.0f %-5d %d/%-6d %-6d %-7d %-9.2f\n", k, s, r.completed ? "yes" : "NO",
                 r.time_s, r.guide_time_s, r.ppws_pct, r.totalCollisions(), r.collisions[0], r.collisions[1],
@@ -167,6 +300,24 @@ int main(int argc, char** argv)
     for (size_t i = 0; i < modes.size(); ++i) modes[i] += r.cue_modes[i];
   }
   const double cycles = std::accumulate(modes.begin(), modes.end(), 0.0);
+  std::vector<double> lat;
+  long missed = 0;
+  for (const TrialResult& r : res)
+  {
+    lat.insert(lat.end(), r.latency_ms.begin(), r.latency_ms.end());
+    missed += r.missed_cues;
+  }
+  std::sort(lat.begin(), lat.end());
+  auto pct = [&](double q) {
+    if (lat.empty()) return double(NAN);
+    return lat[std::min(lat.size() - 1, size_t(std::floor(q * double(lat.size() - 1) + 0.5)))];
+  };
+  const double lat_med = pct(0.5), lat_p99 = pct(0.99);
+  if (core > 0)
+  {
+    ros::shutdown();
+    stopChild(core);
+  }
   const double ppws_mean = nppws ? ppws / nppws : NAN, t_mean = nppws ? tmean / nppws : NAN;
   if (plot.empty()) plot = "mobility_" + world.name + "_" + mode + (opt.cues_enabled ? "" : "_nocues") + ".png";
   const cv::Mat img = heatMap(world, res, opt.dt,
@@ -185,16 +336,21 @@ int main(int argc, char** argv)
     std::printf("  cues                 idle %.0f %%, guidance %.0f %%, proximity %.0f %%, alert %.0f %%, unsure %.0f %%\n",
                 100 * modes[0] / cycles, 100 * modes[1] / cycles, 100 * modes[2] / cycles, 100 * modes[3] / cycles,
                 100 * modes[4] / cycles);
-  std::printf("  latency              n/a in %s mode (no camera pipeline)\n", mode.c_str());
+  if (lat.empty())
+    std::printf("  latency              n/a in %s mode (no camera pipeline)\n", mode.c_str());
+  else
+    std::printf("  latency              image -> /tactile/cue (wall clock; the vest bridge is not in pipeline.launch): "
+                "median %.1f ms, p99 %.1f ms over %zu frames; %ld frames without their cue\n",
+                lat_med, lat_p99, lat.size(), missed);
   std::printf("  heat map             %s%s\n", plot.c_str(), wrote ? "" : " (could not write)");
   std::printf("{\"world\": \"%s\", \"mode\": \"%s\", \"cues\": %s, \"trials\": %d, \"collisions_per_trial\": %s, "
               "\"collisions_worst\": %.0f, \"completion_rate\": %s, \"time_s_mean\": %s, \"ppws_pct\": %s, "
-              "\"mean_clearance_m\": %s, \"latency_ms_median\": null, \"latency_ms_p99\": null, "
+              "\"mean_clearance_m\": %s, \"latency_ms_median\": %s, \"latency_ms_p99\": %s, "
               "\"wall_collisions_per_trial\": %s, \"overhang_collisions_per_trial\": %s, "
-              "\"glass_collisions_per_trial\": %s, \"furniture_collisions_per_trial\": %s, \"unsure_cue_pct\": %s}\n",
+              "\"glass_collisions_per_trial\": %s, \"furniture_collisions_per_trial\": %s, \"unsure_cue_pct\": %s, \"frames_without_cue\": %ld}\n",
               world.name.c_str(), mode.c_str(), opt.cues_enabled ? "true" : "false", trials, num(coll / n).c_str(), worst,
               num(comp / n).c_str(), num(t_mean, 2).c_str(), num(ppws_mean, 1).c_str(), num(clear / n).c_str(),
-              num(kinds[0] / n).c_str(), num(kinds[1] / n).c_str(), num(kinds[2] / n).c_str(), num(kinds[3] / n).c_str(),
-              cycles > 0 ? num(100 * modes[4] / cycles, 1).c_str() : "null");
+              num(lat_med, 1).c_str(), num(lat_p99, 1).c_str(), num(kinds[0] / n).c_str(), num(kinds[1] / n).c_str(), num(kinds[2] / n).c_str(), num(kinds[3] / n).c_str(),
+              cycles > 0 ? num(100 * modes[4] / cycles, 1).c_str() : "null", missed);
   return 0;
 }

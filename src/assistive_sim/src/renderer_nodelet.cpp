@@ -69,6 +69,7 @@ private:
     pnh.param("exposure_time", p.exposure_time, p.exposure_time);
     pnh.param("seed", p.seed, p.seed);
     pnh.param("loop", p.loop, p.loop);
+    pnh.param("render_on_pose", p.render_on_pose, p.render_on_pose);
     const RendererNodeParams def;
     auto clamp = [&](auto& v, auto lo, auto hi, const char* name, auto d) {
       if (v < lo || v > hi)
@@ -164,7 +165,9 @@ private:
         diagnostic_updater::FrequencyStatusParam(&min_freq_, &max_freq_, 0.2, 10)));
     updater_->add(*freq_);
     updater_->add("pose input", this, &RendererNodelet::poseDiag);
-    timer_ = nh.createTimer(ros::Duration(1.0 / p.rate), &RendererNodelet::tick, this);
+    // render_on_pose: every pose is rendered at once, stamped with its stamp (lock-step trials)
+    if (!(p.pose_source == "topic" && p.render_on_pose))
+      timer_ = nh.createTimer(ros::Duration(1.0 / p.rate), &RendererNodelet::tick, this);
   }
 
   double scriptTime(const ros::Time& now) const
@@ -227,10 +230,14 @@ private:
       NODELET_WARN_THROTTLE(5.0, "renderer: non-finite pose ignored");
       return;
     }
-    std::lock_guard<std::mutex> lock(mutex_);
-    pose_ = T;
-    have_pose_ = true;
-    last_pose_time_ = ros::Time::now();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      pose_ = T;
+      have_pose_ = true;
+      last_pose_time_ = ros::Time::now();
+    }
+    if (p_.render_on_pose)
+      renderAndPublish(T, msg->header.stamp.isZero() ? ros::Time::now() : msg->header.stamp, Eigen::Vector3d::Zero());
   }
 
   void tick(const ros::TimerEvent&)
@@ -288,6 +295,11 @@ private:
       }
       T = pose_;
     }
+    renderAndPublish(T, now, omega_opt);
+  }
+
+  void renderAndPublish(const Eigen::Isometry3d& T, const ros::Time& now, const Eigen::Vector3d& omega_opt)
+  {
     renderer_->render(T, (now - start_).toSec(), frame_++, out_, omega_opt);
     {
       std::lock_guard<std::mutex> lock(mutex_);

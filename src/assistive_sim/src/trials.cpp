@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <random>
+#include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
 
@@ -39,6 +41,13 @@ BodyState randomStart(const World& world, const TrialOptions& opt, const BodyCol
   const double yaw0 = std::atan2(b.y() - a.y(), b.x() - a.x());
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   BodyState s;
+  if (std::isfinite(opt.fixed_start_yaw_deg))
+  {
+    s.xy = a;
+    s.yaw = yaw0 + opt.fixed_start_yaw_deg * DEG;
+    s.head_yaw = s.yaw;
+    return s;
+  }
   for (int tries = 0; tries < 200; ++tries)
   {
     const double r = opt.start_jitter_m * std::sqrt(std::abs(u(rng))), th = M_PI * u(rng);
@@ -66,7 +75,63 @@ std::vector<Eigen::Vector2d> courseOf(const World& world)
   return c;
 }
 
-TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed, int index)
+namespace
+{
+/// Truth mode's chain: the world's occupancy (what a perfect obstacle stage would report) to the
+/// planner and cue logic cores, no ROS, no latency.
+class TruthChain : public CueChain
+{
+public:
+  TruthChain(const World& world, const TrialOptions& opt) : opt_(opt), planner_(opt.planner), cues_(opt.cues)
+  {
+    OccupancyParams op;
+    op.head_above_eye = 0.12;
+    grid_ = toPlannerGrid(computeOccupancy(world, op));
+    trace_ = std::getenv("MOBILITY_TRIALS_TRACE") != nullptr;  // per-cycle state on stderr
+  }
+  void setGoal(const Eigen::Vector2d& g) override { planner_.setGoal({ g.x(), g.y() }); }
+  ChainCue frame(double t, const BodyState& s) override
+  {
+    const assistive_planner::PlanOutput out = planner_.update(grid_, { s.xy.x(), s.xy.y() }, s.head_yaw);
+    assistive_tactile::NavInput in;
+    in.status = out.status;
+    in.message = out.message;
+    in.heading = out.heading;
+    in.path_heading = out.path_heading;
+    in.waypoint_distance = out.waypoint_distance;
+    in.free_ahead = out.free_ahead;
+    in.free_left = out.free_left;
+    in.free_right = out.free_right;
+    in.source_time = t;  // truth: the occupancy is current
+    const assistive_tactile::Cue cue = cues_.update(in, t);
+    if (trace_)
+      std::fprintf(stderr, "t %.2f xy %.2f %.2f yaw %.0f head %.0f | st %d wp %.2f %.2f d %.2f ph %.0f h %.0f fa %.2f fl %.2f fr %.2f | %s %s\n",
+                   t, s.xy.x(), s.xy.y(), s.yaw / DEG, s.head_yaw / DEG, int(out.status), out.waypoint.x,
+                   out.waypoint.y, out.waypoint_distance, out.path_heading / DEG, out.heading / DEG, out.free_ahead,
+                   out.free_left, out.free_right, assistive_tactile::modeName(cue.mode), cue.reason.c_str());
+    ChainCue c;
+    c.motors = cue.intensity;
+    c.mode = int(cue.mode);
+    return c;
+  }
+
+private:
+  TrialOptions opt_;
+  assistive_planner::Grid grid_;
+  assistive_planner::Planner planner_;
+  assistive_tactile::CueLogic cues_;
+  bool trace_ = false;
+};
+}  // namespace
+
+BodyState trialStart(const World& world, const TrialOptions& opt, uint32_t seed)
+{
+  std::mt19937 rng(seed);
+  BodyCollider body(world, opt.wearer.body_radius, opt.wearer.eye_height + 0.12);
+  return randomStart(world, opt, body, rng);
+}
+
+TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed, int index, CueChain* chain)
 {
   TrialResult r;
   r.index = index;
@@ -85,71 +150,69 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
     r.guide_time_s = std::max(0.5 * r.guide_time_s, r.guide_time_s - opt.goal_radius_m / opt.wearer.walk_speed);
   const double timeout = opt.timeout_factor * std::max(r.guide_time_s, 5.0) + 20.0;
 
-  // Truth mode's chain: the world's occupancy (what a perfect obstacle stage would report).
-  OccupancyParams op;
-  op.head_above_eye = 0.12;
-  const assistive_planner::Grid grid = toPlannerGrid(computeOccupancy(world, op));
-  assistive_planner::Planner planner(opt.planner);
-  assistive_tactile::CueLogic cues(opt.cues);
+  const bool vest = opt.mode != TrialMode::CANE;
+  std::unique_ptr<TruthChain> truth;
+  if (vest && !chain)
+  {
+    if (opt.mode == TrialMode::VISION) throw std::invalid_argument("runTrial: vision mode needs a ROS chain");
+    truth = std::make_unique<TruthChain>(world, opt);
+    chain = truth.get();
+  }
   VestWearer wearer(opt.wearer, r.start, seed ^ 0x9e3779b9u);
   CaneWalker cane(opt.wearer, opt.cane, r.start, seed ^ 0x7f4a7c15u);
 
   size_t next = 0;
-  if (opt.mode == TrialMode::TRUTH) planner.setGoal({ route[0].x(), route[0].y() });
+  if (vest)
+  {
+    chain->reset(r.start);
+    chain->setGoal(route[0]);
+  }
   std::array<float, 4> motors{ { 0.f, 0.f, 0.f, 0.f } };
   const double period = 1.0 / opt.rate_hz;
   double next_plan = 0.0, clear_sum = 0.0;
   r.min_clearance_m = 1e9;
   long steps = 0;
-  const bool trace = std::getenv("MOBILITY_TRIALS_TRACE") != nullptr;  // per-cycle state on stderr
+  const bool trace = std::getenv("MOBILITY_TRIALS_TRACE") != nullptr;
   int reported = 0;
   double t = 0.0;
   for (; t < timeout; t += opt.dt)
   {
-    const BodyState& s = opt.mode == TrialMode::TRUTH ? wearer.state() : cane.state();
+    const BodyState& s = vest ? wearer.state() : cane.state();
     // progress along the course: the experimenter's route (the system's explicit goal)
     while (next < route.size() && (s.xy - route[next]).norm() < opt.goal_radius_m)
     {
       ++next;
-      if (next < route.size() && opt.mode == TrialMode::TRUTH) planner.setGoal({ route[next].x(), route[next].y() });
+      if (next < route.size() && vest) chain->setGoal(route[next]);
     }
     if (next >= route.size())
     {
       r.completed = true;
       break;
     }
-    if (opt.mode == TrialMode::TRUTH)
+    if (vest)
     {
       if (t + 1e-9 >= next_plan)
       {
         next_plan += period;
-        const assistive_planner::PlanOutput out = planner.update(grid, { s.xy.x(), s.xy.y() }, s.head_yaw);
-        assistive_tactile::NavInput in;
-        in.status = out.status;
-        in.message = out.message;
-        in.heading = out.heading;
-        in.path_heading = out.path_heading;
-        in.waypoint_distance = out.waypoint_distance;
-        in.free_ahead = out.free_ahead;
-        in.free_left = out.free_left;
-        in.free_right = out.free_right;
-        in.source_time = t;  // truth: the occupancy is current
-        const assistive_tactile::Cue cue = cues.update(in, t);
-        ++r.cue_modes[std::min<size_t>(4, size_t(cue.mode))];
-        if (trace)
-          std::fprintf(stderr, "t %.2f xy %.2f %.2f yaw %.0f head %.0f | st %d wp %.2f %.2f d %.2f ph %.0f h %.0f fa %.2f fl %.2f fr %.2f | %s %s\n",
-                       t, s.xy.x(), s.xy.y(), s.yaw / DEG, s.head_yaw / DEG, int(out.status), out.waypoint.x,
-                       out.waypoint.y, out.waypoint_distance, out.path_heading / DEG, out.heading / DEG, out.free_ahead,
-                       out.free_left, out.free_right, assistive_tactile::modeName(cue.mode), cue.reason.c_str());
-        motors = opt.cues_enabled ? cue.intensity : std::array<float, 4>{ { 0.f, 0.f, 0.f, 0.f } };
+        const ChainCue cue = chain->frame(t, s);
+        if (cue.received)
+        {
+          ++r.cue_modes[size_t(std::min(4, std::max(0, cue.mode)))];
+          if (opt.cues_enabled) motors = cue.motors;
+        }
+        else
+          ++r.missed_cues;
+        if (cue.latency_ms >= 0.0) r.latency_ms.push_back(cue.latency_ms);
+        if (!opt.cues_enabled) motors = { { 0.f, 0.f, 0.f, 0.f } };
       }
       wearer.step(t, opt.dt, motors, &body);
+      chain->observe(t + opt.dt, wearer.state());
     }
     else
     {
       cane.step(t, opt.dt, route[next], body);
     }
-    const BodyState& now = opt.mode == TrialMode::TRUTH ? wearer.state() : cane.state();
+    const BodyState& now = vest ? wearer.state() : cane.state();
     if (trace && int(body.collisionPlaces().size()) > reported)
     {
       reported = int(body.collisionPlaces().size());

@@ -29,6 +29,9 @@ struct RendererNodeParams
   double exposure_time = 0.0;  ///< s (motion blur when > 0)
   int seed = 1;
   bool loop = true;          ///< script mode: restart the walk at its end
+  /// topic mode: render each pose as it arrives, stamped with the pose's stamp (no timer; the
+  /// mobility trials' lock-step), instead of the latest pose at `rate`
+  bool render_on_pose = false;
 };
 
 }  // namespace assistive_sim

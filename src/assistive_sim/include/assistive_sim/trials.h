@@ -6,6 +6,7 @@
 // `truth` mode feeds the world's occupancy to the real planner and cue logic cores (no ROS).
 // ROS-free.
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,39 @@ namespace assistive_sim
 enum class TrialMode
 {
   TRUTH,  ///< ground-truth occupancy -> planner core -> cue logic core -> vest wearer
-  CANE    ///< cane-only walker
+  CANE,   ///< cane-only walker
+  VISION  ///< renderer -> the whole pipeline (ROS, one nodelet manager) -> vest wearer (a CueChain)
+};
+
+/// What the chain told the vest for one camera frame.
+struct ChainCue
+{
+  std::array<float, 4> motors{ { 0.f, 0.f, 0.f, 0.f } };
+  int mode = 4;             ///< assistive_common::CueMode (4 = UNSURE)
+  bool received = true;     ///< false: no cue came for this frame (the vest keeps what it had)
+  double latency_ms = -1.0; ///< camera image stamp -> cue (or serial write), wall ms; < 0 = not measured
+};
+
+/// The perception -> planner -> cue chain a trial drives one camera frame at a time. Truth mode
+/// uses the planner and cue logic cores in process; the ROS chains (`mobility_chain` rostest,
+/// `--mode vision`) run the nodelets and are lock-stepped: `frame` returns once the cue for that
+/// frame came back.
+class CueChain
+{
+public:
+  virtual ~CueChain() = default;
+  /// A new trial starts with the wearer at `start` (the chain forgets the last trial).
+  virtual void reset(const BodyState& start) { (void)start; }
+  /// The experimenter's next place (the system's explicit goal), world frame.
+  virtual void setGoal(const Eigen::Vector2d& goal) = 0;
+  /// The camera frame at trial time `t` (s) with the wearer in state `s`.
+  virtual ChainCue frame(double t, const BodyState& s) = 0;
+  /// The wearer's state after every body step (t = the step's end): the vision chain's IMU.
+  virtual void observe(double t, const BodyState& s)
+  {
+    (void)t;
+    (void)s;
+  }
 };
 
 struct TrialOptions
@@ -34,6 +67,9 @@ struct TrialOptions
   double dt = 1.0 / 60.0;       ///< s, body simulation step
   double start_jitter_m = 0.3;  ///< start position: uniform in this radius around the course's start
   double start_yaw_deg = 20.0;  ///< start heading: +- this around the way to the first place
+  /// finite: no random start; the course's start exactly, this many deg (+ = left) off the way to
+  /// the first place (the rostest's fixed start)
+  double fixed_start_yaw_deg = std::numeric_limits<double>::quiet_NaN();
   double goal_radius_m = 1.0;   ///< a place of the route counts as reached this close
   double timeout_factor = 4.0;  ///< a trial ends unfinished after this x the sighted guide's time (+ 20 s)
   bool cues_enabled = true;     ///< false: the cue stage is removed from the chain (vest silent)
@@ -53,6 +89,8 @@ struct TrialResult
   double mean_clearance_m = 0.0;  ///< body surface to the nearest obstacle, mean over the walk
   double min_clearance_m = 0.0;
   std::array<int, 5> cue_modes{};  ///< planner/cue cycles per CueMode (IDLE .. UNSURE)
+  std::vector<double> latency_ms;  ///< per frame, when the chain measures it
+  int missed_cues = 0;             ///< frames whose cue never came (ROS chains)
   std::vector<Eigen::Vector2d> path;      ///< body positions, one per body step
   std::vector<Eigen::Vector2d> collision_places;
 };
@@ -60,8 +98,14 @@ struct TrialResult
 /// The course of a world: its script's waypoints (start, then the places to walk through).
 std::vector<Eigen::Vector2d> courseOf(const World& world);
 
-/// One trial, deterministic in `seed` (start pose, the wearer's choices).
-TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed, int index = 0);
+/// One trial, deterministic in `seed` (start pose, the wearer's choices). `chain`: the chain that
+/// cues the wearer (nullptr: truth mode's in-process cores; required for VISION).
+TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed, int index = 0,
+                     CueChain* chain = nullptr);
+
+/// The start pose of trial `seed` (what runTrial uses): near the course's start, facing the first
+/// place within +-start_yaw_deg.
+BodyState trialStart(const World& world, const TrialOptions& opt, uint32_t seed);
 
 /// Heat map in the style of the seed's figures 5.9 / 5.21: the floor plan from above (obstacles
 /// grey, glass blue), time spent per place in red (brighter = longer, summed over the trials),

@@ -1,0 +1,92 @@
+// rostest mobility_chain (issue 19, the closed loop in CI): the planner and cue logic nodelets run
+// in one manager as pipeline.launch loads them, fed the glass world's TRUE occupancy (as
+// `mobility_trials --mode truth` does), lock-stepped on /clock; the simulated wearer starts 15 deg
+// off the way to the exit and walks on /tactile/cue only.
+//   expect: safe      -> no collision and the course completed (cue stage in the chain)
+//   expect: collision -> at least one collision (cues:=false: the cue stage is not loaded; this
+//                        proves the `safe` test fails when the cue stage is removed)
+#include <cmath>
+#include <cstdio>
+#include <sys/stat.h>
+
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+
+#include <assistive_sim/ros_chain.h>
+#include <assistive_sim/trials.h>
+
+using namespace assistive_sim;
+
+namespace
+{
+std::string worldPath(const std::string& w)
+{
+  struct stat st;
+  const std::string dir = stat(ASSISTIVE_SIM_SOURCE_WORLDS, &st) == 0 ? ASSISTIVE_SIM_SOURCE_WORLDS : ".";
+  return resolveWorldPath(w, dir);
+}
+}  // namespace
+
+TEST(MobilityChain, WearerOnTheCuesOfTheChain)
+{
+  ros::NodeHandle nh, pnh("~");
+  std::string world_name = "glass", expect = "safe";
+  double yaw_off = 15.0;
+  pnh.param("world", world_name, world_name);
+  pnh.param("expect", expect, expect);
+  pnh.param("start_yaw_deg", yaw_off, yaw_off);
+  const World world = World::load(worldPath(world_name));
+
+  TrialOptions opt;
+  opt.wearer.eye_height = world.trajectory.eye_height;
+  opt.wearer.walk_speed = world.trajectory.speed;
+  opt.fixed_start_yaw_deg = yaw_off;
+  RosChain::Options ro;
+  ro.kind = RosChain::TRUTH_GRID;
+  ro.eye_height = world.trajectory.eye_height;
+  ro.wait_s = 5.0;
+  RosChain chain(nh, world, ro);
+
+  // the planner must be listening before the first frame (its subscriptions are the chain's input)
+  ros::NodeHandle probe;
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(60.0);
+  ros::Publisher dummy;
+  while (ros::ok() && ros::WallTime::now() < until)
+  {
+    ros::master::V_TopicInfo topics;
+    ros::master::getTopics(topics);
+    bool state = false;
+    for (const auto& t : topics) state |= t.name == "/planner/state";
+    if (state) break;
+    ros::WallDuration(0.2).sleep();
+  }
+  ros::WallDuration(2.0).sleep();  // subscriptions connect
+  ros::spinOnce();
+
+  const TrialResult r = runTrial(world, opt, 1, 0, &chain);
+  int missed = r.missed_cues, frames = int(chain.framesSent());
+  std::printf("mobility_chain %s: completed %d, time %.1f s (guide %.1f s), collisions %d (wall %d, overhang %d, glass %d, "
+              "furniture %d), missed cues %d of %d frames, cue stage %s\n",
+              world_name.c_str(), int(r.completed), r.time_s, r.guide_time_s, r.totalCollisions(), r.collisions[0],
+              r.collisions[1], r.collisions[2], r.collisions[3], missed, frames,
+              chain.cueStageConnected() ? "connected" : "absent");
+  if (expect == "collision")
+  {
+    EXPECT_GE(r.totalCollisions(), 1) << "without the cue stage the wearer walks straight 15 deg off and must collide";
+  }
+  else
+  {
+    EXPECT_EQ(r.totalCollisions(), 0);
+    EXPECT_TRUE(r.completed);
+    // lock-step: every frame's cue came back (a missing cue stage fails here too)
+    EXPECT_LE(missed, frames / 100) << "frames without their cue";
+  }
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_mobility_chain");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}
