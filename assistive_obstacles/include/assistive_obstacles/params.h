@@ -73,6 +73,17 @@ namespace assistive_obstacles
   X(double, disparity_sigma, "disparity_sigma", 0.3, 0.0, 100.0, "px", "at full resolution: stereo disparity noise assumed for the depth error") \
   /* 2.45 m for the 12 cm, 500 px rig; free votes reach vote_max_range */ \
   X(double, obstacle_max_sigma, "obstacle_max_sigma", 0.03, 0.0, 100.0, "m", "obstacle votes only where sigma_Z = Z^2 * disparity_sigma / (fx * B) <= this (0 = no limit)") \
+  /* a step is a height difference of a few cm between two cells' floors: from beyond the obstacle */ \
+  /* evidence range floor noise makes them by the dozen (a generated corridor: precision 0.20) */ \
+  X(bool, far_step_votes, "far_step_votes", false, {}, {}, "", "cells labelled step beyond the obstacle evidence range vote (false: no vote from there, as obstacles)") \
+  /* --- column clearance (issue 17): floor returns free only the floor band; a shelf or sign at */ \
+  /* head height, out of view up close, was freed by the floor under it */ \
+  X(int, column_bands, "column_bands", 5, 0, 8, "", "a cell is freed only when each of this many height bands of its column was seen clear (depth beyond it), gathered over frames since its last obstacle evidence (0 disables)") \
+  X(double, column_band_low, "column_band_low", 0.3, 0.0, 3.0, "m", "height above the feet of the lowest band's test point ...") \
+  /* below the eye (1.6 m): a point above it is never in view with the head pitched down 26 deg or more */ \
+  X(double, column_band_high, "column_band_high", 1.55, column_band_low, 3.0, "m", "... and of the highest (test points evenly spaced between)") \
+  X(double, column_strict_from, "column_strict_from", 0.0, 0.0, 3.0, "m", "bands whose test point lies this high or higher must be seen clear; lower ones are presumed clear until an obstacle is seen in them") \
+  X(double, column_clear_margin, "column_clear_margin", 0.05, 0.0, 1.0, "m", "a band is seen clear when the depth at its pixel lies beyond it by more than this (and than 2 sigma_Z)") \
   /* --- dropout / glass policy --- */ \
   X(double, dropout_max_range, "dropout_max_range", 4.0, 0.0, 50.0, "m", "obstacle cells in view this close but without depth are reported") \
   /* 0 locks the cell (a false obstacle in front of the floor could then never be cleared), 1 */ \
