@@ -80,9 +80,11 @@ namespace assistive_obstacles
   /* head height, out of view up close, was freed by the floor under it */ \
   X(int, column_bands, "column_bands", 5, 0, 8, "", "a cell is freed only when each of this many height bands of its column was seen clear (depth beyond it), gathered over frames since its last obstacle evidence (0 disables)") \
   X(double, column_band_low, "column_band_low", 0.3, 0.0, 3.0, "m", "height above the feet of the lowest band's test point ...") \
-  /* below the eye (1.6 m): a point above it is never in view with the head pitched down 26 deg or more */ \
-  X(double, column_band_high, "column_band_high", 1.55, column_band_low, 3.0, "m", "... and of the highest (test points evenly spaced between)") \
-  X(double, column_strict_from, "column_strict_from", 0.0, 0.0, 3.0, "m", "bands whose test point lies this high or higher must be seen clear; lower ones are presumed clear until an obstacle is seen in them") \
+  /* a sign hanging at 1.56-1.94 m sits above a test point at 1.55 m: the highest is above the eye */ \
+  X(double, column_band_high, "column_band_high", 1.75, column_band_low, 3.0, "m", "... and of the highest (test points evenly spaced between)") \
+  /* 0 (every band must be seen clear) cut coverage within 3 m on the course 0.506 -> 0.284: a band */ \
+  /* above the eye is out of view with the head pitched down */ \
+  X(double, column_strict_from, "column_strict_from", 2.0, 0.0, 3.0, "m", "bands whose test point lies this high or higher must be seen clear; lower ones are presumed clear until an obstacle is seen in them") \
   X(double, column_clear_margin, "column_clear_margin", 0.05, 0.0, 1.0, "m", "a band is seen clear when the depth at its pixel lies beyond it by more than this (and than 2 sigma_Z)") \
   /* --- dropout / glass policy --- */ \
   X(double, dropout_max_range, "dropout_max_range", 4.0, 0.0, 50.0, "m", "obstacle cells in view this close but without depth are reported") \
