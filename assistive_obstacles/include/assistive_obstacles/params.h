@@ -73,9 +73,9 @@ namespace assistive_obstacles
   X(double, disparity_sigma, "disparity_sigma", 0.3, 0.0, 100.0, "px", "at full resolution: stereo disparity noise assumed for the depth error") \
   /* 2.45 m for the 12 cm, 500 px rig; free votes reach vote_max_range */ \
   X(double, obstacle_max_sigma, "obstacle_max_sigma", 0.03, 0.0, 100.0, "m", "obstacle votes only where sigma_Z = Z^2 * disparity_sigma / (fx * B) <= this (0 = no limit)") \
-  /* a step is a height difference of a few cm between two cells' floors: from beyond the obstacle */ \
-  /* evidence range floor noise makes them by the dozen (a generated corridor: precision 0.20) */ \
-  X(bool, far_step_votes, "far_step_votes", false, {}, {}, "", "cells labelled step beyond the obstacle evidence range vote (false: no vote from there, as obstacles)") \
+  /* false: floor noise from afar no longer makes steps (a generated corridor's precision 0.19 -> 0.30), */ \
+  /* but far FREE labels still vote and curbs then read as free (plaza: cells reported free 9 -> 17) */ \
+  X(bool, far_step_votes, "far_step_votes", true, {}, {}, "", "cells labelled step beyond the obstacle evidence range vote (false: no vote from there, as obstacles)") \
   /* --- column clearance (issue 17): floor returns free only the floor band; a shelf or sign at */ \
   /* head height, out of view up close, was freed by the floor under it */ \
   X(int, column_bands, "column_bands", 5, 0, 8, "", "a cell is freed only when each of this many height bands of its column was seen clear (depth beyond it), gathered over frames since its last obstacle evidence (0 disables)") \
