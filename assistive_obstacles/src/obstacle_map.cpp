@@ -1,5 +1,9 @@
 #include <assistive_obstacles/obstacle_map.h>
 
+#include <optional>
+
+#include <assistive_obstacles/column_clearance.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -138,6 +142,11 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   const double vote_r2 = params_.vote_max_range * params_.vote_max_range;
   const double obstacle_r = camera ? obstacleEvidenceRange(params_, *camera) : 0.0;
   const double obstacle_r2 = obstacle_r * obstacle_r;
+  // Column clearance: which height bands of each column this frame saw clear. Without a depth
+  // image the rule cannot judge and is off (every band counts as seen).
+  std::optional<ColumnClearance> columns;
+  if (check_depth && params_.column_bands > 0) columns.emplace(params_, *camera, *disparity, T_world_cam, feet);
+  const uint8_t all_bands = allBands(params_.column_bands);
   for (int ly = 0; ly < n; ++ly)
     for (int lx = 0; lx < n; ++lx)
     {
@@ -151,6 +160,16 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
       const int gx = window_.ox + lx, gy = window_.oy + ly;
       if (elevation_.count(c) > 0) ++stats_.cells_observed;
       FrameLabel lab = labels_[c];
+      // An obstacle label at any range (even one too far to vote) withdraws the clearance of the
+      // bands its points are in.
+      if (params_.column_bands > 0)
+        temporal_.observeColumn(gx, gy,
+                                columns ? columns->clearBits(static_cast<float>(window_.centerX(lx)),
+                                                             static_cast<float>(window_.centerY(ly)))
+                                        : all_bands,
+                                lab == FrameLabel::OBSTACLE && !mls_.filled()[c]
+                                    ? columnOccupiedBits(params_, feet, elevation_.heights(c), elevation_.count(c))
+                                    : 0);
       bool dropout = false;
       if (check_depth && temporal_.code(gx, gy) == CELL_OBSTACLE && lab != FrameLabel::OBSTACLE)
       {
@@ -196,13 +215,16 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
       // points into the cells in front of and behind it). For the same reason a cell judged to
       // hold only a neighbour's spill takes no free vote from there either (it may be the edge
       // of the obstacle itself: parking's columns and cars).
-      if (obstacle_r2 > 0.0 && (lab == FrameLabel::OBSTACLE || mls_.spill()[c]))
+      if (obstacle_r2 > 0.0 && (lab == FrameLabel::OBSTACLE || mls_.spill()[c] || (lab == FrameLabel::STEP && !params_.far_step_votes)))
       {
         const double dx = window_.centerX(lx) - t.x(), dy = window_.centerY(ly) - t.y();
         if (dx * dx + dy * dy > obstacle_r2) continue;
       }
       // A cell the ranger hit is never freed by camera rays (they may have passed through glass).
       if (lab != FrameLabel::OBSTACLE && sonar_.held(gx, gy)) continue;
+      // Floor seen is not the column seen: a free vote counts only once every band of the column
+      // was seen clear since its last obstacle evidence.
+      if ((lab == FrameLabel::FREE || lab == FrameLabel::STEP) && !temporal_.columnClear(gx, gy)) continue;
       temporal_.vote(gx, gy, lab, weight, !filled);
     }
 }
@@ -259,7 +281,10 @@ void ObstacleMap::grid(GridData& out) const
       const int gx = window_.ox + lx, gy = window_.oy + ly;
       // A cell the ranger hit is an obstacle from that echo on, whatever the filter's counters
       // still say from camera rays that passed through it before (a panel seen through).
-      out.data[window_.index(lx, ly)] = sonar_.held(gx, gy) ? CELL_OBSTACLE : temporal_.code(gx, gy);
+      const int8_t code = sonar_.held(gx, gy) ? CELL_OBSTACLE : temporal_.code(gx, gy);
+      // A free cell whose column took obstacle evidence since is no longer known free.
+      out.data[window_.index(lx, ly)] =
+          (code == CELL_FREE || code == CELL_STEP) && !temporal_.columnClear(gx, gy) ? CELL_UNKNOWN : code;
     }
 }
 

@@ -15,8 +15,10 @@
 // The vest's forward ranger (/sonar/front, sensor_msgs/Range) is fused as the nodelet does it
 // (readings stamped up to a frame are added before that frame's update; the ranger's pose = the
 // ground-truth camera pose, interpolated, times the URDF mount); --no-sonar leaves it out.
-// --world W (a shipped world's name or a YAML path: the world the bag was rendered from) adds
-// free_where_glass_cells: distinct glass-pane cells ever reported free while within 5 m.
+// --world auto|none|W (default auto: <stem>.yaml beside the bag, else the shipped world of the
+// bag's stem; W a shipped world's name or a YAML path) scores partly covered cells neither way and
+// adds free_where_glass_cells (distinct glass-pane cells ever reported free within 5 m) and the
+// ranger's hits on glass.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -39,6 +41,8 @@
 #include <assistive_obstacles/obstacle_map.h>
 
 #ifdef HAVE_ASSISTIVE_SIM
+#include <filesystem>
+
 #include <assistive_sim/ultrasonic.h>
 #include <assistive_sim/world.h>
 #endif
@@ -53,8 +57,10 @@ namespace
 struct Sum
 {
   size_t tp = 0, fp = 0, fn = 0, tn = 0, unknown = 0, known = 0;
+  eval::MapScore last;
   void add(const eval::MapScore& s)
   {
+    last = s;
     tp += s.tp;
     fp += s.fp;
     fn += s.fn;
@@ -95,13 +101,89 @@ bool poseAt(const std::vector<std::pair<double, Eigen::Isometry3d>>& gt, double 
   out.translation() = (1.0 - u) * a.second.translation() + u * b.second.translation();
   return true;
 }
+
+/// The world file behind a bag: `arg` a path, "none", or "auto" (`<stem>.yaml` beside the bag, else
+/// the shipped world named by the bag's stem, e.g. course.bag -> course). "" when none.
+std::string worldFor(const std::string& arg, const std::string& bag)
+{
+#ifdef HAVE_ASSISTIVE_SIM
+  namespace fs = std::filesystem;
+  if (arg == "none") return "";
+  if (arg != "auto")
+  {
+    try
+    {
+      return assistive_sim::resolveWorldPath(arg, ASSISTIVE_SIM_WORLDS_DIR);  // a path or a shipped name
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "obstacles_benchmark: --world: " << e.what() << "\n";
+      return "";
+    }
+  }
+  const fs::path b(bag);
+  const fs::path beside = b.parent_path() / (b.stem().string() + ".yaml");
+  if (fs::exists(beside)) return beside.string();
+  const fs::path shipped = fs::path(ASSISTIVE_SIM_WORLDS_DIR) / (b.stem().string() + ".yaml");
+  if (fs::exists(shipped)) return shipped.string();
+#else
+  (void)arg;
+  (void)bag;
+#endif
+  return "";
+}
+
+/// Partial-cell (exclude) and glass masks of the truth grid from the world's solids; false (masks
+/// empty) when there is no world or its grid does not match the bag's truth.
+bool worldMasks(const std::string& path, const eval::OccupancyGrid& truth, double partial_depth,
+                std::vector<uint8_t>& exclude, std::vector<uint8_t>& glass, double* eye_height)
+{
+  exclude.clear();
+  glass.clear();
+  *eye_height = NAN;
+#ifdef HAVE_ASSISTIVE_SIM
+  if (path.empty()) return false;
+  try
+  {
+    const assistive_sim::World w = assistive_sim::World::load(path);
+    *eye_height = w.trajectory.eye_height;
+    assistive_sim::OccupancyParams op;
+    op.resolution = truth.resolution;
+    const assistive_sim::OccupancyGrid g = assistive_sim::computeOccupancy(w, op);
+    if (g.width != truth.width || g.height != truth.height || g.data != truth.data ||
+        std::abs(g.origin_x - truth.origin_x) > 1e-6 || std::abs(g.origin_y - truth.origin_y) > 1e-6)
+    {
+      std::cerr << "obstacles_benchmark: world " << path << " does not give the bag's truth grid: partial cells not scored apart\n";
+      return false;
+    }
+    const std::vector<uint8_t> f = assistive_sim::computeOccupancyDetail(w, op, partial_depth);
+    exclude.resize(f.size());
+    glass.resize(f.size());
+    for (size_t i = 0; i < f.size(); ++i)
+    {
+      exclude[i] = (f[i] & (assistive_sim::DETAIL_PARTIAL | assistive_sim::DETAIL_NEAR)) ? 1 : 0;
+      glass[i] = (f[i] & assistive_sim::DETAIL_GLASS) ? 1 : 0;
+    }
+    return true;
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "obstacles_benchmark: world " << path << ": " << e.what() << "\n";
+  }
+#else
+  (void)path;
+  (void)truth;
+  (void)partial_depth;
+#endif
+  return false;
+}
 }  // namespace
 
 int main(int argc, char** argv)
 {
   const char* usage =
       "usage: obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N] [--gt-depth] [--set PARAM=VALUE ...]\n"
-      "                           [--no-sonar] [--world WORLD]\n"
+      "                           [--no-sonar] [--world auto|none|W.yaml] [--partial-depth M]\n"
       "       obstacles_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect]\n"
       "                           [--keep DIR] [--png DIR] [other options as above]\n"
       "  Runs the obstacle stage on a stereo bag with ground truth; last stdout line: JSON.\n"
@@ -112,18 +194,20 @@ int main(int argc, char** argv)
   bool gt_depth = false;  // --gt-depth: feed the bag's true depth instead of SGBM (isolates stereo noise)
   eval::CommandLine::Sets overrides;  // --set name=value (tuning; the figures of record use the defaults)
   std::string png;
-  bool no_sonar = false;  // --no-sonar: leave the bag's /sonar/front out
-  std::string world_name; // --world: for free_where_glass_cells
+  bool no_sonar = false;           // --no-sonar: leave the bag's /sonar/front out
+  std::string world_arg = "auto";  // --world: partial-cell and glass scoring from the world's solids
+  double partial_depth = 0.05;     // --partial-depth: m an obstacle may reach into a cell and leave it unscored
   eval::CommandLine cl("obstacles_benchmark", usage);
   eval::SetOptions set_options;
   set_options.addTo(cl);
   cl
       .flag("--gt-depth", &gt_depth)
       .flag("--no-sonar", &no_sonar)
-      .text("--world", &world_name)
       .count("--frames", &max_frames, 0)
       .count("--skip", &skip, 0)
       .text("--png", &png)
+      .text("--world", &world_arg)
+      .number("--partial-depth", &partial_depth)
       .sets(&overrides);
   if (const int rc = cl.parse(argc, argv); rc >= 0)
     return rc;
@@ -132,7 +216,8 @@ int main(int argc, char** argv)
     // Worst = the smaller where more is better (recall, precision, coverage), else the larger.
     const std::vector<eval::SetFigure> figures{
         {"recall_3m", true}, {"precision_3m", true}, {"free_where_obstacle_cells", false, true},
-        {"free_where_glass_cells", false, true},
+        {"free_where_glass_cells", false, true}, {"free_where_obstacle_cells_strict", false, true},
+        {"recall_3m_strict", true}, {"precision_3m_strict", true},
         {"misclassified_3m"}, {"recall_5m", true}, {"precision_5m", true}, {"coverage_3m", true},
         {"ms_p95_map"}, {"ms_p95_disparity"}, {"points_per_frame", true}, {"frames", true}};
     return eval::runSetFromCommandLine(cl, argc, argv, set_options, figures, "--png", png, "_obstacles_map.png",
@@ -151,38 +236,19 @@ int main(int argc, char** argv)
   eval::OccupancyGrid truth;
   const bool has_truth = reader->readOccupancy(truth);
   if (!has_truth) std::cerr << "obstacles_benchmark: no /ground_truth/occupancy in the bag: map not scored\n";
+  std::vector<uint8_t> exclude_mask, glass_mask;
+  const std::string world_path = has_truth ? worldFor(world_arg, bag) : "";
+  double eye_height = NAN;
+  const bool partial_scoring = worldMasks(world_path, truth, partial_depth, exclude_mask, glass_mask, &eye_height);
+  if (partial_scoring) std::cerr << "obstacles_benchmark: partial cells from " << world_path << "\n";
 
-  // Glass-pane cells of the world (free_where_glass_cells).
-  eval::OccupancyGrid glass;
-  bool has_glass = false;
-  std::vector<Eigen::Vector2d> glass_cells;  // centres of the glass-pane cells
+  // Glass-pane cells of the world (their centres), for the ranger's hits on glass.
+  std::vector<Eigen::Vector2d> glass_cells;
   std::set<size_t> ranger_hit_glass, freed_after_hit;  // indices into glass_cells
-  if (!world_name.empty())
-  {
-#ifdef HAVE_ASSISTIVE_SIM
-    try
-    {
-      assistive_sim::World w = assistive_sim::World::load(assistive_sim::resolveWorldPath(world_name, ASSISTIVE_SIM_WORLDS_DIR));
-      std::vector<assistive_sim::Solid> panes;
-      for (const auto& solid : w.solids)
-        if (solid.glass) panes.push_back(solid);
-      w.solids = panes;
-      glass = assistive_sim::computeOccupancy(w);
-      has_glass = true;
-      for (int gy = 0; gy < glass.height; ++gy)
-        for (int gx = 0; gx < glass.width; ++gx)
-          if (glass.data[static_cast<size_t>(gy) * glass.width + gx] == 100)
-            glass_cells.push_back({ glass.origin_x + (gx + 0.5) * glass.resolution, glass.origin_y + (gy + 0.5) * glass.resolution });
-    }
-    catch (const std::exception& e)
-    {
-      std::cerr << "obstacles_benchmark: --world " << world_name << ": " << e.what() << "\n";
-      return 2;
-    }
-#else
-    std::cerr << "obstacles_benchmark: built without assistive_sim: --world ignored\n";
-#endif
-  }
+  for (size_t i = 0; i < glass_mask.size(); ++i)
+    if (glass_mask[i])
+      glass_cells.push_back({truth.origin_x + (static_cast<double>(i % truth.width) + 0.5) * truth.resolution,
+                             truth.origin_y + (static_cast<double>(i / truth.width) + 0.5) * truth.resolution});
   std::vector<eval::RangeSample> ranges;
   bool sonar_pose = false;
   Eigen::Isometry3d link_to_sonar = Eigen::Isometry3d::Identity();
@@ -202,6 +268,9 @@ int main(int argc, char** argv)
   size_t next_range = 0, ranges_used = 0, ranges_rejected = 0, ranges_no_echo = 0;
 
   ObstaclesParams params;  // defaults
+  // The wearer's camera height: the nodelet takes it from the URDF; here from the world's walk
+  // (generated walks have eye heights of 1.55-1.75 m), unless --set gives it.
+  if (std::isfinite(eye_height)) params.camera_height = eye_height;
   if (!eval::applySets(cl, overrides, params))  // --set: the node's parameter names (params.h table)
     return 2;
   for (const std::string& w : clampParams(params)) std::cerr << "obstacles_benchmark: " << w << "\n";
@@ -211,7 +280,8 @@ int main(int argc, char** argv)
   Sum s3, s5;
   size_t fp_adjacent = 0, fp_isolated = 0, fp_step = 0;  // within 3 m, summed over frames
   std::map<std::pair<int, int>, std::array<int, 3>> fp_cells;  // OBST_FPMAP: frames each cell was a FP (obstacle, step) / FN
-  std::set<size_t> free_where_obstacle;
+  std::set<size_t> free_where_obstacle, free_where_partial, free_where_glass;
+  Sum s3_strict;  // the truth's own codes, every partly covered cell an obstacle
   eval::StereoFrame f;
   int frames = 0, used = 0, no_pose = 0;
   std::vector<Eigen::Vector3f> points, normals;
@@ -346,7 +416,13 @@ int main(int argc, char** argv)
       eval::MapScoreParams p3, p5;
       p3.radius_m = 3.0;
       p5.radius_m = 5.0;
-      s3.add(eval::scoreMap(truth, est, wearer, p3));
+      s3_strict.add(eval::scoreMap(truth, est, wearer, p3));
+      if (partial_scoring)
+      {
+        p3.exclude = p5.exclude = &exclude_mask;
+        p3.glass = p5.glass = &glass_mask;
+      }
+      s3.add(partial_scoring ? eval::scoreMap(truth, est, wearer, p3) : s3_strict.last);
       // False positives by class: next to a true obstacle (8-neighbour) or isolated; STEP code.
       for (int cy = 0; cy < truth.height; ++cy)
         for (int cx = 0; cx < truth.width; ++cx)
@@ -398,9 +474,44 @@ int main(int argc, char** argv)
         if (ex >= 0 && ey >= 0 && ex < est.width && ey < est.height && est.data[static_cast<size_t>(ey) * est.width + ex] == 0)
           freed_after_hit.insert(k);
       }
+      if (std::getenv("OBST_BANDS") && params.column_bands > 0)
+      {
+        // Column clearance diagnostics: per band, how many truth-free cells within 3 m lack that
+        // band's clear bit (summed over frames), and how many lack only it.
+        static std::vector<size_t> lack(8, 0), only(8, 0);
+        static size_t cells = 0, full = 0;
+        const uint8_t all = static_cast<uint8_t>((1u << params.column_bands) - 1u);
+        for (int cy = 0; cy < truth.height; ++cy)
+          for (int cx = 0; cx < truth.width; ++cx)
+          {
+            if (truth.data[static_cast<size_t>(cy) * truth.width + cx] != 0) continue;
+            const double x = truth.origin_x + (cx + 0.5) * truth.resolution, y = truth.origin_y + (cy + 0.5) * truth.resolution;
+            if ((Eigen::Vector2d(x, y) - wearer).squaredNorm() > 9.0) continue;
+            const CellCounters* cc = map.temporal().find(static_cast<int>(std::floor(x / grid.resolution)),
+                                                         static_cast<int>(std::floor(y / grid.resolution)));
+            ++cells;
+            const uint8_t b = cc ? (cc->clear & all) : 0;
+            if (b == all) ++full;
+            for (int i = 0; i < params.column_bands; ++i)
+              if (!(b >> i & 1u))
+              {
+                ++lack[i];
+                if ((b | (1u << i)) == all) ++only[i];
+              }
+          }
+        if (static_cast<size_t>(frames) == total || (max_frames > 0 && used == max_frames))
+        {
+          std::fprintf(stderr, "BANDS cells %zu full %.3f;", cells, double(full) / cells);
+          for (int i = 0; i < params.column_bands; ++i)
+            std::fprintf(stderr, " band %d lacks %.3f only %.3f;", i, double(lack[i]) / cells, double(only[i]) / cells);
+          std::fprintf(stderr, "\n");
+        }
+      }
       const auto sc5 = eval::scoreMap(truth, est, wearer, p5);
       s5.add(sc5);
       free_where_obstacle.insert(sc5.free_where_obstacle_cells.begin(), sc5.free_where_obstacle_cells.end());
+      free_where_partial.insert(sc5.free_where_partial_cells.begin(), sc5.free_where_partial_cells.end());
+      free_where_glass.insert(sc5.free_where_glass_cells.begin(), sc5.free_where_glass_cells.end());
     }
     if (used % 20 == 0) std::cerr << "\r[obstacles_benchmark] frame " << frames << "/" << total << std::flush;
   }
@@ -434,22 +545,16 @@ int main(int argc, char** argv)
   std::printf("%-10s %9.3f %9.3f %13.3f %9.3f\n", "5 m", s5.recall(), s5.precision(), s5.misclassified(), s5.coverage());
   std::printf("false positives 3 m: %zu next to a true obstacle, %zu isolated, %zu of them STEP\n", fp_adjacent,
               fp_isolated, fp_step);
-  std::printf("ground-truth obstacle cells ever reported free (5 m): %zu\n", free_where_obstacle.size());
-  size_t free_where_glass = 0;
-  if (has_glass && has_truth)
-    for (const size_t i : free_where_obstacle)
-    {
-      const double x = truth.origin_x + (static_cast<double>(i % truth.width) + 0.5) * truth.resolution;
-      const double y = truth.origin_y + (static_cast<double>(i / truth.width) + 0.5) * truth.resolution;
-      const int gx = static_cast<int>(std::floor((x - glass.origin_x) / glass.resolution));
-      const int gy = static_cast<int>(std::floor((y - glass.origin_y) / glass.resolution));
-      if (gx >= 0 && gy >= 0 && gx < glass.width && gy < glass.height &&
-          glass.data[static_cast<size_t>(gy) * glass.width + gx] == 100)
-        ++free_where_glass;
-    }
-  if (has_glass)
-    std::printf("glass-pane cells ever reported free (5 m): %zu; hit by the ranger: %zu, reported free after the hit: %zu\n",
-                free_where_glass, ranger_hit_glass.size(), freed_after_hit.size());
+  std::printf("ground-truth obstacle cells ever reported free (5 m): %zu (glass %zu)%s\n", free_where_obstacle.size(),
+              free_where_glass.size(), partial_scoring ? "" : " [no world: partial cells scored as the truth codes]");
+  if (partial_scoring)
+    std::printf("partial cells (an obstacle within %.0f cm of the border) scored neither way; of them reported free: %zu;\n"
+                "  strict truth (any overlap = obstacle): 3 m recall %.3f precision %.3f, cells reported free %zu\n",
+                partial_depth * 100, free_where_partial.size(), s3_strict.recall(), s3_strict.precision(),
+                free_where_obstacle.size() + free_where_partial.size());
+  if (partial_scoring)
+    std::printf("glass-pane cells hit by the ranger: %zu, reported free after the hit: %zu\n", ranger_hit_glass.size(),
+                freed_after_hit.size());
   std::printf("ranger: %s, %zu echoes fused, %zu no echo, %zu rejected\n",
               no_sonar ? "off (--no-sonar)" : (ranges.empty() ? "none in the bag" : "on"), ranges_used, ranges_no_echo,
               ranges_rejected);
@@ -481,9 +586,13 @@ int main(int argc, char** argv)
       .add("precision_3m", num(s3.precision())).add("misclassified_3m", num(s3.misclassified()))
       .add("recall_5m", num(s5.recall())).add("precision_5m", num(s5.precision()))
       .add("free_where_obstacle_cells", has_truth ? std::to_string(free_where_obstacle.size()) : "null")
-      .add("free_where_glass_cells", has_truth && has_glass ? std::to_string(free_where_glass) : "null")
-      .add("ranger_hit_glass_cells", has_glass ? std::to_string(ranger_hit_glass.size()) : "null")
-      .add("free_after_ranger_hit_glass_cells", has_glass ? std::to_string(freed_after_hit.size()) : "null")
+      .add("free_where_glass_cells", partial_scoring ? std::to_string(free_where_glass.size()) : "null")
+      .add("free_where_obstacle_cells_strict",
+           has_truth ? std::to_string(free_where_obstacle.size() + free_where_partial.size()) : "null")
+      .add("recall_3m_strict", num(s3_strict.recall())).add("precision_3m_strict", num(s3_strict.precision()))
+      .add("partial_scoring", partial_scoring)
+      .add("ranger_hit_glass_cells", partial_scoring ? std::to_string(ranger_hit_glass.size()) : "null")
+      .add("free_after_ranger_hit_glass_cells", partial_scoring ? std::to_string(freed_after_hit.size()) : "null")
       .add("sonar_readings_fused", ranges_used).add("sonar", !no_sonar && !ranges.empty())
       .add("frames", used).add("ms_median_map", num(percentile(ms_map, 0.5), 3))
       .add("ms_median_disparity", num(percentile(ms_disp, 0.5), 3))

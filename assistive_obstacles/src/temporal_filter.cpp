@@ -2,8 +2,19 @@
 
 #include <algorithm>
 
+#include <assistive_obstacles/column_clearance.h>
+
 namespace assistive_obstacles
 {
+void TemporalFilter::setParams(const ObstaclesParams& p)
+{
+  params_ = p;
+  presumed_clear_ = 0;
+  const std::vector<float> h = columnBandHeights(p);
+  for (size_t i = 0; i < h.size(); ++i)
+    if (h[i] < p.column_strict_from) presumed_clear_ = static_cast<uint8_t>(presumed_clear_ | (1u << i));
+}
+
 void TemporalFilter::resize(int n)
 {
   if (n == n_) return;
@@ -33,17 +44,40 @@ const CellCounters* TemporalFilter::find(int gx, int gy) const
   return (c.used && c.gx == gx && c.gy == gy) ? &c : nullptr;
 }
 
-void TemporalFilter::vote(int gx, int gy, FrameLabel label, int weight, bool observed)
+CellCounters& TemporalFilter::claim(int gx, int gy)
 {
-  if (n_ == 0 || label == FrameLabel::NONE) return;
   CellCounters& c = cells_[slot(gx, gy)];
   if (!c.used || c.gx != gx || c.gy != gy)
   {
     c = CellCounters();
+    c.clear = presumed_clear_;
     c.used = true;
     c.gx = gx;
     c.gy = gy;
   }
+  return c;
+}
+
+bool TemporalFilter::columnClear(int gx, int gy) const
+{
+  if (params_.column_bands <= 0) return true;
+  const CellCounters* c = find(gx, gy);
+  const uint8_t all = allBands(params_.column_bands);
+  return ((c ? c->clear : presumed_clear_) & all) == all;
+}
+
+void TemporalFilter::observeColumn(int gx, int gy, uint8_t seen_clear, uint8_t seen_occupied)
+{
+  if (n_ == 0 || params_.column_bands <= 0) return;
+  if (!seen_clear && !seen_occupied && !find(gx, gy)) return;  // nothing to remember
+  CellCounters& c = claim(gx, gy);
+  c.clear = static_cast<uint8_t>((c.clear | seen_clear) & ~seen_occupied);
+}
+
+void TemporalFilter::vote(int gx, int gy, FrameLabel label, int weight, bool observed)
+{
+  if (n_ == 0 || label == FrameLabel::NONE) return;
+  CellCounters& c = claim(gx, gy);
   if (c.permanent) return;
   const uint16_t w = static_cast<uint16_t>(std::clamp(weight, 1, MAX_VOTE_WEIGHT));
   if (label == FrameLabel::OBSTACLE)

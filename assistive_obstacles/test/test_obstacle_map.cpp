@@ -195,7 +195,11 @@ TEST(ObstacleMap, FalseObstacleSeenThroughIsClearedEventually)
   synthetic::patch(floor, 0.6, 4.0, -1.0, 1.0, 0.0);
   noisy = floor;
   synthetic::wallX(noisy, 2.1, -1.0, 1.0, 0.0, 1.8);  // a phantom surface for a few frames
-  const Eigen::Isometry3f T = synthetic::cameraAt(0.0, 0.0, 1.6);
+  // Head pitched down 20 deg, as in the walks (10-30 deg): the floor 2.1 m ahead is in view (a level
+  // camera sees it 381 px below the centre row, outside the image) and so is every height band of
+  // the column (column clearance: the phantom's points withdrew them, seeing them clear restores).
+  Eigen::Isometry3f T = synthetic::cameraAt(0.0, 0.0, 1.6);
+  T.linear() = T.linear() * Eigen::AngleAxisf(static_cast<float>(-20.0 * M_PI / 180.0), Eigen::Vector3f::UnitX());
   const Points cn = synthetic::toCamera(noisy, T), cf = synthetic::toCamera(floor, T);
   StereoModel cam;
   cv::Mat near_disp(240, 320, CV_32F, cv::Scalar(250.0f * 0.12f / 2.1f));

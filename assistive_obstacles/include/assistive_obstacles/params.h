@@ -73,6 +73,19 @@ namespace assistive_obstacles
   X(double, disparity_sigma, "disparity_sigma", 0.3, 0.0, 100.0, "px", "at full resolution: stereo disparity noise assumed for the depth error") \
   /* 2.45 m for the 12 cm, 500 px rig; free votes reach vote_max_range */ \
   X(double, obstacle_max_sigma, "obstacle_max_sigma", 0.03, 0.0, 100.0, "m", "obstacle votes only where sigma_Z = Z^2 * disparity_sigma / (fx * B) <= this (0 = no limit)") \
+  /* false: floor noise from afar no longer makes steps (a generated corridor's precision 0.19 -> 0.30), */ \
+  /* but far FREE labels still vote and curbs then read as free (plaza: cells reported free 9 -> 17) */ \
+  X(bool, far_step_votes, "far_step_votes", true, {}, {}, "", "cells labelled step beyond the obstacle evidence range vote (false: no vote from there, as obstacles)") \
+  /* --- column clearance (issue 17): floor returns free only the floor band; a shelf or sign at */ \
+  /* head height, out of view up close, was freed by the floor under it */ \
+  X(int, column_bands, "column_bands", 5, 0, 8, "", "a cell is freed only when each of this many height bands of its column was seen clear (depth beyond it), gathered over frames since its last obstacle evidence (0 disables)") \
+  X(double, column_band_low, "column_band_low", 0.3, 0.0, 3.0, "m", "height above the feet of the lowest band's test point ...") \
+  /* a sign hanging at 1.56-1.94 m sits above a test point at 1.55 m: the highest is above the eye */ \
+  X(double, column_band_high, "column_band_high", 1.75, column_band_low, 3.0, "m", "... and of the highest (test points evenly spaced between)") \
+  /* 0 (every band must be seen clear) cut coverage within 3 m on the course 0.506 -> 0.284: a band */ \
+  /* above the eye is out of view with the head pitched down */ \
+  X(double, column_strict_from, "column_strict_from", 2.0, 0.0, 3.0, "m", "bands whose test point lies this high or higher must be seen clear; lower ones are presumed clear until an obstacle is seen in them") \
+  X(double, column_clear_margin, "column_clear_margin", 0.05, 0.0, 1.0, "m", "a band is seen clear when the depth at its pixel lies beyond it by more than this (and than 2 sigma_Z)") \
   /* --- dropout / glass policy --- */ \
   X(double, dropout_max_range, "dropout_max_range", 4.0, 0.0, 50.0, "m", "obstacle cells in view this close but without depth are reported") \
   /* 0 locks the cell (a false obstacle in front of the floor could then never be cleared), 1 */ \

@@ -21,6 +21,7 @@ struct CellCounters
   uint16_t votes = 0;       ///< number of votes (unweighted, saturating): decide after min_observations
   uint16_t flips = 0;       ///< I
   int8_t state = CELL_UNKNOWN;   ///< CELL_UNKNOWN (undecided), CELL_FREE or CELL_OBSTACLE
+  uint8_t clear = 0;        ///< height bands seen clear since the last obstacle evidence (column_bands)
   bool used = false;
   bool permanent = false;
 };
@@ -28,8 +29,8 @@ struct CellCounters
 class TemporalFilter
 {
 public:
-  explicit TemporalFilter(const ObstaclesParams& p = ObstaclesParams()) : params_(p) {}
-  void setParams(const ObstaclesParams& p) { params_ = p; }
+  explicit TemporalFilter(const ObstaclesParams& p = ObstaclesParams()) { setParams(p); }
+  void setParams(const ObstaclesParams& p);
   /// Ring size (cells per side); clears everything when it changes.
   void resize(int n);
   int size() const { return n_; }
@@ -40,6 +41,14 @@ public:
   /// but not to the number of votes, so a cell never observed itself is never decided.
   void vote(int gx, int gy, FrameLabel label, int weight = 1, bool observed = true);
   static constexpr int MAX_VOTE_WEIGHT = 4;
+  /// Column clearance (column_bands > 0; ObstacleMap applies the rule): the bands of (gx, gy)
+  /// seen clear this frame are set in the cell's bits, those seen occupied (obstacle evidence this
+  /// frame, at any range) cleared; occupied wins. A new cell starts with the bands below
+  /// column_strict_from set (presumed clear until an obstacle is seen in them).
+  void observeColumn(int gx, int gy, uint8_t seen_clear, uint8_t seen_occupied);
+  /// Whether every band of the cell's column was seen clear since its last obstacle evidence
+  /// (always true when column_bands is 0).
+  bool columnClear(int gx, int gy) const;
   /// Output code of global cell (gx, gy): CELL_UNKNOWN, CELL_FREE, CELL_STEP or CELL_OBSTACLE.
   int8_t code(int gx, int gy) const;
   /// Counters of a cell (nullptr when the slot holds another cell or was never used).
@@ -50,7 +59,9 @@ public:
 
 private:
   int slot(int gx, int gy) const;
+  CellCounters& claim(int gx, int gy);
   ObstaclesParams params_;
+  uint8_t presumed_clear_ = 0;  ///< bands a new cell starts with (below column_strict_from)
   int n_ = 0;
   std::vector<CellCounters> cells_;
 };

@@ -39,9 +39,16 @@ MapScore scoreMap(const Grid& gt, const Grid& est, const Eigen::Vector2d& wearer
       const Eigen::Vector2d c = gt.cellCenter(cx, cy);
       if ((c - wearer_gt).squaredNorm() > r2)
         continue;
-      ++s.gt_known;
       const Eigen::Vector2d ce = T_est_gt * c;
       const int8_t e = est.atWorld(ce.x(), ce.y());
+      const size_t idx = static_cast<size_t>(cy) * gt.width + cx;
+      if (p.exclude && idx < p.exclude->size() && (*p.exclude)[idx])
+      {
+        ++s.excluded;
+        if (isObstacle(g) && e == CELL_FREE) s.free_where_partial_cells.push_back(idx);
+        continue;
+      }
+      ++s.gt_known;
       if (e == CELL_UNKNOWN)
       {
         ++s.est_unknown;
@@ -60,7 +67,8 @@ MapScore scoreMap(const Grid& gt, const Grid& est, const Eigen::Vector2d& wearer
       if (go && e == CELL_FREE)
       {
         ++s.free_where_obstacle;
-        s.free_where_obstacle_cells.push_back(static_cast<size_t>(cy) * gt.width + cx);
+        s.free_where_obstacle_cells.push_back(idx);
+        if (p.glass && idx < p.glass->size() && (*p.glass)[idx]) s.free_where_glass_cells.push_back(idx);
       }
     }
   setRatios(s);
@@ -78,6 +86,7 @@ void MapScoreAccumulator::add(const MapScore& s)
   sum_.fn += s.fn;
   sum_.tn += s.tn;
   sum_.free_where_obstacle += s.free_where_obstacle;
+  sum_.excluded += s.excluded;
   if (!s.free_where_obstacle_cells.empty())
   {
     std::vector<size_t> add = s.free_where_obstacle_cells, merged;

@@ -155,3 +155,42 @@ TEST(MapScore, PlanarPoseOfAnOpticalFrame)
   EXPECT_NEAR(p.translation().y(), 2.0, 1e-12);
   EXPECT_NEAR(std::atan2(p.linear()(1, 0), p.linear()(0, 0)), M_PI / 2, 1e-12);
 }
+
+TEST(MapScore, ExcludedCellsScoredNeitherWayGlassCounted)
+{
+  // Wearer at (5, 5), radius 2: the 12 cells of ExactCountsOnHandMadeGrids. Truth obstacles at
+  // (4,4) (glass) and (5,4) (partly covered: excluded); a free cell (3,5) beside an obstacle
+  // (excluded). The estimate says free at (4,4) and (5,4), obstacle at (3,5).
+  Grid gt = makeGrid(CELL_FREE), est = makeGrid(CELL_FREE);
+  set(gt, 4, 4, CELL_OBSTACLE);
+  set(gt, 5, 4, CELL_OBSTACLE);
+  set(est, 3, 5, CELL_OBSTACLE);
+  std::vector<uint8_t> exclude(100, 0), glass(100, 0);
+  exclude[4 * 10 + 5] = 1;
+  exclude[5 * 10 + 3] = 1;
+  glass[4 * 10 + 4] = 1;
+  MapScoreParams p;
+  p.radius_m = 2.0;
+  const MapScore strict = scoreMap(gt, est, {5.0, 5.0}, p);
+  EXPECT_EQ(strict.gt_known, 12u);
+  EXPECT_EQ(strict.fn, 2u);
+  EXPECT_EQ(strict.fp, 1u);
+  EXPECT_EQ(strict.free_where_obstacle_cells.size(), 2u);
+  EXPECT_TRUE(strict.free_where_glass_cells.empty());  // no glass mask given
+  p.exclude = &exclude;
+  p.glass = &glass;
+  const MapScore s = scoreMap(gt, est, {5.0, 5.0}, p);
+  EXPECT_EQ(s.excluded, 2u);
+  EXPECT_EQ(s.gt_known, 10u);
+  EXPECT_EQ(s.tp, 0u);
+  EXPECT_EQ(s.fn, 1u);
+  EXPECT_EQ(s.fp, 0u);
+  EXPECT_EQ(s.tn, 9u);
+  EXPECT_NEAR(s.coverage, 1.0, 1e-12);
+  ASSERT_EQ(s.free_where_obstacle_cells.size(), 1u);
+  EXPECT_EQ(s.free_where_obstacle_cells[0], 44u);
+  ASSERT_EQ(s.free_where_glass_cells.size(), 1u);
+  EXPECT_EQ(s.free_where_glass_cells[0], 44u);
+  ASSERT_EQ(s.free_where_partial_cells.size(), 1u);
+  EXPECT_EQ(s.free_where_partial_cells[0], 45u);
+}

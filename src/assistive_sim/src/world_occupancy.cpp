@@ -136,4 +136,56 @@ OccupancyGrid computeOccupancy(const World& w, const OccupancyParams& p)
   g.data.swap(out);
   return g;
 }
+
+std::vector<uint8_t> computeOccupancyDetail(const World& w, const OccupancyParams& p, double partial_depth)
+{
+  const OccupancyGrid g = computeOccupancy(w, p);
+  std::vector<uint8_t> flags(g.data.size(), 0);
+  const double top_rel = w.trajectory.eye_height + p.head_above_eye + p.head_margin;
+  const double d = std::max(0.0, std::min(partial_depth, 0.49 * p.resolution));
+  // Cells whose obstacle code comes from a solid that reaches deeper than d into them ("core").
+  std::vector<char> core(g.data.size(), 0);
+  std::vector<double> fh(g.data.size(), 0.0);  // floor height per cell, as computeOccupancy takes it
+  for (int iy = 0; iy < g.height; ++iy)
+    for (int ix = 0; ix < g.width; ++ix)
+    {
+      const double x0 = g.origin_x + ix * p.resolution, y0 = g.origin_y + iy * p.resolution;
+      for (const Solid& s : w.solids)
+        if (s.walkable && s.overlapsRect(x0, y0, x0 + p.resolution, y0 + p.resolution))
+          fh[static_cast<size_t>(iy) * g.width + ix] = std::max(fh[static_cast<size_t>(iy) * g.width + ix], s.z1);
+    }
+  for (const Solid& s : w.solids)
+  {
+    if (s.walkable) continue;
+    std::vector<size_t> touched;
+    bool any_core = false;
+    for (int iy = 0; iy < g.height; ++iy)
+      for (int ix = 0; ix < g.width; ++ix)
+      {
+        const size_t i = static_cast<size_t>(iy) * g.width + ix;
+        const double x0 = g.origin_x + ix * p.resolution, y0 = g.origin_y + iy * p.resolution;
+        const double x1 = x0 + p.resolution, y1 = y0 + p.resolution;
+        const double floor = g.data[i] == CELL_UNKNOWN ? 0.0 : fh[i];
+        if (s.z1 <= floor + p.min_obstacle_height || s.z0 >= floor + top_rel) continue;
+        if (s.overlapsRect(x0, y0, x1, y1))
+        {
+          if (s.glass) flags[i] |= DETAIL_GLASS;
+          touched.push_back(i);
+          if (s.overlapsRect(x0 + d, y0 + d, x1 - d, y1 - d))
+          {
+            core[i] = 1;
+            any_core = true;
+          }
+        }
+        else if (d > 0.0 && g.data[i] != CELL_OBSTACLE && g.data[i] != CELL_UNKNOWN &&
+                 s.overlapsRect(x0 - d, y0 - d, x1 + d, y1 + d))
+          flags[i] |= DETAIL_NEAR;
+      }
+    if (!any_core)  // a thin solid: every cell it touches must be found
+      for (const size_t i : touched) core[i] = 1;
+  }
+  for (size_t i = 0; i < flags.size(); ++i)
+    if (g.data[i] == CELL_OBSTACLE && !core[i]) flags[i] |= DETAIL_PARTIAL;
+  return flags;
+}
 }  // namespace assistive_sim

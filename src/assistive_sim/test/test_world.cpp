@@ -243,3 +243,55 @@ TEST(World, CourseMatchesTheSeed)
   EXPECT_EQ(g.atWorld(6.1, 0.4), CELL_OBSTACLE);
   EXPECT_EQ(g.atWorld(6.1, 1.0), CELL_FREE);
 }
+
+TEST(Occupancy, DetailFlagsPartialNearGlass)
+{
+  // Floor [0,4]^2, 0.2 m cells from -1 (border 1 m). A box over x 0.97-1.6, y 0.4-0.8: it reaches
+  // 3 cm into the cells of x 0.8-1.0 (partial: scored neither way) and deeper into x 1.0-1.2 (core);
+  // the cells of x 1.6-1.8 and of y 0.8-1.0 only border it (near). A 2 cm pole at (3.02, 3.0)
+  // reaches no cell deeper than 5 cm: every cell it touches stays a plain obstacle. A glass panel.
+  World w;
+  w.floor_min = {0, 0};
+  w.floor_max = {4, 4};
+  Solid box;
+  box.center = {1.285, 0.6};
+  box.half = {0.315, 0.2};
+  box.z0 = 0.0;
+  box.z1 = 1.0;
+  Solid pole;
+  pole.shape = Solid::CYLINDER;
+  pole.center = {3.02, 3.0};
+  pole.radius = 0.02;
+  pole.z1 = 1.5;
+  Solid glass;
+  glass.center = {2.0, 3.5};
+  glass.half = {0.5, 0.01};
+  glass.z1 = 2.0;
+  glass.glass = true;
+  w.solids = {box, pole, glass};
+  const OccupancyGrid g = computeOccupancy(w);
+  const std::vector<uint8_t> f = computeOccupancyDetail(w);
+  ASSERT_EQ(f.size(), g.data.size());
+  auto at = [&](double x, double y) {
+    const int ix = static_cast<int>(std::floor((x - g.origin_x) / g.resolution));
+    const int iy = static_cast<int>(std::floor((y - g.origin_y) / g.resolution));
+    return f[static_cast<size_t>(iy) * g.width + ix];
+  };
+  EXPECT_EQ(g.atWorld(0.9, 0.6), CELL_OBSTACLE);
+  EXPECT_EQ(at(0.9, 0.6), DETAIL_PARTIAL);
+  EXPECT_EQ(at(1.1, 0.6), 0);
+  EXPECT_EQ(at(1.5, 0.5), 0);
+  EXPECT_EQ(g.atWorld(1.7, 0.6), CELL_FREE);
+  EXPECT_EQ(at(1.7, 0.6), DETAIL_NEAR);
+  EXPECT_EQ(at(1.1, 0.9), DETAIL_NEAR);
+  EXPECT_EQ(at(1.1, 0.3), DETAIL_NEAR);
+  EXPECT_EQ(at(2.5, 2.5), 0);
+  EXPECT_EQ(g.atWorld(3.1, 2.9), CELL_OBSTACLE);
+  EXPECT_EQ(g.atWorld(3.1, 3.1), CELL_OBSTACLE);
+  EXPECT_EQ(at(3.1, 2.9), 0);  // thin: kept
+  EXPECT_EQ(at(3.1, 3.1), 0);
+  EXPECT_EQ(at(2.1, 3.5), DETAIL_GLASS);
+  // partial_depth 0: nothing is partial or near.
+  const std::vector<uint8_t> f0 = computeOccupancyDetail(w, {}, 0.0);
+  for (const uint8_t v : f0) EXPECT_EQ(v & (DETAIL_PARTIAL | DETAIL_NEAR), 0);
+}

@@ -20,6 +20,13 @@ inline bool isObstacle(int8_t v) { return v >= CELL_STEP; }
 struct MapScoreParams
 {
   double radius_m = 3.0;  ///< only ground-truth cells whose centre is within this of the wearer
+  /// Optional, one entry per gt cell (row-major): non-zero = scored neither way (a cell an
+  /// obstacle covers only in part, or a free cell with an obstacle just past its border: below
+  /// what a 20 cm grid can resolve; the planner's clearance covers it). Such cells count only in
+  /// `excluded`; an obstacle one reported free goes to `free_where_partial_cells`.
+  const std::vector<uint8_t>* exclude = nullptr;
+  /// Optional, one entry per gt cell: non-zero = glass panel (for `free_where_glass`).
+  const std::vector<uint8_t>* glass = nullptr;
 };
 
 /// Scored over ground-truth cells within the radius whose truth is known (not -1). The estimate is
@@ -28,12 +35,15 @@ struct MapScoreParams
 struct MapScore
 {
   double radius_m = 0.0;
-  size_t gt_known = 0;     ///< gt cells known within the radius
+  size_t gt_known = 0;     ///< gt cells known within the radius (not excluded)
   size_t scored = 0;       ///< of those, known in the estimate too
   size_t est_unknown = 0;  ///< gt known, estimate unknown / outside the estimate
   size_t tp = 0, fp = 0, fn = 0, tn = 0;
   size_t free_where_obstacle = 0;                   ///< estimate exactly FREE, truth obstacle/step
   std::vector<size_t> free_where_obstacle_cells;    ///< their gt cell indices (y * width + x)
+  size_t excluded = 0;                              ///< gt known cells scored neither way (params.exclude)
+  std::vector<size_t> free_where_partial_cells;     ///< excluded obstacle cells reported exactly FREE
+  std::vector<size_t> free_where_glass_cells;       ///< of free_where_obstacle_cells, glass (params.glass)
   double precision = std::numeric_limits<double>::quiet_NaN();      ///< tp / (tp + fp)
   double recall = std::numeric_limits<double>::quiet_NaN();         ///< tp / (tp + fn)
   double misclassified = std::numeric_limits<double>::quiet_NaN();  ///< (fp + fn) / scored

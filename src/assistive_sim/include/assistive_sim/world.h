@@ -135,6 +135,24 @@ struct OccupancyParams
 /// floor, -1 outside it.
 OccupancyGrid computeOccupancy(const World& world, const OccupancyParams& p = {});
 
+/// Per-cell facts behind the ground-truth grid that its codes cannot carry (issue 17, the
+/// obstacles benchmark's scoring): flags per cell, same geometry as computeOccupancy().
+enum OccupancyDetailFlag : uint8_t
+{
+  /// Obstacle (100) only because a solid reaches at most `partial_depth` into the cell, and that
+  /// solid reaches deeper into another cell (so the map can and must find it there). A thin solid
+  /// that reaches no cell that deep keeps all its cells.
+  DETAIL_PARTIAL = 1,
+  /// Free or step, with an obstacle's solid within `partial_depth` outside the cell's border.
+  DETAIL_NEAR = 2,
+  /// A glass panel (see-through solid) overlaps the cell in the obstacle height range.
+  DETAIL_GLASS = 4,
+};
+
+/// The DETAIL_* flags of every cell of computeOccupancy(world, p) (row-major, same size).
+std::vector<uint8_t> computeOccupancyDetail(const World& world, const OccupancyParams& p = {},
+                                            double partial_depth = 0.05);
+
 /// Path to a shipped world: `name` is a file name stem/substring in `worlds_dir` (e.g. "course")
 /// or a path to a YAML file. Throws WorldError when nothing matches.
 std::string resolveWorldPath(const std::string& name, const std::string& worlds_dir);
