@@ -228,6 +228,7 @@ int main(int argc, char** argv)
   cl.number("--snr", &snr).number("--minutes", &minutes).count("--seed", &seed, 0L).flag("--ptt-only", &ptt_only).sets(&sets);
   if (const int rc = cl.parse(argc, argv); rc >= 0)
     return rc;
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   VoiceParams p;
   if (!ae::applySets(cl, sets, p))
     return 2;
@@ -240,7 +241,7 @@ int main(int argc, char** argv)
   RecognizerConfig kc;
   kc.mode = "keyword";
   kc.keyphrase = p.keyphrase;
-  kc.kws_threshold = p.kws_threshold;
+  kc.max_utterance_s = p.max_utterance_s;
   kc.listen_window_s = p.listen_window_s;
   kc.stable_s = p.stable_s;
   kc.vad_postspeech_frames = p.vad_postspeech_frames;

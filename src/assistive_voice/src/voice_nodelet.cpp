@@ -124,7 +124,7 @@ private:
       RecognizerConfig c;
       c.mode = p_.listen_mode;
       c.keyphrase = p_.keyphrase;
-      c.kws_threshold = p_.kws_threshold;
+      c.max_utterance_s = p_.max_utterance_s;
       c.listen_window_s = p_.listen_window_s;
       c.stable_s = p_.stable_s;
       c.vad_postspeech_frames = p_.vad_postspeech_frames;
@@ -141,7 +141,7 @@ private:
       }
     }
     worker_ = std::thread(&VoiceNodelet::workerLoop, this);
-    timer_ = nh.createTimer(ros::Duration(0.05), &VoiceNodelet::timerCb, this);
+    timer_ = nh.createWallTimer(ros::WallDuration(0.05), &VoiceNodelet::timerCb, this);
     NODELET_INFO("voice: listen_mode %s, audio_input '%s', keyphrase '%s', speech %s (%s), %zu scripted commands",
                  p_.listen_mode.c_str(), p_.audio_input.c_str(), p_.keyphrase.c_str(), p_.speech ? "on" : "off",
                  p_.speech_output.c_str(), script_.size());
@@ -267,7 +267,9 @@ private:
   }
 
   // ------------------------------------------------------------------ effects
-  double now() const { return ros::Time::now().toSec(); }
+  /// Replies live on the wall clock: speech is heard in real time, and a replay's clock stops at
+  /// the end of the bag while the wearer may still be answered.
+  double now() const { return ros::WallTime::now().toSec(); }
 
   std::optional<Pose2> pose()
   {
@@ -357,14 +359,14 @@ private:
     }
   }
 
-  void timerCb(const ros::TimerEvent&)
+  void timerCb(const ros::WallTimerEvent&)
   {
     const double t = now();
-    if (t <= 0)
-      return;
-    if (script_t0_ < 0)
-      script_t0_ = t;
-    while (script_next_ < script_.size() && t - script_t0_ >= script_[script_next_].first)
+    // the script runs on ROS time (a replay's bag time), from its first non-zero tick
+    const double ros_t = ros::Time::now().toSec();
+    if (ros_t > 0 && script_t0_ < 0)
+      script_t0_ = ros_t;
+    while (script_t0_ >= 0 && script_next_ < script_.size() && ros_t - script_t0_ >= script_[script_next_].first)
       command(script_[script_next_++].second, "script");
     std::optional<Reply> r;
     {
@@ -415,7 +417,7 @@ private:
   ros::ServiceClient tag_client_, guide_client_;
   std::unique_ptr<tf2_ros::Buffer> tf_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
-  ros::Timer timer_;
+  ros::WallTimer timer_;
 };
 }  // namespace assistive_voice
 

@@ -11,9 +11,9 @@ namespace assistive_voice
 // X(type, field, ROS name, default, lo, hi, unit, text)
 #define ASSISTIVE_VOICE_PARAMS(X) \
   /* Listening */ \
-  X(std::string, listen_mode, "listen_mode", "keyword", {}, {}, "", "`keyword`: always listening, a command follows the keyphrase; `push_to_talk`: a long B press opens a listening window (long B is then no longer where-am-I: say it); `off`: buttons and command_text only") \
-  X(std::string, keyphrase, "keyphrase", "hello navigator", {}, {}, "", "the keyword (words of pocketsphinx's dictionary; longer = fewer false starts)") \
-  X(double, kws_threshold, "kws_threshold", 1e-25, 1e-50, 1.0, "", "pocketsphinx keyword threshold (smaller: more sensitive, more false starts)") \
+  X(std::string, listen_mode, "listen_mode", "keyword", {}, {}, "", "`keyword`: always listening, a command follows the keyphrase (in one breath or after a pause); `push_to_talk`: a long B press opens a listening window (long B is then no longer where-am-I: say it); `off`: buttons and command_text only") \
+  X(std::string, keyphrase, "keyphrase", "hello navigator", {}, {}, "", "the keyphrase (words of pocketsphinx's dictionary; longer = fewer false commands)") \
+  X(double, max_utterance_s, "max_utterance_s", 4.0, 1.0, 30.0, "s", "longer speech is no command (other talk forced onto the grammar)") \
   X(double, listen_window_s, "listen_window_s", 4.0, 0.5, 30.0, "s", "after the keyword or the push-to-talk press, a command must end within this") \
   X(double, stable_s, "stable_s", 0.3, 0.05, 2.0, "s", "a complete command whose hypothesis has not changed for this long is acted on (before the end-of-speech detector)") \
   X(int, vad_postspeech_frames, "vad_postspeech_frames", 30, 5, 200, "10 ms", "silence that ends an utterance (pocketsphinx -vad_postspeech)") \
@@ -24,7 +24,7 @@ namespace assistive_voice
   X(std::string, mic_command, "mic_command", "sox -q -d -t raw -r 16000 -c 1 -b 16 -e signed-integer -", {}, {}, "", "command whose stdout is raw 16 kHz mono int16 from the default microphone (sox through ALSA/PulseAudio)") \
   X(double, audio_gap_s, "audio_gap_s", 2.0, 0.0, 60.0, "s", "silence fed before and between the files of a WAV list") \
   /* Scripted commands (replay, tests) */ \
-  X(std::string, script, "script", "", {}, {}, "", "timed commands `T text; T text; ...`, T in s of ROS time after the first message on tactile/cue or the first timer tick with a non-zero time") \
+  X(std::string, script, "script", "", {}, {}, "", "timed commands `T text; T text; ...`, T in s of ROS time after the first non-zero ROS time the nodelet sees (a replay: the bag start)") \
   /* Replies */ \
   X(bool, speech, "speech", true, {}, {}, "", "speak replies (false: only the `reply` topic)") \
   X(std::string, speech_output, "speech_output", "default", {}, {}, "", "`default`: the default sound output (espeak-ng playback); a directory: each reply written as reply_NNN.wav there") \

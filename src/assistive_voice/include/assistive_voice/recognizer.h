@@ -26,7 +26,6 @@ struct RecognizerConfig
 {
   std::string mode = "keyword";  ///< keyword | push_to_talk
   std::string keyphrase = "hello navigator";
-  double kws_threshold = 1e-25;
   double listen_window_s = 4.0;
   double stable_s = 0.3;
   int vad_postspeech_frames = 30;
