@@ -157,7 +157,6 @@ void Recognizer::finish(bool reject, std::vector<Recognition>* out)
   int32 score = 0;
   const char* h = ps_get_hyp(ps_, &score);
   const std::string text = reject ? "" : command(h ? h : "");
-  if (std::getenv("VOICE_DEBUG")) std::fprintf(stderr, "utt end %.2f s state %d reject %d hyp [%s] partial [%s]\n", fed_ / 16000.0, int(was), int(reject), h ? h : "(null)", hyp_.c_str());
   if (was == State::SPOTTING)
   {
     if (!text.empty())
