@@ -278,6 +278,7 @@ int main(int argc, char** argv)
   for (const std::string& voice : VOICES)
     for (int rate : RATES)
     {
+      std::fprintf(stderr, "voice_benchmark: %s at %d words/min (%d of %d right so far)\n", voice.c_str(), rate, ok, total);
       const std::vector<float> key = speak(p.keyphrase, voice, rate);
       for (const std::string& cmd : COMMANDS)
       {
@@ -379,8 +380,9 @@ int main(int argc, char** argv)
   std::vector<float> idle_clean(60 * FS, 0.0f);
   std::vector<float> idle_noise = noise("street", 30 * FS), idle_cafe = noise("cafe", 30 * FS);
   idle_noise.insert(idle_noise.end(), idle_cafe.begin(), idle_cafe.end());
+  const float idle_gain = 300.0f / static_cast<float>(std::max(1e-9, rms(idle_noise, 0, idle_noise.size())));
   for (auto& x : idle_noise)
-    x *= 300.0f / static_cast<float>(std::max(1e-9, rms(idle_noise, 0, idle_noise.size())));
+    x *= idle_gain;
   std::vector<int16_t> idle(idle_noise.size());
   for (size_t i = 0; i < idle.size(); ++i)
     idle[i] = static_cast<int16_t>(std::clamp(std::lround(idle_noise[i]), -32768L, 32767L));
