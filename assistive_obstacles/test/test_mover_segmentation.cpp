@@ -91,6 +91,7 @@ TEST(MoverSegmentation, StaticSceneUnderEgoMotionHasNoMover)
 {
   Scene s;
   s.staticScene();
+  s.box(2.5, 0.6, 4, 5, Eigen::Vector3d::Zero());  // a person standing still: an ordinary obstacle
   MoverSegmentation seg;
   EXPECT_TRUE(seg.segment(s.flow, s.egoMotion(), s.T_world_cur).empty());
   for (uint8_t m : seg.moving()) EXPECT_EQ(m, 0);
