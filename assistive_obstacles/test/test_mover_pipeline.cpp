@@ -8,6 +8,9 @@
 #include <assistive_obstacles/crossing_predictor.h>
 #include <assistive_obstacles/mover_segmentation.h>
 #include <assistive_obstacles/mover_tracker.h>
+#include <assistive_obstacles/obstacle_map.h>
+
+#include "synthetic.h"
 
 using namespace assistive_obstacles;
 
@@ -111,4 +114,70 @@ TEST(MoverPipeline, AlongsideAndAwayNeverWarn)
   EXPECT_EQ(away.warned_frames, 0);
   EXPECT_EQ(away.detections, away.frames);
   EXPECT_LT(away.last_speed_err, 0.05);
+}
+
+TEST(MoverPipeline, SegmentedMoversLeaveNoGhostInTheMap)
+{
+  // The ghost-free hook fed by the segmentation instead of the truth: a person (0.15 m column,
+  // 1.7 m) pacing across x = 2.3 in front of a standing wearer; the map takes the person's points,
+  // the segmentation their scene flow (0.2 m per frame). No cell of the walk flips or locks; once
+  // the person has gone they are free.
+  const Eigen::Isometry3f T = synthetic::cameraAt(0.0, 0.0, 1.6);
+  const Eigen::Isometry3d Td = T.cast<double>();
+  synthetic::Points floor;
+  synthetic::patch(floor, 0.6, 4.0, -1.4, 1.4, 0.0);
+  const std::vector<double> path = {-0.5, -0.3, -0.1, 0.1, 0.3, 0.5, 0.7, 0.5, 0.3, 0.1, -0.1, -0.3};
+  const double px = 2.3;
+  ObstacleMap map;
+  MoverSegmentation seg;
+  int frames_with_mover = 0;
+  for (int i = 1; i <= 240; ++i)
+  {
+    const double py = path[i % path.size()], py_prev = path[(i - 1) % path.size()];
+    synthetic::Points person, person_prev;
+    synthetic::pole(person, px, py, 0.15, 1.7);
+    synthetic::pole(person_prev, px, py_prev, 0.15, 1.7);
+    std::vector<SceneFlowPoint> flow;
+    for (size_t k = 0; k < person.size(); ++k)
+    {
+      SceneFlowPoint f;
+      f.prev = Td.inverse() * person_prev[k].cast<double>();
+      f.cur = Td.inverse() * person[k].cast<double>();
+      flow.push_back(f);
+    }
+    for (size_t k = 0; k < floor.size(); k += 7)
+    {
+      SceneFlowPoint f;
+      f.prev = f.cur = Td.inverse() * floor[k].cast<double>();
+      flow.push_back(f);
+    }
+    std::vector<MoverFootprint> fp;
+    for (const MoverDetection& d : seg.segment(flow, Eigen::Isometry3d::Identity(), Td))
+      fp.push_back(MoverFootprint{d.centroid.x(), d.centroid.y(), d.radius});
+    frames_with_mover += !fp.empty();
+    map.setMovers(fp);
+    synthetic::Points w = floor;
+    w.insert(w.end(), person.begin(), person.end());
+    map.update(synthetic::toCamera(w, T), T);
+  }
+  EXPECT_EQ(frames_with_mover, 240);
+  int flipped = 0, locked = 0;
+  for (int gx = 9; gx <= 13; ++gx)
+    for (int gy = -4; gy <= 5; ++gy)
+      if (const CellCounters* c = map.temporal().find(gx, gy))
+      {
+        flipped += c->flips > 0;
+        locked += c->permanent;
+      }
+  EXPECT_EQ(flipped, 0);
+  EXPECT_EQ(locked, 0);
+  for (int i = 0; i < 10; ++i) map.update(synthetic::toCamera(floor, T), T);
+  GridData g;
+  map.grid(g);
+  for (double y = -0.7; y <= 0.9; y += 0.2)
+  {
+    const int ix = static_cast<int>(std::floor((px - g.origin_x) / g.resolution));
+    const int iy = static_cast<int>(std::floor((y - g.origin_y) / g.resolution));
+    EXPECT_EQ(g.data[iy * g.width + ix], CELL_FREE) << "y " << y;
+  }
 }
