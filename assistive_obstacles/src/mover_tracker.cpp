@@ -81,6 +81,7 @@ std::vector<int> MoverTracker::update(double t, const std::vector<Eigen::Vector2
   for (size_t i = 0; i < tracks_.size(); ++i)
     for (size_t j = 0; j < detections.size(); ++j)
     {
+      if (!detections[j].allFinite()) continue;
       const double d2 = mahalanobis2(tracks_[i], detections[j], params_.meas_sigma);
       if (d2 <= gate2) pairs.emplace_back(tracks_[i].confirmed ? 0 : 1, d2, i, j);
     }
@@ -134,7 +135,7 @@ std::vector<int> MoverTracker::update(double t, const std::vector<Eigen::Vector2
   // Births.
   for (size_t j = 0; j < detections.size(); ++j)
   {
-    if (det_used[j]) continue;
+    if (det_used[j] || !detections[j].allFinite()) continue;  // NaN / Inf: ignored (id 0)
     MoverTrack tr;
     tr.id = next_id_++;
     tr.x << detections[j], 0.0, 0.0;

@@ -157,4 +157,8 @@ TEST(MoverTracker, ClutterIsNeverConfirmed)
   for (int k = 0; k < 10; ++k) trk.update(k * DT, {Eigen::Vector2d(k * 2.0, 0.0)});
   EXPECT_TRUE(trk.confirmed().empty());
   EXPECT_EQ(trk.tracks().size(), 1u);  // only this frame's
+  // A non-finite detection is ignored.
+  const std::vector<int> ids = trk.update(1.0, {Eigen::Vector2d(std::nan(""), 0.0)});
+  EXPECT_EQ(ids[0], 0);
+  EXPECT_TRUE(trk.tracks().empty());
 }

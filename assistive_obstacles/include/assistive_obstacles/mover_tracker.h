@@ -47,7 +47,7 @@ public:
 
   /// One frame at time `t` (s, increasing) with its detections' ground positions (world x, y):
   /// predict every track to t, associate, update, give birth and end tracks. Returns, per
-  /// detection, the id of the track it went to.
+  /// detection, the id of the track it went to (0: not finite, ignored).
   std::vector<int> update(double t, const std::vector<Eigen::Vector2d>& detections);
   /// Every live track (tentative ones included).
   const std::vector<MoverTrack>& tracks() const { return tracks_; }
