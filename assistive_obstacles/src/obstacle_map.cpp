@@ -129,6 +129,8 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
     const double res = window_.res;
     for (const MoverFootprint& m : movers_)
     {
+      // A footprint wider than the window is no person (and would loop over huge ranges).
+      if (!std::isfinite(m.x) || !std::isfinite(m.y) || !(m.radius > 0.0) || m.radius > params_.window_radius) continue;
       const int x0 = static_cast<int>(std::floor((m.x - m.radius) / res)), x1 = static_cast<int>(std::floor((m.x + m.radius) / res));
       const int y0 = static_cast<int>(std::floor((m.y - m.radius) / res)), y1 = static_cast<int>(std::floor((m.y + m.radius) / res));
       for (int gy = y0; gy <= y1; ++gy)

@@ -70,7 +70,8 @@ public:
   /// Ghost-free hook (issue 22): the movers of the NEXT update() only (their detections are of that
   /// frame). Cells a footprint overlaps take no vote and no column observation in it (the temporal
   /// filter's mover cells), so people walking by leave no ghost and lock no cell. None given
-  /// (the default): update() is unchanged.
+  /// (the default): update() is unchanged. Footprints that are not finite, or wider than
+  /// window_radius, are ignored.
   void setMovers(const std::vector<MoverFootprint>& movers) { movers_ = movers; }
   /// One forward-ranger reading (sonar_fusion.h) into the current window (after the first
   /// update()); its pose in the same world frame. Returns its check (only ECHO adds evidence).
