@@ -122,6 +122,27 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   window_ = Window::around(t.x(), t.y(), params_.window_radius, params_.cell_size);
   temporal_.resize(window_.n);
   temporal_.retain(window_.ox, window_.oy, window_.n);
+  // Ghost-free hook: the cells this frame's movers overlap (disc vs cell square).
+  if (!movers_.empty())
+  {
+    std::vector<std::pair<int, int>> cells;
+    const double res = window_.res;
+    for (const MoverFootprint& m : movers_)
+    {
+      // A footprint wider than the window is no person (and would loop over huge ranges).
+      if (!std::isfinite(m.x) || !std::isfinite(m.y) || !(m.radius > 0.0) || m.radius > params_.window_radius) continue;
+      const int x0 = static_cast<int>(std::floor((m.x - m.radius) / res)), x1 = static_cast<int>(std::floor((m.x + m.radius) / res));
+      const int y0 = static_cast<int>(std::floor((m.y - m.radius) / res)), y1 = static_cast<int>(std::floor((m.y + m.radius) / res));
+      for (int gy = y0; gy <= y1; ++gy)
+        for (int gx = x0; gx <= x1; ++gx)
+        {
+          const double dx = std::max({gx * res - m.x, 0.0, m.x - (gx + 1) * res});
+          const double dy = std::max({gy * res - m.y, 0.0, m.y - (gy + 1) * res});
+          if (dx * dx + dy * dy < m.radius * m.radius) cells.emplace_back(gx, gy);
+        }
+    }
+    temporal_.setMoverCells(cells);
+  }
   sonar_.retain(window_);
   last_feet_ = feet;
   const float z_max = t.z() + static_cast<float>(params_.head_clearance);
@@ -159,6 +180,11 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
       const int c = window_.index(lx, ly);
       const int gx = window_.ox + lx, gy = window_.oy + ly;
       if (elevation_.count(c) > 0) ++stats_.cells_observed;
+      if (temporal_.moverCell(gx, gy))
+      {
+        ++stats_.mover_cells;
+        continue;
+      }
       FrameLabel lab = labels_[c];
       // An obstacle label at any range (even one too far to vote) withdraws the clearance of the
       // bands its points are in.
@@ -227,6 +253,9 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
       if ((lab == FrameLabel::FREE || lab == FrameLabel::STEP) && !temporal_.columnClear(gx, gy)) continue;
       temporal_.vote(gx, gy, lab, weight, !filled);
     }
+  // The movers were this frame's.
+  if (!movers_.empty()) temporal_.clearMoverCells();
+  movers_.clear();
 }
 
 RangeCheck ObstacleMap::addRange(const RangeReading& r)

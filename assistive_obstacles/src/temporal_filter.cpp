@@ -66,9 +66,15 @@ bool TemporalFilter::columnClear(int gx, int gy) const
   return ((c ? c->clear : presumed_clear_) & all) == all;
 }
 
+void TemporalFilter::setMoverCells(const std::vector<std::pair<int, int>>& cells)
+{
+  movers_.clear();
+  for (const auto& c : cells) movers_.insert(key(c.first, c.second));
+}
+
 void TemporalFilter::observeColumn(int gx, int gy, uint8_t seen_clear, uint8_t seen_occupied)
 {
-  if (n_ == 0 || params_.column_bands <= 0) return;
+  if (n_ == 0 || params_.column_bands <= 0 || moverCell(gx, gy)) return;
   if (!seen_clear && !seen_occupied && !find(gx, gy)) return;  // nothing to remember
   CellCounters& c = claim(gx, gy);
   c.clear = static_cast<uint8_t>((c.clear | seen_clear) & ~seen_occupied);
@@ -76,7 +82,7 @@ void TemporalFilter::observeColumn(int gx, int gy, uint8_t seen_clear, uint8_t s
 
 void TemporalFilter::vote(int gx, int gy, FrameLabel label, int weight, bool observed)
 {
-  if (n_ == 0 || label == FrameLabel::NONE) return;
+  if (n_ == 0 || label == FrameLabel::NONE || moverCell(gx, gy)) return;
   CellCounters& c = claim(gx, gy);
   if (c.permanent) return;
   const uint16_t w = static_cast<uint16_t>(std::clamp(weight, 1, MAX_VOTE_WEIGHT));

@@ -155,6 +155,67 @@ TEST(ObstacleMap, FlickeringCellBecomesPermanentObstacle)
   EXPECT_EQ(codeAt(m, 1.5, 0.1), CELL_FREE);
 }
 
+TEST(ObstacleMap, PersonWalkingAcrossNeverLocksACellWithMovers)
+{
+  // A person (a 0.15 m column of points, 1.7 m tall) pacing back and forth across x = 2.3 at
+  // 0.2 m per frame, beside a static pole that comes and goes (the flicker above) and a steady
+  // one. Given as movers, the person's cells take no vote: none of them flips or locks, and once
+  // the person has gone they are free; the static flicker still locks, the steady pole is an
+  // obstacle. Without movers the same walk locks cells (the ghosts the hook removes).
+  Points floor;
+  synthetic::patch(floor, 0.6, 4.0, -1.4, 1.4, 0.0);
+  const Eigen::Isometry3f T = synthetic::cameraAt(0.0, 0.0, 1.6);
+  const std::vector<double> path = {-0.5, -0.3, -0.1, 0.1, 0.3, 0.5, 0.7, 0.5, 0.3, 0.1, -0.1, -0.3};
+  const double px = 2.3, pr = 0.15;
+  auto cellsOfWalk = [&](const ObstacleMap& m, int& flipped, int& locked) {
+    flipped = locked = 0;
+    for (int gx = static_cast<int>(std::floor((px - 0.4) / 0.2)); gx <= static_cast<int>(std::floor((px + 0.4) / 0.2)); ++gx)
+      for (int gy = static_cast<int>(std::floor(-0.8 / 0.2)); gy <= static_cast<int>(std::floor(1.0 / 0.2)); ++gy)
+        if (const CellCounters* c = m.temporal().find(gx, gy))
+        {
+          flipped += c->flips > 0;
+          locked += c->permanent;
+        }
+  };
+  for (const bool hook : {true, false})
+  {
+    ObstacleMap m;
+    for (int i = 0; i < 240; ++i)
+    {
+      Points w = floor;
+      synthetic::pole(w, 1.5, -1.0, 0.05, 1.0);  // steady
+      if (i % 2) synthetic::pole(w, 3.1, 1.1, 0.05, 1.0);  // static flicker
+      const double py = path[i % path.size()];
+      synthetic::pole(w, px, py, pr, 1.7);
+      if (hook) m.setMovers({MoverFootprint{px, py, pr + 0.1}});
+      m.update(synthetic::toCamera(w, T), T);
+      if (hook)
+      {
+        EXPECT_GT(m.stats().mover_cells, 0);
+      }
+    }
+    int flipped = 0, locked = 0;
+    cellsOfWalk(m, flipped, locked);
+    const CellCounters* flicker = m.temporal().find(static_cast<int>(std::floor(3.1 / 0.2)), static_cast<int>(std::floor(1.1 / 0.2)));
+    ASSERT_NE(flicker, nullptr);
+    EXPECT_TRUE(flicker->permanent) << "hook " << hook;
+    EXPECT_EQ(codeAt(m, 1.5, -1.0), CELL_OBSTACLE) << "hook " << hook;
+    if (hook)
+    {
+      EXPECT_EQ(flipped, 0);
+      EXPECT_EQ(locked, 0);
+      // The person leaves: every cell of the walk is free.
+      const Points w = floor;
+      for (int i = 0; i < 10; ++i) m.update(synthetic::toCamera(w, T), T);
+      for (double y = -0.7; y <= 0.9; y += 0.2) EXPECT_EQ(codeAt(m, px, y), CELL_FREE) << "y " << y;
+    }
+    else
+    {
+      EXPECT_GT(locked, 0);  // without the hook the walk leaves ghosts locked for good
+    }
+  }
+}
+
 TEST(ObstacleMap, GlassDropoutKeepsObstacleAndIsReported)
 {
   ObstacleMap m;

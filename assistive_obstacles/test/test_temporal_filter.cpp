@@ -82,3 +82,35 @@ TEST(TemporalFilter, RingSlotReusedForAnotherCellStartsUnknown)
   EXPECT_EQ(f.code(1, 1), CELL_UNKNOWN);   // scrolled out
   EXPECT_EQ(f.code(-9, 1), CELL_UNKNOWN);
 }
+
+TEST(TemporalFilter, MoverCellsNeitherVoteNorFlip)
+{
+  // Same flicker as above, but the obstacle frames are a person walking through (a mover cell
+  // then): the cell never flips, never locks. A static flicker beside it still locks, a steady
+  // obstacle is one.
+  TemporalFilter f;
+  f.resize(52);
+  EXPECT_FALSE(f.moverCell(7, -2));
+  for (int i = 0; i < 3; ++i) f.vote(9, 9, FrameLabel::OBSTACLE);
+  for (int i = 0; i < 2; ++i) f.vote(9, 9, FrameLabel::FREE);
+  for (int i = 0; i < 5; ++i) f.vote(7, -2, FrameLabel::FREE);
+  for (int i = 0; i < 200; ++i)
+  {
+    const bool person = i % 2 == 1;  // starts free, as the flicker above
+    f.setMoverCells(person ? std::vector<std::pair<int, int>>{{7, -2}, {7, -1}} : std::vector<std::pair<int, int>>{});
+    EXPECT_EQ(f.moverCell(7, -2), person);
+    EXPECT_FALSE(f.moverCell(9, 9));
+    f.vote(7, -2, person ? FrameLabel::OBSTACLE : FrameLabel::FREE);
+    f.vote(9, 9, person ? FrameLabel::OBSTACLE : FrameLabel::FREE);
+    f.vote(2, 2, FrameLabel::OBSTACLE);
+  }
+  f.clearMoverCells();
+  EXPECT_FALSE(f.moverCell(7, -2));
+  ASSERT_NE(f.find(7, -2), nullptr);
+  EXPECT_EQ(f.find(7, -2)->flips, 0);
+  EXPECT_FALSE(f.find(7, -2)->permanent);
+  EXPECT_EQ(f.find(7, -2)->o, 0);
+  EXPECT_EQ(f.code(7, -2), CELL_FREE);
+  EXPECT_TRUE(f.find(9, 9)->permanent);
+  EXPECT_EQ(f.code(2, 2), CELL_OBSTACLE);
+}

@@ -34,6 +34,14 @@ struct FrameStats
   int cells_observed = 0;    ///< cells with >= min_points_per_cell points
   int obstacle_votes = 0, free_votes = 0;
   int dropout_cells = 0;     ///< obstacle cells in view without depth this frame
+  int mover_cells = 0;       ///< cells in the vote circle skipped as covered by a mover (setMovers)
+};
+
+/// A mover's ground footprint (world, m): a disc; every cell it overlaps takes no vote.
+struct MoverFootprint
+{
+  double x = 0.0, y = 0.0;
+  double radius = 0.0;
 };
 
 /// Range (m) within which a cell may take an obstacle vote: where the stereo depth error
@@ -59,6 +67,12 @@ public:
   void update(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Isometry3f& T_world_cam,
               const StereoModel* camera = nullptr, const cv::Mat* disparity = nullptr,
               const std::vector<Eigen::Vector3f>* normals_cam = nullptr);
+  /// Ghost-free hook (issue 22): the movers of the NEXT update() only (their detections are of that
+  /// frame). Cells a footprint overlaps take no vote and no column observation in it (the temporal
+  /// filter's mover cells), so people walking by leave no ghost and lock no cell. None given
+  /// (the default): update() is unchanged. Footprints that are not finite, or wider than
+  /// window_radius, are ignored.
+  void setMovers(const std::vector<MoverFootprint>& movers) { movers_ = movers; }
   /// One forward-ranger reading (sonar_fusion.h) into the current window (after the first
   /// update()); its pose in the same world frame. Returns its check (only ECHO adds evidence).
   RangeCheck addRange(const RangeReading& r);
@@ -93,6 +107,7 @@ private:
   std::vector<FrameLabel> labels_;
   GridData dropout_;
   FrameStats stats_;
+  std::vector<MoverFootprint> movers_;  ///< for the next update()
 };
 
 }  // namespace assistive_obstacles

@@ -6,6 +6,7 @@
 // with its global cell, so the window scrolls with the wearer without moving memory; a slot
 // re-used for a new global cell starts unknown.
 #include <cstdint>
+#include <unordered_set>
 #include <vector>
 
 #include <assistive_obstacles/cell_values.h>
@@ -46,6 +47,13 @@ public:
   /// frame, at any range) cleared; occupied wins. A new cell starts with the bands below
   /// column_strict_from set (presumed clear until an obstacle is seen in them).
   void observeColumn(int gx, int gy, uint8_t seen_clear, uint8_t seen_occupied);
+  /// Ghost-free hook (issue 22): global cells covered by a mover (a person walking) this frame.
+  /// vote() and observeColumn() skip them: a passer-by neither votes obstacle (no ghost) nor
+  /// flips the cell (no permanent lock), and withdraws no column clearance. Holds until replaced;
+  /// an empty list (the default) changes nothing.
+  void setMoverCells(const std::vector<std::pair<int, int>>& cells);
+  void clearMoverCells() { movers_.clear(); }
+  bool moverCell(int gx, int gy) const { return !movers_.empty() && movers_.count(key(gx, gy)) > 0; }
   /// Whether every band of the cell's column was seen clear since its last obstacle evidence
   /// (always true when column_bands is 0).
   bool columnClear(int gx, int gy) const;
@@ -58,12 +66,14 @@ public:
   void retain(int ox, int oy, int n);
 
 private:
+  static int64_t key(int gx, int gy) { return (static_cast<int64_t>(gx) << 32) ^ static_cast<uint32_t>(gy); }
   int slot(int gx, int gy) const;
   CellCounters& claim(int gx, int gy);
   ObstaclesParams params_;
   uint8_t presumed_clear_ = 0;  ///< bands a new cell starts with (below column_strict_from)
   int n_ = 0;
   std::vector<CellCounters> cells_;
+  std::unordered_set<int64_t> movers_;  ///< key(gx, gy) of the mover cells
 };
 
 }  // namespace assistive_obstacles
