@@ -302,6 +302,7 @@ int main(int argc, char** argv)
     ms["p3p_ransac"].push_back(o.stats.ms_ransac);
     ms["bundle_adj"].push_back(o.stats.ms_ba);
     ms["detect"].push_back(o.stats.ms_detect);
+    ms["lines"].push_back(o.stats.ms_lines);
     // Recovery counted in usable frames only (objective image test, outside the timed call).
     const bool usable = ev::stereoPairUsable(f.left, f.right);
     unusable += !usable;
@@ -382,7 +383,7 @@ int main(int argc, char** argv)
   std::cout << "assistive_vo benchmark: " << bag << "  (" << frames << " frames, "
             << (imu_on ? "gyro prior on" : "no IMU") << ")\n";
   std::cout << "stage          ms_median   ms_p95   (thread CPU time, one core)\n";
-  for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect", "total"})
+  for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect", "lines", "total"})
     std::cout << "  " << std::left << std::setw(12) << k << std::right << std::fixed << std::setprecision(3)
               << std::setw(10) << percentile(ms[k], 0.5) << std::setw(9) << percentile(ms[k], 0.95) << "\n";
   std::cout << "  total (wall)" << std::setw(10) << percentile(wall, 0.5) << std::setw(9) << percentile(wall, 0.95)
@@ -495,7 +496,7 @@ int main(int argc, char** argv)
         .add("blackout_err_resumed_m", bo.resumed ? num(relErr(bo.gt_c, bo.est_c)) : "null");
   js.add("resets", vo.resets()).add("frames_not_tracking", lost).add("max_recovery_frames", max_bad_run)
       .add("recovery_frames_max", recovery.maxUsableInRun()).add("unusable_frames", unusable);
-  for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect"})
+  for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect", "lines"})
     js.add(std::string("ms_p95_") + k, num(percentile(ms[k], 0.95)));
   if (have_gt)
     for (const auto& b : rep.yaw_bands)
