@@ -343,10 +343,31 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
   tracks_.swap(kept);
   tracks_started_ = static_cast<int>(tracks_.size());
   cells_started_ = occupiedCells();
-  lines_.clear();
-  if (pointline_)
-    startLines(left, right);
-  lines_started_ = static_cast<int>(lines_.size());
+  // Lines: the tracked ones carry on into the new keyframe while at least half of those started
+  // (and 8) are left: the line detector costs about 15 ms an image, the most of any stage.
+  const bool keep_lines = pointline_ && from_current_tracks &&
+                          static_cast<int>(lines_.size()) >= std::max(8, lines_started_ / 2);
+  if (keep_lines)
+  {
+    for (LineTrack& t : lines_)
+    {
+      t.kf_left = t.cur;
+      t.kf_right = t.cur_right;
+    }
+    right.copyTo(prev_right_);
+  }
+  else
+  {
+    lines_.clear();
+    // ... and new lines are looked for at most every kLineDetectFrames frames (keyframes come
+    // every 2-3 frames where corners are few)
+    if (pointline_ && (!from_current_tracks || frames_since_line_detect_ >= kLineDetectFrames))
+    {
+      startLines(left, right);
+      frames_since_line_detect_ = 0;
+    }
+    lines_started_ = static_cast<int>(lines_.size());
+  }
   st.new_features = added;
   st.keyframe = true;
   T_w_kf_ = T_w_cur_;
@@ -358,7 +379,7 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
   cov_kf_ = cov_cur_;
   // With lines, a stereo segment counts as a feature (it constrains the motion as much as a point
   // or more: 4 rows of the trifocal system against a point's 3).
-  have_keyframe_ = tracks_started_ + lines_started_ >= std::max(4, p_.min_inliers);
+  have_keyframe_ = tracks_started_ + static_cast<int>(lines_.size()) >= std::max(4, p_.min_inliers);
   st.ms_detect += msSince(t0);
 }
 
@@ -588,7 +609,10 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
   if (pointline_)
     trackLines(left, right, st);
   MotionEstimate m;
-  const bool pose_found = pointline_ ? estimatePosePointLine(st, m) : estimatePose(T_kf_pred, st, m);
+  // pointline: the point+line RANSAC while stereo line tracks exist; without any it would be
+  // the quaternion solver on points alone, slower than P3P and no better (README figures).
+  const bool with_lines = pointline_ && std::any_of(lines_.begin(), lines_.end(), [](const LineTrack& t) { return t.stereo; });
+  const bool pose_found = with_lines ? estimatePosePointLine(st, m) : estimatePose(T_kf_pred, st, m);
   last_dt_ = fc.dt;
   if (!pose_found)
     return finish(fail("too few inliers (" + std::to_string(m.rr.inliers.size()) + "): re-initialising", &left,
@@ -989,6 +1013,7 @@ void VisualOdometry::startLines(const cv::Mat& left, const cv::Mat& right)
 void VisualOdometry::trackLines(const cv::Mat& left, const cv::Mat& right, FrameStats& st)
 {
   const auto t0 = Clock::now();
+  ++frames_since_line_detect_;
   if (!lines_.empty() && !prev_pyr_.empty() && !cur_pyr_.empty())
   {
     // Both segments of a line tracked by KLT along them, the left one in the left images, the

@@ -317,6 +317,7 @@ int main(int argc, char** argv)
     if (verbose)
       std::cerr << "frame " << frames << " " << toString(o.state) << " klt " << o.stats.klt_tracked << " epipolar "
                 << o.stats.epipolar_kept << " p3p_inliers " << o.stats.inliers << " trials " << o.stats.ransac_trials
+                << " lines " << o.stats.lines << " line_inliers " << o.stats.line_inliers << " ms " << o.stats.ms_total
                 << (usable ? "" : " (unusable)") << " step_m " << (est.empty() ? 0.0 : (est.back().pose.translation() - o.T_odom_optical.translation()).norm())
                 << " gt_step_m " << (gt.empty() || !f.has_gt_pose ? 0.0 : (gt.back().pose.translation() - f.gt_pose.translation()).norm())
                 << (o.stats.keyframe ? " | keyframe: detected " + std::to_string(o.stats.detected) +

@@ -269,6 +269,8 @@ private:
   };
   bool pointline_ = false;  ///< motion_solver is pointline
   static constexpr int kPointLineMinBaPoints = 8;  ///< point inliers for the bundle adjustment
+  static constexpr int kLineDetectFrames = 5;      ///< tracked frames between two line detections at most
+  int frames_since_line_detect_ = 0;
   LineDetector line_detector_;
   LineMatchParams line_match_;
   PointLineRansac pl_ransac_;
