@@ -82,8 +82,9 @@ const char* toString(TrackingState s)
 
 VisualOdometry::VisualOdometry(const VoParams& p, const StereoCamera& cam)
   : p_(p), cam_(cam), detector_(p), stereo_(p), checks_(p), bias_(p), gravity_(gravityOptions(p)),
-    coast_(coastOptions(p)), pointline_(usesPointLine(p))
+    coast_(coastOptions(p))
 {
+  pointline_ = usesPointLine(p);
 }
 
 void VisualOdometry::setParams(const VoParams& p)
@@ -607,7 +608,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
   filterEpipolar(st);
   matchStereo(left, right, st);
   if (pointline_)
-    trackLines(left, right, st);
+    trackLines(right, st);
   MotionEstimate m;
   // pointline: the point+line RANSAC while stereo line tracks exist; without any it would be
   // the quaternion solver on points alone, slower than P3P and no better (README figures).
@@ -1010,7 +1011,7 @@ void VisualOdometry::startLines(const cv::Mat& left, const cv::Mat& right)
   right.copyTo(prev_right_);
 }
 
-void VisualOdometry::trackLines(const cv::Mat& left, const cv::Mat& right, FrameStats& st)
+void VisualOdometry::trackLines(const cv::Mat& right, FrameStats& st)
 {
   const auto t0 = Clock::now();
   ++frames_since_line_detect_;

@@ -229,7 +229,7 @@ private:
   /// Stereo line segments of a new keyframe (left segments with a right match).
   void startLines(const cv::Mat& left, const cv::Mat& right);
   /// Line tracks: KLT along the segments from the previous left and right images.
-  void trackLines(const cv::Mat& left, const cv::Mat& right, FrameStats& st);
+  void trackLines(const cv::Mat& right, FrameStats& st);
   /// Two-frame bundle adjustment over the inliers, then again with the integrated gyro as a
   /// rotation prior.
   void refinePose(const FrameContext& fc, FrameStats& st, MotionEstimate& m);
