@@ -612,7 +612,9 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
   MotionEstimate m;
   // pointline: the point+line RANSAC while stereo line tracks exist; without any it would be
   // the quaternion solver on points alone, slower than P3P and no better (README figures).
-  const bool with_lines = pointline_ && std::any_of(lines_.begin(), lines_.end(), [](const LineTrack& t) { return t.stereo; });
+  // Where corners are plenty (3 x min_inliers tracks), P3P too: the lines only help where points are few.
+  const bool with_lines = pointline_ && static_cast<int>(tracks_.size()) < 3 * p_.min_inliers &&
+                          std::any_of(lines_.begin(), lines_.end(), [](const LineTrack& t) { return t.stereo; });
   const bool pose_found = with_lines ? estimatePosePointLine(st, m) : estimatePose(T_kf_pred, st, m);
   last_dt_ = fc.dt;
   if (!pose_found)
