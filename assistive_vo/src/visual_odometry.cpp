@@ -362,7 +362,10 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
     lines_.clear();
     // ... and new lines are looked for at most every kLineDetectFrames frames (keyframes come
     // every 2-3 frames where corners are few)
-    if (pointline_ && (!from_current_tracks || frames_since_line_detect_ >= kLineDetectFrames))
+    // and only while the keyframe's corners are not plenty (twice the 3 x min_inliers below which
+    // the lines are used: the span runs down to there before the next keyframe)
+    if (pointline_ && (!from_current_tracks || frames_since_line_detect_ >= kLineDetectFrames) &&
+        tracks_started_ < 10 * p_.min_inliers)
     {
       startLines(left, right);
       frames_since_line_detect_ = 0;
