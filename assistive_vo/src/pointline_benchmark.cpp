@@ -1,4 +1,6 @@
 // pointline_benchmark [--trials N] [--plot-prefix PREFIX] [--seed S]
+// pointline_benchmark --bag FILE.bag [--every K]: the line detector scored against the world's
+// geometry instead (see scoreLinesOnBag).
 // The seed's simulation study of the point+line trifocal solvers (seed 2.3.1.2): baseline 7.5 cm,
 // a random stereo pair (rectified) displaced by a random motion, random 3D points and lines
 // projected into the four views, Gaussian noise of sigma px on every image coordinate (focal
@@ -35,6 +37,8 @@
 #include <opengv/absolute_pose/methods.hpp>
 #include <assistive_eval/benchmark.h>
 #include <assistive_eval/plots.h>
+#include <assistive_eval/stereo_bag.h>
+#include "assistive_vo/line_detector.h"
 #include "assistive_vo/trifocal_solver.h"
 #include "assistive_vo/trifocal_synthetic.h"
 
@@ -227,6 +231,111 @@ double rmsError(const TrifocalScene& s, const StereoMotion& m)
     sq += std::pow(lineReprojectionError(s.rig, m, l, FOCAL), 2);
   return std::sqrt(sq / static_cast<double>(s.points.size() + s.lines.size()));
 }
+/// True edges of the world in the left image from its ground-truth depth (render_bag --depth):
+/// pixels where the depth jumps (more than 3 % between neighbours, or to / from nothing) or the
+/// surface turns (normals of the two sides more than 20 deg apart): wall corners, door frames,
+/// box edges, whatever the texture. 255 = edge.
+cv::Mat trueEdges(const cv::Mat& Z, const ev::StereoCalib& c)
+{
+  cv::Mat E(Z.size(), CV_8U, cv::Scalar(0));
+  auto P = [&](int u, int v) {
+    const double z = Z.at<float>(v, u);
+    return Eigen::Vector3d((u - c.cx) / c.fx * z, (v - c.cy) / c.fy * z, z);
+  };
+  // normal at (u, v) from the points two pixels apart on each side (zero when undefined)
+  auto normal = [&](int u, int v) -> Eigen::Vector3d {
+    if (u < 2 || v < 2 || u + 2 >= Z.cols || v + 2 >= Z.rows)
+      return Eigen::Vector3d::Zero();
+    for (int du = -2; du <= 2; du += 2)
+      for (int dv = -2; dv <= 2; dv += 2)
+        if (!(Z.at<float>(v + dv, u + du) > 0))
+          return Eigen::Vector3d::Zero();
+    const Eigen::Vector3d n = (P(u + 2, v) - P(u, v)).cross(P(u, v + 2) - P(u, v));
+    return n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero();
+  };
+  const double cos_crease = std::cos(20.0 * M_PI / 180.0);
+  for (int v = 0; v + 1 < Z.rows; ++v)
+    for (int u = 0; u + 1 < Z.cols; ++u)
+    {
+      const float z = Z.at<float>(v, u);
+      for (const auto& d : {std::make_pair(1, 0), std::make_pair(0, 1)})
+      {
+        const float zn = Z.at<float>(v + d.second, u + d.first);
+        const bool a = z > 0, b = zn > 0;
+        if (a != b || (a && b && std::abs(z - zn) > 0.03 * std::min(z, zn)))
+        {
+          E.at<uchar>(v, u) = 255;
+          E.at<uchar>(v + d.second, u + d.first) = 255;
+        }
+      }
+    }
+  // creases: the normal two pixels before and after differ (no depth jump needed)
+  for (int v = 4; v + 4 < Z.rows; ++v)
+    for (int u = 4; u + 4 < Z.cols; ++u)
+    {
+      const Eigen::Vector3d n0 = normal(u, v);
+      if (n0.isZero())
+        continue;
+      for (const auto& d : {std::make_pair(1, 0), std::make_pair(0, 1)})
+      {
+        const Eigen::Vector3d a = normal(u - 2 * d.first, v - 2 * d.second), b = normal(u + 2 * d.first, v + 2 * d.second);
+        if (!a.isZero() && !b.isZero() && std::abs(a.dot(b)) < cos_crease)
+          E.at<uchar>(v, u) = 255;
+      }
+    }
+  return E;
+}
+
+/// --bag: the line detector (default parameters) on every K-th left image of a bag rendered with
+/// `render_bag --depth`; a segment is on a true edge when at least 80 % of its points (one per px
+/// along it) are within 1 px of a true-edge pixel (trueEdges). Key line_segments_within_1px.
+int scoreLinesOnBag(const std::string& path, long every)
+{
+  ev::StereoBagReader reader(path);
+  ev::StereoFrame f;
+  const LineDetector det;
+  long k = 0, frames = 0, segments = 0, on_edge = 0;
+  double sample_share = 0;
+  while (reader.next(f))
+  {
+    if (k++ % every != 0)
+      continue;
+    if (f.gt_depth.empty())
+    {
+      std::cerr << "pointline_benchmark: " << path << " has no ground-truth depth (render_bag --depth)\n";
+      return 2;
+    }
+    const cv::Mat E = trueEdges(f.gt_depth, f.calib);
+    cv::Mat dist;
+    cv::distanceTransform(255 - E, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    ++frames;
+    for (const LineSegment& s : det.detect(f.left))
+    {
+      const int n = std::max(2, static_cast<int>(std::ceil(s.length())));
+      int near = 0;
+      for (int i = 0; i <= n; ++i)
+      {
+        const Eigen::Vector2d x = s.p + (s.q - s.p) * (static_cast<double>(i) / n);
+        const int u = static_cast<int>(std::lround(x.x())), v = static_cast<int>(std::lround(x.y()));
+        near += u >= 0 && v >= 0 && u < dist.cols && v < dist.rows && dist.at<float>(v, u) <= 1.0f;
+      }
+      const double share = near / static_cast<double>(n + 1);
+      ++segments;
+      on_edge += share >= 0.8;
+      sample_share += share;
+    }
+  }
+  const double within = segments ? on_edge / static_cast<double>(segments) : NaN;
+  std::cout << "frames " << frames << ", segments " << segments << " (" << (frames ? segments / double(frames) : 0.0)
+            << " per image), within 1 px of a true edge: " << within * 100 << " % (points along them: "
+            << (segments ? sample_share / segments * 100 : NaN) << " %)\n";
+  ev::JsonLine js;
+  js.add("frames", frames).add("segments", segments)
+      .add("line_segments_within_1px", ev::jsonNumber(within, 4))
+      .add("line_points_within_1px", ev::jsonNumber(segments ? sample_share / segments : NaN, 4));
+  std::cout << js.str() << std::endl;
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -235,14 +344,22 @@ int main(int argc, char** argv)
       "usage: pointline_benchmark [--trials N] [--plot-prefix PREFIX] [--seed S]\n"
       "  the seed's simulation study of the point+line trifocal solvers (figs 2.9, 2.10, 2.12):\n"
       "  N trials per noise level (default 1000), plots PREFIX_fig2_9.png, PREFIX_fig2_10.png,\n"
-      "  PREFIX_fig2_12.png (default prefix: pointline), lower-quartile errors, a JSON last line.\n";
+      "  PREFIX_fig2_12.png (default prefix: pointline), lower-quartile errors, a JSON last line.\n"
+      "  --bag FILE.bag [--every K]: instead, the line detector on every K-th (default 5) left image of a\n"
+      "  bag rendered with render_bag --depth, scored against the true edges of its depth\n"
+      "  (line_segments_within_1px).\n";
   long trials = 1000;
   long seed = 1;
   std::string prefix = "pointline";
   ev::CommandLine cl("pointline_benchmark", usage);
-  cl.count("--trials", &trials, 1L).count("--seed", &seed, 0L).text("--plot-prefix", &prefix);
+  std::string bag;
+  long every = 5;
+  cl.count("--trials", &trials, 1L).count("--seed", &seed, 0L).text("--plot-prefix", &prefix).text("--bag", &bag)
+      .count("--every", &every, 1L);
   if (const int rc = cl.parse(argc, argv); rc >= 0)
     return rc;
+  if (!bag.empty())
+    return scoreLinesOnBag(bag, every);
 
   std::mt19937 rng(static_cast<unsigned>(seed));
   std::uniform_int_distribution<int> coin(0, 1 << 30);

@@ -62,6 +62,10 @@ GravityAligner::Options gravityOptions(const VoParams& p)
   o.time_constant_s = p.gravity_time_constant_s;
   return o;
 }
+bool usesPointLine(const VoParams& p)
+{
+  return p.motion_solver == "pointline" || p.motion_solver == "points_lines";
+}
 }  // namespace
 
 const char* toString(TrackingState s)
@@ -80,6 +84,7 @@ VisualOdometry::VisualOdometry(const VoParams& p, const StereoCamera& cam)
   : p_(p), cam_(cam), detector_(p), stereo_(p), checks_(p), bias_(p), gravity_(gravityOptions(p)),
     coast_(coastOptions(p))
 {
+  pointline_ = usesPointLine(p);
 }
 
 void VisualOdometry::setParams(const VoParams& p)
@@ -91,6 +96,7 @@ void VisualOdometry::setParams(const VoParams& p)
   stereo_.setParams(p);
   checks_.setParams(p);
   bias_.setParams(p);
+  pointline_ = usesPointLine(p);
 }
 
 void VisualOdometry::setCamera(const StereoCamera& cam)
@@ -338,6 +344,34 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
   tracks_.swap(kept);
   tracks_started_ = static_cast<int>(tracks_.size());
   cells_started_ = occupiedCells();
+  // Lines: the tracked ones carry on into the new keyframe while at least half of those started
+  // (and 8) are left: the line detector costs about 15 ms an image, the most of any stage.
+  const bool keep_lines = pointline_ && from_current_tracks &&
+                          static_cast<int>(lines_.size()) >= std::max(8, lines_started_ / 2);
+  if (keep_lines)
+  {
+    for (LineTrack& t : lines_)
+    {
+      t.kf_left = t.cur;
+      t.kf_right = t.cur_right;
+    }
+    right.copyTo(prev_right_);
+  }
+  else
+  {
+    lines_.clear();
+    // ... and new lines are looked for at most every kLineDetectFrames frames (keyframes come
+    // every 2-3 frames where corners are few)
+    // and only while the keyframe's corners are not plenty (twice the 3 x min_inliers below which
+    // the lines are used: the span runs down to there before the next keyframe)
+    if (pointline_ && (!from_current_tracks || frames_since_line_detect_ >= kLineDetectFrames) &&
+        tracks_started_ < 10 * p_.min_inliers)
+    {
+      startLines(left, right);
+      frames_since_line_detect_ = 0;
+    }
+    lines_started_ = static_cast<int>(lines_.size());
+  }
   st.new_features = added;
   st.keyframe = true;
   T_w_kf_ = T_w_cur_;
@@ -347,7 +381,9 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
   gyro_since_kf_ = true;
   t_kf_ = last_stamp_pending_;
   cov_kf_ = cov_cur_;
-  have_keyframe_ = tracks_started_ >= std::max(4, p_.min_inliers);
+  // With lines, a stereo segment counts as a feature (it constrains the motion as much as a point
+  // or more: 4 rows of the trifocal system against a point's 3).
+  have_keyframe_ = tracks_started_ + static_cast<int>(lines_.size()) >= std::max(4, p_.min_inliers);
   st.ms_detect += msSince(t0);
 }
 
@@ -574,8 +610,15 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
   trackFrame(left, T_kf_pred, st);
   filterEpipolar(st);
   matchStereo(left, right, st);
+  if (pointline_)
+    trackLines(right, st);
   MotionEstimate m;
-  const bool pose_found = estimatePose(T_kf_pred, st, m);
+  // pointline: the point+line RANSAC while stereo line tracks exist; without any it would be
+  // the quaternion solver on points alone, slower than P3P and no better (README figures).
+  // Where corners are plenty (3 x min_inliers tracks), P3P too: the lines only help where points are few.
+  const bool with_lines = pointline_ && static_cast<int>(tracks_.size()) < 3 * p_.min_inliers &&
+                          std::any_of(lines_.begin(), lines_.end(), [](const LineTrack& t) { return t.stereo; });
+  const bool pose_found = with_lines ? estimatePosePointLine(st, m) : estimatePose(T_kf_pred, st, m);
   last_dt_ = fc.dt;
   if (!pose_found)
     return finish(fail("too few inliers (" + std::to_string(m.rr.inliers.size()) + "): re-initialising", &left,
@@ -954,6 +997,155 @@ bool VisualOdometry::estimatePose(const Eigen::Isometry3d& T_kf_pred, FrameStats
   return true;
 }
 
+void VisualOdometry::startLines(const cv::Mat& left, const cv::Mat& right)
+{
+  const LineSegments L = line_detector_.detect(left), R = line_detector_.detect(right);
+  line_match_.min_disparity = p_.min_disparity_px;
+  line_match_.max_disparity = maxDisparity();
+  const std::vector<int> match = matchStereoSegments(L, R, line_match_);
+  for (size_t i = 0; i < L.size(); ++i)
+  {
+    if (match[i] < 0)
+      continue;
+    LineTrack t;
+    t.kf_left = t.cur = L[i];
+    t.kf_right = t.cur_right = R[static_cast<size_t>(match[i])];
+    t.stereo = true;
+    lines_.push_back(t);
+  }
+  right.copyTo(prev_right_);
+}
+
+void VisualOdometry::trackLines(const cv::Mat& right, FrameStats& st)
+{
+  const auto t0 = Clock::now();
+  ++frames_since_line_detect_;
+  if (!lines_.empty() && !prev_pyr_.empty() && !cur_pyr_.empty())
+  {
+    // Both segments of a line tracked by KLT along them, the left one in the left images, the
+    // right one in the right images (detecting the right image's segments again on every frame
+    // cost three times as much).
+    LineSegments prev_l, prev_r;
+    prev_l.reserve(lines_.size());
+    prev_r.reserve(lines_.size());
+    for (const LineTrack& t : lines_)
+    {
+      prev_l.push_back(t.cur);
+      prev_r.push_back(t.cur_right);
+    }
+    std::vector<bool> ok_l, ok_r;
+    // level 0 of the KLT pyramids: the previous and the current (normalised) left image
+    const LineSegments next_l = trackSegments(prev_pyr_[0], cur_pyr_[0], prev_l, line_match_, ok_l);
+    const LineSegments next_r = trackSegments(prev_right_, right, prev_r, line_match_, ok_r);
+    std::vector<LineTrack> alive;
+    for (size_t i = 0; i < lines_.size(); ++i)
+      if (ok_l[i] && ok_r[i])
+      {
+        LineTrack t = lines_[i];
+        t.cur = next_l[i];
+        t.cur_right = next_r[i];
+        t.stereo = true;
+        alive.push_back(t);
+      }
+    lines_.swap(alive);
+    st.lines = static_cast<int>(lines_.size());
+  }
+  else
+    lines_.clear();
+  right.copyTo(prev_right_);
+  st.ms_lines = msSince(t0);
+}
+
+bool VisualOdometry::estimatePosePointLine(FrameStats& st, MotionEstimate& m)
+{
+  const auto t0 = Clock::now();
+  const auto norm = [this](double u, double v) { return Eigen::Vector2d((u - cam_.cx) / cam_.fx, (v - cam_.cy) / cam_.fy); };
+  StereoRig rig;
+  rig.t0 = Eigen::Vector3d(-cam_.baseline, 0.0, 0.0);
+  PointQuads pq;
+  std::vector<int> pq_track;
+  for (size_t i = 0; i < tracks_.size(); ++i)
+  {
+    const Track& t = tracks_[i];
+    if (t.cur_disp <= 0 || t.kf_obs.ur < 0)
+      continue;
+    PointQuad q;
+    q.x[0] = norm(t.kf_obs.u, t.kf_obs.v);
+    q.x[1] = norm(t.kf_obs.ur, t.kf_obs.v);
+    q.x[2] = norm(t.cur.x, t.cur.y);
+    q.x[3] = norm(t.cur.x - t.cur_disp, t.cur.y);
+    pq.push_back(q);
+    pq_track.push_back(static_cast<int>(i));
+  }
+  LineQuads lq;
+  std::vector<int> lq_track;
+  for (size_t i = 0; i < lines_.size(); ++i)
+  {
+    const LineTrack& t = lines_[i];
+    if (!t.stereo)
+      continue;
+    LineQuad q;
+    const LineSegment* v[4] = {&t.kf_left, &t.kf_right, &t.cur, &t.cur_right};
+    for (int k = 0; k < 4; ++k)
+    {
+      q.p[k] = norm(v[k]->p.x(), v[k]->p.y());
+      q.q[k] = norm(v[k]->q.x(), v[k]->q.y());
+    }
+    lq.push_back(q);
+    lq_track.push_back(static_cast<int>(i));
+  }
+  PointLineRansacOptions ro;
+  ro.sample_size = 5;  // quaternion-5, as the seed's real-data runs
+  ro.threshold_px = p_.inlier_threshold_px;
+  ro.focal_px = cam_.fx;
+  ro.probability = p_.ransac_probability;
+  ro.max_trials = p_.ransac_max_trials;
+  const PointLineRansacResult r = pl_ransac_.estimate(rig, pq, lq, ro);
+  m.rr = RansacResult();
+  m.rr.trials = r.trials;
+  st.ransac_trials = r.trials;
+  int line_in = 0;
+  if (r.ok)
+  {
+    Eigen::Isometry3d T_cur_kf = Eigen::Isometry3d::Identity();
+    T_cur_kf.linear() = r.motion.R;
+    T_cur_kf.translation() = r.motion.t;
+    m.rr.ok = true;
+    m.rr.T_ref_cur = T_cur_kf.inverse();
+    m.rr.threshold_px = ro.threshold_px;
+    std::vector<uint8_t> is_in(tracks_.size(), 0);
+    for (int k : r.point_inliers)
+      is_in[static_cast<size_t>(pq_track[static_cast<size_t>(k)])] = 1;
+    // tracks without a stereo match now: inliers by their left reprojection at this motion
+    for (size_t i = 0; i < tracks_.size(); ++i)
+    {
+      const Track& t = tracks_[i];
+      if (t.cur_disp > 0 && t.kf_obs.ur >= 0)
+        continue;
+      const Eigen::Vector3d Xc = T_cur_kf * t.X_kf;
+      if (Xc.z() > 0.05 && (cam_.projectLeft(Xc) - Eigen::Vector2d(t.cur.x, t.cur.y)).norm() < ro.threshold_px)
+        is_in[i] = 1;
+    }
+    for (size_t i = 0; i < tracks_.size(); ++i)
+      if (is_in[i])
+        m.rr.inliers.push_back(static_cast<int>(i));
+    // the line tracks kept: the inliers (outliers and lines without a stereo match now dropped)
+    std::vector<LineTrack> keep;
+    for (int k : r.line_inliers)
+      keep.push_back(lines_[static_cast<size_t>(lq_track[static_cast<size_t>(k)])]);
+    lines_.swap(keep);
+    line_in = static_cast<int>(lines_.size());
+  }
+  st.line_inliers = line_in;
+  st.ms_ransac = msSince(t0);
+  if (!m.rr.ok || static_cast<int>(m.rr.inliers.size()) + line_in < p_.min_inliers)
+  {
+    st.inliers = static_cast<int>(m.rr.inliers.size());
+    return false;
+  }
+  return true;
+}
+
 void VisualOdometry::refinePose(const FrameContext& fc, FrameStats& st, MotionEstimate& m)
 {
   const auto t0 = Clock::now();
@@ -970,7 +1162,12 @@ void VisualOdometry::refinePose(const FrameContext& fc, FrameStats& st, MotionEs
   bo.iterations = p_.ba_iterations;
   bo.huber_px = p_.ba_huber_px;
   bo.pixel_sigma_px = p_.pixel_sigma_px;
-  m.br = ba_.optimize(cam_, m.rr.T_ref_cur, m.X_in, oref, ocur, bo);
+  // pointline: the bundle adjustment refines with the point inliers only; when they are few, the
+  // lines carry the motion and the point+line RANSAC's (over-determined) solution is kept.
+  if (!pointline_ || static_cast<int>(m.X_in.size()) >= kPointLineMinBaPoints)
+    m.br = ba_.optimize(cam_, m.rr.T_ref_cur, m.X_in, oref, ocur, bo);
+  else
+    m.br = BundleAdjustmentResult();
   // Vision-only rotation (kept for the online gyro bias estimate).
   m.R_vision = m.br.ok ? Eigen::Matrix3d(m.br.T_ref_cur.linear()) : Eigen::Matrix3d(m.rr.T_ref_cur.linear());
   m.cov_vision = m.br.covariance;
@@ -1141,6 +1338,10 @@ cv::Mat VisualOdometry::drawOverlay(const cv::Mat& left) const
   for (const auto& t : tracks_)
     if (t.prev == t.cur)  // fresh corners of a new keyframe
       cv::circle(out, t.cur, 2, cv::Scalar(255, 160, 0), -1, cv::LINE_AA);
+  // line tracks (motion_solver pointline): magenta
+  for (const auto& l : lines_)
+    cv::line(out, cv::Point2d(l.cur.p.x(), l.cur.p.y()), cv::Point2d(l.cur.q.x(), l.cur.q.y()),
+             cv::Scalar(255, 0, 255), 2, cv::LINE_AA);
   cv::putText(out, std::string(toString(last_state_)) + "  tracks " + std::to_string(tracks_.size()),
               cv::Point(8, 20), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 255, 255), 1, cv::LINE_AA);
   return out;

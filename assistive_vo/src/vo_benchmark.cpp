@@ -302,6 +302,7 @@ int main(int argc, char** argv)
     ms["p3p_ransac"].push_back(o.stats.ms_ransac);
     ms["bundle_adj"].push_back(o.stats.ms_ba);
     ms["detect"].push_back(o.stats.ms_detect);
+    ms["lines"].push_back(o.stats.ms_lines);
     // Recovery counted in usable frames only (objective image test, outside the timed call).
     const bool usable = ev::stereoPairUsable(f.left, f.right);
     unusable += !usable;
@@ -316,6 +317,7 @@ int main(int argc, char** argv)
     if (verbose)
       std::cerr << "frame " << frames << " " << toString(o.state) << " klt " << o.stats.klt_tracked << " epipolar "
                 << o.stats.epipolar_kept << " p3p_inliers " << o.stats.inliers << " trials " << o.stats.ransac_trials
+                << " lines " << o.stats.lines << " line_inliers " << o.stats.line_inliers << " ms " << o.stats.ms_total
                 << (usable ? "" : " (unusable)") << " step_m " << (est.empty() ? 0.0 : (est.back().pose.translation() - o.T_odom_optical.translation()).norm())
                 << " gt_step_m " << (gt.empty() || !f.has_gt_pose ? 0.0 : (gt.back().pose.translation() - f.gt_pose.translation()).norm())
                 << (o.stats.keyframe ? " | keyframe: detected " + std::to_string(o.stats.detected) +
@@ -382,7 +384,7 @@ int main(int argc, char** argv)
   std::cout << "assistive_vo benchmark: " << bag << "  (" << frames << " frames, "
             << (imu_on ? "gyro prior on" : "no IMU") << ")\n";
   std::cout << "stage          ms_median   ms_p95   (thread CPU time, one core)\n";
-  for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect", "total"})
+  for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect", "lines", "total"})
     std::cout << "  " << std::left << std::setw(12) << k << std::right << std::fixed << std::setprecision(3)
               << std::setw(10) << percentile(ms[k], 0.5) << std::setw(9) << percentile(ms[k], 0.95) << "\n";
   std::cout << "  total (wall)" << std::setw(10) << percentile(wall, 0.5) << std::setw(9) << percentile(wall, 0.95)
@@ -495,7 +497,7 @@ int main(int argc, char** argv)
         .add("blackout_err_resumed_m", bo.resumed ? num(relErr(bo.gt_c, bo.est_c)) : "null");
   js.add("resets", vo.resets()).add("frames_not_tracking", lost).add("max_recovery_frames", max_bad_run)
       .add("recovery_frames_max", recovery.maxUsableInRun()).add("unusable_frames", unusable);
-  for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect"})
+  for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect", "lines"})
     js.add(std::string("ms_p95_") + k, num(percentile(ms[k], 0.95)));
   if (have_gt)
     for (const auto& b : rep.yaw_bands)

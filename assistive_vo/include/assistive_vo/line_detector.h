@@ -17,7 +17,7 @@ struct LineDetectorParams
 {
   double edge_threshold = 20.0;   ///< theta_edge of eq. 2.16 (Sobel magnitude units, 3x3 kernel on 8-bit)
   double sigmoid_m = 0.25;        ///< eq. 2.16 sigmoid centre: an edgel's relative excess over its neighbours
-  double sigmoid_s = 0.1;         ///< eq. 2.16 sigmoid scale
+  double sigmoid_s = 0.1;         ///< eq. 2.16 sigmoid scale (the edge map thresholds I at 0.5: r > m, whatever the scale)
   int cell = 8;                   ///< px, first level of the linking
   double max_thickness = 2.0;     ///< px, convex-hull width of a segment's edgels (a slanted step edge leaves a 2-px staircase ridge: about 1.6 px wide)
   double max_gap = 6.0;           ///< px, largest gap along the line between two merged segments

@@ -59,6 +59,11 @@ namespace assistive_vo
   X(double, inlier_threshold_px, "inlier_threshold", 2.0, 0.3, 20.0, "px", "upper cap on the LMedS inlier threshold") \
   X(double, inlier_threshold_min_px, "inlier_threshold_min", 0.7, 0.01, inlier_threshold_px, "px", "lower cap on the LMedS inlier threshold") \
   X(int, min_inliers, "min_inliers", 12, 6, 1000, "", "fewer = failure") \
+  /* Motion hypothesis from points only (P3P above) or from points and lines: the trifocal */ \
+  /* quaternion solver (seed 2.2.3, trifocal_solver.h) in RANSAC over the tracked points with a */ \
+  /* stereo match in the keyframe and now, and the stereo line segments tracked since the keyframe */ \
+  /* (line_tracking.h); inliers = point inliers + line inliers (README "Point+line in the loop"). */ \
+  X(std::string, motion_solver, "motion_solver", "points", {}, {}, "", "`points` (P3P RANSAC) or `pointline` (trifocal point+line RANSAC, also spelled `points_lines`); other values: `points`") \
   /* --- two-frame sparse bundle adjustment (Levenberg-Marquardt, Schur complement) --- */ \
   X(int, ba_iterations, "ba_iterations", 8, 0, 100, "", "Levenberg-Marquardt iterations") \
   X(double, ba_huber_px, "ba_huber", 1.0, 0.01, 100.0, "px", "Huber loss threshold of the bundle adjustment") \

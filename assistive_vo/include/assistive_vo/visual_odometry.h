@@ -10,10 +10,13 @@
 #include "assistive_vo/gravity_alignment.h"
 #include "assistive_vo/gyro_bias_estimator.h"
 #include "assistive_vo/inertial_coasting.h"
+#include "assistive_vo/line_detector.h"
+#include "assistive_vo/line_tracking.h"
 #include "assistive_vo/p3p_ransac.h"
 #include "assistive_vo/params.h"
 #include "assistive_vo/patch_alignment.h"
 #include "assistive_vo/plausibility.h"
+#include "assistive_vo/pointline_ransac.h"
 #include "assistive_vo/sparse_stereo.h"
 #include "assistive_vo/stereo_camera.h"
 
@@ -32,12 +35,15 @@ const char* toString(TrackingState s);
 struct FrameStats
 {
   double ms_total = 0, ms_pyramid = 0, ms_klt = 0, ms_epipolar = 0, ms_stereo = 0, ms_ransac = 0,
-         ms_ba = 0, ms_detect = 0;
+         ms_ba = 0, ms_detect = 0, ms_lines = 0;
   int tracks = 0, inliers = 0, ransac_trials = 0, new_features = 0, fast_threshold = 0;
   // per-stage counts of this frame (diagnosis): corners detected, KLT tracks kept, tracks kept
   // by the epipolar RANSAC (new_features = detected corners with stereo depth, inliers = P3P)
   int detected = 0, klt_tracked = 0, epipolar_kept = 0;
   int aligned = 0;  ///< tracks refined against their keyframe patch
+  // motion_solver pointline: stereo line segments tracked since the keyframe with a stereo
+  // match in this frame, and the RANSAC's line inliers among them
+  int lines = 0, line_inliers = 0;
   bool keyframe = false, reset = false;
   // fail-safe detector inputs of this frame (-1: not measured)
   double image_change = -1;     ///< mean absolute difference to the previous left image (every 4th pixel)
@@ -217,6 +223,13 @@ private:
   void filterEpipolar(FrameStats& st);
   /// P3P RANSAC (LMedS) against the keyframe's 3D points; false: too few inliers.
   bool estimatePose(const Eigen::Isometry3d& T_kf_pred, FrameStats& st, MotionEstimate& m);
+  /// motion_solver pointline: trifocal point+line RANSAC over the tracks with a stereo match now
+  /// and the stereo line tracks; tracks without one join the inliers by their left reprojection.
+  bool estimatePosePointLine(FrameStats& st, MotionEstimate& m);
+  /// Stereo line segments of a new keyframe (left segments with a right match).
+  void startLines(const cv::Mat& left, const cv::Mat& right);
+  /// Line tracks: KLT along the segments from the previous left and right images.
+  void trackLines(const cv::Mat& right, FrameStats& st);
   /// Two-frame bundle adjustment over the inliers, then again with the integrated gyro as a
   /// rotation prior.
   void refinePose(const FrameContext& fc, FrameStats& st, MotionEstimate& m);
@@ -246,6 +259,24 @@ private:
   void updateGyroBias(const MotionEstimate& m);
   /// Keeps the odom frame level (about the current position: no jump).
   void levelWithGravity(double stamp, const Eigen::Vector3d* dv_link);
+
+  // ---- line tracks (motion_solver pointline) ----
+  struct LineTrack
+  {
+    LineSegment kf_left, kf_right;  ///< in the keyframe
+    LineSegment cur, cur_right;     ///< in the current frame (cur_right valid when `stereo`)
+    bool stereo = false;
+  };
+  bool pointline_ = false;  ///< motion_solver is pointline
+  static constexpr int kPointLineMinBaPoints = 8;  ///< point inliers for the bundle adjustment
+  static constexpr int kLineDetectFrames = 5;      ///< tracked frames between two line detections at most
+  int frames_since_line_detect_ = 0;
+  LineDetector line_detector_;
+  LineMatchParams line_match_;
+  PointLineRansac pl_ransac_;
+  std::vector<LineTrack> lines_;
+  cv::Mat prev_right_;  ///< the previous right image (line tracks)
+  int lines_started_ = 0;
 
   // ---- overlay ----
   void clearOverlay();
