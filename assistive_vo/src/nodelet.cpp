@@ -98,6 +98,9 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       NODELET_INFO("stereo_odometry: %s", h.c_str());
     for (const std::string& m : assistive_common::clampToTable(p_))
       NODELET_WARN("stereo_odometry: %s", m.c_str());
+    if (p_.motion_solver != "points" && p_.motion_solver != "pointline" && p_.motion_solver != "points_lines")
+      NODELET_WARN("stereo_odometry: motion_solver '%s' is neither 'points' nor 'pointline': using 'points'",
+                   p_.motion_solver.c_str());
     min_freq_ = 0.5 * node_.expected_rate;
     max_freq_ = 2.0 * node_.expected_rate;
     NODELET_INFO("stereo_odometry: %s", assistive_common::describe(p_).c_str());
