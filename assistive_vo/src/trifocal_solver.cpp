@@ -250,6 +250,32 @@ Eigen::Matrix3d nearestRotation(const Eigen::Matrix3d& M)
   return svd.matrixU() * D * svd.matrixV().transpose();
 }
 
+namespace
+{
+/// The motion of a solved 12-vector y = [R row-major (9), t (3)]: the nearest rotation to R (noise
+/// leaves it non-orthonormal, seed 2.2.2.2), one finite solution or the reason there is none.
+TrifocalResult resultFromVector(const Eigen::VectorXd& y, const char* degenerate_reason)
+{
+  TrifocalResult res;
+  StereoMotion m;
+  for (int k = 0; k < 9; ++k)
+    m.R(k / 3, k % 3) = y(k);
+  m.t = y.segment<3>(9);
+  if (!m.R.allFinite() || m.R.norm() < 1e-12)
+  {
+    res.reason = degenerate_reason;
+    return res;
+  }
+  m.R = nearestRotation(m.R);
+  if (finiteMotion(m))
+    res.solutions.push_back(m);
+  res.ok = !res.solutions.empty();
+  if (!res.ok)
+    res.reason = "no finite solution";
+  return res;
+}
+}  // namespace
+
 TrifocalResult solveTrifocalLinear(const StereoRig& rig, const PointQuads& points, const LineQuads& lines)
 {
   TrifocalResult res;
@@ -260,23 +286,7 @@ TrifocalResult solveTrifocalLinear(const StereoRig& rig, const PointQuads& point
   // eq. 2.28: A(:, 1:12) y = -A(:, 13), least squares
   const Eigen::VectorXd y =
       A.leftCols(12).jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(-A.col(12));
-  StereoMotion m;
-  for (int k = 0; k < 9; ++k)
-    m.R(k / 3, k % 3) = y(k);
-  m.t = y.segment<3>(9);
-  if (!m.R.allFinite() || m.R.norm() < 1e-12)
-  {
-    res.reason = "linear solution degenerate";
-    return res;
-  }
-  // Noise leaves R non-orthonormal: the nearest rotation (seed 2.2.2.2).
-  m.R = nearestRotation(m.R);
-  if (finiteMotion(m))
-    res.solutions.push_back(m);
-  res.ok = !res.solutions.empty();
-  if (!res.ok)
-    res.reason = "no finite solution";
-  return res;
+  return resultFromVector(y, "linear solution degenerate");
 }
 
 TrifocalResult solveTrifocalSubspace(const StereoRig& rig, const PointQuads& points, const LineQuads& lines)
@@ -403,23 +413,7 @@ TrifocalResult solveTrifocalSubspace(const StereoRig& rig, const PointQuads& poi
     if (step.norm() < 1e-15 * (1.0 + lambda.norm()))
       break;
   }
-  const Eigen::VectorXd y = yp + N * lambda;
-  StereoMotion m;
-  for (int e = 0; e < 9; ++e)
-    m.R(e / 3, e % 3) = y(e);
-  m.t = y.segment<3>(9);
-  if (!m.R.allFinite() || m.R.norm() < 1e-12)
-  {
-    res.reason = "subspace solution degenerate";
-    return res;
-  }
-  m.R = nearestRotation(m.R);
-  if (finiteMotion(m))
-    res.solutions.push_back(m);
-  res.ok = !res.solutions.empty();
-  if (!res.ok)
-    res.reason = "no finite solution";
-  return res;
+  return resultFromVector(yp + N * lambda, "subspace solution degenerate");
 }
 
 TrifocalResult solveTrifocalQuaternion(const StereoRig& rig, const PointQuads& points, const LineQuads& lines)
