@@ -14,34 +14,11 @@
 #include <rosbag/view.h>
 #include <tf2_eigen/tf2_eigen.h>
 
-namespace
-{
-Eigen::Isometry3d toEigen(const geometry_msgs::Pose& p)
-{
-  Eigen::Isometry3d T;
-  tf2::fromMsg(p, T);
-  return T;
-}
+#include "replay_test_util.h"
 
-bool truthAt(const std::map<double, Eigen::Isometry3d>& truth, double t, Eigen::Isometry3d* T)
-{
-  auto it = truth.lower_bound(t - 1e-4);
-  if (it == truth.end() || std::abs(it->first - t) > 1e-3)
-    return false;
-  *T = it->second;
-  return true;
-}
-
-void spinFor(double wall_s)
-{
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(wall_s);
-  while (ros::ok() && ros::WallTime::now() < end)
-  {
-    ros::spinOnce();
-    ros::WallDuration(0.01).sleep();
-  }
-}
-}  // namespace
+using replay_test::spinFor;
+using replay_test::toEigen;
+using replay_test::truthAt;
 
 TEST(SlamFastSlam, FilterRunsAndKeyframesFollowTheTruth)
 {
@@ -54,15 +31,7 @@ TEST(SlamFastSlam, FilterRunsAndKeyframesFollowTheTruth)
   ASSERT_TRUE(nh.getParam("/slam/metric_backend", backend));
   EXPECT_EQ(backend, "fastslam");
 
-  std::map<double, Eigen::Isometry3d> truth;  // left optical frame in world
-  {
-    rosbag::Bag bag(bag_path);
-    for (const auto& m : rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{"/ground_truth/odom"})))
-    {
-      auto o = m.instantiate<nav_msgs::Odometry>();
-      truth[o->header.stamp.toSec()] = toEigen(o->pose.pose);
-    }
-  }
+  const std::map<double, Eigen::Isometry3d> truth = replay_test::readTruth(bag_path);  // left optical frame in world
   ASSERT_GT(truth.size(), 100u);
   const double end = truth.begin()->first + duration;
 
@@ -98,18 +67,8 @@ TEST(SlamFastSlam, FilterRunsAndKeyframesFollowTheTruth)
     }
   }
   ASSERT_GT(est.size(), 10u) << "slam/path has " << path.poses.size() << " keyframes";
-  Eigen::Matrix3Xd a(3, est.size()), b(3, gt.size());
-  for (size_t i = 0; i < est.size(); ++i)
-  {
-    a.col(static_cast<long>(i)) = est[i];
-    b.col(static_cast<long>(i)) = gt[i];
-  }
   Eigen::Isometry3d A;
-  A.matrix() = Eigen::umeyama(a, b, false);
-  double s = 0;
-  for (size_t i = 0; i < est.size(); ++i)
-    s += (A * est[i] - gt[i]).squaredNorm();
-  const double rmse = std::sqrt(s / static_cast<double>(est.size()));
+  const double rmse = replay_test::ate(est, gt, &A);
   std::printf("slam_fastslam: %zu keyframes, %d particles, %d landmarks in the filter's submap; keyframe ATE %.4f m\n",
               est.size(), particles, landmarks, rmse);
   EXPECT_LT(rmse, ate_bound);

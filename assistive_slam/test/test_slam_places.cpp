@@ -21,51 +21,12 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
-namespace
-{
-Eigen::Isometry3d toEigen(const geometry_msgs::Pose& p)
-{
-  Eigen::Isometry3d T;
-  tf2::fromMsg(p, T);
-  return T;
-}
+#include "replay_test_util.h"
 
-/// The truth pose (left optical frame in world) at stamp t (the frames' own stamps), or false.
-bool truthAt(const std::map<double, Eigen::Isometry3d>& truth, double t, Eigen::Isometry3d* T)
-{
-  auto it = truth.lower_bound(t - 1e-4);
-  if (it == truth.end() || std::abs(it->first - t) > 1e-3)
-    return false;
-  *T = it->second;
-  return true;
-}
-
-/// SE3 fit (no scale) of est onto truth; RMS of the residual positions.
-double ate(const std::vector<Eigen::Vector3d>& est, const std::vector<Eigen::Vector3d>& gt, Eigen::Isometry3d* A)
-{
-  Eigen::Matrix3Xd a(3, est.size()), b(3, gt.size());
-  for (size_t i = 0; i < est.size(); ++i)
-  {
-    a.col(i) = est[i];
-    b.col(i) = gt[i];
-  }
-  A->matrix() = Eigen::umeyama(a, b, false);
-  double s = 0;
-  for (size_t i = 0; i < est.size(); ++i)
-    s += ((*A) * est[i] - gt[i]).squaredNorm();
-  return std::sqrt(s / est.size());
-}
-
-void spinFor(double wall_s)
-{
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(wall_s);
-  while (ros::ok() && ros::WallTime::now() < end)
-  {
-    ros::spinOnce();
-    ros::WallDuration(0.01).sleep();
-  }
-}
-}  // namespace
+using replay_test::ate;
+using replay_test::spinFor;
+using replay_test::toEigen;
+using replay_test::truthAt;
 
 TEST(SlamPlaces, TagTheStartWalkTheLoopAndComeBack)
 {
@@ -75,15 +36,7 @@ TEST(SlamPlaces, TagTheStartWalkTheLoopAndComeBack)
   const double ate_bound = pnh.param("ate_bound_m", 0.05);
   const double goal_tol = pnh.param("goal_tolerance_m", 0.15);
 
-  std::map<double, Eigen::Isometry3d> truth;  // left optical frame in world
-  {
-    rosbag::Bag bag(bag_path);
-    for (const auto& m : rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{"/ground_truth/odom"})))
-    {
-      auto o = m.instantiate<nav_msgs::Odometry>();
-      truth[o->header.stamp.toSec()] = toEigen(o->pose.pose);
-    }
-  }
+  const std::map<double, Eigen::Isometry3d> truth = replay_test::readTruth(bag_path);  // left optical frame in world
   ASSERT_GT(truth.size(), 600u) << "the bag must reach the second pass of the start";
   const double bag_end = truth.rbegin()->first;
 
