@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <random>
 #include <set>
 #include <sstream>
 
@@ -187,11 +188,164 @@ Solid box(double cx, double cy, double sx, double sy, double yaw, double z0, dou
   return s;
 }
 
+/// A list of at least `min` [x, y] points at `map[key]`.
+std::vector<Eigen::Vector2d> points(const Ctx& c, const YAML::Node& map, const std::string& key,
+                                    const std::string& field, size_t min)
+{
+  const YAML::Node n = map[key];
+  const std::string f = field + "." + key;
+  if (!n) c.fail(map, f, "missing (required)");
+  if (!n.IsSequence() || n.size() < min)
+    c.fail(n, f, "expected a list of at least " + std::to_string(min) + " [x, y] points");
+  std::vector<Eigen::Vector2d> out;
+  for (size_t i = 0; i < n.size(); ++i)
+  {
+    const std::string fi = f + "[" + std::to_string(i) + "]";
+    if (!n[i].IsSequence() || n[i].size() != 2) c.fail(n[i], fi, "expected [x, y]");
+    try
+    {
+      out.emplace_back(n[i][0].as<double>(), n[i][1].as<double>());
+    }
+    catch (const YAML::Exception&)
+    {
+      c.fail(n[i], fi, "expected two numbers");
+    }
+    if (!out.back().allFinite()) c.fail(n[i], fi, "not finite");
+  }
+  return out;
+}
+
+/// Append a straight walk to `to` at `speed` (and a pause there) to a person's knots.
+void walkTo(Person& p, const Eigen::Vector2d& to, double speed, double pause)
+{
+  const double d = (to - p.knot_p.back()).norm();
+  if (d > 1e-9)
+  {
+    p.knot_t.push_back(p.knot_t.back() + d / speed);
+    p.knot_p.push_back(to);
+  }
+  if (pause > 0)
+  {
+    p.knot_t.push_back(p.knot_t.back() + pause);
+    p.knot_p.push_back(to);
+  }
+}
+
+/// The `people:` list (README "World files"): each person's script expanded into knots.
+void parsePeople(const YAML::Node& root, const Ctx& c, const std::map<std::string, int>& ids, World& w)
+{
+  if (!root["people"]) return;
+  const YAML::Node ps = root["people"];
+  if (!ps.IsSequence()) c.fail(ps, "people", "expected a list of people");
+  for (size_t i = 0; i < ps.size(); ++i)
+  {
+    const YAML::Node n = ps[i];
+    const std::string f = "people[" + std::to_string(i) + "]";
+    c.checkKeys(n, f, {"name", "radius", "height", "material", "walk", "random_walk", "stand"});
+    Person p;
+    p.source = f;
+    p.name = c.str(n, "name", f, f);
+    p.radius = c.num(n, "radius", f, p.radius, false, 0.1, 0.4);
+    p.height = c.num(n, "height", f, p.height, false, 1.0, 2.2);
+    p.material = materialRef(c, n, f, ids, 0);
+    const int kinds = (n["walk"] ? 1 : 0) + (n["random_walk"] ? 1 : 0) + (n["stand"] ? 1 : 0);
+    if (kinds != 1) c.fail(n, f, "expected exactly one of walk, random_walk, stand");
+    if (const YAML::Node s = n["stand"])
+    {
+      const std::string sf = f + ".stand";
+      c.checkKeys(s, sf, {"at", "yaw"});
+      p.kind = Person::STAND;
+      const auto at = c.vec(s, "at", sf, 2, true);
+      p.knot_t = {0.0};
+      p.knot_p = {Eigen::Vector2d(at[0], at[1])};
+      p.stand_yaw = c.num(s, "yaw", sf, 0.0, false, -360, 360) * DEG;
+    }
+    else if (const YAML::Node s = n["walk"])
+    {
+      const std::string sf = f + ".walk";
+      c.checkKeys(s, sf, {"waypoints", "speed", "mode", "start", "pause"});
+      p.kind = Person::WALK;
+      const auto wp = points(c, s, "waypoints", sf, 2);
+      const double speed = c.num(s, "speed", sf, 1.2, false, 0.3, 2.5);
+      const double start = c.num(s, "start", sf, 0.0, false, 0.0, 1e5);
+      const double pause = c.num(s, "pause", sf, 0.0, false, 0.0, 600);
+      const std::string mode = c.str(s, "mode", sf, "once");
+      if (mode != "once" && mode != "loop" && mode != "back_and_forth")
+        c.fail(s["mode"], sf + ".mode", "unknown mode '" + mode + "' (once, loop, back_and_forth)");
+      for (size_t k = 1; k < wp.size(); ++k)
+        if ((wp[k] - wp[k - 1]).norm() < 1e-6)
+          c.fail(s["waypoints"][k], sf + ".waypoints[" + std::to_string(k) + "]", "repeats the previous waypoint");
+      p.knot_t = {start};
+      p.knot_p = {wp[0]};
+      for (size_t k = 1; k < wp.size(); ++k) walkTo(p, wp[k], speed, mode == "once" && k + 1 == wp.size() ? 0.0 : pause);
+      if (mode == "loop")
+        walkTo(p, wp[0], speed, pause);
+      else if (mode == "back_and_forth")
+        for (size_t k = wp.size() - 1; k-- > 0;) walkTo(p, wp[k], speed, pause);
+      if (mode != "once") p.period = p.knot_t.back() - p.knot_t.front();
+      const Eigen::Vector2d d0 = wp[1] - wp[0];
+      p.stand_yaw = std::atan2(d0.y(), d0.x());
+    }
+    else if (const YAML::Node s = n["random_walk"])
+    {
+      const std::string sf = f + ".random_walk";
+      c.checkKeys(s, sf, {"points", "speed", "seed", "start", "pause", "duration"});
+      p.kind = Person::RANDOM_WALK;
+      const auto pts = points(c, s, "points", sf, 2);
+      const double speed = c.num(s, "speed", sf, 1.2, false, 0.3, 2.5);
+      const uint32_t seed = static_cast<uint32_t>(c.num(s, "seed", sf, 1, false, 0, 1e9));
+      const double start = c.num(s, "start", sf, 0.0, false, 0.0, 1e5);
+      const double pause = c.num(s, "pause", sf, 0.0, false, 0.0, 600);
+      const double duration = c.num(s, "duration", sf, 3600.0, false, 1.0, 36000.0);
+      // From points[0], each next point drawn uniformly among the others (std::mt19937 from the
+      // seed, integer draws only: the same knots on every platform).
+      std::mt19937 rng(seed * 2654435761u + 12345u);
+      size_t at = 0;
+      p.knot_t = {start};
+      p.knot_p = {pts[0]};
+      while (p.knot_t.back() < start + duration)
+      {
+        size_t next = static_cast<size_t>(rng() % (pts.size() - 1));
+        if (next >= at) ++next;
+        const size_t before = p.knot_t.size();
+        walkTo(p, pts[next], speed, pause);
+        if (p.knot_t.size() == before)  // coincident points: stand a moment so time advances
+        {
+          p.knot_t.push_back(p.knot_t.back() + std::max(pause, 1.0));
+          p.knot_p.push_back(pts[next]);
+        }
+        at = next;
+      }
+      const Eigen::Vector2d d0 = p.knot_p.size() > 1 ? Eigen::Vector2d(p.knot_p[1] - p.knot_p[0]) : Eigen::Vector2d(1, 0);
+      p.stand_yaw = std::atan2(d0.y(), d0.x());
+    }
+    // Facing per segment: the walking direction, kept while standing.
+    double last_yaw = p.stand_yaw;
+    if (p.period > 0)  // a periodic walk stands (pauses) at its first knot facing the way it came in
+      for (size_t k = p.knot_p.size() - 1; k > 0; --k)
+      {
+        const Eigen::Vector2d d = p.knot_p[k] - p.knot_p[k - 1];
+        if (d.norm() > 1e-9)
+        {
+          last_yaw = std::atan2(d.y(), d.x());
+          break;
+        }
+      }
+    for (size_t k = 0; k + 1 < p.knot_p.size(); ++k)
+    {
+      const Eigen::Vector2d d = p.knot_p[k + 1] - p.knot_p[k];
+      if (d.norm() > 1e-9) last_yaw = std::atan2(d.y(), d.x());
+      p.seg_yaw.push_back(last_yaw);
+    }
+    w.people.push_back(p);
+  }
+}
+
 World parseRoot(const YAML::Node& root, const Ctx& c)
 {
   World w;
   if (!root.IsMap()) c.fail(root, "", "a world file is a mapping (name, materials, floor, elements, trajectory)");
-  c.checkKeys(root, "", {"name", "description", "materials", "floor", "ceiling", "sky", "light", "elements", "trajectory"});
+  c.checkKeys(root, "", {"name", "description", "materials", "floor", "ceiling", "sky", "light", "elements", "trajectory", "people"});
   w.name = c.str(root, "name", "", "world");
   w.description = c.str(root, "description", "", "");
 
@@ -499,9 +653,41 @@ World parseRoot(const YAML::Node& root, const Ctx& c)
                 h.rate = c.num(n, "rate", f, 10, true, 0.1, 500) * DEG;
                 t.head_turns.push_back(h);
               });
+  parsePeople(root, c, ids, w);
   return w;
 }
 }  // namespace
+
+PersonState personAt(const Person& p, double t)
+{
+  PersonState s;
+  const size_t n = p.knot_t.size();
+  if (n == 0) return s;
+  if (n == 1 || t <= p.knot_t[0])
+  {
+    s.position = p.knot_p[0];
+    s.yaw = p.stand_yaw;
+    return s;
+  }
+  double tt = t;
+  if (p.period > 0) tt = p.knot_t[0] + std::fmod(t - p.knot_t[0], p.period);
+  if (tt >= p.knot_t[n - 1])
+  {
+    s.position = p.knot_p[n - 1];
+    s.yaw = p.seg_yaw.back();
+    return s;
+  }
+  // Segment k: knot_t[k] <= tt < knot_t[k + 1].
+  const size_t k = static_cast<size_t>(std::upper_bound(p.knot_t.begin(), p.knot_t.end(), tt) - p.knot_t.begin()) - 1;
+  const double dt = p.knot_t[k + 1] - p.knot_t[k];
+  const double a = (tt - p.knot_t[k]) / dt;
+  s.position = p.knot_p[k] + a * (p.knot_p[k + 1] - p.knot_p[k]);
+  s.velocity = (p.knot_p[k + 1] - p.knot_p[k]) / dt;
+  s.yaw = p.seg_yaw[k];
+  return s;
+}
+
+PersonState personAt(const World& world, size_t i, double t) { return personAt(world.people.at(i), t); }
 
 World World::parse(const std::string& text, const std::string& origin)
 {

@@ -93,6 +93,37 @@ struct TrajectoryScript
   bool auto_head_turns = true;    ///< add seeded slow/medium/fast turns and jerks
 };
 
+/// A walking (or standing) person (issue 22, README "World files": `people:`). Every kind of
+/// script is expanded at parse time into a timed polyline (knots), so personAt() is a pure
+/// function of the time. People are movers, not solids: they are rendered and heard by the ranger
+/// at a frame's time, but never enter the static truth grid (computeOccupancy).
+struct Person
+{
+  enum Kind { WALK, RANDOM_WALK, STAND } kind = STAND;
+  std::string name;        ///< for messages (default "people[i]")
+  double radius = 0.22;    ///< m, body (cylinder) radius = the footprint radius
+  double height = 1.75;    ///< m, top of the head above the floor
+  int material = 0;        ///< clothing texture
+  /// Position knots: the person is at knot_p[k] at knot_t[k] and walks straight (constant
+  /// velocity) to the next knot; equal consecutive points = standing. Before knot_t[0] the person
+  /// stands at knot_p[0]; after the last knot they stand there (period == 0) or the knots repeat
+  /// with `period` (loops and back-and-forth walks: the last knot equals the first).
+  std::vector<double> knot_t;
+  std::vector<Eigen::Vector2d> knot_p;
+  double period = 0.0;     ///< s, > 0: periodic after knot_t[0]
+  double stand_yaw = 0.0;  ///< rad, facing while standing before the first move (and of STAND)
+  std::vector<double> seg_yaw;  ///< rad, facing from knot k to k + 1 (the last walking direction while standing)
+  std::string source;      ///< "people[2]", for messages
+};
+
+/// Where a person is at time t (s on the walk's clock, 0 = the wearer's script starts).
+struct PersonState
+{
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();  ///< m, floor point under the body's axis
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  ///< m/s
+  double yaw = 0.0;                                     ///< rad, facing (the walking direction)
+};
+
 /// A whole world.
 struct World
 {
@@ -108,6 +139,7 @@ struct World
   double sky_brightness = 0.75;  ///< radiance of rays that hit nothing
   Eigen::Vector3d light_dir = Eigen::Vector3d(0.3, 0.2, 1.0).normalized();  ///< towards the light
   TrajectoryScript trajectory;
+  std::vector<Person> people;  ///< movers (issue 22); empty in static worlds
 
   /// Parse a world YAML file; throws WorldError "<file>:<line>: <field>: <problem>".
   static World load(const std::string& path);
@@ -117,6 +149,11 @@ struct World
   /// Floor height under (x, y): the top of the highest walkable solid there, else 0.
   double floorHeight(double x, double y) const;
 };
+
+/// Person `i` of `world` at time `t` (s): exact, deterministic in t (constant velocity between
+/// the script's knots; a random walk's knots are drawn from its seed at parse time).
+PersonState personAt(const World& world, size_t i, double t);
+PersonState personAt(const Person& p, double t);
 
 /// Ground-truth occupancy options.
 struct OccupancyParams
