@@ -19,7 +19,10 @@
 #include <utility>
 #include <vector>
 
+#include <rosbag/bag.h>
+
 #include <assistive_sim/motion.h>
+#include <assistive_sim/people_msg.h>
 #include <assistive_sim/renderer.h>
 #include <assistive_sim/ultrasonic.h>
 #include <assistive_eval/stereo_bag.h>
@@ -227,6 +230,7 @@ int main(int argc, char** argv)
     writer.writeOccupancy(computeOccupancy(world), t0);
     writer.writeString("/sim/camera_errors", errors_json, t0);
     RenderOutput ro;
+    std::vector<assistive_msgs::MoverArray> people_truth;  // /ground_truth/people, one per frame
     double render_s = 0.0, render_cpu_s = 0.0;
     const auto wall0 = std::chrono::steady_clock::now();
     const Eigen::Matrix3d R_lo = linkToLeftOptical().linear();
@@ -237,7 +241,7 @@ int main(int argc, char** argv)
       while (imu.nextTime() <= t + 1e-9) f.imu.push_back(imu.next(motion, t0));
       for (double ts = sonar_k / sonar_p.rate; with_sonar && ts <= t + 1e-9; ts = ++sonar_k / sonar_p.rate)
       {
-        const std::optional<double> r = sonar.ping(motion.linkPose(ts) * linkToSonar());
+        const std::optional<double> r = sonar.ping(motion.linkPose(ts) * linkToSonar(), ts);
         writer.writeRange(t0 + ts, r ? *r : std::numeric_limits<double>::infinity(), sonar_p.beam_width,
                           sonar_p.min_range, sonar_p.max_range);
       }
@@ -257,9 +261,17 @@ int main(int argc, char** argv)
       f.gt_velocity = motion.velocity(t);
       if (write_depth) f.gt_depth = ro.depth_left;
       writer.writeFrame(f);
+      if (!world.people.empty()) people_truth.push_back(peopleMessage(world, t, ros::Time(t0 + t), "gt_world"));
       if (k % 5 == 0 || k + 1 == n) progress(k + 1, n, (k + 1) / std::max(render_cpu_s, 1e-9));
     }
     writer.close();
+    if (!people_truth.empty())
+    {
+      // The stereo bag writer has no mover topic: append the people truth to the closed bag.
+      rosbag::Bag bag(out, rosbag::bagmode::Append);
+      for (const auto& m : people_truth) bag.write("/ground_truth/people", m.header.stamp, m);
+      bag.close();
+    }
     std::fprintf(stderr, "\n");
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     const double render_fps = n / std::max(render_cpu_s, 1e-9);
@@ -276,6 +288,7 @@ int main(int argc, char** argv)
     std::printf("render_fps_wall  %.1f stereo frames/s (rendering only, wall clock; lower when the machine is shared)\n",
                 render_fps_wall);
     std::printf("total_fps        %.1f frames/s (with IMU, ground truth and bag writing)\n", n / wall);
+    if (!world.people.empty()) std::printf("people           %zu (/ground_truth/people)\n", world.people.size());
     std::printf("camera_errors    %s%s\n", errors_json.c_str(), cam.errors.any() ? "" : " (ideal rig)");
     std::printf("{\"frames\": %d, \"render_fps\": %.2f, \"render_fps_wall\": %.2f, \"total_fps\": %.2f, \"world\": \"%s\", \"seed\": %u, "
                 "\"width\": %d, \"height\": %d, \"rate_hz\": %.3f, \"duration_s\": %.3f, \"path_length_m\": %.3f, "

@@ -104,13 +104,115 @@ struct StereoRenderer::Impl
   std::vector<GlassRay> pending;  // primary rays that hit glass (capacity kept across frames)
   double texture_offset = 0.0;
 
+  // People (issue 22): a second scene whose one mesh (geometry id PEOPLE_GEOM) is moved to the
+  // frame's time before rendering; rays meet the static scene first, then the people scene up to
+  // the static hit. Worlds without people never create it (their images are unchanged).
+  static constexpr unsigned PEOPLE_GEOM = 1;
+  std::vector<Person> people;
+  RTCScene people_scene = nullptr;
+  RTCGeometry people_geom = nullptr;
+  float* people_vb = nullptr;
+  std::vector<float> people_verts;
+  std::vector<unsigned> people_tris;
+  std::vector<Prim> people_prims;
+  bool building_people = false;  // addTri writes the people mesh
+  double people_time = std::numeric_limits<double>::quiet_NaN();  // rendered where, NaN: at the stamp
+  double people_built_at = std::numeric_limits<double>::quiet_NaN();
+
   void addTri(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Prim& p)
   {
-    const unsigned base = static_cast<unsigned>(verts.size() / 3);
+    std::vector<float>& vs = building_people ? people_verts : verts;
+    std::vector<unsigned>& ts = building_people ? people_tris : tris;
+    const unsigned base = static_cast<unsigned>(vs.size() / 3);
     for (const auto* v : {&a, &b, &c})
-      for (int k = 0; k < 3; ++k) verts.push_back(static_cast<float>((*v)[k]));
-    tris.insert(tris.end(), {base, base + 1, base + 2});
-    prims.push_back(p);
+      for (int k = 0; k < 3; ++k) vs.push_back(static_cast<float>((*v)[k]));
+    ts.insert(ts.end(), {base, base + 1, base + 2});
+    (building_people ? people_prims : prims).push_back(p);
+  }
+
+  const Prim& prim(unsigned geom, unsigned id) const { return geom == PEOPLE_GEOM ? people_prims[id] : prims[id]; }
+
+  void intersect16(const int* valid, RTCIntersectContext* ctx, RTCRayHit16* rh) const
+  {
+    rtcIntersect16(valid, scene, ctx, rh);
+    if (people_scene) rtcIntersect16(valid, people_scene, ctx, rh);
+  }
+
+  void intersect1(RTCIntersectContext* ctx, RTCRayHit* rh) const
+  {
+    rtcIntersect1(scene, ctx, rh);
+    if (people_scene) rtcIntersect1(people_scene, ctx, rh);
+  }
+
+  /// A vertical cylinder (16 or 10 sides, flat top) for a person's body or head, its texture
+  /// fixed to the body: the ring starts at the facing `yaw`, the top's texture axes turn with it.
+  void addPersonCylinder(const Eigen::Vector2d& c, double r, double z0, double z1, double yaw, int sides, int mat,
+                         double off_u, double off_v)
+  {
+    const Eigen::Vector3d Z(0, 0, 1);
+    std::vector<Eigen::Vector3d> ring;
+    for (int i = 0; i < sides; ++i)
+    {
+      const double a = yaw + 2 * M_PI * i / sides;
+      ring.emplace_back(c.x() + r * std::cos(a), c.y() + r * std::sin(a), 0.0);
+    }
+    double u = off_u;
+    for (int i = 0; i < sides; ++i)
+    {
+      const Eigen::Vector3d& a = ring[i];
+      const Eigen::Vector3d& b = ring[(i + 1) % sides];
+      const double len = (b - a).norm();
+      const Eigen::Vector3d tu = (b - a) / len;
+      const Eigen::Vector3d n(tu.y(), -tu.x(), 0);
+      addQuad(a + Z * z0, b + Z * z0, b + Z * z1, a + Z * z1, n, tu, Z, u, z0 + off_v, mat);
+      u += len;
+    }
+    const Eigen::Vector3d ax(std::cos(yaw), std::sin(yaw), 0), ay(-std::sin(yaw), std::cos(yaw), 0);
+    Prim p;
+    const Eigen::Vector3d o = Eigen::Vector3d(c.x(), c.y(), 0) - ax * off_u - ay * off_v;
+    for (int k = 0; k < 3; ++k)
+    {
+      p.o[k] = static_cast<float>(o[k]);
+      p.tu[k] = static_cast<float>(ax[k]);
+      p.tv[k] = static_cast<float>(ay[k]);
+      p.n[k] = static_cast<float>(Z[k]);
+    }
+    p.mat = mat;
+    p.refl = 0.f;
+    p.shade = 0.5f + 0.5f * std::max(0.f, light.z());
+    for (int i = 1; i + 1 < sides; ++i) addTri(ring[0] + Z * z1, ring[i] + Z * z1, ring[i + 1] + Z * z1, p);
+  }
+
+  /// Every person's mesh at time t (the same triangle count at every t).
+  void buildPeopleMesh(double t)
+  {
+    people_verts.clear();
+    people_tris.clear();
+    people_prims.clear();
+    building_people = true;
+    for (size_t i = 0; i < people.size(); ++i)
+    {
+      const Person& p = people[i];
+      const PersonState st = personAt(p, t);
+      const double shoulders = p.height - PERSON_HEAD_HEIGHT;
+      const double off_u = std::fmod(i * 2.93, 13.0), off_v = std::fmod(i * 1.71, 7.0);
+      addPersonCylinder(st.position, p.radius, 0.0, shoulders, st.yaw, 16, p.material, off_u, off_v);
+      addPersonCylinder(st.position, PERSON_HEAD_RADIUS * p.radius, shoulders, p.height, st.yaw, 10, p.material,
+                        off_u + 5.0, off_v + 3.0);
+    }
+    building_people = false;
+  }
+
+  /// Move the people scene to time t (no-op without people or when already there).
+  void updatePeople(double t)
+  {
+    if (!people_scene || t == people_built_at) return;
+    buildPeopleMesh(t);
+    std::copy(people_verts.begin(), people_verts.end(), people_vb);
+    rtcUpdateGeometryBuffer(people_geom, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(people_geom);
+    rtcCommitScene(people_scene);
+    people_built_at = t;
   }
 
   /// Quad a-b-c-d (planar). `tu`/`tv` unit texture axes, uv = ((p - a) . tu + u0, (p - a) . tv + v0).
@@ -265,8 +367,8 @@ struct StereoRenderer::Impl
           r->hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         }
       }
-      rtcIntersect16(valid, scene, ctx, &tr);
-      rtcIntersect16(valid, scene, ctx, &rf);
+      intersect16(valid, ctx, &tr);
+      intersect16(valid, ctx, &rf);
       for (int i = 0; i < n; ++i)
       {
         const GlassRay& g = pending[base + i];
@@ -281,14 +383,14 @@ struct StereoRenderer::Impl
           trans = skyRadiance(dir.z() / dn);
           t2 = 0.f;
         }
-        else if (prims[tr.hit.primID[i]].mat < 0)
+        else if (prim(tr.hit.geomID[i], tr.hit.primID[i]).mat < 0)
         {
           bool through = false;
           trans = traceSingle(org, dir, g.t * 1.0001f + 1e-4f, inv_f, 1, t2, through);  // another panel
         }
         else
         {
-          const Prim& p = prims[tr.hit.primID[i]];
+          const Prim& p = prim(tr.hit.geomID[i], tr.hit.primID[i]);
           t2 = tr.ray.tfar[i];
           const float cosi = std::max(std::abs(dir.x() * p.n[0] + dir.y() * p.n[1] + dir.z() * p.n[2]) / dn, 0.05f);
           trans = shadeHit(p, org.x() + t2 * dir.x(), org.y() + t2 * dir.y(), org.z() + t2 * dir.z(),
@@ -297,13 +399,13 @@ struct StereoRenderer::Impl
         // Reflected (a glass panel seen in the reflection shows the sky).
         float refl;
         const Eigen::Vector3f rd(rf.ray.dir_x[i], rf.ray.dir_y[i], rf.ray.dir_z[i]);
-        if (rf.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID || prims[rf.hit.primID[i]].mat < 0)
+        if (rf.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID || prim(rf.hit.geomID[i], rf.hit.primID[i]).mat < 0)
         {
           refl = skyRadiance(rd.z() / rd.norm());
         }
         else
         {
-          const Prim& p = prims[rf.hit.primID[i]];
+          const Prim& p = prim(rf.hit.geomID[i], rf.hit.primID[i]);
           const float tt = rf.ray.tfar[i];
           const float path = g.t * dn + tt * rd.norm();
           refl = shadeHit(p, rf.ray.org_x[i] + tt * rd.x(), rf.ray.org_y[i] + tt * rd.y(),
@@ -336,14 +438,14 @@ struct StereoRenderer::Impl
     rh.ray.flags = 0;
     rh.ray.time = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene, &ctx, &rh);
+    intersect1(&ctx, &rh);
     const float dn = dir.norm();
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
     {
       t_out = 0.f;
       return skyRadiance(dir.z() / dn);
     }
-    const Prim& p = prims[rh.hit.primID];
+    const Prim& p = prim(rh.hit.geomID, rh.hit.primID);
     const float t = rh.ray.tfar;
     const Eigen::Vector3f h = org + t * dir;
     if (p.mat < 0)
@@ -408,6 +510,29 @@ StereoRenderer::StereoRenderer(const World& world, const CameraParams& params)
   rtcReleaseGeometry(geom);
   rtcCommitScene(d.scene);
 
+  // People: one dynamic mesh, rebuilt (low quality BVH) whenever the time changes.
+  d.people = world.people;
+  if (!d.people.empty())
+  {
+    d.buildPeopleMesh(0.0);
+    d.people_scene = rtcNewScene(d.device);
+    rtcSetSceneFlags(d.people_scene, RTC_SCENE_FLAG_DYNAMIC);
+    rtcSetSceneBuildQuality(d.people_scene, RTC_BUILD_QUALITY_LOW);
+    d.people_geom = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetGeometryBuildQuality(d.people_geom, RTC_BUILD_QUALITY_LOW);
+    d.people_vb = static_cast<float*>(rtcSetNewGeometryBuffer(d.people_geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), d.people_verts.size() / 3));
+    unsigned* pib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(d.people_geom, RTC_BUFFER_TYPE_INDEX, 0,
+                                                                   RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                                                                   d.people_tris.size() / 3));
+    std::copy(d.people_tris.begin(), d.people_tris.end(), pib);
+    std::copy(d.people_verts.begin(), d.people_verts.end(), d.people_vb);
+    rtcCommitGeometry(d.people_geom);
+    rtcAttachGeometryByID(d.people_scene, d.people_geom, Impl::PEOPLE_GEOM);
+    rtcCommitScene(d.people_scene);
+    d.people_built_at = 0.0;
+  }
+
   // Gaussian noise table (deterministic in the seed); frames use seeded offsets into it.
   d.noise.resize(1u << NOISE_BITS);
   std::mt19937 rng(params_.seed * 7919u + 3u);
@@ -447,11 +572,15 @@ double StereoRenderer::autoExposureGain(int cam, double stamp) const
 
 StereoRenderer::~StereoRenderer()
 {
+  if (impl_->people_geom) rtcReleaseGeometry(impl_->people_geom);
+  if (impl_->people_scene) rtcReleaseScene(impl_->people_scene);
   if (impl_->scene) rtcReleaseScene(impl_->scene);
   if (impl_->device) rtcReleaseDevice(impl_->device);
 }
 
 size_t StereoRenderer::triangleCount() const { return impl_->prims.size(); }
+
+void StereoRenderer::setPeopleTime(double t) { impl_->people_time = t; }
 
 double StereoRenderer::castRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const
 {
@@ -470,7 +599,7 @@ double StereoRenderer::castRay(const Eigen::Vector3d& origin, const Eigen::Vecto
   rh.ray.flags = 0;
   rh.ray.time = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &ctx, &rh);
+  impl_->intersect1(&ctx, &rh);
   return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1.0 : rh.ray.tfar;
 }
 
@@ -483,6 +612,7 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
                             const Eigen::Vector3d& omega, const Eigen::Vector3d& velocity)
 {
   Impl& d = *impl_;
+  d.updatePeople(std::isnan(d.people_time) ? stamp : d.people_time);
   const StereoCalib& c = params_.calib;
   const CameraErrors& err = params_.errors;
   const int W = c.width, H = c.height;
@@ -580,7 +710,7 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
           rh.ray.time[i] = 0.f;
           rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         }
-        rtcIntersect16(valid, d.scene, &ctx, &rh);
+        d.intersect16(valid, &ctx, &rh);
         for (int i = 0; i < 16; ++i)
         {
           if (!valid[i]) continue;
@@ -599,7 +729,7 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
           }
           else
           {
-            const Prim& p = d.prims[rh.hit.primID[i]];
+            const Prim& p = d.prim(rh.hit.geomID[i], rh.hit.primID[i]);
             t = rh.ray.tfar[i];
             if (p.mat < 0)
             {

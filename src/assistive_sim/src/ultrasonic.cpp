@@ -81,7 +81,8 @@ std::optional<RayHit> hitCylinder(const Solid& s, const Eigen::Vector3d& o, cons
 }
 }  // namespace
 
-std::optional<RayHit> castRay(const World& w, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t_max)
+std::optional<RayHit> castRay(const World& w, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t_max,
+                              double time)
 {
   std::optional<RayHit> best;
   if (dir.z() < -1e-12)
@@ -99,6 +100,32 @@ std::optional<RayHit> castRay(const World& w, const Eigen::Vector3d& origin, con
       best->solid = static_cast<int>(i);
     }
   }
+  if (!std::isnan(time))
+    for (size_t i = 0; i < w.people.size(); ++i)
+    {
+      // The body as rendered: a cylinder to the shoulders and the head's above it.
+      const Person& p = w.people[i];
+      const PersonState st = personAt(p, time);
+      Solid body;
+      body.shape = Solid::CYLINDER;
+      body.center = st.position;
+      body.radius = p.radius;
+      body.z0 = 0.0;
+      body.z1 = p.height - PERSON_HEAD_HEIGHT;
+      Solid head = body;
+      head.radius = PERSON_HEAD_RADIUS * p.radius;
+      head.z0 = body.z1;
+      head.z1 = p.height;
+      for (const Solid* s : {&body, &head})
+      {
+        const std::optional<RayHit> h = hitCylinder(*s, origin, dir);
+        if (h && h->t <= t_max && (!best || h->t < best->t))
+        {
+          best = h;
+          best->person = static_cast<int>(i);
+        }
+      }
+    }
   return best;
 }
 
@@ -107,7 +134,7 @@ UltrasonicRanger::UltrasonicRanger(const World& world, const UltrasonicParams& p
 {
 }
 
-std::optional<double> UltrasonicRanger::idealRange(const Eigen::Isometry3d& sensor) const
+std::optional<double> UltrasonicRanger::idealRange(const Eigen::Isometry3d& sensor, double time) const
 {
   const Eigen::Vector3d o = sensor.translation();
   const Eigen::Matrix3d R = sensor.linear();
@@ -123,7 +150,7 @@ std::optional<double> UltrasonicRanger::idealRange(const Eigen::Isometry3d& sens
       const double phi = 2 * M_PI * k / n;
       const Eigen::Vector3d d_local(std::cos(off), std::sin(off) * std::cos(phi), std::sin(off) * std::sin(phi));
       const Eigen::Vector3d d = R * d_local;
-      const std::optional<RayHit> h = castRay(world_, o, d, p_.max_range);
+      const std::optional<RayHit> h = castRay(world_, o, d, p_.max_range, time);
       if (!h || h->t < p_.min_range) continue;
       // Specular: the echo comes back only from a surface facing the sensor closely enough.
       if (std::acos(std::clamp(-h->normal.dot(d), -1.0, 1.0)) > p_.max_incidence) continue;
@@ -133,12 +160,12 @@ std::optional<double> UltrasonicRanger::idealRange(const Eigen::Isometry3d& sens
   return nearest;
 }
 
-std::optional<double> UltrasonicRanger::ping(const Eigen::Isometry3d& sensor)
+std::optional<double> UltrasonicRanger::ping(const Eigen::Isometry3d& sensor, double time)
 {
   std::uniform_real_distribution<double> U(0.0, 1.0);
   std::normal_distribution<double> N(0.0, 1.0);
   const double u = U(rng_), n = N(rng_);  // always drawn: the sequence does not depend on the scene
-  std::optional<double> r = idealRange(sensor);
+  std::optional<double> r = idealRange(sensor, time);
   if (!r || u < p_.dropout) return std::nullopt;
   const double noisy = *r + (p_.noise_sigma + p_.noise_relative * *r) * n;
   if (noisy < p_.min_range || noisy > p_.max_range) return std::nullopt;

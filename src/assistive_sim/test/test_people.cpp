@@ -1,6 +1,8 @@
 // People (issue 22): the `people:` world format, personAt() against exact scripted positions and
 // velocities, the random walk's determinism, errors with line and field, and that people never
 // enter the static truth grid.
+#include <assistive_sim/renderer.h>
+#include <assistive_sim/ultrasonic.h>
 #include <assistive_sim/world.h>
 
 #include <cmath>
@@ -168,4 +170,110 @@ TEST(People, NotInTheStaticTruthGrid)
   EXPECT_EQ(a.data, b.data);
   EXPECT_EQ(a.width, b.width);
   EXPECT_EQ(busy.solids.size(), none.solids.size());
+}
+
+// ---- rendering and the ranger ------------------------------------------------------------
+
+namespace
+{
+// A person crossing the camera's view from right to left 4 m ahead: at (4, 0) at t = 3 s.
+const char* CROSSING = R"(name: crossing
+materials:
+  coat: {pattern: noise, albedo: 0.3, contrast: 0.8, scale: 0.05}
+floor: {min: [-1, -5], max: [10, 5]}
+elements:
+  - {type: wall, from: [9, -5], to: [9, 5], height: 3}
+trajectory:
+  waypoints: [[0, 0], [1, 0]]
+people:
+  - {radius: 0.2, height: 1.9, material: coat, walk: {waypoints: [[4, -3], [4, 3]], speed: 1.0}}
+)";
+
+CameraParams smallCamera()
+{
+  CameraParams c;
+  c.calib.width = 160;
+  c.calib.height = 120;
+  c.calib.fx = c.calib.fy = 125.0;
+  c.calib.cx = 79.5;
+  c.calib.cy = 59.5;
+  c.noise_sigma = 0.0;
+  c.exposure_variation = 0.0;  // the gain does not depend on the stamp
+  return c;
+}
+
+/// The left optical frame at (0, 0, 1.5), looking along +x, level.
+Eigen::Isometry3d levelPose()
+{
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(0, 0, 1.5);
+  return T * linkToLeftOptical();
+}
+}  // namespace
+
+TEST(People, RenderedAtTheFramesTimeWithTheirDepth)
+{
+  const World w = World::parse(CROSSING, "crossing");
+  StereoRenderer r(w, smallCamera());
+  RenderOutput at3, at0, again;
+  r.render(levelPose(), 3.0, 0, at3);
+  // Pixel (row 80, col 80) looks 0.16 rad down, straight ahead: the body's front at x = 4 - 0.2
+  // (a 16-sided cylinder: within 1 cm of the circle). The right camera (0.12 m to the right, the
+  // pixel's ray 0.5 px further right: y = -0.135 at the body) sees the circle at 4 - sqrt(r^2 - y^2).
+  EXPECT_NEAR(at3.depth_left.at<float>(80, 80), 3.8f, 0.01f);
+  const double y_r = 0.12 + 0.5 / 125.0 * 3.85;
+  EXPECT_NEAR(at3.depth_right.at<float>(80, 80), 4.0 - std::sqrt(0.04 - y_r * y_r), 0.01);
+  // The person is 0.4 m wide: 125 * 0.4 / 3.8 = 13 px; 10 px to either side is the wall.
+  EXPECT_NEAR(at3.depth_left.at<float>(80, 70), 8.925f, 1e-3f);
+  EXPECT_NEAR(at3.depth_left.at<float>(80, 90), 8.925f, 1e-3f);
+  // At t = 0 the person stands 3 m to the right: straight ahead is the wall.
+  r.render(levelPose(), 0.0, 1, at0);
+  EXPECT_NEAR(at0.depth_left.at<float>(80, 80), 8.925f, 1e-3f);
+  // Deterministic: back at t = 3, the same images.
+  r.render(levelPose(), 3.0, 0, again);
+  EXPECT_EQ(cv::countNonZero(again.left != at3.left), 0);
+  EXPECT_EQ(cv::countNonZero(again.right != at3.right), 0);
+  // setPeopleTime overrides the stamp.
+  r.setPeopleTime(3.0);
+  r.render(levelPose(), 0.0, 0, again);
+  EXPECT_EQ(cv::countNonZero(again.left != at3.left), 0);
+  // The person's texture is there (not a flat patch): contrast across the body.
+  double lo, hi;
+  cv::minMaxLoc(at3.left(cv::Rect(76, 70, 8, 30)), &lo, &hi);
+  EXPECT_GT(hi - lo, 10.0);
+}
+
+TEST(People, StaticWorldRendersAsWithoutPeopleSupport)
+{
+  // A world without people renders exactly as the same world text always did: the images do not
+  // depend on a people scene (none is created). Same world with a person far behind the camera:
+  // every pixel the same too (the person is never seen).
+  const std::string base = std::string(CROSSING).substr(0, std::string(CROSSING).find("people:"));
+  const World none = World::parse(base, "none");
+  const World behind = World::parse(base + "people:\n  - {stand: {at: [-0.8, 4.5]}}\n", "behind");
+  StereoRenderer a(none, smallCamera()), b(behind, smallCamera());
+  RenderOutput oa, ob;
+  a.render(levelPose(), 2.0, 3, oa);
+  b.render(levelPose(), 2.0, 3, ob);
+  EXPECT_EQ(cv::countNonZero(oa.left != ob.left), 0);
+  EXPECT_EQ(cv::countNonZero(oa.depth_left != ob.depth_left), 0);
+}
+
+TEST(People, RangerEchoesAPersonInFront)
+{
+  const World w = World::parse(CROSSING, "crossing");
+  const UltrasonicRanger r(w, UltrasonicParams(), 1);
+  Eigen::Isometry3d s = Eigen::Isometry3d::Identity();
+  s.translation() = Eigen::Vector3d(0, 0, 1.2);
+  // At t = 3 the body is straight ahead: the axis ray meets its circle at x = 3.8 (normal incidence).
+  const auto at3 = r.idealRange(s, 3.0);
+  ASSERT_TRUE(at3.has_value());
+  EXPECT_NEAR(*at3, 3.8, 1e-9);
+  // At t = 0 (3 m to the right) and without a time (the static world): the wall is beyond 4 m.
+  EXPECT_FALSE(r.idealRange(s, 0.0).has_value());
+  EXPECT_FALSE(r.idealRange(s).has_value());
+  const auto hit = castRay(w, s.translation(), Eigen::Vector3d::UnitX(), 10.0, 3.0);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_EQ(hit->person, 0);
+  EXPECT_NEAR(hit->normal.x(), -1.0, 1e-9);
 }

@@ -1,5 +1,7 @@
 // Each shipped world renders to a bag from one command (render_bag), with the README topics.
 #include <assistive_eval/stereo_bag.h>
+#include <assistive_msgs/MoverArray.h>
+#include <assistive_sim/world.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -47,6 +49,8 @@ TEST_P(RenderBagCli, WorldRendersToBag)
   EXPECT_EQ(count("/ground_truth/occupancy"), 1u);
   EXPECT_EQ(count("/tf"), 3u);
   EXPECT_EQ(count("/imu/data"), 1u + 2u * 200u / 15u);  // samples up to t = 2/15 s at 200 Hz
+  // People truth: one message per frame in the busy worlds, none in the static ones.
+  EXPECT_EQ(count("/ground_truth/people"), world.find("_busy") != std::string::npos ? 3u : 0u);
   b.close();
 
   StereoBagReader r(bag);
@@ -61,7 +65,53 @@ TEST_P(RenderBagCli, WorldRendersToBag)
   std::remove(log.c_str());
 }
 
-INSTANTIATE_TEST_SUITE_P(Worlds, RenderBagCli, ::testing::Values("course", "corridor", "parking", "glass", "plaza"));
+INSTANTIATE_TEST_SUITE_P(Worlds, RenderBagCli,
+                         ::testing::Values("course", "corridor", "parking", "glass", "plaza", "plaza_busy", "corridor_busy"));
+
+TEST(RenderBagCliPeople, PeopleTruthMatchesPersonAt)
+{
+  // /ground_truth/people: one MoverArray per camera frame at the frame's stamp (100 s + k / 15),
+  // frame gt_world, id = index + 1, exactly personAt's position and velocity, zero covariance.
+  const std::string bag = std::string(::testing::TempDir()) + "assistive_sim_cli_people.bag";
+  const std::string cmd = std::string(RENDER_BAG_EXE) + " --world plaza_busy --out " + bag +
+                          " --frames 40 --width 64 --height 48 > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const assistive_sim::World w = assistive_sim::World::load(std::string(ASSISTIVE_SIM_SOURCE_WORLDS) + "/plaza_busy.yaml");
+  ASSERT_GE(w.people.size(), 10u);
+  rosbag::Bag b(bag, rosbag::bagmode::Read);
+  rosbag::View v(b, rosbag::TopicQuery("/ground_truth/people"));
+  int k = 0;
+  for (const rosbag::MessageInstance& mi : v)
+  {
+    const auto m = mi.instantiate<assistive_msgs::MoverArray>();
+    ASSERT_TRUE(m);
+    const double t = k / 15.0;
+    EXPECT_NEAR(m->header.stamp.toSec(), 100.0 + t, 1e-6);
+    EXPECT_NEAR(mi.getTime().toSec(), 100.0 + t, 1e-6);
+    EXPECT_EQ(m->header.frame_id, "gt_world");
+    ASSERT_EQ(m->movers.size(), w.people.size());
+    for (size_t i = 0; i < w.people.size(); ++i)
+    {
+      const auto& mv = m->movers[i];
+      const assistive_sim::PersonState s = assistive_sim::personAt(w, i, t);
+      EXPECT_EQ(mv.id, i + 1);
+      EXPECT_DOUBLE_EQ(mv.position.x, s.position.x());
+      EXPECT_DOUBLE_EQ(mv.position.y, s.position.y());
+      EXPECT_DOUBLE_EQ(mv.position.z, 0.0);
+      EXPECT_DOUBLE_EQ(mv.velocity.x, s.velocity.x());
+      EXPECT_DOUBLE_EQ(mv.velocity.y, s.velocity.y());
+      EXPECT_FLOAT_EQ(mv.radius, static_cast<float>(w.people[i].radius));
+      EXPECT_FLOAT_EQ(mv.height, static_cast<float>(w.people[i].height));
+      for (double c : mv.covariance) EXPECT_EQ(c, 0.0);
+    }
+    ++k;
+  }
+  EXPECT_EQ(k, 40);
+  // The first crosser walks at 1.2 m/s from t = 2.54 s: moving in the last frames.
+  b.close();
+  EXPECT_NEAR(assistive_sim::personAt(w, 0, 39 / 15.0).velocity.norm(), 1.2, 1e-9);
+  std::remove(bag.c_str());
+}
 
 TEST(RenderBagCliDeterminism, SameSeedSameBag)
 {

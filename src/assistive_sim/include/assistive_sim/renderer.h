@@ -84,6 +84,11 @@ public:
               const Eigen::Vector3d& angular_velocity = Eigen::Vector3d::Zero(),
               const Eigen::Vector3d& linear_velocity = Eigen::Vector3d::Zero());
 
+  /// People (World::people) are rendered where they are at time `t` (s, personAt's clock) in the
+  /// following frames; NaN (the default) renders them at each frame's `stamp`. castRay() sees them
+  /// where the last render() put them (at construction: t = 0).
+  void setPeopleTime(double t);
+
   /// The auto-exposure gain factor of camera `cam` (0 left, 1 right) at `stamp` (1 without steps).
   double autoExposureGain(int cam, double stamp) const;
 

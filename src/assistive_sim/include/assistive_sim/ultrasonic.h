@@ -4,6 +4,7 @@
 // beyond max_incidence from its normal sends the echo away: no return), range noise and dropouts.
 // The nearest returning ray is the range. ROS-free.
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <random>
 
@@ -32,9 +33,13 @@ struct RayHit
 {
   double t = 0.0;
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
-  int solid = -1;  ///< index into World::solids, -1 = the floor
+  int solid = -1;  ///< index into World::solids, -1 = the floor (or a person)
+  int person = -1; ///< index into World::people when a person's body was hit
 };
-std::optional<RayHit> castRay(const World& w, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t_max);
+/// `time` (s, personAt's clock): the world's people are bodies at that time too (their cylinders,
+/// as rendered); NaN leaves them out (the static world).
+std::optional<RayHit> castRay(const World& w, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t_max,
+                              double time = std::numeric_limits<double>::quiet_NaN());
 
 /// camera_link -> sonar_front, as src/assistive_description/urdf/wearer.urdf mounts it (neck_joint
 /// to the torso, then the ranger on the chest's front, looking along x). The URDF models the torso
@@ -52,9 +57,11 @@ public:
   UltrasonicRanger(const World& world, const UltrasonicParams& p, uint32_t seed);
   /// Noise-free echo range from a sensor pose (x forward along the cone's axis): the nearest ray
   /// whose first surface returns an echo, within [min_range, max_range]; nothing otherwise.
-  std::optional<double> idealRange(const Eigen::Isometry3d& sensor) const;
+  /// `time` (s): the people are where they are then (NaN: no people; see castRay).
+  std::optional<double> idealRange(const Eigen::Isometry3d& sensor,
+                                   double time = std::numeric_limits<double>::quiet_NaN()) const;
   /// One ping: idealRange with noise and dropouts (deterministic in the seed).
-  std::optional<double> ping(const Eigen::Isometry3d& sensor);
+  std::optional<double> ping(const Eigen::Isometry3d& sensor, double time = std::numeric_limits<double>::quiet_NaN());
   const UltrasonicParams& params() const { return p_; }
 
 private:

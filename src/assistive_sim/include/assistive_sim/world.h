@@ -116,6 +116,11 @@ struct Person
   std::string source;      ///< "people[2]", for messages
 };
 
+/// A person's body as rendered: a cylinder of `radius` from the floor to the shoulders
+/// (height - PERSON_HEAD_HEIGHT) and the head, a cylinder of PERSON_HEAD_RADIUS x radius, above.
+constexpr double PERSON_HEAD_HEIGHT = 0.25;  ///< m
+constexpr double PERSON_HEAD_RADIUS = 0.45;  ///< of the body's radius
+
 /// Where a person is at time t (s on the walk's clock, 0 = the wearer's script starts).
 struct PersonState
 {
