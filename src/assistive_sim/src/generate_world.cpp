@@ -13,9 +13,10 @@ namespace
 {
 void usage(std::ostream& os = std::cerr)
 {
-  os << "usage: generate_world --seed N [--kind office|lobby|corridor|hall|street] --out W.yaml\n"
+  os << "usage: generate_world --seed N [--kind office|lobby|corridor|hall|street] [--people N] --out W.yaml\n"
         "  writes a world file (README \"World files\") with a random layout of that kind (default: chosen\n"
-        "  by the seed), furniture, materials and a collision-free walk; the same seed gives the same file\n";
+        "  by the seed), furniture, materials and a collision-free walk; the same seed gives the same file\n"
+        "  --people N (0 .. 100, default 0): N people whose walks cross the generated walk in time\n";
 }
 
 std::string jsonEscape(const std::string& s)
@@ -34,6 +35,7 @@ int main(int argc, char** argv)
 {
   std::string kind, out;
   long seed = -1;
+  int people = 0;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -51,6 +53,11 @@ int main(int argc, char** argv)
       if (a == "--seed") seed = std::stol(val());
       else if (a == "--kind") kind = val();
       else if (a == "--out") out = val();
+      else if (a == "--people")
+      {
+        people = std::stoi(val());
+        if (people < 0 || people > 100) throw std::invalid_argument(a);
+      }
       else if (a == "-h" || a == "--help")
       {
         usage(std::cout);
@@ -79,7 +86,7 @@ int main(int argc, char** argv)
   GeneratedWorld g;
   try
   {
-    g = WorldGenerator(static_cast<uint32_t>(seed), kind).generate();
+    g = WorldGenerator(static_cast<uint32_t>(seed), kind, people).generate();
   }
   catch (const std::invalid_argument& e)
   {
@@ -100,9 +107,9 @@ int main(int argc, char** argv)
     std::cerr << "generate_world: cannot write " << out << "\n";
     return 1;
   }
-  std::printf("world %s: %d elements, %zu solids, %zu waypoints, walk %.1f m\n", g.world.name.c_str(), g.elements,
-              g.world.solids.size(), g.world.trajectory.waypoints.size(), g.walk_length);
-  std::printf("{\"seed\": %ld, \"kind\": \"%s\", \"elements\": %d, \"walk_length_m\": %.2f, \"out\": \"%s\"}\n", seed,
-              g.kind.c_str(), g.elements, g.walk_length, jsonEscape(out).c_str());
+  std::printf("world %s: %d elements, %zu solids, %zu waypoints, walk %.1f m, %d people\n", g.world.name.c_str(),
+              g.elements, g.world.solids.size(), g.world.trajectory.waypoints.size(), g.walk_length, g.people);
+  std::printf("{\"seed\": %ld, \"kind\": \"%s\", \"elements\": %d, \"walk_length_m\": %.2f, \"people\": %d, \"out\": \"%s\"}\n",
+              seed, g.kind.c_str(), g.elements, g.walk_length, g.people, jsonEscape(out).c_str());
   return 0;
 }

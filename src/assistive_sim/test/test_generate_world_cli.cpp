@@ -71,3 +71,22 @@ TEST(GenerateWorldCli, WritesParsableDeterministicWorldThatRenders)
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   EXPECT_NE(lastLine(log).find("\"frames\": 3"), std::string::npos) << lastLine(log);
 }
+
+TEST(GenerateWorldCli, PeopleOptionDeterministicAndZeroIsUnchanged)
+{
+  const std::string dir = ::testing::TempDir();
+  const std::string plain = dir + "gen_cli_p0.yaml", zero = dir + "gen_cli_pz.yaml", a = dir + "gen_cli_pa.yaml",
+                    b = dir + "gen_cli_pb.yaml", log = dir + "gen_cli_p.log";
+  ASSERT_EQ(run("--seed 7 --out " + plain, log), 0) << slurp(log);
+  ASSERT_EQ(run("--seed 7 --people 0 --out " + zero, log), 0) << slurp(log);
+  EXPECT_EQ(slurp(plain), slurp(zero));  // --people 0 (the default): the world of before
+  ASSERT_EQ(run("--seed 7 --people 4 --out " + a, log), 0) << slurp(log);
+  EXPECT_NE(lastLine(log).find("\"people\": 4"), std::string::npos) << lastLine(log);
+  ASSERT_EQ(run("--seed 7 --people 4 --out " + b, log), 0);
+  EXPECT_EQ(slurp(a), slurp(b));
+  const World w = World::load(a), w0 = World::load(plain);
+  EXPECT_EQ(w.people.size(), 4u);
+  EXPECT_EQ(w.solids.size(), w0.solids.size());
+  EXPECT_EQ(w.trajectory.waypoints, w0.trajectory.waypoints);
+  EXPECT_EQ(run("--seed 7 --people -1 --out " + b, log), 2);
+}

@@ -19,6 +19,7 @@ struct GeneratedWorld
   World world;
   int elements = 0;          ///< entries of `elements:`
   double walk_length = 0.0;  ///< m, length of the waypoint polyline
+  int people = 0;            ///< entries of `people:` (fewer than asked when no clear crossing was found)
 };
 
 class WorldGenerator
@@ -28,7 +29,9 @@ public:
   static const std::vector<std::string>& kinds();
 
   /// `kind` empty: chosen by the seed. Throws std::invalid_argument for an unknown kind.
-  WorldGenerator(uint32_t seed, const std::string& kind = "");
+  /// `people` > 0 adds that many people whose walks cross the generated walk (README
+  /// "generate_world"); 0 gives the same bytes as before people existed.
+  WorldGenerator(uint32_t seed, const std::string& kind = "", int people = 0);
 
   /// Build the world. Throws std::runtime_error if no clear walk was found (not seen for seeds 1-20).
   GeneratedWorld generate() const;
@@ -38,6 +41,7 @@ public:
 private:
   uint32_t seed_;
   std::string kind_;
+  int people_ = 0;
 };
 
 }  // namespace assistive_sim
