@@ -207,8 +207,8 @@ int main(int argc, char** argv)
 
   std::vector<TrialResult> res;
   const bool tty = isatty(2);
-  std::printf("%-5s %-7s %-9s %-8s %-8s %-6s %-5s %-8s %-6s %-7s %-9s\n", "trial", "seed", "completed", "time_s",
-              "guide_s", "ppws", "coll", "wall/ovh", "glass", "furn", "clear_m");
+  std::printf("%-5s %-7s %-9s %-8s %-8s %-6s %-5s %-8s %-6s %-7s %-7s %-9s\n", "trial", "seed", "completed", "time_s",
+              "guide_s", "ppws", "coll", "wall/ovh", "glass", "furn", "people", "clear_m");
   // vision: a private roscore for the run, a fresh pipeline (roslaunch) for each trial
   pid_t core = -1;
   std::string vision_log_dir;
@@ -242,11 +242,15 @@ int main(int argc, char** argv)
     if (opt.mode == TrialMode::VISION)
     {
       const std::string log = vision_log_dir + "/trial" + std::to_string(k) + ".log";
-      const pid_t launch = spawn({ "roslaunch", "assistive_sim", "mobility_vision.launch", "world:=" + world_arg }, log);
-      ros::NodeHandle nh;
       RosChain::Options ro;
       ro.kind = RosChain::VISION;
       ro.eye_height = world.trajectory.eye_height;
+      // A fresh chain per trial: its t = 0 is at start_time + warmup_s of simulated time; the
+      // renderer puts the people where they are on the trial's clock.
+      const pid_t launch = spawn({ "roslaunch", "assistive_sim", "mobility_vision.launch", "world:=" + world_arg,
+                                   "people_time_origin:=" + num(ro.start_time + ro.warmup_s, 6) },
+                                 log);
+      ros::NodeHandle nh;
       RosChain chain(nh, world, ro);
       // the pipeline is up when the cue logic publishes and the renderer listens for poses
       const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
@@ -271,9 +275,10 @@ int main(int argc, char** argv)
     else
       res.push_back(runTrial(world, opt, s, k));
     const TrialResult& r = res.back();
-    std::printf("%-5d %-7u %-9s %-8.1f %-8.1f %-6.0f %-5d %d/%-6d %-6d %-7d %-9.2f\n", k, s, r.completed ? "yes" : "NO",
-                r.time_s, r.guide_time_s, r.ppws_pct, r.totalCollisions(), r.collisions[0], r.collisions[1],
-                r.collisions[2], r.collisions[3], r.mean_clearance_m);
+    std::printf("%-5d %-7u %-9s %-8.1f %-8.1f %-6.0f %-5d %d/%-6d %-6d %-7d %-7d %-9.2f\n", k, s,
+                r.completed ? "yes" : "NO", r.time_s, r.guide_time_s, r.ppws_pct, r.totalCollisions(), r.collisions[0],
+                r.collisions[1], r.collisions[2], r.collisions[3], r.collisions[size_t(ObstacleKind::PERSON)],
+                r.mean_clearance_m);
     std::fflush(stdout);
     const int w = 30, done = (k + 1) * w / trials;
     std::fprintf(stderr, "%s[%s%s] %d/%d trials", tty ? "\r" : "", std::string(size_t(done), '#').c_str(),
@@ -327,8 +332,18 @@ int main(int argc, char** argv)
 
   std::printf("\nmobility_trials %s, mode %s, %d trials (seed %ld)\n", world.name.c_str(), label.c_str(), trials, seed);
   std::printf("  completion           %.0f %%\n", 100.0 * comp / n);
-  std::printf("  collisions / trial   %.2f (worst trial %.0f): wall %.2f, overhang %.2f, glass %.2f, furniture %.2f\n",
-              coll / n, worst, kinds[0] / n, kinds[1] / n, kinds[2] / n, kinds[3] / n);
+  const double people_coll = kinds[size_t(ObstacleKind::PERSON)] / n;
+  std::printf("  collisions / trial   %.2f (worst trial %.0f): wall %.2f, overhang %.2f, glass %.2f, furniture %.2f, "
+              "people %.2f\n",
+              coll / n, worst, kinds[0] / n, kinds[1] / n, kinds[2] / n, kinds[3] / n, people_coll);
+  if (!world.people.empty())
+  {
+    double closest = 0.0;
+    for (const TrialResult& r : res) closest += r.min_person_clearance_m;
+    std::printf("  people               %zu scripted (they do not react to the wearer); closest approach %.2f m "
+                "(body surfaces, mean over trials)\n",
+                world.people.size(), closest / n);
+  }
   std::printf("  time to completion   %s s (mean of completed), PPWS %s %% (sighted guide = 100)\n", num(t_mean, 1).c_str(),
               num(ppws_mean, 1).c_str());
   std::printf("  mean clearance       %.2f m (body surface to the nearest obstacle)\n", clear / n);
@@ -347,10 +362,11 @@ int main(int argc, char** argv)
               "\"collisions_worst\": %.0f, \"completion_rate\": %s, \"time_s_mean\": %s, \"ppws_pct\": %s, "
               "\"mean_clearance_m\": %s, \"latency_ms_median\": %s, \"latency_ms_p99\": %s, "
               "\"wall_collisions_per_trial\": %s, \"overhang_collisions_per_trial\": %s, "
-              "\"glass_collisions_per_trial\": %s, \"furniture_collisions_per_trial\": %s, \"unsure_cue_pct\": %s, \"frames_without_cue\": %ld}\n",
+              "\"glass_collisions_per_trial\": %s, \"furniture_collisions_per_trial\": %s, \"people_collisions_per_trial\": %s, "
+              "\"unsure_cue_pct\": %s, \"frames_without_cue\": %ld}\n",
               world.name.c_str(), mode.c_str(), opt.cues_enabled ? "true" : "false", trials, num(coll / n).c_str(), worst,
               num(comp / n).c_str(), num(t_mean, 2).c_str(), num(ppws_mean, 1).c_str(), num(clear / n).c_str(),
               num(lat_med, 1).c_str(), num(lat_p99, 1).c_str(), num(kinds[0] / n).c_str(), num(kinds[1] / n).c_str(), num(kinds[2] / n).c_str(), num(kinds[3] / n).c_str(),
-              cycles > 0 ? num(100 * modes[4] / cycles, 1).c_str() : "null", missed);
+              num(people_coll).c_str(), cycles > 0 ? num(100 * modes[4] / cycles, 1).c_str() : "null", missed);
   return 0;
 }

@@ -23,6 +23,7 @@
 #include <assistive_eval/conversions.h>
 #include <assistive_sim/motion.h>
 #include <assistive_sim/renderer.h>
+#include <assistive_sim/people_msg.h>
 #include <assistive_sim/renderer_params.h>
 #include <assistive_sim/ultrasonic.h>
 #include <assistive_sim/world.h>
@@ -70,6 +71,7 @@ private:
     pnh.param("seed", p.seed, p.seed);
     pnh.param("loop", p.loop, p.loop);
     pnh.param("render_on_pose", p.render_on_pose, p.render_on_pose);
+    pnh.param("people_time_origin", p.people_time_origin, p.people_time_origin);
     const RendererNodeParams def;
     auto clamp = [&](auto& v, auto lo, auto hi, const char* name, auto d) {
       if (v < lo || v > hi)
@@ -128,6 +130,7 @@ private:
     pub_right_info_ = nh.advertise<sensor_msgs::CameraInfo>("right/camera_info", 2);
     pub_depth_ = nh.advertise<sensor_msgs::Image>("ground_truth/depth", 2);
     pub_occ_ = nh.advertise<nav_msgs::OccupancyGrid>("ground_truth/occupancy", 1, true);
+    if (!world_.people.empty()) pub_people_ = nh.advertise<assistive_msgs::MoverArray>("ground_truth/people", 5);
     pub_occ_.publish(toMsg(computeOccupancy(world_), p.world_frame, ros::Time::now()));
     if (p.pose_source == "script")
     {
@@ -170,6 +173,14 @@ private:
       timer_ = nh.createTimer(ros::Duration(1.0 / p.rate), &RendererNodelet::tick, this);
   }
 
+  /// The people's clock for a frame or ping at `stamp` (RendererNodeParams::people_time_origin).
+  double peopleTime(const ros::Time& stamp) const
+  {
+    if (p_.people_time_origin >= 0.0) return stamp.toSec() - p_.people_time_origin;
+    if (p_.pose_source == "script") return scriptTime(stamp);
+    return (stamp - start_).toSec();
+  }
+
   double scriptTime(const ros::Time& now) const
   {
     double t = (now - start_).toSec();
@@ -208,7 +219,7 @@ private:
       if (!have_rendered_) return;  // no pose yet: no range rather than a guess
       link = last_rendered_ * linkToLeftOptical().inverse();
     }
-    const std::optional<double> r = sonar_->ping(link * linkToSonar());
+    const std::optional<double> r = sonar_->ping(link * linkToSonar(), peopleTime(now));
     const UltrasonicParams& up = sonar_->params();
     const double range = r ? *r : std::numeric_limits<double>::infinity();  // REP-117: no echo
     const sensor_msgs::Range m = toRangeMsg(range, up.beam_width, up.min_range, up.max_range, p_.sonar_frame, now);
@@ -300,7 +311,10 @@ private:
 
   void renderAndPublish(const Eigen::Isometry3d& T, const ros::Time& now, const Eigen::Vector3d& omega_opt)
   {
+    const double people_t = peopleTime(now);
+    renderer_->setPeopleTime(people_t);
     renderer_->render(T, (now - start_).toSec(), frame_++, out_, omega_opt);
+    if (!world_.people.empty()) pub_people_.publish(peopleMessage(world_, people_t, now, p_.world_frame));
     {
       std::lock_guard<std::mutex> lock(mutex_);
       last_rendered_ = T;
@@ -337,7 +351,7 @@ private:
   std::unique_ptr<UltrasonicRanger> sonar_;
   RenderOutput out_;
   ros::Publisher pub_left_, pub_right_, pub_left_info_, pub_right_info_, pub_depth_, pub_occ_, pub_imu_, pub_odom_,
-      pub_sonar_;
+      pub_sonar_, pub_people_;
   ros::Subscriber sub_pose_;
   ros::Timer timer_, imu_timer_, sonar_timer_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;

@@ -12,6 +12,7 @@
 #include <assistive_eval/conversions.h>
 #include <assistive_eval/types.h>
 #include <assistive_msgs/NavigationState.h>
+#include <assistive_sim/people_msg.h>
 #include <assistive_msgs/TactileCue.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
@@ -28,7 +29,8 @@ namespace assistive_sim
 struct RosChain::Impl
 {
   Options o;
-  ros::Publisher clock, odom, grid, goal, pose, imu;
+  ros::Publisher clock, odom, grid, goal, pose, imu, movers;
+  const World* world = nullptr;
   // IMU by finite differences of the wearer's states (VISION)
   bool have_prev = false, have_prev2 = false;
   double prev_t = 0.0, prev_yaw = 0.0;
@@ -74,6 +76,9 @@ RosChain::RosChain(ros::NodeHandle& nh, const World& world, const Options& o) : 
   {
     d_->odom = nh.advertise<nav_msgs::Odometry>("/vo/odom", 5);
     d_->grid = nh.advertise<nav_msgs::OccupancyGrid>("/obstacles/traversability", 1);
+    // The truth people (issue 22) replace the obstacle stage's tracks as the truth grid replaces its map.
+    if (!world.people.empty()) d_->movers = nh.advertise<assistive_msgs::MoverArray>("/obstacles/movers", 5);
+    d_->world = &world;
     d_->tf.reset(new tf2_ros::TransformBroadcaster());
     OccupancyParams op;
     op.head_above_eye = 0.12;
@@ -239,6 +244,7 @@ ChainCue RosChain::frame(double t, const BodyState& s)
   {
     // tf and the goal before the grid: the planner looks the pose up at the grid's stamp
     std::this_thread::sleep_for(std::chrono::milliseconds(d.first_frame ? 30 : 3));
+    if (!d.world->people.empty()) d.movers.publish(peopleMessage(*d.world, t, stamp, d.o.frame));
     d.grid_msg.header.stamp = stamp;
     d.grid_msg.info.map_load_time = stamp;
     d.grid.publish(d.grid_msg);

@@ -92,6 +92,9 @@ public:
   void setGoal(const Eigen::Vector2d& g) override { planner_.setGoal({ g.x(), g.y() }); }
   ChainCue frame(double t, const BodyState& s) override
   {
+    // The world's people are not in grid_ (computeOccupancy leaves movers out). The planner core
+    // on this branch has no movers input; truthMovers(world, t) is what a perfect tracker would
+    // hand it (the ROS truth chain publishes it on obstacles/movers).
     const assistive_planner::PlanOutput out = planner_.update(grid_, { s.xy.x(), s.xy.y() }, s.head_yaw);
     assistive_tactile::NavInput in;
     in.status = out.status;
@@ -171,6 +174,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   const double period = 1.0 / opt.rate_hz;
   double next_plan = 0.0, clear_sum = 0.0;
   r.min_clearance_m = 1e9;
+  r.min_person_clearance_m = std::numeric_limits<double>::infinity();
   long steps = 0;
   const bool trace = std::getenv("MOBILITY_TRIALS_TRACE") != nullptr;
   int reported = 0;
@@ -178,6 +182,9 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   for (; t < timeout; t += opt.dt)
   {
     const BodyState& s = vest ? wearer.state() : cane.state();
+    // The people (issue 22) where they are at the end of this step: the collider counts contacts
+    // with them and the cane feels them; they follow their scripts on the trial's clock.
+    body.setTime(t + opt.dt);
     // progress along the course: the experimenter's route (the system's explicit goal)
     while (next < route.size() && (s.xy - route[next]).norm() < opt.goal_radius_m)
     {
@@ -221,6 +228,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
     }
     r.path.push_back(now.xy);
     const double c = body.clearance(now.xy);
+    r.min_person_clearance_m = std::min(r.min_person_clearance_m, body.personClearance(now.xy));
     clear_sum += c;
     r.min_clearance_m = std::min(r.min_clearance_m, c);
     ++steps;

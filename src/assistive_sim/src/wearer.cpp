@@ -23,6 +23,7 @@ const char* kindName(ObstacleKind k)
     case ObstacleKind::OVERHANG: return "overhang";
     case ObstacleKind::GLASS: return "glass";
     case ObstacleKind::FURNITURE: return "furniture";
+    case ObstacleKind::PERSON: return "people";
     default: return "?";
   }
 }
@@ -33,6 +34,25 @@ BodyCollider::BodyCollider(const World& world, double radius, double height, dou
 {
   for (const Solid& s : world.solids)
     if (!s.walkable && s.z1 > 0.05 && s.z0 < height) solids_.push_back(s);
+  people_ = world.people;
+}
+
+std::vector<size_t> BodyCollider::personContacts(const Eigen::Vector2d& xy) const
+{
+  std::vector<size_t> out;
+  if (std::isnan(time_)) return out;
+  for (size_t i = 0; i < people_.size(); ++i)
+    if ((personAt(people_[i], time_).position - xy).norm() < radius_ + people_[i].radius) out.push_back(i);
+  return out;
+}
+
+double BodyCollider::personClearance(const Eigen::Vector2d& xy) const
+{
+  double best = std::numeric_limits<double>::infinity();
+  if (std::isnan(time_)) return best;
+  for (const Person& p : people_)
+    best = std::min(best, (personAt(p, time_).position - xy).norm() - radius_ - p.radius);
+  return best;
 }
 
 double BodyCollider::distance(const Solid& s, const Eigen::Vector2d& xy) const
@@ -78,6 +98,9 @@ bool BodyCollider::occupied(const Eigen::Vector2d& xy, double z0, double z1) con
 {
   for (const Solid& s : solids_)
     if (s.z0 < z1 && s.z1 > z0 && distance(s, xy) <= 0.0) return true;
+  if (!std::isnan(time_))
+    for (const Person& p : people_)
+      if (z0 < p.height && (personAt(p, time_).position - xy).norm() <= p.radius) return true;
   return false;
 }
 
@@ -132,6 +155,23 @@ Eigen::Vector2d BodyCollider::move(const Eigen::Vector2d& from, const Eigen::Vec
     at = next;
   }
   release(at);
+  // People: counted once per encounter where the body ends the step, never blocking.
+  if (!std::isnan(time_))
+  {
+    for (auto it = touching_people_.begin(); it != touching_people_.end();)
+    {
+      const Person& p = people_[*it];
+      it = (personAt(p, time_).position - at).norm() > radius_ + p.radius + 0.05 ? touching_people_.erase(it)
+                                                                                : std::next(it);
+    }
+    for (size_t i : personContacts(at))
+      if (touching_people_.insert(i).second)  // a new encounter: the walker bumps (once)
+      {
+        bumped = true;
+        ++counts_[size_t(ObstacleKind::PERSON)];
+        places_.push_back(at);
+      }
+  }
   return at;
 }
 

@@ -159,3 +159,73 @@ TEST(Trials, TruthModeGoesRoundABoxWithoutCollisionAndWithoutCuesHitsIt)
   const TrialResult n = runTrial(w, opt, 11);
   EXPECT_EQ(n.collisions[size_t(ObstacleKind::FURNITURE)], 1);
 }
+
+// ---- people (issue 22)
+
+namespace
+{
+World withPeople(const std::string& people, const std::string& waypoints = "[[0.0, 0.0], [10.0, 0.0]]")
+{
+  return World::parse("name: p\nfloor: {min: [-2, -6], max: [14, 6]}\ntrajectory:\n  waypoints: " + waypoints +
+                      "\npeople:\n" + people);
+}
+}  // namespace
+
+TEST(People, PersonWalkingIntoAStandingBodyCountsOncePerEncounter)
+{
+  // Back and forth through the body at the origin: (0, -3) <-> (0, 3) at 1 m/s, period 12 s.
+  const World w = withPeople("  - {radius: 0.2, walk: {waypoints: [[0, -3], [0, 3]], speed: 1.0, mode: back_and_forth}}\n");
+  BodyCollider body(w, 0.25, 1.72);
+  EXPECT_EQ(body.personContacts(Eigen::Vector2d::Zero()).size(), 0u);  // no clock set: no people
+  int bumps = 0;
+  double first = -1.0;
+  for (int k = 0; k < 1200; ++k)  // 12 s in 10 ms steps: the person passes twice
+  {
+    const double t = (k + 1) * 0.01;
+    body.setTime(t);
+    bool bumped = false;
+    const Eigen::Vector2d at = body.move(Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), bumped);
+    EXPECT_EQ(at, Eigen::Vector2d::Zero());  // people never block or push
+    if (bumped && first < 0) first = t;
+    bumps += bumped;
+  }
+  EXPECT_EQ(body.collisions()[size_t(ObstacleKind::PERSON)], 2);
+  EXPECT_EQ(body.totalCollisions(), 2);
+  EXPECT_EQ(bumps, 2);  // one bump at the start of each encounter
+  // Contact when the centres are 0.45 m apart: the person at y = -0.45, 2.55 s after the start.
+  EXPECT_NEAR(first, 2.56, 0.011);
+  EXPECT_STREQ(kindName(ObstacleKind::PERSON), "people");
+}
+
+TEST(People, CaneFeelsAPersonAhead)
+{
+  const World w = withPeople("  - {stand: {at: [0.8, 0.0]}}\n");
+  BodyCollider body(w, 0.25, 1.72);
+  BodyState s;  // at the origin facing +x
+  const CaneWalker cane(WearerParams(), CaneParams(), s, 1);
+  EXPECT_FALSE(cane.caneContact(body, 0.0));  // the static world: nothing
+  body.setTime(0.0);
+  EXPECT_TRUE(cane.caneContact(body, 0.0));   // the person's legs within the cane's 1 m
+  EXPECT_FALSE(cane.caneContact(body, M_PI));  // behind: not felt
+  EXPECT_NEAR(body.personClearance(Eigen::Vector2d::Zero()), 0.8 - 0.25 - 0.22, 1e-12);
+}
+
+TEST(People, TrialCountsAHeadOnWalkerAsAPeopleCollision)
+{
+  // The wearer walks along +x from the origin (no cues: straight on); a person comes head-on along
+  // the same line at 1 m/s, passes, and turns off to the side at x = 3. One collision with a
+  // person, nothing else; the static truth grid has no obstacle at all.
+  const World w = withPeople("  - {radius: 0.22, walk: {waypoints: [[10, 0], [3, 0], [3, 5]], speed: 1.0}}\n");
+  TrialOptions opt;
+  opt.mode = TrialMode::TRUTH;
+  opt.cues_enabled = false;
+  opt.fixed_start_yaw_deg = 0.0;
+  const TrialResult r = runTrial(w, opt, 5);
+  EXPECT_EQ(r.collisions[size_t(ObstacleKind::PERSON)], 1);
+  EXPECT_EQ(r.totalCollisions(), 1);
+  ASSERT_EQ(r.collision_places.size(), 1u);
+  // They meet where the wearer (0 -> 1.1 m/s in 0.92 s) and the person close the 10 m, near x = 4.7.
+  EXPECT_NEAR(r.collision_places[0].x(), 4.6, 0.3);
+  EXPECT_LT(r.min_person_clearance_m, 0.0);
+  for (int8_t c : computeOccupancy(w).data) EXPECT_NE(c, 100);
+}

@@ -32,6 +32,10 @@ struct RendererNodeParams
   /// topic mode: render each pose as it arrives, stamped with the pose's stamp (no timer; the
   /// mobility trials' lock-step), instead of the latest pose at `rate`
   bool render_on_pose = false;
+  /// People (issue 22) are rendered and heard where they are at this clock: < 0, the script's time
+  /// (script mode) or the time since the nodelet started; >= 0, the frame's stamp (sim s) minus
+  /// this (the mobility trials: the simulated time of a trial's t = 0).
+  double people_time_origin = -1.0;
 };
 
 }  // namespace assistive_sim

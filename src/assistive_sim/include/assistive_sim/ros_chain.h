@@ -7,7 +7,9 @@
 //
 // TRUTH_GRID (the `mobility_chain` rostest): per frame /clock, tf odom -> camera_link (the
 // wearer's head), /vo/odom (trusted) and the world's true occupancy on /obstacles/traversability,
-// all stamped with the frame's time; the planner/state and the cue follow.
+// all stamped with the frame's time, and the world's people (if any) on /obstacles/movers
+// (assistive_msgs/MoverArray in the same frame, at the trial's time t: the truth tracks); the
+// planner/state and the cue follow. The `world` must outlive the chain.
 // VISION (`mobility_trials --mode vision`): per frame /clock and the left camera's pose on
 // /sim/camera_pose; the renderer nodelet renders the pair, VO, SLAM, obstacles, planner and cue
 // logic do the rest. The explicit goals go to /planner/goal in the pipeline's map frame.

@@ -88,6 +88,7 @@ struct TrialResult
   int totalCollisions() const;
   double mean_clearance_m = 0.0;  ///< body surface to the nearest obstacle, mean over the walk
   double min_clearance_m = 0.0;
+  double min_person_clearance_m = 0.0;  ///< body surface to the nearest person's, over the walk (+inf: no people)
   std::array<int, 5> cue_modes{};  ///< planner/cue cycles per CueMode (IDLE .. UNSURE)
   std::vector<double> latency_ms;  ///< per frame, when the chain measures it
   int missed_cues = 0;             ///< frames whose cue never came (ROS chains)

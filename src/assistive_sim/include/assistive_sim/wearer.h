@@ -5,6 +5,7 @@
 // ROS-free. The wearer never reads the map: it knows only what the vest tells it.
 #include <array>
 #include <deque>
+#include <limits>
 #include <map>
 #include <random>
 #include <set>
@@ -24,9 +25,10 @@ enum class ObstacleKind
   OVERHANG,   ///< anything whose underside is above `overhang_min_z` (a sign at head height)
   GLASS,      ///< `glass` panels
   FURNITURE,  ///< boxes, columns, tables, benches
+  PERSON,     ///< a walking or standing person (World::people, issue 22)
   NUM_KINDS
 };
-const char* kindName(ObstacleKind k);  ///< "wall", "overhang", "glass", "furniture"
+const char* kindName(ObstacleKind k);  ///< "wall", "overhang", "glass", "furniture", "people"
 
 /// Reaction to the vest. Where the seed gives no number its observation is quoted and the default
 /// is a typical adult figure; all of them are options of mobility_trials.
@@ -48,7 +50,12 @@ struct WearerParams
   double bump_explore_s = 1.0;    ///< s exploring (turning) after bumping into something
 };
 
-/// The body's collider against a world's solids (glass included; walkable steps never collide).
+/// The body's collider against a world's solids (glass included; walkable steps never collide)
+/// and, once setTime() was called, its people where they are at that time (issue 22): a person
+/// collides when the body's cylinder and the person's touch (centre distance < the sum of the
+/// radii); it counts once per encounter (the bodies must part by more than 5 cm before it counts
+/// again) and makes the walker bump (stop and feel around) at its start, but never blocks a move: the people follow their
+/// scripts through the wearer (they do not react to it), so blocking would trap the body.
 class BodyCollider
 {
 public:
@@ -63,8 +70,16 @@ public:
   bool free(const Eigen::Vector2d& xy) const { return contacts(xy).empty(); }
   /// Distance from the body's surface to the nearest solid at body height (m, < 0 inside).
   double clearance(const Eigen::Vector2d& xy) const;
-  /// Solids whose z range overlaps [z0, z1] at ground point xy (the cane's tip, a probe).
+  /// Solids whose z range overlaps [z0, z1] at ground point xy (the cane's tip, a probe); people
+  /// too (floor to their height) after setTime().
   bool occupied(const Eigen::Vector2d& xy, double z0, double z1) const;
+  /// The people's clock (s, personAt's) for the following contacts, occupied() and move(); NaN
+  /// (the default) leaves the people out.
+  void setTime(double t) { time_ = t; }
+  /// People (indices) the body at xy touches at the current time.
+  std::vector<size_t> personContacts(const Eigen::Vector2d& xy) const;
+  /// Distance from the body's surface to the nearest person's at the current time (+inf: none).
+  double personClearance(const Eigen::Vector2d& xy) const;
   /// Move from `from` towards `to`; returns where the body ends (it stops at first contact, in
   /// 2 cm steps), and registers collision events: an element counts once per contact episode
   /// (it must be left by more than 5 cm before it can count again).
@@ -81,8 +96,11 @@ private:
   void release(const Eigen::Vector2d& xy);
 
   std::vector<Solid> solids_;  ///< only those at body height
+  std::vector<Person> people_;
+  double time_ = std::numeric_limits<double>::quiet_NaN();
   double radius_, height_, overhang_min_z_;
   std::set<std::string> touching_;
+  std::set<size_t> touching_people_;
   std::array<int, size_t(ObstacleKind::NUM_KINDS)> counts_{};
   std::vector<Eigen::Vector2d> places_;
 };
