@@ -94,11 +94,11 @@ double BodyCollider::clearance(const Eigen::Vector2d& xy) const
   return best;
 }
 
-bool BodyCollider::occupied(const Eigen::Vector2d& xy, double z0, double z1) const
+bool BodyCollider::occupied(const Eigen::Vector2d& xy, double z0, double z1, bool with_people) const
 {
   for (const Solid& s : solids_)
     if (s.z0 < z1 && s.z1 > z0 && distance(s, xy) <= 0.0) return true;
-  if (!std::isnan(time_))
+  if (with_people && !std::isnan(time_))
     for (const Person& p : people_)
       if (z0 < p.height && (personAt(p, time_).position - xy).norm() <= p.radius) return true;
   return false;
@@ -284,7 +284,8 @@ bool CaneWalker::caneContact(const BodyCollider& collider, double yaw) const
   return caneContact(collider, yaw, lo, hi);
 }
 
-bool CaneWalker::caneContact(const BodyCollider& collider, double yaw, double& lo_deg, double& hi_deg) const
+bool CaneWalker::caneContact(const BodyCollider& collider, double yaw, double& lo_deg, double& hi_deg,
+                             bool with_people) const
 {
   lo_deg = 1e9;
   hi_deg = -1e9;
@@ -292,7 +293,7 @@ bool CaneWalker::caneContact(const BodyCollider& collider, double yaw, double& l
   {
     const Eigen::Vector2d dir(std::cos(yaw + a * DEG), std::sin(yaw + a * DEG));
     for (double r = collider.radius(); r <= cp_.reach + 1e-9; r += 0.04)
-      if (collider.occupied(s_.xy + r * dir, 0.0, cp_.tip_height))
+      if (collider.occupied(s_.xy + r * dir, 0.0, cp_.tip_height, with_people))
       {
         lo_deg = std::min(lo_deg, a);
         hi_deg = std::max(hi_deg, a);
@@ -313,7 +314,25 @@ void CaneWalker::step(double t, double dt, const Eigen::Vector2d& target, BodyCo
   const double bearing = std::atan2(target.y() - s_.xy.y(), target.x() - s_.xy.x()) + bias_;
   double lo, hi;
   const bool touch = caneContact(collider, s_.yaw, lo, hi);
+  // Only a person in the cane's reach: stand and let them pass (up to person_wait_s), then treat
+  // them as an obstacle. (Static worlds: never taken, the walk is as before.)
+  bool waiting = false;
   if (touch)
+  {
+    double slo, shi;
+    if (!caneContact(collider, s_.yaw, slo, shi, false))
+    {
+      if (wait_since_ < 0.0) wait_since_ = t;
+      waiting = t - wait_since_ < cp_.person_wait_s;
+    }
+  }
+  else
+    wait_since_ = -1.0;
+  if (waiting)
+  {
+    s_.speed = 0.0;
+  }
+  else if (touch)
   {
     // Blocked: stop, keep to the side chosen (wall following); a contact only on one side of the
     // sweep says which way is open, one across the middle (blocked) leaves a choice at random.

@@ -72,7 +72,7 @@ public:
   double clearance(const Eigen::Vector2d& xy) const;
   /// Solids whose z range overlaps [z0, z1] at ground point xy (the cane's tip, a probe); people
   /// too (floor to their height) after setTime().
-  bool occupied(const Eigen::Vector2d& xy, double z0, double z1) const;
+  bool occupied(const Eigen::Vector2d& xy, double z0, double z1, bool with_people = true) const;
   /// The people's clock (s, personAt's) for the following contacts, occupied() and move(); NaN
   /// (the default) leaves the people out.
   void setTime(double t) { time_ = t; }
@@ -165,6 +165,10 @@ struct CaneParams
   double avoid_step_deg = 30.0;    ///< deg turned away at each contact
   double heading_noise_deg = 10.0; ///< sigma of the walker's sense of the route's direction
   double follow_m = 1.0;      ///< m walked along what was touched before heading back to the route
+  /// s a walker whose cane touches only a person (nothing static) stands and lets them pass
+  /// before treating them as an obstacle (a standing group); people step out of the way of a
+  /// cane in reality, the simulated ones walk on through
+  double person_wait_s = 3.0;
 };
 
 class CaneWalker
@@ -176,8 +180,10 @@ public:
   const BodyState& state() const { return s_; }
   /// Does the cane touch anything now (tip arc within reach, low down)?
   bool caneContact(const BodyCollider& collider, double yaw) const;
-  /// The same, with the sweep angles (deg, + = left) of the leftmost and rightmost contact.
-  bool caneContact(const BodyCollider& collider, double yaw, double& lo_deg, double& hi_deg) const;
+  /// The same, with the sweep angles (deg, + = left) of the leftmost and rightmost contact;
+  /// `with_people` false: the static world only.
+  bool caneContact(const BodyCollider& collider, double yaw, double& lo_deg, double& hi_deg,
+                   bool with_people = true) const;
   int contacts() const { return contacts_; }
 
 private:
@@ -190,6 +196,7 @@ private:
   double follow_left_ = 0.0;  ///< m still to walk along the obstacle
   double bias_ = 0.0;         ///< the walker's error on the route's direction (rad)
   double pause_until_ = -1.0;
+  double wait_since_ = -1.0;  ///< waiting for a person to pass since (s), < 0: not waiting
   int contacts_ = 0;
 };
 
