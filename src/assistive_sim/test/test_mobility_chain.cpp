@@ -5,6 +5,9 @@
 //   expect: safe      -> no collision and the course completed (cue stage in the chain)
 //   expect: collision -> at least one collision (cues:=false: the cue stage is not loaded; this
 //                        proves the `safe` test fails when the cue stage is removed)
+//   expect: movers    -> (a world with people, issue 22) every frame's /obstacles/movers came, in the
+//                        grid's frame, each person exactly where personAt puts them at the frame's
+//                        trial time (the planner of this branch does not avoid them: no collision check)
 #include <cmath>
 #include <cstdio>
 #include <sys/stat.h>
@@ -12,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
+#include <assistive_msgs/MoverArray.h>
 #include <assistive_sim/ros_chain.h>
 #include <assistive_sim/trials.h>
 
@@ -46,6 +50,12 @@ TEST(MobilityChain, WearerOnTheCuesOfTheChain)
   ro.eye_height = world.trajectory.eye_height;
   ro.wait_s = 5.0;
   RosChain chain(nh, world, ro);
+  // The truth people on /obstacles/movers: stamp (trial time = stamp - start_time) -> message.
+  std::vector<assistive_msgs::MoverArray> movers;
+  ros::Subscriber movers_sub = nh.subscribe<assistive_msgs::MoverArray>(
+      "/obstacles/movers", 50,
+      boost::function<void(const assistive_msgs::MoverArray::ConstPtr&)>(
+          [&movers](const assistive_msgs::MoverArray::ConstPtr& m) { movers.push_back(*m); }));
 
   // the planner must be listening before the first frame (its subscriptions are the chain's input)
   ros::NodeHandle probe;
@@ -70,7 +80,35 @@ TEST(MobilityChain, WearerOnTheCuesOfTheChain)
               world_name.c_str(), int(r.completed), r.time_s, r.guide_time_s, r.totalCollisions(), r.collisions[0],
               r.collisions[1], r.collisions[2], r.collisions[3], missed, frames,
               chain.cueStageConnected() ? "connected" : "absent");
-  if (expect == "collision")
+  if (expect == "movers")
+  {
+    ASSERT_FALSE(world.people.empty()) << "expect:=movers needs a world with people";
+    ros::WallDuration(0.2).sleep();
+    ros::spinOnce();
+    std::printf("mobility_chain %s: %zu movers messages for %d frames, %d people collisions\n", world_name.c_str(),
+                movers.size(), frames, r.collisions[size_t(ObstacleKind::PERSON)]);
+    EXPECT_GE(int(movers.size()), frames - 1);
+    EXPECT_LE(int(movers.size()), frames);
+    for (const auto& m : movers)
+    {
+      EXPECT_EQ(m.header.frame_id, ro.frame);
+      ASSERT_EQ(m.movers.size(), world.people.size());
+      const double t = m.header.stamp.toSec() - ro.start_time;
+      for (size_t i = 0; i < world.people.size(); ++i)
+      {
+        const PersonState s = personAt(world, i, t);
+        EXPECT_EQ(m.movers[i].id, i + 1);
+        EXPECT_NEAR(m.movers[i].position.x, s.position.x(), 1e-6);
+        EXPECT_NEAR(m.movers[i].position.y, s.position.y(), 1e-6);
+        // The velocity jumps at a script's corner: the stamp (ns) may put t on either side of it.
+        const Eigen::Vector2d v(m.movers[i].velocity.x, m.movers[i].velocity.y);
+        bool v_ok = false;
+        for (double dt : {0.0, -1e-6, 1e-6}) v_ok |= (v - personAt(world, i, t + dt).velocity).norm() < 1e-6;
+        EXPECT_TRUE(v_ok) << "person " << i << " at t " << t;
+      }
+    }
+  }
+  else if (expect == "collision")
   {
     EXPECT_GE(r.totalCollisions(), 1) << "without the cue stage the wearer walks straight 15 deg off and must collide";
   }
