@@ -181,7 +181,7 @@ Cue CueLogic::update(const NavInput& in, double now)
       // side-step (PROXIMITY) or turn: without a path, a direction would be a guess.
       const char* what = in.status == NavStatus::NO_PATH ? "no path" : "no waypoint";
       c = decideProximity(in, false);
-      clearCrossing();
+      clearCrossing();  // no crossing cue without a path: the side would be a guess
       if (c.mode == CueMode::ALERT)
       {
         c.reason = std::string(what) + ", " + c.reason;
@@ -190,7 +190,6 @@ Cue CueLogic::update(const NavInput& in, double now)
       {
         turn_side_ = 0;
         waist_side_ = 0;
-        clearCrossing();  // no crossing cue without a path: the side would be a guess
         c.mode = CueMode::UNSURE;
         c.intensity.fill(0.f);
         c.reason = what + suffix;
