@@ -1,10 +1,12 @@
 #include "assistive_planner/conversions.h"
 
 #include <cstdint>
+#include <cstdio>
 #include <type_traits>
 #include <assistive_msgs/NavigationState.h>
 #include <nav_msgs/OccupancyGrid.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace assistive_planner
@@ -23,6 +25,11 @@ static_assert(static_cast<int>(PlanStatus::NO_MAP) == static_cast<int>(assistive
 static_assert(static_cast<int>(PlanStatus::IN_UNKNOWN) == static_cast<int>(assistive_msgs::NavigationState::IN_UNKNOWN), "NavigationState.IN_UNKNOWN");
 static_assert(static_cast<int>(PlanStatus::NO_PATH) == static_cast<int>(assistive_msgs::NavigationState::NO_PATH), "NavigationState.NO_PATH");
 static_assert(static_cast<int>(PlanStatus::NO_WAYPOINT) == static_cast<int>(assistive_msgs::NavigationState::NO_WAYPOINT), "NavigationState.NO_WAYPOINT");
+// The crossing advice (assistive_common/codes.h) is assistive_msgs/NavigationState.crossing.
+static_assert(static_cast<int>(CrossingAdvice::NONE) == static_cast<int>(assistive_msgs::NavigationState::CROSSING_NONE), "NavigationState.CROSSING_NONE");
+static_assert(static_cast<int>(CrossingAdvice::LEFT) == static_cast<int>(assistive_msgs::NavigationState::CROSSING_LEFT), "NavigationState.CROSSING_LEFT");
+static_assert(static_cast<int>(CrossingAdvice::RIGHT) == static_cast<int>(assistive_msgs::NavigationState::CROSSING_RIGHT), "NavigationState.CROSSING_RIGHT");
+static_assert(static_cast<int>(CrossingAdvice::STOP) == static_cast<int>(assistive_msgs::NavigationState::CROSSING_STOP), "NavigationState.CROSSING_STOP");
 
 namespace
 {
@@ -91,6 +98,12 @@ assistive_msgs::NavigationState toMsg(const PlanOutput& out, const std_msgs::Hea
   s.free_distance_ahead = finiteOr(out.free_ahead);
   s.free_distance_left = finiteOr(out.free_left);
   s.free_distance_right = finiteOr(out.free_right);
+  const CrossingResult& c = out.crossing;
+  const bool warn = c.advice != CrossingAdvice::NONE && std::isfinite(c.time) && std::isfinite(c.distance);
+  s.crossing = uint8_t(warn ? c.advice : CrossingAdvice::NONE);
+  s.crossing_id = warn ? uint32_t(std::max(0, c.id)) : 0u;
+  s.crossing_time = warn ? float(c.time) : 0.0f;
+  s.crossing_distance = warn ? float(c.distance) : 0.0f;
   return s;
 }
 
@@ -115,6 +128,23 @@ nav_msgs::Path toPathMsg(const PlanOutput& out, const std_msgs::Header& header)
     p.poses.push_back(ps);
   }
   return p;
+}
+
+std::vector<MoverState> fromMsg(const assistive_msgs::MoverArray& msg)
+{
+  std::vector<MoverState> out;
+  out.reserve(msg.movers.size());
+  for (const assistive_msgs::Mover& m : msg.movers)
+  {
+    MoverState t;
+    t.id = int(m.id);
+    t.x << m.position.x, m.position.y, m.velocity.x, m.velocity.y;
+    for (int i = 0; i < 16; ++i)
+      t.P(i / 4, i % 4) = m.covariance[size_t(i)];
+    if (t.x.allFinite() && t.P.allFinite())
+      out.push_back(t);
+  }
+  return out;
 }
 
 geometry_msgs::PointStamped toWaypointMsg(const PlanOutput& out, const std_msgs::Header& header)
@@ -173,6 +203,51 @@ visualization_msgs::MarkerArray toMarkers(const PlanOutput& out, const std_msgs:
   wp.color.b = 0.8f;
   wp.color.a = 1.0f;
   ma.markers.push_back(wp);
+
+  // The crossing warning: the warned mover's predicted path to the closest approach (red arrow)
+  // and the advice in words above the meeting point.
+  const CrossingResult& c = out.crossing;
+  const bool warn = c.advice != CrossingAdvice::NONE;
+  visualization_msgs::Marker cross;
+  cross.header = header;
+  cross.ns = "crossing";
+  cross.id = 3;
+  cross.type = visualization_msgs::Marker::ARROW;
+  cross.action = warn ? visualization_msgs::Marker::ADD : visualization_msgs::Marker::DELETE;
+  cross.pose.orientation.w = 1.0;
+  if (warn)
+  {
+    cross.points.push_back(toPoint(c.mover, 0.1));
+    cross.points.push_back(toPoint(c.mover_at_closest, 0.1));
+  }
+  cross.scale.x = 0.08;
+  cross.scale.y = 0.18;
+  cross.scale.z = 0.2;
+  cross.color.r = 1.0f;
+  cross.color.a = 1.0f;
+  ma.markers.push_back(cross);
+
+  visualization_msgs::Marker text;
+  text.header = header;
+  text.ns = "crossing";
+  text.id = 4;
+  text.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+  text.action = warn ? visualization_msgs::Marker::ADD : visualization_msgs::Marker::DELETE;
+  text.pose.position = toPoint(c.wearer_at_closest, 1.0);
+  text.pose.orientation.w = 1.0;
+  if (warn)
+  {
+    char buf[64];
+    std::snprintf(buf, sizeof(buf), "person %d: %s in %.1f s (%.2f m)", c.id, crossingName(c.advice), c.time,
+                  c.distance);
+    text.text = buf;
+  }
+  text.scale.z = 0.25;
+  text.color.r = 1.0f;
+  text.color.g = 0.3f;
+  text.color.b = 0.3f;
+  text.color.a = 1.0f;
+  ma.markers.push_back(text);
   return ma;
 }
 }  // namespace assistive_planner

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <vector>
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <geometry_msgs/PoseStamped.h>
@@ -46,6 +47,7 @@ private:
     markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 1);
     grid_sub_ = nh.subscribe("traversability", 1, &PlannerNodelet::gridCb, this);
     goal_sub_ = nh.subscribe("goal", 1, &PlannerNodelet::goalCb, this);
+    movers_sub_ = nh.subscribe("movers", 1, &PlannerNodelet::moversCb, this);
     if (node_.use_odom)
       odom_sub_ = nh.subscribe("odom", 5, &PlannerNodelet::odomCb, this);
 
@@ -181,9 +183,36 @@ private:
       return;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    const PlanOutput out = planner_->update(grid, pos, yaw);
+    // the planner is rebuilt after a gap: the movers are handed over every cycle
+    if (have_movers_)
+      planner_->setMovers(movers_stamp_, movers_);
+    else
+      planner_->clearMovers();
+    const PlanOutput out = planner_->update(grid, pos, yaw, msg->header.stamp.toSec());
     plan_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     publish(out, header, msg->header.stamp);
+  }
+
+  /// The obstacle stage's tracked movers (every frame, empty when none): kept for the next cycle;
+  /// the core judges their age against the grid's stamp.
+  void moversCb(const assistive_msgs::MoverArray::ConstPtr& msg)
+  {
+    assistive_common::guarded(getName(), "movers", [&] { movers(msg); });
+  }
+
+  void movers(const assistive_msgs::MoverArray::ConstPtr& msg)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!msg->header.frame_id.empty() && msg->header.frame_id != node_.world_frame)
+    {
+      NODELET_ERROR_THROTTLE(5.0, "planner: movers in frame '%s', not the world frame '%s': ignored (no crossing advice)",
+                             msg->header.frame_id.c_str(), node_.world_frame.c_str());
+      have_movers_ = false;
+      return;
+    }
+    have_movers_ = true;
+    movers_stamp_ = msg->header.stamp.toSec();
+    movers_ = fromMsg(*msg);
   }
 
   void goalCb(const geometry_msgs::PoseStamped::ConstPtr& msg)
@@ -280,6 +309,11 @@ private:
     st.add("grid_age_s", have_grid_ ? (ros::WallTime::now() - last_grid_time_).toSec() : -1.0);
     st.add("grid_lag_behind_newest_frame_s", monitor_.newest() - monitor_.gridStamp());
     st.add("resets_after_gap", monitor_.resets());
+    st.add("movers", o.crossing.movers);
+    st.add("movers_fresh", o.crossing.movers_fresh);
+    st.add("movers_age_s", have_movers_ ? monitor_.gridStamp() - movers_stamp_ : -1.0);
+    st.add("crossing", crossingName(o.crossing.advice));
+    st.add("wearer_speed_mps", o.crossing.wearer_speed);
   }
 
   PlannerParams params_;
@@ -288,7 +322,10 @@ private:
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::Publisher state_pub_, path_pub_, waypoint_pub_, markers_pub_;
-  ros::Subscriber grid_sub_, goal_sub_, odom_sub_;
+  ros::Subscriber grid_sub_, goal_sub_, odom_sub_, movers_sub_;
+  bool have_movers_ = false;
+  double movers_stamp_ = 0.0;
+  std::vector<MoverState> movers_;
   InputMonitor monitor_;
   double last_pose_stamp_ = 0.0;
   bool last_pose_trusted_ = true;

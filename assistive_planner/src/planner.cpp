@@ -9,7 +9,7 @@
 
 namespace assistive_planner
 {
-Planner::Planner(const PlannerParams& p) : p_(p), motion_(p), waypoints_(p) {}
+Planner::Planner(const PlannerParams& p) : p_(p), motion_(p), waypoints_(p), crossing_(p) {}
 
 int markWalkedFloor(Grid& grid, const std::vector<Point2>& walked, double radius)
 {
@@ -148,7 +148,7 @@ void Planner::syncCosts(const Grid& grid, PlanOutput& out)
   last_grid_.origin_y = grid.origin_y;
 }
 
-PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_yaw)
+PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_yaw, double t)
 {
   PlanOutput out;
   out.wearer = wearer;
@@ -181,6 +181,13 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   out.free_ahead = freeStrip(grid, wearer, h, p_.free_ray_max, p_.body_half_width, ahead_unknown);
   out.free_left = freeDistance(grid, wearer, h + M_PI_2, p_.free_ray_max);
   out.free_right = freeDistance(grid, wearer, h - M_PI_2, p_.free_ray_max);
+  // People crossing: judged on every cycle with a pose and a grid, whatever the status below (the
+  // cue logic acts on it only when the status is OK: never on a guess).
+  if (std::isfinite(t))
+  {
+    crossing_.addPose(t, wearer);
+    out.crossing = crossing_.check(t, wearer, h, out.free_left, out.free_right);
+  }
 
   int wx, wy;
   if (!grid.worldToCell(wearer.x, wearer.y, wx, wy))

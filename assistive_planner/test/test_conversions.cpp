@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "assistive_planner/conversions.h"
 
 using namespace assistive_planner;
@@ -76,11 +78,76 @@ TEST(Conversions, NavigationStateFieldsAndNoNaN)
   const auto p = toPathMsg(o, h);
   ASSERT_EQ(p.poses.size(), 3u);
   EXPECT_DOUBLE_EQ(p.poses[2].pose.position.x, 4.0);
-  EXPECT_EQ(toMarkers(o, h).markers.size(), 3u);
+  // motion vector, search triangle, waypoint, and the crossing warning's arrow and text (deleted: none)
+  const auto ma = toMarkers(o, h);
+  ASSERT_EQ(ma.markers.size(), 5u);
+  EXPECT_EQ(ma.markers[3].ns, "crossing");
+  EXPECT_EQ(ma.markers[3].action, visualization_msgs::Marker::DELETE);
+  EXPECT_EQ(ma.markers[4].action, visualization_msgs::Marker::DELETE);
+  EXPECT_EQ(s.crossing, assistive_msgs::NavigationState::CROSSING_NONE);
+  EXPECT_EQ(s.crossing_id, 0u);
+  EXPECT_EQ(s.crossing_time, 0.0f);
+  EXPECT_EQ(s.crossing_distance, 0.0f);
   // status values match the message constants
   EXPECT_EQ(uint8_t(PlanStatus::IN_UNKNOWN), assistive_msgs::NavigationState::IN_UNKNOWN);
   EXPECT_EQ(uint8_t(PlanStatus::NO_WAYPOINT), assistive_msgs::NavigationState::NO_WAYPOINT);
   EXPECT_EQ(uint8_t(PlanStatus::NO_PATH), assistive_msgs::NavigationState::NO_PATH);
+}
+
+// The crossing advice goes out in NavigationState (and as markers); MoverArray comes in as tracks.
+TEST(Conversions, CrossingAndMovers)
+{
+  PlanOutput o;
+  o.status = PlanStatus::OK;
+  o.crossing.advice = CrossingAdvice::STOP;
+  o.crossing.id = 12;
+  o.crossing.time = 0.75;
+  o.crossing.distance = 0.25;
+  o.crossing.mover = { 1.0, -1.0 };
+  o.crossing.mover_at_closest = { 1.0, 0.0 };
+  o.crossing.wearer_at_closest = { 1.0, 0.0 };
+  std_msgs::Header h;
+  h.frame_id = "odom";
+  const auto s = toMsg(o, h, ros::Time(1.0));
+  EXPECT_EQ(s.crossing, assistive_msgs::NavigationState::CROSSING_STOP);
+  EXPECT_EQ(s.crossing_id, 12u);
+  EXPECT_FLOAT_EQ(s.crossing_time, 0.75f);
+  EXPECT_FLOAT_EQ(s.crossing_distance, 0.25f);
+  const auto ma = toMarkers(o, h);
+  ASSERT_EQ(ma.markers.size(), 5u);
+  EXPECT_EQ(ma.markers[3].action, visualization_msgs::Marker::ADD);
+  ASSERT_EQ(ma.markers[3].points.size(), 2u);
+  EXPECT_DOUBLE_EQ(ma.markers[3].points[1].y, 0.0);
+  EXPECT_EQ(ma.markers[4].text, "person 12: STOP in 0.8 s (0.25 m)");
+  o.crossing.time = std::nan("");  // never out as NaN: no advice
+  EXPECT_EQ(toMsg(o, h, ros::Time(1.0)).crossing, assistive_msgs::NavigationState::CROSSING_NONE);
+  EXPECT_EQ(uint8_t(CrossingAdvice::LEFT), assistive_msgs::NavigationState::CROSSING_LEFT);
+  EXPECT_EQ(uint8_t(CrossingAdvice::RIGHT), assistive_msgs::NavigationState::CROSSING_RIGHT);
+
+  assistive_msgs::MoverArray movers;
+  assistive_msgs::Mover m;
+  m.id = 4;
+  m.position.x = 1.5;
+  m.position.y = -2.0;
+  m.velocity.x = 0.1;
+  m.velocity.y = 1.2;
+  for (int i = 0; i < 16; ++i)
+    m.covariance[size_t(i)] = i == 0 ? 0.01 : i == 5 ? 0.02 : i == 2 ? 0.003 : 0.0;
+  movers.movers.push_back(m);
+  m.id = 5;
+  m.velocity.x = std::nan("");  // dropped
+  movers.movers.push_back(m);
+  const std::vector<MoverState> t = fromMsg(movers);
+  ASSERT_EQ(t.size(), 1u);
+  EXPECT_EQ(t[0].id, 4);
+  EXPECT_DOUBLE_EQ(t[0].position().x(), 1.5);
+  EXPECT_DOUBLE_EQ(t[0].position().y(), -2.0);
+  EXPECT_DOUBLE_EQ(t[0].velocity().x(), 0.1);
+  EXPECT_DOUBLE_EQ(t[0].velocity().y(), 1.2);
+  EXPECT_DOUBLE_EQ(t[0].P(0, 0), 0.01);
+  EXPECT_DOUBLE_EQ(t[0].P(1, 1), 0.02);
+  EXPECT_DOUBLE_EQ(t[0].P(0, 2), 0.003);  // row-major
+  EXPECT_DOUBLE_EQ(t[0].P(2, 0), 0.0);
 }
 
 int main(int argc, char** argv)

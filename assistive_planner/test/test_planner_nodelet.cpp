@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include <assistive_msgs/MoverArray.h>
 #include <assistive_msgs/NavigationState.h>
 #include <geometry_msgs/PointStamped.h>
 #include <geometry_msgs/TransformStamped.h>
@@ -69,14 +70,19 @@ protected:
     wp_sub_ = nh_.subscribe("planner/waypoint", 10, &Recorder::onWaypoint, &rec_);
     grid_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("obstacles/traversability", 1);
     odom_pub_ = nh_.advertise<nav_msgs::Odometry>("vo/odom", 5);
+    movers_pub_ = nh_.advertise<assistive_msgs::MoverArray>("obstacles/movers", 1);
     const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(20.0);
-    while (ros::ok() && (grid_pub_.getNumSubscribers() == 0 || odom_pub_.getNumSubscribers() == 0) &&
+    while (ros::ok() &&
+           (grid_pub_.getNumSubscribers() == 0 || odom_pub_.getNumSubscribers() == 0 ||
+            movers_pub_.getNumSubscribers() == 0) &&
            ros::WallTime::now() < until)
       ros::WallDuration(0.05).sleep();
   }
 
-  // Publishes the wearer's pose on tf and a grid until a state for this grid's stamp arrives.
-  bool step(double x, double y, double yaw, bool unknown_around_wearer, nav_msgs::OccupancyGrid* sent = nullptr)
+  // Publishes the wearer's pose on tf and a grid until a state for this grid's stamp arrives
+  // (`movers`: published before the grid, stamped like it).
+  bool step(double x, double y, double yaw, bool unknown_around_wearer, nav_msgs::OccupancyGrid* sent = nullptr,
+            const assistive_msgs::MoverArray* movers = nullptr)
   {
     for (int attempt = 0; attempt < 40; ++attempt)
     {
@@ -92,6 +98,12 @@ protected:
       t.transform.rotation.w = std::cos(0.5 * yaw);
       tf_.sendTransform(t);
       odom_pub_.publish(odom(x, y, stamp, true));
+      if (movers)
+      {
+        assistive_msgs::MoverArray m = *movers;
+        m.header.stamp = stamp;
+        movers_pub_.publish(m);
+      }
       ros::WallDuration(0.05).sleep();
       const auto g = makeGrid(x, y, unknown_around_wearer, stamp);
       grid_pub_.publish(g);
@@ -147,7 +159,7 @@ protected:
   ros::NodeHandle nh_;
   Recorder rec_;
   ros::Subscriber state_sub_, path_sub_, wp_sub_;
-  ros::Publisher grid_pub_, odom_pub_;
+  ros::Publisher grid_pub_, odom_pub_, movers_pub_;
   tf2_ros::TransformBroadcaster tf_;
 };
 }  // namespace
@@ -267,6 +279,48 @@ TEST_F(PlannerNodeletTest, MalformedGridsDoNotStopThePlanner)
   }
   ASSERT_TRUE(step(0.2, 0.0, 0.0, false)) << "the planner stopped after the malformed grids";
   EXPECT_NE(rec_.state->status, assistive_msgs::NavigationState::NO_MAP) << rec_.state->message;
+}
+
+// People crossing: obstacles/movers reach NavigationState.crossing; old movers, or movers in
+// another frame, give none.
+TEST_F(PlannerNodeletTest, CrossingAdviceFromMovers)
+{
+  // the wearer stands (speed 0 over the last second) at (0.2, 0)
+  ASSERT_TRUE(step(0.2, 0.0, 0.0, false));
+  ros::WallDuration(1.1).sleep();
+  ASSERT_TRUE(step(0.2, 0.0, 0.0, false));
+  ASSERT_EQ(rec_.state->status, assistive_msgs::NavigationState::OK) << rec_.state->message;
+  EXPECT_EQ(rec_.state->crossing, assistive_msgs::NavigationState::CROSSING_NONE);  // nobody yet
+  const double h = rec_.state->heading, wx = rec_.state->wearer.x, wy = rec_.state->wearer.y;
+  // a person 2.1 m to the right of the motion vector, 0.2 m ahead, walking across at 1.2 m/s:
+  // t* = 2.1 / 1.2 = 1.75 s, d* = 0.2 m; it walks to the left: pass behind it, to the right
+  assistive_msgs::MoverArray movers;
+  movers.header.frame_id = "odom";
+  assistive_msgs::Mover m;
+  m.id = 5;
+  m.position.x = wx + 0.2 * std::cos(h) + 2.1 * std::sin(h);
+  m.position.y = wy + 0.2 * std::sin(h) - 2.1 * std::cos(h);
+  m.velocity.x = -1.2 * std::sin(h);
+  m.velocity.y = 1.2 * std::cos(h);
+  m.radius = 0.3f;
+  movers.movers.push_back(m);
+  ASSERT_TRUE(step(0.2, 0.0, 0.0, false, nullptr, &movers));
+  ASSERT_EQ(rec_.state->status, assistive_msgs::NavigationState::OK) << rec_.state->message;
+  EXPECT_EQ(rec_.state->crossing, assistive_msgs::NavigationState::CROSSING_RIGHT);
+  EXPECT_EQ(rec_.state->crossing_id, 5u);
+  EXPECT_NEAR(rec_.state->crossing_time, 1.75, 1e-3);
+  EXPECT_NEAR(rec_.state->crossing_distance, 0.2, 1e-3);
+
+  // no movers for 0.6 s: the last ones are too old for this cycle: no stale warning
+  ros::WallDuration(0.6).sleep();
+  ASSERT_TRUE(step(0.2, 0.0, 0.0, false));
+  EXPECT_EQ(rec_.state->crossing, assistive_msgs::NavigationState::CROSSING_NONE);
+  EXPECT_EQ(rec_.state->crossing_time, 0.0f);
+
+  // movers in another frame than world_frame: ignored
+  movers.header.frame_id = "map";
+  ASSERT_TRUE(step(0.2, 0.0, 0.0, false, nullptr, &movers));
+  EXPECT_EQ(rec_.state->crossing, assistive_msgs::NavigationState::CROSSING_NONE);
 }
 
 int main(int argc, char** argv)

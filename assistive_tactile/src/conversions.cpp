@@ -16,6 +16,11 @@ static_assert(static_cast<int>(NavStatus::NO_MAP) == static_cast<int>(assistive_
 static_assert(static_cast<int>(NavStatus::IN_UNKNOWN) == static_cast<int>(assistive_msgs::NavigationState::IN_UNKNOWN), "NavigationState.IN_UNKNOWN");
 static_assert(static_cast<int>(NavStatus::NO_PATH) == static_cast<int>(assistive_msgs::NavigationState::NO_PATH), "NavigationState.NO_PATH");
 static_assert(static_cast<int>(NavStatus::NO_WAYPOINT) == static_cast<int>(assistive_msgs::NavigationState::NO_WAYPOINT), "NavigationState.NO_WAYPOINT");
+// The crossing advice (assistive_common/codes.h) is assistive_msgs/NavigationState.crossing.
+static_assert(static_cast<int>(CrossingAdvice::NONE) == static_cast<int>(assistive_msgs::NavigationState::CROSSING_NONE), "NavigationState.CROSSING_NONE");
+static_assert(static_cast<int>(CrossingAdvice::LEFT) == static_cast<int>(assistive_msgs::NavigationState::CROSSING_LEFT), "NavigationState.CROSSING_LEFT");
+static_assert(static_cast<int>(CrossingAdvice::RIGHT) == static_cast<int>(assistive_msgs::NavigationState::CROSSING_RIGHT), "NavigationState.CROSSING_RIGHT");
+static_assert(static_cast<int>(CrossingAdvice::STOP) == static_cast<int>(assistive_msgs::NavigationState::CROSSING_STOP), "NavigationState.CROSSING_STOP");
 // The cue modes (assistive_common/codes.h) are assistive_msgs/TactileCue.mode.
 static_assert(static_cast<int>(CueMode::IDLE) == static_cast<int>(assistive_msgs::TactileCue::IDLE), "TactileCue.IDLE");
 static_assert(static_cast<int>(CueMode::GUIDANCE) == static_cast<int>(assistive_msgs::TactileCue::GUIDANCE), "TactileCue.GUIDANCE");
@@ -42,6 +47,12 @@ NavInput fromMsg(const assistive_msgs::NavigationState& msg)
   in.free_ahead = msg.free_distance_ahead;
   in.free_left = msg.free_distance_left;
   in.free_right = msg.free_distance_right;
+  // an advice code this build does not know is no advice (the status still decides the rest)
+  in.crossing = msg.crossing <= static_cast<uint8_t>(CrossingAdvice::STOP) ? static_cast<CrossingAdvice>(msg.crossing) :
+                                                                            CrossingAdvice::NONE;
+  in.crossing_id = static_cast<int>(std::min<uint32_t>(msg.crossing_id, 0x7fffffff));
+  in.crossing_time = msg.crossing_time;
+  in.crossing_distance = msg.crossing_distance;
   if (!msg.source_stamp.isZero())  // zero = unknown: stays NaN, never guided on
     in.source_time = msg.source_stamp.toSec();
   return in;

@@ -42,6 +42,22 @@ const char* modeName(CueMode m)
   return "?";
 }
 
+const char* crossingName(CrossingAdvice a)
+{
+  switch (a)
+  {
+    case CrossingAdvice::NONE:
+      return "NONE";
+    case CrossingAdvice::LEFT:
+      return "LEFT";
+    case CrossingAdvice::RIGHT:
+      return "RIGHT";
+    case CrossingAdvice::STOP:
+      return "STOP";
+  }
+  return "?";
+}
+
 double wrapAngle(double a)
 {
   a = std::fmod(a + M_PI, 2.0 * M_PI);
@@ -55,6 +71,13 @@ void CueLogic::reset()
   last_mode_ = CueMode::UNSURE;
   turn_side_ = 0;
   waist_side_ = 0;
+  clearCrossing();
+}
+
+void CueLogic::clearCrossing()
+{
+  cross_ = CrossingAdvice::NONE;
+  cross_since_ = cross_seen_ = cross_time_ = 0.0;
 }
 
 namespace
@@ -103,7 +126,9 @@ Cue CueLogic::update(const NavInput& in, double now)
   Cue c;
   const bool finite = std::isfinite(in.heading) && std::isfinite(in.path_heading) &&
                       std::isfinite(in.waypoint_distance) && !std::isnan(in.free_ahead) &&
-                      !std::isnan(in.free_left) && !std::isnan(in.free_right);
+                      !std::isnan(in.free_left) && !std::isnan(in.free_right) &&
+                      (in.crossing == CrossingAdvice::NONE ||
+                       (std::isfinite(in.crossing_time) && std::isfinite(in.crossing_distance)));
   const std::string suffix = in.message.empty() ? std::string() : ": " + in.message;
   if (!finite)
   {
@@ -145,7 +170,8 @@ Cue CueLogic::update(const NavInput& in, double now)
       }
       if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
         c = decideGuidance(in);
-      break;
+      last_mode_ = c.mode;  // the obstacle / guidance hysteresis runs under the crossing cue
+      return overlayCrossing(in, c, now);
     }
     case NavStatus::NO_PATH:
     case NavStatus::NO_WAYPOINT:
@@ -155,6 +181,7 @@ Cue CueLogic::update(const NavInput& in, double now)
       // side-step (PROXIMITY) or turn: without a path, a direction would be a guess.
       const char* what = in.status == NavStatus::NO_PATH ? "no path" : "no waypoint";
       c = decideProximity(in, false);
+      clearCrossing();  // no crossing cue without a path: the side would be a guess
       if (c.mode == CueMode::ALERT)
       {
         c.reason = std::string(what) + ", " + c.reason;
@@ -186,6 +213,53 @@ Cue CueLogic::update(const NavInput& in, double now)
     }
   }
   last_mode_ = c.mode;
+  return c;
+}
+
+Cue CueLogic::overlayCrossing(const NavInput& in, const Cue& base, double now)
+{
+  const CueParams& p = params_;
+  auto severity = [](CrossingAdvice a) { return a == CrossingAdvice::STOP ? 2 : a == CrossingAdvice::NONE ? 0 : 1; };
+  const CrossingAdvice a = in.crossing;
+  if (a != CrossingAdvice::NONE)
+  {
+    // Raise, escalate to STOP, or (after the hold) change side or calm down to a side-step.
+    const bool held_long = now - cross_since_ >= p.crossing_hold_s;
+    if (cross_ == CrossingAdvice::NONE || severity(a) > severity(cross_) || (a != cross_ && held_long))
+    {
+      cross_ = a;
+      cross_since_ = now;
+    }
+    if (a == cross_)
+    {
+      cross_seen_ = now;
+      cross_time_ = std::max(0.0, in.crossing_time);
+    }
+  }
+  else if (cross_ != CrossingAdvice::NONE && now - cross_since_ >= p.crossing_hold_s &&
+           now - cross_seen_ >= p.crossing_release_s)
+  {
+    clearCrossing();  // the advice has ended
+  }
+  if (cross_ == CrossingAdvice::NONE || base.mode == CueMode::ALERT)
+    return base;  // nothing held, or an obstacle under alert_m (or boxed in) comes first
+
+  // The time to the closest approach, counted down while the held cue outlives the advice.
+  const double t = std::max(0.0, cross_time_ - (now - cross_seen_));
+  Cue c;
+  if (cross_ == CrossingAdvice::STOP)
+  {
+    c.mode = CueMode::ALERT;
+    c.intensity.fill(1.f);
+    c.reason = fmt("person crossing, stop %.1f s", t);
+    return c;
+  }
+  const bool left = cross_ == CrossingAdvice::LEFT;
+  const double span = std::max(1e-6, p.crossing_far_s - p.crossing_near_s);
+  const double k = clamp01((p.crossing_far_s - t) / span);
+  c.mode = CueMode::PROXIMITY;
+  c.intensity[left ? LEFT_WAIST : RIGHT_WAIST] = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * k);
+  c.reason = fmt(left ? "person crossing, step left %.1f s" : "person crossing, step right %.1f s", t);
   return c;
 }
 

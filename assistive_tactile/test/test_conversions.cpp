@@ -83,3 +83,26 @@ TEST(Conversions, NavigationState)
   CueLogic logic;
   EXPECT_EQ(logic.update(in, 0.0).mode, CueMode::UNSURE);
 }
+
+// The crossing advice comes through: code, mover, time, distance; an unknown code is no advice.
+TEST(Conversions, NavigationStateCrossing)
+{
+  assistive_msgs::NavigationState s;
+  s.status = assistive_msgs::NavigationState::OK;
+  EXPECT_EQ(fromMsg(s).crossing, CrossingAdvice::NONE);
+  s.crossing = assistive_msgs::NavigationState::CROSSING_RIGHT;
+  s.crossing_id = 7;
+  s.crossing_time = 1.75f;
+  s.crossing_distance = 0.25f;
+  NavInput in = fromMsg(s);
+  EXPECT_EQ(in.crossing, CrossingAdvice::RIGHT);
+  EXPECT_EQ(in.crossing_id, 7);
+  EXPECT_DOUBLE_EQ(in.crossing_time, 1.75);
+  EXPECT_DOUBLE_EQ(in.crossing_distance, 0.25);
+  s.crossing = assistive_msgs::NavigationState::CROSSING_STOP;
+  EXPECT_EQ(fromMsg(s).crossing, CrossingAdvice::STOP);
+  s.crossing = assistive_msgs::NavigationState::CROSSING_LEFT;
+  EXPECT_EQ(fromMsg(s).crossing, CrossingAdvice::LEFT);
+  s.crossing = 9;
+  EXPECT_EQ(fromMsg(s).crossing, CrossingAdvice::NONE);
+}

@@ -395,6 +395,195 @@ TEST(CueLogic, HeartbeatDoesNotRepeatOldGuidance)
   EXPECT_TRUE(logic.stale(11.0));
 }
 
+// ---- People crossing (NavigationState.crossing, issue 22) ----
+namespace
+{
+NavInput crossing(NavInput in, CrossingAdvice a, double t, int id = 3)
+{
+  in.crossing = a;
+  in.crossing_id = id;
+  in.crossing_time = t;
+  in.crossing_distance = 0.1;
+  return in;
+}
+// Default params: crossing_near_s 1, crossing_far_s 3, min intensity 0.25.
+float crossingLevel(double t)
+{
+  return static_cast<float>(0.25 + 0.75 * std::min(1.0, std::max(0.0, (3.0 - t) / 2.0)));
+}
+}  // namespace
+
+// One decision from a fresh logic: the crossing cue and its place among the others.
+TEST(CueLogic, CrossingDecisionTable)
+{
+  using A = CrossingAdvice;
+  const float f = 1.f;
+  const std::vector<Row> rows = {
+    { "person, step right in 1.8 s", crossing(base(), A::RIGHT, 1.8), CueMode::PROXIMITY, { 0, 0, 0, 0.7f },
+      "person crossing, step right 1.8 s" },
+    { "person, step left in 1.8 s", crossing(base(), A::LEFT, 1.8), CueMode::PROXIMITY, { 0, 0, 0.7f, 0 },
+      "person crossing, step left 1.8 s" },
+    { "3 s away: weakest", crossing(base(), A::LEFT, 3.0), CueMode::PROXIMITY, { 0, 0, 0.25f, 0 }, "3.0 s" },
+    { "2 s away", crossing(base(), A::RIGHT, 2.0), CueMode::PROXIMITY, { 0, 0, 0, crossingLevel(2.0) }, "2.0 s" },
+    { "0.9 s away: full", crossing(base(), A::LEFT, 0.9), CueMode::PROXIMITY, { 0, 0, f, 0 }, "0.9 s" },
+    { "stop", crossing(base(), A::STOP, 0.8), CueMode::ALERT, { f, f, f, f }, "person crossing, stop 0.8 s" },
+    { "no advice: as before", crossing(base(), A::NONE, 0.0), CueMode::IDLE, { 0, 0, 0, 0 }, "on course" },
+    { "crossing beats a turn", crossing(turn(45), A::RIGHT, 1.8), CueMode::PROXIMITY, { 0, 0, 0, 0.7f },
+      "person crossing" },
+    { "crossing side beats the obstacle's side-step", crossing(close(0.8, 1.0, 1.5), A::LEFT, 1.8),
+      CueMode::PROXIMITY, { 0, 0, 0.7f, 0 }, "person crossing, step left" },
+    { "crossing stop during an obstacle side-step", crossing(close(0.8, 1.5, 0.2), A::STOP, 1.2), CueMode::ALERT,
+      { f, f, f, f }, "person crossing, stop 1.2 s" },
+    { "obstacle under 0.5 m stays first", crossing(close(0.45, 2, 2), A::LEFT, 1.8), CueMode::ALERT, { f, f, f, f },
+      "obstacle 0.45 m ahead: stop" },
+    { "obstacle, no room: stays first", crossing(close(0.8, 0.3, 0.3), A::RIGHT, 1.8), CueMode::ALERT,
+      { f, f, f, f }, "no room" },
+    { "obstacle under 0.5 m over a crossing stop", crossing(close(0.3, 2, 2), A::STOP, 0.5), CueMode::ALERT,
+      { f, f, f, f }, "obstacle 0.30 m ahead" },
+    { "no pose: quiet", crossing(status(NavStatus::NO_POSE), A::STOP, 0.8), CueMode::UNSURE, { 0, 0, 0, 0 },
+      "no pose" },
+    { "no map: quiet", crossing(status(NavStatus::NO_MAP), A::LEFT, 1.8), CueMode::UNSURE, { 0, 0, 0, 0 }, "no map" },
+    { "in unknown: quiet", crossing(status(NavStatus::IN_UNKNOWN), A::RIGHT, 1.8), CueMode::UNSURE, { 0, 0, 0, 0 },
+      "unknown" },
+    { "no path: no side-step for a person", crossing(status(NavStatus::NO_PATH), A::LEFT, 1.8), CueMode::UNSURE,
+      { 0, 0, 0, 0 }, "no path" },
+    { "no waypoint: no stop for a person", crossing(status(NavStatus::NO_WAYPOINT), A::STOP, 0.8), CueMode::UNSURE,
+      { 0, 0, 0, 0 }, "no waypoint" },
+    { "no path, obstacle 0.3 m: the obstacle's stop", crossing(status(NavStatus::NO_PATH, 0.3), A::LEFT, 1.8),
+      CueMode::ALERT, { f, f, f, f }, "no path, obstacle" },
+    { "NaN crossing time: quiet", crossing(base(), A::LEFT, std::nan("")), CueMode::UNSURE, { 0, 0, 0, 0 }, "NaN" },
+  };
+  for (const Row& r : rows)
+  {
+    CueLogic logic;
+    expectCue(fresh(logic, r.in, 0.0), r.mode, r.intensity, r.reason_has, r.name);
+  }
+  // an old camera image: no crossing cue either
+  CueLogic logic;
+  NavInput in = crossing(base(), CrossingAdvice::STOP, 0.8);
+  in.source_time = -1.0;
+  expectCue(logic.update(in, 0.0), CueMode::UNSURE, { 0, 0, 0, 0 }, "too old", "old image");
+}
+
+struct CrossStep
+{
+  double t;     // s
+  NavInput in;
+  CueMode mode;
+  int motor;    // active motor, -1 none, 4 all four
+  const char* reason_has;
+};
+
+void runCrossing(const char* name, const CueParams& p, const std::vector<CrossStep>& steps)
+{
+  CueLogic logic(p);
+  for (size_t i = 0; i < steps.size(); ++i)
+  {
+    const Cue c = fresh(logic, steps[i].in, steps[i].t);
+    const std::string what = std::string(name) + " step " + std::to_string(i) + " t " + std::to_string(steps[i].t) +
+                             " (" + modeName(c.mode) + " " + c.reason + ")";
+    EXPECT_EQ(std::string(modeName(c.mode)), modeName(steps[i].mode)) << what;
+    for (int m = 0; m < 4; ++m)
+    {
+      const bool on = steps[i].motor == 4 || steps[i].motor == m;
+      EXPECT_EQ(c.intensity[m] > 0.f, on) << what << " motor " << m;
+    }
+    if (steps[i].reason_has)
+    {
+      EXPECT_NE(c.reason.find(steps[i].reason_has), std::string::npos) << what;
+    }
+  }
+}
+
+// The crossing cue holds (no flicker), escalates at once, swaps sides only after the hold, and
+// ends when the advice ends. Frames every 0.125 s (exact in binary), hold 0.5 s, release 0.25 s.
+TEST(CueLogic, CrossingHoldAndRelease)
+{
+  using A = CrossingAdvice;
+  using M = CueMode;
+  CueParams p;
+  p.crossing_hold_s = 0.5;
+  p.crossing_release_s = 0.25;
+  const NavInput b = base();
+  runCrossing("flicker, side swap, escalation, end", p,
+              { { 0.000, crossing(b, A::LEFT, 2.0), M::PROXIMITY, LEFT_WAIST, "step left 2.0 s" },
+                { 0.125, crossing(b, A::NONE, 0.0), M::PROXIMITY, LEFT_WAIST, "step left 1.9 s" },  // held, counting down
+                { 0.250, crossing(b, A::RIGHT, 1.75), M::PROXIMITY, LEFT_WAIST, "step left" },     // no swap within the hold
+                { 0.375, crossing(b, A::LEFT, 1.625), M::PROXIMITY, LEFT_WAIST, "step left 1.6 s" },
+                { 0.500, crossing(b, A::RIGHT, 1.5), M::PROXIMITY, RIGHT_WAIST, "step right 1.5 s" },  // held 0.5 s: swap
+                { 0.625, crossing(b, A::STOP, 1.0), M::ALERT, 4, "person crossing, stop 1.0 s" },     // escalation at once
+                { 0.750, crossing(b, A::RIGHT, 1.2), M::ALERT, 4, "stop" },    // STOP held 0.125 s < 0.5 s
+                { 0.875, crossing(b, A::NONE, 0.0), M::ALERT, 4, "stop 0.8 s" },
+                { 1.000, crossing(b, A::NONE, 0.0), M::ALERT, 4, nullptr },
+                { 1.125, crossing(b, A::NONE, 0.0), M::IDLE, -1, "on course" } });  // held 0.5 s, advice gone 0.5 s
+  runCrossing("the cue ends with the advice (after the hold)", p,
+              { { 0.000, crossing(b, A::RIGHT, 2.8), M::PROXIMITY, RIGHT_WAIST, nullptr },
+                { 0.125, crossing(b, A::RIGHT, 2.7), M::PROXIMITY, RIGHT_WAIST, nullptr },
+                { 0.250, crossing(b, A::RIGHT, 2.5), M::PROXIMITY, RIGHT_WAIST, nullptr },
+                { 0.500, crossing(b, A::RIGHT, 2.3), M::PROXIMITY, RIGHT_WAIST, nullptr },
+                { 0.875, crossing(b, A::RIGHT, 1.9), M::PROXIMITY, RIGHT_WAIST, "1.9 s" },
+                { 1.000, crossing(b, A::NONE, 0.0), M::PROXIMITY, RIGHT_WAIST, "1.8 s" },  // 0.125 s < release
+                { 1.125, crossing(b, A::NONE, 0.0), M::IDLE, -1, nullptr },                // 0.25 s: ended
+                { 1.250, crossing(b, A::RIGHT, 1.5), M::PROXIMITY, RIGHT_WAIST, "1.5 s" } });  // a new warning at once
+  runCrossing("guidance resumes after the crossing cue", p,
+              { { 0.000, turn(45), M::GUIDANCE, LEFT_SHOULDER, "turn left" },
+                { 0.125, crossing(turn(45), A::RIGHT, 2.0), M::PROXIMITY, RIGHT_WAIST, "person" },
+                { 0.250, crossing(turn(15), A::RIGHT, 1.9), M::PROXIMITY, RIGHT_WAIST, "person" },
+                { 0.750, turn(15), M::GUIDANCE, LEFT_SHOULDER, "turn left 15" } });  // the turn's hysteresis kept
+  runCrossing("losing the pose drops a held crossing cue", p,
+              { { 0.000, crossing(b, A::LEFT, 2.0), M::PROXIMITY, LEFT_WAIST, nullptr },
+                { 0.125, status(NavStatus::NO_POSE), M::UNSURE, -1, "no pose" },
+                { 0.250, b, M::IDLE, -1, "on course" } });
+  runCrossing("no path drops a held crossing cue", p,
+              { { 0.000, crossing(b, A::STOP, 0.9), M::ALERT, 4, nullptr },
+                { 0.125, crossing(status(NavStatus::NO_PATH), A::STOP, 0.8), M::UNSURE, -1, "no path" },
+                { 0.250, b, M::IDLE, -1, "on course" } });
+}
+
+// With the shipped defaults (hold 0.5 s, release 0.1 s) at the camera's 15 Hz: one frame without
+// the advice is bridged, two end the cue; a cue raised once lasts 0.5 s.
+TEST(CueLogic, CrossingDefaultsAt15Hz)
+{
+  using A = CrossingAdvice;
+  const double dt = 1.0 / 15.0;
+  CueLogic logic;
+  const NavInput b = base();
+  for (int k = 0; k < 15; ++k)  // warned for 1 s
+    ASSERT_EQ(fresh(logic, crossing(b, A::LEFT, 2.5 - k * dt), k * dt).mode, CueMode::PROXIMITY) << k;
+  EXPECT_EQ(fresh(logic, crossing(b, A::NONE, 0.0), 15 * dt).mode, CueMode::PROXIMITY);  // bridged
+  EXPECT_EQ(fresh(logic, crossing(b, A::LEFT, 1.4), 16 * dt).mode, CueMode::PROXIMITY);
+  EXPECT_EQ(fresh(logic, crossing(b, A::NONE, 0.0), 17 * dt).mode, CueMode::PROXIMITY);
+  EXPECT_EQ(fresh(logic, crossing(b, A::NONE, 0.0), 18 * dt).mode, CueMode::IDLE);  // 0.133 s without: ended
+
+  CueLogic once;
+  EXPECT_EQ(fresh(once, crossing(b, A::RIGHT, 2.0), 10.0).mode, CueMode::PROXIMITY);  // a one-frame warning ...
+  for (int k = 1; k <= 7; ++k)  // ... lasts 0.5 s (k = 7: 0.467 s)
+    EXPECT_EQ(fresh(once, b, 10.0 + k * dt).mode, CueMode::PROXIMITY) << k;
+  EXPECT_EQ(fresh(once, b, 10.0 + 8 * dt).mode, CueMode::IDLE);  // 0.533 s
+}
+
+// Whatever the crossing advice, a status other than OK never gives a waist or shoulder cue, and
+// an ALERT only where the obstacle rule gives one (the crossing adds nothing to a guess).
+TEST(CueLogic, StatusNotOkNeverCuesACrossing)
+{
+  for (NavStatus st : { NavStatus::NO_POSE, NavStatus::NO_MAP, NavStatus::IN_UNKNOWN, NavStatus::NO_PATH,
+                        NavStatus::NO_WAYPOINT })
+    for (CrossingAdvice a : { CrossingAdvice::LEFT, CrossingAdvice::RIGHT, CrossingAdvice::STOP })
+      for (double ahead : { 5.0, 0.8, 0.3 })
+        for (bool held_before : { false, true })
+        {
+          CueLogic logic;
+          if (held_before)
+            fresh(logic, crossing(base(), a, 2.0), 99.9);
+          const Cue c = fresh(logic, crossing(close(ahead, 2.0, 2.0, st), a, 1.5), 100.0);
+          const std::string what = "status " + std::to_string(static_cast<int>(st)) + " advice " + crossingName(a) +
+                                   " ahead " + std::to_string(ahead) + ": " + modeName(c.mode) + " " + c.reason;
+          const bool obstacle_stop = (st == NavStatus::NO_PATH || st == NavStatus::NO_WAYPOINT) && ahead < 0.5;
+          EXPECT_EQ(c.mode, obstacle_stop ? CueMode::ALERT : CueMode::UNSURE) << what;
+          EXPECT_EQ(c.reason.find("person"), std::string::npos) << what;
+        }
+}
+
 TEST(CueLogic, WrapAngle)
 {
   const std::vector<std::pair<double, double>> table = { { 0, 0 },           { M_PI, M_PI },

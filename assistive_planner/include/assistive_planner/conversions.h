@@ -1,6 +1,9 @@
 #pragma once
 // Message conversions (nodelet target only; the core stays ROS-free).
 
+#include <vector>
+
+#include <assistive_msgs/MoverArray.h>
 #include <assistive_msgs/NavigationState.h>
 #include <geometry_msgs/PointStamped.h>
 #include <nav_msgs/OccupancyGrid.h>
@@ -21,6 +24,10 @@ nav_msgs::OccupancyGrid toMsg(const Grid& grid, const std_msgs::Header& header);
 assistive_msgs::NavigationState toMsg(const PlanOutput& out, const std_msgs::Header& header, const ros::Time& source_stamp);
 nav_msgs::Path toPathMsg(const PlanOutput& out, const std_msgs::Header& header);
 geometry_msgs::PointStamped toWaypointMsg(const PlanOutput& out, const std_msgs::Header& header);
-/// Motion vector (arrow), search triangle (line strip), waypoint (sphere).
+/// MoverArray -> tracks for the crossing warning (position, velocity, covariance; movers with a
+/// non-finite value are dropped). The frame is the caller's to check.
+std::vector<MoverState> fromMsg(const assistive_msgs::MoverArray& msg);
+/// Motion vector (arrow), search triangle (line strip), waypoint (sphere), and the crossing warning
+/// (the warned mover's predicted path to the closest approach and the advice as text; deleted when none).
 visualization_msgs::MarkerArray toMarkers(const PlanOutput& out, const std_msgs::Header& header);
 }  // namespace assistive_planner

@@ -35,6 +35,10 @@ namespace assistive_planner
   X(double, unknown_ahead_m, "unknown_ahead_m", 1.0, 0.0, 5.0, "m", "when the ray ahead ends in unmapped floor (not at an obstacle) closer than this, the status is `IN_UNKNOWN` (vest quiet) instead of a proximity or stop cue decided on floor nobody has seen (0 switches it off)") \
   /* the wearer stands on the floor under its feet: unseen at the start (below the camera's view) */ \
   X(double, footprint_radius_m, "footprint_radius_m", 0.25, 0.0, 2.0, "m", "unknown cells whose centre lies within this of a place the wearer has stood since the last reset (the body's footprint, radius 0.25 m) count as free floor; cells ahead that nobody has seen or walked stay unknown (0 switches it off)") \
+  /* People crossing (CrossingWatch, issue 22): obstacles/movers + assistive_obstacles' CrossingPredictor */ \
+  X(double, crossing_max_age_s, "crossing_max_age_s", 0.5, 0.05, 10.0, "s", "movers whose stamp lies further than this from the planning cycle's camera time, or none received: `CROSSING_NONE` (never a stale warning)") \
+  X(double, crossing_side_free_m, "crossing_side_free_m", 0.6, 0.0, 10.0, "m", "a side whose free distance is below this is blocked: a crossing whose avoiding side it is gives `CROSSING_STOP`") \
+  X(double, crossing_speed_window_s, "crossing_speed_window_s", 1.0, 0.1, 10.0, "s", "the wearer's walking speed is the distance walked over the poses of this last window (0 while they span less than half of it)") \
   /* Trust in the inputs (InputMonitor) */ \
   X(double, max_input_age_s, "max_input_age_s", 0.5, 0.05, 10.0, "s", "grid or pose lagging the newest camera frame by more -> `NO_MAP` / `NO_POSE`") \
   X(double, max_frame_gap_s, "max_frame_gap_s", 0.5, 0.05, 60.0, "s", "a longer pause between poses, or time going back, resets the planner")

@@ -2,9 +2,12 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "assistive_planner/crossing_watch.h"
 #include "assistive_planner/dstar_lite.h"
 #include "assistive_planner/grid.h"
 #include "assistive_planner/motion_vector.h"
@@ -34,6 +37,9 @@ struct PlanOutput
   bool path_through_unknown = false;
   std::array<Point2, 3> triangle;  ///< search triangle (apex, left, right)
   Point2 motion_anchor;            ///< previous position of the motion vector
+  /// People crossing (CrossingWatch): the most urgent advice; NONE when the cycle had no time
+  /// (update() without `t`), no fresh movers, or the wearer's pose or grid was unusable.
+  CrossingResult crossing;
   size_t expansions = 0;           ///< D* Lite expansions in this update
   size_t changed_cells = 0;        ///< cells whose weight changed since the last update
   bool scrolled = false;
@@ -48,8 +54,18 @@ class Planner
 {
 public:
   explicit Planner(const PlannerParams& p = PlannerParams());
-  /// One planning cycle on a new grid (or the same grid with a new pose).
-  PlanOutput update(const Grid& grid, const Point2& wearer, double head_yaw);
+  /// One planning cycle on a new grid (or the same grid with a new pose). `t`: the camera time (s)
+  /// of the grid and pose, for the crossing warning (the movers' age, the walking speed); without it
+  /// (NaN) there is no crossing advice.
+  PlanOutput update(const Grid& grid, const Point2& wearer, double head_yaw,
+                    double t = std::numeric_limits<double>::quiet_NaN());
+  /// The movers (confirmed tracks, world frame) at camera time `stamp` (CrossingWatch::setMovers).
+  void setMovers(double stamp, std::vector<MoverState> movers)
+  {
+    crossing_.setMovers(stamp, std::move(movers));
+  }
+  void clearMovers() { crossing_.clearMovers(); }
+  const CrossingWatch& crossingWatch() const { return crossing_; }
   /// Explicit target (e.g. a tagged place); replaces the automatic waypoint until reached or cleared.
   void setGoal(const Point2& goal);
   void clearGoal() { has_goal_ = false; }
@@ -83,6 +99,7 @@ private:
   DStarLite dstar_;
   MotionVector motion_;
   WaypointSelector waypoints_;
+  CrossingWatch crossing_;
   bool have_grid_ = false;
   Grid last_grid_;  // geometry only (data not kept)
   bool ever_planned_ = false;

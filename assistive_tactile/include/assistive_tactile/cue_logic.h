@@ -12,6 +12,7 @@ namespace assistive_tactile
 {
 /// Navigation status and cue modes: one definition for every stage (assistive_common/codes.h;
 /// the values of assistive_msgs/NavigationState and TactileCue).
+using assistive_common::CrossingAdvice;
 using assistive_common::CueMode;
 using assistive_common::NavStatus;
 
@@ -35,6 +36,11 @@ struct NavInput
   double free_ahead = 0.0;
   double free_left = 0.0;
   double free_right = 0.0;
+  /// Someone whose predicted path crosses the wearer's (the planner's most urgent advice).
+  CrossingAdvice crossing = CrossingAdvice::NONE;
+  int crossing_id = 0;             ///< mover behind it
+  double crossing_time = 0.0;      ///< s until the closest approach
+  double crossing_distance = 0.0;  ///< m, predicted closest distance
   /// Time of the camera image behind the state (source_stamp), on the clock of `now`;
   /// NaN = unknown (zero stamp): such a state is never guided on.
   double source_time = std::numeric_limits<double>::quiet_NaN();
@@ -48,6 +54,7 @@ struct Cue
 };
 
 const char* modeName(CueMode m);
+const char* crossingName(CrossingAdvice a);
 
 /// Wraps an angle to (-pi, pi].
 double wrapAngle(double a);
@@ -57,6 +64,19 @@ double wrapAngle(double a);
  * intensity follows the turn still needed (falls to zero as the wearer lines up, so wearers do
  * not over-turn), and every threshold has hysteresis so cues do not chatter. Stateful (the
  * hysteresis); not thread-safe. Times are seconds on any monotonic clock.
+ *
+ * People crossing (issue 22) lie over the obstacle and guidance cues; the order, first wins:
+ *   1. input not usable (NaN, camera image too old or unstamped), or status not OK: UNSURE (or
+ *      the obstacle ALERT of NO_PATH / NO_WAYPOINT); a crossing is never cued then;
+ *   2. the obstacle ALERT (free ahead under alert_m, or under proximity_m with no room to a side);
+ *   3. crossing STOP: ALERT, all four ("person crossing, stop 0.8 s");
+ *   4. crossing LEFT / RIGHT: PROXIMITY on that waist motor ("person crossing, step left 1.8 s"),
+ *      over an obstacle's side-step (the planner chose the side with room: it avoids both) and
+ *      over guidance;
+ *   5. the obstacle PROXIMITY, then guidance, as before.
+ * A crossing cue lasts at least crossing_hold_s (and a side is not swapped for the other sooner;
+ * STOP replaces a side at once), then ends once the advice has been NONE for crossing_release_s.
+ * The obstacle and guidance hysteresis runs underneath unchanged.
  */
 class CueLogic
 {
@@ -85,11 +105,19 @@ public:
 private:
   Cue decideProximity(const NavInput& in, bool have_path);
   Cue decideGuidance(const NavInput& in);
+  /// The crossing cue over `base` (the obstacle / guidance cue of a fresh OK state).
+  Cue overlayCrossing(const NavInput& in, const Cue& base, double now);
+  void clearCrossing();
 
   CueParams params_;
   CueMode last_mode_ = CueMode::UNSURE;
   int turn_side_ = 0;   ///< +1 left shoulder active, -1 right, 0 none
   int waist_side_ = 0;  ///< +1 left waist, -1 right, 0 none
+  // the crossing cue being held
+  CrossingAdvice cross_ = CrossingAdvice::NONE;
+  double cross_since_ = 0.0;      ///< when the held advice (this side / stop) was raised
+  double cross_seen_ = 0.0;       ///< when the planner last advised it
+  double cross_time_ = 0.0;       ///< its time to the closest approach then
   double last_state_time_ = -1e300;
   double last_source_time_ = std::numeric_limits<double>::quiet_NaN();
   bool have_state_ = false;

@@ -24,6 +24,11 @@ namespace assistive_tactile
   X(double, hysteresis_m, "hysteresis_m", 0.1, 0.0, 1.0, "m", "a mode entered at d is left only above d + hysteresis_m") \
   X(double, side_free_m, "side_free_m", 0.6, 0.0, 10.0, "m", "free distance to a side that counts as room to side-step") \
   X(double, side_switch_m, "side_switch_m", 0.2, 0.0, 10.0, "m", "the other side must be this much freer to switch waist motor") \
+  /* People crossing (NavigationState.crossing, issue 22): a waist cue or a stop, over the above */ \
+  X(double, crossing_hold_s, "crossing_hold_s", 0.5, 0.0, 5.0, "s", "a crossing cue, once raised, lasts at least this long, and a side-step is not turned into the other side's sooner (the advice blinking off for a frame or flipping sides does not make the vest flicker)") \
+  X(double, crossing_release_s, "crossing_release_s", 0.1, 0.0, 5.0, "s", "after the hold, the cue ends once the planner has advised nothing for this long (one frame without advice at 15 Hz is bridged)") \
+  X(double, crossing_near_s, "crossing_near_s", 1.0, 0.0, 10.0, "s", "closest approach this soon or sooner: the crossing's waist cue at full intensity") \
+  X(double, crossing_far_s, "crossing_far_s", 3.0, crossing_near_s, 10.0, "s", "closest approach this far off or farther: the crossing's waist cue at `min_intensity` (linear in between)") \
   /* Freshness of the planner state */ \
   X(double, state_timeout_s, "state_timeout_s", 0.5, 0.05, 10.0, "s", "no planner state for this long -> UNSURE, motors off") \
   /* 0.4 s keeps UNSURE within 0.5 s of a fault that only staleness reveals (a desynchronised pair */ \

@@ -29,6 +29,16 @@ enum class NavStatus : uint8_t
   NO_WAYPOINT = 5  ///< nothing traversable inside the search triangle
 };
 
+/// The planner's advice about a person whose predicted path crosses the wearer's
+/// (assistive_msgs/NavigationState.crossing): what the wearer should do about the most urgent one.
+enum class CrossingAdvice : uint8_t
+{
+  NONE = 0,   ///< nobody crossing, or no fresh mover news
+  LEFT = 1,   ///< step / veer left to let them pass
+  RIGHT = 2,  ///< step / veer right
+  STOP = 3    ///< stop: too close in time, or the avoiding side is blocked
+};
+
 /// Cue mode of the cue logic (assistive_msgs/TactileCue.mode).
 enum class CueMode : uint8_t
 {
