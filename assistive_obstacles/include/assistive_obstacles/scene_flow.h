@@ -27,7 +27,7 @@ struct SceneFlowParams
   int fast_threshold = 12;           ///< FAST corner threshold (grey levels)
   double min_distance = 8.0;         ///< px, bucket size: at most one corner (the strongest) per bucket
   int lk_window = 11;                ///< px, Lucas-Kanade window
-  int lk_levels = 2;                 ///< pyramid levels above the base
+  int lk_levels = 3;                 ///< pyramid levels above the base (11 px window: ~40 px motion per frame)
   double max_fb_error = 0.5;         ///< px, forward-backward tracking error beyond which a track is dropped
   double max_disparity_range = 1.0;  ///< px at the matcher's scale: larger 3x3 range = depth edge, no depth
   double min_depth = 0.3, max_depth = 6.0;  ///< m, points outside are dropped
