@@ -94,7 +94,7 @@ void CrossingScore::addFrame(double t, const Eigen::Vector2d& wearer, const std:
   {
     const double d = (q.position - wearer).norm();
     auto it = closest_.find(q.id);
-    if (it == closest_.end() || d < it->second.first) closest_[q.id] = {d, t};
+    if (it == closest_.end() || d < it->second.d) closest_[q.id] = {d, t, q.velocity.norm()};
   }
   for (const int id : warned_tracks)
   {
@@ -110,7 +110,7 @@ int CrossingScore::crossings() const
 {
   int n = 0;
   for (const auto& kv : closest_)
-    if (kv.second.first < params_.cross_distance) ++n;
+    if (kv.second.d < params_.cross_distance && kv.second.speed >= params_.min_speed) ++n;
   return n;
 }
 
@@ -119,8 +119,8 @@ int CrossingScore::crossingsWarned() const
   int n = 0;
   for (const auto& kv : closest_)
   {
-    if (kv.second.first >= params_.cross_distance) continue;
-    const double tc = kv.second.second;
+    if (kv.second.d >= params_.cross_distance || kv.second.speed < params_.min_speed) continue;
+    const double tc = kv.second.t;
     const auto w = warned_at_.find(kv.first);
     if (w == warned_at_.end()) continue;
     for (const double t : w->second)
@@ -150,7 +150,7 @@ int CrossingScore::falseWarnings() const
       continue;
     }
     const auto c = closest_.find(o.truth_id);
-    if (c != closest_.end() && c->second.first >= params_.far_distance) ++n;
+    if (c != closest_.end() && c->second.d >= params_.far_distance) ++n;
   }
   return n;
 }

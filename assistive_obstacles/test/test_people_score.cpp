@@ -81,12 +81,16 @@ TEST(PeopleScore, CrossingWarnedInTimeAndFalseWarnings)
   //   person 4: distance |t - 3| + 0.7 (closest 0.7 m): track 30 warned at t = 2 -> neither crossing nor false
   //   person 2: distance |t - 5| + 2 (never within 1 m): track 9 warned at t = 4 and t = 6 -> 2 false onsets
   //   track 20 matched to no one, warned at t = 1 -> 1 false onset
+  //   person 6: standing (speed 0) 0.1 m from the wearer's path at t = 9: no crossing (nothing to warn of)
+  // People 1-4 walk at 1 m/s.
   CrossingScore cs;
   for (int k = 0; k <= 10; ++k)
   {
     const double t = k;
-    const std::vector<PersonState> truth{person(1, std::abs(t - 5) + 0.2, 0.0), person(2, std::abs(t - 5) + 2.0, 0.0),
-                                         person(3, 0.0, std::abs(t - 8) + 0.3), person(4, 0.0, -(std::abs(t - 3) + 0.7))};
+    const std::vector<PersonState> truth{person(1, std::abs(t - 5) + 0.2, 0.0, 1.0), person(2, std::abs(t - 5) + 2.0, 0.0, 1.0),
+                                         person(3, 0.0, std::abs(t - 8) + 0.3, 0.0, 1.0),
+                                         person(4, 0.0, -(std::abs(t - 3) + 0.7), 0.0, 1.0),
+                                         person(6, -(std::abs(t - 9) + 0.1), 0.0)};
     const std::map<int, int> match{{7, 1}, {8, 3}, {9, 2}, {30, 4}};
     std::set<int> warned;
     if (k == 2 || k == 3) warned.insert(7);

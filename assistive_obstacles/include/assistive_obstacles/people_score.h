@@ -14,7 +14,8 @@
 //   obstacle).
 // - Crossings (CrossingScore): per truth person, the closest approach to the wearer over the run
 //   (truth positions at the frame times). People whose closest approach is below `cross_distance`
-//   (0.5 m) are crossings: warned in time when a warning for a track matched to them came between
+//   (0.5 m) while walking (truth speed at that moment >= `min_speed`, 0.3 m/s: a person standing
+//   still has no path to cross and no scene flow; the map holds them as an obstacle) are crossings: warned in time when a warning for a track matched to them came between
 //   `lookback` (5 s) and `lead` (1.5 s) before that moment. False warnings: warning onsets (a track
 //   warned this frame and not in the previous one) for tracks matched to people whose closest
 //   approach stays at or above `far_distance` (1 m), or matched to nobody, per minute of run.
@@ -73,6 +74,7 @@ struct CrossingScoreParams
   double far_distance = 1.0;    ///< m, people never this close must not be warned about
   double lead = 1.5;            ///< s, a warning must come at least this long before the closest approach
   double lookback = 5.0;        ///< s, ... and at most this long
+  double min_speed = 0.3;       ///< m/s, a person slower than this at the closest approach is standing, not crossing
 };
 
 class CrossingScore
@@ -98,7 +100,11 @@ private:
     int truth_id;  ///< 0: matched to no one
   };
   CrossingScoreParams params_;
-  std::map<int, std::pair<double, double>> closest_;  ///< truth id -> (distance, time)
+  struct Closest
+  {
+    double d, t, speed;
+  };
+  std::map<int, Closest> closest_;  ///< truth id -> distance, time and truth speed at the closest approach
   std::map<int, std::vector<double>> warned_at_;      ///< truth id -> times a matched track was warned
   std::vector<Onset> onsets_;
   std::set<int> warned_prev_;
