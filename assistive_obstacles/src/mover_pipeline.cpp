@@ -26,6 +26,7 @@ MoverPipelineParams moverPipelineParams(const ObstaclesParams& p, const StereoMo
   m.segmentation.min_residual = p.mover_min_residual;
   m.segmentation.min_cluster_points = p.mover_min_cluster_points;
   m.segmentation.cell_size = p.cell_size;
+  m.min_speed = p.mover_min_speed;
   m.max_gap_s = p.max_frame_gap_s;
   return m;
 }
@@ -46,7 +47,16 @@ void MoverPipeline::reset()
   tracker_.reset();
   footprints_.clear();
   shape_.clear();
+  origin_.clear();
   has_prev_ = false;
+}
+
+bool MoverPipeline::stationary(const MoverTrack& tr) const
+{
+  const double age = tr.last_seen - tr.born;
+  const auto it = origin_.find(tr.id);
+  return it != origin_.end() && age >= params_.speed_age &&
+         (tr.last_z - it->second).norm() < params_.min_speed * age;
 }
 
 std::vector<ReportedMover> MoverPipeline::confirmed() const
@@ -54,7 +64,7 @@ std::vector<ReportedMover> MoverPipeline::confirmed() const
   std::vector<ReportedMover> out;
   for (const MoverTrack& t : tracker_.tracks())
   {
-    if (!t.confirmed) continue;
+    if (!t.confirmed || stationary(t)) continue;
     ReportedMover r;
     r.track = t;
     const auto it = shape_.find(t.id);
@@ -105,19 +115,27 @@ const std::vector<MoverFootprint>& MoverPipeline::process(double t, const cv::Ma
     const std::vector<MoverDetection>& dets = segmentation_.detections();
     for (size_t j = 0; j < z.size(); ++j)
     {
+      if (ids[j] > 0)
+      {
+        shape_[ids[j]] = {dets[j].radius, dets[j].max_z - dets[j].min_z};
+        origin_.emplace(ids[j], z[j]);  // kept from the first detection on
+        const MoverTrack* tr = tracker_.find(ids[j]);
+        if (tr && stationary(*tr)) continue;  // a static surface: the map votes there
+      }
       footprints_.push_back({dets[j].centroid.x(), dets[j].centroid.y(), dets[j].radius});
-      if (ids[j] > 0) shape_[ids[j]] = {dets[j].radius, dets[j].max_z - dets[j].min_z};
     }
     // Coasting confirmed tracks (not detected this frame) keep their footprint.
     for (const MoverTrack& tr : tracker_.tracks())
     {
-      if (!tr.confirmed || tr.misses == 0) continue;
+      if (!tr.confirmed || tr.misses == 0 || stationary(tr)) continue;
       const auto it = shape_.find(tr.id);
       if (it != shape_.end()) footprints_.push_back({tr.x(0), tr.x(1), it->second.first});
     }
     // Shapes of ended tracks go.
     for (auto it = shape_.begin(); it != shape_.end();)
       it = tracker_.find(it->first) ? std::next(it) : shape_.erase(it);
+    for (auto it = origin_.begin(); it != origin_.end();)
+      it = tracker_.find(it->first) ? std::next(it) : origin_.erase(it);
   }
   ms_tracking_ = msSince(t0);
   prev_pose_ = T_world_cam;

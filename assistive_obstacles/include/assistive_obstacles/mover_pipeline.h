@@ -8,7 +8,11 @@
 // with (tf in the nodelet, the bag's truth in the benchmark).
 // Footprints: every detection of this frame, and every confirmed track that was not detected this
 // frame (coasting: a person whose flow was lost for a frame or two still takes no vote), at its
-// predicted position with the radius of its last detection.
+// predicted position with the radius of its last detection; except the detections of a
+// stationary track: one at least `speed_age` old whose net displacement since its birth is below
+// `min_speed` times its age. Such a track is a static surface whose flow fails the same way frame
+// after frame (repeated texture, a streak of stereo errors: the shipped course has one), not a
+// person (people walk 0.6-1.6 m/s); it is not reported either, and the map votes there again.
 #include <map>
 #include <vector>
 
@@ -30,6 +34,8 @@ struct MoverPipelineParams
   MoverSegmentationParams segmentation;
   MoverTrackerParams tracker;
   double max_speed = 3.0;  ///< m/s, flow points whose residual is faster are mismatches (dropped); people walk 0.6-1.6 m/s
+  double min_speed = 0.3;  ///< m/s, net speed since birth below which an old enough track is stationary
+  double speed_age = 0.5;  ///< s, age from which that is judged
   double max_gap_s = 0.5;  ///< a longer gap between frames (or time going back) restarts the flow and the tracks
 };
 
@@ -61,7 +67,7 @@ public:
   /// The flow points segmented (residual speed within max_speed).
   const std::vector<SceneFlowPoint>& segmented() const { return kept_; }
   const MoverTracker& tracker() const { return tracker_; }
-  /// Confirmed tracks with their footprint radius (what obstacles/movers publishes).
+  /// Confirmed tracks that are not stationary, with their footprint radius (what obstacles/movers publishes).
   std::vector<ReportedMover> confirmed() const;
   /// Milliseconds of the last process(): flow, segmentation, tracking.
   double msFlow() const { return ms_flow_; }
@@ -77,6 +83,9 @@ private:
   std::vector<MoverFootprint> footprints_;
   std::vector<SceneFlowPoint> kept_;
   std::map<int, std::pair<double, double>> shape_;  ///< track id -> (radius, height) of its last detection
+  std::map<int, Eigen::Vector2d> origin_;           ///< track id -> its first detection
+  /// Whether a live track is stationary (see above).
+  bool stationary(const MoverTrack& tr) const;
   Eigen::Isometry3d prev_pose_ = Eigen::Isometry3d::Identity();
   double prev_t_ = 0.0;
   bool has_prev_ = false;
