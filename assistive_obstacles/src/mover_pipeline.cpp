@@ -17,6 +17,7 @@ MoverPipelineParams moverPipelineParams(const ObstaclesParams& p, const StereoMo
   MoverPipelineParams m;
   m.flow.max_features = p.mover_max_features;
   m.flow.max_fb_error = p.mover_max_fb_error;
+  m.flow.frames_apart = p.mover_frames_apart;
   m.flow.min_depth = p.min_depth;
   m.flow.max_depth = p.max_depth;
   m.segmentation.fx = model.fx;
@@ -48,6 +49,7 @@ void MoverPipeline::reset()
   footprints_.clear();
   shape_.clear();
   origin_.clear();
+  poses_.clear();
   has_prev_ = false;
 }
 
@@ -93,14 +95,16 @@ const std::vector<MoverFootprint>& MoverPipeline::process(double t, const cv::Ma
   const std::vector<SceneFlowPoint>& flow = flow_.process(grey, disp, model);
   ms_flow_ = msSince(t0);
   t0 = std::chrono::steady_clock::now();
-  const bool paired = has_prev_ && !flow.empty();
+  const int back = flow_.pairedBack();
+  const bool paired = has_prev_ && !flow.empty() && back >= 1 && back <= static_cast<int>(poses_.size());
   std::vector<Eigen::Vector2d> z;
   if (paired)
   {
-    const Eigen::Isometry3d T_cur_prev = T_world_cam.inverse() * prev_pose_;
+    const std::pair<double, Eigen::Isometry3d>& then = poses_[poses_.size() - static_cast<size_t>(back)];
+    const Eigen::Isometry3d T_cur_prev = T_world_cam.inverse() * then.second;
     // A residual faster than anyone walks is a mismatch (repeated texture, a corner on a
     // silhouette), not a mover: such points are dropped.
-    const double max_step = params_.max_speed * (t - prev_t_);
+    const double max_step = params_.max_speed * (t - then.first);
     kept_.clear();
     for (const SceneFlowPoint& f : flow)
       if (MoverSegmentation::residual(f, T_cur_prev) <= max_step) kept_.push_back(f);
@@ -138,7 +142,8 @@ const std::vector<MoverFootprint>& MoverPipeline::process(double t, const cv::Ma
       it = tracker_.find(it->first) ? std::next(it) : origin_.erase(it);
   }
   ms_tracking_ = msSince(t0);
-  prev_pose_ = T_world_cam;
+  poses_.emplace_back(t, T_world_cam);
+  while (static_cast<int>(poses_.size()) > std::max(1, params_.flow.frames_apart)) poses_.pop_front();
   prev_t_ = t;
   has_prev_ = true;
   return footprints_;

@@ -817,6 +817,9 @@ int main(int argc, char** argv)
     std::printf("crossings (closest truth approach < 0.5 m): %d, warned >= 1.5 s ahead: %d; false warnings (people never "
                 "within 1 m, or no one): %d in %.2f min\n",
                 crossing.crossings(), crossing.crossingsWarned(), crossing.falseWarnings(), crossing.minutes());
+    for (const CrossingScore::CrossingDetail& d : crossing.details())
+      std::printf("  crossing: person %d closest %.2f m at t %.2f; tracked from %.2f s before, warned from %.2f s before\n",
+                  d.id, d.d_closest, d.t_closest, d.t_closest - d.first_tracked, d.t_closest - d.first_warned);
     std::printf("ghosts: %ld of %ld truth-free known cells within 5 m (not under a person) marked obstacle; "
                 "cells on people's paths marked obstacle after they left: %zu; truth-free cells locked: %zu "
                 "(on people's paths: %zu)\n",

@@ -96,6 +96,7 @@ void CrossingScore::addFrame(double t, const Eigen::Vector2d& wearer, const std:
     auto it = closest_.find(q.id);
     if (it == closest_.end() || d < it->second.d) closest_[q.id] = {d, t, q.velocity.norm()};
   }
+  for (const auto& kv : track_to_truth) matched_at_[kv.second].push_back(t);
   for (const int id : warned_tracks)
   {
     const auto m = track_to_truth.find(id);
@@ -104,6 +105,27 @@ void CrossingScore::addFrame(double t, const Eigen::Vector2d& wearer, const std:
     if (!warned_prev_.count(id)) onsets_.push_back({t, who});
   }
   warned_prev_ = warned_tracks;
+}
+
+std::vector<CrossingScore::CrossingDetail> CrossingScore::details() const
+{
+  std::vector<CrossingDetail> out;
+  for (const auto& kv : closest_)
+  {
+    if (kv.second.d >= params_.cross_distance || kv.second.speed < params_.min_speed) continue;
+    CrossingDetail d{kv.first, kv.second.t, kv.second.d, NAN, NAN};
+    auto first = [&](const std::map<int, std::vector<double>>& m) {
+      const auto it = m.find(kv.first);
+      if (it != m.end())
+        for (const double t : it->second)
+          if (t >= kv.second.t - params_.lookback && t <= kv.second.t) return t;
+      return static_cast<double>(NAN);
+    };
+    d.first_tracked = first(matched_at_);
+    d.first_warned = first(warned_at_);
+    out.push_back(d);
+  }
+  return out;
 }
 
 int CrossingScore::crossings() const

@@ -87,9 +87,8 @@ void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv
 
 void SceneFlowExtractor::reset()
 {
-  prev_grey_.release();
-  prev_disp_.release();
-  prev_pyr_.clear();
+  history_.clear();
+  paired_back_ = 0;
   flow_.clear();
   pixels_.clear();
   detected_ = tracked_ = 0;
@@ -107,10 +106,20 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
     return flow_;
   }
   cv::buildOpticalFlowPyramid(grey, pyr_, cv::Size(params_.lk_window, params_.lk_window), params_.lk_levels);
-  const bool paired = !prev_grey_.empty() && prev_grey_.size() == grey.size() && prev_model_.width == model.width &&
-                      prev_model_.height == model.height;
+  // Pair with the oldest kept frame (frames_apart back once that many were seen).
+  paired_back_ = 0;
+  if (!history_.empty() && (history_.front().grey.size() != grey.size() || history_.front().model.width != model.width ||
+                            history_.front().model.height != model.height))
+    history_.clear();
+  const bool paired = !history_.empty();
   if (paired)
   {
+    const Frame& old = history_.front();
+    paired_back_ = static_cast<int>(history_.size());
+    const cv::Mat& prev_grey_ = old.grey;
+    const std::vector<cv::Mat>& prev_pyr_ = old.pyr;
+    const cv::Mat& prev_disp_ = old.disp;
+    const StereoModel& prev_model_ = old.model;
     detectCorners(prev_grey_, params_, keypoints_, p0_);
     detected_ = static_cast<int>(p0_.size());
     if (!p0_.empty())
@@ -137,10 +146,13 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
       }
     }
   }
-  grey.copyTo(prev_grey_);
-  std::swap(prev_pyr_, pyr_);
-  disp.copyTo(prev_disp_);
-  prev_model_ = model;
+  Frame f;
+  grey.copyTo(f.grey);
+  std::swap(f.pyr, pyr_);
+  disp.copyTo(f.disp);
+  f.model = model;
+  history_.push_back(std::move(f));
+  while (static_cast<int>(history_.size()) > std::max(1, params_.frames_apart)) history_.pop_front();
   return flow_;
 }
 

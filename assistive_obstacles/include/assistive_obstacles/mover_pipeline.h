@@ -4,7 +4,8 @@
 // the footprints ObstacleMap::setMovers() keeps out of the static map. The nodelet and
 // obstacles_benchmark run this same object. ROS-free.
 //
-// Ego-motion: T_cur_prev = T_world_cur^-1 T_world_prev from the poses the stage places its points
+// Ego-motion: T_cur_prev = T_world_cur^-1 T_world_prev (prev = the frame the flow paired with,
+// `frames_apart` back) from the poses the stage places its points
 // with (tf in the nodelet, the bag's truth in the benchmark).
 // Footprints: every detection of this frame, and every confirmed track that was not detected this
 // frame (coasting: a person whose flow was lost for a frame or two still takes no vote), at its
@@ -13,6 +14,7 @@
 // `min_speed` times its age. Such a track is a static surface whose flow fails the same way frame
 // after frame (repeated texture, a streak of stereo errors: the shipped course has one), not a
 // person (people walk 0.6-1.6 m/s); it is not reported either, and the map votes there again.
+#include <deque>
 #include <map>
 #include <vector>
 
@@ -86,7 +88,7 @@ private:
   std::map<int, Eigen::Vector2d> origin_;           ///< track id -> its first detection
   /// Whether a live track is stationary (see above).
   bool stationary(const MoverTrack& tr) const;
-  Eigen::Isometry3d prev_pose_ = Eigen::Isometry3d::Identity();
+  std::deque<std::pair<double, Eigen::Isometry3d>> poses_;  ///< (t, pose) of the frames the flow may pair with, oldest first
   double prev_t_ = 0.0;
   bool has_prev_ = false;
   double ms_flow_ = 0.0, ms_segmentation_ = 0.0, ms_tracking_ = 0.0;

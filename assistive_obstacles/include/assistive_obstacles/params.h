@@ -101,6 +101,7 @@ namespace assistive_obstacles
   /* movers take no vote in the static map (no ghosts, no locked cells) --- */ \
   X(bool, movers, "movers", true, {}, {}, "", "detect and track movers (scene flow of the left image) and keep their cells out of the map's votes; publishes `movers`") \
   X(int, mover_max_features, "mover_max_features", 600, 10, 5000, "", "corners tracked per frame for the scene flow") \
+  X(int, mover_frames_apart, "mover_frames_apart", 1, 1, 10, "frames", "the scene flow pairs each frame with the one this many frames back (walking along the viewing ray moves a point farther than the depth noise only over several frames)") \
   X(double, mover_max_fb_error, "mover_max_fb_error", 0.5, 0.01, 10.0, "px", "forward-backward Lucas-Kanade error beyond which a corner's track is dropped") \
   X(double, mover_disparity_sigma, "mover_disparity_sigma", 0.3, 0.01, 100.0, "px", "at full resolution: disparity noise of a tracked corner's depth, for the residual along the ray") \
   X(double, mover_sigma_scale, "mover_sigma_scale", 3.0, 0.5, 100.0, "", "a point moves when its residual against the ego-motion exceeds this many sigmas ...") \

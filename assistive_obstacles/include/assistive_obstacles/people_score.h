@@ -92,6 +92,14 @@ public:
   int falseWarnings() const;      ///< warning onsets for people never within far_distance, or for no one
   double falseWarningsPerMin() const;  ///< NaN for a run shorter than one frame
   double minutes() const { return t_last_ > t_first_ ? (t_last_ - t_first_) / 60.0 : 0.0; }
+  /// Per crossing (diagnostics): truth id, closest approach time and distance, the first time a
+  /// track was matched to the person within the lookback and the first warning then (NaN: none).
+  struct CrossingDetail
+  {
+    int id;
+    double t_closest, d_closest, first_tracked, first_warned;
+  };
+  std::vector<CrossingDetail> details() const;
 
 private:
   struct Onset
@@ -106,6 +114,7 @@ private:
   };
   std::map<int, Closest> closest_;  ///< truth id -> distance, time and truth speed at the closest approach
   std::map<int, std::vector<double>> warned_at_;      ///< truth id -> times a matched track was warned
+  std::map<int, std::vector<double>> matched_at_;     ///< truth id -> times a track was matched to them
   std::vector<Onset> onsets_;
   std::set<int> warned_prev_;
   double t_first_ = 0.0, t_last_ = 0.0;

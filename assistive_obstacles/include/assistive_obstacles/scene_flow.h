@@ -11,6 +11,7 @@
 // matcher's scale): corners lie on silhouettes more often than anywhere else, and a corner formed
 // by a foreground edge over the background moves with neither (its depth is one of them, its
 // image motion a mix), which reads as motion against the ego-motion in a static scene.
+#include <deque>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -31,6 +32,11 @@ struct SceneFlowParams
   double max_fb_error = 0.5;         ///< px, forward-backward tracking error beyond which a track is dropped
   double max_disparity_range = 1.0;  ///< px at the matcher's scale: larger 3x3 range = depth edge, no depth
   double min_depth = 0.3, max_depth = 6.0;  ///< m, points outside are dropped
+  /// The flow spans this many frames (the current one against the one k frames back; fewer
+  /// right after a start): walking along the viewing ray moves a point by only ~0.1 m per frame
+  /// at 15 Hz, within the stereo depth noise of two frames; k frames move it k times as far
+  /// with the same noise.
+  int frames_apart = 1;
 };
 
 /// Disparity (full-resolution px) at full-resolution pixel (u, v) from a disparity image at the
@@ -61,16 +67,24 @@ public:
   /// Corners detected in the previous image / tracked both ways / with depth at both ends.
   int detected() const { return detected_; }
   int tracked() const { return tracked_; }
-  /// Forgets the previous frame (after a gap or a map clear).
+  /// How many frames back the last process() paired with (0: none).
+  int pairedBack() const { return paired_back_; }
+  /// Forgets the previous frames (after a gap or a map clear).
   void reset();
 
 private:
   SceneFlowParams params_;
-  cv::Mat prev_grey_, prev_disp_;
-  StereoModel prev_model_;
+  struct Frame
+  {
+    cv::Mat grey, disp;
+    std::vector<cv::Mat> pyr;
+    StereoModel model;
+  };
+  std::deque<Frame> history_;  ///< the last frames_apart frames, oldest first
+  int paired_back_ = 0;
   std::vector<SceneFlowPoint> flow_;
   std::vector<cv::Point2f> pixels_;
-  std::vector<cv::Mat> pyr_, prev_pyr_;
+  std::vector<cv::Mat> pyr_;
   std::vector<cv::KeyPoint> keypoints_;
   std::vector<cv::Point2f> p0_, p1_, pb_;
   std::vector<uint8_t> st_, stb_;
