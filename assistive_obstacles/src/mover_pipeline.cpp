@@ -109,7 +109,15 @@ const std::vector<MoverFootprint>& MoverPipeline::process(double t, const cv::Ma
     for (const SceneFlowPoint& f : flow)
       if (MoverSegmentation::residual(f, T_cur_prev) <= max_step) kept_.push_back(f);
     segmentation_.segment(kept_, T_cur_prev, T_world_cam);
-    for (const MoverDetection& d : segmentation_.detections()) z.push_back(d.centroid);
+    // The camera sees a body's front: the centroid of its points lies nearer than its centre, by
+    // ~pi/4 of its radius for a round body. Moved away from the camera along the horizontal ray.
+    const Eigen::Vector2d cam = T_world_cam.translation().head<2>();
+    for (const MoverDetection& d : segmentation_.detections())
+    {
+      const Eigen::Vector2d ray = d.centroid - cam;
+      const double n = ray.norm();
+      z.push_back(n > 1e-6 ? Eigen::Vector2d(d.centroid + ray / n * params_.surface_offset) : d.centroid);
+    }
   }
   ms_segmentation_ = msSince(t0);
   t0 = std::chrono::steady_clock::now();
@@ -126,7 +134,7 @@ const std::vector<MoverFootprint>& MoverPipeline::process(double t, const cv::Ma
         const MoverTrack* tr = tracker_.find(ids[j]);
         if (tr && stationary(*tr)) continue;  // a static surface: the map votes there
       }
-      footprints_.push_back({dets[j].centroid.x(), dets[j].centroid.y(), dets[j].radius});
+      footprints_.push_back({z[j].x(), z[j].y(), dets[j].radius});
     }
     // Coasting confirmed tracks (not detected this frame) keep their footprint.
     for (const MoverTrack& tr : tracker_.tracks())

@@ -53,11 +53,19 @@ bool lift(const cv::Mat& disp, const StereoModel& m, const SceneFlowParams& p, c
 }  // namespace
 
 void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv::KeyPoint>& scratch,
-                   std::vector<cv::Point2f>& out)
+                   std::vector<cv::Point2f>& out, const cv::Mat* disp, const StereoModel* model)
 {
   out.clear();
   scratch.clear();
   cv::FAST(grey, scratch, p.fast_threshold, true);
+  if (disp && model)
+  {
+    // Only corners that can be lifted (depth in range, not on a depth edge) compete for the budget.
+    Eigen::Vector3d X;
+    scratch.erase(std::remove_if(scratch.begin(), scratch.end(),
+                                 [&](const cv::KeyPoint& k) { return !lift(*disp, *model, p, k.pt, X); }),
+                  scratch.end());
+  }
   // The strongest corner per min_distance bucket, then the strongest buckets: spread over the image.
   const int cell = std::max(1, static_cast<int>(std::lround(p.min_distance)));
   const int gw = (grey.cols + cell - 1) / cell, gh = (grey.rows + cell - 1) / cell;
@@ -120,7 +128,7 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
     const std::vector<cv::Mat>& prev_pyr_ = old.pyr;
     const cv::Mat& prev_disp_ = old.disp;
     const StereoModel& prev_model_ = old.model;
-    detectCorners(prev_grey_, params_, keypoints_, p0_);
+    detectCorners(prev_grey_, params_, keypoints_, p0_, &prev_disp_, &prev_model_);
     detected_ = static_cast<int>(p0_.size());
     if (!p0_.empty())
     {

@@ -88,20 +88,22 @@ namespace
 struct CrossingScene
 {
   StereoModel m;
-  cv::Mat wall = texture(640, 480, 11), body = texture(114, 263, 12);
-  static constexpr double kX = 2.2, kSpeed = 1.2, kY0 = -1.2, kHalfWidth = 0.25;
+  cv::Mat wall = texture(640, 480, 11), body = texture(122, 268, 12);
+  // The body's centre walks at x = 2.2; the camera sees its front face 0.15 m nearer (the offset
+  // MoverPipeline assumes for a body's seen surface).
+  static constexpr double kX = 2.2, kFront = 2.05, kSpeed = 1.2, kY0 = -1.2, kHalfWidth = 0.25;
   double personY(double t) const { return kY0 + kSpeed * t; }
 
   /// Left image and disparity (matcher scale 0.5) at time t.
   void render(double t, cv::Mat& img, cv::Mat& disp) const
   {
     img = wall.clone();
-    const double u_left = m.cx - m.fx * (personY(t) + kHalfWidth) / kX;  // world +y is image left
-    const double v_top = m.cy - m.fy * (1.7 - 1.6) / kX;
+    const double u_left = m.cx - m.fx * (personY(t) + kHalfWidth) / kFront;  // world +y is image left
+    const double v_top = m.cy - m.fy * (1.7 - 1.6) / kFront;
     const cv::Mat A = (cv::Mat_<double>(2, 3) << 1, 0, u_left, 0, 1, v_top);
     cv::warpAffine(body, img, A, img.size(), cv::INTER_LINEAR, cv::BORDER_TRANSPARENT);
     disp = cv::Mat(240, 320, CV_32F, cv::Scalar(m.fx * m.baseline / 6.0 * 0.5));
-    const float dp = static_cast<float>(m.fx * m.baseline / kX * 0.5);
+    const float dp = static_cast<float>(m.fx * m.baseline / kFront * 0.5);
     for (int v = 0; v < disp.rows; ++v)
       for (int u = 0; u < disp.cols; ++u)
       {

@@ -36,6 +36,7 @@ struct MoverPipelineParams
   MoverSegmentationParams segmentation;
   MoverTrackerParams tracker;
   double max_speed = 3.0;  ///< m/s, flow points whose residual is faster are mismatches (dropped); people walk 0.6-1.6 m/s
+  double surface_offset = 0.15;  ///< m, a detection's centre = its points' centroid moved this far away from the camera (the seen front of a body of ~0.2 m radius)
   double min_speed = 0.3;  ///< m/s, net speed since birth below which an old enough track is stationary
   double speed_age = 0.5;  ///< s, age from which that is judged
   double max_gap_s = 0.5;  ///< a longer gap between frames (or time going back) restarts the flow and the tracks

@@ -45,9 +45,11 @@ struct SceneFlowParams
 double disparityAt(const cv::Mat& disp, double s, double u, double v, double max_range);
 
 /// FAST corners of `grey`, the strongest per min_distance bucket, at most max_features (the
-/// strongest), in raster order of detection.
+/// strongest), in raster order of detection. With `disp` and `model` (the image's disparity at the
+/// matcher's scale) only corners with a usable depth (in [min_depth, max_depth], off depth edges)
+/// compete: the far background and the sky would otherwise take half the budget.
 void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv::KeyPoint>& scratch,
-                   std::vector<cv::Point2f>& out);
+                   std::vector<cv::Point2f>& out, const cv::Mat* disp = nullptr, const StereoModel* model = nullptr);
 
 class SceneFlowExtractor
 {
