@@ -163,4 +163,90 @@ visualization_msgs::MarkerArray toMarkers(const std::vector<Eigen::Vector3f>& ce
   return arr;
 }
 
+assistive_msgs::MoverArray toMoverArray(const std::vector<ReportedMover>& movers, double floor_z,
+                                        const std::string& frame, const ros::Time& stamp)
+{
+  assistive_msgs::MoverArray a;
+  a.header.frame_id = frame;
+  a.header.stamp = stamp;
+  for (const ReportedMover& r : movers)
+  {
+    assistive_msgs::Mover m;
+    m.id = static_cast<uint32_t>(r.track.id);
+    m.position.x = r.track.x(0);
+    m.position.y = r.track.x(1);
+    m.position.z = floor_z;
+    m.velocity.x = r.track.x(2);
+    m.velocity.y = r.track.x(3);
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) m.covariance[static_cast<size_t>(4 * i + j)] = r.track.P(i, j);
+    m.radius = static_cast<float>(r.radius);
+    m.height = static_cast<float>(r.height);
+    a.movers.push_back(m);
+  }
+  return a;
+}
+
+visualization_msgs::MarkerArray toMoverMarkers(const std::vector<ReportedMover>& movers, double floor_z, double horizon,
+                                               const std::string& frame, const ros::Time& stamp)
+{
+  visualization_msgs::MarkerArray out;
+  visualization_msgs::Marker clear;
+  clear.header.frame_id = frame;
+  clear.header.stamp = stamp;
+  clear.action = visualization_msgs::Marker::DELETEALL;
+  out.markers.push_back(clear);
+  for (const ReportedMover& r : movers)
+  {
+    const double h = r.height > 0.0 ? r.height : 1.7;
+    visualization_msgs::Marker base;
+    base.header = clear.header;
+    base.id = r.track.id;
+    base.action = visualization_msgs::Marker::ADD;
+    base.pose.orientation.w = 1.0;
+    base.color.r = 1.0f;
+    base.color.g = 0.5f;
+    base.color.a = 0.8f;
+    visualization_msgs::Marker c = base;
+    c.ns = "movers";
+    c.type = visualization_msgs::Marker::CYLINDER;
+    c.pose.position.x = r.track.x(0);
+    c.pose.position.y = r.track.x(1);
+    c.pose.position.z = floor_z + 0.5 * h;
+    c.scale.x = c.scale.y = 2.0 * std::max(0.05, r.radius);
+    c.scale.z = h;
+    c.color.a = 0.5f;
+    out.markers.push_back(c);
+    visualization_msgs::Marker v = base;
+    v.ns = "mover_velocity";
+    v.type = visualization_msgs::Marker::ARROW;
+    v.scale.x = 0.05;  // shaft diameter
+    v.scale.y = 0.1;   // head diameter
+    v.scale.z = 0.1;
+    geometry_msgs::Point p0, p1;
+    p0.x = r.track.x(0);
+    p0.y = r.track.x(1);
+    p0.z = p1.z = floor_z + 1.0;
+    p1.x = p0.x + r.track.x(2);
+    p1.y = p0.y + r.track.x(3);
+    v.points = {p0, p1};
+    out.markers.push_back(v);
+    visualization_msgs::Marker path = base;
+    path.ns = "mover_path";
+    path.type = visualization_msgs::Marker::LINE_STRIP;
+    path.scale.x = 0.03;
+    for (int k = 0; k <= 6; ++k)
+    {
+      const double t = horizon * k / 6.0;
+      geometry_msgs::Point q;
+      q.x = r.track.x(0) + r.track.x(2) * t;
+      q.y = r.track.x(1) + r.track.x(3) * t;
+      q.z = floor_z + 0.05;
+      path.points.push_back(q);
+    }
+    out.markers.push_back(path);
+  }
+  return out;
+}
+
 }  // namespace assistive_obstacles

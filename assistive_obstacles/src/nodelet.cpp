@@ -29,6 +29,7 @@
 #include <assistive_obstacles/conversions.h>
 #include <assistive_obstacles/disparity.h>
 #include <assistive_obstacles/frame_gate.h>
+#include <assistive_obstacles/mover_pipeline.h>
 #include <assistive_obstacles/obstacle_map.h>
 #include <nav_msgs/Odometry.h>
 
@@ -59,6 +60,11 @@ public:
     pub_grid_ = nh.advertise<nav_msgs::OccupancyGrid>("traversability", 1);
     pub_markers_ = nh.advertise<visualization_msgs::MarkerArray>("octomap_markers", 1);
     pub_dropout_ = nh.advertise<nav_msgs::OccupancyGrid>("dropout", 1);
+    if (params_.movers)
+    {
+      pub_movers_ = nh.advertise<assistive_msgs::MoverArray>("movers", 1);
+      pub_mover_markers_ = nh.advertise<visualization_msgs::MarkerArray>("movers_markers", 1);
+    }
     srv_save_ = nh.advertiseService("save_octomap", &ObstaclesNodelet::saveOctomap, this);
     if (node_.use_odom)
       sub_odom_ = nh.subscribe("odom", 5, &ObstaclesNodelet::odomCb, this);
@@ -240,7 +246,10 @@ private:
         NODELET_WARN_THROTTLE(2.0, "obstacles: %s", gate_.reason().c_str());
     }
     if (clear)
+    {
       map_->reset();
+      if (movers_) movers_->reset();
+    }
     cv::Mat disp;
     if (!disparity_->compute(cl->image, cr->image, disp))
     {
@@ -300,8 +309,33 @@ private:
         NODELET_WARN_THROTTLE(5.0, "obstacles: no ranger reading for %.1f s: glass is not covered",
                               (ros::WallTime::now() - last_sonar_).toSec());
     }
+    // Movers (issue 22): scene flow against the ego-motion between this pose and the last one;
+    // their cells take no vote in this update.
+    if (params_.movers)
+    {
+      if (!movers_) movers_ = std::make_unique<MoverPipeline>(moverPipelineParams(params_, model));
+      map_->setMovers(movers_->process(l->header.stamp.toSec(), cl->image, disp, model, T_world_cam.cast<double>()));
+    }
+    const auto t_movers = std::chrono::steady_clock::now();
     map_->update(points_, T_world_cam, &model, &disp, want_normals ? &normals_ : nullptr);
     const auto t2 = std::chrono::steady_clock::now();
+    if (movers_)
+    {
+      // Every frame with depth, also with no one (an empty array: "no one", not "no news").
+      const std::vector<ReportedMover> reported = movers_->confirmed();
+      const double feet = T_world_cam.translation().z() - params_.camera_height;
+      pub_movers_.publish(boost::make_shared<assistive_msgs::MoverArray>(
+          toMoverArray(reported, feet, node_.world_frame, l->header.stamp)));
+      if (pub_mover_markers_.getNumSubscribers() > 0)
+        pub_mover_markers_.publish(boost::make_shared<visualization_msgs::MarkerArray>(
+            toMoverMarkers(reported, feet, CrossingHorizonS, node_.world_frame, l->header.stamp)));
+      std::lock_guard<std::mutex> lock(stats_mutex_);
+      mover_count_ = static_cast<int>(reported.size());
+      mover_cells_ = map_->stats().mover_cells;
+      ms_movers_ = std::chrono::duration<double, std::milli>(t_movers - t1).count();
+      ms_tracking_ = movers_->msTracking();
+      flow_points_ = static_cast<int>(movers_->flow().size());
+    }
     GridData grid;
     if (verdict == FrameGate::Verdict::FRESH)
     {
@@ -324,7 +358,7 @@ private:
     }
     std::lock_guard<std::mutex> lock(stats_mutex_);
     ms_disparity_ = std::chrono::duration<double, std::milli>(t1 - t0).count();
-    ms_map_ = std::chrono::duration<double, std::milli>(t2 - t1).count();
+    ms_map_ = std::chrono::duration<double, std::milli>(t2 - t_movers).count();
     last_stats_ = map_->stats();
     last_sonar_held_ = map_->sonar().stats().held;
   }
@@ -378,12 +412,24 @@ private:
                      : (ros::WallTime::now() - last_sonar_).toSec() > 1.0 ? std::string("silent for over 1 s (glass is not covered)")
                      : std::string("ok"));
     st.add("ranger-held cells", static_cast<int>(last_sonar_held_));
+    st.add("movers", !params_.movers ? std::string("disabled") : std::to_string(mover_count_));
+    if (params_.movers)
+    {
+      st.add("ms movers (flow + segmentation + tracking)", ms_movers_);
+      st.add("ms mover tracking", ms_tracking_);
+      st.add("mover flow points", flow_points_);
+      st.add("cells kept out of the votes (movers)", mover_cells_);
+    }
   }
 
   ObstaclesParams params_;
   ObstaclesNodeParams node_;
   std::unique_ptr<DisparityEstimator> disparity_;
   std::unique_ptr<ObstacleMap> map_;
+  std::unique_ptr<MoverPipeline> movers_;  // with `movers`; created at the first frame (its rig)
+  static constexpr double CrossingHorizonS = 3.0;  // s, predicted path drawn in the markers (CrossingParams::horizon)
+  int mover_count_ = 0, mover_cells_ = 0, flow_points_ = 0;  // under stats_mutex_
+  double ms_movers_ = 0, ms_tracking_ = 0;
   FrameGate gate_;
   std::mutex gate_mutex_;  // odomCb and frameCb run on different threads
   ros::Subscriber sub_odom_, sub_sonar_;
@@ -404,7 +450,7 @@ private:
   message_filters::Subscriber<CameraInfo> sub_li_, sub_ri_;
   std::shared_ptr<message_filters::Synchronizer<ExactPolicy>> exact_;
   std::shared_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_;
-  ros::Publisher pub_disp_, pub_points_, pub_grid_, pub_markers_, pub_dropout_;
+  ros::Publisher pub_disp_, pub_points_, pub_grid_, pub_markers_, pub_dropout_, pub_movers_, pub_mover_markers_;
   ros::ServiceServer srv_save_;
   std::unique_ptr<diagnostic_updater::Updater> diag_;
   ros::Timer diag_timer_;

@@ -37,8 +37,15 @@
 #include <assistive_eval/plots.h>
 #include <assistive_eval/stereo_bag.h>
 
+#include <assistive_obstacles/crossing_predictor.h>
 #include <assistive_obstacles/disparity.h>
+#include <assistive_obstacles/mover_pipeline.h>
 #include <assistive_obstacles/obstacle_map.h>
+#include <assistive_obstacles/people_score.h>
+
+#include <assistive_msgs/MoverArray.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
 
 #ifdef HAVE_ASSISTIVE_SIM
 #include <filesystem>
@@ -77,6 +84,56 @@ struct Sum
   }
   double coverage() const { return known ? static_cast<double>(tp + fp + fn + tn) / known : NAN; }
 };
+/// The simulator's people truth (/ground_truth/people, assistive_msgs/MoverArray in gt_world, the
+/// frame of the bag's truth poses and grid): stamp -> people. Empty when the bag has none.
+std::vector<std::pair<double, std::vector<PersonState>>> readPeople(const std::string& bag)
+{
+  std::vector<std::pair<double, std::vector<PersonState>>> out;
+  try
+  {
+    rosbag::Bag b(bag, rosbag::bagmode::Read);
+    rosbag::View v(b, rosbag::TopicQuery("/ground_truth/people"));
+    for (const rosbag::MessageInstance& m : v)
+    {
+      const auto msg = m.instantiate<assistive_msgs::MoverArray>();
+      if (!msg) continue;
+      std::vector<PersonState> ps;
+      for (const assistive_msgs::Mover& mv : msg->movers)
+      {
+        PersonState q;
+        q.id = static_cast<int>(mv.id);
+        q.position = Eigen::Vector2d(mv.position.x, mv.position.y);
+        q.velocity = Eigen::Vector2d(mv.velocity.x, mv.velocity.y);
+        q.radius = mv.radius;
+        q.age = mv.position.z + 0.5 * (mv.height > 0 ? mv.height : 1.7);  // (truth: age unused) body centre height
+        ps.push_back(q);
+      }
+      out.emplace_back(msg->header.stamp.toSec(), ps);
+    }
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "obstacles_benchmark: people truth: " << e.what() << "\n";
+  }
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  return out;
+}
+
+/// The people truth nearest to `t` (within 50 ms), or nullptr.
+const std::vector<PersonState>* peopleAt(const std::vector<std::pair<double, std::vector<PersonState>>>& people, double t)
+{
+  auto it = std::lower_bound(people.begin(), people.end(), t, [](const auto& a, double v) { return a.first < v; });
+  const std::vector<PersonState>* best = nullptr;
+  double bd = 0.05;
+  for (auto c : {it, it == people.begin() ? it : it - 1})
+    if (c != people.end() && std::abs(c->first - t) <= bd)
+    {
+      bd = std::abs(c->first - t);
+      best = &c->second;
+    }
+  return best;
+}
+
 eval::OccupancyGrid toSim(const GridData& g)
 {
   return eval::OccupancyGrid{g.origin_x, g.origin_y, g.resolution, g.width, g.height, g.data};
@@ -276,6 +333,24 @@ int main(int argc, char** argv)
   for (const std::string& w : clampParams(params)) std::cerr << "obstacles_benchmark: " << w << "\n";
   DisparityEstimator disparity(params);
   ObstacleMap map(params);
+  // People who move (issue 22): the stage's mover pipeline on the bag's left image and the truth
+  // poses (the ego-motion the stage would take from tf), scored when the bag has people.
+  std::unique_ptr<MoverPipeline> movers;
+  const auto people = readPeople(bag);
+  const bool has_people = !people.empty();
+  if (has_people) std::cerr << "obstacles_benchmark: " << people.size() << " people truth messages\n";
+  CrossingPredictor predictor;
+  PeopleScoreParams pscore;  // 5 m, gate 0.5 m, velocity after 0.5 s of track
+  CrossingScore crossing;
+  long people_truth = 0, people_truth_matched = 0, people_tracks = 0, people_tracks_matched = 0, vel_n = 0;
+  // Recall of the people who walk (truth speed >= 0.3 m/s: a person standing still has no scene flow
+  // and is mapped as an obstacle), and of those also in the camera's view (body centre in the image).
+  long moving_truth = 0, moving_matched = 0, view_truth = 0, view_matched = 0;
+  double vel_sum = 0.0;
+  GhostCount ghosts;
+  std::set<std::pair<int, int>> locked_free, people_path, ghost_people_path;  // global cells
+  std::vector<double> ms_movers, ms_tracking;
+  double confirmed_sum = 0.0, mover_cells_sum = 0.0;
   std::vector<double> ms_disp, ms_map, npts;
   Sum s3, s5;
   size_t fp_adjacent = 0, fp_isolated = 0, fp_step = 0;  // within 3 m, summed over frames
@@ -373,6 +448,27 @@ int main(int argc, char** argv)
       else if (rc == RangeCheck::NO_ECHO) ++ranges_no_echo;
       else ++ranges_rejected;
     }
+    double ms_track = 0.0;
+    const double t_mov0 = eval::wallMs();
+    if (params.movers)
+    {
+      if (!movers) movers = std::make_unique<MoverPipeline>(moverPipelineParams(params, model));
+      map.setMovers(movers->process(f.stamp, f.left, disp, model, f.gt_pose));
+      ms_track = movers->msTracking();
+      if (std::getenv("OBST_MOVERS"))
+      {
+        // OBST_MOVERS=1: per frame, the pipeline's timing and its detections / confirmed tracks.
+        std::fprintf(stderr, "movers t %.2f ms flow %.2f seg %.2f trk %.3f flow %zu det %zu:", f.stamp, movers->msFlow(),
+                     movers->msSegmentation(), movers->msTracking(), movers->flow().size(), movers->detections().size());
+        for (const MoverDetection& d : movers->detections())
+          std::fprintf(stderr, " (%.2f %.2f n%d r%.2f z%.2f-%.2f)", d.centroid.x(), d.centroid.y(), d.points, d.radius,
+                       d.min_z, d.max_z);
+        for (const ReportedMover& r : movers->confirmed())
+          std::fprintf(stderr, " [#%d %.2f %.2f v %.2f %.2f]", r.track.id, r.track.x(0), r.track.x(1), r.track.x(2), r.track.x(3));
+        std::fprintf(stderr, "\n");
+      }
+    }
+    const double t_mov = eval::wallMs();
     map.update(points, f.gt_pose.cast<float>(), &model, &disp, want_normals ? &normals : nullptr);
     const double t2 = eval::wallMs();
     if (const char* dc = std::getenv("OBST_CELL"))
@@ -405,7 +501,122 @@ int main(int argc, char** argv)
       }
     }
     ms_disp.push_back(t1 - t0);
-    ms_map.push_back(t2 - t1);
+    ms_map.push_back((t2 - t1) - (t_mov - t_mov0));  // the map alone (ranger included, movers not)
+    std::vector<ReportedMover> reported;
+    if (movers)
+    {
+      ms_movers.push_back(movers->msFlow() + movers->msSegmentation() + movers->msTracking());
+      reported = movers->confirmed();
+      confirmed_sum += static_cast<double>(reported.size());
+      mover_cells_sum += map.stats().mover_cells;
+    }
+    // People: tracks against the truth, the crossing predictor's warnings, ghosts and locks.
+    const std::vector<PersonState>* truth_people = has_people ? peopleAt(people, f.stamp) : nullptr;
+    if (truth_people)
+    {
+      const double tp0 = eval::wallMs();
+      Wearer w;
+      w.position = f.gt_pose.translation().head<2>();
+      Eigen::Isometry3d before;
+      Eigen::Vector2d v(0, 0);
+      if (poseAt(reader->groundTruth(), f.stamp - 0.5, before))
+        v = (w.position - before.translation().head<2>()) / 0.5;  // over 0.5 s: the gait's sway averages out
+      w.speed = v.norm();
+      const Eigen::Vector3d fwd = f.gt_pose.linear().col(2);  // optical axis
+      w.heading = w.speed > 0.2 ? std::atan2(v.y(), v.x()) : std::atan2(fwd.y(), fwd.x());
+      std::vector<MoverTrack> tracks;
+      std::vector<PersonState> est;
+      for (const ReportedMover& r : reported)
+      {
+        tracks.push_back(r.track);
+        PersonState q;
+        q.id = r.track.id;
+        q.position = r.track.position();
+        q.velocity = r.track.velocity();
+        q.radius = r.radius;
+        q.age = f.stamp - r.track.born;
+        est.push_back(q);
+      }
+      std::set<int> warned;
+      for (const CrossingPrediction& cp : predictor.predict(w, tracks))
+        if (cp.warn) warned.insert(cp.track_id);
+      ms_track += eval::wallMs() - tp0;
+      const PeopleFrameScore ps = scorePeopleFrame(*truth_people, est, w.position, pscore);
+      {
+        std::vector<PersonState> moving, in_view;
+        const Eigen::Isometry3d cam_world = f.gt_pose.inverse();
+        for (const PersonState& q : *truth_people)
+        {
+          if (q.velocity.norm() < 0.3) continue;
+          moving.push_back(q);
+          const Eigen::Vector3d c = cam_world * Eigen::Vector3d(q.position.x(), q.position.y(), q.age);
+          if (c.z() < 0.3) continue;
+          const double u = model.fx * c.x() / c.z() + model.cx, v = model.fy * c.y() / c.z() + model.cy;
+          if (u >= 0 && v >= 0 && u < model.width && v < model.height) in_view.push_back(q);
+        }
+        const PeopleFrameScore pm = scorePeopleFrame(moving, est, w.position, pscore);
+        const PeopleFrameScore pv = scorePeopleFrame(in_view, est, w.position, pscore);
+        moving_truth += pm.truth_in_range;
+        moving_matched += pm.truth_matched;
+        view_truth += pv.truth_in_range;
+        view_matched += pv.truth_matched;
+      }
+      people_truth += ps.truth_in_range;
+      people_truth_matched += ps.truth_matched;
+      people_tracks += ps.tracks_in_range;
+      people_tracks_matched += ps.tracks_matched;
+      vel_sum += ps.velocity_err_sum;
+      vel_n += ps.velocity_n;
+      crossing.addFrame(f.stamp, w.position, *truth_people, warned, ps.track_to_truth);
+      if (has_truth)
+      {
+        map.grid(grid);
+        const GridData tg{truth.origin_x, truth.origin_y, truth.resolution, truth.width, truth.height, truth.data};
+        const GhostCount g = countGhostCells(tg, grid, w.position, 5.0, *truth_people);
+        ghosts.free_known += g.free_known;
+        ghosts.ghost += g.ghost;
+        // Cells under a person now; cells on people's paths that read obstacle once they left;
+        // truth-free cells locked for good.
+        const double res = params.cell_size;
+        std::set<std::pair<int, int>> under;
+        for (const PersonState& q : *truth_people)
+        {
+          const int r = static_cast<int>(std::ceil(q.radius / res)) + 1;
+          const int gx = static_cast<int>(std::floor(q.position.x() / res)), gy = static_cast<int>(std::floor(q.position.y() / res));
+          for (int dy = -r; dy <= r; ++dy)
+            for (int dx = -r; dx <= r; ++dx)
+            {
+              const Eigen::Vector2d c((gx + dx + 0.5) * res, (gy + dy + 0.5) * res);
+              if ((c - q.position).norm() < q.radius + res * std::sqrt(0.5)) under.insert({gx + dx, gy + dy});
+            }
+        }
+        people_path.insert(under.begin(), under.end());
+        const Window& win = map.window();
+        for (int ly = 0; ly < win.n; ++ly)
+          for (int lx = 0; lx < win.n; ++lx)
+          {
+            const int gx = win.ox + lx, gy = win.oy + ly;
+            const double x = (gx + 0.5) * res, y = (gy + 0.5) * res;
+            if ((Eigen::Vector2d(x, y) - w.position).squaredNorm() > 25.0) continue;
+            const int tx = static_cast<int>(std::floor((x - truth.origin_x) / truth.resolution));
+            const int ty = static_cast<int>(std::floor((y - truth.origin_y) / truth.resolution));
+            if (tx < 0 || ty < 0 || tx >= truth.width || ty >= truth.height ||
+                truth.data[static_cast<size_t>(ty) * truth.width + tx] != 0)
+              continue;
+            const CellCounters* cc = map.temporal().find(gx, gy);
+            if (cc && cc->permanent) locked_free.insert({gx, gy});
+            if (people_path.count({gx, gy}) && !under.count({gx, gy}))
+            {
+              const int ex = static_cast<int>(std::floor((x - grid.origin_x) / grid.resolution));
+              const int ey = static_cast<int>(std::floor((y - grid.origin_y) / grid.resolution));
+              if (ex >= 0 && ey >= 0 && ex < grid.width && ey < grid.height &&
+                  grid.data[static_cast<size_t>(ey) * grid.width + ex] == 100)
+                ghost_people_path.insert({gx, gy});
+            }
+          }
+      }
+    }
+    if (movers) ms_tracking.push_back(ms_track);
     npts.push_back(static_cast<double>(points.size()));
     ++used;
     wearer = f.gt_pose.translation().head<2>();
@@ -538,6 +749,15 @@ int main(int argc, char** argv)
   std::printf("%-34s %10s %10s\n", "timing (ms)", "median", "p95");
   std::printf("%-34s %10.2f %10.2f\n", "disparity + points", percentile(ms_disp, 0.5), p95_disp);
   std::printf("%-34s %10.2f %10.2f\n", "elevation + MLS + temporal", percentile(ms_map, 0.5), p95_map);
+  const double p95_movers = ms_movers.empty() ? NAN : percentile(ms_movers, 0.95);
+  const double p95_tracking = ms_tracking.empty() ? NAN : percentile(ms_tracking, 0.95);
+  if (!ms_movers.empty())
+  {
+    std::printf("%-34s %10.2f %10.2f\n", "movers: flow + segment + track", percentile(ms_movers, 0.5), p95_movers);
+    std::printf("%-34s %10.2f %10.2f\n", "movers: tracker + predictor", percentile(ms_tracking, 0.5), p95_tracking);
+    std::printf("movers: confirmed tracks per frame (mean) %.3f, cells kept out of the votes per frame %.2f\n",
+                confirmed_sum / used, mover_cells_sum / used);
+  }
   std::printf("points per frame (mean) %.0f\n", mean(npts));
   std::printf("%-10s %9s %9s %13s %9s  (counts summed over frames)\n", "radius", "recall", "precision", "misclassified",
               "coverage");
@@ -580,6 +800,35 @@ int main(int argc, char** argv)
                    truth.origin_y + (top[i].second.second + 0.5) * truth.resolution, top[i].first);
   }
   auto num = [](double v, int decimals = 4) { return eval::jsonFixed(v, decimals); };
+  auto ratio = [](long a, long b) { return b > 0 ? static_cast<double>(a) / b : NAN; };
+  const bool scored_people = has_people && params.movers;
+  const bool scored_ghosts = has_people && has_truth;
+  if (has_people)
+  {
+    std::printf("people (truth within 5 m, confirmed tracks, matched within %.1f m): recall %.3f (%ld/%ld) precision %.3f "
+                "(%ld/%ld), velocity error %.3f m/s over %ld track-frames older than %.1f s\n",
+                pscore.gate, ratio(people_truth_matched, people_truth), people_truth_matched, people_truth,
+                ratio(people_tracks_matched, people_tracks), people_tracks_matched, people_tracks,
+                vel_n ? vel_sum / vel_n : NAN, vel_n, pscore.min_age);
+    std::printf("people walking (truth >= 0.3 m/s) within 5 m: recall %.3f (%ld/%ld); of them in the camera's view: %.3f "
+                "(%ld/%ld)\n",
+                ratio(moving_matched, moving_truth), moving_matched, moving_truth, ratio(view_matched, view_truth),
+                view_matched, view_truth);
+    std::printf("crossings (closest truth approach < 0.5 m): %d, warned >= 1.5 s ahead: %d; false warnings (people never "
+                "within 1 m, or no one): %d in %.2f min\n",
+                crossing.crossings(), crossing.crossingsWarned(), crossing.falseWarnings(), crossing.minutes());
+    for (const CrossingScore::CrossingDetail& d : crossing.details())
+      std::printf("  crossing: person %d closest %.2f m at t %.2f; tracked from %.2f s before, warned from %.2f s before\n",
+                  d.id, d.d_closest, d.t_closest, d.t_closest - d.first_tracked, d.t_closest - d.first_warned);
+    std::printf("ghosts: %ld of %ld truth-free known cells within 5 m (not under a person) marked obstacle; "
+                "cells on people's paths marked obstacle after they left: %zu; truth-free cells locked: %zu "
+                "(on people's paths: %zu)\n",
+                ghosts.ghost, ghosts.free_known, ghost_people_path.size(), locked_free.size(),
+                static_cast<size_t>(std::count_if(locked_free.begin(), locked_free.end(),
+                                                  [&](const auto& c) { return people_path.count(c) > 0; })));
+  }
+  const size_t locked_on_paths = static_cast<size_t>(
+      std::count_if(locked_free.begin(), locked_free.end(), [&](const auto& c) { return people_path.count(c) > 0; }));
   eval::JsonLine js;
   js.add("ms_p95_map", num(p95_map, 3)).add("ms_p95_disparity", num(p95_disp, 3))
       .add("points_per_frame", num(mean(npts), 0)).add("recall_3m", num(s3.recall()))
@@ -598,7 +847,22 @@ int main(int argc, char** argv)
       .add("ms_median_disparity", num(percentile(ms_disp, 0.5), 3))
       .add("misclassified_5m", num(s5.misclassified())).add("coverage_3m", num(s3.coverage()))
       .add("coverage_5m", num(s5.coverage())).add("fp_adjacent_3m", fp_adjacent)
-      .add("fp_isolated_3m", fp_isolated).add("fp_step_3m", fp_step).add("gt_depth", gt_depth);
+      .add("fp_isolated_3m", fp_isolated).add("fp_step_3m", fp_step).add("gt_depth", gt_depth)
+      .add("movers", params.movers)
+      .add("ms_p95_movers", num(p95_movers, 3)).add("ms_p95_tracking", num(p95_tracking, 3))
+      .add("movers_confirmed_per_frame", params.movers ? num(confirmed_sum / used, 3) : "null")
+      .add("ghost_cell_pct", scored_ghosts ? num(100.0 * ratio(ghosts.ghost, ghosts.free_known), 3) : "null")
+      .add("locked_free_cells", scored_ghosts ? std::to_string(locked_free.size()) : "null")
+      .add("locked_people_path_cells", scored_ghosts ? std::to_string(locked_on_paths) : "null")
+      .add("ghost_people_path_cells", scored_ghosts ? std::to_string(ghost_people_path.size()) : "null")
+      .add("people_recall_5m", scored_people ? num(ratio(people_truth_matched, people_truth)) : "null")
+      .add("people_precision_5m", scored_people ? num(ratio(people_tracks_matched, people_tracks)) : "null")
+      .add("people_recall_5m_walking", scored_people ? num(ratio(moving_matched, moving_truth)) : "null")
+      .add("people_recall_5m_walking_in_view", scored_people ? num(ratio(view_matched, view_truth)) : "null")
+      .add("people_velocity_err_mps", scored_people && vel_n ? num(vel_sum / vel_n) : "null")
+      .add("crossing_warned_pct", scored_people ? num(crossing.warnedPct(), 1) : "null")
+      .add("crossings", scored_people ? std::to_string(crossing.crossings()) : "null")
+      .add("false_crossing_warnings_per_min", scored_people ? num(crossing.falseWarningsPerMin(), 2) : "null");
   std::cout << js.str() << std::endl;
   return 0;
 }

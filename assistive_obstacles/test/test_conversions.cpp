@@ -64,3 +64,33 @@ TEST(Conversions, MarkersGroupedBySize)
   EXPECT_EQ(arr.markers[0].points.size(), 2u);
   EXPECT_EQ(arr.markers[1].points.size(), 1u);
 }
+
+TEST(Conversions, MoversToMessageAndMarkers)
+{
+  ReportedMover r;
+  r.track.id = 7;
+  r.track.x << 1.0, -2.0, 0.5, 1.2;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) r.track.P(i, j) = 10 * i + j;
+  r.radius = 0.35;
+  r.height = 1.6;
+  const assistive_msgs::MoverArray a = toMoverArray({r}, 0.1, "odom", ros::Time(3.5));
+  EXPECT_EQ(a.header.frame_id, "odom");
+  EXPECT_EQ(a.header.stamp, ros::Time(3.5));
+  ASSERT_EQ(a.movers.size(), 1u);
+  EXPECT_EQ(a.movers[0].id, 7u);
+  EXPECT_DOUBLE_EQ(a.movers[0].position.y, -2.0);
+  EXPECT_DOUBLE_EQ(a.movers[0].position.z, 0.1);
+  EXPECT_DOUBLE_EQ(a.movers[0].velocity.y, 1.2);
+  EXPECT_DOUBLE_EQ(a.movers[0].covariance[6], 12.0);  // row 1, column 2
+  EXPECT_FLOAT_EQ(a.movers[0].radius, 0.35f);
+  EXPECT_TRUE(toMoverArray({}, 0.0, "odom", ros::Time(1)).movers.empty());
+  const visualization_msgs::MarkerArray m = toMoverMarkers({r}, 0.1, 3.0, "odom", ros::Time(3.5));
+  ASSERT_EQ(m.markers.size(), 4u);  // DELETEALL, cylinder, arrow, path
+  EXPECT_EQ(m.markers[0].action, visualization_msgs::Marker::DELETEALL);
+  EXPECT_EQ(m.markers[1].type, visualization_msgs::Marker::CYLINDER);
+  EXPECT_DOUBLE_EQ(m.markers[1].scale.x, 0.7);
+  EXPECT_EQ(m.markers[3].type, visualization_msgs::Marker::LINE_STRIP);
+  EXPECT_DOUBLE_EQ(m.markers[3].points.back().x, 1.0 + 0.5 * 3.0);  // 3 s ahead
+  EXPECT_DOUBLE_EQ(m.markers[3].points.back().y, -2.0 + 1.2 * 3.0);
+}

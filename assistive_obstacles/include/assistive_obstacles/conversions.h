@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include <assistive_msgs/MoverArray.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -10,6 +11,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <assistive_obstacles/disparity.h>
+#include <assistive_obstacles/mover_pipeline.h>
 #include <assistive_obstacles/obstacle_map.h>
 
 namespace assistive_obstacles
@@ -36,4 +38,13 @@ std::vector<Eigen::Vector3f> fromCloudMsg(const sensor_msgs::PointCloud2& msg);
 /// Occupied OctoMap leaves -> one CUBE_LIST marker per leaf size, coloured by height.
 visualization_msgs::MarkerArray toMarkers(const std::vector<Eigen::Vector3f>& centers, const std::vector<float>& sizes,
                                           const std::string& frame, const ros::Time& stamp);
+
+/// Confirmed movers -> assistive_msgs/MoverArray (position z = `floor_z`, the wearer's feet;
+/// covariance row-major 4x4 of x, y, vx, vy). An empty list gives an empty array ("no one").
+assistive_msgs::MoverArray toMoverArray(const std::vector<ReportedMover>& movers, double floor_z,
+                                        const std::string& frame, const ros::Time& stamp);
+/// rviz: per mover a CYLINDER (radius, height), an ARROW of its velocity (1 s long) and a LINE_STRIP
+/// of its predicted path over `horizon` s; a DELETEALL first, so that movers that ended vanish.
+visualization_msgs::MarkerArray toMoverMarkers(const std::vector<ReportedMover>& movers, double floor_z, double horizon,
+                                               const std::string& frame, const ros::Time& stamp);
 }  // namespace assistive_obstacles

@@ -97,6 +97,17 @@ namespace assistive_obstacles
   X(int, sonar_release_readings, "sonar_release_readings", 3, 1, 1000, "", "a ranger-hit cell takes no camera free vote until this many echoes came from beyond it") \
   X(double, sonar_release_margin, "sonar_release_margin", 0.3, 0.0, 5.0, "m", "... a cell nearer than the echo by at least this (inner half of the cone)") \
   X(double, sonar_floor_echo_deg, "sonar_floor_echo_deg", 50.0, 0.0, 90.0, "deg", "an echo whose cone holds a ray this steep below the horizontal and whose arc reaches the floor may be the floor: no evidence (shallower, the floor sends the echo away)") \
+  /* --- people who move (issue 22, mover_pipeline.h): scene flow against the ego-motion, tracked */ \
+  /* movers take no vote in the static map (no ghosts, no locked cells) --- */ \
+  X(bool, movers, "movers", true, {}, {}, "", "detect and track movers (scene flow of the left image) and keep their cells out of the map's votes; publishes `movers`") \
+  X(int, mover_max_features, "mover_max_features", 600, 10, 5000, "", "corners tracked per frame for the scene flow") \
+  X(int, mover_frames_apart, "mover_frames_apart", 1, 1, 10, "frames", "the scene flow pairs each frame with the one this many frames back (walking along the viewing ray moves a point farther than the depth noise only over several frames)") \
+  X(double, mover_max_fb_error, "mover_max_fb_error", 0.5, 0.01, 10.0, "px", "forward-backward Lucas-Kanade error beyond which a corner's track is dropped") \
+  X(double, mover_disparity_sigma, "mover_disparity_sigma", 0.3, 0.01, 100.0, "px", "at full resolution: disparity noise of a tracked corner's depth, for the residual along the ray") \
+  X(double, mover_sigma_scale, "mover_sigma_scale", 3.0, 0.5, 100.0, "", "a point moves when its residual against the ego-motion exceeds this many sigmas ...") \
+  X(double, mover_min_residual, "mover_min_residual", 0.05, 0.0, 5.0, "m", "... and this") \
+  X(int, mover_min_cluster_points, "mover_min_cluster_points", 5, 1, 10000, "", "moving points (8-connected 0.2 m ground cells) that make a mover") \
+  X(double, mover_min_speed, "mover_min_speed", 0.3, 0.0, 5.0, "m/s", "a track at least 0.5 s old that moved less than this since its birth is a static surface (not reported, its cells vote again)") \
   /* --- trust in the input ("never guide on a guess", FrameGate) --- */ \
   X(double, max_frame_gap_s, "max_frame_gap_s", 0.5, 0.05, 60.0, "s", "a longer gap between frames, or time going back, clears the map") \
   X(int, rebuild_frames, "rebuild_frames", 5, 1, 1000, "", "fresh frames after a clear before the grid is published again") \

@@ -1,0 +1,97 @@
+#pragma once
+// Sparse scene flow for the mover segmentation (issue 22), from the obstacle stage's own inputs:
+// corners of the previous left image (FAST, the strongest per bucket) tracked into the current one by
+// pyramidal Lucas-Kanade (cv::calcOpticalFlowPyrLK), kept only when tracking back lands within
+// `max_fb_error` of the start (occlusions, repeated texture), each end lifted to 3D by the dense
+// disparity of its own frame. The VO has tracks too, but keeps them private. Each image's pyramid
+// is built once (it serves as the previous one at the next frame). ROS-free.
+//
+// Depth at a feature: the disparity at the matcher's scale, bilinear between the 4 neighbours,
+// only where the 3x3 disparity range around it is at most `max_disparity_range` (px at the
+// matcher's scale): corners lie on silhouettes more often than anywhere else, and a corner formed
+// by a foreground edge over the background moves with neither (its depth is one of them, its
+// image motion a mix), which reads as motion against the ego-motion in a static scene.
+#include <deque>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/features2d.hpp>
+
+#include <assistive_obstacles/disparity.h>
+#include <assistive_obstacles/mover_segmentation.h>
+
+namespace assistive_obstacles
+{
+struct SceneFlowParams
+{
+  int max_features = 600;            ///< corners detected per frame
+  int fast_threshold = 12;           ///< FAST corner threshold (grey levels)
+  double min_distance = 8.0;         ///< px, bucket size: at most one corner (the strongest) per bucket
+  int lk_window = 11;                ///< px, Lucas-Kanade window
+  int lk_levels = 3;                 ///< pyramid levels above the base (11 px window: ~40 px motion per frame)
+  double max_fb_error = 0.5;         ///< px, forward-backward tracking error beyond which a track is dropped
+  double max_disparity_range = 1.0;  ///< px at the matcher's scale: larger 3x3 range = depth edge, no depth
+  double min_depth = 0.3, max_depth = 6.0;  ///< m, points outside are dropped
+  /// The flow spans this many frames (the current one against the one k frames back; fewer
+  /// right after a start): walking along the viewing ray moves a point by only ~0.1 m per frame
+  /// at 15 Hz, within the stereo depth noise of two frames; k frames move it k times as far
+  /// with the same noise.
+  int frames_apart = 1;
+};
+
+/// Disparity (full-resolution px) at full-resolution pixel (u, v) from a disparity image at the
+/// matcher's scale `s` (= disp.cols / width): bilinear over the 4 neighbours when every pixel of
+/// the 3x3 around the nearest one is valid (> 0) and their range is at most `max_range`; else -1.
+double disparityAt(const cv::Mat& disp, double s, double u, double v, double max_range);
+
+/// FAST corners of `grey`, the strongest per min_distance bucket, at most max_features (the
+/// strongest), in raster order of detection. With `disp` and `model` (the image's disparity at the
+/// matcher's scale) only corners with a usable depth (in [min_depth, max_depth], off depth edges)
+/// compete: the far background and the sky would otherwise take half the budget.
+void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv::KeyPoint>& scratch,
+                   std::vector<cv::Point2f>& out, const cv::Mat* disp = nullptr, const StereoModel* model = nullptr);
+
+class SceneFlowExtractor
+{
+public:
+  explicit SceneFlowExtractor(const SceneFlowParams& p = SceneFlowParams()) : params_(p) {}
+  void setParams(const SceneFlowParams& p) { params_ = p; }
+  const SceneFlowParams& params() const { return params_; }
+
+  /// One frame: `grey` the rectified left image (CV_8UC1, full resolution), `disp` its disparity
+  /// at the matcher's scale (CV_32F, invalid < 0, DisparityEstimator::compute()). Returns the scene
+  /// flow from the previous frame given (empty at the first frame or after reset()), each point in
+  /// the previous and the current left optical frame.
+  const std::vector<SceneFlowPoint>& process(const cv::Mat& grey, const cv::Mat& disp, const StereoModel& model);
+  const std::vector<SceneFlowPoint>& flow() const { return flow_; }
+  /// Per flow point: its pixel in the current image.
+  const std::vector<cv::Point2f>& pixels() const { return pixels_; }
+  /// Corners detected in the previous image / tracked both ways / with depth at both ends.
+  int detected() const { return detected_; }
+  int tracked() const { return tracked_; }
+  /// How many frames back the last process() paired with (0: none).
+  int pairedBack() const { return paired_back_; }
+  /// Forgets the previous frames (after a gap or a map clear).
+  void reset();
+
+private:
+  SceneFlowParams params_;
+  struct Frame
+  {
+    cv::Mat grey, disp;
+    std::vector<cv::Mat> pyr;
+    StereoModel model;
+  };
+  std::deque<Frame> history_;  ///< the last frames_apart frames, oldest first
+  int paired_back_ = 0;
+  std::vector<SceneFlowPoint> flow_;
+  std::vector<cv::Point2f> pixels_;
+  std::vector<cv::Mat> pyr_;
+  std::vector<cv::KeyPoint> keypoints_;
+  std::vector<cv::Point2f> p0_, p1_, pb_;
+  std::vector<uint8_t> st_, stb_;
+  std::vector<float> err_;
+  int detected_ = 0, tracked_ = 0;
+};
+
+}  // namespace assistive_obstacles

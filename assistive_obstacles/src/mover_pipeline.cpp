@@ -1,0 +1,160 @@
+#include <assistive_obstacles/mover_pipeline.h>
+
+#include <chrono>
+
+namespace assistive_obstacles
+{
+namespace
+{
+double msSince(std::chrono::steady_clock::time_point t0)
+{
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+MoverPipelineParams moverPipelineParams(const ObstaclesParams& p, const StereoModel& model)
+{
+  MoverPipelineParams m;
+  m.flow.max_features = p.mover_max_features;
+  m.flow.max_fb_error = p.mover_max_fb_error;
+  m.flow.frames_apart = p.mover_frames_apart;
+  m.flow.min_depth = p.min_depth;
+  m.flow.max_depth = p.max_depth;
+  m.segmentation.fx = model.fx;
+  m.segmentation.baseline = model.baseline;
+  m.segmentation.disparity_sigma = p.mover_disparity_sigma;
+  m.segmentation.sigma_scale = p.mover_sigma_scale;
+  m.segmentation.min_residual = p.mover_min_residual;
+  m.segmentation.min_cluster_points = p.mover_min_cluster_points;
+  m.segmentation.cell_size = p.cell_size;
+  m.min_speed = p.mover_min_speed;
+  m.max_gap_s = p.max_frame_gap_s;
+  return m;
+}
+
+MoverPipeline::MoverPipeline(const MoverPipelineParams& p) { setParams(p); }
+
+void MoverPipeline::setParams(const MoverPipelineParams& p)
+{
+  params_ = p;
+  flow_.setParams(p.flow);
+  segmentation_.setParams(p.segmentation);
+  tracker_.setParams(p.tracker);
+}
+
+void MoverPipeline::reset()
+{
+  flow_.reset();
+  tracker_.reset();
+  footprints_.clear();
+  shape_.clear();
+  origin_.clear();
+  poses_.clear();
+  has_prev_ = false;
+}
+
+bool MoverPipeline::stationary(const MoverTrack& tr) const
+{
+  const double age = tr.last_seen - tr.born;
+  const auto it = origin_.find(tr.id);
+  return it != origin_.end() && age >= params_.speed_age &&
+         (tr.last_z - it->second).norm() < params_.min_speed * age;
+}
+
+std::vector<ReportedMover> MoverPipeline::confirmed() const
+{
+  std::vector<ReportedMover> out;
+  for (const MoverTrack& t : tracker_.tracks())
+  {
+    if (!t.confirmed || stationary(t)) continue;
+    ReportedMover r;
+    r.track = t;
+    const auto it = shape_.find(t.id);
+    if (it != shape_.end())
+    {
+      r.radius = it->second.first;
+      r.height = it->second.second;
+    }
+    out.push_back(r);
+  }
+  return out;
+}
+
+const std::vector<MoverFootprint>& MoverPipeline::process(double t, const cv::Mat& grey, const cv::Mat& disp,
+                                                          const StereoModel& model, const Eigen::Isometry3d& T_world_cam)
+{
+  footprints_.clear();
+  if (has_prev_ && (t <= prev_t_ || t - prev_t_ > params_.max_gap_s)) reset();
+  // The rig may differ from the defaults (camera_info): the depth noise model follows it.
+  MoverSegmentationParams sp = segmentation_.params();
+  sp.fx = model.fx;
+  sp.baseline = model.baseline;
+  segmentation_.setParams(sp);
+
+  auto t0 = std::chrono::steady_clock::now();
+  const std::vector<SceneFlowPoint>& flow = flow_.process(grey, disp, model);
+  ms_flow_ = msSince(t0);
+  t0 = std::chrono::steady_clock::now();
+  const int back = flow_.pairedBack();
+  const bool paired = has_prev_ && !flow.empty() && back >= 1 && back <= static_cast<int>(poses_.size());
+  std::vector<Eigen::Vector2d> z;
+  if (paired)
+  {
+    const std::pair<double, Eigen::Isometry3d>& then = poses_[poses_.size() - static_cast<size_t>(back)];
+    const Eigen::Isometry3d T_cur_prev = T_world_cam.inverse() * then.second;
+    // A residual faster than anyone walks is a mismatch (repeated texture, a corner on a
+    // silhouette), not a mover: such points are dropped.
+    const double max_step = params_.max_speed * (t - then.first);
+    kept_.clear();
+    for (const SceneFlowPoint& f : flow)
+      if (MoverSegmentation::residual(f, T_cur_prev) <= max_step) kept_.push_back(f);
+    segmentation_.segment(kept_, T_cur_prev, T_world_cam);
+    // The camera sees a body's front: the centroid of its points lies nearer than its centre, by
+    // ~pi/4 of its radius for a round body. Moved away from the camera along the horizontal ray.
+    const Eigen::Vector2d cam = T_world_cam.translation().head<2>();
+    for (const MoverDetection& d : segmentation_.detections())
+    {
+      const Eigen::Vector2d ray = d.centroid - cam;
+      const double n = ray.norm();
+      z.push_back(n > 1e-6 ? Eigen::Vector2d(d.centroid + ray / n * params_.surface_offset) : d.centroid);
+    }
+  }
+  ms_segmentation_ = msSince(t0);
+  t0 = std::chrono::steady_clock::now();
+  if (has_prev_)
+  {
+    const std::vector<int> ids = tracker_.update(t, z);
+    const std::vector<MoverDetection>& dets = segmentation_.detections();
+    for (size_t j = 0; j < z.size(); ++j)
+    {
+      if (ids[j] > 0)
+      {
+        shape_[ids[j]] = {dets[j].radius, dets[j].max_z - dets[j].min_z};
+        origin_.emplace(ids[j], z[j]);  // kept from the first detection on
+        const MoverTrack* tr = tracker_.find(ids[j]);
+        if (tr && stationary(*tr)) continue;  // a static surface: the map votes there
+      }
+      footprints_.push_back({z[j].x(), z[j].y(), dets[j].radius});
+    }
+    // Coasting confirmed tracks (not detected this frame) keep their footprint.
+    for (const MoverTrack& tr : tracker_.tracks())
+    {
+      if (!tr.confirmed || tr.misses == 0 || stationary(tr)) continue;
+      const auto it = shape_.find(tr.id);
+      if (it != shape_.end()) footprints_.push_back({tr.x(0), tr.x(1), it->second.first});
+    }
+    // Shapes of ended tracks go.
+    for (auto it = shape_.begin(); it != shape_.end();)
+      it = tracker_.find(it->first) ? std::next(it) : shape_.erase(it);
+    for (auto it = origin_.begin(); it != origin_.end();)
+      it = tracker_.find(it->first) ? std::next(it) : origin_.erase(it);
+  }
+  ms_tracking_ = msSince(t0);
+  poses_.emplace_back(t, T_world_cam);
+  while (static_cast<int>(poses_.size()) > std::max(1, params_.flow.frames_apart)) poses_.pop_front();
+  prev_t_ = t;
+  has_prev_ = true;
+  return footprints_;
+}
+
+}  // namespace assistive_obstacles
