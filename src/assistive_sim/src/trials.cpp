@@ -82,7 +82,8 @@ namespace
 class TruthChain : public CueChain
 {
 public:
-  TruthChain(const World& world, const TrialOptions& opt) : opt_(opt), planner_(opt.planner), cues_(opt.cues)
+  TruthChain(const World& world, const TrialOptions& opt)
+    : world_(world), opt_(opt), planner_(opt.planner), cues_(opt.cues)
   {
     OccupancyParams op;
     op.head_above_eye = 0.12;
@@ -92,10 +93,22 @@ public:
   void setGoal(const Eigen::Vector2d& g) override { planner_.setGoal({ g.x(), g.y() }); }
   ChainCue frame(double t, const BodyState& s) override
   {
-    // The world's people are not in grid_ (computeOccupancy leaves movers out). The planner core
-    // on this branch has no movers input; truthMovers(world, t) is what a perfect tracker would
-    // hand it (the ROS truth chain publishes it on obstacles/movers).
-    const assistive_planner::PlanOutput out = planner_.update(grid_, { s.xy.x(), s.xy.y() }, s.head_yaw);
+    // The world's people are not in grid_ (computeOccupancy leaves movers out): a perfect tracker
+    // hands the planner every person, standing ones too, exactly (the ROS truth chain publishes
+    // the same on obstacles/movers).
+    if (!world_.people.empty())
+    {
+      std::vector<assistive_planner::MoverState> movers(world_.people.size());
+      for (size_t i = 0; i < world_.people.size(); ++i)
+      {
+        const PersonState p = personAt(world_, i, t);
+        movers[i].id = int(i + 1);
+        movers[i].x << p.position, p.velocity;
+      }
+      planner_.setMovers(t, std::move(movers));
+    }
+    const assistive_planner::PlanOutput out =
+        planner_.update(gridWithStandingPeople(t), { s.xy.x(), s.xy.y() }, s.head_yaw, t);
     assistive_tactile::NavInput in;
     in.status = out.status;
     in.message = out.message;
@@ -105,6 +118,10 @@ public:
     in.free_ahead = out.free_ahead;
     in.free_left = out.free_left;
     in.free_right = out.free_right;
+    in.crossing = out.crossing.advice;
+    in.crossing_id = out.crossing.id;
+    in.crossing_time = out.crossing.time;
+    in.crossing_distance = out.crossing.distance;
     in.source_time = t;  // truth: the occupancy is current
     const assistive_tactile::Cue cue = cues_.update(in, t);
     if (trace_)
@@ -119,6 +136,35 @@ public:
   }
 
 private:
+  /// The static grid plus every person standing still now (speed under 0.2 m/s): what the obstacle
+  /// stage's map holds (a person standing still is an ordinary obstacle; walking ones are movers
+  /// only). Cells whose square the body's disc overlaps become obstacles.
+  const assistive_planner::Grid& gridWithStandingPeople(double t)
+  {
+    if (world_.people.empty()) return grid_;
+    now_ = grid_;
+    for (size_t i = 0; i < world_.people.size(); ++i)
+    {
+      const PersonState p = personAt(world_, i, t);
+      if (p.velocity.norm() >= 0.2) continue;
+      const double r = world_.people[i].radius;
+      int x0, y0, x1, y1;
+      now_.worldToCell(p.position.x() - r, p.position.y() - r, x0, y0);
+      now_.worldToCell(p.position.x() + r, p.position.y() + r, x1, y1);
+      for (int y = std::max(0, y0); y <= std::min(now_.height - 1, y1); ++y)
+        for (int x = std::max(0, x0); x <= std::min(now_.width - 1, x1); ++x)
+        {
+          const double h = 0.5 * now_.resolution;
+          const double dx = std::max(0.0, std::abs(p.position.x() - now_.cellX(x)) - h);
+          const double dy = std::max(0.0, std::abs(p.position.y() - now_.cellY(y)) - h);
+          if (dx * dx + dy * dy < r * r) now_.data[size_t(now_.index(x, y))] = 100;
+        }
+    }
+    return now_;
+  }
+
+  const World& world_;
+  assistive_planner::Grid now_;
   TrialOptions opt_;
   assistive_planner::Grid grid_;
   assistive_planner::Planner planner_;
@@ -223,8 +269,21 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
     if (trace && int(body.collisionPlaces().size()) > reported)
     {
       reported = int(body.collisionPlaces().size());
-      std::fprintf(stderr, "COLLISION t %.2f at %.2f %.2f yaw %.0f speed %.2f\n", t, now.xy.x(), now.xy.y(), now.yaw / DEG,
-                   now.speed);
+      // the nearest person's surface (issue 22: who walked into whom)
+      std::string who = "-";
+      double gap = std::numeric_limits<double>::infinity();
+      for (size_t i = 0; i < world.people.size(); ++i)
+      {
+        const PersonState p = personAt(world, i, t + opt.dt);
+        const double g = (p.position - now.xy).norm() - world.people[i].radius - opt.wearer.body_radius;
+        if (g < gap)
+        {
+          gap = g;
+          who = world.people[i].name + " v " + std::to_string(p.velocity.norm()).substr(0, 4);
+        }
+      }
+      std::fprintf(stderr, "COLLISION t %.2f at %.2f %.2f yaw %.0f speed %.2f | nearest person %s gap %.2f\n", t,
+                   now.xy.x(), now.xy.y(), now.yaw / DEG, now.speed, who.c_str(), gap);
     }
     r.path.push_back(now.xy);
     const double c = body.clearance(now.xy);
