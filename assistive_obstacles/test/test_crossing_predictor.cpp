@@ -107,6 +107,43 @@ TEST(CrossingPredictor, HeadOnWithinOneMetreWarns)
   EXPECT_FALSE(c.head_on);
 }
 
+// Seen in the busy corridor's truth trials: a head-on walker met while the wearer's heading is
+// turned 24 deg (sidestepping) has a lateral speed of 0.49 m/s across that heading; it is still
+// head-on and passed by its side, and stopping (it walks on into the wearer) is never the advice.
+TEST(CrossingPredictor, HeadOnAndOvertakingKeepTheirSideWhenClose)
+{
+  CrossingPredictor cp;
+  Wearer w = wearer();
+  w.heading = -24.0 * M_PI / 180.0;
+  // 2 m ahead along x, 0.23 m to the left of the wearer, walking -x at 1.2 m/s
+  const CrossingPrediction p = cp.predict(w, mover(2.0, 0.23, -1.2, 0.0));
+  EXPECT_TRUE(p.head_on);
+  EXPECT_TRUE(p.warn);
+  // h = (cos, sin)(-24 deg); vr = (-1.2, 0) - h; offset of the closest approach across h
+  const Eigen::Vector2d h(std::cos(w.heading), std::sin(w.heading));
+  const Eigen::Vector2d r0(2.0, 0.23), vr = Eigen::Vector2d(-1.2, 0.0) - h;
+  const double ts = -r0.dot(vr) / vr.squaredNorm();
+  const Eigen::Vector2d rc = r0 + ts * vr;
+  ASSERT_GT(h.x() * rc.y() - h.y() * rc.x(), 0.0);  // it passes on the wearer's left
+  EXPECT_NEAR(p.t_closest, ts, 1e-12);
+  EXPECT_EQ(p.side, AvoidSide::RIGHT);
+  // 0.8 s from the closest approach (under stop_time): still the side, not STOP
+  const CrossingPrediction late = cp.predict(wearer(), mover(1.76, 0.2, -1.2, 0.0));
+  EXPECT_NEAR(late.t_closest, 0.8, 1e-12);
+  EXPECT_EQ(late.side, AvoidSide::RIGHT);
+  // ... unless that side is blocked
+  w = wearer();
+  w.right_blocked = true;
+  EXPECT_EQ(cp.predict(w, mover(1.76, 0.2, -1.2, 0.0)).side, AvoidSide::STOP);
+  // Overtaker from behind, 0.62 s away, walking at 30 deg across the heading (lateral 0.75 m/s):
+  // not a crosser to pass behind (it is behind): it passes on the left, step right, no STOP.
+  const CrossingPrediction o = cp.predict(wearer(), mover(-0.6, -0.3, 1.5 * std::cos(M_PI / 6), 0.75));
+  EXPECT_TRUE(o.warn);
+  EXPECT_FALSE(o.head_on);
+  EXPECT_LT(o.t_closest, 1.0);
+  EXPECT_EQ(o.side, AvoidSide::RIGHT);
+}
+
 TEST(CrossingPredictor, AlongsideAndAwayAreSilent)
 {
   CrossingPredictor cp;

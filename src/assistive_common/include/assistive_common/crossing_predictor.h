@@ -16,10 +16,10 @@
 //   d* < head_on_distance and the mover walks against the wearer  (head-on: its velocity within
 //                                                                  head_on_angle of -heading),
 // sigma* = the track's position sigma propagated to t*, across the line of closest approach.
-// Side: a mover crossing the wearer's path (lateral speed >= cross_speed) is passed behind: step
-// to the side it comes from; otherwise (head-on, overtaking) step away from the side it passes
-// on (the right on a dead-centre course: keep_right). STOP when the approach is nearer than
-// stop_time (no time to sidestep) or the chosen side is blocked.
+// Side: a mover ahead crossing the wearer's path (lateral speed >= cross_speed, not head-on) is
+// passed behind: step to the side it comes from; otherwise (head-on, overtaking) step away from
+// the side it passes on (the right on a dead-centre course: keep_right). STOP when a crosser's
+// approach is nearer than stop_time (no time to sidestep) or the chosen side is blocked.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -144,18 +144,23 @@ private:
     out.warn = crossing || head_on;
     if (!out.warn) return out;
 
-    // Side: pass behind a crosser (step towards where it comes from); step away from a head-on or
-    // overtaking mover's side of passing.
+    // Side: pass behind a crosser ahead (step towards where it comes from); step away from a
+    // head-on or overtaking mover's side of passing. A head-on mover is judged by its side even when
+    // the wearer's heading gives it a lateral speed (a wearer veering while sidestepping), and so is
+    // one coming from behind: passing behind either means nothing.
     const double lateral_speed = cross2(h, vm);  // > 0: the mover walks towards the wearer's left
+    const bool crosser = !out.head_on && r0.dot(h) > 0.0 && std::abs(lateral_speed) >= params_.cross_speed;
     bool go_left;
-    if (std::abs(lateral_speed) >= params_.cross_speed)
+    if (crosser)
       go_left = lateral_speed < 0.0;  // it walks to the right: pass behind it on the left
     else
     {
       const double offset = cross2(h, rc);  // > 0: it passes on the wearer's left
       go_left = std::abs(offset) > 1e-6 ? offset < 0.0 : !params_.keep_right;
     }
-    if (out.t_closest < params_.stop_time || (go_left ? w.left_blocked : w.right_blocked))
+    // Too late to sidestep a crosser: stop and let it pass. Stopping does not let a head-on or
+    // overtaking mover pass (it walks on into the wearer): keep the side, stop only when blocked.
+    if ((crosser && out.t_closest < params_.stop_time) || (go_left ? w.left_blocked : w.right_blocked))
       out.side = AvoidSide::STOP;
     else
       out.side = go_left ? AvoidSide::LEFT : AvoidSide::RIGHT;
