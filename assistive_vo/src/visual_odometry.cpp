@@ -1102,6 +1102,7 @@ bool VisualOdometry::estimatePosePointLine(FrameStats& st, MotionEstimate& m)
   ro.max_trials = p_.ransac_max_trials;
   const PointLineRansacResult r = pl_ransac_.estimate(rig, pq, lq, ro);
   m.rr = RansacResult();
+  m.with_lines = true;
   m.rr.trials = r.trials;
   st.ransac_trials = r.trials;
   int line_in = 0;
@@ -1162,32 +1163,65 @@ void VisualOdometry::refinePose(const FrameContext& fc, FrameStats& st, MotionEs
   bo.iterations = p_.ba_iterations;
   bo.huber_px = p_.ba_huber_px;
   bo.pixel_sigma_px = p_.pixel_sigma_px;
-  // pointline: the bundle adjustment refines with the point inliers only; when they are few, the
-  // lines carry the motion and the point+line RANSAC's (over-determined) solution is kept.
-  if (!pointline_ || static_cast<int>(m.X_in.size()) >= kPointLineMinBaPoints)
-    m.br = ba_.optimize(cam_, m.rr.T_ref_cur, m.X_in, oref, ocur, bo);
-  else
-    m.br = BundleAdjustmentResult();
-  // Vision-only rotation (kept for the online gyro bias estimate).
-  m.R_vision = m.br.ok ? Eigen::Matrix3d(m.br.T_ref_cur.linear()) : Eigen::Matrix3d(m.rr.T_ref_cur.linear());
-  m.cov_vision = m.br.covariance;
+  // The gyro since the keyframe (bias-corrected): a rotation prior for the second pass.
   if (fc.have_gyro)
     R_kf_gyro_ = R_kf_gyro_ * fc.R_gyro_opt;
   else
     gyro_since_kf_ = false;
   m.dt_kf = fc.stamp - t_kf_;
-  if (m.br.ok && gyro_since_kf_ && p_.gyro_rotation_prior && m.dt_kf > 0)
+  const bool gyro_prior = gyro_since_kf_ && p_.gyro_rotation_prior && m.dt_kf > 0;
+  const double var_g = gyro_prior ? bias_.rotationVariance(m.dt_kf) : 1.0;
+  if (m.with_lines)
   {
-    // Second pass with the integrated (bias-corrected) gyro as a rotation prior: angle random
-    // walk + bias uncertainty over the keyframe span.
-    const double var_g = bias_.rotationVariance(m.dt_kf);
-    bo.use_rotation_prior = true;
-    bo.rotation_prior = R_kf_gyro_;
-    bo.rotation_prior_weight = p_.pixel_sigma_px * p_.pixel_sigma_px / var_g;
-    bo.iterations = std::max(2, p_.ba_iterations / 2);
-    const BundleAdjustmentResult b2 = ba_.optimize(cam_, m.br.T_ref_cur, m.X_in, oref, ocur, bo);
-    if (b2.ok)
-      m.br = b2;
+    // points_lines: the motion refined on the point and the line inliers together (structure
+    // fixed): with the points alone it was the few points that decided (README figures).
+    StereoLineObservations lo;
+    for (const LineTrack& t : lines_)
+    {
+      StereoLineObservation l;
+      if (!t.stereo || !triangulateStereoSegment(cam_, t.kf_left, t.kf_right, p_.min_disparity_px, l.P, l.Q))
+        continue;
+      l.left_p = t.cur.p, l.left_q = t.cur.q, l.right_p = t.cur_right.p, l.right_q = t.cur_right.q;
+      lo.push_back(l);
+    }
+    PointLineRefineOptions ro;
+    ro.iterations = std::max(1, p_.ba_iterations);
+    ro.huber_px = p_.ba_huber_px;
+    ro.pixel_sigma_px = p_.pixel_sigma_px;
+    ro.use_rotation_prior = gyro_prior;
+    ro.rotation_prior = R_kf_gyro_;
+    ro.rotation_prior_weight = p_.pixel_sigma_px * p_.pixel_sigma_px / var_g;
+    // vision-only first (the gyro bias estimate needs it), then with the gyro prior
+    ro.use_rotation_prior = false;
+    m.br = refineMotionPointsLines(cam_, m.rr.T_ref_cur, m.X_in, ocur, lo, ro);
+    m.R_vision = m.br.ok ? Eigen::Matrix3d(m.br.T_ref_cur.linear()) : Eigen::Matrix3d(m.rr.T_ref_cur.linear());
+    m.cov_vision = m.br.covariance;
+    if (m.br.ok && gyro_prior)
+    {
+      ro.use_rotation_prior = true;
+      const BundleAdjustmentResult b2 = refineMotionPointsLines(cam_, m.br.T_ref_cur, m.X_in, ocur, lo, ro);
+      if (b2.ok)
+        m.br = b2;
+    }
+  }
+  else
+  {
+    m.br = ba_.optimize(cam_, m.rr.T_ref_cur, m.X_in, oref, ocur, bo);
+    // Vision-only rotation (kept for the online gyro bias estimate).
+    m.R_vision = m.br.ok ? Eigen::Matrix3d(m.br.T_ref_cur.linear()) : Eigen::Matrix3d(m.rr.T_ref_cur.linear());
+    m.cov_vision = m.br.covariance;
+    if (m.br.ok && gyro_prior)
+    {
+      // Second pass with the integrated (bias-corrected) gyro as a rotation prior: angle random
+      // walk + bias uncertainty over the keyframe span.
+      bo.use_rotation_prior = true;
+      bo.rotation_prior = R_kf_gyro_;
+      bo.rotation_prior_weight = p_.pixel_sigma_px * p_.pixel_sigma_px / var_g;
+      bo.iterations = std::max(2, p_.ba_iterations / 2);
+      const BundleAdjustmentResult b2 = ba_.optimize(cam_, m.br.T_ref_cur, m.X_in, oref, ocur, bo);
+      if (b2.ok)
+        m.br = b2;
+    }
   }
   st.ms_ba = msSince(t0);
   m.T_kf_cur = m.br.ok ? m.br.T_ref_cur : m.rr.T_ref_cur;
