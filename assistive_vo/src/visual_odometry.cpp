@@ -627,7 +627,12 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
 
   // ---- plausibility ----
   measureStereoConsistency(m, st);
-  const std::string bad = checkPlausibility(m, gyro_link != nullptr, fc, st);
+  std::string bad = checkPlausibility(m, gyro_link != nullptr, fc, st);
+  // A point+line motion (few corners: the weakest estimates) is accepted only while its vision
+  // rotation agrees with the gyro on the frame; else the frame is lost and coasts on the IMU
+  // (corridor's end wall: 0.5-1.3 deg a frame against the gyro, 2-5 cm off; README).
+  if (bad.empty() && m.with_lines && fc.have_gyro && st.gyro_disagreement_deg > p_.pointline_max_gyro_disagreement_deg)
+    bad = "point+line rotation " + std::to_string(st.gyro_disagreement_deg) + " deg off the gyro";
   if (!bad.empty())
     return finish(fail(bad + ": re-initialising", &left, &right, lostMotion(fc), stamp, st));
   R_kf_prev_vision_ = m.R_vision;
