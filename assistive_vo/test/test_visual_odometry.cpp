@@ -808,6 +808,39 @@ TEST(PointLine, RecoversTheMotionFromLinesWhereCornersAreFew)
   EXPECT_EQ(run("points_lines").lost, 0);
 }
 
+TEST(PointLine, AMotionOffTheGyroIsRejected)
+{
+  // The bar wall with the gyro: a point+line motion agreeing with it is kept on every frame; with
+  // the gyro turning 1 deg a frame more than the images (more than
+  // pointline_max_gyro_disagreement, less than the 1.5 deg of the 3-frame gyro test), the
+  // point+line frames are rejected (lost, coasting), never accepted.
+  auto run = [](double extra_deg, int& lost, int& off_gyro, int& with_lines) {
+    Sequence r;
+    r.world = barWorld();
+    VoParams p;
+    p.motion_solver = "points_lines";
+    r.vo.setParams(p);
+    r.stepGyro(0, 0.0, 0);
+    lost = off_gyro = with_lines = 0;
+    for (int k = 1; k <= 12; ++k)
+    {
+      const VoOutput o = r.stepGyro(k, k / 15.0, k - 1, -1, extra_deg * M_PI / 180.0);
+      expectFinite(o);
+      lost += o.state != TrackingState::TRACKING;
+      off_gyro += o.message.find("off the gyro") != std::string::npos;
+      with_lines += o.state == TrackingState::TRACKING && o.stats.line_inliers > 0;
+    }
+  };
+  int lost = 0, off = 0, lines = 0;
+  run(0.0, lost, off, lines);
+  EXPECT_EQ(lost, 0);
+  EXPECT_EQ(off, 0);
+  EXPECT_GE(lines, 10);
+  run(1.0, lost, off, lines);
+  EXPECT_GT(off, 0);
+  EXPECT_EQ(lines, 0);
+}
+
 int main(int argc, char** argv)
 {
   testing::InitGoogleTest(&argc, argv);

@@ -49,6 +49,8 @@ public:
   const LineDetectorParams& params() const { return p_; }
 
 private:
+  /// Edge map of a Sobel magnitude image (CV_32F).
+  cv::Mat edgesOf(const cv::Mat& S) const;
   LineDetectorParams p_;
 };
 }  // namespace assistive_vo

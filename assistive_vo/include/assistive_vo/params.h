@@ -63,7 +63,9 @@ namespace assistive_vo
   /* quaternion solver (seed 2.2.3, trifocal_solver.h) in RANSAC over the tracked points with a */ \
   /* stereo match in the keyframe and now, and the stereo line segments tracked since the keyframe */ \
   /* (line_tracking.h); inliers = point inliers + line inliers (README "Point+line in the loop"). */ \
-  X(std::string, motion_solver, "motion_solver", "points", {}, {}, "", "`points` (P3P RANSAC) or `pointline` (trifocal point+line RANSAC, also spelled `points_lines`); other values: `points`") \
+  X(std::string, motion_solver, "motion_solver", "points", {}, {}, "", "`points` (P3P RANSAC) or `points_lines` (trifocal point+line RANSAC; `pointline` is the same); other values: `points`") \
+  X(double, pointline_min_corner_ratio, "pointline_min_corner_ratio", 0.2, 0.0, 1.0, "", "`points_lines`: point tracks join the point+line RANSAC only when the smaller / larger eigenvalue of their 7x7 structure tensor is at least this (corners on a straight edge slide along it; 0 = all)") \
+  X(double, pointline_max_gyro_disagreement_deg, "pointline_max_gyro_disagreement", 0.5, 0.05, 90.0, "deg", "`points_lines`: a point+line motion whose vision rotation differs from the gyro's by more than this on the frame is rejected (the frame coasts on the IMU)") \
   /* --- two-frame sparse bundle adjustment (Levenberg-Marquardt, Schur complement) --- */ \
   X(int, ba_iterations, "ba_iterations", 8, 0, 100, "", "Levenberg-Marquardt iterations") \
   X(double, ba_huber_px, "ba_huber", 1.0, 0.01, 100.0, "px", "Huber loss threshold of the bundle adjustment") \

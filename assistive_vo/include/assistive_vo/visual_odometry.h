@@ -17,6 +17,7 @@
 #include "assistive_vo/patch_alignment.h"
 #include "assistive_vo/plausibility.h"
 #include "assistive_vo/pointline_ransac.h"
+#include "assistive_vo/pointline_refine.h"
 #include "assistive_vo/sparse_stereo.h"
 #include "assistive_vo/stereo_camera.h"
 
@@ -183,6 +184,7 @@ private:
     Eigen::Isometry3d T_kf_cur = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T_prev_cur = Eigen::Isometry3d::Identity();
     double dt_kf = 0.0;  ///< time since the keyframe
+    bool with_lines = false;  ///< from the point+line RANSAC (refined on points and lines)
   };
 
   // ---- frame set-up (process() in order) ----
@@ -268,7 +270,6 @@ private:
     bool stereo = false;
   };
   bool pointline_ = false;  ///< motion_solver is pointline
-  static constexpr int kPointLineMinBaPoints = 8;  ///< point inliers for the bundle adjustment
   static constexpr int kLineDetectFrames = 5;      ///< tracked frames between two line detections at most
   int frames_since_line_detect_ = 0;
   LineDetector line_detector_;
