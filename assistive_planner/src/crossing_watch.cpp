@@ -6,22 +6,6 @@ namespace assistive_planner
 {
 namespace ac = assistive_common;
 
-const char* crossingName(CrossingAdvice a)
-{
-  switch (a)
-  {
-    case CrossingAdvice::NONE:
-      return "NONE";
-    case CrossingAdvice::LEFT:
-      return "LEFT";
-    case CrossingAdvice::RIGHT:
-      return "RIGHT";
-    case CrossingAdvice::STOP:
-      return "STOP";
-  }
-  return "?";
-}
-
 CrossingWatch::CrossingWatch(const PlannerParams& p, const CrossingParams& cp) : p_(p), predictor_(cp) {}
 
 void CrossingWatch::setMovers(double stamp, std::vector<MoverState> movers)

@@ -42,22 +42,6 @@ const char* modeName(CueMode m)
   return "?";
 }
 
-const char* crossingName(CrossingAdvice a)
-{
-  switch (a)
-  {
-    case CrossingAdvice::NONE:
-      return "NONE";
-    case CrossingAdvice::LEFT:
-      return "LEFT";
-    case CrossingAdvice::RIGHT:
-      return "RIGHT";
-    case CrossingAdvice::STOP:
-      return "STOP";
-  }
-  return "?";
-}
-
 double wrapAngle(double a)
 {
   a = std::fmod(a + M_PI, 2.0 * M_PI);

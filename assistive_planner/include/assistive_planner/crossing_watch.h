@@ -41,7 +41,7 @@ struct CrossingResult
   Point2 wearer_at_closest; ///< the wearer at the closest approach
 };
 
-const char* crossingName(CrossingAdvice a);
+using assistive_common::crossingName;
 
 class CrossingWatch
 {

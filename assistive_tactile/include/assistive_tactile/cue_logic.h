@@ -54,7 +54,7 @@ struct Cue
 };
 
 const char* modeName(CueMode m);
-const char* crossingName(CrossingAdvice a);
+using assistive_common::crossingName;
 
 /// Wraps an angle to (-pi, pi].
 double wrapAngle(double a);

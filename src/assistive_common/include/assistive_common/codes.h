@@ -39,6 +39,23 @@ enum class CrossingAdvice : uint8_t
   STOP = 3    ///< stop: too close in time, or the avoiding side is blocked
 };
 
+/// "NONE", "LEFT", "RIGHT", "STOP" (logs, diagnostics, markers).
+inline const char* crossingName(CrossingAdvice a)
+{
+  switch (a)
+  {
+    case CrossingAdvice::NONE:
+      return "NONE";
+    case CrossingAdvice::LEFT:
+      return "LEFT";
+    case CrossingAdvice::RIGHT:
+      return "RIGHT";
+    case CrossingAdvice::STOP:
+      return "STOP";
+  }
+  return "?";
+}
+
 /// Cue mode of the cue logic (assistive_msgs/TactileCue.mode).
 enum class CueMode : uint8_t
 {
