@@ -204,8 +204,8 @@ visualization_msgs::MarkerArray toMoverMarkers(const std::vector<ReportedMover>&
     base.id = r.track.id;
     base.action = visualization_msgs::Marker::ADD;
     base.pose.orientation.w = 1.0;
-    base.color.r = 1.0f;
-    base.color.g = 0.5f;
+    base.color.r = 1.0f;  // magenta: apart from the octomap's height colours and the orange path
+    base.color.b = 1.0f;
     base.color.a = 0.8f;
     visualization_msgs::Marker c = base;
     c.ns = "movers";
