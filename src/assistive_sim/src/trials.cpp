@@ -147,18 +147,18 @@ private:
     {
       const PersonState p = personAt(world_, i, t);
       if (p.velocity.norm() >= 0.2) continue;
-      const double r = world_.people[i].radius;
+      Solid body;  // the person's footprint, tested against cells the way computeOccupancy does
+      body.shape = Solid::CYLINDER;
+      body.center = p.position;
+      body.radius = world_.people[i].radius;
+      const double r = body.radius, h = 0.5 * now_.resolution;
       int x0, y0, x1, y1;
       now_.worldToCell(p.position.x() - r, p.position.y() - r, x0, y0);
       now_.worldToCell(p.position.x() + r, p.position.y() + r, x1, y1);
       for (int y = std::max(0, y0); y <= std::min(now_.height - 1, y1); ++y)
         for (int x = std::max(0, x0); x <= std::min(now_.width - 1, x1); ++x)
-        {
-          const double h = 0.5 * now_.resolution;
-          const double dx = std::max(0.0, std::abs(p.position.x() - now_.cellX(x)) - h);
-          const double dy = std::max(0.0, std::abs(p.position.y() - now_.cellY(y)) - h);
-          if (dx * dx + dy * dy < r * r) now_.data[size_t(now_.index(x, y))] = 100;
-        }
+          if (body.overlapsRect(now_.cellX(x) - h, now_.cellY(y) - h, now_.cellX(x) + h, now_.cellY(y) + h))
+            now_.data[size_t(now_.index(x, y))] = 100;
     }
     return now_;
   }
