@@ -65,28 +65,41 @@ std::vector<int> matchStereoSegments(const LineSegments& left, const LineSegment
   return match;
 }
 
-LineSegments trackSegments(const cv::Mat& prev, const cv::Mat& next, const LineSegments& segs, const LineMatchParams& p,
-                           std::vector<bool>& ok)
+namespace
+{
+/// KLT along each segment from `prev` to `next`; `shift_p` / `shift_q` (when not empty): the
+/// initial displacement of each segment's ends (interpolated along it), else none.
+LineSegments trackSegmentsFrom(const cv::Mat& prev, const cv::Mat& next, const LineSegments& segs,
+                               const std::vector<Eigen::Vector2d>& shift_p, const std::vector<Eigen::Vector2d>& shift_q,
+                               const LineMatchParams& p, std::vector<bool>& ok)
 {
   LineSegments out(segs.size());
   ok.assign(segs.size(), false);
   if (segs.empty() || prev.empty() || next.empty())
     return out;
+  const bool guess = shift_p.size() == segs.size() && shift_q.size() == segs.size();
   const int ns = std::max(2, p.klt_samples);
   std::vector<cv::Point2f> a, b;
-  for (const LineSegment& s : segs)
+  for (size_t i = 0; i < segs.size(); ++i)
     for (int k = 0; k < ns; ++k)
     {
-      const Eigen::Vector2d x = s.p + (s.q - s.p) * ((k + 0.5) / ns);
+      const double t = (k + 0.5) / ns;
+      const Eigen::Vector2d x = segs[i].p + (segs[i].q - segs[i].p) * t;
       a.emplace_back(static_cast<float>(x.x()), static_cast<float>(x.y()));
+      if (guess)
+      {
+        const Eigen::Vector2d y = x + shift_p[i] + (shift_q[i] - shift_p[i]) * t;
+        b.emplace_back(static_cast<float>(y.x()), static_cast<float>(y.y()));
+      }
     }
   std::vector<uchar> st;
   std::vector<float> err;
   // Points on a straight edge have a nearly rank-1 structure tensor (the aperture problem): OpenCV's
   // default minimum eigenvalue (1e-4) drops most of them; they still move right across the edge,
   // which is all a line needs (sliding along it does not change the line).
-  cv::calcOpticalFlowPyrLK(prev, next, a, b, st, err, cv::Size(15, 15), 3,
-                           cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01), 0, 1e-7);
+  cv::calcOpticalFlowPyrLK(prev, next, a, b, st, err, cv::Size(15, 15), guess ? 1 : 3,
+                           cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01),
+                           guess ? cv::OPTFLOW_USE_INITIAL_FLOW : 0, 1e-7);
   for (size_t i = 0; i < segs.size(); ++i)
   {
     std::vector<Eigen::Vector2d> pts;
@@ -138,6 +151,140 @@ LineSegments trackSegments(const cv::Mat& prev, const cv::Mat& next, const LineS
     s.points = static_cast<int>(pts.size());
     out[i] = s;
     ok[i] = true;
+  }
+  return out;
+}
+
+/// Sum of absolute differences between the left strip across the segment at the sampled rows
+/// and the right one shifted by d (nearest pixel), for every integer d in [d0, d1].
+void sweepCosts(const cv::Mat& left, const cv::Mat& right, const std::vector<cv::Point>& samples, int half_width,
+                int d0, int d1, std::vector<double>& cost)
+{
+  cost.assign(static_cast<size_t>(std::max(0, d1 - d0 + 1)), 1e9);
+  for (int d = d0; d <= d1; ++d)
+  {
+    int sum = 0, n = 0;
+    for (const cv::Point& x : samples)
+    {
+      const uchar* l = left.ptr<uchar>(x.y);
+      const uchar* r = right.ptr<uchar>(x.y);
+      for (int j = -half_width; j <= half_width; ++j)
+      {
+        const int xl = x.x + j, xr = xl - d;
+        if (xl < 0 || xl >= left.cols || xr < 0 || xr >= right.cols)
+          continue;
+        sum += std::abs(static_cast<int>(l[xl]) - static_cast<int>(r[xr]));
+        ++n;
+      }
+    }
+    if (n >= static_cast<int>(samples.size()) * (half_width + 1))
+      cost[static_cast<size_t>(d - d0)] = static_cast<double>(sum) / n;
+  }
+}
+
+/// The best disparity of a cost curve with a parabola's sub-pixel offset; false when not unique
+/// (a minimum 3 px or more away within `margin`) or above `max_cost`.
+bool bestDisparity(const std::vector<double>& cost, int d0, double max_cost, double margin, double& d)
+{
+  if (cost.empty())
+    return false;
+  const auto it = std::min_element(cost.begin(), cost.end());
+  const int k = static_cast<int>(it - cost.begin());
+  if (!(*it <= max_cost))
+    return false;
+  for (int j = 0; j < static_cast<int>(cost.size()); ++j)
+    if (std::abs(j - k) >= 3 && cost[static_cast<size_t>(j)] < *it + margin)
+      return false;
+  double off = 0;
+  if (k > 0 && k + 1 < static_cast<int>(cost.size()))
+  {
+    const double a = cost[static_cast<size_t>(k - 1)], b = *it, c = cost[static_cast<size_t>(k + 1)];
+    const double den = a - 2 * b + c;
+    if (den > 1e-9)
+      off = std::clamp(0.5 * (a - c) / den, -0.5, 0.5);
+  }
+  d = d0 + k + off;
+  return true;
+}
+}  // namespace
+
+LineSegments trackSegments(const cv::Mat& prev, const cv::Mat& next, const LineSegments& segs, const LineMatchParams& p,
+                           std::vector<bool>& ok)
+{
+  return trackSegmentsFrom(prev, next, segs, {}, {}, p, ok);
+}
+
+LineSegments sweepStereoSegments(const cv::Mat& left, const cv::Mat& right, const LineSegments& segs,
+                                 const LineMatchParams& p, std::vector<bool>& ok)
+{
+  ok.assign(segs.size(), false);
+  LineSegments none(segs.size());
+  if (segs.empty() || left.empty() || left.type() != CV_8UC1 || right.type() != CV_8UC1 || left.size() != right.size())
+    return none;
+  const int d0 = std::max(0, static_cast<int>(std::ceil(p.min_disparity)));
+  const int d1 = static_cast<int>(std::floor(p.max_disparity));
+  const int rows = std::max(2, p.sweep_rows / 2);
+  std::vector<size_t> idx;
+  std::vector<Eigen::Vector2d> shift_p, shift_q;
+  LineSegments cand;
+  std::vector<double> cost;
+  std::vector<cv::Point> samples;
+  for (size_t i = 0; i < segs.size(); ++i)
+  {
+    const LineSegment& L = segs[i];
+    const Eigen::Vector2d dir = L.q - L.p;
+    if (!(std::abs(dir.y()) >= p.min_vertical_sin * dir.norm()))
+      continue;  // near-horizontal: no stereo
+    // each half of the segment on its own: the disparity of a line is affine along it
+    double dh[2];
+    bool good = true;
+    for (int h = 0; h < 2 && good; ++h)
+    {
+      samples.clear();
+      for (int k = 0; k < rows; ++k)
+      {
+        const Eigen::Vector2d x = L.p + dir * (0.5 * h + 0.5 * (k + 0.5) / rows);
+        const cv::Point px(static_cast<int>(std::lround(x.x())), static_cast<int>(std::lround(x.y())));
+        if (px.y >= 0 && px.y < left.rows)
+          samples.push_back(px);
+      }
+      sweepCosts(left, right, samples, p.sweep_half_width, d0, d1, cost);
+      good = samples.size() >= 2 && bestDisparity(cost, d0, p.sweep_max_cost, p.sweep_min_margin, dh[h]);
+    }
+    if (!good || std::abs(dh[0] - dh[1]) > p.max_disparity_spread + 1.0)
+      continue;
+    // the half-centres (t = 1/4, 3/4) extrapolated to the ends
+    const double dp = 1.5 * dh[0] - 0.5 * dh[1], dq = 1.5 * dh[1] - 0.5 * dh[0];
+    idx.push_back(i);
+    cand.push_back(L);
+    shift_p.emplace_back(-dp, 0.0);
+    shift_q.emplace_back(-dq, 0.0);
+  }
+  // sub-pixel: KLT along the segment from the left image into the right one, from the sweep's shift
+  std::vector<bool> tracked;
+  const LineSegments found = trackSegmentsFrom(left, right, cand, shift_p, shift_q, p, tracked);
+  LineSegments out(segs.size());
+  for (size_t c = 0; c < cand.size(); ++c)
+  {
+    if (!tracked[c])
+      continue;
+    const LineSegment& L = cand[c];
+    const LineSegment& R = found[c];
+    // a rectified pair: the same rows, the disparity the sweep found (within 1 px), positive
+    const Eigen::Vector2d dr = (R.q - R.p).normalized(), dl = (L.q - L.p).normalized();
+    if (std::abs(dr.dot(dl)) < std::cos(p.max_angle_deg * M_PI / 180.0))
+      continue;
+    const double e0 = L.p.x() - xAt(R, L.p.y()), e1 = L.q.x() - xAt(R, L.q.y());
+    if (std::abs(e0 + shift_p[c].x()) > 1.0 || std::abs(e1 + shift_q[c].x()) > 1.0 ||
+        std::min(e0, e1) < p.min_disparity || std::max(e0, e1) > p.max_disparity ||
+        std::abs(e0 - e1) > p.max_disparity_spread)
+      continue;
+    LineSegment s = R;
+    // the right segment spans the left one's rows (its ends on the left ends' rows)
+    s.p = Eigen::Vector2d(xAt(R, L.p.y()), L.p.y());
+    s.q = Eigen::Vector2d(xAt(R, L.q.y()), L.q.y());
+    out[idx[c]] = s;
+    ok[idx[c]] = true;
   }
   return out;
 }

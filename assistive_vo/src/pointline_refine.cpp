@@ -44,7 +44,7 @@ struct Problem
   bool residuals(const Eigen::Isometry3d& T_cur_ref, Eigen::VectorXd& r) const
   {
     std::vector<double> v;
-    v.reserve(3 * X.size() + 4 * lines.size() + 3);
+    v.reserve(3 * X.size() + 4 * lines.size() + 6);
     for (size_t i = 0; i < X.size(); ++i)
     {
       const Eigen::Vector3d Xc = T_cur_ref * X[i];
@@ -74,6 +74,12 @@ struct Problem
       const Eigen::Vector3d w = e.angle() * e.axis() * std::sqrt(opt.rotation_prior_weight);
       v.insert(v.end(), {w.x(), w.y(), w.z()});
     }
+    if (opt.use_translation_prior && opt.translation_prior_weight > 0)
+    {
+      const Eigen::Vector3d e =
+          (T_cur_ref.inverse().translation() - opt.translation_prior) * std::sqrt(opt.translation_prior_weight);
+      v.insert(v.end(), {e.x(), e.y(), e.z()});
+    }
     r = Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
     return r.allFinite();
   }
@@ -81,7 +87,8 @@ struct Problem
   Eigen::VectorXd weights(const Eigen::VectorXd& r) const
   {
     Eigen::VectorXd w = Eigen::VectorXd::Ones(r.size());
-    const Eigen::Index n_prior = opt.use_rotation_prior && opt.rotation_prior_weight > 0 ? 3 : 0;
+    const Eigen::Index n_prior = (opt.use_rotation_prior && opt.rotation_prior_weight > 0 ? 3 : 0) +
+                                 (opt.use_translation_prior && opt.translation_prior_weight > 0 ? 3 : 0);
     for (Eigen::Index i = 0; i < r.size() - n_prior; ++i)
       if (std::abs(r(i)) > opt.huber_px)
         w(i) = opt.huber_px / std::abs(r(i));

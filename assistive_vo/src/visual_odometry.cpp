@@ -657,6 +657,11 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
   // (corridor's end wall: 0.5-1.3 deg a frame against the gyro, 2-5 cm off; README).
   if (bad.empty() && m.with_lines && fc.have_gyro && st.gyro_disagreement_deg > p_.pointline_max_gyro_disagreement_deg)
     bad = "point+line rotation " + std::to_string(st.gyro_disagreement_deg) + " deg off the gyro";
+  // With the IMU a line frame without checked points coasts: the motion along the lines would be
+  // the constant-velocity prior's, which the accelerometer knows better (corridor with the IMU:
+  // 0.303 -> 0.587 % drift when accepted, its y error carried on into the coast's velocity).
+  if (bad.empty() && m.lines_only && fc.have_imu && fc.coast_ok)
+    bad = "point+line motion without checked points (the IMU coasts)";
   if (!bad.empty())
     return finish(fail(bad + ": re-initialising", &left, &right, lostMotion(fc), stamp, st));
   R_kf_prev_vision_ = m.R_vision;
@@ -1028,17 +1033,20 @@ bool VisualOdometry::estimatePose(const Eigen::Isometry3d& T_kf_pred, FrameStats
 
 void VisualOdometry::startLines(const cv::Mat& left, const cv::Mat& right)
 {
-  const LineSegments L = line_detector_.detect(left), R = line_detector_.detect(right);
+  // Lines detected in the left image only; each one's right segment found by a disparity sweep
+  // and KLT (line_tracking.h): detecting the right image too cost as much again.
+  const LineSegments L = line_detector_.detect(left);
   line_match_.min_disparity = p_.min_disparity_px;
   line_match_.max_disparity = maxDisparity();
-  const std::vector<int> match = matchStereoSegments(L, R, line_match_);
+  std::vector<bool> ok;
+  const LineSegments R = sweepStereoSegments(left, right, L, line_match_, ok);
   for (size_t i = 0; i < L.size(); ++i)
   {
-    if (match[i] < 0)
+    if (!ok[i])
       continue;
     LineTrack t;
     t.kf_left = t.cur = L[i];
-    t.kf_right = t.cur_right = R[static_cast<size_t>(match[i])];
+    t.kf_right = t.cur_right = R[i];
     t.stereo = true;
     lines_.push_back(t);
   }
@@ -1175,7 +1183,10 @@ bool VisualOdometry::estimatePosePointLine(FrameStats& st, MotionEstimate& m)
   }
   st.line_inliers = line_in;
   st.ms_ransac = msSince(t0);
-  if (!m.rr.ok || static_cast<int>(m.rr.inliers.size()) + line_in < p_.min_inliers)
+  // Enough constraints: a stereo line gives 4 rows against a stereo point's 3, counted as such
+  // (the corridor's end wall: a point or two and 8-10 door-frame lines, re-initialised every
+  // other frame when each line counted as one point).
+  if (!m.rr.ok || 3 * static_cast<int>(m.rr.inliers.size()) + 4 * line_in < 3 * p_.min_inliers)
   {
     st.inliers = static_cast<int>(m.rr.inliers.size());
     return false;
@@ -1227,15 +1238,38 @@ void VisualOdometry::refinePose(const FrameContext& fc, FrameStats& st, MotionEs
     ro.use_rotation_prior = gyro_prior;
     ro.rotation_prior = R_kf_gyro_;
     ro.rotation_prior_weight = p_.pixel_sigma_px * p_.pixel_sigma_px / var_g;
-    // vision-only first (the gyro bias estimate needs it), then with the gyro prior
-    ro.use_rotation_prior = false;
-    m.br = refineMotionPointsLines(cam_, m.rr.T_ref_cur, m.X_in, ocur, lo, ro);
+    // The constant-velocity prediction as a prior: the corridor's end wall leaves only its
+    // vertical door jambs, which say nothing of the motion along them (without it 6-11 cm a frame
+    // off in v there, README "Point+line in the loop").
+    const Eigen::Isometry3d T_kf_pred = T_kf_prev_ * fc.T_pred;
+    const double sig_t = p_.pointline_prior_sigma_m, sig_r = p_.pointline_prior_sigma_deg * M_PI / 180.0;
+    ro.use_translation_prior = sig_t > 0;
+    ro.translation_prior = T_kf_pred.translation();
+    ro.translation_prior_weight = sig_t > 0 ? p_.pixel_sigma_px * p_.pixel_sigma_px / (sig_t * sig_t) : 0.0;
+    // vision-only rotation first (the gyro bias estimate needs it), then with the gyro prior;
+    // without a gyro the predicted rotation is the prior
+    ro.use_rotation_prior = !gyro_prior && sig_r > 0;
+    if (ro.use_rotation_prior)
+    {
+      ro.rotation_prior = T_kf_pred.linear();
+      ro.rotation_prior_weight = p_.pixel_sigma_px * p_.pixel_sigma_px / (sig_r * sig_r);
+    }
+    // a point or two only where they are checked by others
+    const bool points_checked = static_cast<int>(m.X_in.size()) >= p_.pointline_min_points;
+    m.lines_only = !points_checked;
+    const Vec3List no_points;
+    const std::vector<StereoObservation> no_obs;
+    const Vec3List& X_ref = points_checked ? m.X_in : no_points;
+    const std::vector<StereoObservation>& X_obs = points_checked ? ocur : no_obs;
+    m.br = refineMotionPointsLines(cam_, m.rr.T_ref_cur, X_ref, X_obs, lo, ro);
     m.R_vision = m.br.ok ? Eigen::Matrix3d(m.br.T_ref_cur.linear()) : Eigen::Matrix3d(m.rr.T_ref_cur.linear());
     m.cov_vision = m.br.covariance;
     if (m.br.ok && gyro_prior)
     {
       ro.use_rotation_prior = true;
-      const BundleAdjustmentResult b2 = refineMotionPointsLines(cam_, m.br.T_ref_cur, m.X_in, ocur, lo, ro);
+      ro.rotation_prior = R_kf_gyro_;
+      ro.rotation_prior_weight = p_.pixel_sigma_px * p_.pixel_sigma_px / var_g;
+      const BundleAdjustmentResult b2 = refineMotionPointsLines(cam_, m.br.T_ref_cur, X_ref, X_obs, lo, ro);
       if (b2.ok)
         m.br = b2;
     }

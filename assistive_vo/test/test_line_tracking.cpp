@@ -1,4 +1,5 @@
 // Line segments matched across a synthetic rectified stereo pair and tracked by KLT.
+#include <algorithm>
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 #include "assistive_vo/line_tracking.h"
@@ -47,6 +48,76 @@ TEST(LineTracking, StereoMatchesHaveTheShift)
     EXPECT_NEAR(xl - xr, 12.0, 0.5);
   }
   EXPECT_GE(matched, 4);
+}
+
+/// Disparity of a right segment against the left one at the left one's mean row.
+double disparityAt(const LineSegment& l, const LineSegment& r)
+{
+  const double y = l.mean.y();
+  const double xl = l.p.x() + (y - l.p.y()) * (l.q.x() - l.p.x()) / (l.q.y() - l.p.y());
+  const double xr = r.p.x() + (y - r.p.y()) * (r.q.x() - r.p.x()) / (r.q.y() - r.p.y());
+  return xl - xr;
+}
+
+TEST(LineTracking, SweepFindsTheRightSegmentWithoutDetectingIt)
+{
+  const cv::Mat left = scene(0, 0), right = scene(-12.0, 0);  // 12 px disparity
+  const LineSegments L = LineDetector().detect(left);
+  ASSERT_GE(L.size(), 4u);
+  std::vector<bool> ok;
+  const LineSegments R = sweepStereoSegments(left, right, L, LineMatchParams(), ok);
+  ASSERT_EQ(ok.size(), L.size());
+  int matched = 0;
+  for (size_t i = 0; i < L.size(); ++i)
+  {
+    if (!ok[i])
+      continue;
+    ++matched;
+    EXPECT_NEAR(disparityAt(L[i], R[i]), 12.0, 0.3);
+    // on the left segment's rows
+    EXPECT_NEAR(R[i].p.y(), L[i].p.y(), 1e-9);
+    EXPECT_NEAR(R[i].q.y(), L[i].q.y(), 1e-9);
+  }
+  EXPECT_GE(matched, 4);
+  // a blank right image: nothing
+  const LineSegments none = sweepStereoSegments(left, cv::Mat(left.size(), CV_8U, cv::Scalar(210)), L,
+                                                LineMatchParams(), ok);
+  EXPECT_EQ(std::count(ok.begin(), ok.end(), true), 0);
+}
+
+TEST(LineTracking, SweepRefusesARepeatedPattern)
+{
+  // identical bars every 24 px: the disparities 12 and 36 fit the inner edges equally well
+  auto bars = [](double dx) {
+    cv::Mat img(240, 320, CV_8U, cv::Scalar(200));
+    for (int k = 0; k < 8; ++k)
+    {
+      const int S = 16;
+      const int x0 = static_cast<int>((70 + 24 * k + dx) * S);
+      cv::rectangle(img, cv::Point(x0, 40 * S), cv::Point(x0 + 10 * S, 200 * S), cv::Scalar(60), cv::FILLED,
+                    cv::LINE_AA, 4);
+    }
+    return img;
+  };
+  const cv::Mat left = bars(0), right = bars(-12.0);
+  const LineSegments L = LineDetector().detect(left);
+  ASSERT_GE(L.size(), 8u);
+  std::vector<bool> ok;
+  const LineSegments R = sweepStereoSegments(left, right, L, LineMatchParams(), ok);
+  int inner = 0, inner_matched = 0;
+  for (size_t i = 0; i < L.size(); ++i)
+  {
+    const double x = L[i].mean.x();
+    if (x > 100 && x < 220)  // edges with a neighbouring bar on both sides within the sweep
+    {
+      ++inner;
+      inner_matched += ok[i] ? 1 : 0;
+    }
+    if (ok[i])
+      EXPECT_NEAR(disparityAt(L[i], R[i]), 12.0, 0.3);  // never a wrong disparity
+  }
+  EXPECT_GE(inner, 4);
+  EXPECT_EQ(inner_matched, 0);
 }
 
 TEST(LineTracking, KltFollowsTheMotion)

@@ -18,6 +18,10 @@ struct LineMatchParams
   int klt_samples = 8;             ///< points along the segment tracked by KLT
   int klt_min_tracked = 5;         ///< of them, for the track to count
   double klt_max_residual = 0.7;   ///< px, distance of a tracked sample to the refitted line
+  int sweep_half_width = 4;        ///< sweepStereoSegments: px either side of the edge compared
+  int sweep_rows = 8;              ///< sweepStereoSegments: rows compared (half in each half of the segment)
+  double sweep_max_cost = 25.0;    ///< sweepStereoSegments: mean absolute difference (gray levels) of a match at most
+  double sweep_min_margin = 4.0;   ///< sweepStereoSegments: another disparity (3 px or more away) costs at least this more
 };
 
 /// For each left segment the index of its right match, -1 when none (rectified pair: a match
@@ -25,6 +29,13 @@ struct LineMatchParams
 /// disparity consistency, ambiguous candidates within 1 px of each other dropped).
 std::vector<int> matchStereoSegments(const LineSegments& left, const LineSegments& right, const LineMatchParams& p);
 
+/// The right-image segment of each left one without detecting lines in the right image (half the
+/// line detector's time): the disparity of each half of the segment by a sweep of the intensity
+/// difference across it (nearest pixel, `sweep_*`: unique by `sweep_min_margin`), then KLT along
+/// the segment from the left image into the right one from that shift (sub-pixel). `ok[i]` false
+/// when near-horizontal, ambiguous, or inconsistent (angle, disparity range and spread).
+LineSegments sweepStereoSegments(const cv::Mat& left, const cv::Mat& right, const LineSegments& segs,
+                                 const LineMatchParams& p, std::vector<bool>& ok);
 /// Tracks segments from `prev` to `next` (8-bit images): KLT on `klt_samples` points along each
 /// segment, a line refitted through the tracked ones; `ok[i]` false when lost.
 LineSegments trackSegments(const cv::Mat& prev, const cv::Mat& next, const LineSegments& segs, const LineMatchParams& p,

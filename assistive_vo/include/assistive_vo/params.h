@@ -65,6 +65,9 @@ namespace assistive_vo
   /* (line_tracking.h); inliers = point inliers + line inliers (README "Point+line in the loop"). */ \
   X(std::string, motion_solver, "motion_solver", "points", {}, {}, "", "`points` (P3P RANSAC) or `points_lines` (trifocal point+line RANSAC; `pointline` is the same); other values: `points`") \
   X(double, pointline_min_corner_ratio, "pointline_min_corner_ratio", 0.2, 0.0, 1.0, "", "`points_lines`: point tracks join the point+line RANSAC only when the smaller / larger eigenvalue of their 7x7 structure tensor is at least this (corners on a straight edge slide along it; 0 = all)") \
+  X(int, pointline_min_points, "pointline_min_points", 3, 0, 1000, "", "`points_lines`: fewer point inliers than this stay out of a line frame's refinement (with lines of one direction a point or two alone decide the motion along them, unchecked: a corner sliding down a door jamb)") \
+  X(double, pointline_prior_sigma_m, "pointline_prior_sigma", 0.02, 0.0, 1.0, "m", "`points_lines`: the constant-velocity prediction is a prior on a line frame's motion, this standard deviation on its translation (lines of one wall leave directions free: vertical ones the motion along them); 0 = none") \
+  X(double, pointline_prior_sigma_deg, "pointline_prior_sigma_rotation", 0.5, 0.0, 90.0, "deg", "`points_lines`, without a gyro: the prior's standard deviation on the rotation (with a gyro its rotation is the prior); 0 = none") \
   X(double, pointline_max_gyro_disagreement_deg, "pointline_max_gyro_disagreement", 0.5, 0.05, 90.0, "deg", "`points_lines`: a point+line motion whose vision rotation differs from the gyro's by more than this on the frame is rejected (the frame coasts on the IMU)") \
   /* --- two-frame sparse bundle adjustment (Levenberg-Marquardt, Schur complement) --- */ \
   X(int, ba_iterations, "ba_iterations", 8, 0, 100, "", "Levenberg-Marquardt iterations") \

@@ -41,6 +41,12 @@ struct PointLineRefineOptions
   bool use_rotation_prior = false;
   Eigen::Matrix3d rotation_prior = Eigen::Matrix3d::Identity();
   double rotation_prior_weight = 0.0;
+  /// Optional translation prior (a motion model's prediction): the translation of T_ref_cur ~
+  /// translation_prior, information translation_prior_weight (px^2 / m^2). Lines of one plane
+  /// leave directions free (vertical lines: the motion along them); the prior holds those.
+  bool use_translation_prior = false;
+  Eigen::Vector3d translation_prior = Eigen::Vector3d::Zero();
+  double translation_prior_weight = 0.0;
 };
 
 /// Refines T_ref_cur from `points_ref` (reference frame) seen at `obs_cur` (ur < 0: no right

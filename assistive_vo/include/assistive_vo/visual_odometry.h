@@ -185,6 +185,7 @@ private:
     Eigen::Isometry3d T_prev_cur = Eigen::Isometry3d::Identity();
     double dt_kf = 0.0;  ///< time since the keyframe
     bool with_lines = false;  ///< from the point+line RANSAC (refined on points and lines)
+    bool lines_only = false;  ///< refined on the lines (and the motion prior) alone: too few points to check
   };
 
   // ---- frame set-up (process() in order) ----
