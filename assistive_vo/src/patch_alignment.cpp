@@ -1,5 +1,6 @@
 #include "assistive_vo/patch_alignment.h"
 #include <cmath>
+#include <vector>
 #include <Eigen/Dense>
 
 namespace assistive_vo
@@ -29,11 +30,33 @@ std::shared_ptr<const KeyframePatch> KeyframePatch::extract(const cv::Mat& img, 
   const int n = 2 * half + 1;
   k->t_.resize(static_cast<size_t>(n * n));
   k->sd_.resize(k->t_.size());
+  // the patch with a one-pixel border, sampled once (the central differences below read it: one
+  // bilinear sample per pixel instead of five); where p + x + 1 rounds differently from
+  // p + (x + 1) in float (a patch across 64, 128, 256, 512 px) the samples are taken as before,
+  // so that the result stays the same to the bit
+  const int g = n + 2;
+  bool exact = true;
+  for (int x = -half; x <= half && exact; ++x)
+    exact = p.x + x + 1 == p.x + (x + 1) && p.x + x - 1 == p.x + (x - 1) && p.y + x + 1 == p.y + (x + 1) &&
+            p.y + x - 1 == p.y + (x - 1);
+  std::vector<float> grid(static_cast<size_t>(g * g));
+  for (int y = -half - 1, i = 0; y <= half + 1; ++y)
+    for (int x = -half - 1; x <= half + 1; ++x, ++i)
+      grid[static_cast<size_t>(i)] = bilinear(img, p.x + x, p.y + y);
+  const auto at = [&](int x, int y) { return grid[static_cast<size_t>((y + half + 1) * g + x + half + 1)]; };
+  const auto dx = [&](int x, int y) {
+    return exact ? at(x + 1, y) - at(x - 1, y)
+                 : bilinear(img, p.x + x + 1, p.y + y) - bilinear(img, p.x + x - 1, p.y + y);
+  };
+  const auto dy = [&](int x, int y) {
+    return exact ? at(x, y + 1) - at(x, y - 1)
+                 : bilinear(img, p.x + x, p.y + y + 1) - bilinear(img, p.x + x, p.y + y - 1);
+  };
   double mean = 0;
   for (int y = -half, i = 0; y <= half; ++y)
     for (int x = -half; x <= half; ++x, ++i)
     {
-      k->t_[i] = bilinear(img, p.x + x, p.y + y);
+      k->t_[i] = at(x, y);
       mean += k->t_[i];
     }
   mean /= static_cast<double>(k->t_.size());
@@ -42,8 +65,8 @@ std::shared_ptr<const KeyframePatch> KeyframePatch::extract(const cv::Mat& img, 
   for (int y = -half, i = 0; y <= half; ++y)
     for (int x = -half; x <= half; ++x, ++i)
     {
-      const float gx = 0.5f * (bilinear(img, p.x + x + 1, p.y + y) - bilinear(img, p.x + x - 1, p.y + y));
-      const float gy = 0.5f * (bilinear(img, p.x + x, p.y + y + 1) - bilinear(img, p.x + x, p.y + y - 1));
+      const float gx = 0.5f * dx(x, y);
+      const float gy = 0.5f * dy(x, y);
       // parameters: D11 D12 D21 D22 (affine part) d1 d2 (shift), warp x' = (I + D) x + d
       Eigen::Matrix<float, 6, 1> s;
       s << gx * x, gx * y, gy * x, gy * y, gx, gy;

@@ -40,28 +40,30 @@ float SparseStereo::matchOne(const cv::Mat& left, const cv::Mat& right, const cv
   if (var < 4.0)
     return -1.f;
 
-  // SAD over the row (costs per disparity kept for the uniqueness test and the parabola).
+  // SAD over the row (costs per disparity kept for the uniqueness test and the parabola), all
+  // disparities at once per window pixel: the innermost loop runs over the disparities and
+  // vectorises (the same integer sums as window by window, a fifth of the time).
   int costs[1024];
   const int nd = std::min(dmax - dmin + 1, 1024);
-  int best = std::numeric_limits<int>::max(), best_d = -1;
-  for (int k = 0; k < nd; ++k)
+  std::fill(costs, costs + nd, 0);
+  for (int y = 0; y < w; ++y)
   {
-    const int d = dmin + k;
-    int c = 0;
-    for (int y = 0; y < w; ++y)
+    const uint8_t* row = right.ptr<uint8_t>(v - h + y) + (u - h - dmin);
+    for (int x = 0; x < w; ++x)
     {
-      const uint8_t* row = right.ptr<uint8_t>(v - h + y) + (u - d - h);
-      const int* l = lp + y * w;
-      for (int x = 0; x < w; ++x)
-        c += std::abs(l[x] - row[x]);
-    }
-    costs[k] = c;
-    if (c < best)
-    {
-      best = c;
-      best_d = k;
+      const int l = lp[y * w + x];
+      const uint8_t* r = row + x;  // r[-k]: the right pixel at disparity dmin + k
+      for (int k = 0; k < nd; ++k)
+        costs[k] += std::abs(l - static_cast<int>(r[-k]));
     }
   }
+  int best = std::numeric_limits<int>::max(), best_d = -1;
+  for (int k = 0; k < nd; ++k)
+    if (costs[k] < best)
+    {
+      best = costs[k];
+      best_d = k;
+    }
   if (best_d < 0 || best > p_.stereo_max_mean_sad * n)
     return -1.f;
   int second = std::numeric_limits<int>::max();
