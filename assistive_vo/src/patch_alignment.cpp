@@ -71,10 +71,13 @@ std::shared_ptr<const KeyframePatch> KeyframePatch::extract(const cv::Mat& img, 
       Eigen::Matrix<float, 6, 1> s;
       s << gx * x, gx * y, gy * x, gy * y, gx, gy;
       k->sd_[i] = s;
-      H += s * s.transpose();
+      for (int a = 0; a < 6; ++a)  // the upper triangle (H is symmetric)
+        for (int b = a; b < 6; ++b)
+          H(a, b) += s(a) * s(b);
       k->t_[i] -= static_cast<float>(mean);
       norm2 += k->t_[i] * k->t_[i];
     }
+  H.triangularView<Eigen::StrictlyLower>() = H.transpose();
   // Flat or one-dimensional texture: the affine warp is not constrained.
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<float, 6, 6>> es(H);
   if (!(es.eigenvalues()(0) > min_eigen_ratio * es.eigenvalues()(5)) || norm2 < 1.0)

@@ -46,15 +46,21 @@ float SparseStereo::matchOne(const cv::Mat& left, const cv::Mat& right, const cv
   int costs[1024];
   const int nd = std::min(dmax - dmin + 1, 1024);
   std::fill(costs, costs + nd, 0);
+  // (the right row copied reversed into a buffer of its own: a uint8_t pointer may alias the
+  // costs, which kept the compiler from vectorising)
+  uint8_t rev[1024 + 32];
   for (int y = 0; y < w; ++y)
   {
     const uint8_t* row = right.ptr<uint8_t>(v - h + y) + (u - h - dmin);
+    // rev[j] = row[w - 1 - j]: the pixel at window column x and disparity dmin + k is rev[w - 1 - x + k]
+    for (int j = 0; j < nd + w - 1; ++j)
+      rev[j] = row[w - 1 - j];
     for (int x = 0; x < w; ++x)
     {
       const int l = lp[y * w + x];
-      const uint8_t* r = row + x;  // r[-k]: the right pixel at disparity dmin + k
+      const uint8_t* r = rev + (w - 1 - x);
       for (int k = 0; k < nd; ++k)
-        costs[k] += std::abs(l - static_cast<int>(r[-k]));
+        costs[k] += std::abs(l - static_cast<int>(r[k]));
     }
   }
   int best = std::numeric_limits<int>::max(), best_d = -1;
