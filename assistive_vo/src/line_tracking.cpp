@@ -69,7 +69,7 @@ namespace
 {
 /// KLT along each segment from `prev` to `next`; `shift_p` / `shift_q` (when not empty): the
 /// initial displacement of each segment's ends (interpolated along it), else none.
-LineSegments trackSegmentsFrom(const cv::Mat& prev, const cv::Mat& next, const LineSegments& segs,
+LineSegments trackSegmentsFrom(cv::InputArray prev, cv::InputArray next, const LineSegments& segs,
                                const std::vector<Eigen::Vector2d>& shift_p, const std::vector<Eigen::Vector2d>& shift_q,
                                const LineMatchParams& p, std::vector<bool>& ok)
 {
@@ -208,7 +208,7 @@ bool bestDisparity(const std::vector<double>& cost, int d0, double max_cost, dou
 }
 }  // namespace
 
-LineSegments trackSegments(const cv::Mat& prev, const cv::Mat& next, const LineSegments& segs, const LineMatchParams& p,
+LineSegments trackSegments(cv::InputArray prev, cv::InputArray next, const LineSegments& segs, const LineMatchParams& p,
                            std::vector<bool>& ok)
 {
   return trackSegmentsFrom(prev, next, segs, {}, {}, p, ok);

@@ -378,7 +378,7 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
       t.kf_left = t.cur;
       t.kf_right = t.cur_right;
     }
-    right.copyTo(prev_right_);
+    setPrevRight(right);
   }
   else
   {
@@ -578,6 +578,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
                                  const Eigen::Vector3d* dp_link)
 {
   imu_coasted_ = false;
+  ++frame_index_;
   const auto t_start = Clock::now();
   FrameStats st;
   st.fast_threshold = detector_.threshold();
@@ -1064,7 +1065,13 @@ void VisualOdometry::startLines(const cv::Mat& left, const cv::Mat& right)
     t.stereo = true;
     lines_.push_back(t);
   }
+  setPrevRight(right);
+}
+
+void VisualOdometry::setPrevRight(const cv::Mat& right)
+{
   right.copyTo(prev_right_);
+  prev_right_frame_ = frame_index_;
 }
 
 void VisualOdometry::trackLines(const cv::Mat& right, FrameStats& st)
@@ -1086,8 +1093,26 @@ void VisualOdometry::trackLines(const cv::Mat& right, FrameStats& st)
     }
     std::vector<bool> ok_l, ok_r;
     // level 0 of the KLT pyramids: the previous and the current (normalised) left image
-    const LineSegments next_l = trackSegments(prev_pyr_[0], cur_pyr_[0], prev_l, line_match_, ok_l);
-    const LineSegments next_r = trackSegments(prev_right_, right, prev_r, line_match_, ok_r);
+    // the KLT pyramids of the left images when built for a window at least the lines' (15 px):
+    // calcOpticalFlowPyrLK would build both again
+    const bool pyramids = p_.klt_window >= 15 && p_.klt_levels >= 3;
+    const LineSegments next_l = pyramids ? trackSegments(prev_pyr_, cur_pyr_, prev_l, line_match_, ok_l)
+                                         : trackSegments(prev_pyr_[0], cur_pyr_[0], prev_l, line_match_, ok_l);
+    // the right images' pyramids: this one's kept for the next frame (one build a frame)
+    std::vector<cv::Mat> right_pyr;
+    if (pyramids)
+    {
+      cv::buildOpticalFlowPyramid(right, right_pyr, cv::Size(15, 15), 3, true);
+      if (prev_right_pyr_frame_ != prev_right_frame_ || prev_right_pyr_.empty())
+        cv::buildOpticalFlowPyramid(prev_right_, prev_right_pyr_, cv::Size(15, 15), 3, true);
+    }
+    const LineSegments next_r = pyramids ? trackSegments(prev_right_pyr_, right_pyr, prev_r, line_match_, ok_r)
+                                         : trackSegments(prev_right_, right, prev_r, line_match_, ok_r);
+    if (pyramids)
+    {
+      prev_right_pyr_.swap(right_pyr);
+      prev_right_pyr_frame_ = frame_index_;
+    }
     std::vector<LineTrack> alive;
     for (size_t i = 0; i < lines_.size(); ++i)
       if (ok_l[i] && ok_r[i])
@@ -1103,7 +1128,7 @@ void VisualOdometry::trackLines(const cv::Mat& right, FrameStats& st)
   }
   else
     lines_.clear();
-  right.copyTo(prev_right_);
+  setPrevRight(right);
   st.ms_lines = msSince(t0);
 }
 

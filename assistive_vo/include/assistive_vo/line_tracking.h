@@ -36,8 +36,9 @@ std::vector<int> matchStereoSegments(const LineSegments& left, const LineSegment
 /// when near-horizontal, ambiguous, or inconsistent (angle, disparity range and spread).
 LineSegments sweepStereoSegments(const cv::Mat& left, const cv::Mat& right, const LineSegments& segs,
                                  const LineMatchParams& p, std::vector<bool>& ok);
-/// Tracks segments from `prev` to `next` (8-bit images): KLT on `klt_samples` points along each
+/// Tracks segments from `prev` to `next` (8-bit images, or their cv::buildOpticalFlowPyramid
+/// pyramids built with a window of 15 px or more and 3 levels: not built again): KLT on `klt_samples` points along each
 /// segment, a line refitted through the tracked ones; `ok[i]` false when lost.
-LineSegments trackSegments(const cv::Mat& prev, const cv::Mat& next, const LineSegments& segs, const LineMatchParams& p,
+LineSegments trackSegments(cv::InputArray prev, cv::InputArray next, const LineSegments& segs, const LineMatchParams& p,
                            std::vector<bool>& ok);
 }  // namespace assistive_vo

@@ -231,6 +231,8 @@ private:
   bool estimatePosePointLine(FrameStats& st, MotionEstimate& m);
   /// Stereo line segments of a new keyframe (left segments with a right match).
   void startLines(const cv::Mat& left, const cv::Mat& right);
+  /// prev_right_ = right (this frame's; a pyramid built of it this frame stays valid).
+  void setPrevRight(const cv::Mat& right);
   /// Line tracks: KLT along the segments from the previous left and right images.
   void trackLines(const cv::Mat& right, FrameStats& st);
   /// Two-frame bundle adjustment over the inliers, then again with the integrated gyro as a
@@ -278,6 +280,8 @@ private:
   PointLineRansac pl_ransac_;
   std::vector<LineTrack> lines_;
   cv::Mat prev_right_;  ///< the previous right image (line tracks)
+  std::vector<cv::Mat> prev_right_pyr_;  ///< its KLT pyramid when built (frame_index_ of both below)
+  unsigned long frame_index_ = 0, prev_right_frame_ = 0, prev_right_pyr_frame_ = ~0ul;
   int lines_started_ = 0;
 
   // ---- overlay ----
