@@ -46,6 +46,21 @@ void fit(Blob& b)
   b.thickness = c1 - c0;
 }
 
+/// True when the union of two blobs is surely thicker than `max_thickness`, from their moments
+/// alone (no copy, no fit): points spread across a direction with standard deviation sd span at
+/// least 2 sd, so 2 sqrt(smallest eigenvalue of the union's covariance) bounds the thickness
+/// from below (1 % margin for rounding: the fit decides the cases near the limit, as before).
+bool tooThickToMerge(const Blob& a, const Blob& b, double max_thickness)
+{
+  const double na = static_cast<double>(a.pts.size()), nb = static_cast<double>(b.pts.size()), n = na + nb;
+  const Eigen::Vector2d m = (na * a.mean + nb * b.mean) / n;
+  const Eigen::Matrix2d M = (na * (a.cov + a.mean * a.mean.transpose()) + nb * (b.cov + b.mean * b.mean.transpose())) / n;
+  const Eigen::Matrix2d C = M - m * m.transpose();
+  const double tr = C(0, 0) + C(1, 1), det = C(0, 0) * C(1, 1) - C(0, 1) * C(1, 0);
+  const double lmin = 0.5 * (tr - std::sqrt(std::max(0.0, tr * tr - 4 * det)));
+  return 2.0 * std::sqrt(std::max(0.0, lmin)) > 1.01 * max_thickness + 1e-6;
+}
+
 /// Gap along the line between two blobs (0 when they overlap).
 double gapAlong(const Blob& a, const Blob& b)
 {
@@ -161,7 +176,7 @@ LineSegments LineDetector::detect(const cv::Mat& gray) const
           for (size_t j = i + 1; j < blobs.size() && !merged; ++j)
           {
             if (std::abs(blobs[i].dir.dot(blobs[j].dir)) < cos_merge ||
-                gapAlong(blobs[i], blobs[j]) > p_.max_gap)
+                gapAlong(blobs[i], blobs[j]) > p_.max_gap || tooThickToMerge(blobs[i], blobs[j], p_.max_thickness))
               continue;
             Blob m;
             m.pts = blobs[i].pts;
