@@ -215,7 +215,8 @@ LineSegments trackSegments(cv::InputArray prev, cv::InputArray next, const LineS
 }
 
 LineSegments sweepStereoSegments(const cv::Mat& left, const cv::Mat& right, const LineSegments& segs,
-                                 const LineMatchParams& p, std::vector<bool>& ok)
+                                 const LineMatchParams& p, std::vector<bool>& ok, cv::InputArray left_pyr,
+                                 cv::InputArray right_pyr)
 {
   ok.assign(segs.size(), false);
   LineSegments none(segs.size());
@@ -262,7 +263,9 @@ LineSegments sweepStereoSegments(const cv::Mat& left, const cv::Mat& right, cons
   }
   // sub-pixel: KLT along the segment from the left image into the right one, from the sweep's shift
   std::vector<bool> tracked;
-  const LineSegments found = trackSegmentsFrom(left, right, cand, shift_p, shift_q, p, tracked);
+  const bool pyramids = !left_pyr.empty() && !right_pyr.empty();
+  const LineSegments found = pyramids ? trackSegmentsFrom(left_pyr, right_pyr, cand, shift_p, shift_q, p, tracked)
+                                      : trackSegmentsFrom(left, right, cand, shift_p, shift_q, p, tracked);
   LineSegments out(segs.size());
   for (size_t c = 0; c < cand.size(); ++c)
   {

@@ -1054,7 +1054,16 @@ void VisualOdometry::startLines(const cv::Mat& left, const cv::Mat& right)
   line_match_.min_disparity = p_.min_disparity_px;
   line_match_.max_disparity = maxDisparity();
   std::vector<bool> ok;
-  const LineSegments R = sweepStereoSegments(left, right, L, line_match_, ok);
+  // the KLT pyramids: the left one the points use, the right one this frame's line tracking built
+  // (else built here and kept for the next frame's)
+  const bool pyramids = p_.klt_window >= 15 && p_.klt_levels >= 3 && !cur_pyr_.empty() && !L.empty();
+  if (pyramids && prev_right_pyr_frame_ != frame_index_)
+  {
+    cv::buildOpticalFlowPyramid(right, prev_right_pyr_, cv::Size(15, 15), 3, true);
+    prev_right_pyr_frame_ = frame_index_;
+  }
+  const LineSegments R = pyramids ? sweepStereoSegments(left, right, L, line_match_, ok, cur_pyr_, prev_right_pyr_)
+                                  : sweepStereoSegments(left, right, L, line_match_, ok);
   for (size_t i = 0; i < L.size(); ++i)
   {
     if (!ok[i])

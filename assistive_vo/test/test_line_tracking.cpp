@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
 #include "assistive_vo/line_tracking.h"
 
 using namespace assistive_vo;
@@ -79,6 +80,20 @@ TEST(LineTracking, SweepFindsTheRightSegmentWithoutDetectingIt)
     EXPECT_NEAR(R[i].q.y(), L[i].q.y(), 1e-9);
   }
   EXPECT_GE(matched, 4);
+  // with the images' KLT pyramids given (as the VO does): the same segments
+  std::vector<cv::Mat> lp, rp;
+  cv::buildOpticalFlowPyramid(left, lp, cv::Size(21, 21), 3, true);
+  cv::buildOpticalFlowPyramid(right, rp, cv::Size(15, 15), 3, true);
+  std::vector<bool> ok_pyr;
+  const LineSegments Rp = sweepStereoSegments(left, right, L, LineMatchParams(), ok_pyr, lp, rp);
+  ASSERT_EQ(ok_pyr, ok);
+  for (size_t i = 0; i < L.size(); ++i)
+  {
+    if (!ok[i])
+      continue;
+    EXPECT_NEAR((Rp[i].p - R[i].p).norm(), 0.0, 1e-4);
+    EXPECT_NEAR((Rp[i].q - R[i].q).norm(), 0.0, 1e-4);
+  }
   // a blank right image: nothing
   const LineSegments none = sweepStereoSegments(left, cv::Mat(left.size(), CV_8U, cv::Scalar(210)), L,
                                                 LineMatchParams(), ok);

@@ -34,8 +34,10 @@ std::vector<int> matchStereoSegments(const LineSegments& left, const LineSegment
 /// difference across it (nearest pixel, `sweep_*`: unique by `sweep_min_margin`), then KLT along
 /// the segment from the left image into the right one from that shift (sub-pixel). `ok[i]` false
 /// when near-horizontal, ambiguous, or inconsistent (angle, disparity range and spread).
+/// `left_pyr` / `right_pyr`: the images' KLT pyramids when already built (as for trackSegments).
 LineSegments sweepStereoSegments(const cv::Mat& left, const cv::Mat& right, const LineSegments& segs,
-                                 const LineMatchParams& p, std::vector<bool>& ok);
+                                 const LineMatchParams& p, std::vector<bool>& ok,
+                                 cv::InputArray left_pyr = cv::noArray(), cv::InputArray right_pyr = cv::noArray());
 /// Tracks segments from `prev` to `next` (8-bit images, or their cv::buildOpticalFlowPyramid
 /// pyramids built with a window of 15 px or more and 3 levels: not built again): KLT on `klt_samples` points along each
 /// segment, a line refitted through the tracked ones; `ok[i]` false when lost.
