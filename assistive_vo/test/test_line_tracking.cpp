@@ -129,7 +129,9 @@ TEST(LineTracking, SweepRefusesARepeatedPattern)
       inner_matched += ok[i] ? 1 : 0;
     }
     if (ok[i])
+    {
       EXPECT_NEAR(disparityAt(L[i], R[i]), 12.0, 0.3);  // never a wrong disparity
+    }
   }
   EXPECT_GE(inner, 4);
   EXPECT_EQ(inner_matched, 0);
