@@ -368,7 +368,7 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
   tracks_started_ = static_cast<int>(tracks_.size());
   cells_started_ = occupiedCells();
   // Lines: the tracked ones carry on into the new keyframe while at least half of those started
-  // (and 8) are left: the line detector costs about 15 ms an image, the most of any stage.
+  // (and 8) are left: the line detector (3-8 ms an image) is the dearest step of a keyframe.
   const bool keep_lines = pointline_ && from_current_tracks &&
                           static_cast<int>(lines_.size()) >= std::max(8, lines_started_ / 2);
   if (keep_lines)
@@ -1101,7 +1101,6 @@ void VisualOdometry::trackLines(const cv::Mat& right, FrameStats& st)
       prev_r.push_back(t.cur_right);
     }
     std::vector<bool> ok_l, ok_r;
-    // level 0 of the KLT pyramids: the previous and the current (normalised) left image
     // the KLT pyramids of the left images when built for a window at least the lines' (15 px):
     // calcOpticalFlowPyrLK would build both again
     const bool pyramids = p_.klt_window >= 15 && p_.klt_levels >= 3;
@@ -1283,9 +1282,6 @@ void VisualOdometry::refinePose(const FrameContext& fc, FrameStats& st, MotionEs
     ro.iterations = std::max(1, p_.ba_iterations);
     ro.huber_px = p_.ba_huber_px;
     ro.pixel_sigma_px = p_.pixel_sigma_px;
-    ro.use_rotation_prior = gyro_prior;
-    ro.rotation_prior = R_kf_gyro_;
-    ro.rotation_prior_weight = p_.pixel_sigma_px * p_.pixel_sigma_px / var_g;
     // The constant-velocity prediction as a prior: the corridor's end wall leaves only its
     // vertical door jambs, which say nothing of the motion along them (without it 6-11 cm a frame
     // off in v there, README "Point+line in the loop").
