@@ -15,6 +15,13 @@ double xAt(const LineSegment& s, double y)
   const Eigen::Vector2d d = s.q - s.p;
   return s.p.x() + (y - s.p.y()) * d.x() / d.y();
 }
+
+/// The disparities of a stereo segment pair at two rows: in range and consistent along the line.
+bool consistentDisparities(double d0, double d1, const LineMatchParams& p)
+{
+  return std::min(d0, d1) >= p.min_disparity && std::max(d0, d1) <= p.max_disparity &&
+         std::abs(d0 - d1) <= p.max_disparity_spread;
+}
 }  // namespace
 
 std::vector<int> matchStereoSegments(const LineSegments& left, const LineSegments& right, const LineMatchParams& p)
@@ -43,11 +50,9 @@ std::vector<int> matchStereoSegments(const LineSegments& left, const LineSegment
       if (o1 - o0 < p.min_row_overlap * std::min(l1 - l0, r1 - r0))
         continue;
       const double d0 = xAt(L, o0) - xAt(R, o0), d1 = xAt(L, o1) - xAt(R, o1);
-      if (std::min(d0, d1) < p.min_disparity || std::max(d0, d1) > p.max_disparity)
+      if (!consistentDisparities(d0, d1, p))
         continue;
       const double spread = std::abs(d0 - d1);
-      if (spread > p.max_disparity_spread)
-        continue;
       // prefer the nearest consistent candidate in x (smallest disparity difference is not a
       // criterion: several parallel edges can be consistent; keep the one with the least spread)
       if (spread < best_spread)
@@ -97,7 +102,7 @@ LineSegments trackSegmentsFrom(cv::InputArray prev, cv::InputArray next, const L
   // Points on a straight edge have a nearly rank-1 structure tensor (the aperture problem): OpenCV's
   // default minimum eigenvalue (1e-4) drops most of them; they still move right across the edge,
   // which is all a line needs (sliding along it does not change the line).
-  cv::calcOpticalFlowPyrLK(prev, next, a, b, st, err, cv::Size(15, 15), guess ? 1 : 3,
+  cv::calcOpticalFlowPyrLK(prev, next, a, b, st, err, cv::Size(kLineKltWindow, kLineKltWindow), guess ? 1 : kLineKltLevels,
                            cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01),
                            guess ? cv::OPTFLOW_USE_INITIAL_FLOW : 0, 1e-7);
   for (size_t i = 0; i < segs.size(); ++i)
@@ -208,6 +213,11 @@ bool bestDisparity(const std::vector<double>& cost, int d0, double max_cost, dou
 }
 }  // namespace
 
+void buildLinePyramid(const cv::Mat& image, std::vector<cv::Mat>& pyramid)
+{
+  cv::buildOpticalFlowPyramid(image, pyramid, cv::Size(kLineKltWindow, kLineKltWindow), kLineKltLevels, true);
+}
+
 LineSegments trackSegments(cv::InputArray prev, cv::InputArray next, const LineSegments& segs, const LineMatchParams& p,
                            std::vector<bool>& ok)
 {
@@ -267,6 +277,7 @@ LineSegments sweepStereoSegments(const cv::Mat& left, const cv::Mat& right, cons
   const LineSegments found = pyramids ? trackSegmentsFrom(left_pyr, right_pyr, cand, shift_p, shift_q, p, tracked)
                                       : trackSegmentsFrom(left, right, cand, shift_p, shift_q, p, tracked);
   LineSegments out(segs.size());
+  const double cos_max = std::cos(p.max_angle_deg * M_PI / 180.0);
   for (size_t c = 0; c < cand.size(); ++c)
   {
     if (!tracked[c])
@@ -275,17 +286,17 @@ LineSegments sweepStereoSegments(const cv::Mat& left, const cv::Mat& right, cons
     const LineSegment& R = found[c];
     // a rectified pair: the same rows, the disparity the sweep found (within 1 px), positive
     const Eigen::Vector2d dr = (R.q - R.p).normalized(), dl = (L.q - L.p).normalized();
-    if (std::abs(dr.dot(dl)) < std::cos(p.max_angle_deg * M_PI / 180.0))
+    if (std::abs(dr.dot(dl)) < cos_max)
       continue;
-    const double e0 = L.p.x() - xAt(R, L.p.y()), e1 = L.q.x() - xAt(R, L.q.y());
-    if (std::abs(e0 + shift_p[c].x()) > 1.0 || std::abs(e1 + shift_q[c].x()) > 1.0 ||
-        std::min(e0, e1) < p.min_disparity || std::max(e0, e1) > p.max_disparity ||
-        std::abs(e0 - e1) > p.max_disparity_spread)
+    // the right segment's line on the left ends' rows
+    const double xr0 = xAt(R, L.p.y()), xr1 = xAt(R, L.q.y());
+    const double e0 = L.p.x() - xr0, e1 = L.q.x() - xr1;
+    if (std::abs(e0 + shift_p[c].x()) > 1.0 || std::abs(e1 + shift_q[c].x()) > 1.0 || !consistentDisparities(e0, e1, p))
       continue;
     LineSegment s = R;
     // the right segment spans the left one's rows (its ends on the left ends' rows)
-    s.p = Eigen::Vector2d(xAt(R, L.p.y()), L.p.y());
-    s.q = Eigen::Vector2d(xAt(R, L.q.y()), L.q.y());
+    s.p = Eigen::Vector2d(xr0, L.p.y());
+    s.q = Eigen::Vector2d(xr1, L.q.y());
     out[idx[c]] = s;
     ok[idx[c]] = true;
   }

@@ -1056,10 +1056,10 @@ void VisualOdometry::startLines(const cv::Mat& left, const cv::Mat& right)
   std::vector<bool> ok;
   // the KLT pyramids: the left one the points use, the right one this frame's line tracking built
   // (else built here and kept for the next frame's)
-  const bool pyramids = p_.klt_window >= 15 && p_.klt_levels >= 3 && !cur_pyr_.empty() && !L.empty();
+  const bool pyramids = pointPyramidsServeLines() && !cur_pyr_.empty() && !L.empty();
   if (pyramids && prev_right_pyr_frame_ != frame_index_)
   {
-    cv::buildOpticalFlowPyramid(right, prev_right_pyr_, cv::Size(15, 15), 3, true);
+    buildLinePyramid(right, prev_right_pyr_);
     prev_right_pyr_frame_ = frame_index_;
   }
   const LineSegments R = pyramids ? sweepStereoSegments(left, right, L, line_match_, ok, cur_pyr_, prev_right_pyr_)
@@ -1075,6 +1075,11 @@ void VisualOdometry::startLines(const cv::Mat& left, const cv::Mat& right)
     lines_.push_back(t);
   }
   setPrevRight(right);
+}
+
+bool VisualOdometry::pointPyramidsServeLines() const
+{
+  return p_.klt_window >= kLineKltWindow && p_.klt_levels >= kLineKltLevels;
 }
 
 void VisualOdometry::setPrevRight(const cv::Mat& right)
@@ -1101,18 +1106,18 @@ void VisualOdometry::trackLines(const cv::Mat& right, FrameStats& st)
       prev_r.push_back(t.cur_right);
     }
     std::vector<bool> ok_l, ok_r;
-    // the KLT pyramids of the left images when built for a window at least the lines' (15 px):
+    // the KLT pyramids of the left images when built for a window at least the lines':
     // calcOpticalFlowPyrLK would build both again
-    const bool pyramids = p_.klt_window >= 15 && p_.klt_levels >= 3;
+    const bool pyramids = pointPyramidsServeLines();
     const LineSegments next_l = pyramids ? trackSegments(prev_pyr_, cur_pyr_, prev_l, line_match_, ok_l)
                                          : trackSegments(prev_pyr_[0], cur_pyr_[0], prev_l, line_match_, ok_l);
     // the right images' pyramids: this one's kept for the next frame (one build a frame)
     std::vector<cv::Mat> right_pyr;
     if (pyramids)
     {
-      cv::buildOpticalFlowPyramid(right, right_pyr, cv::Size(15, 15), 3, true);
+      buildLinePyramid(right, right_pyr);
       if (prev_right_pyr_frame_ != prev_right_frame_ || prev_right_pyr_.empty())
-        cv::buildOpticalFlowPyramid(prev_right_, prev_right_pyr_, cv::Size(15, 15), 3, true);
+        buildLinePyramid(prev_right_, prev_right_pyr_);
     }
     const LineSegments next_r = pyramids ? trackSegments(prev_right_pyr_, right_pyr, prev_r, line_match_, ok_r)
                                          : trackSegments(prev_right_, right, prev_r, line_match_, ok_r);

@@ -83,7 +83,7 @@ TEST(LineTracking, SweepFindsTheRightSegmentWithoutDetectingIt)
   // with the images' KLT pyramids given (as the VO does): the same segments
   std::vector<cv::Mat> lp, rp;
   cv::buildOpticalFlowPyramid(left, lp, cv::Size(21, 21), 3, true);
-  cv::buildOpticalFlowPyramid(right, rp, cv::Size(15, 15), 3, true);
+  buildLinePyramid(right, rp);
   std::vector<bool> ok_pyr;
   const LineSegments Rp = sweepStereoSegments(left, right, L, LineMatchParams(), ok_pyr, lp, rp);
   ASSERT_EQ(ok_pyr, ok);

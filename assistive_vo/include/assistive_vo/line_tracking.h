@@ -24,6 +24,13 @@ struct LineMatchParams
   double sweep_min_margin = 4.0;   ///< sweepStereoSegments: another disparity (3 px or more away) costs at least this more
 };
 
+/// The line tracks' KLT window (px) and pyramid levels (trackSegments). A pyramid built with a
+/// window at least this and at least these levels serves them (buildLinePyramid, or the points').
+constexpr int kLineKltWindow = 15;
+constexpr int kLineKltLevels = 3;
+/// The KLT pyramid of an 8-bit image for trackSegments / sweepStereoSegments.
+void buildLinePyramid(const cv::Mat& image, std::vector<cv::Mat>& pyramid);
+
 /// For each left segment the index of its right match, -1 when none (rectified pair: a match
 /// covers the same rows, has the same orientation and a positive disparity; the best by
 /// disparity consistency, ambiguous candidates within 1 px of each other dropped).

@@ -231,6 +231,8 @@ private:
   bool estimatePosePointLine(FrameStats& st, MotionEstimate& m);
   /// Stereo line segments of a new keyframe (left segments with a right match).
   void startLines(const cv::Mat& left, const cv::Mat& right);
+  /// The points' KLT pyramids (klt_window, klt_levels) serve the line tracks too.
+  bool pointPyramidsServeLines() const;
   /// prev_right_ = right (this frame's; a pyramid built of it this frame stays valid).
   void setPrevRight(const cv::Mat& right);
   /// Line tracks: KLT along the segments from the previous left and right images.
