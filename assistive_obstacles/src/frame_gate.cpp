@@ -38,6 +38,7 @@ bool FrameGate::clearBefore(double stamp)
     if (have_stamp_)
       ++clears_;
     fresh_since_clear_ = 0;
+    epoch_start_ = stamp;
   }
   have_stamp_ = true;
   last_stamp_ = stamp;

@@ -157,6 +157,21 @@ private:
     }
     for (const auto& m : ready)
     {
+      bool in_epoch;
+      {
+        std::lock_guard<std::mutex> lock(gate_mutex_);
+        in_epoch = gate_.inEpoch(m->header.stamp.toSec());
+      }
+      if (!in_epoch)
+      {
+        // Queued through a black-out or a gap: tf would interpolate its pose across the spell
+        // the VO could not trust, and its echo would hold cells of the new map for good.
+        NODELET_WARN_THROTTLE(5.0, "obstacles: ranger reading stamped %.3f is from before the map's last clear: "
+                              "not used", m->header.stamp.toSec());
+        std::lock_guard<std::mutex> lock(stats_mutex_);
+        ++sonar_stale_;
+        continue;
+      }
       RangeReading r;
       r.range = m->range;
       r.min_range = m->min_range;
@@ -407,6 +422,7 @@ private:
     if (!sonar_rejection_.empty())
       st.add("last ranger rejection", sonar_rejection_);
     st.add("ranger readings without pose", sonar_tf_failures_);
+    st.add("ranger readings from before a map clear", sonar_stale_);
     st.add("ranger", !params_.sonar_enabled ? std::string("disabled")
                      : sonar_used_ == 0 ? std::string("no reading yet (glass is not covered)")
                      : (ros::WallTime::now() - last_sonar_).toSec() > 1.0 ? std::string("silent for over 1 s (glass is not covered)")
@@ -435,7 +451,7 @@ private:
   ros::Subscriber sub_odom_, sub_sonar_;
   std::mutex sonar_mutex_;
   std::deque<sensor_msgs::Range::ConstPtr> sonar_queue_;  // under sonar_mutex_
-  long sonar_used_ = 0, sonar_rejected_ = 0, sonar_tf_failures_ = 0;  // under stats_mutex_
+  long sonar_used_ = 0, sonar_rejected_ = 0, sonar_tf_failures_ = 0, sonar_stale_ = 0;  // under stats_mutex_
   std::string sonar_rejection_;
   ros::WallTime last_sonar_;
   size_t last_sonar_held_ = 0;

@@ -122,3 +122,28 @@ TEST(FrameGate, UntrustedPoseClearsTheMapAtTheNextFrame)
   EXPECT_EQ(feed(g, t, 1, 5000), V::FRESH);
   EXPECT_EQ(g.clears(), 1);
 }
+
+// Evidence stamped before the map's last clear (a ranger reading queued through a black-out whose
+// pose tf would interpolate across the untrusted spell) does not belong to the new map.
+TEST(FrameGate, EvidenceFromBeforeAClearIsOutOfTheEpoch)
+{
+  FrameGate g(params());
+  EXPECT_FALSE(g.inEpoch(10.0));  // no frame yet: no map to put anything in
+  double t = 10.0;
+  feed(g, t, 10, 5000);  // frames 10.0 .. 10.6
+  EXPECT_TRUE(g.inEpoch(10.0));
+  EXPECT_TRUE(g.inEpoch(10.3));
+  EXPECT_FALSE(g.inEpoch(9.99));
+  // The VO loses its pose for 4 s (black frames), then trusts it again: the next frame clears.
+  g.poseUntrusted();
+  EXPECT_TRUE(g.clearBefore(14.6));
+  EXPECT_FALSE(g.inEpoch(12.0)) << "a reading stamped during the black-out";
+  EXPECT_FALSE(g.inEpoch(14.59));
+  EXPECT_TRUE(g.inEpoch(14.6));
+  EXPECT_TRUE(g.inEpoch(14.9));
+  EXPECT_FALSE(g.inEpoch(15.2)) << "beyond the newest frame by more than max_frame_gap_s";
+  // A bag loop: time goes back; readings of the first pass (later stamps) are out too.
+  EXPECT_TRUE(g.clearBefore(10.0));
+  EXPECT_TRUE(g.inEpoch(10.2));
+  EXPECT_FALSE(g.inEpoch(14.7));
+}

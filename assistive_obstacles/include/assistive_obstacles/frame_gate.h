@@ -37,6 +37,16 @@ public:
   /// Call after the frame's points are known; says whether the map takes it and may be published.
   Verdict verdict(std::size_t points);
 
+  /// Whether evidence stamped `stamp` (s) belongs to the map since its last clear: stamped at or
+  /// after the frame that started it, and not beyond the newest frame by more than
+  /// max_frame_gap_s. Evidence from before a clear (a ranger reading queued through a black-out,
+  /// placed with a pose tf interpolates across the spell the VO could not trust, or from before a
+  /// bag loop) would build the new map on the old, lost pose chain.
+  bool inEpoch(double stamp) const
+  {
+    return have_stamp_ && stamp >= epoch_start_ && stamp <= last_stamp_ + p_.max_frame_gap_s;
+  }
+
   /// Why the last frame was not FRESH (empty when it was).
   const std::string& reason() const { return reason_; }
   long clears() const { return clears_; }
@@ -47,6 +57,7 @@ private:
   bool have_stamp_ = false;
   bool pose_lost_ = false;
   double last_stamp_ = 0.0;
+  double epoch_start_ = 0.0;  ///< stamp of the frame that started the map (the last clear)
   int fresh_since_clear_ = 0;
   std::string reason_;
   long clears_ = 0, no_depth_ = 0;
