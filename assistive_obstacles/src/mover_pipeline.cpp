@@ -1,6 +1,8 @@
 #include <assistive_obstacles/mover_pipeline.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 
 namespace assistive_obstacles
 {
@@ -29,7 +31,60 @@ MoverPipelineParams moverPipelineParams(const ObstaclesParams& p, const StereoMo
   m.segmentation.cell_size = p.cell_size;
   m.min_speed = p.mover_min_speed;
   m.max_gap_s = p.max_frame_gap_s;
+  m.confirm_sigmas = p.mover_confirm_sigmas;
+  m.flow_sigma = p.mover_flow_sigma;
   return m;
+}
+
+MotionFit fitMotion(const std::deque<TrackDetection>& detections, double sigma_floor)
+{
+  MotionFit f;
+  f.n = static_cast<int>(detections.size());
+  if (f.n < 2) return f;
+  f.span = detections.back().t - detections.front().t;
+  double tm = 0.0;
+  Eigen::Vector2d zm = Eigen::Vector2d::Zero();
+  for (const TrackDetection& d : detections)
+  {
+    tm += d.t;
+    zm += d.z;
+  }
+  tm /= f.n;
+  zm /= f.n;
+  double stt = 0.0;
+  Eigen::Vector2d stz = Eigen::Vector2d::Zero();
+  for (const TrackDetection& d : detections)
+  {
+    stt += (d.t - tm) * (d.t - tm);
+    stz += (d.t - tm) * (d.z - zm);
+  }
+  if (!(stt > 0.0)) return f;
+  f.velocity = stz / stt;
+  double ss = 0.0;
+  for (const TrackDetection& d : detections) ss += (d.z - zm - f.velocity * (d.t - tm)).squaredNorm();
+  f.scatter = f.n > 2 ? std::sqrt(ss / (2.0 * (f.n - 2))) : 0.0;
+  f.sigma_v = std::max(f.scatter, sigma_floor) / std::sqrt(stt);
+  return f;
+}
+
+bool seenMoving(const std::deque<TrackDetection>& detections, const MoverPipelineParams& p)
+{
+  if (!(p.confirm_sigmas > 0.0)) return true;  // the test switched off
+  const int n = static_cast<int>(detections.size());
+  if (n < 3) return false;
+  // The points' own motion against the ego-motion.
+  Eigen::Vector2d vf = Eigen::Vector2d::Zero();
+  for (const TrackDetection& d : detections) vf += d.v_flow;
+  vf /= n;
+  double ss = 0.0;
+  for (const TrackDetection& d : detections) ss += (d.v_flow - vf).squaredNorm();
+  const double scatter = std::sqrt(ss / (2.0 * (n - 1)));  // per axis
+  const double sf = std::max(scatter, p.flow_sigma) / std::sqrt(static_cast<double>(n));
+  const double speed = vf.norm();
+  if (!(speed >= p.min_speed && speed >= p.confirm_sigmas * sf)) return false;
+  // The centres go the same way.
+  const MotionFit c = fitMotion(detections, p.tracker.meas_sigma);
+  return (c.velocity - vf).norm() <= 0.5 * speed + p.confirm_sigmas * c.sigma_v;
 }
 
 MoverPipeline::MoverPipeline(const MoverPipelineParams& p) { setParams(p); }
@@ -49,6 +104,8 @@ void MoverPipeline::reset()
   footprints_.clear();
   shape_.clear();
   origin_.clear();
+  history_.clear();
+  seen_moving_.clear();
   poses_.clear();
   has_prev_ = false;
 }
@@ -61,12 +118,19 @@ bool MoverPipeline::stationary(const MoverTrack& tr) const
          (tr.last_z - it->second).norm() < params_.min_speed * age;
 }
 
+bool MoverPipeline::reported(const MoverTrack& tr) const
+{
+  if (!tr.confirmed || stationary(tr)) return false;
+  const auto it = seen_moving_.find(tr.id);
+  return it != seen_moving_.end() && it->second;
+}
+
 std::vector<ReportedMover> MoverPipeline::confirmed() const
 {
   std::vector<ReportedMover> out;
   for (const MoverTrack& t : tracker_.tracks())
   {
-    if (!t.confirmed || stationary(t)) continue;
+    if (!reported(t)) continue;
     ReportedMover r;
     r.track = t;
     const auto it = shape_.find(t.id);
@@ -98,9 +162,11 @@ const std::vector<MoverFootprint>& MoverPipeline::process(double t, const cv::Ma
   const int back = flow_.pairedBack();
   const bool paired = has_prev_ && !flow.empty() && back >= 1 && back <= static_cast<int>(poses_.size());
   std::vector<Eigen::Vector2d> z;
+  double paired_t = t;  // the frame the flow paired with
   if (paired)
   {
     const std::pair<double, Eigen::Isometry3d>& then = poses_[poses_.size() - static_cast<size_t>(back)];
+    paired_t = then.first;
     const Eigen::Isometry3d T_cur_prev = T_world_cam.inverse() * then.second;
     // A residual faster than anyone walks is a mismatch (repeated texture, a corner on a
     // silhouette), not a mover: such points are dropped.
@@ -131,6 +197,11 @@ const std::vector<MoverFootprint>& MoverPipeline::process(double t, const cv::Ma
       {
         shape_[ids[j]] = {dets[j].radius, dets[j].max_z - dets[j].min_z};
         origin_.emplace(ids[j], z[j]);  // kept from the first detection on
+        std::deque<TrackDetection>& h = history_[ids[j]];
+        h.push_back({t, z[j], dets[j].displacement / std::max(1e-3, t - paired_t)});
+        while (!h.empty() && h.front().t < t - params_.history_s) h.pop_front();
+        bool& moving = seen_moving_[ids[j]];
+        moving = moving || seenMoving(h, params_);  // once seen moving, until it ends or turns stationary
         const MoverTrack* tr = tracker_.find(ids[j]);
         if (tr && stationary(*tr)) continue;  // a static surface: the map votes there
       }
@@ -148,6 +219,10 @@ const std::vector<MoverFootprint>& MoverPipeline::process(double t, const cv::Ma
       it = tracker_.find(it->first) ? std::next(it) : shape_.erase(it);
     for (auto it = origin_.begin(); it != origin_.end();)
       it = tracker_.find(it->first) ? std::next(it) : origin_.erase(it);
+    for (auto it = history_.begin(); it != history_.end();)
+      it = tracker_.find(it->first) ? std::next(it) : history_.erase(it);
+    for (auto it = seen_moving_.begin(); it != seen_moving_.end();)
+      it = tracker_.find(it->first) ? std::next(it) : seen_moving_.erase(it);
   }
   ms_tracking_ = msSince(t0);
   poses_.emplace_back(t, T_world_cam);

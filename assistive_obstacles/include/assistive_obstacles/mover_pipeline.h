@@ -14,6 +14,21 @@
 // `min_speed` times its age. Such a track is a static surface whose flow fails the same way frame
 // after frame (repeated texture, a streak of stereo errors: the shipped course has one), not a
 // person (people walk 0.6-1.6 m/s); it is not reported either, and the map votes there again.
+//
+// Reported only when seen moving (issue 31): a confirmed track is reported while two witnesses of
+// its recent detections (the last `history_s`) agree that it moves:
+// - its points' own motion: each detection's mean scene-flow residual against the ego-motion over
+//   the frames it spans (MoverDetection::displacement / dt), averaged over the detections, at least
+//   `min_speed` and `confirm_sigmas` of its standard error (their scatter over sqrt(n), at least
+//   `flow_sigma` / sqrt(n));
+// - its position: the velocity fitted to the detections' centres by least squares within
+//   half the flow velocity plus `confirm_sigmas` of its standard error (the centres' scatter about
+//   the fit, at least the tracker's meas_sigma, over sqrt(sum (t - mean t)^2)).
+// Without it, a static surface whose flow fails frame after frame (the course's thin column: the
+// corners along its silhouettes take depth from the wrong side, their residuals point back and
+// forth along the ray) became a mover at its third hit, with a velocity the tracker's two-point
+// start made of 0.1 m of centroid jitter over one frame (1-2 m/s), and the crossing watch answered
+// it with STOP. A person's points all move the same way from the first frame on.
 #include <deque>
 #include <map>
 #include <vector>
@@ -40,7 +55,32 @@ struct MoverPipelineParams
   double min_speed = 0.3;  ///< m/s, net speed since birth below which an old enough track is stationary
   double speed_age = 0.5;  ///< s, age from which that is judged
   double max_gap_s = 0.5;  ///< a longer gap between frames (or time going back) restarts the flow and the tracks
+  double confirm_sigmas = 3.0;  ///< standard errors of the motion evidence (see above); 0 reports every confirmed track
+  double flow_sigma = 0.3;      ///< m/s, floor of one detection's flow velocity scatter
+  double history_s = 1.5;       ///< s, the detections the evidence is taken from
 };
+
+/// One detection of a track, as the "seen moving" test uses it.
+struct TrackDetection
+{
+  double t = 0.0;                                      ///< s
+  Eigen::Vector2d z = Eigen::Vector2d::Zero();         ///< m, world x, y of its centre
+  Eigen::Vector2d v_flow = Eigen::Vector2d::Zero();    ///< m/s, its points' mean residual motion
+};
+
+/// Least-squares constant-velocity fit to a track's detections (t in s, world x, y in m).
+struct MotionFit
+{
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  ///< m/s
+  double span = 0.0;         ///< s, last minus first detection time
+  double scatter = 0.0;      ///< m, RMS per axis of the detections about the fitted line (n - 2 degrees of freedom)
+  double sigma_v = 0.0;      ///< m/s, the velocity's standard error per axis with a position sigma of max(scatter, floor)
+  int n = 0;
+};
+MotionFit fitMotion(const std::deque<TrackDetection>& detections, double sigma_floor);
+
+/// The "seen moving" test (see above) on a track's recent detections.
+bool seenMoving(const std::deque<TrackDetection>& detections, const MoverPipelineParams& p);
 
 /// The pipeline's parameters from the stage's table (params.h) and the rig.
 MoverPipelineParams moverPipelineParams(const ObstaclesParams& p, const StereoModel& model);
@@ -87,8 +127,13 @@ private:
   std::vector<SceneFlowPoint> kept_;
   std::map<int, std::pair<double, double>> shape_;  ///< track id -> (radius, height) of its last detection
   std::map<int, Eigen::Vector2d> origin_;           ///< track id -> its first detection
+  std::map<int, std::deque<TrackDetection>> history_;  ///< track id -> its recent detections
+  std::map<int, bool> seen_moving_;                 ///< track id -> the test at its last detection
   /// Whether a live track is stationary (see above).
   bool stationary(const MoverTrack& tr) const;
+  /// Whether a confirmed track is reported: seen moving, and not stationary.
+  bool reported(const MoverTrack& tr) const;
+
   std::deque<std::pair<double, Eigen::Isometry3d>> poses_;  ///< (t, pose) of the frames the flow may pair with, oldest first
   double prev_t_ = 0.0;
   bool has_prev_ = false;
