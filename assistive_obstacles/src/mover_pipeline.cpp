@@ -82,6 +82,11 @@ bool seenMoving(const std::deque<TrackDetection>& detections, const MoverPipelin
   const double sf = std::max(scatter, p.flow_sigma) / std::sqrt(static_cast<double>(n));
   const double speed = vf.norm();
   if (!(speed >= p.min_speed && speed >= p.confirm_sigmas * sf)) return false;
+  // Each of the last three detections moves that way on its own: a walker's points do in every
+  // frame; a flickering depth's only now and then, and its mean can pass the test by chance.
+  const Eigen::Vector2d dir = vf / speed;
+  for (int k = std::max(0, n - 3); k < n; ++k)
+    if (detections[static_cast<size_t>(k)].v_flow.dot(dir) < 0.5 * p.min_speed) return false;
   // The centres go the same way.
   const MotionFit c = fitMotion(detections, p.tracker.meas_sigma);
   return (c.velocity - vf).norm() <= 0.5 * speed + p.confirm_sigmas * c.sigma_v;
@@ -201,7 +206,7 @@ const std::vector<MoverFootprint>& MoverPipeline::process(double t, const cv::Ma
         h.push_back({t, z[j], dets[j].displacement / std::max(1e-3, t - paired_t)});
         while (!h.empty() && h.front().t < t - params_.history_s) h.pop_front();
         bool& moving = seen_moving_[ids[j]];
-        moving = moving || seenMoving(h, params_);  // once seen moving, until it ends or turns stationary
+        moving = moving || seenMoving(h, params_);
         const MoverTrack* tr = tracker_.find(ids[j]);
         if (tr && stationary(*tr)) continue;  // a static surface: the map votes there
       }

@@ -27,6 +27,7 @@
 #include <array>
 #include <map>
 #include <set>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -240,7 +241,7 @@ int main(int argc, char** argv)
 {
   const char* usage =
       "usage: obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N] [--gt-depth] [--set PARAM=VALUE ...]\n"
-      "                           [--no-sonar] [--world auto|none|W.yaml] [--partial-depth M]\n"
+      "                           [--no-sonar] [--world auto|none|W.yaml] [--partial-depth M] [--mover-poses FILE]\n"
       "       obstacles_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect]\n"
       "                           [--keep DIR] [--png DIR] [other options as above]\n"
       "  Runs the obstacle stage on a stereo bag with ground truth; last stdout line: JSON.\n"
@@ -254,6 +255,10 @@ int main(int argc, char** argv)
   bool no_sonar = false;           // --no-sonar: leave the bag's /sonar/front out
   std::string world_arg = "auto";  // --world: partial-cell and glass scoring from the world's solids
   double partial_depth = 0.05;     // --partial-depth: m an obstacle may reach into a cell and leave it unscored
+  // --mover-poses: the scene flow's ego-motion from these poses (vo_benchmark --dump rows: the VO's
+  // left optical frame per image, as the chain's tf gives it) instead of the truth; the map stays on
+  // the truth, so that its figures stay comparable
+  std::string mover_poses_path;
   eval::CommandLine cl("obstacles_benchmark", usage);
   eval::SetOptions set_options;
   set_options.addTo(cl);
@@ -265,6 +270,7 @@ int main(int argc, char** argv)
       .text("--png", &png)
       .text("--world", &world_arg)
       .number("--partial-depth", &partial_depth)
+      .text("--mover-poses", &mover_poses_path)
       .sets(&overrides);
   if (const int rc = cl.parse(argc, argv); rc >= 0)
     return rc;
@@ -336,6 +342,27 @@ int main(int argc, char** argv)
   // People who move (issue 22): the stage's mover pipeline on the bag's left image and the truth
   // poses (the ego-motion the stage would take from tf), scored when the bag has people.
   std::unique_ptr<MoverPipeline> movers;
+  std::map<long, Eigen::Isometry3d> mover_poses;  // stamp in microseconds -> pose (--mover-poses)
+  if (!mover_poses_path.empty())
+  {
+    std::ifstream in(mover_poses_path);
+    std::string line;
+    while (std::getline(in, line))
+    {
+      std::istringstream row(line);
+      double t, v[17];  // stamp, then state keyframe inliers, gt x y z qx qy qz qw, estimate x y z qx qy qz qw
+      if (!(row >> t)) continue;
+      bool ok = true;
+      for (double& x : v) ok = ok && static_cast<bool>(row >> x);
+      if (!ok) continue;
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.translation() = Eigen::Vector3d(v[10], v[11], v[12]);
+      T.linear() = Eigen::Quaterniond(v[16], v[13], v[14], v[15]).normalized().toRotationMatrix();
+      mover_poses[std::lround(t * 1e6)] = T;
+    }
+    std::cerr << "obstacles_benchmark: " << mover_poses.size() << " mover poses from " << mover_poses_path << "\n";
+    if (mover_poses.empty()) return cl.usageError("no pose rows in " + mover_poses_path);
+  }
   const auto people = readPeople(bag);
   const bool has_people = !people.empty();
   if (has_people) std::cerr << "obstacles_benchmark: " << people.size() << " people truth messages\n";
@@ -453,7 +480,16 @@ int main(int argc, char** argv)
     if (params.movers)
     {
       if (!movers) movers = std::make_unique<MoverPipeline>(moverPipelineParams(params, model));
-      map.setMovers(movers->process(f.stamp, f.left, disp, model, f.gt_pose));
+      const Eigen::Isometry3d* ego = &f.gt_pose;
+      if (!mover_poses.empty())
+      {
+        const auto it = mover_poses.find(std::lround(f.stamp * 1e6));
+        ego = it != mover_poses.end() ? &it->second : nullptr;  // no pose (the VO lost it): no flow, as in the chain
+      }
+      if (ego)
+        map.setMovers(movers->process(f.stamp, f.left, disp, model, *ego));
+      else
+        map.setMovers({});
       ms_track = movers->msTracking();
       if (std::getenv("OBST_MOVERS"))
       {

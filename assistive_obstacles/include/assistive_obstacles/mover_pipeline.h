@@ -20,7 +20,8 @@
 // - its points' own motion: each detection's mean scene-flow residual against the ego-motion over
 //   the frames it spans (MoverDetection::displacement / dt), averaged over the detections, at least
 //   `min_speed` and `confirm_sigmas` of its standard error (their scatter over sqrt(n), at least
-//   `flow_sigma` / sqrt(n));
+//   `flow_sigma` / sqrt(n)), and each of the last three detections alone moving that way at
+//   half `min_speed` or more;
 // - its position: the velocity fitted to the detections' centres by least squares within
 //   half the flow velocity plus `confirm_sigmas` of its standard error (the centres' scatter about
 //   the fit, at least the tracker's meas_sigma, over sqrt(sum (t - mean t)^2)).
