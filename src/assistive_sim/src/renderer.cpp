@@ -644,64 +644,52 @@ inline v4f max4(v4f a, v4f b) { return a < b ? b : a; }  // std::max(a, b), lane
 inline v4f toFloat(v4i a) { return __builtin_convertvector(a, v4f); }
 inline v4i truncToInt(v4f a) { return __builtin_convertvector(a, v4i); }
 
+/// Lanes built from four scalars in registers (writing a vector's elements one by one through
+/// memory and reading the vector back stalls on store forwarding).
+template <class F>
+inline v4f lanesF(F f)
+{
+  return v4f{f(0), f(1), f(2), f(3)};
+}
+template <class F>
+inline v4i lanesI(F f)
+{
+  return v4i{f(0), f(1), f(2), f(3)};
+}
+
 /// The surface data of the prims four lanes hit, lane by lane.
 struct PrimLanes
 {
   v4f o[3], tu[3], tv[3], n[3], shade;
   const TextureTile* tex[4];
 
-  void set(int j, const Prim& p, const TextureTile* t)
+  PrimLanes(const Prim* const p[4], const TextureTile* const t[4])
   {
     for (int k = 0; k < 3; ++k)
     {
-      o[k][j] = p.o[k];
-      tu[k][j] = p.tu[k];
-      tv[k][j] = p.tv[k];
-      n[k][j] = p.n[k];
+      o[k] = lanesF([&](int j) { return p[j]->o[k]; });
+      tu[k] = lanesF([&](int j) { return p[j]->tu[k]; });
+      tv[k] = lanesF([&](int j) { return p[j]->tv[k]; });
+      n[k] = lanesF([&](int j) { return p[j]->n[k]; });
     }
-    shade[j] = p.shade;
-    tex[j] = t;
-  }
-  void copy(int j, int from)
-  {
-    for (int k = 0; k < 3; ++k)
-    {
-      o[k][j] = o[k][from];
-      tu[k][j] = tu[k][from];
-      tv[k][j] = tv[k][from];
-      n[k][j] = n[k][from];
-    }
-    shade[j] = shade[from];
-    tex[j] = tex[from];
+    shade = lanesF([&](int j) { return p[j]->shade; });
+    for (int j = 0; j < 4; ++j) tex[j] = t[j];
   }
 };
 
 /// TextureTile::sample for four lanes, each on its own texture (the same operations).
 inline v4f sampleLanes(const TextureTile* const tex[4], v4f u, v4f v, v4f footprint)
 {
-  v4f inv;
-  v4i nlev;
-  for (int j = 0; j < 4; ++j)
-  {
-    inv[j] = tex[j]->invTexel();
-    nlev[j] = tex[j]->levelCount();
-  }
+  const v4f inv = lanesF([&](int j) { return tex[j]->invTexel(); });
+  const v4i nlev = lanesI([&](int j) { return tex[j]->levelCount(); });
   const v4f q = footprint * inv * 1.189207f;
   v4i l = ((reinterpret_cast<v4i>(q) >> 23) & 0xFF) - 127;
   l = q < 1.0f ? v4i{} : l;
   l = l < nlev ? l : nlev - 1;
-  v4f linv;
-  v4i mask;
-  const uint8_t* data[4];
-  int shift[4];
-  for (int j = 0; j < 4; ++j)
-  {
-    const TextureTile::Level& L = tex[j]->mipLevel(l[j]);
-    linv[j] = L.inv_texel;
-    mask[j] = L.size - 1;
-    data[j] = L.data;
-    shift[j] = L.shift;
-  }
+  const TextureTile::Level* L[4];
+  for (int j = 0; j < 4; ++j) L[j] = &tex[j]->mipLevel(l[j]);
+  const v4f linv = lanesF([&](int j) { return L[j]->inv_texel; });
+  const v4i mask = lanesI([&](int j) { return L[j]->size - 1; });
   const v4f x = u * linv - 0.5f, y = v * linv - 0.5f;
   v4i ix = truncToInt(x), iy = truncToInt(y);
   ix += x < toFloat(ix);  // floor: -1 where truncation went up
@@ -709,16 +697,17 @@ inline v4f sampleLanes(const TextureTile* const tex[4], v4f u, v4f v, v4f footpr
   const v4f ax = x - toFloat(ix), ay = y - toFloat(iy);
   const v4i x0 = ix & mask, y0 = iy & mask;
   const v4i x1 = (x0 + 1) & mask, y1 = (y0 + 1) & mask;
-  v4i a00, a01, a10, a11;
+  const uint8_t* r0[4];
+  const uint8_t* r1[4];
   for (int j = 0; j < 4; ++j)
   {
-    const uint8_t* r0 = data[j] + (y0[j] << shift[j]);
-    const uint8_t* r1 = data[j] + (y1[j] << shift[j]);
-    a00[j] = r0[x0[j]];
-    a01[j] = r0[x1[j]];
-    a10[j] = r1[x0[j]];
-    a11[j] = r1[x1[j]];
+    r0[j] = L[j]->data + (y0[j] << L[j]->shift);
+    r1[j] = L[j]->data + (y1[j] << L[j]->shift);
   }
+  const v4i a00 = lanesI([&](int j) { return r0[j][x0[j]]; });
+  const v4i a01 = lanesI([&](int j) { return r0[j][x1[j]]; });
+  const v4i a10 = lanesI([&](int j) { return r1[j][x0[j]]; });
+  const v4i a11 = lanesI([&](int j) { return r1[j][x1[j]]; });
   const v4f top = toFloat(a00) + ax * toFloat(a01 - a00);
   const v4f bot = toFloat(a10) + ax * toFloat(a11 - a10);
   return (top + ay * (bot - top)) * (1.0f / 255.0f);
@@ -857,7 +846,8 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
           v4f rad4 = d.sky * (0.85f + 0.15f * (dz / dn));  // sky (skyRadiance), replaced where a ray hit
           v4i glass = {};
           // The prims the lanes hit, their textures as the lanes' own (non-hit lanes borrow one).
-          PrimLanes pl;
+          const Prim* pp[4];
+          const TextureTile* pt[4];
           int textured = 0, first = -1;
           for (int j = 0; j < 4; ++j)
           {
@@ -871,14 +861,16 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
               glass[j] = -1;
               continue;
             }
-            pl.set(j, p, &d.textures[p.mat]);
+            pp[j] = &p;
+            pt[j] = &d.textures[p.mat];
             textured |= 1 << j;
             if (first < 0) first = j;
           }
           if (textured)
           {
             for (int j = 0; j < 4; ++j)
-              if (!(textured >> j & 1)) pl.copy(j, first);
+              if (!(textured >> j & 1)) pp[j] = pp[first], pt[j] = pt[first];
+            const PrimLanes pl(pp, pt);
             const Eigen::Vector3f& org = row_org[rolling ? static_cast<size_t>(v) : 0];
             const v4f cosi = max4(abs4(dx * pl.n[0] + dy * pl.n[1] + dz * pl.n[2]) / dn, v4f{} + 0.05f);
             const v4f hx = org.x() + t * dx, hy = org.y() + t * dy, hz = org.z() + t * dz;
