@@ -665,6 +665,20 @@ struct PrimLanes
 
   PrimLanes(const Prim* const p[4], const TextureTile* const t[4])
   {
+    for (int j = 0; j < 4; ++j) tex[j] = t[j];
+    if (p[0] == p[1] && p[0] == p[2] && p[0] == p[3])
+    {
+      // The usual case: one surface under all four lanes.
+      for (int k = 0; k < 3; ++k)
+      {
+        o[k] = v4f{} + p[0]->o[k];
+        tu[k] = v4f{} + p[0]->tu[k];
+        tv[k] = v4f{} + p[0]->tv[k];
+        n[k] = v4f{} + p[0]->n[k];
+      }
+      shade = v4f{} + p[0]->shade;
+      return;
+    }
     for (int k = 0; k < 3; ++k)
     {
       o[k] = lanesF([&](int j) { return p[j]->o[k]; });
@@ -673,23 +687,25 @@ struct PrimLanes
       n[k] = lanesF([&](int j) { return p[j]->n[k]; });
     }
     shade = lanesF([&](int j) { return p[j]->shade; });
-    for (int j = 0; j < 4; ++j) tex[j] = t[j];
   }
 };
 
 /// TextureTile::sample for four lanes, each on its own texture (the same operations).
 inline v4f sampleLanes(const TextureTile* const tex[4], v4f u, v4f v, v4f footprint)
 {
-  const v4f inv = lanesF([&](int j) { return tex[j]->invTexel(); });
-  const v4i nlev = lanesI([&](int j) { return tex[j]->levelCount(); });
+  // Mostly one texture and one level under all four lanes: their data broadcast, not gathered.
+  const bool one_tex = tex[0] == tex[1] && tex[0] == tex[2] && tex[0] == tex[3];
+  const v4f inv = one_tex ? v4f{} + tex[0]->invTexel() : lanesF([&](int j) { return tex[j]->invTexel(); });
+  const v4i nlev = one_tex ? v4i{} + tex[0]->levelCount() : lanesI([&](int j) { return tex[j]->levelCount(); });
   const v4f q = footprint * inv * 1.189207f;
   v4i l = ((reinterpret_cast<v4i>(q) >> 23) & 0xFF) - 127;
   l = q < 1.0f ? v4i{} : l;
   l = l < nlev ? l : nlev - 1;
   const TextureTile::Level* L[4];
   for (int j = 0; j < 4; ++j) L[j] = &tex[j]->mipLevel(l[j]);
-  const v4f linv = lanesF([&](int j) { return L[j]->inv_texel; });
-  const v4i mask = lanesI([&](int j) { return L[j]->size - 1; });
+  const bool one_level = L[0] == L[1] && L[0] == L[2] && L[0] == L[3];
+  const v4f linv = one_level ? v4f{} + L[0]->inv_texel : lanesF([&](int j) { return L[j]->inv_texel; });
+  const v4i mask = one_level ? v4i{} + (L[0]->size - 1) : lanesI([&](int j) { return L[j]->size - 1; });
   const v4f x = u * linv - 0.5f, y = v * linv - 0.5f;
   v4i ix = truncToInt(x), iy = truncToInt(y);
   ix += x < toFloat(ix);  // floor: -1 where truncation went up
