@@ -729,15 +729,6 @@ inline v4f sampleLanes(const TextureTile* const tex[4], v4f u, v4f v, v4f footpr
   return (top + ay * (bot - top)) * (1.0f / 255.0f);
 }
 
-/// Gray levels of n pixels: radiance * scale + noise (none: nz null), rounded, clamped to 0..255.
-void quantiseRun(const float* __restrict rr, const float* __restrict nz, float scale, uint8_t* __restrict out, int n)
-{
-  if (nz)
-    for (int k = 0; k < n; ++k) out[k] = static_cast<uint8_t>(std::clamp(rr[k] * scale + nz[k] + 0.5f, 0.f, 255.f));
-  else
-    for (int k = 0; k < n; ++k) out[k] = static_cast<uint8_t>(std::clamp(rr[k] * scale + 0.f + 0.5f, 0.f, 255.f));
-}
-
 /// Impl::shadeHit for four lanes.
 inline v4f shadeHits(const PrimLanes& pl, v4f hx, v4f hy, v4f hz, v4f footprint)
 {
@@ -962,14 +953,10 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
       uint8_t* row = img.ptr<uint8_t>(v);
       const float* rr = rad + static_cast<size_t>(v) * W;
       const uint32_t base = off + static_cast<uint32_t>(v) * W;
-      // Pixel u takes noise (base + u) & NOISE_MASK: contiguous runs up to the table's end (loops
-      // the compiler vectorises), not an index wrapped per pixel.
-      for (int u = 0; u < W;)
+      for (int u = 0; u < W; ++u)
       {
-        const uint32_t start = (base + static_cast<uint32_t>(u)) & NOISE_MASK;
-        const int n = static_cast<int>(std::min<uint32_t>(static_cast<uint32_t>(W - u), NOISE_MASK + 1 - start));
-        quantiseRun(rr + u, noisy ? nz + start : nullptr, scale, row + u, n);
-        u += n;
+        float val = rr[u] * scale + (noisy ? nz[(base + u) & NOISE_MASK] : 0.f) + 0.5f;
+        row[u] = static_cast<uint8_t>(std::clamp(val, 0.f, 255.f));
       }
     }
   }
