@@ -630,7 +630,6 @@ inline v4i load4i(const int* p)
 }
 inline void store4(float* p, v4f a) { std::memcpy(p, &a, sizeof a); }
 inline void store4(int* p, v4i a) { std::memcpy(p, &a, sizeof a); }
-inline void store4u(float* p, v4f a) { std::memcpy(p, &a, sizeof a); }
 inline v4f sqrt4(v4f a)
 {
 #if defined(__SSE2__)
@@ -900,8 +899,8 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
           uint8_t* grow = cam == 0 ? out.glass_left.ptr<uint8_t>(v) + tx : nullptr;
           if (tx + TW <= W)
           {
-            store4u(rad + idx, rad4);
-            store4u(drow, t);
+            store4(rad + idx, rad4);
+            store4(drow, t);
             if (grow)
               for (int j = 0; j < 4; ++j) grow[j] = glass[j] ? 255 : 0;
           }
