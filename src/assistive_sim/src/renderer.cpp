@@ -4,10 +4,14 @@
 #include <cmath>
 #include <limits>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <stdexcept>
 
 #include <embree3/rtcore.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <opencv2/imgproc.hpp>
 
 namespace assistive_sim
@@ -606,7 +610,133 @@ double StereoRenderer::castRay(const Eigen::Vector3d& origin, const Eigen::Vecto
 namespace
 {
 constexpr int TW = 4, TH = 4;  // 16-ray packet tile
+
+// Four lanes of a packet's tile row (GCC vector extensions: SSE2 on x86-64, element-wise IEEE
+// operations exactly as the scalar ones; no FMA is formed without -mfma).
+typedef float v4f __attribute__((vector_size(16)));
+typedef int32_t v4i __attribute__((vector_size(16)));
+
+inline v4f load4f(const float* p)
+{
+  v4f a;
+  std::memcpy(&a, p, sizeof a);
+  return a;
 }
+inline v4i load4i(const int* p)
+{
+  v4i a;
+  std::memcpy(&a, p, sizeof a);
+  return a;
+}
+inline void store4(float* p, v4f a) { std::memcpy(p, &a, sizeof a); }
+inline void store4(int* p, v4i a) { std::memcpy(p, &a, sizeof a); }
+inline v4f sqrt4(v4f a)
+{
+#if defined(__SSE2__)
+  return reinterpret_cast<v4f>(_mm_sqrt_ps(reinterpret_cast<__m128>(a)));
+#else
+  return v4f{std::sqrt(a[0]), std::sqrt(a[1]), std::sqrt(a[2]), std::sqrt(a[3])};
+#endif
+}
+inline v4f abs4(v4f a) { return reinterpret_cast<v4f>(reinterpret_cast<v4i>(a) & 0x7fffffff); }
+inline v4f max4(v4f a, v4f b) { return a < b ? b : a; }  // std::max(a, b), lane by lane
+inline v4f toFloat(v4i a) { return __builtin_convertvector(a, v4f); }
+inline v4i truncToInt(v4f a) { return __builtin_convertvector(a, v4i); }
+
+/// Lanes built from four scalars in registers (writing a vector's elements one by one through
+/// memory and reading the vector back stalls on store forwarding).
+template <class F>
+inline v4f lanesF(F f)
+{
+  return v4f{f(0), f(1), f(2), f(3)};
+}
+template <class F>
+inline v4i lanesI(F f)
+{
+  return v4i{f(0), f(1), f(2), f(3)};
+}
+
+/// The surface data of the prims four lanes hit, lane by lane.
+struct PrimLanes
+{
+  v4f o[3], tu[3], tv[3], n[3], shade;
+  const TextureTile* tex[4];
+
+  PrimLanes(const Prim* const p[4], const TextureTile* const t[4])
+  {
+    for (int j = 0; j < 4; ++j) tex[j] = t[j];
+    if (p[0] == p[1] && p[0] == p[2] && p[0] == p[3])
+    {
+      // The usual case: one surface under all four lanes.
+      for (int k = 0; k < 3; ++k)
+      {
+        o[k] = v4f{} + p[0]->o[k];
+        tu[k] = v4f{} + p[0]->tu[k];
+        tv[k] = v4f{} + p[0]->tv[k];
+        n[k] = v4f{} + p[0]->n[k];
+      }
+      shade = v4f{} + p[0]->shade;
+      return;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      o[k] = lanesF([&](int j) { return p[j]->o[k]; });
+      tu[k] = lanesF([&](int j) { return p[j]->tu[k]; });
+      tv[k] = lanesF([&](int j) { return p[j]->tv[k]; });
+      n[k] = lanesF([&](int j) { return p[j]->n[k]; });
+    }
+    shade = lanesF([&](int j) { return p[j]->shade; });
+  }
+};
+
+/// TextureTile::sample for four lanes, each on its own texture (the same operations).
+inline v4f sampleLanes(const TextureTile* const tex[4], v4f u, v4f v, v4f footprint)
+{
+  // Mostly one texture and one level under all four lanes: their data broadcast, not gathered.
+  const bool one_tex = tex[0] == tex[1] && tex[0] == tex[2] && tex[0] == tex[3];
+  const v4f inv = one_tex ? v4f{} + tex[0]->invTexel() : lanesF([&](int j) { return tex[j]->invTexel(); });
+  const v4i nlev = one_tex ? v4i{} + tex[0]->levelCount() : lanesI([&](int j) { return tex[j]->levelCount(); });
+  const v4f q = footprint * inv * 1.189207f;
+  v4i l = ((reinterpret_cast<v4i>(q) >> 23) & 0xFF) - 127;
+  l = q < 1.0f ? v4i{} : l;
+  l = l < nlev ? l : nlev - 1;
+  const TextureTile::Level* L[4];
+  for (int j = 0; j < 4; ++j) L[j] = &tex[j]->mipLevel(l[j]);
+  const bool one_level = L[0] == L[1] && L[0] == L[2] && L[0] == L[3];
+  const v4f linv = one_level ? v4f{} + L[0]->inv_texel : lanesF([&](int j) { return L[j]->inv_texel; });
+  const v4i mask = one_level ? v4i{} + (L[0]->size - 1) : lanesI([&](int j) { return L[j]->size - 1; });
+  const v4f x = u * linv - 0.5f, y = v * linv - 0.5f;
+  v4i ix = truncToInt(x), iy = truncToInt(y);
+  ix += x < toFloat(ix);  // floor: -1 where truncation went up
+  iy += y < toFloat(iy);
+  const v4f ax = x - toFloat(ix), ay = y - toFloat(iy);
+  const v4i x0 = ix & mask, y0 = iy & mask;
+  const v4i x1 = (x0 + 1) & mask, y1 = (y0 + 1) & mask;
+  const uint8_t* r0[4];
+  const uint8_t* r1[4];
+  for (int j = 0; j < 4; ++j)
+  {
+    r0[j] = L[j]->data + (y0[j] << L[j]->shift);
+    r1[j] = L[j]->data + (y1[j] << L[j]->shift);
+  }
+  const v4i a00 = lanesI([&](int j) { return r0[j][x0[j]]; });
+  const v4i a01 = lanesI([&](int j) { return r0[j][x1[j]]; });
+  const v4i a10 = lanesI([&](int j) { return r1[j][x0[j]]; });
+  const v4i a11 = lanesI([&](int j) { return r1[j][x1[j]]; });
+  const v4f top = toFloat(a00) + ax * toFloat(a01 - a00);
+  const v4f bot = toFloat(a10) + ax * toFloat(a11 - a10);
+  return (top + ay * (bot - top)) * (1.0f / 255.0f);
+}
+
+/// Impl::shadeHit for four lanes.
+inline v4f shadeHits(const PrimLanes& pl, v4f hx, v4f hy, v4f hz, v4f footprint)
+{
+  const v4f dx = hx - pl.o[0], dy = hy - pl.o[1], dz = hz - pl.o[2];
+  const v4f u = dx * pl.tu[0] + dy * pl.tu[1] + dz * pl.tu[2];
+  const v4f v = dx * pl.tv[0] + dy * pl.tv[1] + dz * pl.tv[2];
+  return pl.shade * sampleLanes(pl.tex, u, v, footprint);
+}
+}  // namespace
 
 void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_t frame_index, RenderOutput& out,
                             const Eigen::Vector3d& omega, const Eigen::Vector3d& velocity)
@@ -674,80 +804,113 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
     float* rad = d.radiance.data();
     d.pending.clear();
 
+    // Each 4x4 tile is one 16-ray packet; its rays are set up and shaded one tile row (4 lanes, one
+    // image row) at a time in 4-wide vectors. Every lane does the scalar code's operations in the
+    // same order (no FMA, no reassociation), so the images are bit-identical to shading one pixel
+    // at a time; only the prim and texel reads are per lane.
     alignas(64) RTCRayHit16 rh;
     alignas(64) int valid[16];
-    alignas(64) float ray_x[16], ray_y[16];
+    alignas(64) v4f ray_x[TH], ray_y[TH];
+    const v4i lane = {0, 1, 2, 3};
     for (int ty = 0; ty < H; ty += TH)
       for (int tx = 0; tx < W; tx += TW)
       {
-        for (int i = 0; i < 16; ++i)
+        const v4f xs0 = (__builtin_convertvector(tx + lane, v4f) - cx) * ifx;
+        const v4i col_ok = tx + lane < W;
+        for (int r = 0; r < TH; ++r)
         {
-          const int u = tx + (i & 3), v = ty + (i >> 2);
-          valid[i] = (u < W && v < H) ? -1 : 0;
-          float x = (u - cx) * ifx, y = (v - cy) * ify;
+          const int v = ty + r;
+          v4f x = xs0, y = v4f{} + (v - cy) * ify;
           if (distorted)
           {
             // Residual distortion: the pixel sees the ray scaled by 1 + k1 r^2 + k2 r^4.
-            const float r2 = x * x + y * y, s = 1.f + r2 * (k1 + k2 * r2);
+            const v4f r2 = x * x + y * y, s = 1.f + r2 * (k1 + k2 * r2);
             x *= s;
             y *= s;
           }
-          ray_x[i] = x;
-          ray_y[i] = y;
+          ray_x[r] = x;
+          ray_y[r] = y;
           const size_t row = rolling ? static_cast<size_t>(std::min(v, H - 1)) : 0;
           const Eigen::Matrix3f& R = row_R[row];
           const Eigen::Vector3f& org = row_org[row];
-          rh.ray.org_x[i] = org.x();
-          rh.ray.org_y[i] = org.y();
-          rh.ray.org_z[i] = org.z();
-          rh.ray.dir_x[i] = R(0, 0) * x + R(0, 1) * y + R(0, 2);
-          rh.ray.dir_y[i] = R(1, 0) * x + R(1, 1) * y + R(1, 2);
-          rh.ray.dir_z[i] = R(2, 0) * x + R(2, 1) * y + R(2, 2);
-          rh.ray.tnear[i] = 0.f;
-          rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
-          rh.ray.mask[i] = 0xFFFFFFFF;
-          rh.ray.flags[i] = 0;
-          rh.ray.time[i] = 0.f;
-          rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+          const int o = 4 * r;
+          store4(valid + o, v < H ? col_ok : v4i{});
+          store4(rh.ray.org_x + o, v4f{} + org.x());
+          store4(rh.ray.org_y + o, v4f{} + org.y());
+          store4(rh.ray.org_z + o, v4f{} + org.z());
+          store4(rh.ray.dir_x + o, R(0, 0) * x + R(0, 1) * y + R(0, 2));
+          store4(rh.ray.dir_y + o, R(1, 0) * x + R(1, 1) * y + R(1, 2));
+          store4(rh.ray.dir_z + o, R(2, 0) * x + R(2, 1) * y + R(2, 2));
+          store4(rh.ray.tnear + o, v4f{});
+          store4(rh.ray.tfar + o, v4f{} + std::numeric_limits<float>::infinity());
+          store4(reinterpret_cast<int*>(rh.ray.mask + o), v4i{} - 1);
+          store4(reinterpret_cast<int*>(rh.ray.flags + o), v4i{});
+          store4(rh.ray.time + o, v4f{});
+          store4(reinterpret_cast<int*>(rh.hit.geomID + o), v4i{} + static_cast<int>(RTC_INVALID_GEOMETRY_ID));
         }
         d.intersect16(valid, &ctx, &rh);
-        for (int i = 0; i < 16; ++i)
+        for (int r = 0; r < TH && ty + r < H; ++r)
         {
-          if (!valid[i]) continue;
-          const int u = tx + (i & 3), v = ty + (i >> 2);
-          const size_t idx = static_cast<size_t>(v) * W + u;
-          const float dx = rh.ray.dir_x[i], dy = rh.ray.dir_y[i], dz = rh.ray.dir_z[i];
-          const float x = ray_x[i], y = ray_y[i];
-          const float dn = std::sqrt(1.f + x * x + y * y);
-          const Eigen::Vector3f& org = row_org[rolling ? static_cast<size_t>(v) : 0];
-          uint8_t glass = 0;
-          float r, t;
-          if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID)
+          const int v = ty + r, o = 4 * r;
+          const v4f dx = load4f(rh.ray.dir_x + o), dy = load4f(rh.ray.dir_y + o), dz = load4f(rh.ray.dir_z + o);
+          const v4f x = ray_x[r], y = ray_y[r];
+          const v4f dn = sqrt4(1.f + x * x + y * y);
+          const v4i geom = load4i(reinterpret_cast<const int*>(rh.hit.geomID + o));
+          const v4i hit = geom != static_cast<int>(RTC_INVALID_GEOMETRY_ID);
+          const v4f t = hit ? load4f(rh.ray.tfar + o) : v4f{};
+          v4f rad4 = d.sky * (0.85f + 0.15f * (dz / dn));  // sky (skyRadiance), replaced where a ray hit
+          v4i glass = {};
+          // The prims the lanes hit, their textures as the lanes' own (non-hit lanes borrow one).
+          const Prim* pp[4];
+          const TextureTile* pt[4];
+          int textured = 0, first = -1;
+          for (int j = 0; j < 4; ++j)
           {
-            r = d.skyRadiance(dz / dn);
-            t = 0.f;
-          }
-          else
-          {
-            const Prim& p = d.prim(rh.hit.geomID[i], rh.hit.primID[i]);
-            t = rh.ray.tfar[i];
+            if (!hit[j] || tx + j >= W) continue;
+            const Prim& p = d.prim(static_cast<unsigned>(geom[j]), rh.hit.primID[o + j]);
             if (p.mat < 0)
             {
               // Through glass: traced afterwards in packets (transmitted + reflected rays).
-              d.pending.push_back({static_cast<uint32_t>(idx), t, dx, dy, dz, rh.hit.primID[i]});
-              r = 0.f;
-              glass = 255;
+              d.pending.push_back({static_cast<uint32_t>(static_cast<size_t>(v) * W + tx + j), t[j], dx[j], dy[j],
+                                   dz[j], rh.hit.primID[o + j]});
+              glass[j] = -1;
+              continue;
             }
-            else
-            {
-              const float cosi = std::max(std::abs(dx * p.n[0] + dy * p.n[1] + dz * p.n[2]) / dn, 0.05f);
-              r = d.shadeHit(p, org.x() + t * dx, org.y() + t * dy, org.z() + t * dz,
-                             t * dn * inv_f / std::sqrt(cosi));
-            }
+            pp[j] = &p;
+            pt[j] = &d.textures[p.mat];
+            textured |= 1 << j;
+            if (first < 0) first = j;
           }
-          rad[idx] = r;
-          depth.at<float>(v, u) = t;
-          if (cam == 0) out.glass_left.at<uint8_t>(v, u) = glass;
+          if (textured)
+          {
+            for (int j = 0; j < 4; ++j)
+              if (!(textured >> j & 1)) pp[j] = pp[first], pt[j] = pt[first];
+            const PrimLanes pl(pp, pt);
+            const Eigen::Vector3f& org = row_org[rolling ? static_cast<size_t>(v) : 0];
+            const v4f cosi = max4(abs4(dx * pl.n[0] + dy * pl.n[1] + dz * pl.n[2]) / dn, v4f{} + 0.05f);
+            const v4f hx = org.x() + t * dx, hy = org.y() + t * dy, hz = org.z() + t * dz;
+            const v4f shaded = shadeHits(pl, hx, hy, hz, t * dn * inv_f / sqrt4(cosi));
+            const v4i tex_lane = ((v4i{} + textured) >> lane & 1) != 0;
+            rad4 = tex_lane ? shaded : rad4;
+          }
+          rad4 = glass ? v4f{} : rad4;
+          const size_t idx = static_cast<size_t>(v) * W + tx;
+          float* drow = depth.ptr<float>(v) + tx;
+          uint8_t* grow = cam == 0 ? out.glass_left.ptr<uint8_t>(v) + tx : nullptr;
+          if (tx + TW <= W)
+          {
+            store4(rad + idx, rad4);
+            store4(drow, t);
+            if (grow)
+              for (int j = 0; j < 4; ++j) grow[j] = glass[j] ? 255 : 0;
+          }
+          else
+            for (int j = 0; tx + j < W; ++j)
+            {
+              rad[idx + j] = rad4[j];
+              drow[j] = t[j];
+              if (grow) grow[j] = glass[j] ? 255 : 0;
+            }
         }
       }
 

@@ -206,6 +206,7 @@ void TextureTile::buildLevels()
     levels_.push_back(L);
   }
   inv_texel_ = static_cast<float>(1.0 / texel_);
+  nlevels_ = static_cast<int>(levels_.size());
 }
 
 }  // namespace assistive_sim
