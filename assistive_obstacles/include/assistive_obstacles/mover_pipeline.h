@@ -15,8 +15,9 @@
 // after frame (repeated texture, a streak of stereo errors: the shipped course has one), not a
 // person (people walk 0.6-1.6 m/s); it is not reported either, and the map votes there again.
 //
-// Reported only when seen moving (issue 31): a confirmed track is reported while two witnesses of
-// its recent detections (the last `history_s`) agree that it moves:
+// Reported only when seen moving (issue 31): a confirmed track is reported from the detection at
+// which two witnesses of its recent detections (the last `history_s`) agree that it moves, until
+// it ends or turns stationary:
 // - its points' own motion: each detection's mean scene-flow residual against the ego-motion over
 //   the frames it spans (MoverDetection::displacement / dt), averaged over the detections, at least
 //   `min_speed` and `confirm_sigmas` of its standard error (their scatter over sqrt(n), at least
@@ -129,12 +130,11 @@ private:
   std::map<int, std::pair<double, double>> shape_;  ///< track id -> (radius, height) of its last detection
   std::map<int, Eigen::Vector2d> origin_;           ///< track id -> its first detection
   std::map<int, std::deque<TrackDetection>> history_;  ///< track id -> its recent detections
-  std::map<int, bool> seen_moving_;                 ///< track id -> the test at its last detection
+  std::map<int, bool> seen_moving_;                 ///< track id -> seen moving at one of its detections so far
   /// Whether a live track is stationary (see above).
   bool stationary(const MoverTrack& tr) const;
   /// Whether a confirmed track is reported: seen moving, and not stationary.
   bool reported(const MoverTrack& tr) const;
-
   std::deque<std::pair<double, Eigen::Isometry3d>> poses_;  ///< (t, pose) of the frames the flow may pair with, oldest first
   double prev_t_ = 0.0;
   bool has_prev_ = false;
