@@ -161,7 +161,7 @@ const std::vector<MoverFootprint>& MoverPipeline::process(double t, const cv::Ma
   segmentation_.setParams(sp);
 
   auto t0 = std::chrono::steady_clock::now();
-  const std::vector<SceneFlowPoint>& flow = flow_.process(grey, disp, model);
+  const std::vector<SceneFlowPoint>& flow = flow_.process(grey, disp, model, &T_world_cam);
   ms_flow_ = msSince(t0);
   t0 = std::chrono::steady_clock::now();
   const int back = flow_.pairedBack();

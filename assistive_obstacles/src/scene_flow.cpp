@@ -103,7 +103,8 @@ void SceneFlowExtractor::reset()
 }
 
 const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& grey, const cv::Mat& disp,
-                                                               const StereoModel& model)
+                                                               const StereoModel& model,
+                                                               const Eigen::Isometry3d* T_world_cam)
 {
   flow_.clear();
   pixels_.clear();
@@ -134,7 +135,27 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
     {
       const cv::Size win(params_.lk_window, params_.lk_window);
       const cv::TermCriteria tc(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 10, 0.03);
-      cv::calcOpticalFlowPyrLK(prev_pyr_, pyr_, p0_, p1_, st_, err_, win, params_.lk_levels, tc);
+      // With both poses, each corner starts where the ego-motion puts a static point: on a
+      // repeated texture (tiles seen at a grazing angle) Lucas-Kanade from the old pixel can lock
+      // onto the next period, the same way at every corner, and a static wall reads as a walker.
+      int flags = 0;
+      if (T_world_cam && old.has_pose)
+      {
+        const Eigen::Isometry3d T_cur_prev = T_world_cam->inverse() * old.T_world_cam;
+        p1_.resize(p0_.size());
+        for (size_t i = 0; i < p0_.size(); ++i)
+        {
+          Eigen::Vector3d X;
+          p1_[i] = p0_[i];
+          if (!lift(prev_disp_, prev_model_, params_, p0_[i], X)) continue;
+          const Eigen::Vector3d Y = T_cur_prev * X;
+          if (!(Y.z() > 1e-3)) continue;
+          p1_[i] = cv::Point2f(static_cast<float>(model.fx * Y.x() / Y.z() + model.cx),
+                               static_cast<float>(model.fy * Y.y() / Y.z() + model.cy));
+        }
+        flags = cv::OPTFLOW_USE_INITIAL_FLOW;
+      }
+      cv::calcOpticalFlowPyrLK(prev_pyr_, pyr_, p0_, p1_, st_, err_, win, params_.lk_levels, tc, flags);
       pb_ = p0_;  // initial guess for the way back
       cv::calcOpticalFlowPyrLK(pyr_, prev_pyr_, p1_, pb_, stb_, err_, win, params_.lk_levels, tc,
                                cv::OPTFLOW_USE_INITIAL_FLOW);
@@ -159,6 +180,8 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
   std::swap(f.pyr, pyr_);
   disp.copyTo(f.disp);
   f.model = model;
+  f.has_pose = T_world_cam != nullptr;
+  if (T_world_cam) f.T_world_cam = *T_world_cam;
   history_.push_back(std::move(f));
   while (static_cast<int>(history_.size()) > std::max(1, params_.frames_apart)) history_.pop_front();
   return flow_;

@@ -14,6 +14,7 @@
 #include <deque>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 #include <opencv2/features2d.hpp>
 
@@ -62,7 +63,10 @@ public:
   /// at the matcher's scale (CV_32F, invalid < 0, DisparityEstimator::compute()). Returns the scene
   /// flow from the previous frame given (empty at the first frame or after reset()), each point in
   /// the previous and the current left optical frame.
-  const std::vector<SceneFlowPoint>& process(const cv::Mat& grey, const cv::Mat& disp, const StereoModel& model);
+  /// With `T_world_cam` (the left optical frame's pose, for this and the paired frame) each
+  /// corner's track starts at the pixel the ego-motion predicts for a static point.
+  const std::vector<SceneFlowPoint>& process(const cv::Mat& grey, const cv::Mat& disp, const StereoModel& model,
+                                             const Eigen::Isometry3d* T_world_cam = nullptr);
   const std::vector<SceneFlowPoint>& flow() const { return flow_; }
   /// Per flow point: its pixel in the current image.
   const std::vector<cv::Point2f>& pixels() const { return pixels_; }
@@ -81,6 +85,8 @@ private:
     cv::Mat grey, disp;
     std::vector<cv::Mat> pyr;
     StereoModel model;
+    bool has_pose = false;
+    Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
   };
   std::deque<Frame> history_;  ///< the last frames_apart frames, oldest first
   int paired_back_ = 0;
