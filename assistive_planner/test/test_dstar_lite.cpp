@@ -172,9 +172,3 @@ TEST(DStarLite, RandomizedAgainstDijkstra)
   EXPECT_GT(changes, 1000);
   EXPECT_GT(moves, 1000);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

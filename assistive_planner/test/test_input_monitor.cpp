@@ -124,9 +124,3 @@ TEST(InputMonitor, WithoutPoseRequirementOnlyTheGridCounts)
   m.onGrid(3.0);
   EXPECT_TRUE(m.check(false).ok());
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

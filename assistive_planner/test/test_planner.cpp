@@ -245,12 +245,6 @@ TEST(Planner, WearerOnObstacleCellStartsFromNearestFreeCell)
   EXPECT_EQ(pl.update(g, { 0.1, 0.1 }, 0.0).status, PlanStatus::NO_PATH);
 }
 
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}
-
 TEST(Planner, WalkedFloorIsTheFootprintAndTheTrailNeverAhead)
 {
   // 0.2 m cells, origin 0: the wearer at (1.1, 1.1) stands on the centre of cell (5, 5). Within

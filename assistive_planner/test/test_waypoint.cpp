@@ -221,9 +221,3 @@ TEST(WaypointSelector, KeptUntilTheWearerMovesOneMetre)
   EXPECT_TRUE(ws.switched());
   EXPECT_GT(ws.waypoint().x, first.x + 0.5);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

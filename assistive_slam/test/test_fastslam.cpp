@@ -305,9 +305,3 @@ TEST(FastSlam, CopyOnWriteSharesUntouchedLandmarks)
   EXPECT_EQ(copies[7].size(), size_t(N));
   EXPECT_EQ(a.get(N), nullptr);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -117,9 +117,3 @@ TEST(LocalBundleAdjustment, EmptyProblemIsNotSolved)
   BaProblem pb;
   EXPECT_FALSE(bundleAdjust(pb, camera(), BaOptions()).solved);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

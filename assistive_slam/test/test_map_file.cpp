@@ -153,9 +153,3 @@ TEST(MapFile, RejectsDamagedFiles)
   std::remove(path.c_str());
   std::remove(bad.c_str());
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -87,9 +87,3 @@ TEST(PoseGraph, RejectsEdgeToUnknownNode)
   e.to = 7;
   EXPECT_THROW(g.addEdge(e), std::invalid_argument);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

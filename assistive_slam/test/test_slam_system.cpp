@@ -247,9 +247,3 @@ TEST(SlamSystem, LoadedMapRelocalisesOnAStoredPlace)
   EXPECT_TRUE(ev[0].relocalisation);
   EXPECT_FALSE(second.loadMap(m, &err));  // only before the first frame
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

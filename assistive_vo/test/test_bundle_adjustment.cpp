@@ -150,9 +150,3 @@ TEST(BundleAdjustment, RejectsDegenerateInput)
   std::vector<StereoObservation> o(1);
   EXPECT_FALSE(ba.optimize(test::makeCamera(), Eigen::Isometry3d::Identity(), X, o, o, {}).ok);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

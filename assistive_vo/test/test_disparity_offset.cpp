@@ -81,9 +81,3 @@ TEST(DisparityOffset, NeedsMotionAndFrames)
   double e;
   EXPECT_FALSE(est.take(e));  // nothing accumulated
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

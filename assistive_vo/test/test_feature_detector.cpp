@@ -82,9 +82,3 @@ TEST(FeatureDetector, ThresholdAdaptsToTexture)
   // wrong type: nothing, no crash
   EXPECT_TRUE(d.detect(cv::Mat(10, 10, CV_32F), {}, 10).empty());
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

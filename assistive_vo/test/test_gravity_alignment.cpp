@@ -154,9 +154,3 @@ TEST(GravityAligner, RejectsWhatCannotBeGravityAndRestartsAfterGaps)
   for (int k = 0; k < 100; ++k)
     EXPECT_FALSE(off.add(k / RATE, truePose(k / RATE), meanAccel((k - 1) / RATE, k / RATE), C));
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -60,9 +60,3 @@ TEST(GyroBiasEstimator, IgnoresAnErrorTooLargeToBeABias)
   e.reset();
   EXPECT_LT(e.variance(), 0);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -39,9 +39,3 @@ TEST(ImuBuffer, LinearRateAndBagLoop)
   ASSERT_TRUE(b.meanAccel(2.0, 5.0, a));
   EXPECT_TRUE(a.allFinite());
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

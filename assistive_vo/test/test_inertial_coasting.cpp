@@ -186,9 +186,3 @@ TEST(InertialCoasting, FitsTheAccelerometerBias)
   EXPECT_FALSE(s.available());
   EXPECT_FALSE(s.start());
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -76,9 +76,3 @@ TEST(LineDetector, SlantedEdgeWithinOnePixel)
   }
   EXPECT_GT(total, 200.0);  // of the 322 px edge
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

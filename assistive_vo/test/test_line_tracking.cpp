@@ -159,9 +159,3 @@ TEST(LineTracking, KltFollowsTheMotion)
   // problem: a rank-1 structure tensor), so only 3 of the 8 segments are followed here (README).
   EXPECT_GE(tracked, 3);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -72,9 +72,3 @@ TEST(P3PRansac, RejectsTooFewPoints)
   EXPECT_FALSE(r.estimate(cam, X, x, RansacOptions()).ok);
   EXPECT_FALSE(r.estimate(StereoCamera(), X, x, RansacOptions()).ok);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

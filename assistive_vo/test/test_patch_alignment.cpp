@@ -90,9 +90,3 @@ TEST(PatchAlignment, RejectsFlatPatchesBordersAndLostTargets)
   EXPECT_EQ(c, cv::Point2f(161.f, 119.f));
   EXPECT_TRUE(A.isIdentity());
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

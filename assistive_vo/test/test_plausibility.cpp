@@ -118,9 +118,3 @@ TEST(PlausibilityMonitor, StereoInconsistencyOverARunOrAtOnceWhenLarge)
   EXPECT_NE(m.checkStereo(4.0, 0.9).find("off by 4.0 px"), std::string::npos);
   EXPECT_EQ(m.counters().stereo_inconsistent, 2);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

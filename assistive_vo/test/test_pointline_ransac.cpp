@@ -59,9 +59,3 @@ TEST(PointLineRansac, TooFewFeatures)
   opt.sample_size = 3;
   EXPECT_TRUE(ransac.estimate(s.rig, s.points, s.lines, opt).ok);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

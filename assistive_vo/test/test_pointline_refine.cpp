@@ -227,9 +227,3 @@ TEST(PointLineRefine, NonFiniteInputIsRefused)
                                                             PointLineRefineOptions());
   EXPECT_FALSE(r2.ok);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -102,9 +102,3 @@ TEST(SparseStereo, NoMatchOnFlatImageOrOutsideRange)
   ASSERT_EQ(d.size(), 1u);
   EXPECT_LT(d[0], 0.f);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

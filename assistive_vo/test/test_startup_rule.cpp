@@ -79,9 +79,3 @@ TEST(StartupRule, TimeGoingBackRestartsTheWait)
   EXPECT_EQ(rule.decide(7.0, imu, up), D::WAIT_FOR_IMU);
   EXPECT_DOUBLE_EQ(rule.waited(7.0), 0.0);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -240,9 +240,3 @@ TEST(TrifocalReprojection, ZeroForTruthPositiveForWrongMotion)
     EXPECT_GT(lineReprojectionError(s.rig, wrong, l, 500.0), 1e-3);
   }
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}
