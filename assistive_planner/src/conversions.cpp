@@ -98,6 +98,11 @@ assistive_msgs::NavigationState toMsg(const PlanOutput& out, const std_msgs::Hea
   s.free_distance_ahead = finiteOr(out.free_ahead);
   s.free_distance_left = finiteOr(out.free_left);
   s.free_distance_right = finiteOr(out.free_right);
+  const bool ok = out.status == PlanStatus::OK;
+  s.steer_point = ok ? toPoint(out.steer_point) : toPoint(out.wearer);
+  s.steer_heading = ok ? finiteOr(out.steer_heading) : finiteOr(out.walk_heading);
+  s.walk_heading = finiteOr(out.walk_heading);
+  s.walking_speed = finiteOr(out.walking_speed);
   const CrossingResult& c = out.crossing;
   const bool warn = c.advice != CrossingAdvice::NONE && std::isfinite(c.time) && std::isfinite(c.distance);
   s.crossing = uint8_t(warn ? c.advice : CrossingAdvice::NONE);

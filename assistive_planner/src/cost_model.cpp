@@ -33,7 +33,7 @@ std::vector<double> cellWeights(const Grid& grid, const PlannerParams& p)
     else if (c == CELL_STEP || c > CELL_FREE)
       w[i] = 1.0 + std::max(0.0, p.step_cost);
   }
-  if (any_obstacle && p.clearance_weight > 0.0 && p.clearance_radius > 0.0)
+  if (any_obstacle && ((p.clearance_weight > 0.0 && p.clearance_radius > 0.0) || p.inflation_radius > 0.0))
   {
     // distance (cells) of every cell to the nearest obstacle cell
     cv::Mat free_mask(grid.height, grid.width, CV_8UC1);
@@ -42,7 +42,10 @@ std::vector<double> cellWeights(const Grid& grid, const PlannerParams& p)
         free_mask.at<uint8_t>(y, x) = isObstacleCode(grid.at(x, y)) ? 0 : 255;
     cv::Mat dist;
     cv::distanceTransform(free_mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-    const double r = p.clearance_radius / grid.resolution;
+    const double r = std::max(1e-9, p.clearance_radius / grid.resolution);
+    // the body's radius: closer than it (plus half a cell: the obstacle's surface may lie anywhere
+    // in its cell) the body would touch, whatever the cost
+    const double lethal = p.inflation_radius > 0.0 ? p.inflation_radius / grid.resolution + 0.5 : 0.0;
     for (int y = 0; y < grid.height; ++y)
       for (int x = 0; x < grid.width; ++x)
       {
@@ -50,6 +53,13 @@ std::vector<double> cellWeights(const Grid& grid, const PlannerParams& p)
         if (w[i] == COST_INF || isUnknownCode(grid.data[i]))
           continue;
         const double d = dist.at<float>(y, x);
+        if (d < lethal - 1e-6)
+        {
+          w[i] = COST_INF;
+          continue;
+        }
+        if (!(p.clearance_weight > 0.0 && p.clearance_radius > 0.0))
+          continue;
         const double f = std::clamp((r + 1.0 - d) / r, 0.0, 1.0);
         w[i] += p.clearance_weight * f;
       }

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <queue>
+
+#include <opencv2/imgproc.hpp>
 
 #include "assistive_planner/cost_model.h"
 
@@ -108,6 +111,209 @@ double Planner::freeStrip(const Grid& grid, const Point2& from, double yaw, doub
   return best;
 }
 
+std::vector<int> Planner::cheapestPath(const CostGrid& costs, int from, int to)
+{
+  const size_t n = costs.w.size();
+  if (from < 0 || to < 0 || size_t(from) >= n || size_t(to) >= n || costs.w[size_t(from)] == COST_INF ||
+      costs.w[size_t(to)] == COST_INF)
+    return {};
+  const int tx = to % costs.width, ty = to / costs.width;
+  std::vector<double> g(n, COST_INF);
+  std::vector<int> parent(n, -1);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  g[size_t(from)] = 0.0;
+  open.push({ octile(from % costs.width - tx, from / costs.width - ty), from });
+  while (!open.empty())
+  {
+    const auto [f, u] = open.top();
+    open.pop();
+    if (u == to)
+      break;
+    const int ux = u % costs.width, uy = u / costs.width;
+    if (f > g[size_t(u)] + octile(ux - tx, uy - ty) + 1e-9)
+      continue;  // stale entry
+    for (int k = 0; k < 8; ++k)
+    {
+      const double c = costs.edgeCost(ux, uy, k);
+      if (c == COST_INF)
+        continue;
+      const int v = costs.index(ux + NB_DX[k], uy + NB_DY[k]);
+      if (g[size_t(u)] + c < g[size_t(v)])
+      {
+        g[size_t(v)] = g[size_t(u)] + c;
+        parent[size_t(v)] = u;
+        open.push({ g[size_t(v)] + octile(ux + NB_DX[k] - tx, uy + NB_DY[k] - ty), v });
+      }
+    }
+  }
+  if (g[size_t(to)] == COST_INF)
+    return {};
+  std::vector<int> cells;
+  for (int c = to; c >= 0; c = parent[size_t(c)])
+    cells.push_back(c);
+  std::reverse(cells.begin(), cells.end());
+  return cells;
+}
+
+double Planner::projectOnto(const std::vector<Point2>& path, const Point2& q, double max_along)
+{
+  double best = 1e300, at = 0.0, run = 0.0;
+  for (size_t i = 1; i < path.size() && run <= max_along; ++i)
+  {
+    const double dx = path[i].x - path[i - 1].x, dy = path[i].y - path[i - 1].y, l2 = dx * dx + dy * dy;
+    const double u = l2 > 1e-12 ? std::clamp(((q.x - path[i - 1].x) * dx + (q.y - path[i - 1].y) * dy) / l2, 0.0, 1.0) : 0.0;
+    const double d = std::hypot(path[i - 1].x + u * dx - q.x, path[i - 1].y + u * dy - q.y);
+    const double l = std::sqrt(l2);
+    if (d < best)
+    {
+      best = d;
+      at = run + u * l;
+    }
+    run += l;
+  }
+  return at;
+}
+
+Point2 Planner::pointAlong(const std::vector<Point2>& path, double dist)
+{
+  if (path.empty())
+    return {};
+  double left = dist;
+  for (size_t i = 1; i < path.size(); ++i)
+  {
+    const double dx = path[i].x - path[i - 1].x, dy = path[i].y - path[i - 1].y, l = std::hypot(dx, dy);
+    if (l >= left && l > 1e-12)
+      return { path[i - 1].x + dx * left / l, path[i - 1].y + dy * left / l };
+    left -= l;
+  }
+  return path.back();
+}
+
+void Planner::smoothPath(const Grid& grid, const std::vector<double>& weights, std::vector<Point2>& path)
+{
+  if (path.size() < 3 || grid.empty() || weights.size() != grid.data.size())
+    return;
+  cv::Mat free_mask(grid.height, grid.width, CV_8UC1);
+  for (int y = 0; y < grid.height; ++y)
+    for (int x = 0; x < grid.width; ++x)
+      free_mask.at<uint8_t>(y, x) = isObstacleCode(grid.at(x, y)) ? 0 : 255;
+  cv::Mat dist;
+  cv::distanceTransform(free_mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  auto cellOf = [&](const Point2& q, int& x, int& y) { return grid.worldToCell(q.x, q.y, x, y); };
+  // clearance (cells) of a point's cell; -1 outside or blocked
+  auto clear = [&](const Point2& q) -> double {
+    int x, y;
+    if (!cellOf(q, x, y) || weights[size_t(grid.index(x, y))] == COST_INF)
+      return -1.0;
+    return dist.at<float>(y, x);
+  };
+  const double step = 0.25 * grid.resolution;
+  std::vector<Point2> out{ path.front() };
+  size_t i = 0;
+  const size_t n = path.size();
+  while (i + 1 < n)
+  {
+    // the least clearance of the stretch i..j as the path walks it, and the farthest j whose
+    // straight line keeps it (and every cell it crosses passable)
+    int ix, iy;
+    cellOf(path[i], ix, iy);
+    double stretch_min = std::max(0.0, clear(path[i]));
+    size_t best = i + 1;
+    for (size_t j = i + 1; j < n && j <= i + 40; ++j)
+    {
+      stretch_min = std::min(stretch_min, std::max(0.0, clear(path[j])));
+      const double dx = path[j].x - path[i].x, dy = path[j].y - path[i].y, len = std::hypot(dx, dy);
+      bool ok = true;
+      for (double d = step; d < len && ok; d += step)
+      {
+        const Point2 q{ path[i].x + dx * d / len, path[i].y + dy * d / len };
+        int qx, qy;
+        if (cellOf(q, qx, qy) && qx == ix && qy == iy)
+          continue;  // the start's own cell (the wearer may stand in the inflation)
+        const double c = clear(q);
+        ok = c >= 0.0 && c + 0.05 >= stretch_min;
+      }
+      if (ok)
+        best = j;
+    }
+    out.push_back(path[best]);
+    i = best;
+  }
+  path.swap(out);
+}
+
+void Planner::refinePath(const Grid& grid, std::vector<Point2>& path, double clearance)
+{
+  if (path.size() < 3 || grid.empty() || !(clearance > 0.0))
+    return;
+  // The obstacle cells at 5 cm over the path's box (and a margin): each cell is 4 x 4 pixels, so
+  // the distance field measures to the cell's square, as a body's surface would.
+  const int f = std::max(1, int(std::lround(grid.resolution / 0.05)));
+  const double fine = grid.resolution / f;
+  double minx = 1e300, miny = 1e300, maxx = -1e300, maxy = -1e300;
+  for (const Point2& q : path)
+  {
+    minx = std::min(minx, q.x);
+    miny = std::min(miny, q.y);
+    maxx = std::max(maxx, q.x);
+    maxy = std::max(maxy, q.y);
+  }
+  const double margin = clearance + 2.0 * grid.resolution;
+  int x0, y0, x1, y1;
+  grid.worldToCell(minx - margin, miny - margin, x0, y0);
+  grid.worldToCell(maxx + margin, maxy + margin, x1, y1);
+  x0 = std::max(0, x0);
+  y0 = std::max(0, y0);
+  x1 = std::min(grid.width - 1, x1);
+  y1 = std::min(grid.height - 1, y1);
+  if (x1 < x0 || y1 < y0)
+    return;
+  cv::Mat mask((y1 - y0 + 1) * f, (x1 - x0 + 1) * f, CV_8UC1, cv::Scalar(255));
+  bool any = false;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x)
+      if (isObstacleCode(grid.at(x, y)))
+      {
+        mask(cv::Rect((x - x0) * f, (y - y0) * f, f, f)).setTo(0);
+        any = true;
+      }
+  if (!any)
+    return;
+  cv::Mat dist;
+  cv::distanceTransform(mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  // world -> fine pixel (pixel centres at (i + 0.5) * fine from the box's corner)
+  const double bx = grid.cellX(x0) - 0.5 * grid.resolution, by = grid.cellY(y0) - 0.5 * grid.resolution;
+  auto sample = [&](double wx, double wy) {
+    const double u = (wx - bx) / fine - 0.5, v = (wy - by) / fine - 0.5;
+    const int iu = std::clamp(int(std::floor(u)), 0, dist.cols - 2), iv = std::clamp(int(std::floor(v)), 0, dist.rows - 2);
+    const double a = std::clamp(u - iu, 0.0, 1.0), b = std::clamp(v - iv, 0.0, 1.0);
+    const double d = (1 - a) * (1 - b) * dist.at<float>(iv, iu) + a * (1 - b) * dist.at<float>(iv, iu + 1) +
+                     (1 - a) * b * dist.at<float>(iv + 1, iu) + a * b * dist.at<float>(iv + 1, iu + 1);
+    return d * fine;
+  };
+  const double max_shift = 0.5 * grid.resolution, step = 0.25 * fine, h = fine;
+  for (size_t i = 1; i + 1 < path.size(); ++i)
+  {
+    Point2 q = path[i];
+    for (int it = 0; it < 64; ++it)
+    {
+      if (sample(q.x, q.y) >= clearance)
+        break;
+      const double gx = sample(q.x + h, q.y) - sample(q.x - h, q.y), gy = sample(q.x, q.y + h) - sample(q.x, q.y - h);
+      const double g = std::hypot(gx, gy);
+      if (g < 1e-6)
+        break;
+      const Point2 n{ q.x + step * gx / g, q.y + step * gy / g };
+      if (sample(n.x, n.y) <= sample(q.x, q.y) ||
+          std::hypot(n.x - path[i].x, n.y - path[i].y) > max_shift)
+        break;  // on the ridge (the middle), or as far as a point may move
+      q = n;
+    }
+    path[i] = q;
+  }
+}
+
 void Planner::syncCosts(const Grid& grid, PlanOutput& out)
 {
   const std::vector<double> w = cellWeights(grid, p_);
@@ -176,7 +382,29 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   const bool motion_changed = motion_.update(wearer, head_yaw);
   out.heading = motion_.heading();
   out.motion_anchor = motion_.anchor();
-  const double h = out.heading;
+  // The walk: the chord over the last walk_window_s (what the body does now, for steering and
+  // for what lies ahead of it); the head's yaw while standing.
+  out.walk_heading = out.head_yaw;
+  if (std::isfinite(t))
+  {
+    if (!recent_.empty() && t < recent_.back().first)
+      recent_.clear();
+    recent_.push_back({ t, wearer });
+    while (recent_.size() > 2 && recent_[1].first <= t - p_.walk_window_s)
+      recent_.erase(recent_.begin());
+    const double dt = t - recent_.front().first;
+    const double cx = wearer.x - recent_.front().second.x, cy = wearer.y - recent_.front().second.y;
+    const double chord = std::hypot(cx, cy);
+    if (dt >= 0.5 * p_.walk_window_s && dt < 4.0 * p_.walk_window_s)
+    {
+      out.walking_speed = chord / dt;
+      if (chord >= 0.05)
+        out.walk_heading = std::atan2(cy, cx);
+    }
+  }
+  const bool walking = out.walking_speed >= 0.25;
+  // what lies ahead of the body: along its walk while it walks, else along the motion vector
+  const double h = walking ? out.walk_heading : out.heading;
   bool ahead_unknown = false;
   out.free_ahead = freeStrip(grid, wearer, h, p_.free_ray_max, p_.body_half_width, ahead_unknown);
   out.free_left = freeDistance(grid, wearer, h + M_PI_2, p_.free_ray_max);
@@ -217,7 +445,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   // target: explicit goal, else the automatic waypoint
   int gx = -1, gy = -1;
   if (has_goal_ && std::hypot(goal_.x - wearer.x, goal_.y - wearer.y) <= p_.reached_distance)
-    has_goal_ = false;  // reached
+    has_goal_ = has_next_ = false;  // reached
   if (has_goal_)
   {
     out.explicit_goal = true;
@@ -273,15 +501,18 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   // D* Lite: a new goal restarts the search, otherwise the repaired search continues
   // a wearer standing on an obstacle cell (map noise, closing at a wall) starts from the nearest
   // passable cell within 2 cells instead of getting no path at all
+  // (or within the body's radius of one: the inflated cells, e.g. beside a wall)
+  const std::vector<double>& weight = dstar_.costs().w;
+  auto blocked = [&](int x, int y) { return weight[size_t(grid.index(x, y))] == COST_INF; };
   int sx = wx, sy = wy;
-  if (isObstacleCode(here))
+  if (blocked(wx, wy))
   {
     double best = 1e300;
-    for (int dy = -2; dy <= 2; ++dy)
-      for (int dx = -2; dx <= 2; ++dx)
+    for (int dy = -3; dy <= 3; ++dy)
+      for (int dx = -3; dx <= 3; ++dx)
       {
         const int x = wx + dx, y = wy + dy;
-        if (!grid.inside(x, y) || isObstacleCode(grid.at(x, y)))
+        if (!grid.inside(x, y) || blocked(x, y))
           continue;
         const double d = std::hypot(grid.cellX(x) - wearer.x, grid.cellY(y) - wearer.y) +
                          (isUnknownCode(grid.at(x, y)) ? 100.0 : 0.0);
@@ -290,6 +521,26 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
           best = d;
           sx = x;
           sy = y;
+        }
+      }
+  }
+  if (blocked(gx, gy))
+  {
+    // a target within the body's radius of an obstacle: the nearest cell the body fits in
+    double best = 1e300;
+    const int ox = gx, oy = gy;
+    for (int dy = -3; dy <= 3; ++dy)
+      for (int dx = -3; dx <= 3; ++dx)
+      {
+        const int x = ox + dx, y = oy + dy;
+        if (!grid.inside(x, y) || blocked(x, y) || isUnknownCode(grid.at(x, y)))
+          continue;
+        const double d = std::hypot(double(dx), double(dy));
+        if (d < best)
+        {
+          best = d;
+          gx = x;
+          gy = y;
         }
       }
   }
@@ -329,6 +580,51 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
     }
   }
   out.path_length = len;
+  // Pure pursuit on the path refined towards the middle of narrow passages: the steering point lies
+  // a fraction of a second of walking ahead (regulated pure pursuit), within [min, max].
+  smoothPath(grid, dstar_.costs().w, out.path);
+  refinePath(grid, out.path, p_.path_refine_m);
+  out.steer_path = out.path;
+  int nx, ny;
+  if (has_goal_ && has_next_ && grid.worldToCell(next_.x, next_.y, nx, ny))
+  {
+    // on round the goal to the next place (steering only: the goal stays the goal)
+    std::vector<int> on = cheapestPath(dstar_.costs(), grid.index(gx, gy), grid.index(nx, ny));
+    if (on.size() > 1)
+    {
+      std::vector<Point2> more{ out.path.back() };
+      for (size_t i = 1; i < on.size(); ++i)
+        more.push_back({ grid.cellX(on[i] % grid.width), grid.cellY(on[i] / grid.width) });
+      smoothPath(grid, dstar_.costs().w, more);
+      refinePath(grid, more, p_.path_refine_m);
+      out.steer_path.insert(out.steer_path.end(), more.begin() + 1, more.end());
+    }
+  }
+  out.steer_lookahead =
+      std::clamp(out.walking_speed * p_.steer_lookahead_s, p_.steer_lookahead_min, p_.steer_lookahead_max);
+  // from where the walk takes the wearer by the time a cue acts (its projection on the path)
+  Point2 lead = wearer;
+  if (walking)
+  {
+    const double ahead = out.walking_speed * p_.steer_lead_s;
+    lead = { wearer.x + ahead * std::cos(out.walk_heading), wearer.y + ahead * std::sin(out.walk_heading) };
+  }
+  // the projection is searched over the path's first stretch only (a path folding back on itself
+  // must not send the wearer to its far end)
+  out.steer_point = pointAlong(out.steer_path, projectOnto(out.steer_path, lead, 2.0 * p_.steer_lookahead_max + 1.0) +
+                                                 out.steer_lookahead);
+  {
+    const double dx = out.steer_point.x - lead.x, dy = out.steer_point.y - lead.y;
+    out.steer_heading = std::hypot(dx, dy) > 0.05 ? std::atan2(dy, dx) : out.path_heading;
+  }
+  if (!walking)
+  {
+    // A standing wearer will be sent along the steering heading: what lies ahead is judged there
+    // (its motion vector may still point at the wall it stopped in front of).
+    out.free_ahead = freeStrip(grid, wearer, out.steer_heading, p_.free_ray_max, p_.body_half_width, ahead_unknown);
+    out.free_left = freeDistance(grid, wearer, out.steer_heading + M_PI_2, p_.free_ray_max);
+    out.free_right = freeDistance(grid, wearer, out.steer_heading - M_PI_2, p_.free_ray_max);
+  }
   ever_planned_ = true;
   out.status = PlanStatus::OK;
   out.message = out.path_through_unknown ? "path crosses unmapped cells (no known free path)"

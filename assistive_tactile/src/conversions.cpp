@@ -27,6 +27,8 @@ static_assert(static_cast<int>(CueMode::GUIDANCE) == static_cast<int>(assistive_
 static_assert(static_cast<int>(CueMode::PROXIMITY) == static_cast<int>(assistive_msgs::TactileCue::PROXIMITY), "TactileCue.PROXIMITY");
 static_assert(static_cast<int>(CueMode::ALERT) == static_cast<int>(assistive_msgs::TactileCue::ALERT), "TactileCue.ALERT");
 static_assert(static_cast<int>(CueMode::UNSURE) == static_cast<int>(assistive_msgs::TactileCue::UNSURE), "TactileCue.UNSURE");
+static_assert(static_cast<int>(Instruction::VEER) == static_cast<int>(assistive_msgs::TactileCue::VEER), "TactileCue.VEER");
+static_assert(static_cast<int>(Instruction::UNSURE) == static_cast<int>(assistive_msgs::TactileCue::UNSURE_START), "TactileCue.UNSURE_START");
 // Motor indices of the intensity array (TactileCue constants).
 static_assert(static_cast<int>(LEFT_SHOULDER) == static_cast<int>(assistive_msgs::TactileCue::LEFT_SHOULDER), "TactileCue.LEFT_SHOULDER");
 static_assert(static_cast<int>(RIGHT_SHOULDER) == static_cast<int>(assistive_msgs::TactileCue::RIGHT_SHOULDER), "TactileCue.RIGHT_SHOULDER");
@@ -47,6 +49,10 @@ NavInput fromMsg(const assistive_msgs::NavigationState& msg)
   in.free_ahead = msg.free_distance_ahead;
   in.free_left = msg.free_distance_left;
   in.free_right = msg.free_distance_right;
+  in.steer_heading = msg.steer_heading;
+  in.walk_heading = msg.walk_heading;
+  in.walking_speed = msg.walking_speed;
+  in.head_yaw = msg.head_yaw;
   // an advice code this build does not know is no advice (the status still decides the rest)
   in.crossing = msg.crossing <= static_cast<uint8_t>(CrossingAdvice::STOP) ? static_cast<CrossingAdvice>(msg.crossing) :
                                                                             CrossingAdvice::NONE;
@@ -68,6 +74,12 @@ assistive_msgs::TactileCue toMsg(const Cue& cue, const ros::Time& stamp, const r
   m.mode = static_cast<uint8_t>(cue.mode);
   for (int i = 0; i < NUM_MOTORS; ++i)
     m.intensity[i] = cue.intensity[i];
+  m.instruction = static_cast<uint8_t>(cue.instruction);
+  m.level = static_cast<uint8_t>(cue.level);
+  m.pattern_id = cue.pattern.id;
+  m.pulse_on_ms = static_cast<uint16_t>(10u * cue.pattern.on_10ms);
+  m.pulse_off_ms = static_cast<uint16_t>(10u * cue.pattern.off_10ms);
+  m.pulse_count = cue.pattern.count;
   m.reason = cue.reason;
   return m;
 }
@@ -81,6 +93,13 @@ Cue fromMsg(const assistive_msgs::TactileCue& msg)
     const float v = msg.intensity[i];
     c.intensity[i] = std::isfinite(v) ? std::min(1.f, std::max(0.f, v)) : 0.f;
   }
+  c.instruction = msg.instruction <= static_cast<uint8_t>(Instruction::UNSURE) ? static_cast<Instruction>(msg.instruction)
+                                                                              : Instruction::NONE;
+  c.level = std::min<int>(msg.level, 3);
+  c.pattern.id = msg.pattern_id;
+  c.pattern.on_10ms = static_cast<uint8_t>(std::min(255, (msg.pulse_on_ms + 5) / 10));
+  c.pattern.off_10ms = static_cast<uint8_t>(std::min(255, (msg.pulse_off_ms + 5) / 10));
+  c.pattern.count = msg.pulse_count;
   c.reason = msg.reason;
   return c;
 }

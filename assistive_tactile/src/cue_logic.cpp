@@ -42,6 +42,36 @@ const char* modeName(CueMode m)
   return "?";
 }
 
+const char* instructionName(Instruction i)
+{
+  switch (i)
+  {
+    case Instruction::NONE:
+      return "none";
+    case Instruction::WALK_ON:
+      return "walk on";
+    case Instruction::VEER:
+      return "veer";
+    case Instruction::TURN:
+      return "stop and turn";
+    case Instruction::SIDESTEP:
+      return "side-step";
+    case Instruction::STOP:
+      return "stop";
+    case Instruction::UNSURE:
+      return "unsure";
+  }
+  return "?";
+}
+
+std::array<float, NUM_MOTORS> renderCue(const Cue& c, double t_s)
+{
+  std::array<float, NUM_MOTORS> m{ { 0.f, 0.f, 0.f, 0.f } };
+  if (!(t_s >= 0.0) || !vest_pattern_on(&c.pattern, uint32_t(std::min(t_s, 4.0e6) * 1000.0)))
+    return m;
+  return c.intensity;
+}
+
 double wrapAngle(double a)
 {
   a = std::fmod(a + M_PI, 2.0 * M_PI);
@@ -55,7 +85,73 @@ void CueLogic::reset()
   last_mode_ = CueMode::UNSURE;
   turn_side_ = 0;
   waist_side_ = 0;
+  busy_ = false;
+  last_yaw_time_ = -1e300;
+  yaw_rate_ = 0.0;
   clearCrossing();
+}
+
+Cue CueLogic::startPattern(CueMode mode, Instruction ins, int level, std::array<float, NUM_MOTORS> drive,
+                           uint8_t on_10ms, uint8_t off_10ms, uint8_t count, double now, std::string reason)
+{
+  Cue c;
+  c.mode = mode;
+  c.instruction = ins;
+  c.level = level;
+  c.intensity = drive;
+  c.pattern.id = next_id_;
+  next_id_ = uint8_t(next_id_ == 255 ? 1 : next_id_ + 1);  // 0 is never used: a vest's "no pattern yet"
+  c.pattern.on_10ms = on_10ms;
+  c.pattern.off_10ms = off_10ms;
+  c.pattern.count = count;
+  c.reason = std::move(reason);
+  current_ = c;
+  current_start_ = now;
+  last_tick_ = now;
+  return c;
+}
+
+Cue CueLogic::holdPattern(std::string reason) const
+{
+  Cue c = current_;
+  c.reason = std::move(reason);
+  return c;
+}
+
+bool CueLogic::steadyHeld(CueMode mode, Instruction ins, const std::array<float, NUM_MOTORS>& drive) const
+{
+  // A steady cue (side-step, stop) carries on under the same id while it stays the same motors.
+  if (current_.instruction != ins || current_.mode != mode || current_.pattern.on_10ms != 0)
+    return false;
+  for (int i = 0; i < NUM_MOTORS; ++i)
+    if ((current_.intensity[size_t(i)] > 0.f) != (drive[size_t(i)] > 0.f))
+      return false;
+  return true;
+}
+
+Cue CueLogic::steady(CueMode mode, Instruction ins, const std::array<float, NUM_MOTORS>& drive, double now,
+                     std::string reason)
+{
+  if (steadyHeld(mode, ins, drive))
+  {
+    current_.intensity = drive;  // the level may follow the distance
+    return holdPattern(std::move(reason));
+  }
+  return startPattern(mode, ins, 0, drive, 0, 0, 0, now, std::move(reason));
+}
+
+Cue CueLogic::unsureCue(std::string reason, double now)
+{
+  // Three quick pulses on both waist motors when UNSURE begins, then silence: a silent vest means
+  // stop and use the cane, and the wearer is told so the moment it starts, not two ticks later.
+  if (current_.instruction == Instruction::UNSURE || current_.instruction == Instruction::NONE)
+  {
+    Cue c = holdPattern(std::move(reason));
+    c.mode = CueMode::UNSURE;
+    return c;
+  }
+  return startPattern(CueMode::UNSURE, Instruction::UNSURE, 0, { { 0.f, 0.f, 1.f, 1.f } }, 10, 10, 3, now,
+                      std::move(reason));
 }
 
 void CueLogic::clearCrossing()
@@ -89,14 +185,14 @@ bool CueLogic::stale(double now) const
 Cue CueLogic::staleCue(double now)
 {
   reset();
-  Cue c;
-  c.mode = CueMode::UNSURE;
+  std::string why;
   if (!have_state_)
-    c.reason = "no planner state yet";
+    why = "no planner state yet";
   else if ((now - last_state_time_) > params_.state_timeout_s)
-    c.reason = fmt("planner state stale (%.1f s old)", now - last_state_time_);
+    why = fmt("planner state stale (%.1f s old)", now - last_state_time_);
   else
-    c.reason = inputAgeProblem(last_source_time_, now, params_.max_input_age_s);
+    why = inputAgeProblem(last_source_time_, now, params_.max_input_age_s);
+  const Cue c = unsureCue(why, now);
   last_mode_ = c.mode;
   return c;
 }
@@ -117,8 +213,7 @@ Cue CueLogic::update(const NavInput& in, double now)
   if (!finite)
   {
     reset();
-    c.mode = CueMode::UNSURE;
-    c.reason = "invalid planner state (NaN)";
+    c = unsureCue("invalid planner state (NaN)", now);
     last_mode_ = c.mode;
     return c;
   }
@@ -127,33 +222,32 @@ Cue CueLogic::update(const NavInput& in, double now)
   if (!old.empty())
   {
     reset();
-    c.mode = CueMode::UNSURE;
-    c.reason = old;
-    return c;
+    return unsureCue(old, now);
   }
 
   switch (in.status)
   {
     case NavStatus::OK:
     {
-      const int turning = turn_side_;
       c = decideProximity(in, true);
-      // Near an obstacle (not yet at alert distance) with the path turning away from it, the turn
-      // is the cue: the wearer stops and turns on the spot, which is safe. A side-step there kept
-      // the wearer facing the obstacle and stepping left and right in front of it (mobility trials:
-      // stuck in front of the course's 2 m wall with the way round 50 deg to the left).
-      if (c.mode == CueMode::PROXIMITY && in.waypoint_distance >= params_.guidance_min_waypoint_m)
+      // Near an obstacle (not yet at alert distance) with the path turning away from it, steering
+      // is the cue (a veer while walking, a turn on the spot while standing). A side-step there
+      // kept the wearer facing the obstacle and stepping left and right in front of it (mobility
+      // trials: stuck in front of the course's 2 m wall with the way round 50 deg to the left), and
+      // stopped every wearer who approached a doorway at an angle.
+      if (c.mode == CueMode::PROXIMITY && in.waypoint_distance >= params_.guidance_min_waypoint_m &&
+          std::fabs(wrapAngle(in.steer_heading - in.walk_heading)) * kRadToDeg > params_.veer_on_deg)
       {
-        const double dev = std::fabs(wrapAngle(in.path_heading - in.heading)) * kRadToDeg;
-        if (dev > params_.turn_on_deg || (turning != 0 && dev > params_.turn_off_deg))
-        {
-          waist_side_ = 0;
-          turn_side_ = turning;  // keep the turn's hysteresis
-          c = decideGuidance(in);
-        }
+        waist_side_ = 0;
+        c.mode = CueMode::IDLE;
       }
       if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
-        c = decideGuidance(in);
+        c = decideGuidance(in, now);
+      else
+      {
+        busy_ = false;  // an obstacle cue ends a veer or turn being executed
+        c = shapeSteady(c, now);
+      }
       last_mode_ = c.mode;  // the obstacle / guidance hysteresis runs under the crossing cue
       return overlayCrossing(in, c, now);
     }
@@ -166,17 +260,17 @@ Cue CueLogic::update(const NavInput& in, double now)
       const char* what = in.status == NavStatus::NO_PATH ? "no path" : "no waypoint";
       c = decideProximity(in, false);
       clearCrossing();  // no crossing cue without a path: the side would be a guess
+      busy_ = false;
       if (c.mode == CueMode::ALERT)
       {
         c.reason = std::string(what) + ", " + c.reason;
+        c = shapeSteady(c, now);
       }
       else
       {
         turn_side_ = 0;
         waist_side_ = 0;
-        c.mode = CueMode::UNSURE;
-        c.intensity.fill(0.f);
-        c.reason = what + suffix;
+        c = unsureCue(what + suffix, now);
       }
       break;
     }
@@ -185,14 +279,13 @@ Cue CueLogic::update(const NavInput& in, double now)
     case NavStatus::IN_UNKNOWN:
     default:
     {
-      // The vest goes quiet rather than lying.
+      // The vest says it cannot tell (its opening pattern), then goes quiet rather than lying.
       reset();
-      c.mode = CueMode::UNSURE;
       const char* what = in.status == NavStatus::NO_POSE  ? "no pose" :
                          in.status == NavStatus::NO_MAP   ? "no map" :
                          in.status == NavStatus::IN_UNKNOWN ? "in unknown space" :
                                                               "unknown planner status";
-      c.reason = what + suffix;
+      c = unsureCue(what + suffix, now);
       break;
     }
   }
@@ -236,7 +329,8 @@ Cue CueLogic::overlayCrossing(const NavInput& in, const Cue& base, double now)
     c.mode = CueMode::ALERT;
     c.intensity.fill(1.f);
     c.reason = fmt("person crossing, stop %.1f s", t);
-    return c;
+    busy_ = false;
+    return shapeSteady(c, now);
   }
   const bool left = cross_ == CrossingAdvice::LEFT;
   const double span = std::max(1e-6, p.crossing_far_s - p.crossing_near_s);
@@ -244,7 +338,14 @@ Cue CueLogic::overlayCrossing(const NavInput& in, const Cue& base, double now)
   c.mode = CueMode::PROXIMITY;
   c.intensity[left ? LEFT_WAIST : RIGHT_WAIST] = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * k);
   c.reason = fmt(left ? "person crossing, step left %.1f s" : "person crossing, step right %.1f s", t);
-  return c;
+  busy_ = false;
+  return shapeSteady(c, now);
+}
+
+Cue CueLogic::shapeSteady(const Cue& c, double now)
+{
+  const Instruction ins = c.mode == CueMode::ALERT ? Instruction::STOP : Instruction::SIDESTEP;
+  return steady(c.mode, ins, c.intensity, now, c.reason);
 }
 
 Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
@@ -255,8 +356,11 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
   const bool was_alert = last_mode_ == CueMode::ALERT;
   const bool was_close = was_alert || last_mode_ == CueMode::PROXIMITY;
   const double d = in.free_ahead;
-  const bool alert = d < p.alert_m + (was_alert ? p.hysteresis_m : 0.0);
-  const bool close = d < p.proximity_m + (was_close ? p.hysteresis_m : 0.0);
+  // a walking wearer needs its reaction time's walk, and then its stop, before it stands
+  const double v = std::max(0.0, std::isfinite(in.walking_speed) ? in.walking_speed : 0.0);
+  const double reach = v * p.alert_reaction_s + v * v / (2.0 * p.stop_decel);
+  const bool alert = d < p.alert_m + reach + (was_alert ? p.hysteresis_m : 0.0);
+  const bool close = d < p.proximity_m + reach + (was_close ? p.hysteresis_m : 0.0);
   if (!close)
   {
     waist_side_ = 0;
@@ -301,40 +405,93 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
   return c;
 }
 
-Cue CueLogic::decideGuidance(const NavInput& in)
+Cue CueLogic::walkOn(std::string reason, double now)
+{
+  // A tick is due once tick_period_s passed since the last pattern began, and at once when the
+  // last pattern was a steady one (a stop or side-step ends with "go").
+  const bool steady_running = current_.pattern.on_10ms == 0 && current_.instruction != Instruction::NONE;
+  if (steady_running || now - last_tick_ >= params_.tick_period_s - 1e-9)
+  {
+    const float k = static_cast<float>(params_.min_intensity + 0.5 * (1.0 - params_.min_intensity));
+    return startPattern(CueMode::IDLE, Instruction::WALK_ON, 0, { { k, k, 0.f, 0.f } }, 10, 0, 1, now,
+                        std::move(reason));
+  }
+  Cue c = holdPattern(std::move(reason));
+  c.mode = CueMode::IDLE;
+  return c;
+}
+
+Cue CueLogic::decideGuidance(const NavInput& in, double now)
 {
   const CueParams& p = params_;
-  Cue c;
-  c.mode = CueMode::IDLE;
+  // the head's turn rate (smoothed), to tell when a veer or turn has been carried out (the head
+  // scans by a few deg/s at most while the body keeps its direction)
+  if (now > last_yaw_time_ && now - last_yaw_time_ < 1.0)
+  {
+    const double r = wrapAngle(in.head_yaw - last_yaw_) / (now - last_yaw_time_);
+    const double a = std::min(1.0, (now - last_yaw_time_) / 0.25);
+    yaw_rate_ += a * (r - yaw_rate_);
+  }
+  last_yaw_ = in.head_yaw;
+  last_yaw_time_ = now;
+
   const bool guiding = last_mode_ == CueMode::GUIDANCE;
   const double min_wp = p.guidance_min_waypoint_m - (guiding ? p.hysteresis_m : 0.0);
   if (in.waypoint_distance < min_wp)
   {
-    turn_side_ = 0;
-    c.reason = fmt("waypoint %.2f m away: walk on", in.waypoint_distance);
-    return c;
+    busy_ = false;
+    return walkOn(fmt("waypoint %.2f m away: walk on", in.waypoint_distance), now);
   }
-  const double dev = wrapAngle(in.path_heading - in.heading) * kRadToDeg;  // + = turn left
-  const double a = std::fabs(dev);
-  const int sign = dev > 0.0 ? +1 : -1;
-  int side = 0;
-  if (turn_side_ != 0 && sign == turn_side_)
-    side = a > p.turn_off_deg ? turn_side_ : 0;  // keep turning until lined up
-  else
-    side = a > p.turn_on_deg ? sign : 0;  // new turn (or overshoot past turn_on to the other side)
-  turn_side_ = side;
-  if (side == 0)
+  const bool walking = in.walking_speed >= p.walking_speed_mps;
+  const double err = wrapAngle(in.steer_heading - in.walk_heading);  // + = the steering point lies left
+  const double a = std::fabs(err) * kRadToDeg;
+  if (busy_)
   {
-    c.reason = fmt("on course (%.0f deg off)", dev);
-    return c;
+    // A burst asks for an amount: wait until the wearer has carried it out (turned by half of it
+    // and steadied; a turn: walking again) before judging the heading again, or the next burst
+    // would ask for the same turn twice (reaction times of up to 1.2 s).
+    const double turned = (busy_turn_ ? wrapAngle(in.head_yaw - busy_head0_) : wrapAngle(in.walk_heading - busy_yaw0_)) *
+                          (busy_angle_ > 0.0 ? 1.0 : -1.0);
+    const double timeout = busy_turn_ ? p.turn_timeout_s : p.settle_timeout_s;
+    const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
+    const bool done = now - busy_since_ >= timeout || (turned >= 0.5 * std::fabs(busy_angle_) && steadied);
+    if (!done)
+    {
+      Cue c = holdPattern(fmt(busy_turn_ ? "turning (%.0f deg to go)" : "veering (%.0f deg to go)",
+                              std::max(0.0, std::fabs(busy_angle_) - turned) * kRadToDeg));
+      c.mode = CueMode::GUIDANCE;
+      return c;
+    }
+    busy_ = false;
   }
-  const double span = std::max(1e-6, p.turn_full_deg - p.turn_off_deg);
-  const double k = clamp01((a - p.turn_off_deg) / span);
-  const float level = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * k);
-  c.mode = CueMode::GUIDANCE;
-  c.intensity[side > 0 ? LEFT_SHOULDER : RIGHT_SHOULDER] = level;
-  c.reason = fmt(side > 0 ? "turn left %.0f deg" : "turn right %.0f deg", a);
-  return c;
+  const bool turn = walking ? a > p.turn_on_deg : a > p.stand_turn_deg;
+  const bool veer = walking && !turn && a > p.veer_on_deg;
+  if (!turn && !veer)
+    return walkOn(fmt("on course (%.0f deg off)", err * kRadToDeg), now);
+  const double step = turn ? p.turn_step_deg : p.veer_step_deg;
+  const int level = std::max(1, std::min(3, int(std::lround(a / step))));
+  const int side = err > 0.0 ? +1 : -1;
+  const float k = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * 0.5 * (level - 1));
+  std::array<float, NUM_MOTORS> drive{ { 0.f, 0.f, 0.f, 0.f } };
+  drive[side > 0 ? LEFT_SHOULDER : RIGHT_SHOULDER] = k;
+  busy_ = true;
+  busy_since_ = now;
+  busy_yaw0_ = in.walk_heading;
+  busy_head0_ = in.head_yaw;
+  busy_angle_ = side * level * step / kRadToDeg;
+  busy_turn_ = turn;
+  turn_side_ = side;
+  const char* dir = side > 0 ? "left" : "right";
+  char buf[96];
+  if (turn)
+  {
+    // stop and turn: one long buzz (0.8 s)
+    std::snprintf(buf, sizeof(buf), "stop, turn %s %.0f deg (level %d, %.0f deg off)", dir, level * step, level, a);
+    return startPattern(CueMode::GUIDANCE, Instruction::TURN, level, drive, 80, 0, 1, now, buf);
+  }
+  // veer while walking: two short pulses (0.15 s on, 0.15 s off)
+  std::snprintf(buf, sizeof(buf), "veer %s %.0f deg (level %d, %.0f deg off)", dir, level * step, level, a);
+  return startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now, buf);
 }
 
 }  // namespace assistive_tactile

@@ -25,9 +25,17 @@ namespace assistive_planner
   X(double, step_cost, "step_cost", 2.0, 0.0, 1000.0, "per cell length", "extra cost on step/curb cells (free = 1)") \
   X(double, clearance_weight, "clearance_weight", 2.0, 0.0, 1000.0, "per cell length", "extra cost at an obstacle's side, decaying to 0 at `clearance_radius`") \
   X(double, clearance_radius, "clearance_radius", 0.6, 0.0, 5.0, "m", "reach of the clearance cost") \
+  X(double, inflation_radius, "inflation_radius", 0.25, 0.0, 2.0, "m", "the body's radius: a cell whose centre lies closer than this plus half a cell to an obstacle cell's centre is not passable (a 0.80 m doorway keeps at least one passable cell on 0.2 m cells; 0 = off)") \
   X(bool, unknown_traversable, "unknown_traversable", true, {}, {}, "", "unknown cells: a last resort at a cost above any known path (false: blocked)") \
   /* Outputs */ \
   X(double, path_lookahead, "path_lookahead", 1.0, 0.05, 10.0, "m", "along the path for `path_heading`") \
+  /* Steering (pure pursuit on the path, issue 33) */ \
+  X(double, steer_lookahead_s, "steer_lookahead_s", 0.7, 0.0, 5.0, "s", "the steering point lies this many seconds of walking ahead on the path (regulated pure pursuit), within the two bounds below") \
+  X(double, steer_lead_s, "steer_lead_s", 0.6, 0.0, 3.0, "s", "the steering point is looked up from where the walk takes the wearer in this time (a cue acts only after the wearer's reaction, 0.3-1.2 s): turns are cued before the corner") \
+  X(double, steer_lookahead_min, "steer_lookahead_min", 0.3, 0.05, 5.0, "m", "nearest steering point (standing, slow)") \
+  X(double, steer_lookahead_max, "steer_lookahead_max", 0.9, steer_lookahead_min, 5.0, "m", "farthest steering point (fast walking)") \
+  X(double, path_refine_m, "path_refine_m", 0.5, 0.0, 2.0, "m", "the path's points are moved (on a 5 cm distance field, at most half a cell) towards the middle of a passage until this far from the nearest obstacle cell: the middle of doorways and aisles, finer than the cells (0 = off)") \
+  X(double, walk_window_s, "walk_window_s", 0.4, 0.05, 5.0, "s", "the walking direction and speed are the chord of the wearer's positions over this last window") \
   X(double, free_ray_max, "free_ray_max", 5.0, 0.1, 50.0, "m", "longest free-distance ray") \
   X(double, body_half_width, "body_half_width", 0.0, 0.0, 1.0, "m", "> 0: `free_ahead` is the free length of the strip the body sweeps (this half-width either side of the motion vector): the line, and every cell that is not free whose centre lies in the strip ahead of the body's front arc; 0 (default) = the line alone: at 0.25 the fault suite saw false ALERTs on map noise at 0.84-1.04 m") \
   /* after a map reset (a fault, a gap) the floor just ahead lies below the camera's view until the */ \

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "assistive_planner/cost_grid.h"
 #include "assistive_planner/crossing_watch.h"
 #include "assistive_planner/dstar_lite.h"
 #include "assistive_planner/grid.h"
@@ -32,8 +33,18 @@ struct PlanOutput
   double waypoint_distance = 0.0;
   double path_heading = 0.0;
   double path_length = 0.0;
+  /// Pure pursuit: the point on the (refined) path `steer_lookahead` ahead, and its yaw from the wearer.
+  Point2 steer_point;
+  double steer_heading = 0.0;
+  double steer_lookahead = 0.0;  ///< m
+  /// The walk: the chord of the wearer's positions over `walk_window_s` (the head's yaw while the
+  /// chord is shorter than 5 cm: standing); speed in m/s (0 without times).
+  double walk_heading = 0.0;
+  double walking_speed = 0.0;
   double free_ahead = 0.0, free_left = 0.0, free_right = 0.0;
-  std::vector<Point2> path;   ///< cell centres, wearer -> waypoint
+  std::vector<Point2> path;   ///< wearer -> waypoint: cell centres moved towards the middle of narrow passages
+  /// The path the steering point runs on: `path`, then on to the next goal when one is set.
+  std::vector<Point2> steer_path;
   bool path_through_unknown = false;
   std::array<Point2, 3> triangle;  ///< search triangle (apex, left, right)
   Point2 motion_anchor;            ///< previous position of the motion vector
@@ -68,7 +79,19 @@ public:
   const CrossingWatch& crossingWatch() const { return crossing_; }
   /// Explicit target (e.g. a tagged place); replaces the automatic waypoint until reached or cleared.
   void setGoal(const Point2& goal);
-  void clearGoal() { has_goal_ = false; }
+  void clearGoal()
+  {
+    has_goal_ = false;
+    has_next_ = false;
+  }
+  /// The place after the goal (a route of places): the steering point runs on round the goal
+  /// towards it, so a turn at the goal is cued before the goal is reached. Cleared with the goal.
+  void setNextGoal(const Point2& next)
+  {
+    has_next_ = true;
+    next_ = next;
+  }
+  void clearNextGoal() { has_next_ = false; }
   bool hasGoal() const { return has_goal_; }
   const PlannerParams& params() const { return p_; }
   const DStarLite& dstar() const { return dstar_; }
@@ -92,6 +115,23 @@ public:
   static double freeStrip(const Grid& grid, const Point2& from, double yaw, double max_range, double half_width,
                           bool& ends_unknown);
 
+  /// Moves each inner point of `path` (at most half a cell) up the obstacle distance field of
+  /// `grid` (obstacle cells, 5 cm resolution) until it lies `clearance` from the nearest obstacle
+  /// cell or on the ridge between two: the middle of a doorway or aisle.
+  static void refinePath(const Grid& grid, std::vector<Point2>& path, double clearance);
+  /// String pulling: drops the path's points a straight line can skip without passing closer to
+  /// an obstacle cell than the skipped stretch did (the middle of a passage stays the middle) and
+  /// without crossing a blocked cell of `weights` (obstacles and the body's inflation). Keeps the
+  /// first and last point.
+  static void smoothPath(const Grid& grid, const std::vector<double>& weights, std::vector<Point2>& path);
+  /// Cheapest path between two cells on `costs` (A*, 8-connected, the same edge costs as D* Lite):
+  /// cell indices from `from` to `to`; empty when there is none.
+  static std::vector<int> cheapestPath(const CostGrid& costs, int from, int to);
+  /// Arc length along the polyline of the point of it nearest to `q` (among its first `max_along` m).
+  static double projectOnto(const std::vector<Point2>& path, const Point2& q, double max_along = 1e300);
+  /// The point `dist` along the polyline from its first point (its end when shorter).
+  static Point2 pointAlong(const std::vector<Point2>& path, double dist);
+
 private:
   void syncCosts(const Grid& grid, PlanOutput& out);
 
@@ -105,7 +145,10 @@ private:
   bool ever_planned_ = false;
   bool has_goal_ = false;
   Point2 goal_;
+  bool has_next_ = false;
+  Point2 next_;
   std::vector<Point2> walked_;  // the wearer's positions, >= 0.05 m apart
+  std::vector<std::pair<double, Point2>> recent_;  // (t, position) over the last walk_window_s
   Grid work_;                   // the input grid with the walked floor marked
 };
 }  // namespace assistive_planner

@@ -7,6 +7,7 @@
 
 #include <assistive_common/codes.h>
 #include "assistive_tactile/params.h"
+#include "assistive_tactile/vest_protocol.h"
 
 namespace assistive_tactile
 {
@@ -32,6 +33,13 @@ struct NavInput
   std::string message;
   double heading = 0.0;          ///< motion vector yaw
   double path_heading = 0.0;     ///< yaw of the path segment ahead
+  /// Yaw from the wearer to the steering point (the look-ahead point on the path, pure pursuit).
+  double steer_heading = 0.0;
+  /// Yaw the body walks along (the planner's walked chord over the last fraction of a second;
+  /// the head's yaw while standing).
+  double walk_heading = 0.0;
+  double walking_speed = 0.0;    ///< m/s
+  double head_yaw = 0.0;         ///< the head's yaw now (its rate tells a turn being carried out)
   double waypoint_distance = 0.0;
   double free_ahead = 0.0;
   double free_left = 0.0;
@@ -46,12 +54,33 @@ struct NavInput
   double source_time = std::numeric_limits<double>::quiet_NaN();
 };
 
+/// What a cue asks of the wearer (the protocol page in README.md).
+enum class Instruction : uint8_t
+{
+  NONE = 0,      ///< nothing felt (UNSURE after its opening pattern, link lost)
+  WALK_ON = 1,   ///< clear: a tick on both shoulders every `tick_period_s`
+  VEER = 2,      ///< keep walking, veer by level x `veer_step_deg` (one shoulder, two short pulses)
+  TURN = 3,      ///< stop and turn on the spot by level x `turn_step_deg` (one shoulder, one long buzz)
+  SIDESTEP = 4,  ///< step sideways while the waist motor buzzes
+  STOP = 5,      ///< all four: stop (obstacle, person crossing, nothing free)
+  UNSURE = 6     ///< three quick pulses on both waist motors, then silence: stop, use the cane
+};
+const char* instructionName(Instruction i);
+
 struct Cue
 {
   CueMode mode = CueMode::UNSURE;
+  /// The drive of each motor while the pattern is on (0..1).
   std::array<float, NUM_MOTORS> intensity{ { 0.f, 0.f, 0.f, 0.f } };
+  /// How the motors pulse (the vest renders it; a new id restarts it). Default: steady.
+  vest_pattern_t pattern{ 0, 0, 0, 0 };
+  Instruction instruction = Instruction::NONE;
+  int level = 0;          ///< 1..3 for VEER / TURN
   std::string reason;
 };
+
+/// The drive of every motor `t_s` after the cue's pattern started (what the vest does).
+std::array<float, NUM_MOTORS> renderCue(const Cue& c, double t_s);
 
 const char* modeName(CueMode m);
 using assistive_common::crossingName;
@@ -104,7 +133,21 @@ public:
 
 private:
   Cue decideProximity(const NavInput& in, bool have_path);
-  Cue decideGuidance(const NavInput& in);
+  Cue decideGuidance(const NavInput& in, double now);
+  /// A new pattern on the given motors (a new pattern id).
+  Cue startPattern(CueMode mode, Instruction ins, int level, std::array<float, NUM_MOTORS> drive, uint8_t on_10ms,
+                   uint8_t off_10ms, uint8_t count, double now, std::string reason);
+  /// The pattern being played again (same id: the vest continues it).
+  Cue holdPattern(std::string reason) const;
+  /// UNSURE with its opening pattern when it starts, silence after.
+  Cue unsureCue(std::string reason, double now);
+  /// A steady cue (side-step, stop): the running pattern when it drives the same motors, else new.
+  Cue steady(CueMode mode, Instruction ins, const std::array<float, NUM_MOTORS>& drive, double now, std::string reason);
+  bool steadyHeld(CueMode mode, Instruction ins, const std::array<float, NUM_MOTORS>& drive) const;
+  /// An ALERT / PROXIMITY decision (mode, intensities, reason) as its steady pattern.
+  Cue shapeSteady(const Cue& c, double now);
+  /// "Clear, walk on": a tick when one is due, else the running pattern (it has ended).
+  Cue walkOn(std::string reason, double now);
   /// The crossing cue over `base` (the obstacle / guidance cue of a fresh OK state).
   Cue overlayCrossing(const NavInput& in, const Cue& base, double now);
   void clearCrossing();
@@ -118,6 +161,19 @@ private:
   double cross_since_ = 0.0;      ///< when the held advice (this side / stop) was raised
   double cross_seen_ = 0.0;       ///< when the planner last advised it
   double cross_time_ = 0.0;       ///< its time to the closest approach then
+  // guidance while walking: the burst being executed and the walk's yaw when it started
+  Cue current_;                 ///< the pattern last started
+  double current_start_ = -1e300;
+  uint8_t next_id_ = 1;
+  double last_tick_ = -1e300;   ///< when the last pattern (a tick or any other) started
+  bool busy_ = false;           ///< a veer / turn burst is being executed
+  double busy_since_ = 0.0;
+  double busy_yaw0_ = 0.0;      ///< walk heading when it started (a veer is judged on the walk)
+  double busy_head0_ = 0.0;     ///< head yaw when it started (a turn on the spot is judged on the head)
+  double busy_angle_ = 0.0;     ///< signed angle asked for (rad, + = left)
+  bool busy_turn_ = false;      ///< a stop-and-turn (else a veer)
+  double last_yaw_ = 0.0, last_yaw_time_ = -1e300;  ///< for the turn rate
+  double yaw_rate_ = 0.0;       ///< rad/s, smoothed
   double last_state_time_ = -1e300;
   double last_source_time_ = std::numeric_limits<double>::quiet_NaN();
   bool have_state_ = false;

@@ -12,15 +12,23 @@ namespace assistive_tactile
 // clang-format off
 // X(type, field, ROS name, default, lo, hi, unit, text)
 #define ASSISTIVE_CUE_PARAMS(X) \
-  /* Guidance (shoulder motors) */ \
+  /* Guidance while walking (shoulder motors; the protocol page in README.md, issue 33) */ \
   X(double, guidance_min_waypoint_m, "guidance_min_waypoint_m", 1.0, 0.0, 20.0, "m", "guidance only when the waypoint is at least this far") \
-  X(double, turn_on_deg, "turn_on_deg", 20.0, 1.0, 170.0, "deg", "start a turn cue when the path deviates from the motion by more") \
-  X(double, turn_off_deg, "turn_off_deg", 8.0, 0.0, turn_on_deg, "deg", "keep it until the deviation falls below this") \
-  X(double, turn_full_deg, "turn_full_deg", 90.0, turn_on_deg, 180.0, "deg", "deviation at which intensity reaches 1") \
-  X(double, min_intensity, "min_intensity", 0.25, 0.0, 1.0, "", "weakest drive that is still felt") \
+  X(double, walking_speed_mps, "walking_speed_mps", 0.25, 0.0, 2.0, "m/s", "the wearer counts as walking above this speed (the planner's `walking_speed`): veer cues while walking, stop-and-turn cues while standing") \
+  X(double, veer_on_deg, "veer_on_deg", 10.0, 1.0, 90.0, "deg", "a veer cue when the steering point lies further than this off the walking direction") \
+  X(double, veer_step_deg, "veer_step_deg", 15.0, 1.0, 60.0, "deg", "a veer burst at level k (1..3) asks for k x this (15 / 30 / 45 deg: slightly, bear, sharply)") \
+  X(double, turn_on_deg, "turn_on_deg", 60.0, 10.0, 170.0, "deg", "above this (while walking; standing: above `stand_turn_deg`) the cue is stop-and-turn") \
+  X(double, stand_turn_deg, "stand_turn_deg", 35.0, 1.0, 170.0, "deg", "a standing wearer is turned on the spot when the steering point lies further than this off the body") \
+  X(double, turn_step_deg, "turn_step_deg", 45.0, 10.0, 90.0, "deg", "a stop-and-turn buzz at level k (1..3) asks for k x this (45 / 90 / 135 deg)") \
+  X(double, settle_timeout_s, "settle_timeout_s", 2.5, 0.2, 10.0, "s", "after a veer burst the next one waits until the walk has turned by half of it and steadied, or this long") \
+  X(double, turn_timeout_s, "turn_timeout_s", 4.0, 0.5, 20.0, "s", "after a stop-and-turn buzz the next cue waits until the body has turned by half of it, or this long") \
+  X(double, min_intensity, "min_intensity", 0.4, 0.0, 1.0, "", "level 1's drive; levels 2 and 3 lie evenly up to 1 (0.4 / 0.7 / 1.0: steps of 1.4-1.75x, each well above the vibrotactile intensity JND)") \
+  X(double, tick_period_s, "tick_period_s", 2.0, 0.5, 10.0, "s", "clear-walk-on: a tick on both shoulders this often while no other cue is due (a vest silent for two periods means stop)") \
   /* Proximity (waist motors) and alert (all four) */ \
   X(double, alert_m, "alert_m", 0.5, 0.0, 10.0, "m", "free distance ahead under which all four motors fire") \
   X(double, proximity_m, "proximity_m", 1.0, alert_m, 10.0, "m", "free distance ahead under which proximity mode starts") \
+  X(double, alert_reaction_s, "alert_reaction_s", 0.6, 0.0, 3.0, "s", "both distances grow by the walking speed times this (the walk during the wearer's reaction, 0.3-1.2 s in the wearer population, before the stop begins) and by the stop itself (v^2 / 2 `stop_decel`)") \
+  X(double, stop_decel, "stop_decel", 2.0, 0.5, 10.0, "m/s^2", "how quickly a walker stops, for the distances above") \
   X(double, hysteresis_m, "hysteresis_m", 0.1, 0.0, 1.0, "m", "a mode entered at d is left only above d + hysteresis_m") \
   X(double, side_free_m, "side_free_m", 0.6, 0.0, 10.0, "m", "free distance to a side that counts as room to side-step") \
   X(double, side_switch_m, "side_switch_m", 0.2, 0.0, 10.0, "m", "the other side must be this much freer to switch waist motor") \

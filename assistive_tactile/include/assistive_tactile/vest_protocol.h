@@ -165,6 +165,31 @@ typedef struct
   uint16_t ttl_ms;                      /* COMMAND: drive at most this long after receipt */
 } vest_packet_t;
 
+/* A pulse pattern (protocol version 4, the walking cues of issue 33): the motors of a COMMAND are
+ * driven in pulses the vest times itself, so USB jitter never changes what the wearer feels.
+ * ID names one pattern: a COMMAND with the same ID as the running one continues its phase (the PC
+ * re-sends at 20 Hz), a new ID restarts it at 0. ON_10MS 0 = steady (driven all the time). */
+typedef struct
+{
+  uint8_t id;        /* changes when a new pattern starts */
+  uint8_t on_10ms;   /* pulse length, 10 ms units; 0 = steady */
+  uint8_t off_10ms;  /* gap between pulses, 10 ms units */
+  uint8_t count;     /* pulses, then off; 0 = pulse for as long as the COMMAND lasts */
+} vest_pattern_t;
+
+/* 1 when a pattern drives its motors t_ms after it started, else 0. */
+static inline int vest_pattern_on(const vest_pattern_t* p, uint32_t t_ms)
+{
+  uint32_t period, k;
+  if (p->on_10ms == 0u)
+    return 1;
+  period = 10ul * ((uint32_t)p->on_10ms + (uint32_t)p->off_10ms);
+  k = t_ms / period;
+  if (p->count != 0u && k >= (uint32_t)p->count)
+    return 0;
+  return (t_ms - k * period) < 10ul * (uint32_t)p->on_10ms ? 1 : 0;
+}
+
 /* RANGE */
 typedef struct
 {

@@ -1,6 +1,6 @@
 // mobility_trials: a simulated wearer walks a world's course closed loop (issue 19, seed 5.4-5.5).
 //   rosrun assistive_sim mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S]
-//       [--plot FILE.png] [--no-cues] [--reaction S] [--turn-rate DEG_S] [--overturn S]
+//       [--plot FILE.png] [--no-cues] [--reaction S] [--turn-rate DEG_S]
 // Prints one row per trial, a summary table, and as the last line the JSON keys of SPEC.md.
 #include <netinet/in.h>
 #include <signal.h>
@@ -34,7 +34,7 @@ namespace
 void usage(std::ostream& os = std::cerr)
 {
   os << "usage: mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S] [--plot FILE.png]\n"
-        "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--overturn S] [--turn-on DEG] [--turn-off DEG]\n"
+        "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--turn-on DEG]\n"
         "                       [--body-half-width M] [--chord-min M] (planner: free_ahead strip, heading chord; truth)\n"
         "                       [--timeout-factor X] (a trial ends unfinished after X x the guide's time + 20 s; 4)\n"
         "  W: a shipped world's name (course corridor parking glass plaza) or a world YAML.\n"
@@ -154,9 +154,7 @@ int main(int argc, char** argv)
       else if (a == "--no-cues") opt.cues_enabled = false;
       else if (a == "--reaction") opt.wearer.reaction_s = std::stod(val());
       else if (a == "--turn-rate") opt.wearer.turn_rate_deg = std::stod(val());
-      else if (a == "--overturn") opt.wearer.overturn_s = std::stod(val());
       else if (a == "--turn-on") opt.cues.turn_on_deg = std::stod(val());
-      else if (a == "--turn-off") opt.cues.turn_off_deg = std::stod(val());
       else if (a == "--body-half-width") opt.planner.body_half_width = std::stod(val());
       else if (a == "--chord-min") opt.planner.heading_chord_min = std::stod(val());
       else if (a == "--timeout-factor") opt.timeout_factor = std::stod(val());

@@ -281,6 +281,12 @@ ChainCue RosChain::frame(double t, const BodyState& s)
       const assistive_msgs::TactileCue& q = d.last_cue;
       for (size_t i = 0; i < 4; ++i) out.motors[i] = q.intensity[i];
       out.mode = int(q.mode);
+      out.pattern_id = q.pattern_id;
+      out.pulse_on_ms = q.pulse_on_ms;
+      out.pulse_off_ms = q.pulse_off_ms;
+      out.pulse_count = q.pulse_count;
+      out.instruction = q.instruction;
+      out.level = q.level;
       const auto from = d.o.kind == VISION && d.image_stamp == ns ? d.image_wall : sent;
       out.latency_ms = std::chrono::duration<double, std::milli>(d.cue_wall - from).count();
       if (d.trace)

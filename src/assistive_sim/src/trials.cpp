@@ -14,6 +14,7 @@
 
 #include <assistive_planner/planner.h>
 #include <assistive_tactile/cue_logic.h>
+#include <assistive_tactile/vest_protocol.h>
 
 namespace assistive_sim
 {
@@ -91,6 +92,13 @@ public:
     trace_ = std::getenv("MOBILITY_TRIALS_TRACE") != nullptr;  // per-cycle state on stderr
   }
   void setGoal(const Eigen::Vector2d& g) override { planner_.setGoal({ g.x(), g.y() }); }
+  void setNextGoal(const Eigen::Vector2d* n) override
+  {
+    if (n)
+      planner_.setNextGoal({ n->x(), n->y() });
+    else
+      planner_.clearNextGoal();
+  }
   ChainCue frame(double t, const BodyState& s) override
   {
     // The world's people are not in grid_ (computeOccupancy leaves movers out): a perfect tracker
@@ -118,6 +126,10 @@ public:
     in.free_ahead = out.free_ahead;
     in.free_left = out.free_left;
     in.free_right = out.free_right;
+    in.steer_heading = out.steer_heading;
+    in.walk_heading = out.walk_heading;
+    in.walking_speed = out.walking_speed;
+    in.head_yaw = out.head_yaw;
     in.crossing = out.crossing.advice;
     in.crossing_id = out.crossing.id;
     in.crossing_time = out.crossing.time;
@@ -132,6 +144,12 @@ public:
     ChainCue c;
     c.motors = cue.intensity;
     c.mode = int(cue.mode);
+    c.pattern_id = cue.pattern.id;
+    c.pulse_on_ms = 10 * cue.pattern.on_10ms;
+    c.pulse_off_ms = 10 * cue.pattern.off_10ms;
+    c.pulse_count = cue.pattern.count;
+    c.instruction = int(cue.instruction);
+    c.level = cue.level;
     return c;
   }
 
@@ -215,8 +233,19 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   {
     chain->reset(r.start);
     chain->setGoal(route[0]);
+    chain->setNextGoal(route.size() > 1 ? &route[1] : nullptr);
   }
-  std::array<float, 4> motors{ { 0.f, 0.f, 0.f, 0.f } };
+  // The vest as the firmware drives it: the last cue's pattern, from when its id first came.
+  ChainCue playing;
+  double playing_since = 0.0;
+  auto drive = [&](double now) {
+    std::array<float, 4> m{ { 0.f, 0.f, 0.f, 0.f } };
+    vest_pattern_t pat{ playing.pattern_id, uint8_t(std::min(255, playing.pulse_on_ms / 10)),
+                        uint8_t(std::min(255, playing.pulse_off_ms / 10)), uint8_t(playing.pulse_count) };
+    if (opt.cues_enabled && vest_pattern_on(&pat, uint32_t(std::max(0.0, now - playing_since) * 1000.0 + 0.5)))
+      m = playing.motors;
+    return m;
+  };
   const double period = 1.0 / opt.rate_hz;
   double next_plan = 0.0, clear_sum = 0.0;
   r.min_clearance_m = 1e9;
@@ -235,7 +264,11 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
     while (next < route.size() && (s.xy - route[next]).norm() < opt.goal_radius_m)
     {
       ++next;
-      if (next < route.size() && vest) chain->setGoal(route[next]);
+      if (next < route.size() && vest)
+      {
+        chain->setGoal(route[next]);
+        chain->setNextGoal(next + 1 < route.size() ? &route[next + 1] : nullptr);
+      }
     }
     if (next >= route.size())
     {
@@ -251,14 +284,14 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
         if (cue.received)
         {
           ++r.cue_modes[size_t(std::min(4, std::max(0, cue.mode)))];
-          if (opt.cues_enabled) motors = cue.motors;
+          if (cue.pattern_id != playing.pattern_id || cue.pattern_id == 0) playing_since = t;
+          playing = cue;
         }
         else
           ++r.missed_cues;
         if (cue.latency_ms >= 0.0) r.latency_ms.push_back(cue.latency_ms);
-        if (!opt.cues_enabled) motors = { { 0.f, 0.f, 0.f, 0.f } };
       }
-      wearer.step(t, opt.dt, motors, &body);
+      wearer.step(t, opt.dt, drive(t), &body);
       chain->observe(t + opt.dt, wearer.state());
     }
     else

@@ -180,6 +180,7 @@ VestWearer::VestWearer(const WearerParams& p, const BodyState& start, uint32_t s
 {
   scan_phase_ = std::uniform_real_distribution<double>(0.0, 2.0 * M_PI)(rng_);
   s_.head_yaw = s_.yaw;
+  s_.speed = 0.0;  // standing, until the vest says go
 }
 
 std::array<float, 4> VestWearer::felt(double t) const
@@ -193,61 +194,168 @@ std::array<float, 4> VestWearer::felt(double t) const
   return m;
 }
 
+int VestWearer::perceivedLevel(float intensity)
+{
+  // The protocol's three levels (0.4 / 0.7 / 1.0) as this wearer feels them: the drive on a log
+  // scale (vibrotactile magnitude follows a power law) with noise such that `intensity_levels`
+  // evenly spaced levels over the same range are told apart about 95 % of the time.
+  const double lo = std::log(0.4), hi = 0.0;
+  const double spacing = (hi - lo) / std::max(1, p_.intensity_levels - 1);
+  const double felt = std::log(std::max(1e-3f, intensity)) + std::normal_distribution<double>(0.0, spacing / 4.0)(rng_);
+  const double k = (felt - lo) / (0.5 * (hi - lo));  // 0, 1, 2 at the protocol's levels
+  return std::max(1, std::min(3, int(std::lround(k)) + 1));
+}
+
+void VestWearer::perceive(double t, double dt, const std::array<float, 4>& m)
+{
+  const float on = 0.01f;
+  const bool ls = m[0] > on, rs = m[1] > on, lw = m[2] > on, rw = m[3] > on;
+  if (ls || rs || lw || rw) last_felt_ = t;
+  auto drawGain = [&]() {
+    return p_.turn_gain * std::exp(std::normal_distribution<double>(0.0, p_.turn_gain_sd)(rng_));
+  };
+  if (ls && rs && lw && rw)
+  {
+    percept_ = STOP;
+    go_ = false;
+    turn_left_ = 0.0;
+    shoulder_side_ = 0;
+    both_shoulders_ = false;
+    return;
+  }
+  if (lw && rw)
+  {
+    percept_ = UNSURE;  // the UNSURE pattern: stop, use the cane, wait for the vest
+    go_ = false;
+    turn_left_ = 0.0;
+    return;
+  }
+  if (lw != rw)
+  {
+    percept_ = lw ? SIDESTEP_LEFT : SIDESTEP_RIGHT;
+    go_ = false;  // a side-step ends standing: the walk-on that follows says go
+    turn_left_ = 0.0;
+    return;
+  }
+  // shoulders: a tick on both = walk on; one side: two short pulses = veer, a long buzz = turn
+  const int side = ls && rs ? 2 : ls ? +1 : rs ? -1 : 0;
+  if (side != 0 && shoulder_side_ == 0)
+  {
+    shoulder_side_ = side;
+    shoulder_since_ = t;
+    shoulder_peak_ = 0.f;
+    shoulder_used_ = false;
+  }
+  if (side != 0 && side == shoulder_side_)
+  {
+    shoulder_peak_ = std::max(shoulder_peak_, side == -1 ? m[1] : m[0]);
+    if (side != 2 && !shoulder_used_ && t - shoulder_since_ >= 0.25)
+    {
+      // a long buzz (longer than a veer's 0.15 s pulses): stop and turn by level x 45 deg
+      shoulder_used_ = true;
+      percept_level_ = perceivedLevel(shoulder_peak_);
+      percept_ = side > 0 ? TURN_LEFT : TURN_RIGHT;
+      turn_left_ = side * percept_level_ * 45.0 * DEG * drawGain();
+      turn_on_spot_ = true;
+      go_ = true;
+    }
+    return;
+  }
+  if (shoulder_side_ != 0)
+  {
+    // the pulse ended (or changed side)
+    const double len = t - shoulder_since_;
+    if (!shoulder_used_ && len + 1e-9 >= p_.min_pulse_s)
+    {
+      if (shoulder_side_ == 2)
+      {
+        percept_ = WALK_ON;
+        go_ = true;
+      }
+      else if (!(last_veer_side_ == shoulder_side_ && shoulder_since_ - last_veer_end_ < 0.4))
+      {
+        // the first pulse of a veer's pair (the second one belongs to the same cue)
+        percept_level_ = perceivedLevel(shoulder_peak_);
+        percept_ = shoulder_side_ > 0 ? VEER_LEFT : VEER_RIGHT;
+        turn_left_ = shoulder_side_ * percept_level_ * 15.0 * DEG * drawGain();
+        turn_on_spot_ = false;
+        go_ = true;
+      }
+      if (shoulder_side_ != 2)
+      {
+        last_veer_side_ = shoulder_side_;
+        last_veer_end_ = t;
+      }
+    }
+    shoulder_side_ = 0;
+    if (side != 0) perceive(t, dt, m);  // the other side began at once
+    return;
+  }
+  if (t - last_felt_ > p_.silence_stop_s && go_)
+  {
+    percept_ = NOTHING;  // the vest has gone silent: stop, use the cane
+    go_ = false;
+    turn_left_ = 0.0;
+  }
+}
+
 void VestWearer::step(double t, double dt, const std::array<float, 4>& motors, BodyCollider* collider)
 {
   history_.emplace_back(t, motors);
   while (history_.size() > 2 && history_[1].first <= t - p_.reaction_s + 1e-9) history_.pop_front();
   const std::array<float, 4> m = felt(t);
-  const float on = 0.01f;
-  const bool ls = m[0] > on, rs = m[1] > on, lw = m[2] > on, rw = m[3] > on;
-  const bool alert = ls && rs && lw && rw;
+  perceive(t, dt, m);
   auto pickSide = [&]() { return std::bernoulli_distribution(0.5)(rng_) ? +1 : -1; };
   auto stop = [&]() { s_.speed = std::max(0.0, s_.speed - 2.0 * p_.accel * dt); };
   Eigen::Vector2d side_move = Eigen::Vector2d::Zero();
+  const bool waist = (m[2] > 0.01f) != (m[3] > 0.01f) && !(m[0] > 0.01f && m[1] > 0.01f);
 
-  if (alert || t < explore_until_)
+  if (t < explore_until_)
   {
-    // Stop and explore: turn on the spot (one side, kept while the alert lasts) so the camera sees
-    // new space; the system returns to guidance when it finds a way.
-    // A wearer who was just turning goes on turning that way (told to turn right, then to stop
-    // and explore, one does not swing back); otherwise a side at random.
-    if (explore_side_ == 0) explore_side_ = (last_turn_side_ != 0 && t - last_turn_time_ < 2.0) ? last_turn_side_ : pickSide();
+    // after a bump: stop and feel around (turning on the spot)
     action_ = EXPLORE;
     stop();
     s_.yaw = wrap(s_.yaw + explore_side_ * p_.explore_rate_deg * DEG * dt);
-    turn_until_ = -1.0;
   }
-  else if (ls != rs && !(lw || rw))
-  {
-    const int side = ls ? +1 : -1;
-    last_turn_side_ = side;
-    last_turn_time_ = t;
-    explore_side_ = 0;  // the next alert continues this turn
-    last_turn_rate_ = (ls ? m[0] : m[1]) * p_.turn_rate_deg * DEG;
-    turn_until_ = t + dt + p_.overturn_s;  // the turn goes on this long after the buzz is felt to stop
-    action_ = TURN;
-    stop();
-    s_.yaw = wrap(s_.yaw + side * last_turn_rate_ * dt);
-  }
-  else if (lw != rw)
+  else if (waist)
   {
     action_ = SIDESTEP;
     stop();
-    const double sgn = lw ? +1.0 : -1.0;
+    const double sgn = m[2] > 0.01f ? +1.0 : -1.0;
     side_move = sgn * p_.sidestep_speed * dt * Eigen::Vector2d(-std::sin(s_.yaw), std::cos(s_.yaw));
-    turn_until_ = -1.0;
   }
-  else if (t < turn_until_)
+  else if (turn_on_spot_ && turn_left_ != 0.0)
   {
-    action_ = TURN;  // over-turning
+    // stop, then turn on the spot by what was asked
+    action_ = TURN;
     stop();
-    s_.yaw = wrap(s_.yaw + last_turn_side_ * last_turn_rate_ * dt);
+    const double d = std::min(std::fabs(turn_left_), p_.turn_rate_deg * DEG * dt);
+    const double sgn = turn_left_ > 0.0 ? 1.0 : -1.0;
+    s_.yaw = wrap(s_.yaw + sgn * d);
+    turn_left_ -= sgn * d;
+    if (std::fabs(turn_left_) < 1e-9) turn_left_ = 0.0;
+  }
+  else if (!go_)
+  {
+    action_ = STOPPED;
+    stop();
   }
   else
   {
-    action_ = WALK;
-    explore_side_ = 0;
+    action_ = turn_left_ != 0.0 ? VEER : WALK;
     s_.speed = std::min(p_.walk_speed, s_.speed + p_.accel * dt);
+    if (turn_left_ != 0.0)
+    {
+      const double d = std::min(std::fabs(turn_left_), p_.veer_rate_deg * DEG * dt);
+      const double sgn = turn_left_ > 0.0 ? 1.0 : -1.0;
+      s_.yaw = wrap(s_.yaw + sgn * d);
+      turn_left_ -= sgn * d;
+      if (std::fabs(turn_left_) < 1e-9) turn_left_ = 0.0;
+    }
+    // veering: walking "straight" without sight, the heading wanders (a random walk in distance)
+    const double ds = s_.speed * dt;
+    if (ds > 0.0 && p_.veer_sigma_deg > 0.0)
+      s_.yaw = wrap(s_.yaw + std::normal_distribution<double>(0.0, p_.veer_sigma_deg * DEG * std::sqrt(ds))(rng_));
   }
   const Eigen::Vector2d target =
       s_.xy + s_.speed * dt * Eigen::Vector2d(std::cos(s_.yaw), std::sin(s_.yaw)) + side_move;
@@ -259,6 +367,7 @@ void VestWearer::step(double t, double dt, const std::array<float, 4>& motors, B
     {
       // A person who bumps into something stops and feels around before going on.
       s_.speed = 0.0;
+      turn_left_ = 0.0;
       if (t >= explore_until_) explore_side_ = pickSide();
       explore_until_ = t + p_.bump_explore_s;
     }

@@ -28,7 +28,12 @@ enum class TrialMode
 /// What the chain told the vest for one camera frame.
 struct ChainCue
 {
-  std::array<float, 4> motors{ { 0.f, 0.f, 0.f, 0.f } };
+  std::array<float, 4> motors{ { 0.f, 0.f, 0.f, 0.f } };  ///< drive while the pattern is on
+  /// How the vest pulses them (vest_protocol.h); a new id restarts the pattern. Default: steady.
+  uint8_t pattern_id = 0;
+  int pulse_on_ms = 0, pulse_off_ms = 0, pulse_count = 0;
+  int instruction = 0;      ///< assistive_tactile::Instruction
+  int level = 0;
   int mode = 4;             ///< assistive_common::CueMode (4 = UNSURE)
   bool received = true;     ///< false: no cue came for this frame (the vest keeps what it had)
   double latency_ms = -1.0; ///< camera image stamp -> cue (or serial write), wall ms; < 0 = not measured
@@ -46,6 +51,8 @@ public:
   virtual void reset(const BodyState& start) { (void)start; }
   /// The experimenter's next place (the system's explicit goal), world frame.
   virtual void setGoal(const Eigen::Vector2d& goal) = 0;
+  /// The place after it on the route (none: the goal is the last). The ROS chains ignore it.
+  virtual void setNextGoal(const Eigen::Vector2d* next) { (void)next; }
   /// The camera frame at trial time `t` (s) with the wearer in state `s`.
   virtual ChainCue frame(double t, const BodyState& s) = 0;
   /// The wearer's state after every body step (t = the step's end): the vision chain's IMU.

@@ -30,24 +30,32 @@ enum class ObstacleKind
 };
 const char* kindName(ObstacleKind k);  ///< "wall", "overhang", "glass", "furniture", "people"
 
-/// Reaction to the vest. Where the seed gives no number its observation is quoted and the default
-/// is a typical adult figure; all of them are options of mobility_trials.
+/// One wearer: the body and how it reacts to the vest. A trial draws one from the population
+/// (wearer_population.h: every value cites its source in docs/wearer_population.md); the defaults
+/// are a typical adult. The protocol (what each cue asks) is assistive_tactile/README.md's page:
+/// the wearer was taught it, and acts on what it feels, never on the map.
 struct WearerParams
 {
-  double walk_speed = 1.1;        ///< m/s cruise; the sighted-guide run uses it too (worlds' scripts: 1.1)
-  double accel = 1.2;             ///< m/s^2 to start and to stop walking
-  double reaction_s = 0.3;        ///< s from a motor's change to the body's (vibrotactile reaction ~0.3 s;
-                                  ///< seed 5.5.3.3: late cues made wearers act too late)
-  double turn_rate_deg = 90.0;    ///< deg/s turning on the spot at intensity 1 (rate = intensity x this)
-  double overturn_s = 0.2;        ///< s the turn goes on after the buzz is felt to stop (seed 5.5.3.3:
-                                  ///< "subjects overcompensated when turning")
+  double walk_speed = 1.1;        ///< m/s preferred walking speed; the sighted-guide run uses it too
+  double accel = 1.2;             ///< m/s^2 to start walking (stopping: twice this)
+  double reaction_s = 0.6;        ///< s from a cue's onset to the body's response (walking, torso vibration)
+  double turn_gain = 1.0;         ///< this wearer's turns: actual / asked (a lasting bias)
+  double turn_gain_sd = 0.15;     ///< and its spread from one turn to the next (lognormal sigma)
+  double turn_rate_deg = 90.0;    ///< deg/s turning on the spot
+  double veer_rate_deg = 60.0;    ///< deg/s changing direction while walking (a veer)
+  double veer_sigma_deg = 1.0;    ///< veering while walking straight: heading random walk, deg per sqrt(m)
+  int intensity_levels = 3;       ///< vibration intensities this wearer tells apart (absolute identification)
+  double min_pulse_s = 0.05;      ///< shortest pulse felt (s); shorter ones go unnoticed
   double sidestep_speed = 0.3;    ///< m/s sideways while a waist motor buzzes
-  double explore_rate_deg = 40.0; ///< deg/s turning on the spot to explore on an alert (seed 5.2)
   double scan_amplitude_deg = 8.0;///< head yaw scanning while walking (the worlds' default)
   double scan_period_s = 7.0;
   double body_radius = 0.25;      ///< m, the body's cylinder (shoulders)
   double eye_height = 1.6;        ///< m; the body reaches 0.12 m above it
-  double bump_explore_s = 1.0;    ///< s exploring (turning) after bumping into something
+  double bump_explore_s = 1.0;    ///< s feeling around after bumping into something
+  double explore_rate_deg = 40.0; ///< deg/s turning while feeling around (and the cane-only walker)
+  /// The protocol's silence rule, as taught: no cue felt for this long (two walk-on ticks missed)
+  /// means stop and use the cane.
+  double silence_stop_s = 4.5;
 };
 
 /// The body's collider against a world's solids (glass included; walkable steps never collide)
@@ -115,40 +123,61 @@ struct BodyState
 };
 
 /**
- * The vest wearer (seed 5.2): "In the absence of any cues, the user simply keeps walking straight
- * ahead. When a cue is received, walking motion is suspended and the turn/side-step is executed.
- * The subject keeps turning or side-stepping as long as the vibration is on. Once the motor(s) are
- * switched off, normal walking is resumed. In case of a collision alert, the user can explore the
- * region until the system detects a new safe path." Motors are felt `reaction_s` late; a turn's
- * rate follows the shoulder motor's intensity and goes on `overturn_s` after the buzz stops.
+ * The vest wearer of the walking protocol (issue 33; assistive_tactile/README.md): it stands until
+ * told to go, walks at its own pace while the walk-on ticks come, veers by the amount a shoulder's
+ * two short pulses ask (level = felt intensity) without stopping, stops and turns on the spot by
+ * the amount a shoulder's long buzz asks, side-steps while a waist motor buzzes, and stops on all
+ * four, on the UNSURE pattern (both waists pulsing) and when the vest stays silent for
+ * `silence_stop_s`. Everything felt acts `reaction_s` after it began; turns come out
+ * `turn_gain` x asked (lognormal spread); walking straight the heading wanders (veering); pulses
+ * shorter than `min_pulse_s` go unnoticed; intensities are told apart in `intensity_levels` steps.
  */
 class VestWearer
 {
 public:
   VestWearer(const WearerParams& p, const BodyState& start, uint32_t seed);
-  /// Advance by dt at time t (s) with the motors' intensities now (0..1: left shoulder, right
+  /// Advance by dt at time t (s) with the motors' drive now (0..1: left shoulder, right
   /// shoulder, left waist, right waist). `collider` may be null (free space).
   void step(double t, double dt, const std::array<float, 4>& motors, BodyCollider* collider);
   const BodyState& state() const { return s_; }
   /// What the wearer is doing, for the per-trial summary.
-  enum Action { WALK, TURN, SIDESTEP, EXPLORE, STOPPED };
+  enum Action { WALK, TURN, SIDESTEP, EXPLORE, STOPPED, VEER };
   Action action() const { return action_; }
+  /// What it understood last (the percept) and when, for the timeline.
+  enum Percept { NOTHING, WALK_ON, VEER_LEFT, VEER_RIGHT, TURN_LEFT, TURN_RIGHT, SIDESTEP_LEFT, SIDESTEP_RIGHT, STOP, UNSURE };
+  Percept lastPercept() const { return percept_; }
+  int lastLevel() const { return percept_level_; }
 
 private:
+  /// What the motors did `reaction_s` ago (the response lags the cue by the reaction time).
   std::array<float, 4> felt(double t) const;
+  int perceivedLevel(float intensity);
+  void perceive(double t, double dt, const std::array<float, 4>& m);
 
   WearerParams p_;
   BodyState s_;
   std::mt19937 rng_;
   double scan_phase_ = 0.0;
   std::deque<std::pair<double, std::array<float, 4>>> history_;
-  Action action_ = WALK;
-  int last_turn_side_ = 0;
-  double last_turn_rate_ = 0.0;
-  double last_turn_time_ = -1e9;
-  double turn_until_ = -1.0;   ///< over-turning goes on until this time
+  Action action_ = STOPPED;
+  Percept percept_ = NOTHING;
+  int percept_level_ = 0;
+  bool go_ = false;             ///< told to walk (a walk-on, veer or turn since the last stop)
+  double last_felt_ = 0.0;      ///< when something was last felt
+  // the pulse being felt on a shoulder: its side, start, strongest drive
+  int shoulder_side_ = 0;
+  double shoulder_since_ = -1.0;
+  float shoulder_peak_ = 0.f;
+  bool shoulder_used_ = false;  ///< this buzz already understood as a turn
+  bool both_shoulders_ = false;
+  int last_veer_side_ = 0;      ///< the last one-shoulder pulse: side and end (a veer is two pulses)
+  double last_veer_end_ = -1e9;
+  // a turn being carried out: rad still to turn (signed), on the spot or while walking
+  double turn_left_ = 0.0;
+  bool turn_on_spot_ = false;
   int explore_side_ = 0;
   double explore_until_ = -1.0;
+  double walked_since_noise_ = 0.0;
 };
 
 /// The cane-only baseline. The cane senses contact within its reach and sweep ahead, low down
