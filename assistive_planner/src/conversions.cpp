@@ -103,6 +103,7 @@ assistive_msgs::NavigationState toMsg(const PlanOutput& out, const std_msgs::Hea
   s.steer_heading = ok ? finiteOr(out.steer_heading) : finiteOr(out.walk_heading);
   s.walk_heading = finiteOr(out.walk_heading);
   s.walking_speed = finiteOr(out.walking_speed);
+  s.free_distance_steer = ok ? finiteOr(out.free_steer) : 0.0f;
   const CrossingResult& c = out.crossing;
   const bool warn = c.advice != CrossingAdvice::NONE && std::isfinite(c.time) && std::isfinite(c.distance);
   s.crossing = uint8_t(warn ? c.advice : CrossingAdvice::NONE);

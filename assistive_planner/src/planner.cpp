@@ -617,6 +617,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
     const double dx = out.steer_point.x - lead.x, dy = out.steer_point.y - lead.y;
     out.steer_heading = std::hypot(dx, dy) > 0.05 ? std::atan2(dy, dx) : out.path_heading;
   }
+  out.free_steer = freeDistance(grid, wearer, out.steer_heading, p_.free_ray_max);
   if (!walking)
   {
     // A standing wearer will be sent along the steering heading: what lies ahead is judged there

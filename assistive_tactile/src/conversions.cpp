@@ -53,6 +53,7 @@ NavInput fromMsg(const assistive_msgs::NavigationState& msg)
   in.walk_heading = msg.walk_heading;
   in.walking_speed = msg.walking_speed;
   in.head_yaw = msg.head_yaw;
+  in.free_steer = msg.free_distance_steer;
   // an advice code this build does not know is no advice (the status still decides the rest)
   in.crossing = msg.crossing <= static_cast<uint8_t>(CrossingAdvice::STOP) ? static_cast<CrossingAdvice>(msg.crossing) :
                                                                             CrossingAdvice::NONE;

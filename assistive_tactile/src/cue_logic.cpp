@@ -235,8 +235,16 @@ Cue CueLogic::update(const NavInput& in, double now)
       // kept the wearer facing the obstacle and stepping left and right in front of it (mobility
       // trials: stuck in front of the course's 2 m wall with the way round 50 deg to the left), and
       // stopped every wearer who approached a doorway at an angle.
-      if (c.mode == CueMode::PROXIMITY && in.waypoint_distance >= params_.guidance_min_waypoint_m &&
-          std::fabs(wrapAngle(in.steer_heading - in.walk_heading)) * kRadToDeg > params_.veer_on_deg)
+      // The same inside the reaction-time part of the stop distance (an obstacle the wearer would
+      // reach only if it walked on, unreacting, while the steering point lies clear to a side):
+      // only the walk that no reaction can prevent (the fastest, 0.3 s, and the stop) forces a stop.
+      const double v = std::max(0.0, in.walking_speed);
+      const double hard = params_.alert_m + v * 0.3 + v * v / (2.0 * params_.stop_decel);
+      const bool steering_away =
+          in.waypoint_distance >= params_.guidance_min_waypoint_m &&
+          std::fabs(wrapAngle(in.steer_heading - in.walk_heading)) * kRadToDeg > params_.veer_on_deg &&
+          !(in.free_steer < params_.proximity_m);
+      if ((c.mode == CueMode::PROXIMITY || (c.mode == CueMode::ALERT && in.free_ahead >= hard)) && steering_away)
       {
         waist_side_ = 0;
         c.mode = CueMode::IDLE;
@@ -366,7 +374,11 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
     waist_side_ = 0;
     return c;
   }
-  if (alert)
+  // A wearer who already stands is not told to stop again and again (it would stand there for
+  // good): with room to a side it is stepped out of the tight spot instead.
+  const bool standing = v < p.walking_speed_mps;
+  const bool side_room = in.free_left >= p.side_free_m || in.free_right >= p.side_free_m;
+  if (alert && !(standing && side_room && in.waypoint_distance > 0.0))
   {
     waist_side_ = 0;
     c.mode = CueMode::ALERT;
@@ -405,12 +417,14 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
   return c;
 }
 
-Cue CueLogic::walkOn(std::string reason, double now)
+Cue CueLogic::walkOn(std::string reason, double now, bool standing)
 {
   // A tick is due once tick_period_s passed since the last pattern began, and at once when the
   // last pattern was a steady one (a stop or side-step ends with "go").
   const bool steady_running = current_.pattern.on_10ms == 0 && current_.instruction != Instruction::NONE;
-  if (steady_running || now - last_tick_ >= params_.tick_period_s - 1e-9)
+  // a standing wearer waits for "go": it comes at once after a turn, then every second
+  const bool standing_wait = standing && (current_.instruction != Instruction::WALK_ON || now - last_tick_ >= 1.0);
+  if (steady_running || standing_wait || now - last_tick_ >= params_.tick_period_s - 1e-9)
   {
     const float k = static_cast<float>(params_.min_intensity + 0.5 * (1.0 - params_.min_intensity));
     return startPattern(CueMode::IDLE, Instruction::WALK_ON, 0, { { k, k, 0.f, 0.f } }, 10, 0, 1, now,
@@ -440,7 +454,8 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   if (in.waypoint_distance < min_wp)
   {
     busy_ = false;
-    return walkOn(fmt("waypoint %.2f m away: walk on", in.waypoint_distance), now);
+    return walkOn(fmt("waypoint %.2f m away: walk on", in.waypoint_distance), now,
+                  in.walking_speed < p.walking_speed_mps);
   }
   const bool walking = in.walking_speed >= p.walking_speed_mps;
   const double err = wrapAngle(in.steer_heading - in.walk_heading);  // + = the steering point lies left
@@ -455,22 +470,35 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
     const double timeout = busy_turn_ ? p.turn_timeout_s : p.settle_timeout_s;
     const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
     const bool done = now - busy_since_ >= timeout || (turned >= 0.5 * std::fabs(busy_angle_) && steadied);
-    if (!done)
+    // The way on changed while a veer is being carried out (a corner came into view): when what
+    // will be left after it is large, a new cue asks for the rest at once.
+    const double remaining = busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) * std::max(0.0, turned);
+    const double residual = std::fabs(wrapAngle(err - remaining)) * kRadToDeg;
+    const bool superseded = !busy_turn_ && walking && residual > 2.0 * p.veer_step_deg;
+    if (!done && !superseded)
     {
       Cue c = holdPattern(fmt(busy_turn_ ? "turning (%.0f deg to go)" : "veering (%.0f deg to go)",
                               std::max(0.0, std::fabs(busy_angle_) - turned) * kRadToDeg));
       c.mode = CueMode::GUIDANCE;
       return c;
     }
-    busy_ = false;
   }
+  // after a superseded veer the new one asks for what is left beyond the one being carried out
+  double ask = err;
+  if (busy_ && !busy_turn_)
+    ask = wrapAngle(err - (busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) *
+                                            std::max(0.0, wrapAngle(in.walk_heading - busy_yaw0_) *
+                                                              (busy_angle_ > 0.0 ? 1.0 : -1.0))));
+  busy_ = false;
+  const double a_ask = std::fabs(ask) * kRadToDeg;
   const bool turn = walking ? a > p.turn_on_deg : a > p.stand_turn_deg;
   const bool veer = walking && !turn && a > p.veer_on_deg;
   if (!turn && !veer)
-    return walkOn(fmt("on course (%.0f deg off)", err * kRadToDeg), now);
+    return walkOn(fmt("on course (%.0f deg off)", err * kRadToDeg), now, !walking);
   const double step = turn ? p.turn_step_deg : p.veer_step_deg;
-  const int level = std::max(1, std::min(3, int(std::lround(a / step))));
-  const int side = err > 0.0 ? +1 : -1;
+  // what is asked beyond a veer still being carried out (the wearer completes it, then turns)
+  const int level = std::max(1, std::min(3, int(std::lround(a_ask / step))));
+  const int side = ask > 0.0 ? +1 : -1;
   const float k = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * 0.5 * (level - 1));
   std::array<float, NUM_MOTORS> drive{ { 0.f, 0.f, 0.f, 0.f } };
   drive[side > 0 ? LEFT_SHOULDER : RIGHT_SHOULDER] = k;

@@ -37,6 +37,7 @@ struct PlanOutput
   Point2 steer_point;
   double steer_heading = 0.0;
   double steer_lookahead = 0.0;  ///< m
+  double free_steer = 0.0;       ///< free distance along steer_heading (m)
   /// The walk: the chord of the wearer's positions over `walk_window_s` (the head's yaw while the
   /// chord is shorter than 5 cm: standing); speed in m/s (0 without times).
   double walk_heading = 0.0;

@@ -40,6 +40,8 @@ struct NavInput
   double walk_heading = 0.0;
   double walking_speed = 0.0;    ///< m/s
   double head_yaw = 0.0;         ///< the head's yaw now (its rate tells a turn being carried out)
+  /// Free distance along `steer_heading` (NaN or +inf: unknown / not limited).
+  double free_steer = std::numeric_limits<double>::infinity();
   double waypoint_distance = 0.0;
   double free_ahead = 0.0;
   double free_left = 0.0;
@@ -147,7 +149,7 @@ private:
   /// An ALERT / PROXIMITY decision (mode, intensities, reason) as its steady pattern.
   Cue shapeSteady(const Cue& c, double now);
   /// "Clear, walk on": a tick when one is due, else the running pattern (it has ended).
-  Cue walkOn(std::string reason, double now);
+  Cue walkOn(std::string reason, double now, bool standing);
   /// The crossing cue over `base` (the obstacle / guidance cue of a fresh OK state).
   Cue overlayCrossing(const NavInput& in, const Cue& base, double now);
   void clearCrossing();

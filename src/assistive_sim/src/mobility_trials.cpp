@@ -37,6 +37,11 @@ void usage(std::ostream& os = std::cerr)
         "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--turn-on DEG]\n"
         "                       [--body-half-width M] [--chord-min M] (planner: free_ahead strip, heading chord; truth)\n"
         "                       [--timeout-factor X] (a trial ends unfinished after X x the guide's time + 20 s; 4)\n"
+        "                       [--wearer population|typical] [--slowest-decile] [--unsure-at S [--unsure-for S]]\n"
+        "                       [--timelines PREFIX] (one cue timeline PNG per trial: PREFIX<k>.png)\n"
+        "  --wearer: each trial's wearer drawn from the population (default; docs/wearer_population.md) or the\n"
+        "            typical adult of WearerParams; --slowest-decile: every wearer from the slowest-reacting 10 %.\n"
+        "  --unsure-at: a scripted UNSURE episode (no pose) at that trial time (truth mode): unsure_walked_m.\n"
         "  W: a shipped world's name (course corridor parking glass plaza) or a world YAML.\n"
         "  truth: the world's occupancy -> planner core -> cue logic core -> simulated vest wearer (no ROS);\n"
         "  cane: the cane-only walker. --no-cues removes the cue stage (the vest stays silent).\n"
@@ -128,7 +133,7 @@ std::string num(double v, int prec = 3)
 
 int main(int argc, char** argv)
 {
-  std::string world_arg, mode = "truth", plot;
+  std::string world_arg, mode = "truth", plot, timelines;
   int trials = 20;
   long seed = 1;
   TrialOptions opt;
@@ -158,6 +163,17 @@ int main(int argc, char** argv)
       else if (a == "--body-half-width") opt.planner.body_half_width = std::stod(val());
       else if (a == "--chord-min") opt.planner.heading_chord_min = std::stod(val());
       else if (a == "--timeout-factor") opt.timeout_factor = std::stod(val());
+      else if (a == "--wearer")
+      {
+        const std::string w = val();
+        if (w == "population") opt.population = true;
+        else if (w == "typical") opt.population = false;
+        else throw std::invalid_argument("--wearer");
+      }
+      else if (a == "--slowest-decile") opt.slowest_decile = true;
+      else if (a == "--unsure-at") opt.unsure_at_s = std::stod(val());
+      else if (a == "--unsure-for") opt.unsure_for_s = std::stod(val());
+      else if (a == "--timelines") timelines = val();
       else if (a == "-h" || a == "--help")
       {
         usage(std::cout);
@@ -200,7 +216,7 @@ int main(int argc, char** argv)
     return 2;
   }
   opt.wearer.eye_height = world.trajectory.eye_height;
-  opt.wearer.walk_speed = world.trajectory.speed;
+  opt.wearer.walk_speed = world.trajectory.speed;  // the typical wearer's; a drawn one walks at its own
   const std::string label = mode + (opt.cues_enabled ? "" : " (no cues)");
 
   std::vector<TrialResult> res;
@@ -273,6 +289,14 @@ int main(int argc, char** argv)
     else
       res.push_back(runTrial(world, opt, s, k));
     const TrialResult& r = res.back();
+    if (!timelines.empty())
+    {
+      char t[160];
+      std::snprintf(t, sizeof(t), "%s trial %d: speed %.2f m/s, reaction %.2f s, turn gain %.2f, %d levels%s", world.name.c_str(),
+                    k, r.wearer.walk_speed, r.wearer.reaction_s, r.wearer.turn_gain, r.wearer.intensity_levels,
+                    r.completed ? "" : ", NOT completed");
+      cv::imwrite(timelines + std::to_string(k) + ".png", timelinePlot(r, t));
+    }
     std::printf("%-5d %-7u %-9s %-8.1f %-8.1f %-6.0f %-5d %d/%-6d %-6d %-7d %-7d %-9.2f\n", k, s,
                 r.completed ? "yes" : "NO", r.time_s, r.guide_time_s, r.ppws_pct, r.totalCollisions(), r.collisions[0],
                 r.collisions[1], r.collisions[2], r.collisions[3], r.collisions[size_t(ObstacleKind::PERSON)],
@@ -284,7 +308,13 @@ int main(int argc, char** argv)
     if (!tty || k + 1 == trials) std::fprintf(stderr, "\n");
   }
   const double n = double(res.size());
-  double coll = 0, comp = 0, ppws = 0, nppws = 0, clear = 0, tmean = 0, worst = 0;
+  double coll = 0, comp = 0, ppws = 0, nppws = 0, clear = 0, tmean = 0, worst = 0, ppws_worst = NAN, unsure_max = NAN;
+  for (const TrialResult& r : res)
+  {
+    const double p = r.completed ? r.ppws_pct : 0.0;
+    ppws_worst = std::isnan(ppws_worst) ? p : std::min(ppws_worst, p);
+    if (std::isfinite(r.unsure_walked_m)) unsure_max = std::isnan(unsure_max) ? r.unsure_walked_m : std::max(unsure_max, r.unsure_walked_m);
+  }
   std::array<double, size_t(ObstacleKind::NUM_KINDS)> kinds{};
   std::array<double, 5> modes{};
   for (const TrialResult& r : res)
@@ -345,6 +375,13 @@ int main(int argc, char** argv)
   std::printf("  time to completion   %s s (mean of completed), PPWS %s %% (sighted guide = 100)\n", num(t_mean, 1).c_str(),
               num(ppws_mean, 1).c_str());
   std::printf("  mean clearance       %.2f m (body surface to the nearest obstacle)\n", clear / n);
+  std::printf("  wearers              %s; PPWS of the worst trial %s %% (0 = not completed)\n",
+              !opt.population ? "the typical adult (--wearer typical)" :
+              opt.slowest_decile ? "the slowest-reacting 10 % of the population" : "drawn from the population",
+              num(ppws_worst, 1).c_str());
+  if (std::isfinite(unsure_max))
+    std::printf("  UNSURE episode       at %.1f s for %.1f s: walked at most %.2f m after it began\n", opt.unsure_at_s,
+                opt.unsure_for_s, unsure_max);
   if (cycles > 0)
     std::printf("  cues                 idle %.0f %%, guidance %.0f %%, proximity %.0f %%, alert %.0f %%, unsure %.0f %%\n",
                 100 * modes[0] / cycles, 100 * modes[1] / cycles, 100 * modes[2] / cycles, 100 * modes[3] / cycles,
@@ -361,10 +398,13 @@ int main(int argc, char** argv)
               "\"mean_clearance_m\": %s, \"latency_ms_median\": %s, \"latency_ms_p99\": %s, "
               "\"wall_collisions_per_trial\": %s, \"overhang_collisions_per_trial\": %s, "
               "\"glass_collisions_per_trial\": %s, \"furniture_collisions_per_trial\": %s, \"people_collisions_per_trial\": %s, "
-              "\"unsure_cue_pct\": %s, \"frames_without_cue\": %ld}\n",
+              "\"unsure_cue_pct\": %s, \"frames_without_cue\": %ld, \"ppws_pct_worst\": %s, \"unsure_walked_m_max\": %s, "
+              "\"wearers\": \"%s\"}\n",
               world.name.c_str(), mode.c_str(), opt.cues_enabled ? "true" : "false", trials, num(coll / n).c_str(), worst,
               num(comp / n).c_str(), num(t_mean, 2).c_str(), num(ppws_mean, 1).c_str(), num(clear / n).c_str(),
               num(lat_med, 1).c_str(), num(lat_p99, 1).c_str(), num(kinds[0] / n).c_str(), num(kinds[1] / n).c_str(), num(kinds[2] / n).c_str(), num(kinds[3] / n).c_str(),
-              num(people_coll).c_str(), cycles > 0 ? num(100 * modes[4] / cycles, 1).c_str() : "null", missed);
+              num(people_coll).c_str(), cycles > 0 ? num(100 * modes[4] / cycles, 1).c_str() : "null", missed,
+              num(ppws_worst, 1).c_str(), num(unsure_max, 3).c_str(),
+              !opt.population ? "typical" : opt.slowest_decile ? "slowest_decile" : "population");
   return 0;
 }

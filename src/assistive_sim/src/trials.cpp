@@ -11,10 +11,12 @@
 #include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include <assistive_planner/planner.h>
 #include <assistive_tactile/cue_logic.h>
 #include <assistive_tactile/vest_protocol.h>
+#include <assistive_sim/wearer_population.h>
 
 namespace assistive_sim
 {
@@ -130,16 +132,23 @@ public:
     in.walk_heading = out.walk_heading;
     in.walking_speed = out.walking_speed;
     in.head_yaw = out.head_yaw;
+    in.free_steer = out.free_steer;
     in.crossing = out.crossing.advice;
     in.crossing_id = out.crossing.id;
     in.crossing_time = out.crossing.time;
     in.crossing_distance = out.crossing.distance;
     in.source_time = t;  // truth: the occupancy is current
+    if (std::isfinite(opt_.unsure_at_s) && t >= opt_.unsure_at_s && t < opt_.unsure_at_s + opt_.unsure_for_s)
+    {
+      in.status = assistive_tactile::NavStatus::NO_POSE;  // the scripted episode: the pose is lost
+      in.message = "scripted UNSURE episode";
+    }
     const assistive_tactile::Cue cue = cues_.update(in, t);
     if (trace_)
-      std::fprintf(stderr, "t %.2f xy %.2f %.2f yaw %.0f head %.0f | st %d wp %.2f %.2f d %.2f ph %.0f h %.0f fa %.2f fl %.2f fr %.2f | %s %s\n",
+      std::fprintf(stderr, "t %.2f xy %.2f %.2f yaw %.0f head %.0f | st %d wp %.2f %.2f d %.2f ph %.0f sh %.0f wh %.0f v %.2f fa %.2f fl %.2f fr %.2f | %s %s\n",
                    t, s.xy.x(), s.xy.y(), s.yaw / DEG, s.head_yaw / DEG, int(out.status), out.waypoint.x,
-                   out.waypoint.y, out.waypoint_distance, out.path_heading / DEG, out.heading / DEG, out.free_ahead,
+                   out.waypoint.y, out.waypoint_distance, out.path_heading / DEG, out.steer_heading / DEG,
+                   out.walk_heading / DEG, out.walking_speed, out.free_ahead,
                    out.free_left, out.free_right, assistive_tactile::modeName(cue.mode), cue.reason.c_str());
     ChainCue c;
     c.motors = cue.intensity;
@@ -150,6 +159,7 @@ public:
     c.pulse_count = cue.pattern.count;
     c.instruction = int(cue.instruction);
     c.level = cue.level;
+    if (out.status == assistive_planner::PlanStatus::OK) c.steer_heading = out.steer_heading;
     return c;
   }
 
@@ -191,10 +201,28 @@ private:
 };
 }  // namespace
 
+WearerParams trialWearer(const TrialOptions& opt, uint32_t seed)
+{
+  WearerParams w = opt.wearer;
+  if (!opt.population) return w;
+  const WearerPopulation pop;
+  const uint32_t s = seed ^ 0x5bd1e995u;  // not the start's or the wearer's own random stream
+  const WearerTraits tr = opt.slowest_decile ? pop.drawSlowest(s, 0.1) : pop.draw(s);
+  w.walk_speed = tr.preferred_speed_mps;
+  w.reaction_s = tr.reaction_s;
+  w.turn_gain = tr.turn_gain;
+  w.veer_sigma_deg = tr.veer_sigma_deg_per_sqrt_m;
+  w.veer_bias_deg_per_m = tr.veer_bias_deg_per_m;
+  w.intensity_levels = tr.intensity_levels;
+  w.min_pulse_s = tr.min_pulse_s;
+  w.body_radius = tr.body_radius_m;
+  return w;
+}
+
 BodyState trialStart(const World& world, const TrialOptions& opt, uint32_t seed)
 {
   std::mt19937 rng(seed);
-  BodyCollider body(world, opt.wearer.body_radius, opt.wearer.eye_height + 0.12);
+  BodyCollider body(world, trialWearer(opt, seed).body_radius, opt.wearer.eye_height + 0.12);
   return randomStart(world, opt, body, rng);
 }
 
@@ -204,17 +232,19 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   r.index = index;
   r.seed = seed;
   std::mt19937 rng(seed);
-  const double body_height = opt.wearer.eye_height + 0.12;
-  BodyCollider body(world, opt.wearer.body_radius, body_height);
+  const WearerParams wp = trialWearer(opt, seed);
+  r.wearer = wp;
+  const double body_height = wp.eye_height + 0.12;
+  BodyCollider body(world, wp.body_radius, body_height);
   r.start = randomStart(world, opt, body, rng);
   std::vector<Eigen::Vector2d> route = courseOf(world);
   route.erase(route.begin());
   if (route.empty()) route.push_back(r.start.xy + Eigen::Vector2d(cos(r.start.yaw), sin(r.start.yaw)) * 5.0);
   // The trial ends within goal_radius of the exit: so does the guide's walk (its last metre is
   // not walked, at cruise speed).
-  r.guide_time_s = sightedGuideTime(world, opt.wearer, r.start.xy, route);
+  r.guide_time_s = sightedGuideTime(world, wp, r.start.xy, route);
   if (r.guide_time_s > 0.0)
-    r.guide_time_s = std::max(0.5 * r.guide_time_s, r.guide_time_s - opt.goal_radius_m / opt.wearer.walk_speed);
+    r.guide_time_s = std::max(0.5 * r.guide_time_s, r.guide_time_s - opt.goal_radius_m / wp.walk_speed);
   const double timeout = opt.timeout_factor * std::max(r.guide_time_s, 5.0) + 20.0;
 
   const bool vest = opt.mode != TrialMode::CANE;
@@ -225,8 +255,8 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
     truth = std::make_unique<TruthChain>(world, opt);
     chain = truth.get();
   }
-  VestWearer wearer(opt.wearer, r.start, seed ^ 0x9e3779b9u);
-  CaneWalker cane(opt.wearer, opt.cane, r.start, seed ^ 0x7f4a7c15u);
+  VestWearer wearer(wp, r.start, seed ^ 0x9e3779b9u);
+  CaneWalker cane(wp, opt.cane, r.start, seed ^ 0x7f4a7c15u);
 
   size_t next = 0;
   if (vest)
@@ -247,6 +277,8 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
     return m;
   };
   const double period = 1.0 / opt.rate_hz;
+  bool unsure_started = false, unsure_done = false;
+  Eigen::Vector2d unsure_from = Eigen::Vector2d::Zero();
   double next_plan = 0.0, clear_sum = 0.0;
   r.min_clearance_m = 1e9;
   r.min_person_clearance_m = std::numeric_limits<double>::infinity();
@@ -290,8 +322,36 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
         else
           ++r.missed_cues;
         if (cue.latency_ms >= 0.0) r.latency_ms.push_back(cue.latency_ms);
+        TimelineSample ts;
+        ts.t = t;
+        ts.mode = playing.mode;
+        ts.instruction = playing.instruction;
+        ts.level = playing.level;
+        ts.speed = s.speed;
+        ts.heading_error_deg = std::isfinite(cue.steer_heading) ?
+                                   std::atan2(std::sin(s.yaw - cue.steer_heading), std::cos(s.yaw - cue.steer_heading)) / DEG :
+                                   std::numeric_limits<double>::quiet_NaN();
+        r.timeline.push_back(ts);
       }
-      wearer.step(t, opt.dt, drive(t), &body);
+      const std::array<float, 4> m = drive(t);
+      if (!r.timeline.empty())
+        r.timeline.back().drive = std::max(r.timeline.back().drive, *std::max_element(m.begin(), m.end()));
+      // the scripted UNSURE episode: how far the wearer walks from its start until it stands
+      if (std::isfinite(opt.unsure_at_s) && t >= opt.unsure_at_s)
+      {
+        if (!unsure_started)
+        {
+          unsure_started = true;
+          unsure_from = s.xy;
+          r.unsure_walked_m = 0.0;
+        }
+        if (!unsure_done)
+        {
+          r.unsure_walked_m = std::max(r.unsure_walked_m, (s.xy - unsure_from).norm());
+          unsure_done = (s.speed <= 1e-6 && t > opt.unsure_at_s) || t >= opt.unsure_at_s + opt.unsure_for_s;
+        }
+      }
+      wearer.step(t, opt.dt, m, &body);
       chain->observe(t + opt.dt, wearer.state());
     }
     else
@@ -332,6 +392,57 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   r.mean_clearance_m = steps ? clear_sum / double(steps) : 0.0;
   if (!steps) r.min_clearance_m = 0.0;
   return r;
+}
+
+cv::Mat timelinePlot(const TrialResult& r, const std::string& title)
+{
+  // three stacked strips over the trial's time: the cue (colour = instruction, height = drive),
+  // the walking speed, the heading error against the steering point
+  const int W = 900, strip = 90, top = 24, gap = 16, left = 60;
+  const int H = top + 3 * (strip + gap);
+  cv::Mat img(H, W, CV_8UC3, cv::Scalar(250, 250, 250));
+  const double T = r.timeline.empty() ? 1.0 : std::max(1.0, r.timeline.back().t);
+  auto X = [&](double t) { return left + int(std::lround((W - left - 10) * t / T)); };
+  const cv::Scalar colour[] = { cv::Scalar(180, 180, 180), cv::Scalar(90, 170, 60), cv::Scalar(200, 120, 30),
+                                cv::Scalar(30, 30, 200), cv::Scalar(160, 60, 160), cv::Scalar(0, 0, 230),
+                                cv::Scalar(0, 140, 255) };
+  const char* names[] = { "none", "walk on", "veer", "stop+turn", "side-step", "stop", "unsure" };
+  auto frame = [&](int k, const char* label, const char* lo, const char* hi) {
+    const int y0 = top + k * (strip + gap);
+    cv::rectangle(img, cv::Point(left, y0), cv::Point(W - 10, y0 + strip), cv::Scalar(120, 120, 120), 1);
+    cv::putText(img, label, cv::Point(4, y0 + strip / 2), cv::FONT_HERSHEY_SIMPLEX, 0.38, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    cv::putText(img, hi, cv::Point(left - 30, y0 + 10), cv::FONT_HERSHEY_SIMPLEX, 0.32, cv::Scalar(80, 80, 80), 1, cv::LINE_AA);
+    cv::putText(img, lo, cv::Point(left - 30, y0 + strip), cv::FONT_HERSHEY_SIMPLEX, 0.32, cv::Scalar(80, 80, 80), 1, cv::LINE_AA);
+    return y0;
+  };
+  const int yc = frame(0, "cue", "0", "1"), yv = frame(1, "speed", "0", "1.5"), ye = frame(2, "error", "-90", "+90");
+  cv::line(img, cv::Point(left, ye + strip / 2), cv::Point(W - 10, ye + strip / 2), cv::Scalar(200, 200, 200), 1);
+  for (size_t i = 0; i + 1 < r.timeline.size(); ++i)
+  {
+    const TimelineSample& a = r.timeline[i];
+    const TimelineSample& b = r.timeline[i + 1];
+    const int x0 = X(a.t), x1 = std::max(x0 + 1, X(b.t));
+    const int ins = std::min(6, std::max(0, a.instruction));
+    const int h = int(std::lround(strip * std::min(1.f, a.drive)));
+    if (h > 0) cv::rectangle(img, cv::Point(x0, yc + strip - h), cv::Point(x1, yc + strip), colour[ins], cv::FILLED);
+    cv::line(img, cv::Point(x0, yv + strip - int(strip * std::min(1.5, a.speed) / 1.5)),
+             cv::Point(x1, yv + strip - int(strip * std::min(1.5, b.speed) / 1.5)), cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
+    if (std::isfinite(a.heading_error_deg) && std::isfinite(b.heading_error_deg))
+    {
+      auto ey = [&](double e) { return ye + strip / 2 - int(std::lround(0.5 * strip * std::clamp(e, -90.0, 90.0) / 90.0)); };
+      cv::line(img, cv::Point(x0, ey(a.heading_error_deg)), cv::Point(x1, ey(b.heading_error_deg)), cv::Scalar(200, 80, 0), 1,
+               cv::LINE_AA);
+    }
+  }
+  for (int k = 1; k <= 6; ++k)
+  {
+    const int x = left + (k - 1) * 135;
+    cv::rectangle(img, cv::Point(x, 6), cv::Point(x + 10, 16), colour[k], cv::FILLED);
+    cv::putText(img, names[k], cv::Point(x + 14, 16), cv::FONT_HERSHEY_SIMPLEX, 0.38, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  }
+  cv::putText(img, title + "  (" + std::to_string(int(std::lround(T))) + " s)", cv::Point(left, H - 4),
+              cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  return img;
 }
 
 cv::Mat heatMap(const World& world, const std::vector<TrialResult>& trials, double dt, const std::string& title,

@@ -255,9 +255,10 @@ void VestWearer::perceive(double t, double dt, const std::array<float, 4>& m)
       shoulder_used_ = true;
       percept_level_ = perceivedLevel(shoulder_peak_);
       percept_ = side > 0 ? TURN_LEFT : TURN_RIGHT;
-      turn_left_ = side * percept_level_ * 45.0 * DEG * drawGain();
+      // on top of a veer still under way (the system asked for what lies beyond it)
+      turn_left_ += side * percept_level_ * 45.0 * DEG * drawGain();
       turn_on_spot_ = true;
-      go_ = true;
+      go_ = false;  // after the turn: stand until the walk-on says go
     }
     return;
   }
@@ -277,7 +278,8 @@ void VestWearer::perceive(double t, double dt, const std::array<float, 4>& m)
         // the first pulse of a veer's pair (the second one belongs to the same cue)
         percept_level_ = perceivedLevel(shoulder_peak_);
         percept_ = shoulder_side_ > 0 ? VEER_LEFT : VEER_RIGHT;
-        turn_left_ = shoulder_side_ * percept_level_ * 15.0 * DEG * drawGain();
+        // each burst asks for this much more (a second one before the first is done adds to it)
+        turn_left_ = (turn_on_spot_ ? 0.0 : turn_left_) + shoulder_side_ * percept_level_ * 15.0 * DEG * drawGain();
         turn_on_spot_ = false;
         go_ = true;
       }
@@ -356,6 +358,7 @@ void VestWearer::step(double t, double dt, const std::array<float, 4>& motors, B
     const double ds = s_.speed * dt;
     if (ds > 0.0 && p_.veer_sigma_deg > 0.0)
       s_.yaw = wrap(s_.yaw + std::normal_distribution<double>(0.0, p_.veer_sigma_deg * DEG * std::sqrt(ds))(rng_));
+    s_.yaw = wrap(s_.yaw + p_.veer_bias_deg_per_m * DEG * ds);
   }
   const Eigen::Vector2d target =
       s_.xy + s_.speed * dt * Eigen::Vector2d(std::cos(s_.yaw), std::sin(s_.yaw)) + side_move;

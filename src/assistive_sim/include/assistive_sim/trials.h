@@ -37,6 +37,21 @@ struct ChainCue
   int mode = 4;             ///< assistive_common::CueMode (4 = UNSURE)
   bool received = true;     ///< false: no cue came for this frame (the vest keeps what it had)
   double latency_ms = -1.0; ///< camera image stamp -> cue (or serial write), wall ms; < 0 = not measured
+  /// The planner's steering heading behind it (rad; NaN when the chain does not know it), for the
+  /// timeline's heading error.
+  double steer_heading = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// One planner/cue cycle of a trial, for the timeline plot.
+struct TimelineSample
+{
+  double t = 0.0;
+  int mode = 4;            ///< CueMode
+  int instruction = 0;     ///< assistive_tactile::Instruction
+  int level = 0;
+  float drive = 0.f;       ///< the strongest motor's drive now (what the vest does: 0 between pulses)
+  double speed = 0.0;      ///< the wearer's walking speed (m/s)
+  double heading_error_deg = 0.0;  ///< body yaw - steering heading (NaN: unknown)
 };
 
 /// The perception -> planner -> cue chain a trial drives one camera frame at a time. Truth mode
@@ -80,6 +95,16 @@ struct TrialOptions
   double goal_radius_m = 1.0;   ///< a place of the route counts as reached this close
   double timeout_factor = 4.0;  ///< a trial ends unfinished after this x the sighted guide's time (+ 20 s)
   bool cues_enabled = true;     ///< false: the cue stage is removed from the chain (vest silent)
+  /// Each trial's wearer drawn from the wearer population (wearer_population.h) with the trial's
+  /// seed; false: `wearer` as given for every trial.
+  bool population = true;
+  /// Draw this trial's wearer from the slowest-reacting 10 % of the population (the targets'
+  /// "worst 10 % of wearers").
+  bool slowest_decile = false;
+  /// A scripted UNSURE episode (the chain reports no pose) from this trial time on (NaN: none),
+  /// for `unsure_for_s` seconds: truth mode only.
+  double unsure_at_s = std::numeric_limits<double>::quiet_NaN();
+  double unsure_for_s = 3.0;
 };
 
 struct TrialResult
@@ -101,7 +126,20 @@ struct TrialResult
   int missed_cues = 0;             ///< frames whose cue never came (ROS chains)
   std::vector<Eigen::Vector2d> path;      ///< body positions, one per body step
   std::vector<Eigen::Vector2d> collision_places;
+  WearerParams wearer;                     ///< who walked (drawn from the population, or as given)
+  std::vector<TimelineSample> timeline;    ///< one per planner/cue cycle
+  /// With a scripted UNSURE episode: metres walked from its start until the body stood still
+  /// (or the episode ended); NaN without one.
+  double unsure_walked_m = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// The wearer of trial `seed` under `opt` (population draw, slowest decile, or opt.wearer), its
+/// eye height and cruise speed for the sighted guide kept from `opt.wearer` unless drawn.
+WearerParams trialWearer(const TrialOptions& opt, uint32_t seed);
+
+/// The cue timeline of one trial (cue and drive, walking speed, heading error over time) as an
+/// image: why a trial was slow is seen there.
+cv::Mat timelinePlot(const TrialResult& r, const std::string& title);
 
 /// The course of a world: its script's waypoints (start, then the places to walk through).
 std::vector<Eigen::Vector2d> courseOf(const World& world);

@@ -44,6 +44,7 @@ struct WearerParams
   double turn_rate_deg = 90.0;    ///< deg/s turning on the spot
   double veer_rate_deg = 60.0;    ///< deg/s changing direction while walking (a veer)
   double veer_sigma_deg = 1.0;    ///< veering while walking straight: heading random walk, deg per sqrt(m)
+  double veer_bias_deg_per_m = 0.0;  ///< and its constant drift (signed, + = left)
   int intensity_levels = 3;       ///< vibration intensities this wearer tells apart (absolute identification)
   double min_pulse_s = 0.05;      ///< shortest pulse felt (s); shorter ones go unnoticed
   double sidestep_speed = 0.3;    ///< m/s sideways while a waist motor buzzes
