@@ -9,6 +9,8 @@ namespace assistive_tactile
 namespace
 {
 constexpr double kRadToDeg = 180.0 / M_PI;
+/// A veer's pulses last 0.15 s: a one-shoulder buzz is a turn once it lasted longer (README).
+constexpr double kTellApartS = 0.25;
 
 double clamp01(double v)
 {
@@ -366,7 +368,8 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
   const double d = in.free_ahead;
   // a walking wearer needs its reaction time's walk, and then its stop, before it stands
   const double v = std::max(0.0, std::isfinite(in.walking_speed) ? in.walking_speed : 0.0);
-  const double reach = v * p.alert_reaction_s + v * v / (2.0 * p.stop_decel);
+  const double tau = p.alert_reaction_s;
+  const double reach = v * tau + v * v / (2.0 * p.stop_decel);
   const bool alert = d < p.alert_m + reach + (was_alert ? p.hysteresis_m : 0.0);
   const bool close = d < p.proximity_m + reach + (was_close ? p.hysteresis_m : 0.0);
   if (!close)
@@ -460,25 +463,43 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   const bool walking = in.walking_speed >= p.walking_speed_mps;
   const double err = wrapAngle(in.steer_heading - in.walk_heading);  // + = the steering point lies left
   const double a = std::fabs(err) * kRadToDeg;
+  if (busy_ && busy_turn_)
+  {
+    // Stop and turn: the wearer turns while the buzz lasts, starting its reaction time (and the
+    // moment it takes to tell a buzz from a veer's pulse) after the buzz began and stopping its
+    // reaction time after it ended: the reaction cancels, and the buzz's length sets the angle
+    // at the wearer's own turning rate (learnt from its turns). Wait until the turn is over.
+    const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
+    const double left = wrapAngle(in.steer_heading - in.head_yaw) * sign;  // still to turn
+    turn_peak_rate_ = std::max(turn_peak_rate_, yaw_rate_ * sign);
+    const double buzz_end = busy_since_ + 0.01 * current_.pattern.on_10ms;
+    const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
+    if (now < buzz_end + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
+    {
+      Cue c = holdPattern(fmt("turning (%.0f deg to go)", left * kRadToDeg));
+      c.mode = CueMode::GUIDANCE;
+      return c;
+    }
+    if (turn_peak_rate_ * kRadToDeg > 20.0)
+      turn_rate_est_ = 0.5 * (turn_rate_est_ + std::min(turn_peak_rate_, 4.0 * M_PI));
+    busy_ = false;
+  }
   if (busy_)
   {
-    // A burst asks for an amount: wait until the wearer has carried it out (turned by half of it
-    // and steadied; a turn: walking again) before judging the heading again, or the next burst
-    // would ask for the same turn twice (reaction times of up to 1.2 s).
-    const double turned = (busy_turn_ ? wrapAngle(in.head_yaw - busy_head0_) : wrapAngle(in.walk_heading - busy_yaw0_)) *
-                          (busy_angle_ > 0.0 ? 1.0 : -1.0);
-    const double timeout = busy_turn_ ? p.turn_timeout_s : p.settle_timeout_s;
+    // A veer burst asks for an amount: wait until the wearer has carried it out (turned by half
+    // of it and steadied) before judging the heading again, or the next burst would ask for the
+    // same veer twice (reaction times of up to 1.2 s).
+    const double turned = wrapAngle(in.walk_heading - busy_yaw0_) * (busy_angle_ > 0.0 ? 1.0 : -1.0);
     const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
-    const bool done = now - busy_since_ >= timeout || (turned >= 0.5 * std::fabs(busy_angle_) && steadied);
+    const bool done = now - busy_since_ >= p.settle_timeout_s || (turned >= 0.5 * std::fabs(busy_angle_) && steadied);
     // The way on changed while a veer is being carried out (a corner came into view): when what
     // will be left after it is large, a new cue asks for the rest at once.
     const double remaining = busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) * std::max(0.0, turned);
     const double residual = std::fabs(wrapAngle(err - remaining)) * kRadToDeg;
-    const bool superseded = !busy_turn_ && walking && residual > 2.0 * p.veer_step_deg;
+    const bool superseded = walking && residual > 2.0 * p.veer_step_deg;
     if (!done && !superseded)
     {
-      Cue c = holdPattern(fmt(busy_turn_ ? "turning (%.0f deg to go)" : "veering (%.0f deg to go)",
-                              std::max(0.0, std::fabs(busy_angle_) - turned) * kRadToDeg));
+      Cue c = holdPattern(fmt("veering (%.0f deg to go)", std::max(0.0, std::fabs(busy_angle_) - turned) * kRadToDeg));
       c.mode = CueMode::GUIDANCE;
       return c;
     }
@@ -513,9 +534,15 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   char buf[96];
   if (turn)
   {
-    // stop and turn: one long buzz (0.8 s)
-    std::snprintf(buf, sizeof(buf), "stop, turn %s %.0f deg (level %d, %.0f deg off)", dir, level * step, level, a);
-    return startPattern(CueMode::GUIDANCE, Instruction::TURN, level, drive, 80, 0, 1, now, buf);
+    // stop and turn: a buzz that lasts while the wearer should turn (the level tells how far:
+    // 45 / 90 / 135 deg and more), stopped early by the wearer's reaction
+    busy_head0_ = in.head_yaw;
+    busy_angle_ = wrapAngle(in.steer_heading - in.head_yaw);
+    turn_peak_rate_ = 0.0;
+    const double dur = std::min(2.5, std::fabs(busy_angle_) / turn_rate_est_ + kTellApartS);
+    std::snprintf(buf, sizeof(buf), "stop, turn %s %.0f deg (%.2f s buzz)", dir, std::fabs(busy_angle_) * kRadToDeg, dur);
+    return startPattern(CueMode::GUIDANCE, Instruction::TURN, level, drive, uint8_t(std::lround(dur * 100.0)), 0, 1, now,
+                        buf);
   }
   // veer while walking: two short pulses (0.15 s on, 0.15 s off)
   std::snprintf(buf, sizeof(buf), "veer %s %.0f deg (level %d, %.0f deg off)", dir, level * step, level, a);

@@ -174,6 +174,10 @@ private:
   double busy_head0_ = 0.0;     ///< head yaw when it started (a turn on the spot is judged on the head)
   double busy_angle_ = 0.0;     ///< signed angle asked for (rad, + = left)
   bool busy_turn_ = false;      ///< a stop-and-turn (else a veer)
+  double turn_peak_rate_ = 0.0;  ///< rad/s, the fastest head turn seen in this turn
+  /// The wearer's turning rate on the spot (rad/s), learnt from its turns (kept across resets:
+  /// it is the wearer's, not the situation's); 90 deg/s until the first turn.
+  double turn_rate_est_ = M_PI / 2.0;
   double last_yaw_ = 0.0, last_yaw_time_ = -1e300;  ///< for the turn rate
   double yaw_rate_ = 0.0;       ///< rad/s, smoothed
   double last_state_time_ = -1e300;

@@ -171,6 +171,42 @@ int main(int argc, char** argv)
         else throw std::invalid_argument("--wearer");
       }
       else if (a == "--slowest-decile") opt.slowest_decile = true;
+      else if (a == "--lookahead")  // min,max,seconds (tuning)
+      {
+        const std::string v = val();
+        if (std::sscanf(v.c_str(), "%lf,%lf,%lf", &opt.planner.steer_lookahead_min, &opt.planner.steer_lookahead_max,
+                        &opt.planner.steer_lookahead_s) != 3)
+          throw std::invalid_argument("--lookahead");
+      }
+      else if (a == "--lead") opt.planner.steer_lead_s = std::stod(val());
+      else if (a == "--fix")  // analysis: name=value replaces a drawn trait (reaction, gain, sigma, bias, levels)
+      {
+        const std::string v = val();
+        const size_t eq = v.find('=');
+        if (eq == std::string::npos) throw std::invalid_argument("--fix");
+        const std::string k = v.substr(0, eq);
+        const double x = std::stod(v.substr(eq + 1));
+        if (k == "reaction") opt.fix_reaction_s = x;
+        else if (k == "gain") opt.fix_turn_gain = x;
+        else if (k == "sigma") opt.fix_veer_sigma = x;
+        else if (k == "bias") opt.fix_veer_bias = x;
+        else if (k == "levels") opt.fix_levels = int(x);
+        else throw std::invalid_argument("--fix");
+      }
+      else if (a == "--cue")  // analysis: name=value of a cue parameter (veer_step, veer_on, alert_reaction, turn_on)
+      {
+        const std::string v = val();
+        const size_t eq = v.find('=');
+        if (eq == std::string::npos) throw std::invalid_argument("--cue");
+        const std::string k = v.substr(0, eq);
+        const double x = std::stod(v.substr(eq + 1));
+        if (k == "veer_step") opt.cues.veer_step_deg = x;
+        else if (k == "veer_on") opt.cues.veer_on_deg = x;
+        else if (k == "alert_reaction") opt.cues.alert_reaction_s = x;
+        else if (k == "turn_on") opt.cues.turn_on_deg = x;
+        else if (k == "settle") opt.cues.settle_timeout_s = x;
+        else throw std::invalid_argument("--cue");
+      }
       else if (a == "--unsure-at") opt.unsure_at_s = std::stod(val());
       else if (a == "--unsure-for") opt.unsure_for_s = std::stod(val());
       else if (a == "--timelines") timelines = val();

@@ -219,6 +219,7 @@ void VestWearer::perceive(double t, double dt, const std::array<float, 4>& m)
     percept_ = STOP;
     go_ = false;
     turn_left_ = 0.0;
+    spot_side_ = 0;
     shoulder_side_ = 0;
     both_shoulders_ = false;
     return;
@@ -228,6 +229,7 @@ void VestWearer::perceive(double t, double dt, const std::array<float, 4>& m)
     percept_ = UNSURE;  // the UNSURE pattern: stop, use the cane, wait for the vest
     go_ = false;
     turn_left_ = 0.0;
+    spot_side_ = 0;
     return;
   }
   if (lw != rw)
@@ -235,6 +237,7 @@ void VestWearer::perceive(double t, double dt, const std::array<float, 4>& m)
     percept_ = lw ? SIDESTEP_LEFT : SIDESTEP_RIGHT;
     go_ = false;  // a side-step ends standing: the walk-on that follows says go
     turn_left_ = 0.0;
+    spot_side_ = 0;
     return;
   }
   // shoulders: a tick on both = walk on; one side: two short pulses = veer, a long buzz = turn
@@ -251,12 +254,12 @@ void VestWearer::perceive(double t, double dt, const std::array<float, 4>& m)
     shoulder_peak_ = std::max(shoulder_peak_, side == -1 ? m[1] : m[0]);
     if (side != 2 && !shoulder_used_ && t - shoulder_since_ >= 0.25)
     {
-      // a long buzz (longer than a veer's 0.15 s pulses): stop and turn by level x 45 deg
+      // a long buzz (longer than a veer's 0.15 s pulses): stop and turn towards it while it lasts
       shoulder_used_ = true;
       percept_level_ = perceivedLevel(shoulder_peak_);
       percept_ = side > 0 ? TURN_LEFT : TURN_RIGHT;
-      // on top of a veer still under way (the system asked for what lies beyond it)
-      turn_left_ += side * percept_level_ * 45.0 * DEG * drawGain();
+      turn_left_ = 0.0;  // a veer under way gives way to the turn
+      spot_side_ = side;
       turn_on_spot_ = true;
       go_ = false;  // after the turn: stand until the walk-on says go
     }
@@ -264,6 +267,7 @@ void VestWearer::perceive(double t, double dt, const std::array<float, 4>& m)
   }
   if (shoulder_side_ != 0)
   {
+    spot_side_ = 0;  // a turn's buzz ended: stop turning
     // the pulse ended (or changed side)
     const double len = t - shoulder_since_;
     if (!shoulder_used_ && len + 1e-9 >= p_.min_pulse_s)
@@ -298,6 +302,7 @@ void VestWearer::perceive(double t, double dt, const std::array<float, 4>& m)
     percept_ = NOTHING;  // the vest has gone silent: stop, use the cane
     go_ = false;
     turn_left_ = 0.0;
+    spot_side_ = 0;
   }
 }
 
@@ -326,16 +331,12 @@ void VestWearer::step(double t, double dt, const std::array<float, 4>& motors, B
     const double sgn = m[2] > 0.01f ? +1.0 : -1.0;
     side_move = sgn * p_.sidestep_speed * dt * Eigen::Vector2d(-std::sin(s_.yaw), std::cos(s_.yaw));
   }
-  else if (turn_on_spot_ && turn_left_ != 0.0)
+  else if (spot_side_ != 0)
   {
-    // stop, then turn on the spot by what was asked
+    // stop, and turn on the spot while the buzz is felt
     action_ = TURN;
     stop();
-    const double d = std::min(std::fabs(turn_left_), p_.turn_rate_deg * DEG * dt);
-    const double sgn = turn_left_ > 0.0 ? 1.0 : -1.0;
-    s_.yaw = wrap(s_.yaw + sgn * d);
-    turn_left_ -= sgn * d;
-    if (std::fabs(turn_left_) < 1e-9) turn_left_ = 0.0;
+    s_.yaw = wrap(s_.yaw + spot_side_ * p_.turn_rate_deg * DEG * dt);
   }
   else if (!go_)
   {
@@ -371,6 +372,7 @@ void VestWearer::step(double t, double dt, const std::array<float, 4>& motors, B
       // A person who bumps into something stops and feels around before going on.
       s_.speed = 0.0;
       turn_left_ = 0.0;
+      spot_side_ = 0;
       if (t >= explore_until_) explore_side_ = pickSide();
       explore_until_ = t + p_.bump_explore_s;
     }

@@ -101,6 +101,12 @@ struct TrialOptions
   /// Draw this trial's wearer from the slowest-reacting 10 % of the population (the targets'
   /// "worst 10 % of wearers").
   bool slowest_decile = false;
+  /// Analysis only (which trait costs what): drawn traits replaced by these when finite / > 0.
+  double fix_reaction_s = std::numeric_limits<double>::quiet_NaN();
+  double fix_turn_gain = std::numeric_limits<double>::quiet_NaN();
+  double fix_veer_sigma = std::numeric_limits<double>::quiet_NaN();
+  double fix_veer_bias = std::numeric_limits<double>::quiet_NaN();
+  int fix_levels = 0;
   /// A scripted UNSURE episode (the chain reports no pose) from this trial time on (NaN: none),
   /// for `unsure_for_s` seconds: truth mode only.
   double unsure_at_s = std::numeric_limits<double>::quiet_NaN();
