@@ -142,8 +142,8 @@ int main(int argc, char** argv)
               static_cast<unsigned long long>(vest.commands()), static_cast<unsigned long long>(changes),
               fw.parser.rejected, fw.parser.skipped, fw.timeouts, fw.expiries);
   if (fw.parser.version_mismatch)
-    std::printf("sim_vest: %u packets of protocol version %u ignored (this vest speaks version %u)\n",
-                fw.parser.version_mismatch, fw.parser.peer_version, VEST_PROTOCOL_VERSION);
+    std::printf("sim_vest: %u packets of a protocol version it does not speak ignored (this vest speaks version %u)\n",
+                fw.parser.version_mismatch, old_version ? static_cast<unsigned>(old_version) : VEST_PROTOCOL_VERSION);
   const auto on = vest.onSeconds(nowMs());
   const auto n = vest.onsets();
   static const char* names[4] = { "left shoulder (veer / turn left)", "right shoulder (veer / turn right)",

@@ -200,8 +200,9 @@ extern "C" {
 
 /* A pulse pattern (protocol version 4, the walking cues of issue 33): the motors of a COMMAND are
  * driven in pulses the vest times itself, so USB jitter never changes what the wearer feels.
- * ID names one pattern: a COMMAND with the same ID as the running one continues its phase (the PC
- * re-sends at 20 Hz), a new ID restarts it at 0. ON_10MS 0 = steady (driven all the time). */
+ * ID names one pattern: a COMMAND with the same pattern as the running one (the same ID and the
+ * same timing: vest_pattern_equal) continues its phase (the PC re-sends at 20 Hz), a new ID
+ * restarts it at 0. ON_10MS 0 = steady (driven all the time; OFF_10MS and COUNT 0). */
 typedef struct
 {
   uint8_t id;        /* changes when a new pattern starts */
