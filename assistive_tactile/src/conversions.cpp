@@ -98,7 +98,8 @@ Cue fromMsg(const assistive_msgs::TactileCue& msg)
                                                                               : Instruction::NONE;
   c.level = std::min<int>(msg.level, 3);
   c.pattern.id = msg.pattern_id;
-  c.pattern.on_10ms = static_cast<uint8_t>(std::min(255, (msg.pulse_on_ms + 5) / 10));
+  // 10 ms units; a pulse shorter than 5 ms still pulses (0 would mean steady, a buzz)
+  c.pattern.on_10ms = static_cast<uint8_t>(msg.pulse_on_ms == 0 ? 0 : std::max(1, std::min(255, (msg.pulse_on_ms + 5) / 10)));
   c.pattern.off_10ms = static_cast<uint8_t>(std::min(255, (msg.pulse_off_ms + 5) / 10));
   c.pattern.count = msg.pulse_count;
   c.reason = msg.reason;

@@ -125,7 +125,8 @@ void SimVest::press(unsigned button, uint32_t hold_ms, uint32_t now_ms)
 
 void SimVest::sense(uint32_t now_ms)
 {
-  if (master_ < 0 || old_version_2)
+  // An old firmware sends sensors only to a bridge of its own version (3) that it obeyed.
+  if (master_ < 0 || old_version == 2 || (old_version == 3 && fw_.peer_version != 3))
     return;
   if (static_cast<uint32_t>(now_ms - last_ping_ms_) >= VEST_PING_PERIOD_MS || !pinged_)
   {
@@ -142,7 +143,7 @@ void SimVest::sense(uint32_t now_ms)
     if (vest_firmware_range(&fw_, ping, mm, &r))
     {
       uint8_t out[VEST_RANGE_PACKET_SIZE];
-      vest_encode_range(&r, out);
+      vest_encode_range_version(&r, vest_firmware_sensor_version(&fw_), out);  // the bridge's version
       if (::write(master_, out, sizeof(out)) == static_cast<ssize_t>(sizeof(out)))
         ++range_packets_;
     }
@@ -154,7 +155,7 @@ void SimVest::sense(uint32_t now_ms)
   if (vest_firmware_buttons(&fw_, down[0], down[1], now_ms, &b))
   {
     uint8_t out[VEST_BUTTONS_PACKET_SIZE];
-    vest_encode_buttons(&b, out);
+    vest_encode_buttons_version(&b, vest_firmware_sensor_version(&fw_), out);
     if (::write(master_, out, sizeof(out)) == static_cast<ssize_t>(sizeof(out)))
       ++button_packets_;
   }
@@ -162,17 +163,71 @@ void SimVest::sense(uint32_t now_ms)
 
 void SimVest::tick(uint32_t now_ms)
 {
+  if (clock)
+    now_ms = clock();
   sense(now_ms);
   const int r = vest_firmware_tick(&fw_, now_ms);
   if (r == VEST_TICK_WATCHDOG)
     reportIfChanged(now_ms, "watchdog: no valid packet for 500 ms");
   else if (r == VEST_TICK_EXPIRED)
     reportIfChanged(now_ms, "cue expired (TTL)");
+  else if (r == VEST_TICK_PULSE)
+    reportIfChanged(now_ms, fw_.duty[0] | fw_.duty[1] | fw_.duty[2] | fw_.duty[3] ? "pulse" : "gap");
+}
+
+void SimVest::feedOld(uint8_t byte, uint32_t now_ms, int* applied)
+{
+  // The firmware of version old_version: obeys COMMANDs up to its version (steady), answers a
+  // CRC-valid frame of a newer version with a STATUS of its own version and applies nothing.
+  vest_message_t m;
+  vest_packet_t status;
+  const uint8_t v = static_cast<uint8_t>(old_version);
+  const uint16_t mism = fw_.parser.version_mismatch;
+  const bool ok = vest_parser_feed_message(&fw_.parser, byte, &m);
+  if (!ok && fw_.parser.version_mismatch == mism)
+    return;  // nothing complete, or garbage
+  uint8_t reply = v;
+  if (ok && m.version <= v && m.type == VEST_TYPE_COMMAND)
+  {
+    // Applied as that version's firmware did (no pattern bytes: steady), through today's code.
+    uint8_t frame[VEST_PACKET_SIZE];
+    const uint8_t n = vest_encode_version(&m.packet, m.version, frame);
+    vest_firmware_t tmp = fw_;
+    for (uint8_t i = 0; i < n; ++i)
+      vest_firmware_feed(&tmp, frame[i], now_ms, &status);
+    fw_ = tmp;
+    ++*applied;
+    ++commands_;
+    reportIfChanged(now_ms, "old-version command");
+    reply = m.version;
+  }
+  else if (ok && m.version > v)
+    fw_.parser.version_mismatch++;  // what the old firmware counted: a version it does not speak
+  else if (ok || fw_.parser.version_mismatch == mism)
+    return;  // STATUS / RANGE / BUTTONS of a version it knows: ignored
+  vest_firmware_status(&fw_, &status);
+  if (reply_status)
+  {
+    uint8_t out[VEST_PACKET_SIZE];
+    const uint8_t n = vest_encode_version(&status, reply, out);
+    if (::write(master_, out, n) < 0)
+    {
+      // the bridge is not reading; the vest does not care
+    }
+  }
 }
 
 int SimVest::poll(int timeout_ms, uint32_t now_ms)
 {
   int applied = 0;
+  if (clock)
+  {
+    // Wake for the next pulse edge / TTL / watchdog too: the firmware ticks every loop.
+    now_ms = clock();
+    const uint32_t due = vest_firmware_next_change_ms(&fw_, now_ms);
+    if (timeout_ms < 0 || (due != VEST_NEVER && due < static_cast<uint32_t>(timeout_ms)))
+      timeout_ms = due == VEST_NEVER ? timeout_ms : static_cast<int>(due);
+  }
   if (master_ >= 0)
   {
     struct pollfd p;
@@ -181,48 +236,18 @@ int SimVest::poll(int timeout_ms, uint32_t now_ms)
     p.revents = 0;
     if (::poll(&p, 1, timeout_ms) > 0 && (p.revents & POLLIN))
     {
+      if (clock)
+        now_ms = clock();  // receipt time
       uint8_t buf[512];
       const ssize_t n = ::read(master_, buf, sizeof(buf));
       for (ssize_t i = 0; i < n; ++i)
       {
-        vest_packet_t status;
-        if (old_version_2)
+        if (old_version != 0)
         {
-          // A version-2 vest: only version-2 COMMANDs are obeyed; anything else CRC-valid is
-          // answered with a version-2 STATUS (what the old firmware did).
-          vest_message_t m;
-          const uint16_t mism = fw_.parser.version_mismatch;
-          const bool ok = vest_parser_feed_message(&fw_.parser, buf[i], &m);
-          if (!ok && fw_.parser.version_mismatch == mism)
-            continue;
-          if (ok && m.version == 2 && m.type == VEST_TYPE_COMMAND)
-          {
-            uint8_t frame[VEST_PACKET_SIZE];
-            vest_encode_version(&m.packet, 2, frame);
-            vest_firmware_t tmp = fw_;
-            vest_packet_t st;
-            for (uint8_t byte : frame)
-              vest_firmware_feed(&tmp, byte, now_ms, &st);
-            fw_ = tmp;
-            ++applied;
-            ++commands_;
-            reportIfChanged(now_ms, "v2 command");
-            vest_firmware_status(&fw_, &status);
-          }
-          else if (ok && m.version != 2)
-            vest_firmware_status(&fw_, &status);
-          else
-            continue;
-          if (reply_status)
-          {
-            uint8_t out[VEST_PACKET_SIZE];
-            vest_encode_version(&status, 2, out);
-            if (::write(master_, out, sizeof(out)) < 0)
-            {
-            }
-          }
+          feedOld(buf[i], now_ms, &applied);
           continue;
         }
+        vest_packet_t status;
         const int r = vest_firmware_feed(&fw_, buf[i], now_ms, &status);
         if (r != VEST_FEED_NONE)
         {
@@ -230,15 +255,14 @@ int SimVest::poll(int timeout_ms, uint32_t now_ms)
           {
             ++applied;
             ++commands_;
-            char why[32];
-            std::snprintf(why, sizeof(why), "seq %u", status.seq);
-            reportIfChanged(now_ms, why);
+            const std::string why = "seq " + std::to_string(status.seq) + ", " + describePattern(fw_.pattern);
+            reportIfChanged(now_ms, why.c_str());
           }
           if (reply_status)
           {
             uint8_t out[VEST_PACKET_SIZE];
-            vest_encode_version(&status, fw_.reply_version, out);  // in the COMMAND's version
-            if (::write(master_, out, sizeof(out)) < 0)
+            const uint8_t len = vest_encode_version(&status, fw_.reply_version, out);  // the COMMAND's version
+            if (::write(master_, out, len) < 0)
             {
               // the bridge is not reading; the vest does not care (like the real one)
             }

@@ -1,10 +1,12 @@
 // sim_vest: the simulated tactile vest on a pseudo-terminal (no ROS needed).
-//   sim_vest [--link PATH] [--quiet] [--no-status] [--duration S] [--range M|none|missing] [--v2]
+//   sim_vest [--link PATH] [--quiet] [--no-status] [--duration S] [--range M|none|missing] [--v2|--v3]
 // Prints the pty path, points PATH (default /tmp/assistive_vest) at it, and logs every change of
-// the four motor outputs, as the firmware (vest_protocol.h) would drive them.
+// the four motor outputs, as the firmware (vest_protocol.h) would drive them, pulses included
+// (timed on this process's clock, like the firmware's millis()).
 // The forward ranger measures the range it is given (--range, or a line `range M`, `range none`
 // (no echo), `range missing` (sensor unplugged) on stdin); `press a`, `press b`, `press a long`
-// on stdin press the wearer's buttons. --v2 plays an old, version-2 vest (motors only).
+// on stdin press the wearer's buttons. --v2 / --v3 play an old vest of that protocol version (no
+// pulse patterns: a version-4 bridge refuses it).
 #include <poll.h>
 #include <signal.h>
 #include <unistd.h>
@@ -34,7 +36,7 @@ int main(int argc, char** argv)
   bool quiet = false, status = true;
   double duration = -1.0;
   std::string range_arg = "none";
-  bool v2 = false;
+  int old_version = 0;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -49,10 +51,12 @@ int main(int argc, char** argv)
     else if (a == "--range" && i + 1 < argc)
       range_arg = argv[++i];
     else if (a == "--v2")
-      v2 = true;
+      old_version = 2;
+    else if (a == "--v3")
+      old_version = 3;
     else if (a == "-h" || a == "--help")
     {
-      std::printf("usage: sim_vest [--link PATH] [--quiet] [--no-status] [--duration S] [--range M|none|missing] [--v2]\n"
+      std::printf("usage: sim_vest [--link PATH] [--quiet] [--no-status] [--duration S] [--range M|none|missing] [--v2|--v3]\n"
                   "  stdin: `range M|none|missing`, `press a|b [long]`\n");
       return 0;
     }
@@ -75,7 +79,8 @@ int main(int argc, char** argv)
   };
   assistive_tactile::SimVest vest;
   vest.reply_status = status;
-  vest.old_version_2 = v2;
+  vest.old_version = old_version;
+  vest.clock = nowMs;  // pulses timed on this process's clock
   auto setRange = [&](const std::string& what) {
     vest.setSensorMissing(what == "missing");
     vest.setRange(what == "none" || what == "missing" ? std::numeric_limits<double>::infinity() : std::atof(what.c_str()));
@@ -137,14 +142,14 @@ int main(int argc, char** argv)
               static_cast<unsigned long long>(vest.commands()), static_cast<unsigned long long>(changes),
               fw.parser.rejected, fw.parser.skipped, fw.timeouts, fw.expiries);
   if (fw.parser.version_mismatch)
-    std::printf("sim_vest: %u packets of protocol version %u ignored (this vest speaks version %u)\n",
-                fw.parser.version_mismatch, fw.parser.peer_version, VEST_PROTOCOL_VERSION);
+    std::printf("sim_vest: %u packets of a protocol version it does not speak ignored (this vest speaks version %u)\n",
+                fw.parser.version_mismatch, old_version ? static_cast<unsigned>(old_version) : VEST_PROTOCOL_VERSION);
   const auto on = vest.onSeconds(nowMs());
   const auto n = vest.onsets();
-  static const char* names[4] = { "left shoulder (turn left)", "right shoulder (turn right)",
+  static const char* names[4] = { "left shoulder (veer / turn left)", "right shoulder (veer / turn right)",
                                   "left waist (step left)", "right waist (step right)" };
   for (int i = 0; i < 4; ++i)
-    std::printf("sim_vest: %-28s %5u cues, %8.1f s on\n", names[i], n[i], on[i]);
+    std::printf("sim_vest: %-34s %5u pulses, %8.1f s on\n", names[i], n[i], on[i]);
   std::fflush(stdout);
   vest.close();
   return 0;

@@ -31,6 +31,18 @@ std::string describeDuty(const uint8_t* d)
   return buf;
 }
 
+std::string describePattern(const vest_pattern_t& p)
+{
+  if (p.on_10ms == 0)
+    return "steady";
+  char buf[96];
+  if (p.count == 0)
+    std::snprintf(buf, sizeof(buf), "#%u %u ms on %u ms off, repeating", p.id, 10u * p.on_10ms, 10u * p.off_10ms);
+  else
+    std::snprintf(buf, sizeof(buf), "#%u %u ms on %u ms off x%u", p.id, 10u * p.on_10ms, 10u * p.off_10ms, p.count);
+  return buf;
+}
+
 const char* cueCheckName(CueCheck c)
 {
   switch (c)
@@ -114,7 +126,7 @@ uint16_t VestBridge::ttlMs(double now) const
 }
 
 CueCheck VestBridge::checkCue(const std::array<uint8_t, VEST_NUM_MOTORS>& duty, const CueAge& age,
-                              const BridgeParams& p, double lead_s)
+                              const BridgeParams& p, double lead_s, bool unsure)
 {
   // Negated comparisons: NaN / +inf (unstamped) fail them.
   if (!(age.stamp_age_s >= -p.stale_s))
@@ -122,8 +134,8 @@ CueCheck VestBridge::checkCue(const std::array<uint8_t, VEST_NUM_MOTORS>& duty, 
   if (!(age.stamp_age_s < p.stale_s - lead_s))
     return CueCheck::STALE;  // would have to be switched off before it could be felt
   const bool drives = std::any_of(duty.begin(), duty.end(), [](uint8_t d) { return d > 0; });
-  if (!drives)
-    return CueCheck::FRESH;  // all-off: nothing is guided on it, whatever the source
+  if (!drives || unsure)
+    return CueCheck::FRESH;  // all-off or "cannot tell": nothing is guided on it, whatever the source
   if (std::isnan(age.source_age_s))
     return CueCheck::SOURCE_UNKNOWN;
   if (age.source_age_s < -p.stale_s)
@@ -147,7 +159,7 @@ void VestBridge::tryOpen(double now)
   stats_.last_error.clear();
   pending_.clear();
   vest_parser_init(&parser_);
-  stats_.send_version = VEST_PROTOCOL_VERSION;  // a new port may hold a new vest
+  stats_.vest_refused = false;  // a new port may hold a new vest
   stats_.vest_version = 0;
   have_range_seq_ = have_buttons_ = false;
   send(now);  // tell the vest the current state right away
@@ -178,12 +190,28 @@ bool VestBridge::send(double now)
       return false;
     }
   }
-  const bool off = stats_.cue_stale || g_signalled.load();
+  // A count-limited pattern is over: written on an earlier port session (the vest there may have
+  // played part of it; the one here would start it from 0), or by our clock, with stale_s to
+  // spare for a vest that got it late. The same pattern then goes on with zero duties, so a vest
+  // that starts it only now (a reopened port, a restarted vest) does not replay an old burst,
+  // and one that plays it keeps its phase (the same pattern) and is silent anyway.
+  const uint32_t len_ms = vest_pattern_length_ms(&pattern_);
+  const bool ended = len_ms != VEST_NEVER && ((pattern_session_ != 0 && pattern_session_ != stats_.opens) ||
+                                              now - pattern_since_ > len_ms / 1000.0 + params_.stale_s);
+  if (ended && !pattern_ended_ && !stats_.cue_stale)
+  {
+    pattern_ended_ = true;
+    stats_.patterns_ended++;
+  }
+  const bool off = stats_.cue_stale || g_signalled.load() || stats_.vest_refused || ended;
   const std::array<uint8_t, VEST_NUM_MOTORS> duty = off ? std::array<uint8_t, VEST_NUM_MOTORS>{ { 0, 0, 0, 0 } } : duty_;
   vest_packet_t p{};
   p.type = VEST_TYPE_COMMAND;
   p.seq = static_cast<uint8_t>(stats_.seq + 1);
-  p.ttl_ms = ttlMs(now);
+  // The pattern also with zero duties (stale, refused, ended): the vest keeps its phase, so the
+  // same pattern coming back continues rather than replaying from its start.
+  p.pattern = pattern_;
+  p.ttl_ms = off ? static_cast<uint16_t>(0xFFFF) : ttlMs(now);  // all-off: nothing to end
   for (unsigned i = 0; i < VEST_NUM_MOTORS; ++i)
   {
     p.intensity[i] = duty[i];
@@ -191,7 +219,7 @@ bool VestBridge::send(double now)
       p.motors = static_cast<uint8_t>(p.motors | (1u << i));
   }
   uint8_t buf[VEST_PACKET_SIZE];
-  vest_encode_version(&p, stats_.send_version, buf);
+  vest_encode(&p, buf);  // always our version: an old vest drives nothing on it (refused)
   const ssize_t n = port_.write(buf, sizeof(buf), &err);
   if (n < 0)
   {
@@ -210,18 +238,20 @@ bool VestBridge::send(double now)
   stats_.seq = p.seq;
   stats_.packets_sent++;
   sent_duty_ = duty;
+  if (pattern_session_ == 0)
+    pattern_session_ = stats_.opens;  // this port's vest has the pattern now
   if (static_cast<size_t>(n) < sizeof(buf))
     pending_.assign(buf + n, buf + sizeof(buf));
   return true;
 }
 
-bool VestBridge::setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, double now, const CueAge& age)
+bool VestBridge::setCue(const VestCue& cue, double now, const CueAge& age)
 {
   std::array<uint8_t, VEST_NUM_MOTORS> duty;
   for (unsigned i = 0; i < VEST_NUM_MOTORS; ++i)
-    duty[i] = toDuty(intensity[i]);
+    duty[i] = toDuty(cue.intensity[i]);
   const double lead = offLeadS();
-  const CueCheck check = checkCue(duty, age, params_, lead);
+  const CueCheck check = checkCue(duty, age, params_, lead, cue.unsure);
   if (check != CueCheck::FRESH)
   {
     // Ignored: it never drives a motor; the previous valid cue keeps its own expiry.
@@ -231,8 +261,20 @@ bool VestBridge::setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, dou
   }
   stats_.cues_accepted++;
   duty_ = duty;
+  vest_pattern_t pat = cue.pattern;
+  if (pat.on_10ms == 0)
+    pat.off_10ms = pat.count = 0;  // steady: no timing (as it goes on the wire)
+  if (!vest_pattern_equal(&pat, &pattern_))
+  {
+    pattern_ = pat;
+    pattern_since_ = now;
+    pattern_ended_ = false;
+    pattern_session_ = 0;
+  }
+  if (stats_.vest_refused && std::any_of(duty.begin(), duty.end(), [](uint8_t d) { return d > 0; }))
+    stats_.cues_refused++;
   double valid_s = params_.stale_s - std::max(0.0, age.stamp_age_s);
-  if (std::any_of(duty.begin(), duty.end(), [](uint8_t d) { return d > 0; }))
+  if (!cue.unsure && std::any_of(duty.begin(), duty.end(), [](uint8_t d) { return d > 0; }))
     valid_s = std::min(valid_s, params_.max_source_age_s - std::max(0.0, age.source_age_s));
   cue_deadline_ = now + valid_s;
   cue_expiry_ = cue_deadline_ - lead;
@@ -275,8 +317,12 @@ void VestBridge::readReplies(double now)
       {
         stats_.status_packets++;
         stats_.last_status = m.packet;
-        // An old vest answers in its version: speak it (COMMAND is the same), so its motors work.
-        stats_.send_version = m.version;
+        for (unsigned k = 0; k < VEST_NUM_MOTORS; ++k)
+          stats_.status_peak[k] = std::max(stats_.status_peak[k], m.packet.intensity[k]);
+        // We send only our version: a STATUS in an older one is an old vest's version reply (it
+        // cannot play patterns): refused from now on. One in ours (reflashed on a link that
+        // stayed open): driven again.
+        stats_.vest_refused = m.version < VEST_PROTOCOL_VERSION;
       }
       else if (m.type == VEST_TYPE_RANGE)
         onRange(m.range, now);
@@ -349,6 +395,13 @@ void VestBridge::onButtons(const vest_buttons_t& b, double now)
   stats_.button_presses += static_cast<uint64_t>(e.short_a + e.long_a + e.short_b + e.long_b);
   if (changed && buttons_.size() < 256)
     buttons_.push_back(e);
+}
+
+std::array<uint8_t, VEST_NUM_MOTORS> VestBridge::takeStatusPeak()
+{
+  const std::array<uint8_t, VEST_NUM_MOTORS> p = stats_.status_peak;
+  stats_.status_peak.fill(0);
+  return p;
 }
 
 void VestBridge::takeRanges(std::vector<RangeEvent>& out)
@@ -450,16 +503,16 @@ VestBridgeRunner::~VestBridgeRunner()
   stop();
 }
 
-CueCheck VestBridgeRunner::setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, const CueAge& age)
+CueCheck VestBridgeRunner::setCue(const VestCue& cue, const CueAge& age)
 {
   CueCheck verdict;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     std::array<uint8_t, VEST_NUM_MOTORS> duty;
     for (unsigned i = 0; i < VEST_NUM_MOTORS; ++i)
-      duty[i] = VestBridge::toDuty(intensity[i]);
-    verdict = VestBridge::checkCue(duty, age, bridge_->params(), bridge_->offLeadS());
-    bridge_->setCue(intensity, steadyNow(), age);
+      duty[i] = VestBridge::toDuty(cue.intensity[i]);
+    verdict = VestBridge::checkCue(duty, age, bridge_->params(), bridge_->offLeadS(), cue.unsure);
+    bridge_->setCue(cue, steadyNow(), age);
   }
   wake_.notify_one();  // the expiry may have moved
   return verdict;
@@ -549,11 +602,12 @@ void installAllOffSignalHandlers()
   vest_packet_t off{};
   off.type = VEST_TYPE_COMMAND;
   off.ttl_ms = 0xFFFF;  // all-off: nothing to expire
-  // In our version and in version 2 (an old vest obeys only that one; ours obeys both).
-  uint8_t buf[2 * VEST_PACKET_SIZE];
+  // In our version and in version 2 (every vest since version 2 obeys that one; an all-off
+  // never hurts, even on a vest this bridge refused).
+  uint8_t buf[VEST_PACKET_SIZE + VEST_PACKET_SIZE_V3];
   vest_encode(&off, buf);  // its leading delimiter ends any packet the signal interrupted
-  vest_encode_version(&off, static_cast<uint8_t>(VEST_PROTOCOL_MIN_VERSION), buf + VEST_PACKET_SIZE);
-  setFailSafeBytes(buf, sizeof(buf));
+  const uint8_t n2 = vest_encode_version(&off, static_cast<uint8_t>(VEST_PROTOCOL_MIN_VERSION), buf + VEST_PACKET_SIZE);
+  setFailSafeBytes(buf, VEST_PACKET_SIZE + n2);
   struct sigaction sa;
   std::memset(&sa, 0, sizeof(sa));
   sa.sa_sigaction = &onFatalSignal;

@@ -9,6 +9,7 @@
 #include <sensor_msgs/Joy.h>
 #include <sensor_msgs/Range.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -50,7 +51,7 @@ private:
                  p.reopen_s);
     params_ = p;
     sonar_frame_ = pnh.param<std::string>("sonar_frame", "sonar_front");
-    // Protocol version 3: the forward ranger and the wearer's buttons.
+    // Since protocol version 3: the forward ranger and the wearer's buttons.
     pub_range_ = nh.advertise<sensor_msgs::Range>("sonar/front", 10);
     pub_buttons_ = nh.advertise<sensor_msgs::Joy>("buttons", 10);
 
@@ -91,7 +92,11 @@ private:
     age.source_age_s = msg->source_stamp.isZero() ? std::numeric_limits<double>::quiet_NaN() :
                                                     (now - msg->source_stamp).toSec();
     const Cue cue = fromMsg(*msg);
-    const CueCheck verdict = runner_->setCue(cue.intensity, age);
+    VestCue vc;
+    vc.intensity = cue.intensity;
+    vc.pattern = cue.pattern;  // the vest times the pulses (protocol version 4)
+    vc.unsure = cue.mode == CueMode::UNSURE;
+    const CueCheck verdict = runner_->setCue(vc, age);
     if (verdict != CueCheck::FRESH)
       NODELET_WARN_THROTTLE(2.0, "vest_bridge: ignoring a %s cue (%s): stamp age %.3f s, source age %.3f s",
                             modeName(cue.mode), cueCheckName(verdict), age.stamp_age_s, age.source_age_s);
@@ -122,6 +127,10 @@ private:
     snap_ = s;
     snap_link_up_ = b.linkUp(now);
     snap_sent_ = b.sentDuty();
+    snap_pattern_ = b.sentPattern();
+    const std::array<uint8_t, VEST_NUM_MOTORS> peak = b.takeStatusPeak();
+    for (size_t i = 0; i < peak_.size(); ++i)
+      peak_[i] = std::max(peak_[i], peak[i]);
     updater_->update();  // calls diagnose() at its own rate
   }
 
@@ -164,10 +173,11 @@ private:
     if (b.rangerSilent(now))
       NODELET_ERROR_THROTTLE(5.0, "vest_bridge: no ranger reading for over %.2f s: glass is not covered",
                              params_.sonar_timeout_s);
-    if (s.status_packets > 0 && s.send_version < VEST_PROTOCOL_VERSION)
-      NODELET_WARN_THROTTLE(30.0, "vest_bridge: the vest speaks protocol version %u (no ranger, no buttons); "
-                                  "driving its motors in version %u. Reflash firmware/vest/vest.ino for both",
-                            s.send_version, s.send_version);
+    if (s.vest_refused)
+      NODELET_ERROR_THROTTLE(10.0, "vest_bridge: the vest's firmware speaks protocol version %u, this bridge %u "
+                                   "(pulse patterns): vest refused, all motors OFF (the wearer feels silence = stop, "
+                                   "use the cane). Reflash firmware/vest/vest.ino",
+                             s.vest_version, VEST_PROTOCOL_VERSION);
     out_of_limits_ = s.ranges_out_of_limits;
     sensor_missing_ = s.ranges_sensor_missing;
     snap_ranger_silent_ = b.rangerSilent(now);
@@ -185,10 +195,11 @@ private:
                        std::to_string(VEST_PROTOCOL_VERSION) + ": reflash the vest");
     else if (!snap_link_up_)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "port open, no reply from the vest");
-    else if (s.send_version < VEST_PROTOCOL_VERSION)
-      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
-                   "old vest (protocol version " + std::to_string(s.send_version) +
-                       "): motors driven, no ranger, no buttons: reflash the vest");
+    else if (s.vest_refused)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                   "old vest firmware (protocol version " + std::to_string(s.vest_version) + ", bridge " +
+                       std::to_string(VEST_PROTOCOL_VERSION) +
+                       "): refused, motors OFF (silence = stop), no ranger, no buttons: reflash the vest");
     else if (s.last_range_status == VEST_RANGE_SENSOR_MISSING && s.ranges > 0)
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "ranger missing: glass is not covered");
     else if (snap_ranger_silent_)
@@ -201,7 +212,8 @@ private:
     stat.add("baud", params_.baud);
     stat.add("protocol version", static_cast<int>(VEST_PROTOCOL_VERSION));
     stat.add("vest protocol version", static_cast<int>(s.vest_version));
-    stat.add("commands sent in version", static_cast<int>(s.send_version));
+    stat.add("vest refused (old firmware)", s.vest_refused);
+    stat.add("cues not driven (old firmware)", s.cues_refused);
     stat.add("link up", snap_link_up_);
     stat.add("cue stale", s.cue_stale);
     stat.add("cues accepted", s.cues_accepted);
@@ -225,8 +237,15 @@ private:
     stat.add("button packets", s.buttons_packets);
     stat.add("button presses", s.button_presses);
     stat.add("button counter resyncs", s.button_resyncs);
+    stat.add("patterns ended by the bridge", s.patterns_ended);
     stat.add("commanded", describeDuty(snap_sent_.data()));
+    stat.add("commanded pattern", describePattern(snap_pattern_));
     stat.add("vest reports", s.status_packets ? describeDuty(s.last_status.intensity) : std::string("-"));
+    stat.add("vest pattern", s.status_packets ? describePattern(s.last_status.pattern) : std::string("-"));
+    // The highest duty the vest reported since the last diagnostics: pulses are felt between
+    // two reports, and "vest reports" may fall into a gap.
+    stat.add("vest drove since last report", describeDuty(peak_.data()));
+    peak_.fill(0);
   }
 
   BridgeParams params_;
@@ -238,6 +257,8 @@ private:
   LinkStats snap_;
   bool snap_link_up_ = false;
   std::array<uint8_t, VEST_NUM_MOTORS> snap_sent_{ { 0, 0, 0, 0 } };
+  vest_pattern_t snap_pattern_{ 0, 0, 0, 0 };
+  std::array<uint8_t, VEST_NUM_MOTORS> peak_{ { 0, 0, 0, 0 } };  ///< highest duties reported since diagnose()
   ros::Subscriber cue_sub_;
   ros::Publisher pub_range_, pub_buttons_;
   std::string sonar_frame_;

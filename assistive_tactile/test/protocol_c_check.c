@@ -1,15 +1,19 @@
 /* Compiled as C99: vest_protocol.h must stay C-compatible for the Arduino side. Round trips of
- * every packet type, run by test_vest_protocol (CRoundTrip). */
+ * every packet type (COMMAND with its pulse pattern, RANGE, BUTTONS), run by test_vest_protocol
+ * (CRoundTrip). */
 #include "assistive_tactile/vest_protocol.h"
 
 int assistive_tactile_protocol_c_check(void);
 int assistive_tactile_protocol_c_check(void)
 {
-  vest_packet_t p = { VEST_TYPE_COMMAND, 1, 0x5, { 10, 0, 30, 0 }, 200 };
+  /* version 4: the pattern comes back field for field */
+  vest_packet_t p = { VEST_TYPE_COMMAND, 1, 0x5, { 10, 0, 30, 0 }, 200, { 9, 15, 15, 2 } };
   uint8_t buf[VEST_PACKET_SIZE];
   vest_packet_t q;
   vest_encode(&p, buf);
-  return vest_decode(buf, &q);
+  if (!vest_decode(buf, &q))
+    return 0;
+  return q.seq == 1 && q.motors == 0x5 && q.intensity[2] == 30 && q.ttl_ms == 200 && vest_pattern_equal(&p.pattern, &q.pattern);
 }
 
 /* RANGE and BUTTONS through the streaming parser; returns 1 when both come back field for field. */

@@ -53,6 +53,41 @@ TEST(Conversions, BadIntensitiesAreClamped)
   EXPECT_EQ(c.intensity[3], 0.5f);
 }
 
+// The pulse pattern through TactileCue (ms in the message, 10 ms units on the vest).
+TEST(Conversions, CuePatternRoundTrip)
+{
+  Cue c;
+  c.mode = CueMode::GUIDANCE;
+  c.instruction = Instruction::VEER;
+  c.level = 2;
+  c.intensity = { { 0.7f, 0.f, 0.f, 0.f } };
+  c.pattern = vest_pattern_t{ 17, 15, 15, 2 };
+  const assistive_msgs::TactileCue m = toMsg(c, ros::Time(1.0), ros::Time(0.9), "torso");
+  EXPECT_EQ(m.pattern_id, 17);
+  EXPECT_EQ(m.pulse_on_ms, 150);
+  EXPECT_EQ(m.pulse_off_ms, 150);
+  EXPECT_EQ(m.pulse_count, 2);
+  EXPECT_EQ(m.instruction, assistive_msgs::TactileCue::VEER);
+  const Cue back = fromMsg(m);
+  EXPECT_TRUE(vest_pattern_equal(&back.pattern, &c.pattern));
+  EXPECT_EQ(back.level, 2);
+  // Rounded to 10 ms; a pulse that is on never becomes 0 (which would mean steady: a buzz), and
+  // a long one saturates at 2550 ms.
+  assistive_msgs::TactileCue r;
+  r.pulse_on_ms = 3;
+  r.pulse_off_ms = 4;
+  EXPECT_EQ(fromMsg(r).pattern.on_10ms, 1);
+  EXPECT_EQ(fromMsg(r).pattern.off_10ms, 0);
+  r.pulse_on_ms = 104;
+  EXPECT_EQ(fromMsg(r).pattern.on_10ms, 10);
+  r.pulse_on_ms = 105;
+  EXPECT_EQ(fromMsg(r).pattern.on_10ms, 11);
+  r.pulse_on_ms = 60000;
+  EXPECT_EQ(fromMsg(r).pattern.on_10ms, 255);
+  r.pulse_on_ms = 0;
+  EXPECT_EQ(fromMsg(r).pattern.on_10ms, 0);  // steady
+}
+
 TEST(Conversions, NavigationState)
 {
   assistive_msgs::NavigationState s;

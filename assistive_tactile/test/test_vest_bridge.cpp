@@ -136,7 +136,8 @@ TEST(VestBridge, AllOffWithinStaleTimeWhenCuesStop)
   p.stale_s = 0.3;
   Rig rig(p);
   const double lead = rig.bridge->offLeadS();
-  EXPECT_NEAR(lead, 17 * 10.0 / 57600 + 0.010, 1e-9);  // 17 bytes on the wire + wake-up margin
+  EXPECT_EQ(VEST_PACKET_SIZE, 21u);
+  EXPECT_NEAR(lead, 21 * 10.0 / 57600 + 0.010, 1e-9);  // 21 bytes on the wire + wake-up margin
   const double t0 = rig.t;
   rig.bridge->setCue({ { 1.f, 0.f, 0.f, 0.f } }, t0);
   rig.pump();
@@ -194,6 +195,23 @@ TEST(VestBridge, CueCheckTable)
     a.source_age_s = r.source_age;
     EXPECT_EQ(cueCheckName(VestBridge::checkCue(r.duty, a, p, 0.005)), std::string(cueCheckName(r.want)))
         << "stamp age " << r.stamp_age << " source age " << r.source_age;
+  }
+  // An UNSURE cue (its opening pattern on both waist motors) says "cannot tell, stop" and guides
+  // nothing: it is often decided because the camera image is old or missing, so it needs only a
+  // fresh header.stamp, like an all-off.
+  const Duty unsure{ { 0, 0, 255, 255 } };
+  const std::vector<Row> unsure_rows = {
+    { unsure, 0.05, nan, CueCheck::FRESH },   { unsure, 0.05, 5.0, CueCheck::FRESH },
+    { unsure, 0.05, 0.1, CueCheck::FRESH },   { unsure, 0.31, 0.3, CueCheck::STALE },
+    { unsure, inf, nan, CueCheck::STALE },    { unsure, -0.5, 0.0, CueCheck::FUTURE },
+  };
+  for (const Row& r : unsure_rows)
+  {
+    CueAge a;
+    a.stamp_age_s = r.stamp_age;
+    a.source_age_s = r.source_age;
+    EXPECT_EQ(cueCheckName(VestBridge::checkCue(r.duty, a, p, 0.005, true)), std::string(cueCheckName(r.want)))
+        << "unsure: stamp age " << r.stamp_age << " source age " << r.source_age;
   }
 }
 
@@ -441,22 +459,300 @@ void run(Rig& rig, double seconds)
 }
 }  // namespace
 
-TEST(VestBridge, OldVestIsDetectedAndItsMotorsStillDriven)
+// An old vest (protocol version 2 or 3: no pulse patterns) is refused: the bridge sends it only
+// version-4 COMMANDs, which it never applies (it answers each with a STATUS of its own version),
+// so its motors stay off whatever the cues say: the wearer feels silence = stop. Reflashed on a
+// link that stayed open, it is driven again.
+TEST(VestBridge, OldVestIsRefusedMotorsStayOff)
+{
+  for (const int old : { 3, 2 })
+  {
+    Rig rig;
+    rig.vest.old_version = old;  // from now on the vest answers as that version's firmware did
+    const uint64_t applied0 = rig.vest.commands();
+    VestCue veer;
+    veer.intensity = { { 0.7f, 0.f, 0.f, 0.f } };
+    veer.pattern = vest_pattern_t{ 5, 15, 15, 2 };
+    ASSERT_TRUE(rig.bridge->setCue(veer, rig.t, CueAge()));
+    bool ever_on = false;
+    for (int i = 0; i < 100; ++i)  // 1 s of cues at 10 Hz
+    {
+      if (i % 10 == 0)
+      {
+        VestCue steady;
+        steady.intensity = { { 1.f, 1.f, 1.f, 1.f } };
+        rig.bridge->setCue(i % 20 ? steady : veer, rig.t, CueAge());
+      }
+      run(rig, 0.01);
+      ever_on = ever_on || duty(rig.vest) != Duty{ { 0, 0, 0, 0 } };
+    }
+    EXPECT_FALSE(ever_on) << "version " << old;
+    EXPECT_EQ(rig.vest.commands(), applied0) << "version " << old;  // not one COMMAND applied
+    EXPECT_EQ(rig.bridge->stats().vest_version, old);
+    EXPECT_TRUE(rig.bridge->stats().vest_refused);
+    EXPECT_GE(rig.bridge->stats().cues_refused, 9u);
+    EXPECT_EQ(rig.bridge->sentDuty(), (Duty{ { 0, 0, 0, 0 } }));
+    EXPECT_TRUE(rig.bridge->linkUp(rig.t));  // its replies prove the link (the diagnostics name it)
+    EXPECT_EQ(rig.bridge->stats().version_mismatches, 0u);
+    EXPECT_EQ(rig.bridge->stats().ranges, 0u);  // an old vest sends sensors to an old bridge only
+    EXPECT_GT(rig.vest.firmware().parser.version_mismatch, 0);  // what the old vest saw: version 4
+
+    // Reflashed (the port stayed open, e.g. a radio link): the next STATUS is version 4.
+    rig.vest.old_version = 0;
+    rig.bridge->setCue({ { 0.f, 0.f, 1.f, 0.f } }, rig.t);
+    run(rig, 0.1);
+    rig.bridge->setCue({ { 0.f, 0.f, 1.f, 0.f } }, rig.t);
+    run(rig, 0.02);
+    EXPECT_FALSE(rig.bridge->stats().vest_refused);
+    EXPECT_EQ(rig.bridge->stats().vest_version, VEST_PROTOCOL_VERSION);
+    EXPECT_EQ(duty(rig.vest), (Duty{ { 0, 0, 255, 0 } }));
+  }
+}
+
+// ---- Protocol version 4: the cue's pulse pattern, timed by the vest. ----
+namespace
+{
+const vest_pattern_t kVeer{ 5, 15, 15, 2 };  // veer burst: 150 ms on, 150 ms off, x2
+
+VestCue veerCue(vest_pattern_t pattern = kVeer, float level = 0.7f)
+{
+  VestCue c;
+  c.intensity = { { level, 0.f, 0.f, 0.f } };
+  c.pattern = pattern;
+  return c;
+}
+
+bool veerOn(long t_ms)
+{
+  return (t_ms >= 0 && t_ms < 150) || (t_ms >= 300 && t_ms < 450);
+}
+
+/// Bridge and vest side by side in 1 ms steps (simulated clocks); the cue logic's heartbeat
+/// (`cue` every 100 ms, fresh stamps) until `cues_until_s`; returns the left shoulder's duty
+/// per ms.
+std::vector<uint8_t> runMs(Rig& rig, int ms, const VestCue& cue, int cues_until_ms)
+{
+  std::vector<uint8_t> out;
+  for (int k = 0; k < ms; ++k)
+  {
+    if (k % 100 == 0 && k < cues_until_ms)
+      rig.bridge->setCue(cue, rig.t, CueAge());
+    rig.pump(0);
+    out.push_back(duty(rig.vest)[0]);
+    rig.advance(0.001);
+  }
+  return out;
+}
+}  // namespace
+
+// The veer burst from the cue to the motors: on at 0-149 and 300-449 ms, off at 150-299 and from
+// 450 ms, while the bridge re-sends it at 20 Hz and the cue logic repeats it at 10 Hz (same
+// pattern: continued, never restarted). Then a new id restarts it.
+TEST(VestBridge, PatternEndToEndDutyOverTime)
 {
   Rig rig;
-  rig.vest.old_version_2 = true;  // from now on the vest answers as the version-2 firmware did
-  rig.bridge->setCue({ { 0.f, 1.f, 0.f, 0.f } }, rig.t);
-  run(rig, 0.2);
-  EXPECT_EQ(rig.bridge->stats().vest_version, 2);
-  EXPECT_EQ(rig.bridge->stats().send_version, 2);  // COMMANDs in version 2: the old vest obeys them
-  EXPECT_FALSE(rig.bridge->vestHasSensors());
-  rig.bridge->setCue({ { 0.f, 1.f, 0.f, 0.f } }, rig.t);
-  run(rig, 0.05);
-  EXPECT_EQ(duty(rig.vest), (Duty{ { 0, 255, 0, 0 } }));
-  EXPECT_TRUE(rig.bridge->linkUp(rig.t));
-  EXPECT_EQ(rig.bridge->stats().version_mismatches, 0u);
-  EXPECT_EQ(rig.bridge->stats().ranges, 0u);
-  EXPECT_FALSE(rig.bridge->rangerSilent(rig.t));  // nothing to expect from an old vest
+  const uint16_t starts0 = rig.vest.firmware().pattern_starts;  // the all-off on open: steady
+  const std::vector<uint8_t> d = runMs(rig, 1500, veerCue(), 1500);
+  for (int t = 0; t < 1500; ++t)
+    ASSERT_EQ(d[static_cast<size_t>(t)], veerOn(t) ? 179 : 0) << "t = " << t << " ms";
+  EXPECT_EQ(rig.vest.firmware().pattern_starts, starts0 + 1);
+  EXPECT_EQ(rig.vest.onsets()[0], 2u);  // two pulses felt
+  EXPECT_NEAR(rig.vest.onSeconds(rig.ms())[0], 0.300, 1e-9);
+  EXPECT_GE(rig.bridge->stats().packets_sent, 30u);  // 20 Hz re-sends + the cues
+  EXPECT_EQ(rig.bridge->stats().cues_accepted, 15u);
+  // The vest reports the pattern it plays; its peak shows what was felt.
+  rig.bridge->waitForInput(100);
+  rig.advance(0.0);
+  EXPECT_EQ(rig.bridge->stats().last_status.pattern.id, 5);
+  EXPECT_EQ(rig.bridge->stats().last_status.intensity[0], 0);  // now: the burst is over
+  EXPECT_EQ(rig.bridge->takeStatusPeak()[0], 179);
+  EXPECT_EQ(rig.bridge->takeStatusPeak()[0], 0);
+
+  // A new id (the next burst, level 3): starts again at once.
+  const std::vector<uint8_t> e = runMs(rig, 700, veerCue(vest_pattern_t{ 6, 15, 15, 2 }, 1.f), 700);
+  for (int t = 0; t < 700; ++t)
+    ASSERT_EQ(e[static_cast<size_t>(t)], veerOn(t) ? 255 : 0) << "second burst, t = " << t << " ms";
+  EXPECT_EQ(rig.vest.firmware().pattern_starts, starts0 + 2);
+  EXPECT_EQ(rig.vest.onsets()[0], 4u);
+}
+
+// USB / radio jitter and lost packets do not change what the wearer feels: the COMMANDs reach
+// the vest late and in bursts (bytes held back for up to 120 ms, cues 0-60 ms apart), the pulses
+// still start and end on the vest's clock, exactly.
+TEST(VestBridge, PatternUnchangedByLinkJitter)
+{
+  Rig rig;
+  std::mt19937 rng(3);
+  const uint16_t starts0 = rig.vest.firmware().pattern_starts;
+  rig.bridge->setCue(veerCue(), rig.t, CueAge());
+  rig.pump(0);  // the first COMMAND arrives: the pattern starts here
+  const uint32_t start = rig.ms();
+  std::vector<uint8_t> felt;
+  int held = 0;
+  for (int k = 0; k < 1000; ++k)
+  {
+    if (rng() % 40 == 0)
+      rig.bridge->setCue(veerCue(), rig.t, CueAge());  // heartbeats at random moments
+    if (held == 0 && rng() % 25 == 0)
+      held = 20 + static_cast<int>(rng() % 100);  // the link stalls: bytes pile up
+    if (held > 0)
+    {
+      --held;
+      rig.vest.tick(rig.ms());  // the vest's loop runs on; nothing arrives
+    }
+    else
+      rig.pump(0);
+    felt.push_back(duty(rig.vest)[0]);
+    rig.advance(0.001);
+  }
+  for (size_t t = 0; t < felt.size(); ++t)
+    ASSERT_EQ(felt[t], veerOn(static_cast<long>(t)) ? 179 : 0) << "t = " << t << " ms after the start at " << start;
+  EXPECT_EQ(rig.vest.firmware().pattern_starts, starts0 + 1);
+  EXPECT_EQ(rig.vest.firmware().expiries + rig.vest.firmware().timeouts, 0);
+}
+
+// The cue stream pauses past stale_s (the bridge sends all-off) and comes back with the same
+// pattern: the all-off carried the pattern, so the vest continues it (the second pulse) rather
+// than replaying the burst from its start.
+TEST(VestBridge, AllOffKeepsThePatternNoReplay)
+{
+  BridgeParams p;
+  p.stale_s = 0.25;
+  Rig rig(p);
+  const uint16_t starts0 = rig.vest.firmware().pattern_starts;
+  std::vector<uint8_t> d = runMs(rig, 260, veerCue(), 1);  // one cue, then none
+  for (int t = 0; t < 260; ++t)
+  {
+    const bool on = veerOn(t) && t < 250 - 14;  // all-off lands 14 ms early (wire time + margin)
+    if (t < 230)
+    {
+      ASSERT_EQ(d[static_cast<size_t>(t)], on ? 179 : 0) << t;
+    }
+  }
+  EXPECT_TRUE(rig.bridge->stats().cue_stale);
+  const std::vector<uint8_t> e = runMs(rig, 400, veerCue(), 400);  // back at 260 ms: same pattern
+  for (int t = 0; t < 400; ++t)
+    ASSERT_EQ(e[static_cast<size_t>(t)], veerOn(260 + t) ? 179 : 0) << "t = " << 260 + t << " ms";
+  EXPECT_EQ(rig.vest.firmware().pattern_starts, starts0 + 1);
+  EXPECT_EQ(rig.vest.onsets()[0], 2u);
+}
+
+// UNSURE begins with its own pattern (three 100 ms pulses on both waist motors). It is often
+// decided because the camera image is old or missing; the bridge still plays it (it guides
+// nothing), for as long as its header.stamp is fresh, then the vest is silent (= stop).
+TEST(VestBridge, UnsureOpeningPatternPlayedWithoutCameraTime)
+{
+  Rig rig;
+  VestCue unsure;
+  unsure.intensity = { { 0.f, 0.f, 1.f, 1.f } };
+  unsure.pattern = vest_pattern_t{ 9, 10, 10, 3 };
+  unsure.unsure = true;
+  for (const double source_age : { std::nan(""), 2.0 })
+  {
+    CueAge a;
+    a.stamp_age_s = 0.0;
+    a.source_age_s = source_age;
+    unsure.pattern.id = static_cast<uint8_t>(unsure.pattern.id + 1);
+    std::vector<uint8_t> felt;
+    for (int k = 0; k < 800; ++k)
+    {
+      if (k % 100 == 0)
+      {
+        ASSERT_TRUE(rig.bridge->setCue(unsure, rig.t, a)) << rig.bridge->stats().last_rejection;
+      }
+      rig.pump(0);
+      felt.push_back(duty(rig.vest)[2] > 0 && duty(rig.vest)[3] > 0 ? 1 : duty(rig.vest)[2] | duty(rig.vest)[3]);
+      rig.advance(0.001);
+    }
+    for (int t = 0; t < 800; ++t)
+      ASSERT_EQ(felt[static_cast<size_t>(t)], (t < 500 && t % 200 < 100) ? 1 : 0) << "source age " << source_age << ", t = " << t;
+    EXPECT_FALSE(rig.bridge->stats().cue_stale);
+  }
+  // The same without the UNSURE mark (a guiding cue) and no camera time: ignored.
+  unsure.unsure = false;
+  CueAge a;
+  a.source_age_s = std::nan("");
+  EXPECT_FALSE(rig.bridge->setCue(unsure, rig.t, a));
+}
+
+// A vest that gets a burst only late (the port was reopened, the vest restarted) while the cue
+// logic still repeats it: the bridge sends it with zero duties once it is over by the bridge's
+// clock (+ stale_s), so nothing old is replayed.
+TEST(VestBridge, ReopenedVestDoesNotReplayAnOldBurst)
+{
+  BridgeParams p;
+  p.reopen_s = 0.2;
+  Rig rig(p);
+  std::vector<uint8_t> d = runMs(rig, 100, veerCue(), 100);  // the first pulse starts
+  EXPECT_EQ(d[50], 179);
+  rig.vest.close();  // unplugged in the first pulse
+  runMs(rig, 10, veerCue(), 10);
+  EXPECT_FALSE(rig.bridge->stats().open);
+  std::string err;
+  ASSERT_TRUE(rig.vest.open(rig.link, rig.ms(), &err)) << err;  // a fresh vest: no pattern yet
+  // The cue logic still repeats the same burst (it waits for the wearer to carry it out).
+  const std::vector<uint8_t> e = runMs(rig, 1500, veerCue(), 1500);
+  ASSERT_TRUE(rig.bridge->stats().open);
+  EXPECT_EQ(rig.bridge->stats().opens, 2u);
+  for (size_t t = 0; t < e.size(); ++t)
+    ASSERT_EQ(e[t], 0) << "replayed at " << t << " ms after the re-plug";
+  EXPECT_EQ(rig.vest.firmware().pattern_starts, 1);  // the fresh vest got only that pattern...
+  EXPECT_EQ(rig.vest.firmware().pattern.id, 5);      // ...with zero duties
+  EXPECT_EQ(rig.bridge->stats().patterns_ended, 1u);
+  // A new burst is felt at once.
+  const std::vector<uint8_t> f = runMs(rig, 500, veerCue(vest_pattern_t{ 6, 15, 15, 2 }), 500);
+  for (int t = 0; t < 500; ++t)
+    ASSERT_EQ(f[static_cast<size_t>(t)], veerOn(t) ? 179 : 0) << t;
+}
+
+// The same on the real clock with the housekeeping thread (VestBridgeRunner) and the simulated
+// vest on its own millisecond clock: the motor's on-time measured by the vest shows two pulses
+// of 150 ms, 150 ms apart, while the cue is repeated at 10 Hz.
+TEST(VestBridge, RunnerPulsesOnTheRealClock)
+{
+  const std::string link = "/tmp/assistive_tactile_test_pulses_" + std::to_string(getpid());
+  SimVest vest;
+  std::string err;
+  const double t_base = steadyNow();
+  vest.clock = [t_base] { return static_cast<uint32_t>((steadyNow() - t_base) * 1000.0); };
+  ASSERT_TRUE(vest.open(link, vest.clock(), &err)) << err;
+  std::vector<std::pair<uint32_t, bool>> edges;  // vest clock, on
+  vest.on_change = [&](uint32_t t, const std::string&) { edges.emplace_back(t, vest.duty()[0] > 0); };
+  BridgeParams p;
+  p.port = link;
+  VestBridgeRunner runner(p);
+  for (int i = 0; i < 100 && !runner.locked([](VestBridge& b) { return b.stats().open; }); ++i)
+    vest.poll(10, 0);
+  CueAge fresh;
+  fresh.source_age_s = 0.05;
+  double next = steadyNow();
+  const double end = steadyNow() + 1.0;
+  while (steadyNow() < end)
+  {
+    if (steadyNow() >= next)
+    {
+      ASSERT_EQ(runner.setCue(veerCue(), fresh), CueCheck::FRESH);
+      next += 0.1;
+    }
+    vest.poll(5, 0);
+  }
+  runner.stop();
+  std::vector<std::pair<uint32_t, bool>> on_edges;
+  for (const auto& e : edges)
+    if (on_edges.empty() || on_edges.back().second != e.second)
+      on_edges.push_back(e);
+  // on, off, on, off (then the all-off of stop() changes nothing)
+  ASSERT_GE(on_edges.size(), 4u);
+  ASSERT_TRUE(on_edges[0].second);
+  const long p1 = static_cast<long>(on_edges[1].first - on_edges[0].first);
+  const long gap = static_cast<long>(on_edges[2].first - on_edges[1].first);
+  const long p2 = static_cast<long>(on_edges[3].first - on_edges[2].first);
+  // Exact on the vest's clock but for the simulated vest's own wake-up on a shared machine.
+  EXPECT_NEAR(p1, 150, 10);
+  EXPECT_NEAR(gap, 150, 10);
+  EXPECT_NEAR(p2, 150, 10);
+  EXPECT_EQ(on_edges.size(), 4u);
+  EXPECT_LE(vest.firmware().pattern_starts, 2);  // the all-off on open (steady), the burst
 }
 
 TEST(VestBridge, RangerReadingsPublishedBadOnesRejected)

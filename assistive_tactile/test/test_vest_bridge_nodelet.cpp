@@ -13,6 +13,7 @@
 #include <limits>
 #include <functional>
 #include <map>
+#include <vector>
 
 #include "assistive_tactile/sim_vest.h"
 #include "assistive_tactile/vest_bridge.h"
@@ -53,7 +54,12 @@ struct Harness
   ros::Subscriber sub = nh.subscribe("/diagnostics", 50, diagCb);
   SimVest vest;
   std::array<float, 4> cue{ { 0, 0, 0, 0 } };
+  uint8_t mode = assistive_msgs::TactileCue::GUIDANCE;
+  // the pulse pattern (TactileCue fields; default steady)
+  uint8_t pattern_id = 0, pulse_count = 0;
+  uint16_t pulse_on_ms = 0, pulse_off_ms = 0;
   bool publishing = false;
+  bool no_source = false;  ///< publish a zero source_stamp (unknown camera time)
   double stamp_age = 0.0;  ///< publish cues stamped this long ago
 
   /// Runs vest + ROS at ~20 Hz cue rate until pred() or timeout.
@@ -67,10 +73,15 @@ struct Harness
       {
         assistive_msgs::TactileCue m;
         m.header.stamp = ros::Time::now() - ros::Duration(stamp_age);
-        m.source_stamp = m.header.stamp - ros::Duration(0.05);  // the camera image behind it
-        m.mode = assistive_msgs::TactileCue::GUIDANCE;
+        if (!no_source)
+          m.source_stamp = m.header.stamp - ros::Duration(0.05);  // the camera image behind it
+        m.mode = mode;
         for (int i = 0; i < 4; ++i)
           m.intensity[i] = cue[i];
+        m.pattern_id = pattern_id;
+        m.pulse_on_ms = pulse_on_ms;
+        m.pulse_off_ms = pulse_off_ms;
+        m.pulse_count = pulse_count;
         pub.publish(m);
         next = ros::WallTime::now() + ros::WallDuration(0.05);
       }
@@ -90,6 +101,7 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
   std::string link;
   ASSERT_TRUE(ros::NodeHandle("~").getParam("link", link));
   std::string err;
+  h.vest.clock = nowMs;  // the vest times the pulses on its own clock
   ASSERT_TRUE(h.vest.open(link, nowMs(), &err)) << err;
 
   // The bridge (re)opens the port and talks to the vest.
@@ -150,7 +162,79 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
   EXPECT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 255, 0, 0 } }; }, 10.0));
   EXPECT_TRUE(h.runUntil([] { return g_diag["link up"] == "True" && g_level == 0; }, 10.0)) << g_message;
 
-  // The ranger and the buttons (protocol version 3): /sonar/front and /vest/buttons.
+  // Protocol version 4: the cue's pulse pattern, timed by the vest. A veer burst (150 ms on,
+  // 150 ms off, x2) repeated at 20 Hz with the same id: two pulses of 150 ms, 150 ms apart, on
+  // the vest's clock, then nothing; "vest drove since last report" shows it on diagnostics.
+  {
+    h.publishing = false;
+    ASSERT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 0, 0, 0 } }; }, 10.0));
+    std::vector<std::pair<uint32_t, bool>> edges;  // vest clock, left shoulder on
+    h.vest.on_change = [&](uint32_t t, const std::string&) {
+      const bool on = h.vest.duty()[0] > 0;
+      if (edges.empty() ? on : edges.back().second != on)
+        edges.emplace_back(t, on);
+    };
+    h.cue = { { 0.7f, 0, 0, 0 } };
+    h.pattern_id = 41;
+    h.pulse_on_ms = 150;
+    h.pulse_off_ms = 150;
+    h.pulse_count = 2;
+    h.publishing = true;
+    h.runUntil([] { return false; }, 1.2);
+    ASSERT_EQ(edges.size(), 4u) << "on/off edges of the left shoulder";
+    EXPECT_TRUE(edges[0].second);
+    EXPECT_NEAR(static_cast<double>(edges[1].first - edges[0].first), 150.0, 20.0);  // pulse
+    EXPECT_NEAR(static_cast<double>(edges[2].first - edges[1].first), 150.0, 20.0);  // gap
+    EXPECT_NEAR(static_cast<double>(edges[3].first - edges[2].first), 150.0, 20.0);  // pulse
+    EXPECT_EQ(h.vest.firmware().pattern.id, 41);
+    EXPECT_EQ(h.vest.duty(), (Duty{ { 0, 0, 0, 0 } }));  // the burst is over, cues still coming
+    EXPECT_TRUE(h.runUntil([] { return g_diag["vest pattern"] == "#41 150 ms on 150 ms off x2"; }, 5.0))
+        << g_diag["vest pattern"];
+    // UNSURE without a camera time (it is often decided because there is none): its opening
+    // pattern (three 100 ms pulses on both waist motors) is still felt.
+    edges.clear();
+    h.vest.on_change = [&](uint32_t t, const std::string&) {
+      const bool on = h.vest.duty()[2] > 0 && h.vest.duty()[3] > 0;
+      if (edges.empty() ? on : edges.back().second != on)
+        edges.emplace_back(t, on);
+    };
+    h.mode = assistive_msgs::TactileCue::UNSURE;
+    h.no_source = true;
+    h.cue = { { 0, 0, 1.f, 1.f } };
+    h.pattern_id = 42;
+    h.pulse_on_ms = 100;
+    h.pulse_off_ms = 100;
+    h.pulse_count = 3;
+    h.runUntil([] { return false; }, 1.2);
+    EXPECT_EQ(edges.size(), 6u) << "three pulses on both waist motors";
+    EXPECT_TRUE(h.runUntil([] { return g_diag["vest pattern"] == "#42 100 ms on 100 ms off x3"; }, 5.0))
+        << g_diag["vest pattern"];
+    h.vest.on_change = nullptr;
+    h.mode = assistive_msgs::TactileCue::GUIDANCE;
+    h.no_source = false;
+    h.pattern_id = 0;
+    h.pulse_on_ms = h.pulse_off_ms = 0;
+    h.pulse_count = 0;
+  }
+
+  // An old vest (protocol version 3, no patterns): refused. Its motors stay off while cues come,
+  // ERROR names its version; reflashed (the port stays open), it is driven again.
+  {
+    h.vest.old_version = 3;
+    h.cue = { { 0, 0, 1.f, 0 } };
+    h.publishing = true;
+    EXPECT_FALSE(h.runUntil([&] { return h.vest.duty() != Duty{ { 0, 0, 0, 0 } }; }, 1.0));
+    EXPECT_TRUE(h.runUntil([] { return g_level == diagnostic_msgs::DiagnosticStatus::ERROR &&
+                                       g_message.find("old vest firmware (protocol version 3") != std::string::npos; },
+                           10.0)) << g_message;
+    EXPECT_EQ(g_diag["vest refused (old firmware)"], "True");
+    EXPECT_EQ(h.vest.duty(), (Duty{ { 0, 0, 0, 0 } }));
+    h.vest.old_version = 0;
+    EXPECT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 0, 255, 0 } }; }, 10.0));
+    EXPECT_TRUE(h.runUntil([] { return g_diag["vest refused (old firmware)"] == "False"; }, 10.0));
+  }
+
+  // The ranger and the buttons (protocol version 3 on): /sonar/front and /vest/buttons.
   sensor_msgs::Range range;
   int short_a = 0;
   ros::Subscriber rs = h.nh.subscribe<sensor_msgs::Range>("/sonar/front", 20, [&](const sensor_msgs::Range::ConstPtr& m) { range = *m; });

@@ -2,6 +2,7 @@
 // vest_protocol.h (the code the Arduino sketch runs, compiled here on the host).
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -10,9 +11,10 @@
 namespace
 {
 vest_packet_t command(uint8_t seq, uint8_t motors, uint8_t i0, uint8_t i1, uint8_t i2, uint8_t i3,
-                      uint16_t ttl_ms = 1000)
+                      uint16_t ttl_ms = 1000, vest_pattern_t pattern = vest_pattern_t{ 0, 0, 0, 0 })
 {
   vest_packet_t p{};
+  p.pattern = pattern;
   p.ttl_ms = ttl_ms;
   p.type = VEST_TYPE_COMMAND;
   p.seq = seq;
@@ -43,7 +45,7 @@ std::vector<uint8_t> frameOf(const std::vector<uint8_t>& raw)
 bool same(const vest_packet_t& a, const vest_packet_t& b)
 {
   return a.type == b.type && a.seq == b.seq && a.motors == b.motors && a.ttl_ms == b.ttl_ms &&
-         std::equal(a.intensity, a.intensity + 4, b.intensity);
+         std::equal(a.intensity, a.intensity + 4, b.intensity) && vest_pattern_equal(&a.pattern, &b.pattern);
 }
 
 std::vector<vest_packet_t> feedAll(vest_parser_t* ps, const std::vector<uint8_t>& stream)
@@ -99,32 +101,150 @@ TEST(VestProtocol, CobsTable)
   EXPECT_EQ(vest_cobs_decode(broken, 3, out), -1);
 }
 
-TEST(VestProtocol, KnownEncoding)
+TEST(VestProtocol, KnownEncodingVersion4)
 {
-  // seq 7, motors 0x5, duties 200 0 100 0, TTL 300 ms:
-  // raw VV 01 07 05 C8 00 64 00 2C 01 CRC(4 bytes, low first), VV = 3 (ours) and 2 (still spoken
-  // to a version-2 peer: the same bytes as the version-2 protocol wrote).
-  for (const uint8_t version : { static_cast<uint8_t>(VEST_PROTOCOL_VERSION), static_cast<uint8_t>(2) })
+  // COMMAND seq 7, motors 0x5, duties 200 0 100 0, TTL 300 ms, pattern #9 150 ms on 150 ms off
+  // x2 (a veer burst). Raw: 04 01 07 05 C8 00 64 00 2C 01 09 0F 0F 02, CRC-32C 0x7D506305 (computed
+  // independently, low byte first); COBS groups end at the two zeros (codes 06, 02, 0B).
+  const std::vector<uint8_t> want = { 0x00, 0x06, 0x04, 0x01, 0x07, 0x05, 0xC8, 0x02, 0x64, 0x0B, 0x2C,
+                                      0x01, 0x09, 0x0F, 0x0F, 0x02, 0x05, 0x63, 0x50, 0x7D, 0x00 };
+  const uint8_t raw[] = { 4, 1, 7, 5, 200, 0, 100, 0, 0x2C, 1, 9, 15, 15, 2 };
+  EXPECT_EQ(vest_crc32c(raw, sizeof(raw)), 0x7D506305u);
+  const vest_packet_t p = command(7, 0x5, 200, 0, 100, 0, 300, vest_pattern_t{ 9, 15, 15, 2 });
+  EXPECT_EQ(bytes(p), want);
+  ASSERT_EQ(want.size(), VEST_PACKET_SIZE);
+  EXPECT_EQ(VEST_PACKET_SIZE, 21u);
+  EXPECT_EQ(VEST_RAW_SIZE, 18u);
+  std::vector<uint8_t> got(VEST_PACKET_SIZE);
+  EXPECT_EQ(vest_encode_version(&p, 4, got.data()), 21u);
+  EXPECT_EQ(got, want);
+  // ... and back, field for field.
+  vest_packet_t q{};
+  ASSERT_TRUE(vest_decode(want.data(), &q));
+  EXPECT_EQ(q.type, VEST_TYPE_COMMAND);
+  EXPECT_EQ(q.seq, 7);
+  EXPECT_EQ(q.motors, 0x5);
+  EXPECT_EQ(q.intensity[0], 200);
+  EXPECT_EQ(q.intensity[1], 0);
+  EXPECT_EQ(q.intensity[2], 100);
+  EXPECT_EQ(q.intensity[3], 0);
+  EXPECT_EQ(q.ttl_ms, 300);
+  EXPECT_EQ(q.pattern.id, 9);
+  EXPECT_EQ(q.pattern.on_10ms, 15);
+  EXPECT_EQ(q.pattern.off_10ms, 15);
+  EXPECT_EQ(q.pattern.count, 2);
+
+  // STATUS: what the outputs do now (left shoulder 179) and the pattern playing; five zeros in a
+  // row (I1..I3, TTL) are five COBS codes 01. CRC 0x93C3CB94.
+  vest_packet_t st = command(7, 0x1, 179, 0, 0, 0, 0, vest_pattern_t{ 9, 15, 15, 2 });
+  st.type = VEST_TYPE_STATUS;
+  const std::vector<uint8_t> want_st = { 0x00, 0x06, 0x04, 0x02, 0x07, 0x01, 0xB3, 0x01, 0x01, 0x01, 0x01,
+                                         0x09, 0x09, 0x0F, 0x0F, 0x02, 0x94, 0xCB, 0xC3, 0x93, 0x00 };
+  EXPECT_EQ(bytes(st), want_st);
+  ASSERT_TRUE(vest_decode(want_st.data(), &q));
+  EXPECT_TRUE(same(q, st));
+}
+
+TEST(VestProtocol, KnownEncodingVersions2And3)
+{
+  // The same COMMAND as an old peer gets it: 14 bytes (no pattern bytes), 17 on the wire, the
+  // bytes the version-2 / 3 protocol wrote. CRC-32C 0x539A7CF8 (v3), 0x98CC075D (v2).
+  const std::vector<uint8_t> want3 = { 0x00, 0x06, 0x03, 0x01, 0x07, 0x05, 0xC8, 0x02, 0x64,
+                                       0x07, 0x2C, 0x01, 0xF8, 0x7C, 0x9A, 0x53, 0x00 };
+  const std::vector<uint8_t> want2 = { 0x00, 0x06, 0x02, 0x01, 0x07, 0x05, 0xC8, 0x02, 0x64,
+                                       0x07, 0x2C, 0x01, 0x5D, 0x07, 0xCC, 0x98, 0x00 };
+  // The pattern cannot be carried: dropped (an old bridge's COMMAND is steady).
+  const vest_packet_t p = command(7, 0x5, 200, 0, 100, 0, 300, vest_pattern_t{ 9, 15, 15, 2 });
+  for (const auto& vw : { std::make_pair(uint8_t(3), want3), std::make_pair(uint8_t(2), want2) })
   {
-    const std::vector<uint8_t> raw = { version, 0x01, 0x07, 0x05, 200, 0, 100, 0, 0x2C, 0x01 };
-    const uint32_t crc = vest_crc32c(raw.data(), 10);
-    std::vector<uint8_t> want = { 0x00, 0x06, version, 0x01, 0x07, 0x05, 200, 0x02, 100, 0x07, 0x2C, 0x01 };
-    // TTL and CRC bytes (none is 0 here: checked) close the last COBS group.
-    for (int k = 0; k < 4; ++k)
-      ASSERT_NE((crc >> (8 * k)) & 0xFF, 0u) << k;
-    for (int k = 0; k < 4; ++k)
-      want.push_back(static_cast<uint8_t>(crc >> (8 * k)));
-    want.push_back(0x00);
-    const vest_packet_t p = command(7, 0x5, 200, 0, 100, 0, 300);
-    std::vector<uint8_t> got(VEST_PACKET_SIZE);
-    vest_encode_version(&p, version, got.data());
-    EXPECT_EQ(got, want) << "version " << int(version);
-    if (version == VEST_PROTOCOL_VERSION)
-    {
-      EXPECT_EQ(bytes(p), want);
-    }
-    EXPECT_EQ(want.size(), VEST_PACKET_SIZE);
+    std::vector<uint8_t> got(VEST_PACKET_SIZE, 0xEE);
+    ASSERT_EQ(vest_encode_version(&p, vw.first, got.data()), VEST_PACKET_SIZE_V3);
+    got.resize(VEST_PACKET_SIZE_V3);
+    EXPECT_EQ(got, vw.second) << int(vw.first);
+    EXPECT_EQ(vest_command_packet_size(vw.first), 17u);
+    vest_packet_t q{};
+    uint8_t version = 0;
+    ASSERT_EQ(vest_decode_frame(got.data() + 1, static_cast<uint8_t>(got.size() - 2), &q, &version), VEST_FRAME_OK);
+    EXPECT_EQ(version, vw.first);
+    EXPECT_EQ(q.seq, 7);
+    EXPECT_EQ(q.intensity[0], 200);
+    EXPECT_EQ(q.ttl_ms, 300);
+    EXPECT_EQ(q.pattern.id, 0);  // steady
+    EXPECT_EQ(q.pattern.on_10ms, 0);
+    EXPECT_EQ(q.pattern.off_10ms, 0);
+    EXPECT_EQ(q.pattern.count, 0);
   }
+}
+
+TEST(VestProtocol, PatternFieldsAndLengthsByVersion)
+{
+  vest_packet_t q;
+  auto decode = [&](const std::vector<uint8_t>& raw) {
+    const std::vector<uint8_t> f = frameOf(raw);
+    return vest_decode_frame(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &q, nullptr);
+  };
+  // Version 4: 14 bytes before the CRC. Every pattern field value is legal with ON > 0.
+  EXPECT_EQ(decode({ 4, 1, 1, 1, 9, 0, 0, 0, 100, 0, 255, 255, 255, 255 }), VEST_FRAME_OK);
+  EXPECT_EQ(q.pattern.id, 255);
+  EXPECT_EQ(q.pattern.on_10ms, 255);
+  EXPECT_EQ(q.pattern.off_10ms, 255);
+  EXPECT_EQ(q.pattern.count, 255);
+  EXPECT_EQ(decode({ 4, 1, 1, 1, 9, 0, 0, 0, 100, 0, 0, 10, 0, 0 }), VEST_FRAME_OK);  // id 0, endless pulses
+  EXPECT_EQ(decode({ 4, 1, 1, 1, 9, 0, 0, 0, 100, 0, 7, 0, 0, 0 }), VEST_FRAME_OK);   // steady #7
+  // A steady pattern carries no timing: OFF / COUNT with ON 0 is an illegal field.
+  EXPECT_EQ(decode({ 4, 1, 1, 1, 9, 0, 0, 0, 100, 0, 7, 0, 10, 0 }), VEST_FRAME_FIELD);
+  EXPECT_EQ(decode({ 4, 1, 1, 1, 9, 0, 0, 0, 100, 0, 7, 0, 0, 2 }), VEST_FRAME_FIELD);
+  EXPECT_EQ(decode({ 4, 2, 1, 1, 9, 0, 0, 0, 0, 0, 7, 0, 0, 2 }), VEST_FRAME_FIELD);  // STATUS too
+  // ... and the encoder never writes one (a sender's stray fields are dropped).
+  const vest_packet_t stray = command(1, 0x1, 9, 0, 0, 0, 100, vest_pattern_t{ 7, 0, 10, 2 });
+  std::vector<uint8_t> b = bytes(stray);
+  ASSERT_TRUE(vest_decode(b.data(), &q));
+  EXPECT_EQ(q.pattern.id, 7);
+  EXPECT_EQ(q.pattern.off_10ms, 0);
+  EXPECT_EQ(q.pattern.count, 0);
+  // The length belongs to the version: a version-4 COMMAND without its pattern bytes, a
+  // version-3 one with them, one byte short or long: rejected.
+  EXPECT_EQ(decode({ 4, 1, 1, 1, 9, 0, 0, 0, 100, 0 }), VEST_FRAME_LENGTH);
+  EXPECT_EQ(decode({ 4, 1, 1, 1, 9, 0, 0, 0, 100, 0, 7, 10, 10 }), VEST_FRAME_LENGTH);
+  EXPECT_EQ(decode({ 4, 1, 1, 1, 9, 0, 0, 0, 100, 0, 7, 10, 10, 1, 0 }), VEST_FRAME_LENGTH);
+  EXPECT_EQ(decode({ 3, 1, 1, 1, 9, 0, 0, 0, 100, 0, 7, 10, 10, 1 }), VEST_FRAME_LENGTH);
+  EXPECT_EQ(decode({ 2, 1, 1, 1, 9, 0, 0, 0, 100, 0, 7, 10, 10, 1 }), VEST_FRAME_LENGTH);
+  EXPECT_EQ(decode({ 3, 1, 1, 1, 9, 0, 0, 0, 100, 0 }), VEST_FRAME_OK);
+  EXPECT_EQ(decode({ 4, 1, 1, 0x21, 9, 0, 0, 0, 100, 0, 7, 10, 10, 1 }), VEST_FRAME_FIELD);  // reserved motor bit
+}
+
+TEST(VestProtocol, PatternTiming)
+{
+  // vest_pattern_on: the veer burst (150 / 150 ms x2) on at 0-149 and 300-449 ms only.
+  const vest_pattern_t veer{ 5, 15, 15, 2 };
+  for (uint32_t t = 0; t < 2000; ++t)
+    ASSERT_EQ(vest_pattern_on(&veer, t), (t < 150 || (t >= 300 && t < 450)) ? 1 : 0) << t;
+  EXPECT_EQ(vest_pattern_length_ms(&veer), 450u);
+  struct Row
+  {
+    vest_pattern_t p;
+    uint32_t length_ms;
+    std::vector<std::pair<uint32_t, uint32_t>> next_edge;  // t -> ms to the next edge
+  };
+  const std::vector<Row> rows = {
+    { veer, 450, { { 0, 150 }, { 149, 1 }, { 150, 150 }, { 299, 1 }, { 300, 150 }, { 449, 1 }, { 450, VEST_NEVER }, { 5000, VEST_NEVER } } },
+    { { 1, 0, 0, 0 }, VEST_NEVER, { { 0, VEST_NEVER }, { 123456, VEST_NEVER } } },                  // steady
+    { { 2, 10, 0, 1 }, 100, { { 0, 100 }, { 99, 1 }, { 100, VEST_NEVER } } },                       // walk-on tick
+    { { 3, 10, 10, 3 }, 500, { { 0, 100 }, { 100, 100 }, { 450, 50 }, { 500, VEST_NEVER } } },      // unsure
+    { { 4, 80, 0, 1 }, 800, { { 0, 800 }, { 800, VEST_NEVER } } },                                  // stop-and-turn
+    { { 5, 10, 10, 0 }, VEST_NEVER, { { 0, 100 }, { 150, 50 }, { 1000000, 100 } } },                // endless
+  };
+  for (const Row& r : rows)
+  {
+    EXPECT_EQ(vest_pattern_length_ms(&r.p), r.length_ms) << int(r.p.id);
+    for (const auto& e : r.next_edge)
+      EXPECT_EQ(vest_pattern_next_edge_ms(&r.p, e.first), e.second) << int(r.p.id) << " at " << e.first;
+  }
+  // Equality is all four fields.
+  vest_pattern_t other = veer;
+  EXPECT_TRUE(vest_pattern_equal(&veer, &other));
+  other.count = 3;
+  EXPECT_FALSE(vest_pattern_equal(&veer, &other));
 }
 
 TEST(VestProtocol, NoDelimiterInsideAnyPacket)
@@ -149,6 +269,9 @@ TEST(VestProtocol, RoundTripTable)
     command(0, 0x0, 0, 0, 0, 0),       command(1, 0x1, 255, 0, 0, 0),   command(2, 0x2, 0, 128, 0, 0),
     command(3, 0x4, 0, 0, 1, 0),       command(4, 0x8, 0, 0, 0, 77),    command(255, 0xF, 255, 255, 255, 255),
     command(9, 0x3, 0xA5, 0xA5, 0, 0),  // old SYNC values inside the payload
+    command(10, 0x1, 179, 0, 0, 0, 200, vest_pattern_t{ 17, 15, 15, 2 }),  // veer burst
+    command(11, 0xC, 0, 0, 255, 255, 65535, vest_pattern_t{ 255, 10, 10, 3 }),  // unsure
+    command(12, 0x3, 140, 140, 0, 0, 0, vest_pattern_t{ 0, 255, 255, 0 }),  // id 0, endless
   };
   for (const vest_packet_t& p : table)
   {
@@ -167,7 +290,8 @@ TEST(VestProtocol, EveryCorruptedByteIsRejected)
 {
   // Every byte of the frame replaced by every other value (a 0x00 splits the frame: both halves
   // must be rejected too): nothing decodes, neither whole nor through the streaming parser.
-  for (const vest_packet_t& pk : { command(17, 0x9, 180, 0, 0, 60), command(0, 0x0, 0, 0, 0, 0) })
+  for (const vest_packet_t& pk : { command(17, 0x9, 180, 0, 0, 60, 300, vest_pattern_t{ 9, 15, 15, 2 }),
+                                   command(0, 0x0, 0, 0, 0, 0) })
   {
     const std::vector<uint8_t> good = bytes(pk);
     int tried = 0;
@@ -186,7 +310,7 @@ TEST(VestProtocol, EveryCorruptedByteIsRejected)
         EXPECT_GE(ps.rejected, 1) << "pos " << pos << " value " << v;
         ++tried;
       }
-    EXPECT_EQ(tried, 15 * 255);
+    EXPECT_EQ(tried, static_cast<int>(VEST_PACKET_SIZE - 2) * 255);
   }
 }
 
@@ -195,7 +319,7 @@ TEST(VestProtocol, EveryBitFlipPairIsRejected)
   // CRC-32C has Hamming distance 8 at this length: all errors of up to 7 bits in the decoded
   // bytes are caught; here all 2-bit flips of the wire frame (which COBS may turn into more
   // damage) must be rejected.
-  const std::vector<uint8_t> good = bytes(command(99, 0xA, 0, 77, 0, 200));
+  const std::vector<uint8_t> good = bytes(command(99, 0xA, 0, 77, 0, 200, 250, vest_pattern_t{ 33, 10, 10, 3 }));
   const size_t bits = (VEST_PACKET_SIZE - 2) * 8;
   for (size_t a = 0; a < bits; ++a)
     for (size_t b = a; b < bits; ++b)
@@ -222,7 +346,7 @@ TEST(VestProtocol, BadFieldsAndOtherVersionsRejected)
   f = frameOf({ 2, 0x01, 1, 0x01, 9, 0, 0, 0, 100 });  // our version, one byte short
   EXPECT_EQ(vest_decode_frame(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &q, nullptr), VEST_FRAME_LENGTH);
   // A version we do not speak (an older one, and a longer future one): rejected, reported with its
-  // number. (Version 3 is ours since RANGE / BUTTONS; version 2 is still spoken.)
+  // number. (Version 4 is ours since the pulse patterns; versions 2 and 3 are still decoded.)
   for (const std::vector<uint8_t>& raw :
        { std::vector<uint8_t>{ 1, 0x01, 1, 0x01, 9, 0, 0, 0 },
          std::vector<uint8_t>{ VEST_PROTOCOL_VERSION + 1, 0x01, 1, 0x01, 9, 0, 0, 0, 5, 6, 7 } })
@@ -351,6 +475,9 @@ TEST(VestProtocol, ParserRecoversAllPacketsFromGarbage)
     vest_packet_t p = command(static_cast<uint8_t>(i), static_cast<uint8_t>(byte(rng) & 0xF),
                               static_cast<uint8_t>(byte(rng)), static_cast<uint8_t>(byte(rng)),
                               static_cast<uint8_t>(byte(rng)), static_cast<uint8_t>(byte(rng)));
+    const uint8_t on = static_cast<uint8_t>(i % 3 ? byte(rng) : 0);
+    p.pattern = vest_pattern_t{ static_cast<uint8_t>(byte(rng)), on, static_cast<uint8_t>(on ? byte(rng) : 0),
+                                static_cast<uint8_t>(on ? byte(rng) : 0) };
     sent.push_back(p);
     append(&stream, bytes(p));
   }
@@ -478,6 +605,246 @@ TEST(VestFirmware, WatchdogTable)
     // A tripped watchdog trips once; a running one trips later.
     EXPECT_EQ(vest_firmware_tick(&fw, r.tick_ms + 1000), r.on_after ? 1 : 0);
   }
+}
+
+// ---- Protocol version 4: the firmware renders the pulse pattern (issue 33). ----
+namespace
+{
+/// Feeds one COMMAND to the firmware at now_ms; returns the STATUS it answers with.
+vest_packet_t feedCommand(vest_firmware_t* fw, const vest_packet_t& p, uint32_t now_ms)
+{
+  vest_packet_t status{};
+  int applied = 0;
+  for (uint8_t x : bytes(p))
+    applied += vest_firmware_feed(fw, x, now_ms, &status) == VEST_FEED_APPLIED;
+  EXPECT_EQ(applied, 1);
+  return status;
+}
+
+const vest_pattern_t kVeer{ 5, 15, 15, 2 };  // 150 ms on, 150 ms off, x2
+
+bool veerOn(uint32_t t)
+{
+  return t < 150 || (t >= 300 && t < 450);
+}
+}  // namespace
+
+// The veer burst, re-sent every 50 ms with the same pattern as the bridge does: on at 0-149 and
+// 300-449 ms, off at 150-299 and from 450 ms; the re-sends never restart it; STATUS reports what
+// the outputs do at that moment and the pattern playing; tick reports each edge.
+TEST(VestFirmware, VeerBurstPulsesAndResendsContinueIt)
+{
+  const uint32_t t0 = 1000;
+  vest_firmware_t fw;
+  vest_firmware_init(&fw, 0);
+  std::vector<uint32_t> edges;
+  for (uint32_t t = 0; t <= 1200; ++t)
+  {
+    if (t == 0 || t % 50 == 20)  // the start, then a re-send every 50 ms between the edges
+    {
+      const vest_packet_t st = feedCommand(&fw, command(static_cast<uint8_t>(t / 50), 0x1, 179, 0, 0, 0, 300, kVeer), t0 + t);
+      EXPECT_EQ(st.intensity[0], veerOn(t) ? 179 : 0) << t;
+      EXPECT_EQ(st.motors, veerOn(t) ? 0x1 : 0x0) << t;
+      EXPECT_TRUE(vest_pattern_equal(&st.pattern, &kVeer));
+    }
+    if (vest_firmware_tick(&fw, t0 + t) == VEST_TICK_PULSE)
+      edges.push_back(t);
+    ASSERT_EQ(fw.duty[0], veerOn(t) ? 179 : 0) << "t = " << t << " ms";
+    ASSERT_EQ(fw.duty[1] | fw.duty[2] | fw.duty[3], 0) << t;
+  }
+  EXPECT_EQ(edges, (std::vector<uint32_t>{ 150, 300, 450 }));
+  EXPECT_EQ(fw.pattern_starts, 1);  // 25 COMMANDs, one start
+  EXPECT_EQ(fw.expiries + fw.timeouts, 0);
+}
+
+// A new id restarts at phase 0; the same id with another shape is another pattern (restarts);
+// a steady pattern is the version-3 behaviour (duties as commanded).
+TEST(VestFirmware, NewPatternRestartsSameOneContinues)
+{
+  const uint32_t t0 = 5000;
+  vest_firmware_t fw;
+  vest_firmware_init(&fw, 0);
+  feedCommand(&fw, command(1, 0x1, 179, 0, 0, 0, 1000, kVeer), t0);
+  feedCommand(&fw, command(2, 0x1, 179, 0, 0, 0, 1000, kVeer), t0 + 200);  // same: in its gap
+  EXPECT_EQ(fw.duty[0], 0);
+  const vest_pattern_t next{ 6, 15, 15, 2 };
+  vest_packet_t st = feedCommand(&fw, command(3, 0x1, 179, 0, 0, 0, 1000, next), t0 + 200);  // new id: on now
+  EXPECT_EQ(fw.duty[0], 179);
+  EXPECT_EQ(st.intensity[0], 179);
+  EXPECT_EQ(st.pattern.id, 6);
+  for (uint32_t t = 200; t < 900; ++t)
+  {
+    if (t % 50 == 0)
+      feedCommand(&fw, command(4, 0x1, 179, 0, 0, 0, 1000, next), t0 + t);
+    vest_firmware_tick(&fw, t0 + t);
+    ASSERT_EQ(fw.duty[0], veerOn(t - 200) ? 179 : 0) << t;
+  }
+  EXPECT_EQ(fw.pattern_starts, 2);
+  // Same id, another shape: a new pattern (restarts), not a continuation.
+  const vest_pattern_t reshaped{ 6, 15, 15, 3 };
+  feedCommand(&fw, command(5, 0x1, 179, 0, 0, 0, 1000, reshaped), t0 + 900);
+  EXPECT_EQ(fw.duty[0], 179);
+  EXPECT_EQ(fw.pattern_starts, 3);
+  // The duties follow every COMMAND while the pattern runs (the same pattern, other duties).
+  feedCommand(&fw, command(6, 0x3, 255, 90, 0, 0, 1000, reshaped), t0 + 950);
+  EXPECT_EQ(fw.duty[0], 255);
+  EXPECT_EQ(fw.duty[1], 90);
+  EXPECT_EQ(fw.pattern_starts, 3);
+  // Steady (ON 0): on all the time, like version 3.
+  feedCommand(&fw, command(7, 0x4, 0, 0, 120, 0, 400, vest_pattern_t{ 8, 0, 0, 0 }), t0 + 1000);
+  for (uint32_t t = 1000; t <= 1400; ++t)
+  {
+    EXPECT_EQ(vest_firmware_tick(&fw, t0 + t), VEST_TICK_NONE) << t;
+    ASSERT_EQ(fw.duty[2], 120) << t;
+  }
+  EXPECT_EQ(vest_firmware_tick(&fw, t0 + 1401), VEST_TICK_EXPIRED);
+}
+
+// TTL and watchdog still switch everything off, mid-pulse; the same pattern coming back
+// continues where its clock stands (never replays a burst); the walk-on tick and the unsure
+// pattern are timed exactly.
+TEST(VestFirmware, TtlAndWatchdogCutThePattern)
+{
+  const uint32_t t0 = 100;
+  // TTL 100 ms cuts the first veer pulse at 101 ms.
+  vest_firmware_t fw;
+  vest_firmware_init(&fw, 0);
+  feedCommand(&fw, command(1, 0x1, 179, 0, 0, 0, 100, kVeer), t0);
+  EXPECT_EQ(vest_firmware_tick(&fw, t0 + 100), VEST_TICK_NONE);
+  EXPECT_EQ(fw.duty[0], 179);
+  EXPECT_EQ(vest_firmware_tick(&fw, t0 + 101), VEST_TICK_EXPIRED);
+  EXPECT_EQ(fw.duty[0], 0);
+  for (uint32_t t = 102; t < 320; ++t)
+    ASSERT_EQ(vest_firmware_tick(&fw, t0 + t) == VEST_TICK_NONE && fw.duty[0] == 0, true) << t;
+  // The same pattern again at 320 ms: its second pulse, from its own clock (on until 449).
+  feedCommand(&fw, command(2, 0x1, 179, 0, 0, 0, 300, kVeer), t0 + 320);
+  EXPECT_EQ(fw.duty[0], 179);
+  EXPECT_EQ(vest_firmware_tick(&fw, t0 + 449), VEST_TICK_NONE);
+  EXPECT_EQ(vest_firmware_tick(&fw, t0 + 450), VEST_TICK_PULSE);
+  EXPECT_EQ(fw.duty[0], 0);
+  // ... and again at 700 ms: the burst is over, nothing replays.
+  feedCommand(&fw, command(3, 0x1, 179, 0, 0, 0, 300, kVeer), t0 + 700);
+  for (uint32_t t = 700; t < 1000; ++t)
+  {
+    vest_firmware_tick(&fw, t0 + t);
+    ASSERT_EQ(fw.duty[0], 0) << t;
+  }
+  EXPECT_EQ(fw.pattern_starts, 1);
+
+  // Watchdog (TTL beyond it): endless pulses 100 ms on / 50 ms off, one COMMAND, off at 501 ms in
+  // the middle of a pulse (the fourth runs 450-549).
+  vest_firmware_t wd;
+  vest_firmware_init(&wd, t0);
+  feedCommand(&wd, command(1, 0xC, 0, 0, 255, 255, 65535, vest_pattern_t{ 9, 10, 5, 0 }), t0);
+  std::vector<uint32_t> pulse_edges;
+  int r = VEST_TICK_NONE;
+  uint32_t t = 1;
+  for (; t <= 600; ++t)
+  {
+    r = vest_firmware_tick(&wd, t0 + t);
+    if (r == VEST_TICK_PULSE)
+      pulse_edges.push_back(t);
+    if (r == VEST_TICK_WATCHDOG)
+      break;
+    ASSERT_EQ(wd.duty[2], (t % 150) < 100 ? 255 : 0) << t;
+  }
+  EXPECT_EQ(r, VEST_TICK_WATCHDOG);
+  EXPECT_EQ(t, 501u);
+  EXPECT_EQ(wd.duty[2] | wd.duty[3], 0);
+  EXPECT_EQ(pulse_edges, (std::vector<uint32_t>{ 100, 150, 250, 300, 400, 450 }));
+  EXPECT_EQ(wd.timeouts, 1);
+
+  // The walk-on tick (both shoulders, 100 ms once) and the unsure pattern (both waist motors,
+  // 100 / 100 ms x3), re-sent every 50 ms.
+  struct Case
+  {
+    vest_pattern_t p;
+    uint8_t motors;
+    std::function<bool(uint32_t)> on;
+  };
+  for (const Case& c : { Case{ { 11, 10, 0, 1 }, 0x3, [](uint32_t t) { return t < 100; } },
+                         Case{ { 12, 10, 10, 3 }, 0xC, [](uint32_t t) { return t < 500 && (t % 200) < 100; } } })
+  {
+    vest_firmware_t f;
+    vest_firmware_init(&f, 0);
+    for (uint32_t u = 0; u < 1500; ++u)
+    {
+      if (u % 50 == 0)
+        feedCommand(&f, command(1, c.motors, 179, 179, 255, 255, 300, c.p), 7000 + u);
+      vest_firmware_tick(&f, 7000 + u);
+      ASSERT_EQ(f.motors, c.on(u) ? c.motors : 0) << int(c.p.id) << " at " << u;
+    }
+  }
+}
+
+// millis() wraps after 49.7 days: a pattern running across the wrap keeps its phase, and a
+// burst that is over stays over (no replay 2^32 ms later).
+TEST(VestFirmware, PatternAcrossTheMillisWrap)
+{
+  const uint32_t t0 = 0xFFFFFF00u;  // 256 ms before the wrap
+  vest_firmware_t fw;
+  vest_firmware_init(&fw, t0);
+  for (uint32_t t = 0; t < 1000; ++t)
+  {
+    if (t % 50 == 0)
+      feedCommand(&fw, command(1, 0x2, 0, 200, 0, 0, 300, kVeer), t0 + t);
+    vest_firmware_tick(&fw, t0 + t);
+    ASSERT_EQ(fw.duty[1], veerOn(t) ? 200 : 0) << t;
+  }
+  EXPECT_TRUE(fw.pattern_over);
+  // The same pattern much later (its clock would have wrapped back to phase 0): still over.
+  fw.pattern_start_ms = 5u;  // as if 2^32 ms had passed since it started
+  feedCommand(&fw, command(2, 0x2, 0, 200, 0, 0, 300, kVeer), 5u);
+  EXPECT_EQ(fw.duty[1], 0);
+}
+
+// When the outputs change next by themselves: what the simulated vest sleeps until.
+TEST(VestFirmware, NextChangeTable)
+{
+  vest_firmware_t fw;
+  vest_firmware_init(&fw, 0);
+  EXPECT_EQ(vest_firmware_next_change_ms(&fw, 10), VEST_NEVER);  // no COMMAND: nothing due
+  feedCommand(&fw, command(1, 0x1, 179, 0, 0, 0, 400, kVeer), 1000);
+  EXPECT_EQ(vest_firmware_next_change_ms(&fw, 1000), 150u);  // the first pulse ends
+  EXPECT_EQ(vest_firmware_next_change_ms(&fw, 1200), 100u);  // the second begins
+  EXPECT_EQ(vest_firmware_next_change_ms(&fw, 1350), 51u);   // TTL (off at 401 ms) before the edge at 450
+  feedCommand(&fw, command(2, 0x1, 179, 0, 0, 0, 400, vest_pattern_t{ 9, 0, 0, 0 }), 2000);
+  EXPECT_EQ(vest_firmware_next_change_ms(&fw, 2000), 401u);  // steady: the TTL only
+  feedCommand(&fw, command(3, 0x1, 179, 0, 0, 0, 65535, vest_pattern_t{ 9, 0, 0, 0 }), 3000);
+  EXPECT_EQ(vest_firmware_next_change_ms(&fw, 3100), 401u);  // the watchdog
+}
+
+// A version-3 bridge's COMMAND (no pattern bytes): obeyed steady, answered in version 3 with the
+// 17-byte STATUS it can read.
+TEST(VestFirmware, Version3BridgeDrivenSteady)
+{
+  vest_firmware_t fw;
+  vest_firmware_init(&fw, 0);
+  const vest_packet_t p = command(4, 0x1, 200, 0, 0, 0, 300);
+  std::vector<uint8_t> b(VEST_PACKET_SIZE);
+  b.resize(vest_encode_version(&p, 3, b.data()));
+  ASSERT_EQ(b.size(), 17u);
+  vest_packet_t status{};
+  int applied = 0;
+  for (uint8_t byte : b)
+    applied += vest_firmware_feed(&fw, byte, 10, &status) == VEST_FEED_APPLIED;
+  EXPECT_EQ(applied, 1);
+  EXPECT_EQ(fw.reply_version, 3);
+  for (uint32_t t = 10; t <= 310; ++t)
+  {
+    vest_firmware_tick(&fw, t);
+    ASSERT_EQ(fw.duty[0], 200) << t;
+  }
+  std::vector<uint8_t> out(VEST_PACKET_SIZE);
+  out.resize(vest_encode_version(&status, fw.reply_version, out.data()));
+  ASSERT_EQ(out.size(), 17u);
+  vest_packet_t back{};
+  uint8_t version = 0;
+  ASSERT_EQ(vest_decode_frame(out.data() + 1, static_cast<uint8_t>(out.size() - 2), &back, &version), VEST_FRAME_OK);
+  EXPECT_EQ(version, 3);
+  EXPECT_EQ(back.type, VEST_TYPE_STATUS);
+  EXPECT_EQ(back.intensity[0], 200);
+  EXPECT_EQ(vest_firmware_sensor_version(&fw), 3);  // its RANGE / BUTTONS in version 3
 }
 
 // ---- Protocol version 3: RANGE and BUTTONS (issue 20, issue 24), version-2 peers. ----

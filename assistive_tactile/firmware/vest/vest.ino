@@ -18,17 +18,23 @@
  *     COBS structure, a wrong length or illegal fields is dropped; a CRC-valid frame of another
  *     protocol version is dropped, counted (fw.parser.version_mismatch / peer_version) and
  *     answered with a STATUS in our version, so that peer can report the mismatch;
- *   - a valid COMMAND sets the four PWM duties and is answered with a STATUS packet;
+ *   - a valid COMMAND sets the four PWM duties and its pulse pattern (protocol version 4) and
+ *     is answered with a STATUS packet (what the outputs do now, the pattern playing);
+ *   - the pattern is timed here, on millis(), not by the PC: the duties are driven only while
+ *     vest_pattern_on() says so; a COMMAND carrying the pattern that plays continues its phase
+ *     (the PC re-sends at 20 Hz), another pattern starts at phase 0; so serial jitter and lost
+ *     packets never change a pulse's length or the number of pulses;
  *   - the last COMMAND's TTL ran out (the PC sets it from the cue's stamps, so a cue ends on
  *     time even when the PC stalls), or no valid COMMAND for 500 ms (VEST_WATCHDOG_MS) -> every
- *     motor off.
- *   - a COMMAND of version 2 (an old bridge) is obeyed too and answered in version 2;
+ *     motor off, whatever the pattern.
+ *   - a COMMAND of version 2 or 3 (an old bridge, no pattern bytes) is obeyed too, steady, and
+ *     answered in its version;
  *   - every 50 ms the ranger is triggered; the echo line is timed by an interrupt (no busy wait:
  *     the motors' TTL keeps its millisecond), each ping is classified (echo / no echo / no sensor)
  *     and the median of the last 3 pings goes out in a RANGE packet;
  *   - the buttons are debounced; presses (short, long) and changes go out in BUTTONS packets, with
  *     a heartbeat once a second;
- *   - RANGE and BUTTONS only to a bridge that spoke version 3.
+ *   - RANGE and BUTTONS only to a bridge that spoke version 3 or 4, in its version.
  * Motors are off at power-up until the first valid COMMAND.
  */
 #include "vest_protocol.h"
@@ -71,10 +77,10 @@ static void trigger()
 }
 
 template <typename T>
-static void sendPacket(const T* p, void (*encode)(const T*, uint8_t*), uint8_t size)
+static void sendPacket(const T* p, void (*encode)(const T*, uint8_t, uint8_t*), uint8_t size)
 {
   uint8_t out[VEST_PACKET_SIZE];
-  encode(p, out);
+  encode(p, vest_firmware_sensor_version(&fw), out);  // the bridge's version (3 or 4)
   Serial.write(out, size);
 }
 
@@ -113,13 +119,13 @@ void loop()
       if (r == VEST_FEED_APPLIED)
         applyOutputs();  // else: a peer of another protocol version, told ours by the STATUS
       uint8_t out[VEST_PACKET_SIZE];
-      vest_encode_version(&status, fw.reply_version, out);  // the COMMAND's version
-      Serial.write(out, VEST_PACKET_SIZE);
+      const uint8_t n = vest_encode_version(&status, fw.reply_version, out);  // the COMMAND's version
+      Serial.write(out, n);
     }
   }
   const uint32_t now = millis();
   if (vest_firmware_tick(&fw, now))
-    applyOutputs();  // watchdog: all motors off
+    applyOutputs();  // a pulse began or ended, or TTL / watchdog: all motors off
 
   // Ranger: classify the last ping, then trigger the next one (every VEST_PING_PERIOD_MS).
   if ((uint32_t)(now - last_ping_ms) >= VEST_PING_PERIOD_MS)
@@ -134,7 +140,7 @@ void loop()
       const uint8_t ping = vest_classify_ping(rose, fell, width, &mm);
       vest_range_t range;
       if (vest_firmware_range(&fw, ping, mm, &range))
-        sendPacket(&range, vest_encode_range, VEST_RANGE_PACKET_SIZE);
+        sendPacket(&range, vest_encode_range_version, VEST_RANGE_PACKET_SIZE);
     }
     last_ping_ms = now;
     trigger();
@@ -143,5 +149,5 @@ void loop()
 
   vest_buttons_t buttons;
   if (vest_firmware_buttons(&fw, digitalRead(BUTTON_A_PIN) == LOW, digitalRead(BUTTON_B_PIN) == LOW, now, &buttons))
-    sendPacket(&buttons, vest_encode_buttons, VEST_BUTTONS_PACKET_SIZE);
+    sendPacket(&buttons, vest_encode_buttons_version, VEST_BUTTONS_PACKET_SIZE);
 }

@@ -32,10 +32,15 @@ public:
   const std::string& slavePath() const { return slave_path_; }
 
   /// Waits up to timeout_ms for bytes, feeds them to the firmware, answers valid COMMANDs with a
-  /// STATUS, runs the watchdog. Returns the number of COMMANDs applied.
+  /// STATUS, runs the pattern's pulses, TTL and watchdog. Returns the number of COMMANDs applied.
+  /// With a `clock`, it waits at most until the next pulse edge and takes the time from the
+  /// clock after waiting (now_ms is ignored), so the pulses are timed like the firmware's.
   int poll(int timeout_ms, uint32_t now_ms);
-  /// Watchdog only (no bytes).
+  /// Pulses, TTL and watchdog only (no bytes).
   void tick(uint32_t now_ms);
+  /// The vest's own millisecond clock (real-time use: sim_vest, the benchmark, rostests). Empty
+  /// (tests on a simulated clock): the now_ms arguments are the time.
+  std::function<uint32_t()> clock;
 
   /// The forward ranger's world: the distance the next pings measure (m; +inf or NaN = nothing
   /// within range: no echo). Pings run every VEST_PING_PERIOD_MS through the firmware's own
@@ -46,9 +51,12 @@ public:
   /// Holds button (VEST_BUTTON_A / _B) down from now_ms for hold_ms (a long press:
   /// >= VEST_LONG_PRESS_MS), through the firmware's debouncer.
   void press(unsigned button, uint32_t hold_ms, uint32_t now_ms);
-  /// Pretends to be a version-2 vest (tests: the bridge must detect it and keep the motors
-  /// working): frames of version 3 are answered with a version-2 STATUS, never applied.
-  bool old_version_2 = false;
+  /// Pretends to be the firmware of an older protocol version (2 or 3; 0 = this version):
+  /// COMMANDs of that version or older are obeyed (steady: no patterns), frames of a newer
+  /// version are answered with a STATUS of that version and never applied (what the old
+  /// firmware did). A version-3 vest sends RANGE / BUTTONS to a version-3 bridge only; a
+  /// version-2 one never. (Tests: the bridge must refuse it.)
+  int old_version = 0;
   uint64_t rangePackets() const { return range_packets_; }
   uint64_t buttonPackets() const { return button_packets_; }
 
@@ -58,7 +66,7 @@ public:
   const vest_firmware_t& firmware() const { return fw_; }
   std::array<uint8_t, VEST_NUM_MOTORS> duty() const;
   uint64_t commands() const { return commands_; }
-  /// Per motor: times it switched on (cues felt) and total on-time up to now_ms.
+  /// Per motor: times it switched on (pulses felt; a steady cue is one) and total on-time up to now_ms.
   std::array<uint32_t, VEST_NUM_MOTORS> onsets() const { return onsets_; }
   std::array<double, VEST_NUM_MOTORS> onSeconds(uint32_t now_ms) const;
 
@@ -68,6 +76,7 @@ public:
 
 private:
   void reportIfChanged(uint32_t now_ms, const char* why);
+  void feedOld(uint8_t byte, uint32_t now_ms, int* applied);  ///< old_version's firmware
   void sense(uint32_t now_ms);  ///< ranger pings and buttons
 
   double range_m_ = std::numeric_limits<double>::infinity();

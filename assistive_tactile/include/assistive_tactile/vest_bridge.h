@@ -33,9 +33,18 @@ struct LinkStats
   uint64_t rejected_packets = 0;   ///< frames from the vest with a bad COBS / CRC / length / field
   uint64_t version_mismatches = 0; ///< CRC-valid frames of a protocol version we do not speak
   uint8_t vest_version = 0;        ///< VERSION of the vest's last CRC-valid frame (0 = none seen)
-  /// VERSION of the COMMANDs sent: ours, or 2 once a version-2 vest answered (it keeps driving
-  /// the motors; it has no ranger and no buttons). Back to ours when the port is reopened.
-  uint8_t send_version = VEST_PROTOCOL_VERSION;
+  /// The vest answered in an older version (2 or 3: no pulse patterns): refused. COMMANDs stay
+  /// all-off in our version (it drives nothing on them; its watchdog ends what an earlier bridge
+  /// left on): the wearer feels silence = stop. Cleared when a STATUS of ours arrives (the vest
+  /// was reflashed on a link that stayed open) or the port is reopened.
+  bool vest_refused = false;
+  uint64_t cues_refused = 0;       ///< motor-driving cues not driven because the vest is refused
+  /// Count-limited patterns whose motors the bridge switched off (at their end + stale_s, or
+  /// after a reopen of the port): a vest that starts the pattern late never replays an old burst.
+  uint64_t patterns_ended = 0;
+  /// The highest duty per motor the vest reported (STATUS) since the last takeStatusPeak():
+  /// what the wearer felt lately, pulses included (the last STATUS may fall into a gap).
+  std::array<uint8_t, VEST_NUM_MOTORS> status_peak{ { 0, 0, 0, 0 } };
   // Forward ranger (RANGE packets).
   uint64_t ranges = 0;             ///< RANGE packets received
   uint64_t ranges_published = 0;   ///< readings handed on (echo within the limits, or no echo)
@@ -106,6 +115,23 @@ struct ButtonEvent
 
 /// "L-sh 200  R-sh   0  L-w   0  R-w   0": motor duties as the diagnostics and the simulated vest write them.
 std::string describeDuty(const uint8_t* duty);
+/// "steady" / "#7 150 ms on 150 ms off x2" / "#9 100 ms on 100 ms off, repeating".
+std::string describePattern(const vest_pattern_t& p);
+
+/// One cue as the bridge drives it (from assistive_msgs/TactileCue).
+struct VestCue
+{
+  VestCue() {}  // not an aggregate: a braced intensity array means the steady setCue overloads
+  /// 0..1 per motor (TactileCue motor order): the drive while the pattern is on.
+  std::array<float, VEST_NUM_MOTORS> intensity{ { 0.f, 0.f, 0.f, 0.f } };
+  /// How the vest pulses them (protocol version 4); the same pattern re-sent continues its
+  /// phase on the vest, another starts it. Default: steady.
+  vest_pattern_t pattern{ 0, 0, 0, 0 };
+  /// An UNSURE cue (TactileCue mode UNSURE): it says "cannot tell, stop" and guides nothing, so
+  /// it needs no source_stamp (it is often decided *because* the camera image is old or
+  /// missing), only a fresh header.stamp, like an all-off.
+  bool unsure = false;
+};
 
 /**
  * The vest bridge's core (no ROS): owns the serial port (opened exclusively), turns cue
@@ -118,7 +144,12 @@ std::string describeDuty(const uint8_t* duty);
  * source_stamp + max_source_age_s are in the future, and all motors go off when the last valid
  * cue expires (early by the packet's wire time plus a wake-up margin, so the all-off has landed
  * by then). Each COMMAND also carries the time left (TTL), so the vest ends the cue by itself
- * when this side is late or stalled. All-off also on shutdown and, with installAllOffSignalHandlers(), on SIGINT/SIGTERM.
+ * when this side is late or stalled. Each COMMAND carries the cue's pulse pattern; the vest
+ * times the pulses (re-sent with the same pattern, it continues the phase). A count-limited
+ * pattern drives only on the port it was first written to and until its last pulse's end +
+ * stale_s after this bridge first got it, then the same pattern goes out with zero duties: a
+ * vest that starts it late (a reopened port, a restarted vest) never replays an old burst. A vest that answers in an older protocol
+ * version (2 / 3: no patterns) is refused: all-off, LinkStats::vest_refused. All-off also on shutdown and, with installAllOffSignalHandlers(), on SIGINT/SIGTERM.
  * `now` arguments are seconds on a monotonic clock. Not thread-safe: call from one thread (or
  * use VestBridgeRunner).
  */
@@ -132,19 +163,26 @@ public:
 
   const BridgeParams& params() const { return params_; }
 
-  /// A new cue (intensities 0..1, TactileCue motor order) of the given age. When checkCue
-  /// passes it is written to the port immediately and returns true when the packet reached the
-  /// driver; a rejected cue changes nothing (counted in stats) and returns false.
-  bool setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, double now, const CueAge& age);
-  /// A cue stamped now with a fresh source (tests, benchmark).
+  /// A new cue of the given age. When checkCue passes it is written to the port immediately
+  /// and returns true when the packet reached the driver; a rejected cue changes nothing
+  /// (counted in stats) and returns false.
+  bool setCue(const VestCue& cue, double now, const CueAge& age);
+  /// A steady cue (intensities 0..1, TactileCue motor order).
+  bool setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, double now, const CueAge& age)
+  {
+    VestCue c;
+    c.intensity = intensity;
+    return setCue(c, now, age);
+  }
+  /// A steady cue stamped now with a fresh source (tests, benchmark).
   bool setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, double now)
   {
     return setCue(intensity, now, CueAge());
   }
 
-  /// The stamp rules (see the class comment); `lead_s` = offLeadS().
+  /// The stamp rules (see the class comment); `lead_s` = offLeadS(); `unsure`: VestCue::unsure.
   static CueCheck checkCue(const std::array<uint8_t, VEST_NUM_MOTORS>& duty, const CueAge& age,
-                           const BridgeParams& p, double lead_s);
+                           const BridgeParams& p, double lead_s, bool unsure = false);
   /// How much before a cue's expiry the all-off is sent: one packet's wire time + wake-up margin.
   double offLeadS() const;
   /// One packet's time on the wire at the configured baud rate.
@@ -167,8 +205,12 @@ public:
   /// True when the port is open and the vest answered within link_timeout_s.
   bool linkUp(double now) const;
   const LinkStats& stats() const { return stats_; }
-  /// Duties of the last COMMAND sent (all-off while stale).
+  /// Duties of the last COMMAND sent (all-off while stale, refused or the pattern has ended).
   const std::array<uint8_t, VEST_NUM_MOTORS>& sentDuty() const { return sent_duty_; }
+  /// Pattern of the last COMMAND sent.
+  const vest_pattern_t& sentPattern() const { return pattern_; }
+  /// stats().status_peak, then zeroes it.
+  std::array<uint8_t, VEST_NUM_MOTORS> takeStatusPeak();
 
   /// Float intensity (0..1) -> PWM duty; any positive intensity gives at least 1.
   static uint8_t toDuty(float intensity);
@@ -199,6 +241,10 @@ private:
   uint8_t range_seq_ = 0;
   vest_buttons_t last_buttons_{};
   std::array<uint8_t, VEST_NUM_MOTORS> duty_{ { 0, 0, 0, 0 } };       ///< from the last valid cue
+  vest_pattern_t pattern_{ 0, 0, 0, 0 };  ///< its pattern (kept, with zero duties, when it ends)
+  double pattern_since_ = -1e300;         ///< when this pattern was first accepted (our clock)
+  bool pattern_ended_ = false;            ///< counted in patterns_ended
+  uint64_t pattern_session_ = 0;          ///< stats_.opens when it was first written (0: not yet)
   std::array<uint8_t, VEST_NUM_MOTORS> sent_duty_{ { 0, 0, 0, 0 } };  ///< in the last packet
   std::vector<uint8_t> pending_;  ///< unwritten tail of the last packet
   double cue_deadline_ = -std::numeric_limits<double>::infinity();  ///< all-off must have landed
@@ -229,7 +275,13 @@ public:
   VestBridgeRunner& operator=(const VestBridgeRunner&) = delete;
 
   /// VestBridge::setCue at steadyNow(); wakes the thread for the new expiry. Returns the verdict.
-  CueCheck setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, const CueAge& age);
+  CueCheck setCue(const VestCue& cue, const CueAge& age);
+  CueCheck setCue(const std::array<float, VEST_NUM_MOTORS>& intensity, const CueAge& age)
+  {
+    VestCue c;
+    c.intensity = intensity;
+    return setCue(c, age);
+  }
   /// Runs f(bridge) with the bridge locked.
   template <typename F>
   auto locked(F&& f)

@@ -5,36 +5,72 @@
  * Arduino sketch (firmware/vest/vest.ino includes it through the symlink
  * firmware/vest/vest_protocol.h). Change it here and both sides change.
  *
- * Protocol version 3 (version 2 had COMMAND and STATUS only; version 1 was SYNC 0xA5 + CRC-8,
- * which let noise through as false COMMANDs). Version 3 adds RANGE (the forward ultrasonic
- * ranger, issue 20) and BUTTONS (the wearer's two push buttons, issue 24), both vest -> PC.
- * COMMAND and STATUS are the same in versions 2 and 3, so both sides speak version 2 to a version-2
- * peer (VEST_PROTOCOL_MIN_VERSION): the vest answers a COMMAND in the COMMAND's version and sends
- * RANGE / BUTTONS only to a version-3 peer; the bridge, told by a version-2 STATUS that the vest
- * is old, sends version-2 COMMANDs (the motors keep working) and reports the old vest (no ranger,
- * no buttons) in its diagnostics. Frames of any other version are rejected and counted.
+ * Version history:
+ *   1  SYNC 0xA5 + CRC-8: let noise through as false COMMANDs. Not spoken.
+ *   2  COBS framing + CRC-32C; COMMAND / STATUS (14 bytes) with TTL_MS.
+ *   3  + RANGE (forward ultrasonic ranger, issue 20) and BUTTONS (the wearer's push buttons,
+ *      issue 24), vest -> PC. COMMAND / STATUS as in version 2.
+ *   4  (this one; issue 33, cues for walking) COMMAND / STATUS grow by four bytes: the PULSE
+ *      PATTERN (PATTERN_ID, ON_10MS, OFF_10MS, COUNT), 18 bytes. The VEST times the pulses
+ *      itself (vest_firmware_*), so USB / radio jitter and lost packets never change how long a
+ *      pulse lasts or how many pulses are felt; the PC only says which pattern plays. RANGE and
+ *      BUTTONS unchanged (VERSION 4, the same bytes).
  *
- * COMMAND / STATUS (14 bytes before framing):
+ * Older peers (VEST_PROTOCOL_MIN_VERSION = 2):
+ *   - An old VEST (version 2 or 3) is REFUSED by the bridge: it gets no motor-driving COMMAND at
+ *     all (the bridge sends only version-4 COMMANDs, which an old vest counts and answers with a
+ *     STATUS of its own version), its motors stay off (its 500 ms watchdog ends whatever an
+ *     earlier bridge left on), and the bridge reports ERROR naming the vest's version
+ *     ("reflash"). The wearer feels silence, which this protocol defines as "stop, use the
+ *     cane". Why not drive it with pulses timed by the PC (steady duties switched per pulse)?
+ *     The instruction now lives in the pulses' number and length (veer = two 150 ms pulses,
+ *     stop-and-turn = one 800 ms buzz, walk on = one 100 ms tick, unsure = three 100 ms
+ *     pulses): a pulse rendered from 20 Hz re-sends is quantised to 50 ms, and one lost or late
+ *     packet (the seed's radio link) adds, drops or stretches a pulse, i.e. says something else.
+ *     Silence cannot be misread; a wrong pattern can. A reflash takes a minute
+ *     (firmware/build_firmware.sh + avrdude).
+ *   - An old BRIDGE (version 2 or 3) is still obeyed by this vest: its COMMAND has no pattern
+ *     bytes and is rendered steady (the old meaning), answered with a STATUS in its version;
+ *     RANGE / BUTTONS go out in its version when it is 3 (the layout is the same).
+ *   The receivers decode versions 2..4 (so the bridge learns an old vest's version from its
+ *   STATUS); other versions are rejected and counted.
  *
- *   byte 0    VERSION   3 (or 2 to/from a version-2 peer)
+ * COMMAND / STATUS (version 4: 18 bytes before framing; versions 2 / 3: bytes 0..9 + CRC, 14):
+ *
+ *   byte 0    VERSION   4 (2 / 3 from and to an old bridge only)
  *   byte 1    TYPE      0x01 = COMMAND (PC -> vest), 0x02 = STATUS (vest -> PC)
  *   byte 2    SEQ       sequence number, +1 per packet sent (wraps at 255); a STATUS echoes the
  *                       SEQ of the last COMMAND the vest accepted
  *   byte 3    MOTORS    bit i set = motor i on (bit 0 left shoulder, 1 right shoulder,
- *                       2 left waist, 3 right waist); bits 4..7 must be 0
- *   byte 4-7  I0..I3    PWM duty of motor i (0..255), used only when its bit is set
- *   byte 8-9  TTL_MS    uint16, low byte first. COMMAND: the vest drives these duties for at
+ *                       2 left waist, 3 right waist); bits 4..7 must be 0.
+ *                       COMMAND: the motors the pattern drives. STATUS: the motors on NOW.
+ *   byte 4-7  I0..I3    PWM duty of motor i (0..255), used only when its bit is set.
+ *                       COMMAND: the duty while the pattern is on. STATUS: the duty NOW (0 in a
+ *                       pattern's gap).
+ *   byte 8-9  TTL_MS    uint16, low byte first. COMMAND: the vest drives this command for at
  *                       most TTL_MS ms after it received the packet, then switches every motor
  *                       off by itself (capped by VEST_WATCHDOG_MS); the PC sets it from the cue's
  *                       stamps, so a cue ends on time even when the PC stalls. STATUS: 0.
- *   byte 10-13 CRC      CRC-32C (Castagnoli: poly 0x1EDC6F41 reflected, init and final xor
- *                       0xFFFFFFFF; check value 0xE3069283) over bytes 0..9, low byte first.
+ *   byte 10   PATTERN_ID  which pattern (version 4). A COMMAND whose pattern (ID, ON, OFF, COUNT)
+ *                       equals the running one CONTINUES its phase (the PC re-sends at 20 Hz and
+ *                       the cue logic repeats a pattern it holds); any other starts it at 0 ms.
+ *                       The phase survives a TTL / watchdog cut: the same pattern coming back
+ *                       continues where its clock stands (a burst is never replayed).
+ *   byte 11   ON_10MS   pulse length in 10 ms (10..2550 ms); 0 = STEADY (driven all the time,
+ *                       OFF_10MS and COUNT must then be 0)
+ *   byte 12   OFF_10MS  gap between pulses in 10 ms
+ *   byte 13   COUNT     pulses, then off until a new pattern; 0 = pulse for as long as the
+ *                       COMMANDs last. The motors are driven t ms after the pattern started
+ *                       iff vest_pattern_on(pattern, t), and only while TTL and watchdog allow.
+ *                       STATUS: bytes 10..13 = the pattern the vest is playing.
+ *   byte 14-17 CRC      CRC-32C (Castagnoli: poly 0x1EDC6F41 reflected, init and final xor
+ *                       0xFFFFFFFF; check value 0xE3069283) over bytes 0..13, low byte first.
  *                       (CRC-16/CCITT-FALSE let 1 damaged frame through per ~3e7 random
  *                       corruptions in tactile_benchmark; 32 bits make that 65536 times rarer.)
  *
  * RANGE (vest -> PC, 11 bytes before framing; one per ping, 20 Hz, median of the last 3 pings):
  *
- *   byte 0    VERSION   3
+ *   byte 0    VERSION   4 (3 to a version-3 bridge)
  *   byte 1    TYPE      0x03
  *   byte 2    SEQ       +1 per RANGE packet (the PC counts lost ones)
  *   byte 3    STATUS    0 = OK (RANGE_MM holds the median), 1 = NO_ECHO (fewer than 2 of the last
@@ -47,7 +83,7 @@
  * BUTTONS (vest -> PC, 12 bytes before framing; on every press event and change of HELD, and once
  * a second as a heartbeat, so a lost packet is healed by the next one):
  *
- *   byte 0    VERSION   3
+ *   byte 0    VERSION   4 (3 to a version-3 bridge)
  *   byte 1    TYPE      0x04
  *   byte 2    SEQ       +1 per BUTTONS packet
  *   byte 3    HELD      debounced state now: bit 0 = button A down, bit 1 = B; bits 2..7 must be 0
@@ -57,26 +93,28 @@
  *                       when released before; the inputs are debounced over VEST_DEBOUNCE_MS.
  *   byte 8-11 CRC       CRC-32C over bytes 0..7
  *
- * Framing: COBS (Consistent Overhead Byte Stuffing). The 14 bytes are COBS-encoded (15 bytes, no
- * 0x00 inside) and sent between two 0x00 delimiters: 17 bytes on the wire,
+ * Framing: COBS (Consistent Overhead Byte Stuffing). The 18 bytes are COBS-encoded (19 bytes, no
+ * 0x00 inside) and sent between two 0x00 delimiters: 21 bytes on the wire (3.65 ms at 57600
+ * baud; version 2 / 3: 17 bytes),
  *
  *   0x00  COBS(packet)  0x00
  *
  * A receiver collects the bytes between delimiters into a frame and accepts it only when the COBS
  * structure is valid, the CRC matches, VERSION is one we speak, TYPE is known in that version, the
- * decoded length is exactly that TYPE's and the fields are legal. Since a frame starts only at a delimiter, a packet is never read at a shifted
- * offset (the SYNC scan of version 1 could); garbage, a truncated or a shifted packet cost that
- * frame only, and the next delimiter resynchronises. The leading delimiter ends any garbage
- * before the packet, so the packet after a burst of noise still arrives. The CRC is checked
- * before VERSION, so a counted version mismatch is a real peer of another version, not noise;
- * the CRC sits at the end of every version's frame for that reason.
+ * decoded length is exactly that TYPE's in that VERSION and the fields are legal. Since a frame
+ * starts only at a delimiter, a packet is never read at a shifted offset (the SYNC scan of
+ * version 1 could); garbage, a truncated or a shifted packet cost that frame only, and the next
+ * delimiter resynchronises. The leading delimiter ends any garbage before the packet, so the
+ * packet after a burst of noise still arrives. The CRC is checked before VERSION, so a counted
+ * version mismatch is a real peer of another version, not noise; the CRC sits at the end of
+ * every version's frame for that reason.
  *
- * Motor i is driven at  (MOTORS >> i) & 1 ? Ii : 0.
+ * Motor i is driven at  (MOTORS >> i) & 1 ? Ii : 0  while the pattern is on, else 0.
  * A COMMAND is the complete desired state (not a delta), so a lost packet is healed by the next
- * one. The PC re-sends it at a fixed rate (default 20 Hz). The vest switches every motor off when
- * the last COMMAND's TTL ran out or no valid COMMAND arrived for VEST_WATCHDOG_MS (whichever comes
- * first), and answers every accepted COMMAND with a
- * STATUS carrying what the motors now do (the PC uses it as link proof and on diagnostics).
+ * one (same pattern: same phase). The PC re-sends it at a fixed rate (default 20 Hz). The vest
+ * switches every motor off when the last COMMAND's TTL ran out or no valid COMMAND arrived for
+ * VEST_WATCHDOG_MS (whichever comes first), and answers every accepted COMMAND with a STATUS
+ * carrying what the motors do now and the pattern it plays (link proof and diagnostics).
  */
 #ifndef ASSISTIVE_TACTILE_VEST_PROTOCOL_H
 #define ASSISTIVE_TACTILE_VEST_PROTOCOL_H
@@ -88,17 +126,20 @@
 extern "C" {
 #endif
 
-#define VEST_PROTOCOL_VERSION 3u
-#define VEST_PROTOCOL_MIN_VERSION 2u  /* oldest version spoken (COMMAND / STATUS only) */
+#define VEST_PROTOCOL_VERSION 4u
+#define VEST_PROTOCOL_MIN_VERSION 2u  /* oldest version decoded (COMMAND / STATUS only) */
+#define VEST_PATTERN_VERSION 4u       /* first version with the pattern bytes */
 #define VEST_DELIMITER 0x00u
 #define VEST_TYPE_COMMAND 0x01u
 #define VEST_TYPE_STATUS 0x02u
-#define VEST_TYPE_RANGE 0x03u    /* version 3 */
-#define VEST_TYPE_BUTTONS 0x04u  /* version 3 */
+#define VEST_TYPE_RANGE 0x03u    /* version 3 on */
+#define VEST_TYPE_BUTTONS 0x04u  /* version 3 on */
 #define VEST_CRC_SIZE 4u
-#define VEST_RAW_SIZE 14u                       /* VERSION .. CRC, before COBS */
+#define VEST_RAW_SIZE 18u                       /* VERSION .. CRC, before COBS (version 4) */
 #define VEST_COBS_SIZE (VEST_RAW_SIZE + 1u)     /* COBS adds one byte to frames under 254 bytes */
-#define VEST_PACKET_SIZE (VEST_COBS_SIZE + 2u)  /* on the wire, with both delimiters: 17 */
+#define VEST_PACKET_SIZE (VEST_COBS_SIZE + 2u)  /* on the wire, with both delimiters: 21 */
+#define VEST_RAW_SIZE_V3 14u                    /* COMMAND / STATUS of versions 2 and 3 */
+#define VEST_PACKET_SIZE_V3 (VEST_RAW_SIZE_V3 + 3u)  /* 17 on the wire */
 #define VEST_RANGE_RAW_SIZE 11u
 #define VEST_RANGE_PACKET_SIZE (VEST_RANGE_RAW_SIZE + 3u)      /* 14 on the wire */
 #define VEST_BUTTONS_RAW_SIZE 12u
@@ -139,6 +180,7 @@ extern "C" {
 #define VEST_TICK_NONE 0
 #define VEST_TICK_WATCHDOG 1  /* no valid COMMAND for VEST_WATCHDOG_MS: all off */
 #define VEST_TICK_EXPIRED 2   /* the last COMMAND's TTL ran out: all off */
+#define VEST_TICK_PULSE 3     /* the pattern switched the outputs (a pulse began or ended) */
 
 /* Motor indices (match assistive_msgs/TactileCue). */
 #define VEST_LEFT_SHOULDER 0u
@@ -156,19 +198,11 @@ extern "C" {
 #define VEST_FRAME_FIELD 6    /* unknown TYPE (in this VERSION) or an illegal field */
 #define VEST_FRAME_OTHER_TYPE 7  /* valid, but RANGE / BUTTONS where a COMMAND / STATUS was asked */
 
-typedef struct
-{
-  uint8_t type;
-  uint8_t seq;
-  uint8_t motors;                       /* bit mask, bits 0..3 */
-  uint8_t intensity[VEST_NUM_MOTORS];   /* 0..255 */
-  uint16_t ttl_ms;                      /* COMMAND: drive at most this long after receipt */
-} vest_packet_t;
-
 /* A pulse pattern (protocol version 4, the walking cues of issue 33): the motors of a COMMAND are
  * driven in pulses the vest times itself, so USB jitter never changes what the wearer feels.
- * ID names one pattern: a COMMAND with the same ID as the running one continues its phase (the PC
- * re-sends at 20 Hz), a new ID restarts it at 0. ON_10MS 0 = steady (driven all the time). */
+ * ID names one pattern: a COMMAND with the same pattern as the running one (the same ID and the
+ * same timing: vest_pattern_equal) continues its phase (the PC re-sends at 20 Hz), a new ID
+ * restarts it at 0. ON_10MS 0 = steady (driven all the time; OFF_10MS and COUNT 0). */
 typedef struct
 {
   uint8_t id;        /* changes when a new pattern starts */
@@ -189,6 +223,56 @@ static inline int vest_pattern_on(const vest_pattern_t* p, uint32_t t_ms)
     return 0;
   return (t_ms - k * period) < 10ul * (uint32_t)p->on_10ms ? 1 : 0;
 }
+
+#define VEST_NEVER 0xFFFFFFFFul  /* "no such time" in the pattern helpers below */
+
+/* 1 when a and b are the same pattern (all four fields): a COMMAND carrying the running pattern
+ * continues it, any other pattern restarts. */
+static inline int vest_pattern_equal(const vest_pattern_t* a, const vest_pattern_t* b)
+{
+  return a->id == b->id && a->on_10ms == b->on_10ms && a->off_10ms == b->off_10ms && a->count == b->count;
+}
+
+/* ms after its start at which a pattern's last pulse has ended (the pattern is over);
+ * VEST_NEVER for a steady pattern or one that pulses without a count. */
+static inline uint32_t vest_pattern_length_ms(const vest_pattern_t* p)
+{
+  if (p->on_10ms == 0u || p->count == 0u)
+    return VEST_NEVER;
+  return 10ul * (((uint32_t)p->count - 1ul) * ((uint32_t)p->on_10ms + (uint32_t)p->off_10ms) + (uint32_t)p->on_10ms);
+}
+
+/* ms from t_ms (after the pattern started) until vest_pattern_on() may change next (a pulse
+ * begins or ends; an edge that changes nothing, e.g. between pulses without a gap, may be
+ * named too); VEST_NEVER when it never changes again. */
+static inline uint32_t vest_pattern_next_edge_ms(const vest_pattern_t* p, uint32_t t_ms)
+{
+  uint32_t period, k, phase, on_ms;
+  if (p->on_10ms == 0u)
+    return VEST_NEVER;
+  on_ms = 10ul * (uint32_t)p->on_10ms;
+  period = 10ul * ((uint32_t)p->on_10ms + (uint32_t)p->off_10ms);
+  k = t_ms / period;
+  if (p->count != 0u && k >= (uint32_t)p->count)
+    return VEST_NEVER;
+  phase = t_ms - k * period;
+  if (phase < on_ms)
+    return on_ms - phase;  /* this pulse ends */
+  if (p->count != 0u && k + 1u >= (uint32_t)p->count)
+    return VEST_NEVER;     /* that was the last pulse */
+  return period - phase;   /* the next pulse begins */
+}
+
+/* COMMAND / STATUS. */
+typedef struct
+{
+  uint8_t type;
+  uint8_t seq;
+  uint8_t motors;                       /* bit mask, bits 0..3 */
+  uint8_t intensity[VEST_NUM_MOTORS];   /* 0..255 */
+  uint16_t ttl_ms;                      /* COMMAND: drive at most this long after receipt */
+  vest_pattern_t pattern;               /* version 4; versions 2 / 3: all 0 (steady) */
+} vest_packet_t;
 
 /* RANGE */
 typedef struct
@@ -294,12 +378,27 @@ static inline uint8_t vest_frame(const uint8_t* payload, uint8_t len, uint8_t* o
   return (uint8_t)(n + 2u);
 }
 
-/* Writes VEST_PACKET_SIZE bytes (delimiter, COBS frame, delimiter) to out with VERSION `version`
- * (COMMAND / STATUS are the same in versions 2 and 3). */
-static inline void vest_encode_version(const vest_packet_t* p, uint8_t version, uint8_t* out)
+/* Raw size (before COBS, CRC included) of a COMMAND / STATUS in `version`. */
+static inline uint8_t vest_command_raw_size(uint8_t version)
+{
+  return version >= VEST_PATTERN_VERSION ? (uint8_t)VEST_RAW_SIZE : (uint8_t)VEST_RAW_SIZE_V3;
+}
+
+/* Bytes on the wire of a COMMAND / STATUS in `version` (VEST_PACKET_SIZE in ours). */
+static inline uint8_t vest_command_packet_size(uint8_t version)
+{
+  return (uint8_t)(vest_command_raw_size(version) + 3u);
+}
+
+/* Writes a COMMAND / STATUS (delimiter, COBS frame, delimiter) with VERSION `version` to out
+ * (VEST_PACKET_SIZE bytes room) and returns the bytes written: VEST_PACKET_SIZE in version 4,
+ * VEST_PACKET_SIZE_V3 in versions 2 / 3 (no pattern bytes: an old peer's COMMAND is steady). A
+ * steady pattern (ON_10MS 0) is written with OFF_10MS and COUNT 0, as the receiver demands. */
+static inline uint8_t vest_encode_version(const vest_packet_t* p, uint8_t version, uint8_t* out)
 {
   uint8_t raw[VEST_RAW_SIZE - VEST_CRC_SIZE];
   uint8_t i;
+  const uint8_t steady = p->pattern.on_10ms == 0u;
   raw[0] = version;
   raw[1] = p->type;
   raw[2] = p->seq;
@@ -308,7 +407,11 @@ static inline void vest_encode_version(const vest_packet_t* p, uint8_t version, 
     raw[4 + i] = p->intensity[i];
   raw[8] = (uint8_t)(p->ttl_ms & 0xFFu);
   raw[9] = (uint8_t)(p->ttl_ms >> 8);
-  vest_frame(raw, (uint8_t)(VEST_RAW_SIZE - VEST_CRC_SIZE), out);
+  raw[10] = p->pattern.id;
+  raw[11] = p->pattern.on_10ms;
+  raw[12] = steady ? (uint8_t)0u : p->pattern.off_10ms;
+  raw[13] = steady ? (uint8_t)0u : p->pattern.count;
+  return vest_frame(raw, (uint8_t)(vest_command_raw_size(version) - VEST_CRC_SIZE), out);
 }
 
 /* Writes VEST_PACKET_SIZE bytes; VERSION is ours. */
@@ -317,11 +420,11 @@ static inline void vest_encode(const vest_packet_t* p, uint8_t* out)
   vest_encode_version(p, (uint8_t)VEST_PROTOCOL_VERSION, out);
 }
 
-/* Writes VEST_RANGE_PACKET_SIZE bytes. */
-static inline void vest_encode_range(const vest_range_t* r, uint8_t* out)
+/* Writes VEST_RANGE_PACKET_SIZE bytes with VERSION `version` (3 or 4: the same layout). */
+static inline void vest_encode_range_version(const vest_range_t* r, uint8_t version, uint8_t* out)
 {
   uint8_t raw[VEST_RANGE_RAW_SIZE - VEST_CRC_SIZE];
-  raw[0] = (uint8_t)VEST_PROTOCOL_VERSION;
+  raw[0] = version;
   raw[1] = (uint8_t)VEST_TYPE_RANGE;
   raw[2] = r->seq;
   raw[3] = r->status;
@@ -331,11 +434,17 @@ static inline void vest_encode_range(const vest_range_t* r, uint8_t* out)
   vest_frame(raw, (uint8_t)(VEST_RANGE_RAW_SIZE - VEST_CRC_SIZE), out);
 }
 
-/* Writes VEST_BUTTONS_PACKET_SIZE bytes. */
-static inline void vest_encode_buttons(const vest_buttons_t* b, uint8_t* out)
+/* Writes VEST_RANGE_PACKET_SIZE bytes; VERSION is ours. */
+static inline void vest_encode_range(const vest_range_t* r, uint8_t* out)
+{
+  vest_encode_range_version(r, (uint8_t)VEST_PROTOCOL_VERSION, out);
+}
+
+/* Writes VEST_BUTTONS_PACKET_SIZE bytes with VERSION `version` (3 or 4: the same layout). */
+static inline void vest_encode_buttons_version(const vest_buttons_t* b, uint8_t version, uint8_t* out)
 {
   uint8_t raw[VEST_BUTTONS_RAW_SIZE - VEST_CRC_SIZE];
-  raw[0] = (uint8_t)VEST_PROTOCOL_VERSION;
+  raw[0] = version;
   raw[1] = (uint8_t)VEST_TYPE_BUTTONS;
   raw[2] = b->seq;
   raw[3] = b->held;
@@ -344,6 +453,12 @@ static inline void vest_encode_buttons(const vest_buttons_t* b, uint8_t* out)
   raw[6] = b->short_b;
   raw[7] = b->long_b;
   vest_frame(raw, (uint8_t)(VEST_BUTTONS_RAW_SIZE - VEST_CRC_SIZE), out);
+}
+
+/* Writes VEST_BUTTONS_PACKET_SIZE bytes; VERSION is ours. */
+static inline void vest_encode_buttons(const vest_buttons_t* b, uint8_t* out)
+{
+  vest_encode_buttons_version(b, (uint8_t)VEST_PROTOCOL_VERSION, out);
 }
 
 /* Checks one frame (the bytes between two delimiters). Returns VEST_FRAME_OK and fills m when it
@@ -374,7 +489,7 @@ static inline int vest_decode_message(const uint8_t* frame, uint8_t len, vest_me
     return VEST_FRAME_LENGTH;
   /* TYPE known in this VERSION, then its length, then its fields. */
   if (raw[1] == VEST_TYPE_COMMAND || raw[1] == VEST_TYPE_STATUS)
-    want = (uint8_t)VEST_RAW_SIZE;
+    want = vest_command_raw_size(raw[0]);
   else if (raw[1] == VEST_TYPE_RANGE && raw[0] >= 3u)
     want = (uint8_t)VEST_RANGE_RAW_SIZE;
   else if (raw[1] == VEST_TYPE_BUTTONS && raw[0] >= 3u)
@@ -418,6 +533,16 @@ static inline int vest_decode_message(const uint8_t* frame, uint8_t len, vest_me
   for (i = 0; i < VEST_NUM_MOTORS; ++i)
     m->packet.intensity[i] = raw[4 + i];
   m->packet.ttl_ms = (uint16_t)(raw[8] | ((uint16_t)raw[9] << 8));
+  if (raw[0] >= VEST_PATTERN_VERSION)
+  {
+    /* a steady pattern carries no timing */
+    if (raw[11] == 0u && (raw[12] != 0u || raw[13] != 0u))
+      return VEST_FRAME_FIELD;
+    m->packet.pattern.id = raw[10];
+    m->packet.pattern.on_10ms = raw[11];
+    m->packet.pattern.off_10ms = raw[12];
+    m->packet.pattern.count = raw[13];
+  }
   return VEST_FRAME_OK;
 }
 
@@ -435,7 +560,7 @@ static inline int vest_decode_frame(const uint8_t* frame, uint8_t len, vest_pack
 }
 
 /* Checks one whole wire packet as vest_encode writes it (VEST_PACKET_SIZE bytes, both
- * delimiters); returns 1 and fills p when it is valid. */
+ * delimiters, version 4); returns 1 and fills p when it is valid. */
 static inline int vest_decode(const uint8_t* in, vest_packet_t* p)
 {
   uint8_t i;
@@ -647,6 +772,12 @@ typedef struct
   vest_parser_t parser;
   uint8_t duty[VEST_NUM_MOTORS]; /* what the PWM outputs drive now */
   uint8_t motors;                /* bit mask of motors with duty > 0 */
+  uint8_t cmd_duty[VEST_NUM_MOTORS]; /* the last COMMAND's duties: driven while its pattern is on */
+  vest_pattern_t pattern;        /* the pattern playing (the last COMMAND's) */
+  uint32_t pattern_start_ms;     /* when it started (phase 0) */
+  uint8_t have_pattern;          /* 1 once a COMMAND started a pattern (power-up: none) */
+  uint8_t pattern_over;          /* its last pulse has ended: off until another pattern */
+  uint16_t pattern_starts;       /* patterns started (restarts at phase 0; wraps) */
   uint8_t last_seq;              /* SEQ of the last accepted COMMAND */
   uint8_t have_command;          /* 1 once a COMMAND was accepted since the last timeout */
   uint32_t last_command_ms;
@@ -670,10 +801,16 @@ static inline void vest_firmware_init(vest_firmware_t* fw, uint32_t now_ms)
   fw->reply_version = (uint8_t)VEST_PROTOCOL_VERSION;
 }
 
-/* 1 when the PC speaks version 3 (RANGE and BUTTONS are sent to it), else 0. */
+/* 1 when the PC speaks version 3 or later (RANGE and BUTTONS are sent to it), else 0. */
 static inline int vest_firmware_peer_v3(const vest_firmware_t* fw)
 {
   return fw->peer_version >= 3u;
+}
+
+/* VERSION of the RANGE / BUTTONS packets: the PC's (3 or ours; the layout is the same). */
+static inline uint8_t vest_firmware_sensor_version(const vest_firmware_t* fw)
+{
+  return fw->peer_version >= VEST_PROTOCOL_VERSION ? (uint8_t)VEST_PROTOCOL_VERSION : fw->peer_version;
 }
 
 static inline void vest_firmware_all_off(vest_firmware_t* fw)
@@ -684,7 +821,37 @@ static inline void vest_firmware_all_off(vest_firmware_t* fw)
   fw->motors = 0u;
 }
 
-/* Fills a STATUS with what the outputs do now. */
+/* Sets the outputs from the last COMMAND and its pattern at now_ms (all off without a valid
+ * COMMAND). Returns 1 when an output changed. */
+static inline int vest_firmware_render(vest_firmware_t* fw, uint32_t now_ms)
+{
+  uint8_t i, d, motors = 0u, changed = 0u;
+  uint32_t t, len;
+  int on = 0;
+  if (fw->have_command && !fw->pattern_over)
+  {
+    t = (uint32_t)(now_ms - fw->pattern_start_ms);
+    len = vest_pattern_length_ms(&fw->pattern);
+    /* A counted pattern, once over, stays over (t would wrap after 49.7 days and replay it). */
+    if (len != VEST_NEVER && t >= len)
+      fw->pattern_over = 1u;
+    else
+      on = vest_pattern_on(&fw->pattern, t);
+  }
+  for (i = 0; i < VEST_NUM_MOTORS; ++i)
+  {
+    d = on ? fw->cmd_duty[i] : (uint8_t)0u;
+    if (d != fw->duty[i])
+      changed = 1u;
+    fw->duty[i] = d;
+    if (d > 0u)
+      motors = (uint8_t)(motors | (1u << i));
+  }
+  fw->motors = motors;
+  return changed;
+}
+
+/* Fills a STATUS with what the outputs do now and the pattern playing. */
 static inline void vest_firmware_status(const vest_firmware_t* fw, vest_packet_t* status)
 {
   uint8_t i;
@@ -694,13 +861,17 @@ static inline void vest_firmware_status(const vest_firmware_t* fw, vest_packet_t
   for (i = 0; i < VEST_NUM_MOTORS; ++i)
     status->intensity[i] = fw->duty[i];
   status->ttl_ms = 0u;
+  status->pattern = fw->pattern;
 }
 
-/* Feeds one received byte. Returns VEST_FEED_APPLIED when a valid COMMAND (version 2 or 3) was
- * applied, and VEST_FEED_VERSION_REPLY when a CRC-valid frame of a version we do not speak ended
- * (counted in parser.version_mismatch; nothing applied); in both cases *status holds the STATUS
- * packet to send back, in version fw->reply_version (the COMMAND's; ours in a version reply, so
- * that peer learns it). STATUS packets and anything invalid are ignored (VEST_FEED_NONE). */
+/* Feeds one received byte. Returns VEST_FEED_APPLIED when a valid COMMAND (version 2, 3 or 4)
+ * was applied, and VEST_FEED_VERSION_REPLY when a CRC-valid frame of a version we do not speak
+ * ended (counted in parser.version_mismatch; nothing applied); in both cases *status holds the
+ * STATUS packet to send back, in version fw->reply_version (the COMMAND's; ours in a version
+ * reply, so that peer learns it). STATUS packets and anything invalid are ignored
+ * (VEST_FEED_NONE).
+ * A COMMAND carrying the pattern that plays continues it (phase from its start); another
+ * pattern starts at phase 0 now. A version-2 / 3 COMMAND has no pattern bytes: steady. */
 static inline int vest_firmware_feed(vest_firmware_t* fw, uint8_t byte, uint32_t now_ms,
                                      vest_packet_t* status)
 {
@@ -721,30 +892,36 @@ static inline int vest_firmware_feed(vest_firmware_t* fw, uint8_t byte, uint32_t
   p = m.packet;
   fw->peer_version = m.version;
   fw->reply_version = m.version;
-  fw->motors = 0u;
-  for (i = 0; i < VEST_NUM_MOTORS; ++i)
+  if (!fw->have_pattern || !vest_pattern_equal(&p.pattern, &fw->pattern))
   {
-    fw->duty[i] = vest_motor_duty(&p, i);
-    if (fw->duty[i] > 0u)
-      fw->motors = (uint8_t)(fw->motors | (1u << i));
+    fw->pattern = p.pattern;
+    fw->pattern_start_ms = now_ms;
+    fw->have_pattern = 1u;
+    fw->pattern_over = 0u;
+    fw->pattern_starts++;
   }
+  for (i = 0; i < VEST_NUM_MOTORS; ++i)
+    fw->cmd_duty[i] = vest_motor_duty(&p, i);
   fw->last_seq = p.seq;
   fw->have_command = 1u;
   fw->last_command_ms = now_ms;
   fw->hold_ms = p.ttl_ms < VEST_WATCHDOG_MS ? p.ttl_ms : (uint16_t)VEST_WATCHDOG_MS;
+  vest_firmware_render(fw, now_ms);
   vest_firmware_status(fw, status);
   return VEST_FEED_APPLIED;
 }
 
 /* One ping of the ranger (vest_classify_ping's result). Returns 1 when *out holds a RANGE to
- * send (3 pings in and the PC speaks version 3), else 0. */
+ * send (3 pings in and the PC speaks version 3 or later; encode it in
+ * vest_firmware_sensor_version), else 0. */
 static inline int vest_firmware_range(vest_firmware_t* fw, uint8_t ping, uint16_t mm, vest_range_t* out)
 {
   return vest_ranger_ping(&fw->ranger, ping, mm, out) && vest_firmware_peer_v3(fw);
 }
 
 /* Reads the two buttons (1 = down) at now_ms. Returns 1 when *out holds a BUTTONS to send (a
- * press, a change of HELD, or the heartbeat is due, and the PC speaks version 3), else 0. */
+ * press, a change of HELD, or the heartbeat is due, and the PC speaks version 3 or later;
+ * encode it in vest_firmware_sensor_version), else 0. */
 static inline int vest_firmware_buttons(vest_firmware_t* fw, uint8_t a_down, uint8_t b_down, uint32_t now_ms,
                                         vest_buttons_t* out)
 {
@@ -779,9 +956,11 @@ static inline int vest_firmware_buttons(vest_firmware_t* fw, uint8_t a_down, uin
   return 1;
 }
 
-/* TTL and watchdog; call every loop. Returns VEST_TICK_EXPIRED / VEST_TICK_WATCHDOG when it
+/* TTL, watchdog and the pattern's pulses; call every loop (the pulse edges are then as exact as
+ * millis(): a millisecond on the ATmega, whatever the serial link does). Returns VEST_TICK_EXPIRED / VEST_TICK_WATCHDOG when it
  * just switched the motors off (the command's TTL ran out / no COMMAND for VEST_WATCHDOG_MS),
- * else VEST_TICK_NONE. Unsigned subtraction keeps it right across the millis() wrap (49.7 days). */
+ * VEST_TICK_PULSE when the pattern switched an output, else VEST_TICK_NONE. Unsigned
+ * subtraction keeps it right across the millis() wrap (49.7 days). */
 static inline int vest_firmware_tick(vest_firmware_t* fw, uint32_t now_ms)
 {
   if (fw->have_command && (uint32_t)(now_ms - fw->last_command_ms) > fw->hold_ms)
@@ -796,7 +975,28 @@ static inline int vest_firmware_tick(vest_firmware_t* fw, uint32_t now_ms)
     fw->timeouts++;
     return VEST_TICK_WATCHDOG;
   }
+  if (fw->have_command && vest_firmware_render(fw, now_ms))
+    return VEST_TICK_PULSE;
   return VEST_TICK_NONE;
+}
+
+/* ms from now_ms until vest_firmware_tick may change the outputs by itself (a pulse edge, the
+ * TTL or the watchdog; possibly earlier, never later); VEST_NEVER when nothing is due. The
+ * simulated vest sleeps this long at most; the sketch just ticks every loop. */
+static inline uint32_t vest_firmware_next_change_ms(const vest_firmware_t* fw, uint32_t now_ms)
+{
+  uint32_t since, due, edge;
+  if (!fw->have_command)
+    return VEST_NEVER;
+  since = (uint32_t)(now_ms - fw->last_command_ms);
+  due = since > fw->hold_ms ? 0u : (uint32_t)fw->hold_ms + 1u - since;  /* off at hold_ms + 1 */
+  if (!fw->pattern_over)
+  {
+    edge = vest_pattern_next_edge_ms(&fw->pattern, (uint32_t)(now_ms - fw->pattern_start_ms));
+    if (edge < due)
+      due = edge;
+  }
+  return due;
 }
 
 #ifdef __cplusplus
