@@ -321,7 +321,10 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
         if (cue.received)
         {
           ++r.cue_modes[size_t(std::min(4, std::max(0, cue.mode)))];
-          if (cue.pattern_id != playing.pattern_id || cue.pattern_id == 0) playing_since = t;
+          // the vest restarts a pattern when any of its bytes changes (vest_protocol.h, version 4)
+          if (cue.pattern_id != playing.pattern_id || cue.pulse_on_ms != playing.pulse_on_ms ||
+              cue.pulse_off_ms != playing.pulse_off_ms || cue.pulse_count != playing.pulse_count)
+            playing_since = t;
           playing = cue;
         }
         else
