@@ -134,9 +134,11 @@ INSTANTIATE_TEST_SUITE_P(Seeds, Generated,
 
 TEST(WorldGenerator, KindsAndErrors)
 {
-  EXPECT_EQ(WorldGenerator::kinds().size(), 5u);
+  EXPECT_EQ(WorldGenerator::kinds().size(), 7u);
   EXPECT_THROW(WorldGenerator(1, "castle"), std::invalid_argument);
+  // Without a kind the seed picks one of the first five (home and shop only by name).
   EXPECT_EQ(WorldGenerator(3).kind(), WorldGenerator::kinds()[3 % 5]);
+  for (uint32_t s = 0; s < 14; ++s) EXPECT_EQ(WorldGenerator(s).kind(), WorldGenerator::kinds()[s % 5]);
   // Different seeds give different worlds.
   EXPECT_NE(WorldGenerator(1, "office").generate().yaml, WorldGenerator(2, "office").generate().yaml);
 }

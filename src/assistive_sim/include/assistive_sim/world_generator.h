@@ -1,8 +1,10 @@
 #pragma once
-// Random world generator: layouts nobody tuned for (office, lobby, corridor, hall, street), with
-// furniture, materials from bare to rich, and a collision-free walk, written as world YAML text in
-// the format of README.md "World files" and checked by the world parser. Deterministic per seed
-// (std::mt19937 seeded with the seed; no clock). ROS-free.
+// Random world generator: layouts nobody tuned for (office, lobby, corridor, hall, street, home,
+// shop), with furniture, materials from bare to rich, and a collision-free walk, written as world
+// YAML text in the format of README.md "World files" and checked by the world parser. Ordinary
+// passages (issue 33): the doorways the walk uses are 0.80-0.90 m clear, halls and aisles
+// 1.2-1.5 m, objects left in them leave 0.80-0.95 m. Deterministic per seed (std::mt19937 seeded
+// with the seed; no clock). ROS-free.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -28,12 +30,14 @@ public:
   /// The layout kinds, in the order `--kind` lists them.
   static const std::vector<std::string>& kinds();
 
-  /// `kind` empty: chosen by the seed. Throws std::invalid_argument for an unknown kind.
+  /// `kind` empty: chosen by the seed among the first five kinds (`kinds()[seed % 5]`, as before
+  /// `home` and `shop` existed). Throws std::invalid_argument for an unknown kind.
   /// `people` > 0 adds that many people whose walks cross the generated walk (README
   /// "generate_world"); 0 gives the same bytes as before people existed.
   WorldGenerator(uint32_t seed, const std::string& kind = "", int people = 0);
 
-  /// Build the world. Throws std::runtime_error if no clear walk was found (not seen for seeds 1-20).
+  /// Build the world. Throws std::runtime_error if no clear walk was found (not seen for seeds
+  /// 1-20 of any kind, nor seeds 1001-1030 of home and shop).
   GeneratedWorld generate() const;
 
   const std::string& kind() const { return kind_; }
