@@ -124,7 +124,7 @@ public:
   /// `walked`: the walk may pass through these doorways (a lane through each one's middle).
   void wall(double x0, double y0, double x1, double y1, double h, const std::string& mat,
             const std::vector<std::pair<double, double>>& doors = {}, double door_h = 2.1, double keep = -1.0,
-            bool walked = false)
+            bool walked = false, const std::string& what = "doorway")
   {
     std::ostringstream e;
     e << "{type: wall, from: " << pt(x0, y0) << ", to: " << pt(x1, y1) << ", height: " << num(h)
@@ -145,6 +145,7 @@ public:
     {
       const double cx = x0 + (x1 - x0) * d.first / len, cy = y0 + (y1 - y0) * d.first / len;
       keep_.push_back({cx, cy, keep < 0 ? 1.4 + d.second / 2 : keep, false});
+      passage(what, cx, cy, (x1 - x0) / len, (y1 - y0) / len, d.second);
       if (!walked) continue;
       const double nx = -(y1 - y0) / len, ny = (x1 - x0) / len;  // the wall's normal
       lane(cx - nx * DOOR_LANE, cy - ny * DOOR_LANE, cx + nx * DOOR_LANE, cy + ny * DOOR_LANE);
@@ -152,6 +153,10 @@ public:
     }
   }
   void raw(const std::string& e) { elems_.push_back(e); }
+  void passage(const std::string& what, double cx, double cy, double ux, double uy, double width)
+  {
+    passages_.push_back({what, Eigen::Vector2d(cx, cy), Eigen::Vector2d(ux, uy), width});
+  }
   /// A lane: the walk may follow the segment through a passage narrower than PLAN_CLEAR allows.
   void lane(double x0, double y0, double x1, double y1) { lanes_.push_back({x0, y0, x1, y1}); }
   /// Lanes along a polyline.
@@ -401,6 +406,7 @@ public:
   std::vector<Rect> rects_;                   // furniture footprints placed by rectFits (home, shop)
   std::vector<std::array<double, 5>> doors_;  // doorways the walk may use: centre x, y, normal x, y, width
   std::vector<CourseGoal> course_;            // the course's goals in order (empty: random goals)
+  std::vector<GeneratedPassage> passages_;    // what GeneratedWorld::passages reports
   double end_approach_ = 3.0;                 // m, the walk's last leg runs this far straight at the end wall
   std::vector<Item> items_, keep_;
   double lo_x_ = 0, lo_y_ = 0, hi_x_ = 1, hi_y_ = 1;
@@ -446,17 +452,28 @@ void office(Builder& b)
     const double at = b.U(lo, hi), drawn = b.U(1.3, 1.5);
     return std::make_pair(std::make_pair(at, DOOR_MIN + (drawn - 1.3) / 0.2 * (DOOR_MAX - DOOR_MIN)), 1.4 + drawn / 2);
   };
+  // The draws keep their order (the partition's doorway and material, then the side room's), the
+  // walls are written after: a side wall ending in the partition's doorway (0.44 m left clear in
+  // office seed 12) moves that doorway clear of its end.
   const double px = L * b.U(0.4, 0.6);
+  auto d1 = door(1.3, W - 1.3);
+  const std::string m1 = b.wallMat();
+  const bool side = b.P(0.6);
+  double py = 0.0;
+  std::pair<std::pair<double, double>, double> d2;
+  std::string m2;
+  if (side)
   {
-    const auto d = door(1.3, W - 1.3);
-    b.wall(px, 0, px, W, H, b.wallMat(), {d.first}, 2.1, d.second, true);
+    py = W * b.U(0.45, 0.6);
+    d2 = door(1.3, px - 1.3);
+    m2 = b.wallMat();
+    double& at = d1.first.first;
+    const double w = d1.first.second, need = w / 2 + 0.075 + 0.1;  // past the side wall's face, 0.1 m to spare
+    if (std::abs(at - py) < need) at = at > py ? (py + need + w / 2 <= W - 0.6 ? py + need : py - need)
+                                                : (py - need - w / 2 >= 0.6 ? py - need : py + need);
   }
-  if (b.P(0.6))
-  {
-    const double py = W * b.U(0.45, 0.6);
-    const auto d = door(1.3, px - 1.3);
-    b.wall(0, py, px, py, H, b.wallMat(), {d.first}, 2.1, d.second, true);
-  }
+  b.wall(px, 0, px, W, H, m1, {d1.first}, 2.1, d1.second, true);
+  if (side) b.wall(0, py, px, py, H, m2, {d2.first}, 2.1, d2.second, true);
   for (int i = b.I(2, 4); i > 0; --i) b.table(false);
   for (int i = b.I(2, 4); i > 0; --i) b.box(0.5, 1.9);
   b.table(true);
@@ -597,9 +614,9 @@ void street(Builder& b)
 /// An object left in a straight passage along x (a hall, an aisle) whose clear space is
 /// [x_lo, x_hi] x [y_lo, y_hi]: `kinds` names what it may be ({name, along x, across, height}).
 /// It stands against one side or a little off it and leaves a gap of GAP_MIN..GAP_MAX on the
-/// other; along the side it stands by it keeps `avoid_r` from every doorway in that side
-/// (`avoid_low`: x of the doorways in the y_lo side, `avoid_high`: the y_hi side; a doorway
-/// across the passage from it opens onto the gap). Returns the passage's lane from lane_x0 to
+/// other, clear of the doorways off the passage (`avoid_low`: x of the doorways in the y_lo side,
+/// `avoid_high`: the y_hi side): `avoid_r` from those on its own side, and none across the gap
+/// from it (the gap is between it and a wall). Returns the passage's lane from lane_x0 to
 /// lane_x1: its middle line, jogging to the gap's middle past the object (straight: no object).
 std::vector<std::pair<double, double>> leftInPassage(Builder& b, double x_lo, double x_hi, double y_lo, double y_hi,
                                                      const std::vector<std::array<double, 4>>& kinds,
@@ -621,6 +638,7 @@ std::vector<std::pair<double, double>> leftInPassage(Builder& b, double x_lo, do
     const double x = b.U(xa, xb);
     bool ok = true;
     for (double a : low_side ? avoid_low : avoid_high) ok = ok && std::abs(x - a) >= avoid_r + along / 2;
+    for (double a : low_side ? avoid_high : avoid_low) ok = ok && std::abs(x - a) >= DOOR_MAX / 2 + 0.05 + along / 2;
     if (!ok) continue;
     const double y0 = low_side ? y_lo + off : y_hi - off - across;
     const Rect r{x - along / 2, y0, x + along / 2, y0 + across};
@@ -629,6 +647,7 @@ std::vector<std::pair<double, double>> leftInPassage(Builder& b, double x_lo, do
             names[k] + " left in the passage: " + num(across) + " m of its " + num(width) + " m, a gap of " + num(gap) +
                 " m");
     if (placed) *placed = r;
+    b.passage("gap", x, yg, 0, 1, gap);
     // The jog to the gap's middle ends 0.45 m before the object (its corner stays 0.45 m off the lane).
     return {{lane_x0, yc}, {r.x0 - 1.2, yc}, {r.x0 - 0.45, yg}, {r.x1 + 0.45, yg}, {r.x1 + 1.2, yc}, {lane_x1, yc}};
   }
@@ -696,6 +715,17 @@ void home(Builder& b)
                                {0.55, 0.4, 0.5, 0}},
                               {"a chair", "a box", "a laundry basket"}, {d1, d2}, {d3}, 0.3 + DOOR_MAX / 2, 0.0, he);
   b.lanes(hall_lane);
+  // The hall's width where nothing opens off it and nothing stands in it.
+  for (double x = 0.5; x < he - 0.5; x += 0.05)
+  {
+    bool clear = true;
+    for (const auto& d : {std::make_pair(d1, w1), std::make_pair(d2, w2), std::make_pair(d3, w3)})
+      clear = clear && std::abs(x - d.first) > d.second / 2 + 0.1;
+    for (const Rect& r : b.rects_) clear = clear && (x < r.x0 - 0.1 || x > r.x1 + 0.1);
+    if (!clear) continue;
+    b.passage("hall", x, hy, 0, 1, hw);
+    break;
+  }
 
   const Rect sw{t2, t2, sx - t2, ys - t2}, se{sx + t2, t2, he - t2, ys - t2}, liv{t2, yn + t2, he - t2, W - t2},
       kit{he + t2, t2, L - t2, W - t2};
@@ -775,6 +805,7 @@ void home(Builder& b)
       b.boxAt(r, 0.9, b.furnMat(), "a kitchen island, an aisle of " + num(aisle) + " m from the counter");
       const double ya = north ? counter.y0 - aisle / 2 : counter.y1 + aisle / 2;
       b.lane(r.x0 - 0.7, ya, r.x1 + 0.7, ya);
+      b.passage("aisle", r.cx(), ya, 0, 1, aisle);
       island = true;
     }
   }
@@ -829,7 +860,7 @@ void shop(Builder& b)
   b.wall(0, 0, L, 0, H, b.wallMat());
   b.wall(0, W, L, W, H, b.wallMat());
   const double entrance = b.U(1.5, W - 1.5), entrance_w = b.U(1.8, 2.4);
-  b.wall(0, 0, 0, W, H, b.wallMat(), {{entrance, entrance_w}}, 2.3, 1.8);  // the entrance (not walked)
+  b.wall(0, 0, 0, W, H, b.wallMat(), {{entrance, entrance_w}}, 2.3, 1.8, false, "entrance");  // not walked
   b.wall(L, 0, L, W, H, "plainwall");
   b.end_x0_ = L, b.end_y0_ = 0, b.end_x1_ = L, b.end_y1_ = W, b.end_nx_ = -1, b.end_ny_ = 0;
   const double x0 = fz, x1 = fz + rl;
@@ -892,6 +923,14 @@ void shop(Builder& b)
     b.lanes(lane);
   }
   if (cross) b.lane(xm, 0.5 * (ya.front() + yb.front()), xm, 0.5 * (ya.back() + yb.back()));
+  for (size_t i = 0; i < aisle.size(); ++i)  // each aisle's width where nothing stands in it
+    for (double x = x0 + 0.3; x < x1 - 0.3; x += 0.05)
+      if ((!cross || std::abs(x - xm) > cw / 2 + 0.1) && (left[i].x1 <= 0 || x < left[i].x0 - 0.1 || x > left[i].x1 + 0.1))
+      {
+        b.passage("aisle", x, 0.5 * (ya[i] + yb[i]), 0, 1, aisle[i]);
+        break;
+      }
+  if (cross) b.passage("aisle", xm, 0.5 * (ya[0] + yb[0]) + 0.5 * aisle[0] + 0.5 * gd[0], 1, 0, cw);
   // Checkouts in the front area, a stack of boxes in the back aisle.
   const Rect front{t2, t2, fz - 0.3, W - t2}, back{x1 + 0.3, t2, L - t2, W - t2};
   for (int i = b.I(1, 2); i > 0; --i)
@@ -1401,6 +1440,7 @@ GeneratedWorld WorldGenerator::generate() const
       g.elements = static_cast<int>(b.elems_.size());
       g.walk_length = len;
       g.people = static_cast<int>(g.world.people.size());
+      g.passages = b.passages_;
       return g;
     }
   }

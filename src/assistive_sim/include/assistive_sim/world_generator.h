@@ -13,6 +13,17 @@
 
 namespace assistive_sim
 {
+/// A passage the generator made narrow on purpose (issue 33), as drawn: a `doorway` (any opening
+/// in a wall; `entrance` for a shop's wide one), a `hall` or an `aisle`, or the `gap` an object
+/// left in a hall or an aisle leaves. Its clear width is measured from `center` along +-`across`.
+struct GeneratedPassage
+{
+  std::string what;
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  Eigen::Vector2d across = Eigen::Vector2d::UnitX();  ///< unit vector across the passage
+  double width = 0.0;                                 ///< m, clear width as drawn
+};
+
 /// One generated world: its YAML text and the same text parsed.
 struct GeneratedWorld
 {
@@ -22,6 +33,7 @@ struct GeneratedWorld
   int elements = 0;          ///< entries of `elements:`
   double walk_length = 0.0;  ///< m, length of the waypoint polyline
   int people = 0;            ///< entries of `people:` (fewer than asked when no clear crossing was found)
+  std::vector<GeneratedPassage> passages;  ///< the doorways, halls, aisles and gaps it made
 };
 
 class WorldGenerator
