@@ -1,7 +1,9 @@
 // mobility_trials: a simulated wearer walks a world's course closed loop (issue 19, seed 5.4-5.5).
 //   rosrun assistive_sim mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S]
 //       [--plot FILE.png] [--no-cues] [--reaction S] [--turn-rate DEG_S]
-// Prints one row per trial, a summary table, and as the last line the JSON keys of SPEC.md.
+//   rosrun assistive_sim mobility_trials --generated N [--kind K[,K...]] [--seed-base B] [--keep DIR] [...]
+// Prints one row per trial (per world for a generated set), a summary table, and as the last line
+// the JSON keys of SPEC.md (for a set: means over the worlds and `_worst` variants).
 #include <netinet/in.h>
 #include <signal.h>
 #include <sys/socket.h>
@@ -11,6 +13,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
+#include <sstream>
 #include <thread>
 
 #include <cmath>
@@ -26,6 +30,7 @@
 
 #include <assistive_sim/ros_chain.h>
 #include <assistive_sim/trials.h>
+#include <assistive_sim/world_generator.h>
 
 using namespace assistive_sim;
 
@@ -34,6 +39,7 @@ namespace
 void usage(std::ostream& os = std::cerr)
 {
   os << "usage: mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S] [--plot FILE.png]\n"
+        "       mobility_trials --generated N [--kind K[,K...]] [--seed-base B] [--keep DIR] [the same options]\n"
         "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--turn-on DEG]\n"
         "                       [--body-half-width M] [--chord-min M] (planner: free_ahead strip, heading chord; truth)\n"
         "                       [--timeout-factor X] (a trial ends unfinished after X x the guide's time + 20 s; 4)\n"
@@ -47,7 +53,12 @@ void usage(std::ostream& os = std::cerr)
         "  cane: the cane-only walker. --no-cues removes the cue stage (the vest stays silent).\n"
         "  vision: the renderer and the whole pipeline.launch in one nodelet manager (a private roscore and\n"
         "          roslaunch assistive_sim mobility_vision.launch per trial), lock-stepped on simulated time.\n"
-        "  Heat map: --plot (default mobility_<world>_<mode>.png in the current folder).\n";
+        "  Heat map: --plot (default mobility_<world>_<mode>.png in the current folder).\n"
+        "  --generated N: score a generated set instead of one world: N worlds (generate_world seeds B .. B+N-1,\n"
+        "          --seed-base B, default 1001; --kind K or K1,K2,... cycled over the seeds, default: the seed\n"
+        "          chooses as generate_world does), --trials per world; one row per world, then the set's mean\n"
+        "          and worst world. Heat maps PREFIX_<world>.png (PREFIX: --plot without .png, default\n"
+        "          mobility_generated_<kind>_<mode>); --keep DIR keeps the world files (default: a temporary folder).\n";
 }
 
 std::string worldsDir()
@@ -129,13 +140,284 @@ std::string num(double v, int prec = 3)
   std::snprintf(b, sizeof(b), "%.*f", prec, v);
   return b;
 }
+
+/// The private roscore of a vision run (one for all its trials and worlds).
+struct VisionContext
+{
+  pid_t core = -1;
+  std::string log_dir;
+};
+
+bool startVision(VisionContext& vc)
+{
+  const int port = freePort();
+  const std::string uri = "http://localhost:" + std::to_string(port);
+  setenv("ROS_MASTER_URI", uri.c_str(), 1);
+  char tmpl[] = "/tmp/mobility_vision_XXXXXX";
+  vc.log_dir = mkdtemp(tmpl) ? tmpl : "/tmp";
+  vc.core = spawn({ "roscore", "-p", std::to_string(port) }, vc.log_dir + "/roscore.log");
+  int rargc = 1;
+  char name[] = "mobility_trials";
+  char* rargv[] = { name, nullptr };
+  ros::init(rargc, rargv, "mobility_trials", ros::init_options::NoSigintHandler);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (!ros::master::check() && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  if (!ros::master::check())
+  {
+    std::cerr << "mobility_trials: the private roscore did not come up (" << vc.log_dir << "/roscore.log)\n";
+    stopChild(vc.core);
+    return false;
+  }
+  ros::start();
+  std::cerr << "mobility_trials: vision mode, master " << uri << ", logs in " << vc.log_dir << "\n";
+  return true;
+}
+
+void stopVision(VisionContext& vc)
+{
+  if (vc.core <= 0) return;
+  ros::shutdown();
+  stopChild(vc.core);
+  vc.core = -1;
+}
+
+/// The trials of one world (seeds 1000 seed + k). `rows`: print one row per trial on stdout;
+/// `label`: what the progress bar on stderr names. False when a vision trial could not run.
+/// --timelines PREFIX: one cue timeline per trial (PREFIX<world>_<k>.png); who the wearers were.
+std::string g_timelines, g_wearers = "population";
+
+bool runWorld(const World& world, const std::string& world_arg, const TrialOptions& opt, int trials, long seed,
+              VisionContext& vc, bool rows, const std::string& label, std::vector<TrialResult>& res)
+{
+  const bool tty = isatty(2);
+  for (int k = 0; k < trials; ++k)
+  {
+    const uint32_t s = uint32_t(seed * 1000 + k);
+    if (opt.mode == TrialMode::VISION)
+    {
+      const std::string log = vc.log_dir + "/trial" + std::to_string(k) + ".log";
+      RosChain::Options ro;
+      ro.kind = RosChain::VISION;
+      ro.eye_height = world.trajectory.eye_height;
+      // A fresh chain per trial: its t = 0 is at start_time + warmup_s of simulated time; the
+      // renderer puts the people where they are on the trial's clock.
+      const pid_t launch = spawn({ "roslaunch", "assistive_sim", "mobility_vision.launch", "world:=" + world_arg,
+                                   "people_time_origin:=" + num(ro.start_time + ro.warmup_s, 6) },
+                                 log);
+      ros::NodeHandle nh;
+      RosChain chain(nh, world, ro);
+      // the pipeline is up when the cue logic publishes and the renderer listens for poses
+      const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+      while (std::chrono::steady_clock::now() < until &&
+             !(topicPublished("/tactile/cue") && topicPublished("/planner/state") && topicPublished("/stereo/left/image_rect")))
+        std::this_thread::sleep_for(std::chrono::milliseconds(250));
+      std::this_thread::sleep_for(std::chrono::seconds(3));  // subscriptions connect, nodelets finish loading
+      ros::spinOnce();
+      try
+      {
+        res.push_back(runTrial(world, opt, s, k, &chain));
+      }
+      catch (const std::exception& e)
+      {
+        std::cerr << "mobility_trials: trial " << k << ": " << e.what() << "\n";
+        stopChild(launch);
+        return false;
+      }
+      stopChild(launch);
+    }
+    else
+      res.push_back(runTrial(world, opt, s, k));
+    const TrialResult& r = res.back();
+    if (!g_timelines.empty())
+    {
+      char t[200];
+      std::snprintf(t, sizeof(t), "%s trial %d: speed %.2f m/s, reaction %.2f s, turn gain %.2f, %d levels%s", world.name.c_str(),
+                    k, r.wearer.walk_speed, r.wearer.reaction_s, r.wearer.turn_gain, r.wearer.intensity_levels,
+                    r.completed ? "" : ", NOT completed");
+      cv::imwrite(g_timelines + world.name + "_" + std::to_string(k) + ".png", timelinePlot(r, t));
+    }
+    if (rows)
+    {
+      std::printf("%-5d %-7u %-9s %-8.1f %-8.1f %-6.0f %-5d %d/%-6d %-6d %-7d %-7d %-9.2f\n", k, s,
+                  r.completed ? "yes" : "NO", r.time_s, r.guide_time_s, r.ppws_pct, r.totalCollisions(), r.collisions[0],
+                  r.collisions[1], r.collisions[2], r.collisions[3], r.collisions[size_t(ObstacleKind::PERSON)],
+                  r.mean_clearance_m);
+      std::fflush(stdout);
+    }
+    const int w = 30, done = (k + 1) * w / trials;
+    std::fprintf(stderr, "%s%s[%s%s] %d/%d trials", tty ? "\r" : "", label.c_str(), std::string(size_t(done), '#').c_str(),
+                 std::string(size_t(w - done), '.').c_str(), k + 1, trials);
+    if (!tty || k + 1 == trials) std::fprintf(stderr, "\n");
+  }
+  return true;
+}
+
+/// The figures of a set of trials (one world's).
+struct Summary
+{
+  double n = 0, coll = 0, worst = 0, comp = 0, ppws = 0, nppws = 0, clear = 0, tmean = 0;
+  std::array<double, size_t(ObstacleKind::NUM_KINDS)> kinds{};
+  std::array<double, 5> modes{};
+  std::vector<double> lat;
+  long missed = 0;
+  double people_closest = 0;
+  double ppws_worst = NAN;  ///< the worst trial's PPWS (0 = not completed)
+  double unsure_max = NAN;  ///< metres walked after a scripted UNSURE began, most of any trial
+
+  explicit Summary(const std::vector<TrialResult>& res)
+  {
+    n = double(res.size());
+    for (const TrialResult& r : res)
+    {
+      const double p = r.completed ? r.ppws_pct : 0.0;
+      ppws_worst = std::isnan(ppws_worst) ? p : std::min(ppws_worst, p);
+      if (std::isfinite(r.unsure_walked_m))
+        unsure_max = std::isnan(unsure_max) ? r.unsure_walked_m : std::max(unsure_max, r.unsure_walked_m);
+      coll += r.totalCollisions();
+      worst = std::max(worst, double(r.totalCollisions()));
+      comp += r.completed;
+      if (r.completed)
+      {
+        ppws += r.ppws_pct;
+        tmean += r.time_s;
+        ++nppws;
+      }
+      clear += r.mean_clearance_m;
+      for (size_t i = 0; i < kinds.size(); ++i) kinds[i] += r.collisions[i];
+      for (size_t i = 0; i < modes.size(); ++i) modes[i] += r.cue_modes[i];
+      lat.insert(lat.end(), r.latency_ms.begin(), r.latency_ms.end());
+      missed += r.missed_cues;
+      people_closest += r.min_person_clearance_m;
+    }
+    std::sort(lat.begin(), lat.end());
+  }
+  double cycles() const { return std::accumulate(modes.begin(), modes.end(), 0.0); }
+  double collisionsPerTrial() const { return coll / n; }
+  double completion() const { return comp / n; }
+  double ppwsMean() const { return nppws ? ppws / nppws : NAN; }  ///< over the completed trials
+  double timeMean() const { return nppws ? tmean / nppws : NAN; }
+  double clearance() const { return clear / n; }
+  double unsurePct() const { return cycles() > 0 ? 100 * modes[4] / cycles() : NAN; }
+  double latency(double q) const
+  {
+    if (lat.empty()) return double(NAN);
+    return lat[std::min(lat.size() - 1, size_t(std::floor(q * double(lat.size() - 1) + 0.5)))];
+  }
+};
+
+/// One world's report: the summary table and the JSON line of SPEC.md (issue 19).
+void reportWorld(const World& world, const std::string& mode, const std::string& label, bool cues, int trials, long seed,
+                 const Summary& S, const std::string& plot, bool wrote)
+{
+  const double n = S.n;
+  std::printf("\nmobility_trials %s, mode %s, %d trials (seed %ld)\n", world.name.c_str(), label.c_str(), trials, seed);
+  std::printf("  completion           %.0f %%\n", 100.0 * S.comp / n);
+  const double people_coll = S.kinds[size_t(ObstacleKind::PERSON)] / n;
+  std::printf("  collisions / trial   %.2f (worst trial %.0f): wall %.2f, overhang %.2f, glass %.2f, furniture %.2f, "
+              "people %.2f\n",
+              S.coll / n, S.worst, S.kinds[0] / n, S.kinds[1] / n, S.kinds[2] / n, S.kinds[3] / n, people_coll);
+  if (!world.people.empty())
+    std::printf("  people               %zu scripted (they do not react to the wearer); closest approach %.2f m "
+                "(body surfaces, mean over trials)\n",
+                world.people.size(), S.people_closest / n);
+  std::printf("  time to completion   %s s (mean of completed), PPWS %s %% (sighted guide = 100)\n",
+              num(S.timeMean(), 1).c_str(), num(S.ppwsMean(), 1).c_str());
+  std::printf("  mean clearance       %.2f m (body surface to the nearest obstacle)\n", S.clear / n);
+  std::printf("  wearers              %s; PPWS of the worst trial %s %% (0 = not completed)\n", g_wearers.c_str(),
+              num(S.ppws_worst, 1).c_str());
+  if (std::isfinite(S.unsure_max))
+    std::printf("  UNSURE episode       walked at most %.2f m after it began\n", S.unsure_max);
+  const double cycles = S.cycles();
+  if (cycles > 0)
+    std::printf("  cues                 idle %.0f %%, guidance %.0f %%, proximity %.0f %%, alert %.0f %%, unsure %.0f %%\n",
+                100 * S.modes[0] / cycles, 100 * S.modes[1] / cycles, 100 * S.modes[2] / cycles, 100 * S.modes[3] / cycles,
+                100 * S.modes[4] / cycles);
+  const double lat_med = S.latency(0.5), lat_p99 = S.latency(0.99);
+  if (S.lat.empty())
+    std::printf("  latency              n/a in %s mode (no camera pipeline)\n", mode.c_str());
+  else
+    std::printf("  latency              image -> /tactile/cue (wall clock; the vest bridge is not in pipeline.launch): "
+                "median %.1f ms, p99 %.1f ms over %zu frames; %ld frames without their cue\n",
+                lat_med, lat_p99, S.lat.size(), S.missed);
+  std::printf("  heat map             %s%s\n", plot.c_str(), wrote ? "" : " (could not write)");
+  std::printf("{\"world\": \"%s\", \"mode\": \"%s\", \"cues\": %s, \"trials\": %d, \"collisions_per_trial\": %s, "
+              "\"collisions_worst\": %.0f, \"completion_rate\": %s, \"time_s_mean\": %s, \"ppws_pct\": %s, "
+              "\"mean_clearance_m\": %s, \"latency_ms_median\": %s, \"latency_ms_p99\": %s, "
+              "\"wall_collisions_per_trial\": %s, \"overhang_collisions_per_trial\": %s, "
+              "\"glass_collisions_per_trial\": %s, \"furniture_collisions_per_trial\": %s, \"people_collisions_per_trial\": %s, "
+              "\"unsure_cue_pct\": %s, \"frames_without_cue\": %ld, \"ppws_pct_worst\": %s, \"unsure_walked_m_max\": %s, "
+              "\"wearers\": \"%s\"}\n",
+              world.name.c_str(), mode.c_str(), cues ? "true" : "false", trials, num(S.coll / n).c_str(), S.worst,
+              num(S.comp / n).c_str(), num(S.timeMean(), 2).c_str(), num(S.ppwsMean(), 1).c_str(), num(S.clear / n).c_str(),
+              num(lat_med, 1).c_str(), num(lat_p99, 1).c_str(), num(S.kinds[0] / n).c_str(), num(S.kinds[1] / n).c_str(),
+              num(S.kinds[2] / n).c_str(), num(S.kinds[3] / n).c_str(), num(people_coll).c_str(),
+              cycles > 0 ? num(100 * S.modes[4] / cycles, 1).c_str() : "null", S.missed, num(S.ppws_worst, 1).c_str(),
+              num(S.unsure_max, 3).c_str(), g_wearers.c_str());
+}
+
+/// One world of a generated set.
+struct SetWorld
+{
+  std::string name, kind;
+  uint32_t seed = 0;
+  double walk_m = 0, gen_s = 0, trials_s = 0;
+  std::vector<TrialResult> res;
+};
+
+/// Mean and worst over the worlds of one figure (worlds where it is NaN are left out).
+struct SetFigure
+{
+  double mean = NAN, worst = NAN;
+  std::string worst_world;
+  int worlds = 0;
+};
+SetFigure overWorlds(const std::vector<SetWorld>& set, const std::vector<double>& v, bool higher_is_worse)
+{
+  SetFigure f;
+  double sum = 0;
+  for (size_t i = 0; i < v.size(); ++i)
+  {
+    if (!std::isfinite(v[i])) continue;
+    sum += v[i];
+    ++f.worlds;
+    if (!std::isfinite(f.worst) || (higher_is_worse ? v[i] > f.worst : v[i] < f.worst))
+    {
+      f.worst = v[i];
+      f.worst_world = set[i].name;
+    }
+  }
+  if (f.worlds) f.mean = sum / f.worlds;
+  return f;
+}
+
+std::string jsonStr(const std::string& s)
+{
+  std::string o = "\"";
+  for (char c : s)
+  {
+    if (c == '"' || c == '\\') o += '\\';
+    o += c;
+  }
+  return o + "\"";
+}
+
+std::vector<std::string> splitComma(const std::string& s)
+{
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
 }  // namespace
 
 int main(int argc, char** argv)
 {
-  std::string world_arg, mode = "truth", plot, timelines;
-  int trials = 20;
-  long seed = 1;
+  std::string world_arg, mode = "truth", plot, kind_arg, keep_dir;
+  int trials = 20, generated = 0;
+  long seed = 1, seed_base = 1001;
   TrialOptions opt;
   for (int i = 1; i < argc; ++i)
   {
@@ -152,6 +434,10 @@ int main(int argc, char** argv)
     try
     {
       if (a == "--world") world_arg = val();
+      else if (a == "--generated") generated = std::stoi(val());
+      else if (a == "--kind") kind_arg = val();
+      else if (a == "--seed-base") seed_base = std::stol(val());
+      else if (a == "--keep") keep_dir = val();
       else if (a == "--trials") trials = std::stoi(val());
       else if (a == "--mode") mode = val();
       else if (a == "--seed") seed = std::stol(val());
@@ -209,7 +495,7 @@ int main(int argc, char** argv)
       }
       else if (a == "--unsure-at") opt.unsure_at_s = std::stod(val());
       else if (a == "--unsure-for") opt.unsure_for_s = std::stod(val());
-      else if (a == "--timelines") timelines = val();
+      else if (a == "--timelines") g_timelines = val();
       else if (a == "-h" || a == "--help")
       {
         usage(std::cout);
@@ -228,11 +514,27 @@ int main(int argc, char** argv)
       return 2;
     }
   }
-  if (world_arg.empty() || trials < 1)
+  const bool set_mode = generated > 0;
+  if (trials < 1 || generated < 0 || (world_arg.empty() == !set_mode) || seed_base < 0 ||
+      seed_base + generated - 1 > 0xffffffffL)
   {
+    if (!world_arg.empty() && set_mode) std::cerr << "mobility_trials: --world and --generated exclude each other\n";
     usage();
     return 2;
   }
+  if (!set_mode && (!kind_arg.empty() || !keep_dir.empty()))
+  {
+    std::cerr << "mobility_trials: --kind and --keep go with --generated\n";
+    return 2;
+  }
+  const std::vector<std::string> kinds = splitComma(kind_arg);
+  for (const std::string& k : kinds)
+    if (std::find(WorldGenerator::kinds().begin(), WorldGenerator::kinds().end(), k) == WorldGenerator::kinds().end())
+    {
+      std::cerr << "mobility_trials: unknown --kind " << k << "\n";
+      return 2;
+    }
+  g_wearers = !opt.population ? "typical" : opt.slowest_decile ? "slowest_decile" : "population";
   if (mode == "truth") opt.mode = TrialMode::TRUTH;
   else if (mode == "cane") opt.mode = TrialMode::CANE;
   else if (mode == "vision") opt.mode = TrialMode::VISION;
@@ -241,206 +543,204 @@ int main(int argc, char** argv)
     std::cerr << "mobility_trials: --mode must be truth, cane or vision\n";
     return 2;
   }
-  World world;
-  try
-  {
-    world = World::load(resolveWorldPath(world_arg, worldsDir()));
-  }
-  catch (const std::exception& e)
-  {
-    std::cerr << "mobility_trials: " << e.what() << "\n";
-    return 2;
-  }
-  opt.wearer.eye_height = world.trajectory.eye_height;
-  opt.wearer.walk_speed = world.trajectory.speed;  // the typical wearer's; a drawn one walks at its own
   const std::string label = mode + (opt.cues_enabled ? "" : " (no cues)");
 
-  std::vector<TrialResult> res;
-  const bool tty = isatty(2);
-  std::printf("%-5s %-7s %-9s %-8s %-8s %-6s %-5s %-8s %-6s %-7s %-7s %-9s\n", "trial", "seed", "completed", "time_s",
-              "guide_s", "ppws", "coll", "wall/ovh", "glass", "furn", "people", "clear_m");
-  // vision: a private roscore for the run, a fresh pipeline (roslaunch) for each trial
-  pid_t core = -1;
-  std::string vision_log_dir;
-  if (opt.mode == TrialMode::VISION)
+  if (!set_mode)
   {
-    const int port = freePort();
-    const std::string uri = "http://localhost:" + std::to_string(port);
-    setenv("ROS_MASTER_URI", uri.c_str(), 1);
-    char tmpl[] = "/tmp/mobility_vision_XXXXXX";
-    vision_log_dir = mkdtemp(tmpl) ? tmpl : "/tmp";
-    core = spawn({ "roscore", "-p", std::to_string(port) }, vision_log_dir + "/roscore.log");
-    int rargc = 1;
-    char name[] = "mobility_trials";
-    char* rargv[] = { name, nullptr };
-    ros::init(rargc, rargv, "mobility_trials", ros::init_options::NoSigintHandler);
-    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    while (!ros::master::check() && std::chrono::steady_clock::now() < until)
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    if (!ros::master::check())
+    World world;
+    try
     {
-      std::cerr << "mobility_trials: the private roscore did not come up (" << vision_log_dir << "/roscore.log)\n";
-      stopChild(core);
+      world = World::load(resolveWorldPath(world_arg, worldsDir()));
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "mobility_trials: " << e.what() << "\n";
+      return 2;
+    }
+    opt.wearer.eye_height = world.trajectory.eye_height;
+    opt.wearer.walk_speed = world.trajectory.speed;
+    std::vector<TrialResult> res;
+    std::printf("%-5s %-7s %-9s %-8s %-8s %-6s %-5s %-8s %-6s %-7s %-7s %-9s\n", "trial", "seed", "completed", "time_s",
+                "guide_s", "ppws", "coll", "wall/ovh", "glass", "furn", "people", "clear_m");
+    // vision: a private roscore for the run, a fresh pipeline (roslaunch) for each trial
+    VisionContext vc;
+    if (opt.mode == TrialMode::VISION && !startVision(vc)) return 1;
+    const bool ok = runWorld(world, world_arg, opt, trials, seed, vc, true, "", res);
+    stopVision(vc);
+    if (!ok) return 1;
+    const Summary S(res);
+    if (plot.empty()) plot = "mobility_" + world.name + "_" + mode + (opt.cues_enabled ? "" : "_nocues") + ".png";
+    const cv::Mat img = heatMap(world, res, opt.dt,
+                                world.name + ": " + label + ", " + std::to_string(trials) + " trials, " +
+                                    num(S.coll / S.n, 2) + " collisions/trial");
+    const bool wrote = cv::imwrite(plot, img);
+    reportWorld(world, mode, label, opt.cues_enabled, trials, seed, S, plot, wrote);
+    return 0;
+  }
+
+  // ---- a generated set: worlds seeds seed_base .. seed_base + generated - 1
+  const std::string kind_label = kinds.empty() ? "any" : kind_arg;
+  std::string prefix = plot;
+  if (prefix.size() > 4 && prefix.compare(prefix.size() - 4, 4, ".png") == 0) prefix.resize(prefix.size() - 4);
+  if (prefix.empty())
+  {
+    std::string kl = kinds.empty() ? "any" : kind_arg;
+    std::replace(kl.begin(), kl.end(), ',', '-');
+    prefix = "mobility_generated_" + kl + "_" + mode + (opt.cues_enabled ? "" : "_nocues");
+  }
+  // The world files: the vision chain's renderer loads them; kept with --keep.
+  std::string dir = keep_dir;
+  if (dir.empty())
+  {
+    char tmpl[] = "/tmp/mobility_generated_XXXXXX";
+    if (!mkdtemp(tmpl))
+    {
+      std::cerr << "mobility_trials: cannot create a temporary folder\n";
       return 1;
     }
-    ros::start();
-    std::cerr << "mobility_trials: vision mode, master " << uri << ", logs in " << vision_log_dir << "\n";
+    dir = tmpl;
   }
-  for (int k = 0; k < trials; ++k)
+  else
+    mkdir(dir.c_str(), 0755);
+  VisionContext vc;
+  if (opt.mode == TrialMode::VISION && !startVision(vc)) return 1;
+  std::printf("%-22s %-8s %-6s %-7s %-5s %-9s %-6s %-5s %-6s %-7s %-7s %-7s\n", "world", "kind", "walk_m", "trials",
+              "done", "coll/tr", "worst", "wall", "furn", "ppws", "clear_m", "time_s");
+  std::vector<SetWorld> set;
+  int failed = 0;
+  double gen_total = 0, trials_total = 0;
+  const auto wall_start = std::chrono::steady_clock::now();
+  for (int i = 0; i < generated; ++i)
   {
-    const uint32_t s = uint32_t(seed * 1000 + k);
-    if (opt.mode == TrialMode::VISION)
+    SetWorld sw;
+    sw.seed = uint32_t(seed_base + i);
+    const std::string kind = kinds.empty() ? "" : kinds[size_t(i) % kinds.size()];
+    const auto t0 = std::chrono::steady_clock::now();
+    GeneratedWorld g;
+    try
     {
-      const std::string log = vision_log_dir + "/trial" + std::to_string(k) + ".log";
-      RosChain::Options ro;
-      ro.kind = RosChain::VISION;
-      ro.eye_height = world.trajectory.eye_height;
-      // A fresh chain per trial: its t = 0 is at start_time + warmup_s of simulated time; the
-      // renderer puts the people where they are on the trial's clock.
-      const pid_t launch = spawn({ "roslaunch", "assistive_sim", "mobility_vision.launch", "world:=" + world_arg,
-                                   "people_time_origin:=" + num(ro.start_time + ro.warmup_s, 6) },
-                                 log);
-      ros::NodeHandle nh;
-      RosChain chain(nh, world, ro);
-      // the pipeline is up when the cue logic publishes and the renderer listens for poses
-      const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-      while (std::chrono::steady_clock::now() < until &&
-             !(topicPublished("/tactile/cue") && topicPublished("/planner/state") && topicPublished("/stereo/left/image_rect")))
-        std::this_thread::sleep_for(std::chrono::milliseconds(250));
-      std::this_thread::sleep_for(std::chrono::seconds(3));  // subscriptions connect, nodelets finish loading
-      ros::spinOnce();
-      try
-      {
-        res.push_back(runTrial(world, opt, s, k, &chain));
-      }
-      catch (const std::exception& e)
-      {
-        std::cerr << "mobility_trials: trial " << k << ": " << e.what() << "\n";
-        stopChild(launch);
-        stopChild(core);
-        return 1;
-      }
-      stopChild(launch);
+      g = WorldGenerator(sw.seed, kind).generate();
     }
-    else
-      res.push_back(runTrial(world, opt, s, k));
-    const TrialResult& r = res.back();
-    if (!timelines.empty())
+    catch (const std::exception& e)
     {
-      char t[160];
-      std::snprintf(t, sizeof(t), "%s trial %d: speed %.2f m/s, reaction %.2f s, turn gain %.2f, %d levels%s", world.name.c_str(),
-                    k, r.wearer.walk_speed, r.wearer.reaction_s, r.wearer.turn_gain, r.wearer.intensity_levels,
-                    r.completed ? "" : ", NOT completed");
-      cv::imwrite(timelines + std::to_string(k) + ".png", timelinePlot(r, t));
+      std::cerr << "mobility_trials: world " << i + 1 << "/" << generated << " (seed " << sw.seed << "): " << e.what() << "\n";
+      std::printf("%-22s %-8s generation failed\n", ("seed " + std::to_string(sw.seed)).c_str(),
+                  kind.empty() ? "-" : kind.c_str());
+      ++failed;
+      continue;
     }
-    std::printf("%-5d %-7u %-9s %-8.1f %-8.1f %-6.0f %-5d %d/%-6d %-6d %-7d %-7d %-9.2f\n", k, s,
-                r.completed ? "yes" : "NO", r.time_s, r.guide_time_s, r.ppws_pct, r.totalCollisions(), r.collisions[0],
-                r.collisions[1], r.collisions[2], r.collisions[3], r.collisions[size_t(ObstacleKind::PERSON)],
-                r.mean_clearance_m);
+    const std::string path = dir + "/" + g.world.name + ".yaml";
+    {
+      std::ofstream f(path, std::ios::binary);
+      f << g.yaml;
+    }
+    sw.gen_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    gen_total += sw.gen_s;
+    sw.name = g.world.name;
+    sw.kind = g.kind;
+    sw.walk_m = g.walk_length;
+    std::cerr << "[mobility_trials] world " << i + 1 << "/" << generated << " " << sw.name << ": generated in "
+              << num(sw.gen_s, 2) << " s, walk " << num(sw.walk_m, 1) << " m, " << g.world.trajectory.waypoints.size()
+              << " places; " << path << "\n";
+    TrialOptions wo = opt;
+    wo.wearer.eye_height = g.world.trajectory.eye_height;
+    wo.wearer.walk_speed = g.world.trajectory.speed;
+    const auto t1 = std::chrono::steady_clock::now();
+    const std::string bar = "[mobility_trials] world " + std::to_string(i + 1) + "/" + std::to_string(generated) + " ";
+    if (!runWorld(g.world, path, wo, trials, seed, vc, false, bar, sw.res))
+    {
+      stopVision(vc);
+      return 1;
+    }
+    sw.trials_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    trials_total += sw.trials_s;
+    const Summary S(sw.res);
+    const std::string png = prefix + "_" + sw.name + ".png";
+    const cv::Mat img = heatMap(g.world, sw.res, wo.dt,
+                                sw.name + ": " + label + ", " + std::to_string(trials) + " trials, " +
+                                    num(S.collisionsPerTrial(), 2) + " collisions/trial");
+    if (!cv::imwrite(png, img)) std::cerr << "mobility_trials: could not write " << png << "\n";
+    std::printf("%-22s %-8s %-6.1f %-7d %-5.0f %-9.2f %-6.0f %-5.2f %-6.2f %-7s %-7.2f %-7.1f\n", sw.name.c_str(),
+                sw.kind.c_str(), sw.walk_m, trials, S.comp, S.collisionsPerTrial(), S.worst, S.kinds[0] / S.n,
+                S.kinds[3] / S.n, num(S.ppwsMean(), 1).c_str(), S.clearance(), sw.gen_s + sw.trials_s);
     std::fflush(stdout);
-    const int w = 30, done = (k + 1) * w / trials;
-    std::fprintf(stderr, "%s[%s%s] %d/%d trials", tty ? "\r" : "", std::string(size_t(done), '#').c_str(),
-                 std::string(size_t(w - done), '.').c_str(), k + 1, trials);
-    if (!tty || k + 1 == trials) std::fprintf(stderr, "\n");
+    set.push_back(std::move(sw));
   }
-  const double n = double(res.size());
-  double coll = 0, comp = 0, ppws = 0, nppws = 0, clear = 0, tmean = 0, worst = 0, ppws_worst = NAN, unsure_max = NAN;
-  for (const TrialResult& r : res)
+  stopVision(vc);
+  if (keep_dir.empty())
   {
-    const double p = r.completed ? r.ppws_pct : 0.0;
-    ppws_worst = std::isnan(ppws_worst) ? p : std::min(ppws_worst, p);
-    if (std::isfinite(r.unsure_walked_m)) unsure_max = std::isnan(unsure_max) ? r.unsure_walked_m : std::max(unsure_max, r.unsure_walked_m);
+    for (const SetWorld& sw : set) std::remove((dir + "/" + sw.name + ".yaml").c_str());
+    rmdir(dir.c_str());
   }
-  std::array<double, size_t(ObstacleKind::NUM_KINDS)> kinds{};
-  std::array<double, 5> modes{};
-  for (const TrialResult& r : res)
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  if (set.empty())
   {
-    coll += r.totalCollisions();
-    worst = std::max(worst, double(r.totalCollisions()));
-    comp += r.completed;
-    if (r.completed)
-    {
-      ppws += r.ppws_pct;
-      tmean += r.time_s;
-      ++nppws;
-    }
-    clear += r.mean_clearance_m;
-    for (size_t i = 0; i < kinds.size(); ++i) kinds[i] += r.collisions[i];
-    for (size_t i = 0; i < modes.size(); ++i) modes[i] += r.cue_modes[i];
+    std::cerr << "mobility_trials: no world of the set could be generated\n";
+    return 1;
   }
-  const double cycles = std::accumulate(modes.begin(), modes.end(), 0.0);
-  std::vector<double> lat;
-  long missed = 0;
-  for (const TrialResult& r : res)
+  // Per world figures, then mean and worst over the worlds.
+  std::vector<double> coll, comp, ppws, clear, kinds_pw[size_t(ObstacleKind::NUM_KINDS)];
+  std::vector<TrialResult> all;
+  int never = 0;
+  for (const SetWorld& sw : set)
   {
-    lat.insert(lat.end(), r.latency_ms.begin(), r.latency_ms.end());
-    missed += r.missed_cues;
+    const Summary S(sw.res);
+    coll.push_back(S.collisionsPerTrial());
+    comp.push_back(S.completion());
+    ppws.push_back(S.ppwsMean());
+    clear.push_back(S.clearance());
+    for (size_t k = 0; k < size_t(ObstacleKind::NUM_KINDS); ++k) kinds_pw[k].push_back(S.kinds[k] / S.n);
+    never += S.nppws == 0;
+    all.insert(all.end(), sw.res.begin(), sw.res.end());
   }
-  std::sort(lat.begin(), lat.end());
-  auto pct = [&](double q) {
-    if (lat.empty()) return double(NAN);
-    return lat[std::min(lat.size() - 1, size_t(std::floor(q * double(lat.size() - 1) + 0.5)))];
-  };
-  const double lat_med = pct(0.5), lat_p99 = pct(0.99);
-  if (core > 0)
-  {
-    ros::shutdown();
-    stopChild(core);
-  }
-  const double ppws_mean = nppws ? ppws / nppws : NAN, t_mean = nppws ? tmean / nppws : NAN;
-  if (plot.empty()) plot = "mobility_" + world.name + "_" + mode + (opt.cues_enabled ? "" : "_nocues") + ".png";
-  const cv::Mat img = heatMap(world, res, opt.dt,
-                              world.name + ": " + label + ", " + std::to_string(trials) + " trials, " +
-                                  num(coll / n, 2) + " collisions/trial");
-  const bool wrote = cv::imwrite(plot, img);
-
-  std::printf("\nmobility_trials %s, mode %s, %d trials (seed %ld)\n", world.name.c_str(), label.c_str(), trials, seed);
-  std::printf("  completion           %.0f %%\n", 100.0 * comp / n);
-  const double people_coll = kinds[size_t(ObstacleKind::PERSON)] / n;
-  std::printf("  collisions / trial   %.2f (worst trial %.0f): wall %.2f, overhang %.2f, glass %.2f, furniture %.2f, "
-              "people %.2f\n",
-              coll / n, worst, kinds[0] / n, kinds[1] / n, kinds[2] / n, kinds[3] / n, people_coll);
-  if (!world.people.empty())
-  {
-    double closest = 0.0;
-    for (const TrialResult& r : res) closest += r.min_person_clearance_m;
-    std::printf("  people               %zu scripted (they do not react to the wearer); closest approach %.2f m "
-                "(body surfaces, mean over trials)\n",
-                world.people.size(), closest / n);
-  }
-  std::printf("  time to completion   %s s (mean of completed), PPWS %s %% (sighted guide = 100)\n", num(t_mean, 1).c_str(),
-              num(ppws_mean, 1).c_str());
-  std::printf("  mean clearance       %.2f m (body surface to the nearest obstacle)\n", clear / n);
-  std::printf("  wearers              %s; PPWS of the worst trial %s %% (0 = not completed)\n",
-              !opt.population ? "the typical adult (--wearer typical)" :
-              opt.slowest_decile ? "the slowest-reacting 10 % of the population" : "drawn from the population",
-              num(ppws_worst, 1).c_str());
-  if (std::isfinite(unsure_max))
-    std::printf("  UNSURE episode       at %.1f s for %.1f s: walked at most %.2f m after it began\n", opt.unsure_at_s,
-                opt.unsure_for_s, unsure_max);
+  const SetFigure f_coll = overWorlds(set, coll, true), f_comp = overWorlds(set, comp, false),
+                  f_ppws = overWorlds(set, ppws, false), f_clear = overWorlds(set, clear, false);
+  const Summary A(all);  // pooled over every trial: the worst trial, time, latency, cue modes
+  std::vector<double> kind_mean(size_t(ObstacleKind::NUM_KINDS));
+  for (size_t k = 0; k < kind_mean.size(); ++k) kind_mean[k] = overWorlds(set, kinds_pw[k], true).mean;
+  const int n_worlds = int(set.size());
+  std::printf("\nmobility_trials over %d generated worlds (kind %s, seeds %ld-%ld%s), mode %s, %d trials per world "
+              "(trial seeds %ld000 + k)\n",
+              n_worlds, kind_label.c_str(), seed_base, seed_base + generated - 1,
+              failed ? (", " + std::to_string(failed) + " not generated").c_str() : "", label.c_str(), trials, seed);
+  std::printf("                       mean over worlds   worst world\n");
+  std::printf("  completion           %6.0f %%           %5.0f %% (%s)\n", 100 * f_comp.mean, 100 * f_comp.worst,
+              f_comp.worst_world.c_str());
+  std::printf("  collisions / trial   %6.2f             %5.2f (%s); worst trial %.0f\n", f_coll.mean, f_coll.worst,
+              f_coll.worst_world.c_str(), A.worst);
+  std::printf("    by kind            wall %.2f, overhang %.2f, glass %.2f, furniture %.2f, people %.2f\n", kind_mean[0],
+              kind_mean[1], kind_mean[2], kind_mean[3], kind_mean[size_t(ObstacleKind::PERSON)]);
+  std::printf("  PPWS                 %6s %%           %5s %% (%s); %d of %d worlds without a completed trial\n",
+              num(f_ppws.mean, 1).c_str(), num(f_ppws.worst, 1).c_str(), f_ppws.worlds ? f_ppws.worst_world.c_str() : "-",
+              never, n_worlds);
+  std::printf("  mean clearance       %6.2f m           %5.2f m (%s)\n", f_clear.mean, f_clear.worst,
+              f_clear.worst_world.c_str());
+  std::printf("  time to completion   %s s (mean of the completed trials)\n", num(A.timeMean(), 1).c_str());
+  const double cycles = A.cycles();
   if (cycles > 0)
     std::printf("  cues                 idle %.0f %%, guidance %.0f %%, proximity %.0f %%, alert %.0f %%, unsure %.0f %%\n",
-                100 * modes[0] / cycles, 100 * modes[1] / cycles, 100 * modes[2] / cycles, 100 * modes[3] / cycles,
-                100 * modes[4] / cycles);
-  if (lat.empty())
-    std::printf("  latency              n/a in %s mode (no camera pipeline)\n", mode.c_str());
-  else
-    std::printf("  latency              image -> /tactile/cue (wall clock; the vest bridge is not in pipeline.launch): "
-                "median %.1f ms, p99 %.1f ms over %zu frames; %ld frames without their cue\n",
-                lat_med, lat_p99, lat.size(), missed);
-  std::printf("  heat map             %s%s\n", plot.c_str(), wrote ? "" : " (could not write)");
-  std::printf("{\"world\": \"%s\", \"mode\": \"%s\", \"cues\": %s, \"trials\": %d, \"collisions_per_trial\": %s, "
-              "\"collisions_worst\": %.0f, \"completion_rate\": %s, \"time_s_mean\": %s, \"ppws_pct\": %s, "
-              "\"mean_clearance_m\": %s, \"latency_ms_median\": %s, \"latency_ms_p99\": %s, "
+                100 * A.modes[0] / cycles, 100 * A.modes[1] / cycles, 100 * A.modes[2] / cycles, 100 * A.modes[3] / cycles,
+                100 * A.modes[4] / cycles);
+  std::printf("  wall time            %.1f s: generation %.1f s, trials %.1f s\n", wall_s, gen_total, trials_total);
+  std::printf("  heat maps            %s_<world>.png\n", prefix.c_str());
+  std::printf("{\"world\": \"generated\", \"kind\": %s, \"worlds\": %d, \"worlds_failed\": %d, \"seed_base\": %ld, "
+              "\"mode\": \"%s\", \"cues\": %s, \"trials\": %d, \"trials_per_world\": %d, "
+              "\"collisions_per_trial\": %s, \"collisions_per_trial_worst\": %s, \"collisions_per_trial_worst_world\": %s, "
+              "\"collisions_worst\": %.0f, \"completion_rate\": %s, \"completion_rate_worst\": %s, "
+              "\"completion_rate_worst_world\": %s, \"time_s_mean\": %s, \"ppws_pct\": %s, \"ppws_pct_worst\": %s, "
+              "\"ppws_pct_worst_world\": %s, \"worlds_without_completion\": %d, \"mean_clearance_m\": %s, "
+              "\"mean_clearance_m_worst\": %s, \"latency_ms_median\": %s, \"latency_ms_p99\": %s, "
               "\"wall_collisions_per_trial\": %s, \"overhang_collisions_per_trial\": %s, "
               "\"glass_collisions_per_trial\": %s, \"furniture_collisions_per_trial\": %s, \"people_collisions_per_trial\": %s, "
-              "\"unsure_cue_pct\": %s, \"frames_without_cue\": %ld, \"ppws_pct_worst\": %s, \"unsure_walked_m_max\": %s, "
-              "\"wearers\": \"%s\"}\n",
-              world.name.c_str(), mode.c_str(), opt.cues_enabled ? "true" : "false", trials, num(coll / n).c_str(), worst,
-              num(comp / n).c_str(), num(t_mean, 2).c_str(), num(ppws_mean, 1).c_str(), num(clear / n).c_str(),
-              num(lat_med, 1).c_str(), num(lat_p99, 1).c_str(), num(kinds[0] / n).c_str(), num(kinds[1] / n).c_str(), num(kinds[2] / n).c_str(), num(kinds[3] / n).c_str(),
-              num(people_coll).c_str(), cycles > 0 ? num(100 * modes[4] / cycles, 1).c_str() : "null", missed,
-              num(ppws_worst, 1).c_str(), num(unsure_max, 3).c_str(),
-              !opt.population ? "typical" : opt.slowest_decile ? "slowest_decile" : "population");
+              "\"unsure_cue_pct\": %s, \"frames_without_cue\": %ld, \"generate_s\": %s, \"trials_s\": %s}\n",
+              jsonStr(kind_label).c_str(), n_worlds, failed, seed_base, mode.c_str(), opt.cues_enabled ? "true" : "false",
+              int(A.n), trials, num(f_coll.mean).c_str(), num(f_coll.worst).c_str(), jsonStr(f_coll.worst_world).c_str(),
+              A.worst, num(f_comp.mean).c_str(), num(f_comp.worst).c_str(), jsonStr(f_comp.worst_world).c_str(),
+              num(A.timeMean(), 2).c_str(), num(f_ppws.mean, 1).c_str(), num(f_ppws.worst, 1).c_str(),
+              f_ppws.worlds ? jsonStr(f_ppws.worst_world).c_str() : "null", never, num(f_clear.mean).c_str(),
+              num(f_clear.worst).c_str(), num(A.latency(0.5), 1).c_str(), num(A.latency(0.99), 1).c_str(),
+              num(kind_mean[0]).c_str(), num(kind_mean[1]).c_str(), num(kind_mean[2]).c_str(), num(kind_mean[3]).c_str(),
+              num(kind_mean[size_t(ObstacleKind::PERSON)]).c_str(), num(A.unsurePct(), 1).c_str(), A.missed,
+              num(gen_total, 2).c_str(), num(trials_total, 2).c_str());
   return 0;
 }

@@ -1,10 +1,13 @@
 // The closed loop in CI (issue 19, short version): the simulated wearer walks the glass corridor
 // on the real planner's and cue logic's cues (truth mode) without a collision and gets through;
 // with the cue stage removed from the chain (--no-cues) the same wearer collides, so this test
-// fails when the cues stop reaching the wearer. A few seconds, no roscore.
+// fails when the cues stop reaching the wearer. A few seconds, no roscore. `--generated` scores a
+// generated set: one row and one heat map per world, the set's mean and worst in the JSON line.
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <gtest/gtest.h>
@@ -53,4 +56,81 @@ TEST(MobilityTrials, UsageAndUnknownWorld)
   EXPECT_EQ(WEXITSTATUS(rc), 2);
   const int rc2 = std::system((std::string(MOBILITY_TRIALS_EXE) + " --world nosuchworld > /dev/null 2>&1").c_str());
   EXPECT_EQ(WEXITSTATUS(rc2), 2);
+}
+
+namespace
+{
+std::string slurp(const std::string& path)
+{
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+bool has(const std::string& json, const std::string& k) { return json.find("\"" + k + "\": ") != std::string::npos; }
+/// The JSON line without its wall-clock figures.
+std::string withoutTimes(std::string json)
+{
+  for (const std::string k : {"\"generate_s\": ", "\"trials_s\": "})
+  {
+    const size_t p = json.find(k);
+    if (p == std::string::npos) continue;
+    const size_t e = json.find_first_of(",}", p);
+    json.erase(p, e - p);
+  }
+  return json;
+}
+}  // namespace
+
+TEST(MobilityTrials, GeneratedSetOneRowAndHeatMapPerWorldMeanAndWorst)
+{
+  // Two small generated homes (seeds 1001, 1002), one truth trial each.
+  const std::string dir = ::testing::TempDir(), prefix = dir + "mobility_set", out = dir + "mobility_set.txt",
+                    err = dir + "mobility_set.err";
+  for (const char* w : {"gen_home_1001", "gen_home_1002"}) std::remove((prefix + "_" + w + ".png").c_str());
+  const std::string cmd = std::string(MOBILITY_TRIALS_EXE) + " --generated 2 --kind home --trials 1 --mode truth --plot " +
+                          prefix + ".png > " + out + " 2> " + err;
+  int rc = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 0) << cmd << "\n" << slurp(err);
+  const std::string text = slurp(out), json = lastLine(out);
+  // one row per world, progress on stderr
+  EXPECT_NE(text.find("\ngen_home_1001 "), std::string::npos) << text;
+  EXPECT_NE(text.find("\ngen_home_1002 "), std::string::npos) << text;
+  EXPECT_NE(slurp(err).find("world 2/2"), std::string::npos) << slurp(err);
+  // the JSON line: the single world's keys as set means, and the worst world's
+  EXPECT_EQ(key(json, "worlds"), 2.0) << json;
+  EXPECT_EQ(key(json, "seed_base"), 1001.0) << json;
+  EXPECT_EQ(key(json, "trials"), 2.0) << json;
+  EXPECT_EQ(key(json, "trials_per_world"), 1.0) << json;
+  for (const char* k : {"collisions_per_trial", "completion_rate", "ppws_pct", "mean_clearance_m", "latency_ms_p99",
+                        "wall_collisions_per_trial", "glass_collisions_per_trial", "collisions_worst",
+                        "collisions_per_trial_worst", "completion_rate_worst", "ppws_pct_worst", "worlds_without_completion",
+                        "generate_s", "trials_s"})
+    EXPECT_TRUE(has(json, k)) << k << " missing: " << json;
+  EXPECT_GE(key(json, "collisions_per_trial_worst"), key(json, "collisions_per_trial")) << json;
+  EXPECT_LE(key(json, "completion_rate_worst"), key(json, "completion_rate")) << json;
+  EXPECT_GE(key(json, "collisions_worst"), key(json, "collisions_per_trial_worst")) << json;
+  // a heat map per world next to --plot's prefix
+  for (const char* w : {"gen_home_1001", "gen_home_1002"})
+  {
+    struct stat st;
+    EXPECT_EQ(stat((prefix + "_" + w + ".png").c_str(), &st), 0) << prefix << "_" << w << ".png";
+  }
+  // the same set again: the same figures
+  rc = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 0);
+  EXPECT_EQ(withoutTimes(lastLine(out)), withoutTimes(json));
+}
+
+TEST(MobilityTrials, GeneratedSetUsageErrors)
+{
+  const std::string exe = std::string(MOBILITY_TRIALS_EXE) + " ";
+  auto code = [&](const std::string& args) {
+    const int rc = std::system((exe + args + " > /dev/null 2>&1").c_str());
+    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  };
+  EXPECT_EQ(code("--generated 2 --world glass"), 2);
+  EXPECT_EQ(code("--generated 2 --kind castle"), 2);
+  EXPECT_EQ(code("--generated -1"), 2);
+  EXPECT_EQ(code("--world glass --kind home"), 2);
 }

@@ -1,8 +1,15 @@
 // The world generator: for seeds 1-20 and every kind, the YAML parses with the world parser, the
 // walk keeps 0.3 m from every obstacle and stays on free truth cells, the truth grid matches the
 // elements, the walk contains its scripted features, and a seed gives byte-identical output.
+// Ordinary passages (issue 33): every doorway of a home or an office, measured in the parsed
+// walls, is 0.80-0.90 m clear; halls and aisles 1.2-1.5 m, the gap beside an object left in one
+// 0.80-0.95 m; a 0.5 m wide body (BodyCollider, radius 0.25 m) fits everywhere along the course's
+// polyline, which goes through several doorways of a home.
 #include <assistive_sim/motion.h>
+#include <assistive_sim/wearer.h>
 #include <assistive_sim/world_generator.h>
+
+#include <map>
 
 #include <gtest/gtest.h>
 
@@ -122,11 +129,15 @@ TEST_P(Generated, WalkHasItsFeatures)
 TEST_P(Generated, SameSeedSameBytes)
 {
   const auto [kind, seed] = GetParam();
-  EXPECT_EQ(WorldGenerator(seed, kind).generate().yaml, WorldGenerator(seed, kind).generate().yaml);
+  const GeneratedWorld a = WorldGenerator(seed, kind).generate(), b = WorldGenerator(seed, kind).generate();
+  EXPECT_EQ(a.yaml, b.yaml);
+  ASSERT_EQ(a.passages.size(), b.passages.size());
+  for (size_t i = 0; i < a.passages.size(); ++i) EXPECT_EQ(a.passages[i].center, b.passages[i].center);
 }
 
 INSTANTIATE_TEST_SUITE_P(Seeds, Generated,
-                         ::testing::Combine(::testing::Values("office", "lobby", "corridor", "hall", "street"),
+                         ::testing::Combine(::testing::Values("office", "lobby", "corridor", "hall", "street", "home",
+                                                              "shop"),
                                             ::testing::Range(1, 21)),
                          [](const auto& info) {
                            return std::get<0>(info.param) + "_" + std::to_string(std::get<1>(info.param));
@@ -134,9 +145,11 @@ INSTANTIATE_TEST_SUITE_P(Seeds, Generated,
 
 TEST(WorldGenerator, KindsAndErrors)
 {
-  EXPECT_EQ(WorldGenerator::kinds().size(), 5u);
+  EXPECT_EQ(WorldGenerator::kinds().size(), 7u);
   EXPECT_THROW(WorldGenerator(1, "castle"), std::invalid_argument);
+  // Without a kind the seed picks one of the first five (home and shop only by name).
   EXPECT_EQ(WorldGenerator(3).kind(), WorldGenerator::kinds()[3 % 5]);
+  for (uint32_t s = 0; s < 14; ++s) EXPECT_EQ(WorldGenerator(s).kind(), WorldGenerator::kinds()[s % 5]);
   // Different seeds give different worlds.
   EXPECT_NE(WorldGenerator(1, "office").generate().yaml, WorldGenerator(2, "office").generate().yaml);
 }
@@ -153,7 +166,8 @@ TEST_P(Generated, PeopleCrossTheWalkClearOfObstacles)
   EXPECT_EQ(g.yaml, WorldGenerator(seed, kind, 5).generate().yaml) << tag;
   EXPECT_EQ(plain.people, 0);
   EXPECT_TRUE(plain.world.people.empty());
-  ASSERT_GE(g.people, 3) << tag;
+  // A home's rooms are small: fewer crossings fit (home seed 4 places 2).
+  ASSERT_GE(g.people, kind == "home" ? 2 : 3) << tag;
   EXPECT_EQ(static_cast<size_t>(g.people), g.world.people.size());
   EXPECT_EQ(g.world.solids.size(), plain.world.solids.size()) << tag;
   EXPECT_EQ(g.world.trajectory.waypoints, plain.world.trajectory.waypoints) << tag;
@@ -179,3 +193,197 @@ TEST_P(Generated, PeopleCrossTheWalkClearOfObstacles)
     EXPECT_GT(nearest_solid, p.radius + 0.05) << tag << " person " << i;
   }
 }
+
+namespace
+{
+bool blocksBody(const Solid& s) { return !s.walkable && s.z1 > 0.02 && s.z0 < 2.0; }
+
+bool blocked(const World& w, const Eigen::Vector2d& q)
+{
+  for (const Solid& s : w.solids)
+    if (blocksBody(s) && s.containsXY(q.x(), q.y())) return true;
+  return false;
+}
+
+/// Free length from p along the unit vector u (up to `max`) before a solid below 2 m: 5 mm steps,
+/// then bisection to 0.01 mm.
+double freeRun(const World& w, const Eigen::Vector2d& p, const Eigen::Vector2d& u, double max = 4.0)
+{
+  for (double d = 0.005; d < max; d += 0.005)
+    if (blocked(w, p + d * u))
+    {
+      double lo = d - 0.005, hi = d;
+      while (hi - lo > 1e-5) (blocked(w, p + 0.5 * (lo + hi) * u) ? hi : lo) = 0.5 * (lo + hi);
+      return lo;
+    }
+  return max;
+}
+
+/// The world of (kind, seed), generated once for the tests that only read it.
+const GeneratedWorld& generatedOnce(const std::string& kind, int seed)
+{
+  static std::map<std::pair<std::string, int>, GeneratedWorld> cache;
+  auto it = cache.find({kind, seed});
+  if (it == cache.end()) it = cache.emplace(std::make_pair(kind, seed), WorldGenerator(seed, kind).generate()).first;
+  return it->second;
+}
+
+/// The doorways of the parsed world, measured: for each lintel (a wall's solid above an opening),
+/// the clear width across the opening, the least over the wall's thickness (its two faces and its
+/// centre line), between whatever solids stand below 2 m.
+std::vector<std::pair<Eigen::Vector2d, double>> measuredDoorways(const World& w)
+{
+  std::vector<std::pair<Eigen::Vector2d, double>> out;
+  for (const Solid& s : w.solids)
+  {
+    if (s.source.find("(wall)") == std::string::npos || s.z0 < 1.0) continue;  // a lintel
+    const Eigen::Vector2d along(std::cos(s.yaw), std::sin(s.yaw)), normal(-along.y(), along.x());
+    double clear = 1e9;
+    for (double v : {-s.half.y(), 0.0, s.half.y()})
+    {
+      const Eigen::Vector2d c = s.center + v * normal;
+      clear = std::min(clear, freeRun(w, c, along) + freeRun(w, c, -along));
+    }
+    out.push_back({s.center, clear});
+  }
+  return out;
+}
+}  // namespace
+
+class Ordinary : public ::testing::TestWithParam<std::tuple<std::string, int>>
+{
+};
+
+TEST_P(Ordinary, DoorwaysAreOrdinaryMeasuredInTheWalls)
+{
+  // Every doorway of a home or an office (an office's are the partitions' only), read back from
+  // the YAML with the parser: its clear width is 0.80-0.90 m. A shop's only opening is its entrance.
+  const auto [kind, seed] = GetParam();
+  const std::string tag = kind + " seed " + std::to_string(seed);
+  const GeneratedWorld& g = generatedOnce(kind, seed);
+  const World w = World::parse(g.yaml, tag);
+  const auto doors = measuredDoorways(w);
+  int declared = 0;
+  for (const GeneratedPassage& p : g.passages) declared += p.what == "doorway" || p.what == "entrance";
+  EXPECT_EQ(static_cast<int>(doors.size()), declared) << tag;
+  if (kind == "home")
+  {
+    EXPECT_GE(doors.size(), 5u) << tag;  // front door, three rooms, the kitchen
+  }
+  else if (kind == "office")
+  {
+    EXPECT_GE(doors.size(), 1u) << tag;
+  }
+  else
+  {
+    EXPECT_EQ(doors.size(), 1u) << tag;
+  }
+  for (const auto& d : doors)
+  {
+    if (kind == "shop") continue;
+    EXPECT_GE(d.second, 0.80 - 1e-3) << tag << " doorway at " << d.first.transpose();
+    EXPECT_LE(d.second, 0.90 + 1e-3) << tag << " doorway at " << d.first.transpose();
+  }
+}
+
+TEST_P(Ordinary, PassagesHaveTheirWidths)
+{
+  // What the generator says it made, measured in the parsed world: doorways 0.80-0.90 m, halls and
+  // aisles 1.2-1.5 m, the gap an object left in one 0.80-0.95 m (each as drawn, to 2 mm).
+  const auto [kind, seed] = GetParam();
+  const std::string tag = kind + " seed " + std::to_string(seed);
+  const GeneratedWorld& g = generatedOnce(kind, seed);
+  const World w = World::parse(g.yaml, tag);
+  int halls = 0, aisles = 0, gaps = 0;
+  for (const GeneratedPassage& p : g.passages)
+  {
+    const double measured = freeRun(w, p.center, p.across) + freeRun(w, p.center, -p.across);
+    const std::string at = tag + " " + p.what + " at " + std::to_string(p.center.x()) + ", " + std::to_string(p.center.y());
+    EXPECT_NEAR(measured, p.width, 0.002) << at;
+    if (p.what == "doorway")
+    {
+      EXPECT_GE(measured, 0.80 - 1e-3) << at;
+      EXPECT_LE(measured, 0.90 + 1e-3) << at;
+    }
+    else if (p.what == "hall" || p.what == "aisle")
+    {
+      EXPECT_GE(measured, 1.2 - 1e-3) << at;
+      EXPECT_LE(measured, 1.5 + 1e-3) << at;
+      (p.what == "hall" ? halls : aisles) += 1;
+    }
+    else if (p.what == "gap")
+    {
+      EXPECT_GE(measured, 0.80 - 1e-3) << at;
+      EXPECT_LE(measured, 0.95 + 1e-3) << at;
+      ++gaps;
+    }
+  }
+  if (kind == "home")
+  {
+    EXPECT_EQ(halls, 1) << tag;
+  }
+  if (kind == "shop")
+  {
+    EXPECT_GE(aisles, 4) << tag;  // three rows or more, and the aisles along the wall shelves
+    EXPECT_GE(gaps, 1) << tag;    // a trolley or a box in one aisle at least
+  }
+}
+
+TEST_P(Ordinary, BodyFitsAlongTheCourse)
+{
+  // The course (the script's waypoints, the places the trials' wearer is sent through): a body
+  // 0.5 m wide keeps clear of every solid at body height along its polyline (sampled every 1 cm),
+  // doorways and objects in halls and aisles included.
+  const auto [kind, seed] = GetParam();
+  const std::string tag = kind + " seed " + std::to_string(seed);
+  const World& w = generatedOnce(kind, seed).world;
+  const BodyCollider body(w, 0.25, w.trajectory.eye_height + 0.12);
+  const auto& c = w.trajectory.waypoints;
+  double least = 1e9;
+  Eigen::Vector2d where = c.front();
+  for (size_t i = 0; i + 1 < c.size(); ++i)
+  {
+    const double len = (c[i + 1] - c[i]).norm();
+    for (double t = 0.0; t <= len; t += 0.01)
+    {
+      const Eigen::Vector2d p = c[i] + (c[i + 1] - c[i]) * (t / std::max(len, 1e-9));
+      const double cl = body.clearance(p);
+      if (cl < least) least = cl, where = p;
+    }
+  }
+  EXPECT_GE(least, 0.0) << tag << " at " << where.transpose();
+}
+
+TEST_P(Ordinary, HomeCourseGoesThroughSeveralDoorways)
+{
+  // A home's course crosses at least three doorways (its rooms open off a hall), each within
+  // 0.1 m of the doorway's middle.
+  const auto [kind, seed] = GetParam();
+  if (kind != "home") GTEST_SKIP() << "homes only";
+  const std::string tag = kind + " seed " + std::to_string(seed);
+  const GeneratedWorld& g = generatedOnce(kind, seed);
+  const auto& c = g.world.trajectory.waypoints;
+  int crossings = 0;
+  for (const GeneratedPassage& d : g.passages)
+  {
+    if (d.what != "doorway") continue;
+    const Eigen::Vector2d n(-d.across.y(), d.across.x());
+    for (size_t i = 0; i + 1 < c.size(); ++i)
+    {
+      const double sa = (c[i] - d.center).dot(n), sb = (c[i + 1] - d.center).dot(n);
+      if ((sa > 0) == (sb > 0)) continue;
+      const Eigen::Vector2d x = c[i] + (c[i + 1] - c[i]) * (sa / (sa - sb));
+      const double off = std::abs((x - d.center).dot(d.across));
+      if (off > d.width / 2) continue;  // past the doorway, through the wall's line elsewhere
+      ++crossings;
+      EXPECT_LT(off, 0.1) << tag << " doorway at " << d.center.transpose();
+    }
+  }
+  EXPECT_GE(crossings, 3) << tag;
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, Ordinary,
+                         ::testing::Combine(::testing::Values("home", "shop", "office"), ::testing::Range(1, 21)),
+                         [](const auto& info) {
+                           return std::get<0>(info.param) + "_" + std::to_string(std::get<1>(info.param));
+                         });
