@@ -113,6 +113,32 @@ Cue CueLogic::startPattern(CueMode mode, Instruction ins, int level, std::array<
   return c;
 }
 
+double CueLogic::reactionEstimate() const
+{
+  return have_reaction_ ? std::clamp(reaction_est_, 0.3, 1.5) : params_.alert_reaction_s;
+}
+
+void CueLogic::observeStart(const NavInput& in, double now)
+{
+  // The wearer's reaction, read off its starts: a walk-on tick to a standing wearer, then the
+  // walk's speed rising past 0.2 m/s. That crossing comes kStartLagS after the body moves (the
+  // tick is understood when it ends, 0.1 s; a walker accelerating at about 1.2 m/s^2 shows
+  // 0.2 m/s on the planner's 0.4 s chord 0.37 s later).
+  constexpr double kStartLagS = 0.47;
+  if (start_tick_ >= 0.0 && std::isfinite(in.walking_speed) && in.walking_speed >= 0.2)
+  {
+    const double tau = now - start_tick_ - kStartLagS;
+    if (tau > 0.1 && tau < 3.0)
+    {
+      reaction_est_ = have_reaction_ ? 0.7 * reaction_est_ + 0.3 * tau : tau;
+      have_reaction_ = true;
+    }
+    start_tick_ = -1.0;
+  }
+  if (current_.instruction != Instruction::WALK_ON)
+    start_tick_ = -1.0;  // something else came before the start: not a clean sample
+}
+
 Cue CueLogic::holdPattern(std::string reason) const
 {
   Cue c = current_;
@@ -227,6 +253,7 @@ Cue CueLogic::update(const NavInput& in, double now)
     return unsureCue(old, now);
   }
 
+  observeStart(in, now);
   switch (in.status)
   {
     case NavStatus::OK:
@@ -246,7 +273,11 @@ Cue CueLogic::update(const NavInput& in, double now)
           in.waypoint_distance >= params_.guidance_min_waypoint_m &&
           std::fabs(wrapAngle(in.steer_heading - in.walk_heading)) * kRadToDeg > params_.veer_on_deg &&
           !(in.free_steer < params_.proximity_m);
-      if ((c.mode == CueMode::PROXIMITY || (c.mode == CueMode::ALERT && in.free_ahead >= hard)) && steering_away)
+      (void)hard;
+      const double learnt = params_.alert_m + v * std::min(reactionEstimate(), 0.3 + 0.5 * reactionEstimate()) +
+                            v * v / (2.0 * params_.stop_decel);
+      if ((c.mode == CueMode::PROXIMITY || (c.mode == CueMode::ALERT && in.free_ahead >= std::max(hard, learnt))) &&
+          steering_away)
       {
         waist_side_ = 0;
         c.mode = CueMode::IDLE;
@@ -368,7 +399,7 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
   const double d = in.free_ahead;
   // a walking wearer needs its reaction time's walk, and then its stop, before it stands
   const double v = std::max(0.0, std::isfinite(in.walking_speed) ? in.walking_speed : 0.0);
-  const double tau = p.alert_reaction_s;
+  const double tau = reactionEstimate();
   const double reach = v * tau + v * v / (2.0 * p.stop_decel);
   const bool alert = d < p.alert_m + reach + (was_alert ? p.hysteresis_m : 0.0);
   const bool close = d < p.proximity_m + reach + (was_close ? p.hysteresis_m : 0.0);
@@ -411,7 +442,7 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
   }
   waist_side_ = side;
   const double span = std::max(1e-6, p.proximity_m - p.alert_m);
-  const double k = clamp01((p.proximity_m - d) / span);
+  const double k = clamp01((p.proximity_m + reach - d) / span);
   const float level = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * k);
   c.mode = CueMode::PROXIMITY;
   c.intensity[side > 0 ? LEFT_WAIST : RIGHT_WAIST] = level;
@@ -424,14 +455,18 @@ Cue CueLogic::walkOn(std::string reason, double now, bool standing)
 {
   // A tick is due once tick_period_s passed since the last pattern began, and at once when the
   // last pattern was a steady one (a stop or side-step ends with "go").
-  const bool steady_running = current_.pattern.on_10ms == 0 && current_.instruction != Instruction::NONE;
-  // a standing wearer waits for "go": it comes at once after a turn, then every second
-  const bool standing_wait = standing && (current_.instruction != Instruction::WALK_ON || now - last_tick_ >= 1.0);
-  if (steady_running || standing_wait || now - last_tick_ >= params_.tick_period_s - 1e-9)
+  // "go" comes at once after anything that left the wearer standing (a stop, side-step, turn,
+  // UNSURE), then with every tick; a standing wearer gets one every second
+  const bool after_stop = current_.instruction != Instruction::WALK_ON && current_.instruction != Instruction::VEER;
+  const bool standing_wait = standing && now - last_tick_ >= 1.0;
+  if (after_stop || standing_wait || now - last_tick_ >= params_.tick_period_s - 1e-9)
   {
     const float k = static_cast<float>(params_.min_intensity + 0.5 * (1.0 - params_.min_intensity));
-    return startPattern(CueMode::IDLE, Instruction::WALK_ON, 0, { { k, k, 0.f, 0.f } }, 10, 0, 1, now,
-                        std::move(reason));
+    const bool first_go = standing && start_tick_ < 0.0;
+    Cue c = startPattern(CueMode::IDLE, Instruction::WALK_ON, 0, { { k, k, 0.f, 0.f } }, 10, 0, 1, now, std::move(reason));
+    if (first_go)
+      start_tick_ = now;  // the first "go" to a standing wearer: its start times its reaction
+    return c;
   }
   Cue c = holdPattern(std::move(reason));
   c.mode = CueMode::IDLE;
@@ -463,6 +498,7 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   const bool walking = in.walking_speed >= p.walking_speed_mps;
   const double err = wrapAngle(in.steer_heading - in.walk_heading);  // + = the steering point lies left
   const double a = std::fabs(err) * kRadToDeg;
+  bool superseding = false;  // a veer under way is overtaken: ask beyond it
   if (busy_ && busy_turn_)
   {
     // Stop and turn: the wearer turns while the buzz lasts, starting its reaction time (and the
@@ -496,17 +532,21 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
     // will be left after it is large, a new cue asks for the rest at once.
     const double remaining = busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) * std::max(0.0, turned);
     const double residual = std::fabs(wrapAngle(err - remaining)) * kRadToDeg;
-    const bool superseded = walking && residual > 2.0 * p.veer_step_deg;
+    // only further the same way: a path that flips to the other side of an obstacle (two ways
+    // round it cost the same) must not make the wearer zig-zag; that waits until the veer is done
+    const bool same_way = wrapAngle(err - remaining) * busy_angle_ > 0.0;
+    const bool superseded = walking && same_way && residual > 2.0 * p.veer_step_deg;
     if (!done && !superseded)
     {
       Cue c = holdPattern(fmt("veering (%.0f deg to go)", std::max(0.0, std::fabs(busy_angle_) - turned) * kRadToDeg));
       c.mode = CueMode::GUIDANCE;
       return c;
     }
+    superseding = !done;
   }
   // after a superseded veer the new one asks for what is left beyond the one being carried out
   double ask = err;
-  if (busy_ && !busy_turn_)
+  if (superseding)
     ask = wrapAngle(err - (busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) *
                                             std::max(0.0, wrapAngle(in.walk_heading - busy_yaw0_) *
                                                               (busy_angle_ > 0.0 ? 1.0 : -1.0))));

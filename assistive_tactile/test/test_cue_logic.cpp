@@ -1,6 +1,7 @@
 // Table-driven tests of the cue logic: every mode switch, every intensity rule, hysteresis.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -13,13 +14,19 @@ namespace
 constexpr double kDeg = M_PI / 180.0;
 const double kInf = std::numeric_limits<double>::infinity();
 
-/// On-course defaults: path straight ahead 3 m away, 5 m free ahead, 2 m free on both sides.
+/// On-course defaults: walking at the walking threshold (`walking_speed_mps`, 0.25 m/s: the stop
+/// and side-step distances grow by 0.17 m), steering point straight ahead, the path 3 m away,
+/// 5 m free ahead, 2 m free on both sides.
 NavInput base()
 {
   NavInput in;
   in.status = NavStatus::OK;
   in.heading = 0.3;
   in.path_heading = 0.3;
+  in.steer_heading = 0.3;
+  in.walk_heading = 0.3;
+  in.head_yaw = 0.3;
+  in.walking_speed = CueParams().walking_speed_mps;
   in.waypoint_distance = 3.0;
   in.free_ahead = 5.0;
   in.free_left = 2.0;
@@ -27,11 +34,18 @@ NavInput base()
   return in;
 }
 
+/// The steering point `dev_deg` off the walk (+ = left).
 NavInput turn(double dev_deg, double heading = 0.3)
 {
   NavInput in = base();
-  in.heading = heading;
-  in.path_heading = heading + dev_deg * kDeg;
+  in.heading = in.walk_heading = in.head_yaw = heading;
+  in.path_heading = in.steer_heading = heading + dev_deg * kDeg;
+  return in;
+}
+
+NavInput standing(NavInput in)
+{
+  in.walking_speed = 0.0;
   return in;
 }
 
@@ -61,15 +75,14 @@ Cue fresh(CueLogic& logic, NavInput in, double now)
   return logic.update(in, now);
 }
 
-// Default params: turn on 20, off 8, full 90 deg, min intensity 0.25, proximity 1.0, alert 0.5.
-float guidanceLevel(double dev_deg)
+// Default params: levels 0.4 / 0.7 / 1.0; stop under 0.5 m and side-step under 1.0 m plus the
+// walk during 0.6 s of reaction and the stop (v^2 / 4) at the input's speed.
+float level(int k) { return static_cast<float>(0.4 + 0.3 * (k - 1)); }
+const float kTick = 0.7f;  // the walk-on tick's drive (halfway between weakest and full)
+double reach(double v) { return v * 0.6 + v * v / 4.0; }
+float proximityLevel(double ahead, double v = CueParams().walking_speed_mps)
 {
-  const double k = std::min(1.0, (std::fabs(dev_deg) - 8.0) / (90.0 - 8.0));
-  return static_cast<float>(0.25 + 0.75 * k);
-}
-float proximityLevel(double ahead)
-{
-  return static_cast<float>(0.25 + 0.75 * (1.0 - ahead) / 0.5);
+  return static_cast<float>(0.4 + 0.6 * std::clamp((1.0 + reach(v) - ahead) / 0.5, 0.0, 1.0));
 }
 
 struct Row
@@ -93,50 +106,72 @@ void expectCue(const Cue& c, CueMode mode, const std::array<float, 4>& inten, co
   }
 }
 
+/// UNSURE's opening pattern: three quick pulses on both waist motors, nothing on the shoulders.
+void expectUnsurePattern(const Cue& c, const std::string& what)
+{
+  EXPECT_EQ(c.instruction, Instruction::UNSURE) << what;
+  EXPECT_EQ(c.intensity[LEFT_SHOULDER], 0.f) << what;
+  EXPECT_EQ(c.intensity[RIGHT_SHOULDER], 0.f) << what;
+  EXPECT_GT(c.intensity[LEFT_WAIST], 0.f) << what;
+  EXPECT_GT(c.intensity[RIGHT_WAIST], 0.f) << what;
+  EXPECT_EQ(c.pattern.count, 3) << what;
+}
+
+/// UNSURE as silence (a fresh logic) or its opening pattern (after a cue): never a shoulder.
+void expectSilentOrUnsurePattern(const Cue& c, const std::string& what)
+{
+  if (c.intensity[LEFT_WAIST] > 0.f || c.intensity[RIGHT_WAIST] > 0.f)
+    expectUnsurePattern(c, what);
+  else
+    for (float v : c.intensity)
+      EXPECT_EQ(v, 0.f) << what;
+}
+
 }  // namespace
 
-// One decision from a fresh logic (no history): which mode, which motor, how strong.
+// One decision from a fresh logic (no history): which mode, which motor, how strong, which pattern.
 TEST(CueLogic, SingleDecisionTable)
 {
   const float f = 1.f;
+  const float t = kTick;
+  const double v = CueParams().walking_speed_mps;
   const std::vector<Row> rows = {
-    { "on course", base(), CueMode::IDLE, { 0, 0, 0, 0 }, "on course" },
-    { "5 deg off: idle", turn(5), CueMode::IDLE, { 0, 0, 0, 0 }, nullptr },
-    { "just under turn_on: idle", turn(19.9), CueMode::IDLE, { 0, 0, 0, 0 }, nullptr },
-    { "path 30 deg left", turn(30), CueMode::GUIDANCE, { guidanceLevel(30), 0, 0, 0 }, "turn left 30" },
-    { "path 30 deg right", turn(-30), CueMode::GUIDANCE, { 0, guidanceLevel(30), 0, 0 }, "turn right 30" },
-    { "path 60 deg left", turn(60), CueMode::GUIDANCE, { guidanceLevel(60), 0, 0, 0 }, nullptr },
-    { "90 deg: full", turn(90), CueMode::GUIDANCE, { f, 0, 0, 0 }, nullptr },
-    { "150 deg right: clamped full", turn(-150), CueMode::GUIDANCE, { 0, f, 0, 0 }, nullptr },
-    { "wrap: 170 -> -160 is 30 left", turn(30, 170 * kDeg), CueMode::GUIDANCE, { guidanceLevel(30), 0, 0, 0 },
-      nullptr },
-    { "wrap: 179 -> -179 is 2 left", turn(2, 179 * kDeg), CueMode::IDLE, { 0, 0, 0, 0 }, nullptr },
-    { "waypoint 0.8 m: no guidance", [] { NavInput in = turn(45); in.waypoint_distance = 0.8; return in; }(),
-      CueMode::IDLE, { 0, 0, 0, 0 }, "waypoint" },
-    { "waypoint exactly 1 m: guidance", [] { NavInput in = turn(45); in.waypoint_distance = 1.0; return in; }(),
-      CueMode::GUIDANCE, { guidanceLevel(45), 0, 0, 0 }, nullptr },
+    { "on course: the walk-on tick", base(), CueMode::IDLE, { t, t, 0, 0 }, "on course" },
+    { "9 deg off: walk on", turn(9), CueMode::IDLE, { t, t, 0, 0 }, nullptr },
+    { "12 deg left: veer level 1", turn(12), CueMode::GUIDANCE, { level(1), 0, 0, 0 }, "veer left 15" },
+    { "30 deg right: veer level 2", turn(-30), CueMode::GUIDANCE, { 0, level(2), 0, 0 }, "veer right 30" },
+    { "50 deg left: veer level 3", turn(50), CueMode::GUIDANCE, { level(3), 0, 0, 0 }, "veer left 45" },
+    { "70 deg left walking: stop and turn", turn(70), CueMode::GUIDANCE, { level(2), 0, 0, 0 }, "stop, turn left 70" },
+    { "wrap: 170 -> -160 is 30 left", turn(30, 170 * kDeg), CueMode::GUIDANCE, { level(2), 0, 0, 0 }, "veer left" },
+    { "standing, 30 deg off: walk on (veer once walking)", standing(turn(30)), CueMode::IDLE, { t, t, 0, 0 }, nullptr },
+    { "standing, 40 deg right: turn on the spot", standing(turn(-40)), CueMode::GUIDANCE, { 0, level(1), 0, 0 },
+      "stop, turn right 40" },
+    { "waypoint 0.8 m: walk on", [] { NavInput in = turn(45); in.waypoint_distance = 0.8; return in; }(),
+      CueMode::IDLE, { t, t, 0, 0 }, "waypoint" },
     { "nothing ahead (inf)", [] { NavInput in = turn(30); in.free_ahead = kInf; return in; }(), CueMode::GUIDANCE,
-      { guidanceLevel(30), 0, 0, 0 }, nullptr },
-    { "free 1.0 m: not proximity", close(1.0, 2, 0.1), CueMode::IDLE, { 0, 0, 0, 0 }, nullptr },
+      { level(2), 0, 0, 0 }, nullptr },
+    { "free beyond the side-step distance", close(1.0 + reach(v) + 0.01, 2, 0.1), CueMode::IDLE, { t, t, 0, 0 }, nullptr },
     { "0.8 m, free left", close(0.8, 1.5, 0.2), CueMode::PROXIMITY, { 0, 0, proximityLevel(0.8), 0 }, "step left" },
-    { "0.8 m, free right", close(0.8, 0.2, 1.5), CueMode::PROXIMITY, { 0, 0, 0, proximityLevel(0.8) },
-      "step right" },
+    { "0.8 m, free right", close(0.8, 0.2, 1.5), CueMode::PROXIMITY, { 0, 0, 0, proximityLevel(0.8) }, "step right" },
     { "0.8 m, both free, right freer", close(0.8, 1.0, 2.0), CueMode::PROXIMITY, { 0, 0, 0, proximityLevel(0.8) },
       nullptr },
-    { "0.99 m: weakest waist cue", close(0.99, 1.0, 0.1), CueMode::PROXIMITY, { 0, 0, proximityLevel(0.99), 0 },
-      nullptr },
-    { "0.5 m: strongest waist cue", close(0.5, 1.0, 0.1), CueMode::PROXIMITY, { 0, 0, f, 0 }, nullptr },
-    { "0.8 m, nothing free: alert", close(0.8, 0.3, 0.3), CueMode::ALERT, { f, f, f, f }, "no room" },
-    { "0.45 m: alert", close(0.45, 2, 2), CueMode::ALERT, { f, f, f, f }, "stop" },
-    { "0 m: alert", close(0.0, 2, 2), CueMode::ALERT, { f, f, f, f }, nullptr },
-    { "proximity beats a path straight on",
-      [] { NavInput in = close(0.8, 1.5, 0.2); in.path_heading += 15 * kDeg; return in; }(), CueMode::PROXIMITY,
+    { "0.8 m, nothing free: stop", close(0.8, 0.3, 0.3), CueMode::ALERT, { f, f, f, f }, "no room" },
+    { "0.6 m: stop", close(0.6, 2, 2), CueMode::ALERT, { f, f, f, f }, "stop" },
+    { "0 m: stop", close(0.0, 2, 2), CueMode::ALERT, { f, f, f, f }, nullptr },
+    { "standing at 0.3 m with room: step out, not stop again", standing(close(0.3, 2, 0.2)), CueMode::PROXIMITY,
+      { 0, 0, f, 0 }, "step left" },
+    { "standing at 0.3 m, no room: stop", standing(close(0.3, 0.2, 0.2)), CueMode::ALERT, { f, f, f, f }, nullptr },
+    { "side-step beats a steering point straight on",
+      [] { NavInput in = close(0.8, 1.5, 0.2); in.steer_heading += 8 * kDeg; return in; }(), CueMode::PROXIMITY,
       { 0, 0, proximityLevel(0.8), 0 }, nullptr },
-    { "near, path turning away 40 deg: turn on the spot, not side-step",
-      [] { NavInput in = close(0.8, 1.5, 0.2); in.path_heading += 40 * kDeg; return in; }(), CueMode::GUIDANCE,
-      { guidanceLevel(40), 0, 0, 0 }, "turn left 40" },
-    { "alert beats a turn",
-      [] { NavInput in = close(0.45, 1.5, 0.2); in.path_heading += 40 * kDeg; return in; }(), CueMode::ALERT,
+    { "near, steering point 40 deg left and clear: veer, not side-step",
+      [] { NavInput in = close(0.8, 1.5, 0.2); in.steer_heading += 40 * kDeg; return in; }(), CueMode::GUIDANCE,
+      { level(3), 0, 0, 0 }, "veer left" },
+    { "steering point clear but under the side-step distance: side-step",
+      [] { NavInput in = close(0.8, 1.5, 0.2); in.steer_heading += 40 * kDeg; in.free_steer = 0.9; return in; }(),
+      CueMode::PROXIMITY, { 0, 0, proximityLevel(0.8), 0 }, nullptr },
+    { "stop beats a veer inside the no-reaction distance",
+      [] { NavInput in = close(0.45, 1.5, 0.2); in.steer_heading += 40 * kDeg; return in; }(), CueMode::ALERT,
       { f, f, f, f }, "stop" },
     { "no pose: quiet", status(NavStatus::NO_POSE, 0.3), CueMode::UNSURE, { 0, 0, 0, 0 }, "no pose" },
     { "no map: quiet", status(NavStatus::NO_MAP, 0.3), CueMode::UNSURE, { 0, 0, 0, 0 }, "no map" },
@@ -144,10 +179,10 @@ TEST(CueLogic, SingleDecisionTable)
     { "no path, far: unsure", status(NavStatus::NO_PATH, 3.0), CueMode::UNSURE, { 0, 0, 0, 0 }, "no path" },
     { "no waypoint, far: unsure", status(NavStatus::NO_WAYPOINT, 3.0), CueMode::UNSURE, { 0, 0, 0, 0 },
       "no waypoint" },
-    { "no path, 0.3 m: alert", status(NavStatus::NO_PATH, 0.3), CueMode::ALERT, { f, f, f, f }, nullptr },
+    { "no path, 0.3 m: stop", status(NavStatus::NO_PATH, 0.3), CueMode::ALERT, { f, f, f, f }, nullptr },
     { "no waypoint, 0.8 m free left: no side-step", close(0.8, 1.5, 0.1, NavStatus::NO_WAYPOINT), CueMode::UNSURE,
       { 0, 0, 0, 0 }, "no waypoint" },
-    { "no path, 0.8 m, no room: alert", close(0.8, 0.3, 0.3, NavStatus::NO_PATH), CueMode::ALERT, { f, f, f, f },
+    { "no path, 0.8 m, no room: stop", close(0.8, 0.3, 0.3, NavStatus::NO_PATH), CueMode::ALERT, { f, f, f, f },
       "no path" },
     { "NaN heading: quiet", [] { NavInput in = turn(30); in.heading = std::nan(""); return in; }(), CueMode::UNSURE,
       { 0, 0, 0, 0 }, "NaN" },
@@ -161,110 +196,118 @@ TEST(CueLogic, SingleDecisionTable)
   }
 }
 
-struct Step
-{
-  NavInput in;
-  CueMode mode;
-  int motor;  // active motor index, -1 none, 4 = all four
-};
-
-void runSequence(const char* name, const std::vector<Step>& steps)
+// The patterns the vest plays (renderCue is what the vest does with them).
+TEST(CueLogic, PatternsOfTheProtocol)
 {
   CueLogic logic;
-  double t = 0.0;
-  for (size_t i = 0; i < steps.size(); ++i)
+  const Cue tick = fresh(logic, base(), 0.0);
+  EXPECT_EQ(tick.instruction, Instruction::WALK_ON);
+  EXPECT_EQ(tick.pattern.on_10ms, 10);
+  EXPECT_EQ(tick.pattern.count, 1);
+  EXPECT_FLOAT_EQ(renderCue(tick, 0.05)[LEFT_SHOULDER], kTick);
+  EXPECT_FLOAT_EQ(renderCue(tick, 0.05)[RIGHT_SHOULDER], kTick);
+  EXPECT_FLOAT_EQ(renderCue(tick, 0.15)[LEFT_SHOULDER], 0.f);  // one 0.1 s tick
+
+  const Cue veer = fresh(logic, turn(30), 1.0);
+  EXPECT_EQ(veer.instruction, Instruction::VEER);
+  EXPECT_EQ(veer.level, 2);
+  EXPECT_NE(veer.pattern.id, tick.pattern.id);
+  for (const auto& [t, on] : { std::pair<double, bool>{ 0.0, true }, { 0.14, true }, { 0.16, false }, { 0.31, true },
+                              { 0.44, true }, { 0.46, false }, { 1.0, false } })
+    EXPECT_EQ(renderCue(veer, t)[LEFT_SHOULDER] > 0.f, on) << t;
+
+  // stop and turn: one buzz as long as the angle at 90 deg/s, plus 0.25 s to tell it from a veer
+  CueLogic stand;
+  const Cue turn90 = fresh(stand, standing(turn(-90)), 0.0);
+  EXPECT_EQ(turn90.instruction, Instruction::TURN);
+  EXPECT_EQ(turn90.pattern.on_10ms, 125);
+  EXPECT_EQ(turn90.pattern.count, 1);
+  EXPECT_GT(renderCue(turn90, 1.24)[RIGHT_SHOULDER], 0.f);
+  EXPECT_EQ(renderCue(turn90, 1.26)[RIGHT_SHOULDER], 0.f);
+
+  // UNSURE after a cue: three quick pulses on both waists, then silence; held (same id) after
+  const Cue u = fresh(logic, status(NavStatus::NO_POSE), 2.0);
+  EXPECT_EQ(u.mode, CueMode::UNSURE);
+  EXPECT_EQ(u.instruction, Instruction::UNSURE);
+  int pulses = 0;
+  bool was = false;
+  for (double t = 0.0; t < 2.0; t += 0.01)
   {
-    const Cue c = fresh(logic, steps[i].in, t += 0.1);
-    const std::string what = std::string(name) + " step " + std::to_string(i) + " (" + c.reason + ")";
-    EXPECT_EQ(std::string(modeName(c.mode)), modeName(steps[i].mode)) << what;
-    for (int m = 0; m < 4; ++m)
-    {
-      const bool on = steps[i].motor == 4 || steps[i].motor == m;
-      EXPECT_EQ(c.intensity[m] > 0.f, on) << what << " motor " << m;
-    }
+    const bool on = renderCue(u, t)[LEFT_WAIST] > 0.f && renderCue(u, t)[RIGHT_WAIST] > 0.f;
+    EXPECT_EQ(renderCue(u, t)[LEFT_SHOULDER], 0.f);
+    pulses += on && !was;
+    was = on;
   }
+  EXPECT_EQ(pulses, 3);
+  EXPECT_EQ(fresh(logic, status(NavStatus::NO_POSE), 2.1).pattern.id, u.pattern.id);
+  // and the walk-on tick ("go") at once when guidance resumes
+  const Cue go = fresh(logic, base(), 2.2);
+  EXPECT_EQ(go.instruction, Instruction::WALK_ON);
+  EXPECT_NE(go.pattern.id, u.pattern.id);
 }
 
-// Mode switches over time, including the hysteresis that keeps cues from chattering.
-TEST(CueLogic, SequenceTable)
-{
-  using M = CueMode;
-  runSequence("turn until lined up",
-              { { turn(30), M::GUIDANCE, 0 }, { turn(15), M::GUIDANCE, 0 }, { turn(9), M::GUIDANCE, 0 },
-                { turn(7), M::IDLE, -1 }, { turn(15), M::IDLE, -1 }, { turn(21), M::GUIDANCE, 0 } });
-  runSequence("noise at the turn threshold",
-              { { turn(19.5), M::IDLE, -1 }, { turn(20.5), M::GUIDANCE, 0 }, { turn(19.5), M::GUIDANCE, 0 },
-                { turn(20.5), M::GUIDANCE, 0 }, { turn(19.0), M::GUIDANCE, 0 } });
-  runSequence("overshoot a left turn",
-              { { turn(30), M::GUIDANCE, 0 }, { turn(-15), M::IDLE, -1 }, { turn(-25), M::GUIDANCE, 1 } });
-  runSequence("right turn",
-              { { turn(-45), M::GUIDANCE, 1 }, { turn(-10), M::GUIDANCE, 1 }, { turn(-5), M::IDLE, -1 } });
-  runSequence("waypoint hysteresis",
-              { { turn(45), M::GUIDANCE, 0 },
-                { [] { NavInput in = turn(45); in.waypoint_distance = 0.95; return in; }(), M::GUIDANCE, 0 },
-                { [] { NavInput in = turn(45); in.waypoint_distance = 0.85; return in; }(), M::IDLE, -1 },
-                { [] { NavInput in = turn(45); in.waypoint_distance = 0.95; return in; }(), M::IDLE, -1 } });
-  runSequence("proximity enter / leave",
-              { { close(1.05, 2, 0.1), M::IDLE, -1 }, { close(0.95, 2, 0.1), M::PROXIMITY, 2 },
-                { close(1.05, 2, 0.1), M::PROXIMITY, 2 }, { close(1.15, 2, 0.1), M::IDLE, -1 },
-                { close(1.05, 2, 0.1), M::IDLE, -1 } });
-  runSequence("alert enter / leave",
-              { { close(0.8, 2, 0.1), M::PROXIMITY, 2 }, { close(0.45, 2, 0.1), M::ALERT, 4 },
-                { close(0.55, 2, 0.1), M::ALERT, 4 }, { close(0.65, 2, 0.1), M::PROXIMITY, 2 },
-                { close(0.55, 2, 0.1), M::PROXIMITY, 2 } });
-  runSequence("waist side sticks unless the other is clearly freer",
-              { { close(0.8, 1.0, 0.9), M::PROXIMITY, 2 }, { close(0.8, 1.0, 1.1), M::PROXIMITY, 2 },
-                { close(0.8, 1.0, 1.3), M::PROXIMITY, 3 }, { close(0.8, 1.1, 1.3), M::PROXIMITY, 3 } });
-  runSequence("waist side kept down to side_free - hysteresis",
-              { { close(0.8, 0.7, 0.0), M::PROXIMITY, 2 }, { close(0.8, 0.55, 0.0), M::PROXIMITY, 2 },
-                { close(0.8, 0.45, 0.0), M::ALERT, 4 } });
-  runSequence("losing the pose silences a turn, and resets hysteresis",
-              { { turn(30), M::GUIDANCE, 0 }, { status(NavStatus::NO_POSE), M::UNSURE, -1 },
-                { turn(15), M::IDLE, -1 } });
-  runSequence("map lost during alert",
-              { { close(0.3, 1, 1), M::ALERT, 4 }, { status(NavStatus::NO_MAP, 0.3), M::UNSURE, -1 },
-                { close(0.55, 2, 0.1), M::PROXIMITY, 2 } });
-  runSequence("clear of the obstacle, then guided",
-              { { close(0.8, 2, 0.1), M::PROXIMITY, 2 },
-                { [] { NavInput in = turn(-40); in.free_ahead = 3; return in; }(), M::GUIDANCE, 1 } });
-}
-
-// The guidance cue fades as the wearer lines up (seed 5.5.3: constant buzz -> over-turning).
-TEST(CueLogic, IntensityFallsToZeroAsWearerLinesUp)
+// Over time: ticks every tick_period_s, a veer waits until carried out, a turn until the head is still.
+TEST(CueLogic, SequencesOverTime)
 {
   CueLogic logic;
-  float prev = 2.f;
-  double t = 0.0;
-  for (double dev = 120.0; dev > 8.0; dev -= 4.0)
-  {
-    const Cue c = fresh(logic, turn(dev), t += 0.05);
-    ASSERT_EQ(c.mode, CueMode::GUIDANCE) << dev;
-    EXPECT_LE(c.intensity[LEFT_SHOULDER], prev) << dev;
-    if (dev < 90.0)
-    {
-      EXPECT_LT(c.intensity[LEFT_SHOULDER], prev) << dev;
-    }
-    EXPECT_NEAR(c.intensity[LEFT_SHOULDER], guidanceLevel(dev), 1e-4) << dev;
-    prev = c.intensity[LEFT_SHOULDER];
-  }
-  EXPECT_NEAR(prev, 0.25f + 0.75f * (12.f - 8.f) / 82.f, 1e-4);
-  const Cue lined_up = fresh(logic, turn(6.0), t += 0.05);
-  EXPECT_EQ(lined_up.mode, CueMode::IDLE);
-  EXPECT_FLOAT_EQ(lined_up.intensity[LEFT_SHOULDER], 0.f);
+  const uint8_t first = fresh(logic, base(), 0.0).pattern.id;
+  for (double t = 0.1; t < 2.0 - 1e-6; t += 0.1)
+    EXPECT_EQ(fresh(logic, base(), t).pattern.id, first) << t;  // the same tick, played once
+  EXPECT_NE(fresh(logic, base(), 2.0).pattern.id, first);        // the next one
+
+  // a veer left 30: held while the walk has not turned; a new decision once it turned half and steadied
+  CueLogic v;
+  const Cue veer = fresh(v, turn(30), 0.0);
+  ASSERT_EQ(veer.instruction, Instruction::VEER);
+  EXPECT_EQ(fresh(v, turn(30), 0.5).pattern.id, veer.pattern.id);
+  EXPECT_NE(fresh(v, turn(30), 0.5).reason.find("veering"), std::string::npos);
+  NavInput half = turn(30);
+  half.walk_heading = half.head_yaw = 0.3 + 16 * kDeg;  // turned 16 deg: steady head
+  half.steer_heading = 0.3 + 30 * kDeg;
+  fresh(v, half, 1.0);
+  const Cue after = fresh(v, half, 1.5);
+  EXPECT_EQ(after.instruction, Instruction::VEER);  // 14 deg off still: the next, smaller veer
+  EXPECT_EQ(after.level, 1);
+  EXPECT_NE(after.pattern.id, veer.pattern.id);
+
+  // a corner comes into view while veering: the rest is asked at once
+  CueLogic c;
+  const Cue v1 = fresh(c, turn(15), 0.0);
+  const Cue v2 = fresh(c, turn(55), 0.1);
+  EXPECT_NE(v2.pattern.id, v1.pattern.id);
+  EXPECT_EQ(v2.level, 3);  // 55 - 15 still to come: 40 deg asked
+
+  // a turn on the spot: held until its buzz ended and the head is still, then "go"
+  CueLogic s;
+  NavInput in = standing(turn(90));
+  const Cue t0 = fresh(s, in, 0.0);
+  ASSERT_EQ(t0.instruction, Instruction::TURN);
+  EXPECT_EQ(fresh(s, in, 1.0).pattern.id, t0.pattern.id);
+  in.head_yaw = in.walk_heading = in.steer_heading;  // turned
+  EXPECT_EQ(fresh(s, in, 1.3).pattern.id, t0.pattern.id);  // the buzz ends at 1.25 s; + 0.3 s
+  EXPECT_EQ(fresh(s, in, 1.5).pattern.id, t0.pattern.id);
+  double go_at = -1.0;
+  for (double t = 1.6; t < 3.0 && go_at < 0.0; t += 0.1)
+    if (fresh(s, in, t).instruction == Instruction::WALK_ON)
+      go_at = t;
+  EXPECT_GT(go_at, 1.55);  // "go" once the head is still (turn rate under 10 deg/s)
+  EXPECT_LT(go_at, 2.5);
 }
 
-// The waist cue grows as the obstacle gets closer, up to full at the alert distance.
+// The side-step cue grows as the obstacle gets closer, up to full at the stop distance.
 TEST(CueLogic, ProximityIntensityGrowsWhenCloser)
 {
   CueLogic logic;
   float prev = 0.f;
   double t = 0.0;
-  for (double d = 0.98; d > 0.5; d -= 0.04)
+  const double v = CueParams().walking_speed_mps;
+  for (double d = 1.0 + reach(v) - 0.02; d > 0.5 + reach(v) + 0.05; d -= 0.04)
   {
     const Cue c = fresh(logic, close(d, 0.1, 2.0), t += 0.05);
     ASSERT_EQ(c.mode, CueMode::PROXIMITY) << d;
     EXPECT_GT(c.intensity[RIGHT_WAIST], prev) << d;
     EXPECT_NEAR(c.intensity[RIGHT_WAIST], proximityLevel(d), 1e-4) << d;
+    EXPECT_EQ(c.pattern.on_10ms, 0) << "steady";
     prev = c.intensity[RIGHT_WAIST];
   }
 }
@@ -282,11 +325,10 @@ TEST(CueLogic, StaleStateGoesQuiet)
   EXPECT_TRUE(logic.stale(10.6));
   const Cue c = logic.staleCue(10.6);
   EXPECT_EQ(c.mode, CueMode::UNSURE);
-  for (float v : c.intensity)
-    EXPECT_EQ(v, 0.f);
+  expectUnsurePattern(c, "stale after guidance");
   EXPECT_NE(c.reason.find("stale"), std::string::npos);
-  // After a stale period the turn must be re-entered from scratch (no hysteresis carry-over).
-  EXPECT_EQ(fresh(logic, turn(15), 11.0).mode, CueMode::IDLE);
+  // After a stale period guidance starts afresh: "go" first.
+  EXPECT_EQ(fresh(logic, turn(5), 11.0).instruction, Instruction::WALK_ON);
 }
 
 // Never guide on a guess: a state decided from a camera image older than max_input_age_s (or
@@ -322,7 +364,7 @@ TEST(CueLogic, OldInputIsUnsure)
       }
       EXPECT_EQ(c.mode, CueMode::UNSURE) << what;
       for (float v : c.intensity)
-        EXPECT_EQ(v, 0.f) << what;
+        EXPECT_EQ(v, 0.f) << what;  // a fresh logic: nothing to end, silence
       EXPECT_NE(c.reason.find(a.reason_has), std::string::npos) << what;
     }
   }
@@ -347,14 +389,15 @@ TEST(CueLogic, StatusNotOkNeverGuides)
                 fresh(logic, close(0.8, side, 2.0 - side), 99.9);
               }
               NavInput in = close(ahead, side, side, st);
-              in.path_heading = in.heading + dev * kDeg;
+              in.path_heading = in.steer_heading = in.heading + dev * kDeg;
               in.source_time = 100.0 - age;
               const Cue c = logic.update(in, 100.0);
               const std::string what = "status " + std::to_string(static_cast<int>(st)) + " ahead " +
                                        std::to_string(ahead) + " side " + std::to_string(side) + " age " +
                                        std::to_string(age) + ": " + modeName(c.mode) + " " + c.reason;
               const bool nothing_free = st == NavStatus::NO_PATH || st == NavStatus::NO_WAYPOINT;
-              const bool blocked = ahead < 0.5 || (ahead < 1.0 && side < 0.6);
+              const double r = reach(CueParams().walking_speed_mps);
+              const bool blocked = ahead < 0.5 + r || (ahead < 1.0 + r && side < 0.6);
               if (c.mode == CueMode::ALERT)
               {
                 EXPECT_TRUE(nothing_free && age <= CueParams().max_input_age_s && blocked) << what;
@@ -364,8 +407,7 @@ TEST(CueLogic, StatusNotOkNeverGuides)
               }
               EXPECT_EQ(c.mode, CueMode::UNSURE) << what;
               EXPECT_FALSE(nothing_free && age <= CueParams().max_input_age_s && blocked) << what << " (should stop the wearer)";
-              for (float v : c.intensity)
-                EXPECT_EQ(v, 0.f) << what;
+              expectSilentOrUnsurePattern(c, what);
               EXPECT_FALSE(c.reason.empty());
             }
 }
@@ -387,8 +429,7 @@ TEST(CueLogic, HeartbeatDoesNotRepeatOldGuidance)
   const Cue c = logic.staleCue(9.9 + max_age + 0.01);
   EXPECT_EQ(c.mode, CueMode::UNSURE);
   EXPECT_NE(c.reason.find("too old"), std::string::npos) << c.reason;
-  for (float v : c.intensity)
-    EXPECT_EQ(v, 0.f);
+  expectUnsurePattern(c, "heartbeat after guidance");
   // A state without a camera stamp is stale at once.
   NavInput unknown = turn(45);
   EXPECT_EQ(logic.update(unknown, 11.0).mode, CueMode::UNSURE);
@@ -406,10 +447,10 @@ NavInput crossing(NavInput in, CrossingAdvice a, double t, int id = 3)
   in.crossing_distance = 0.1;
   return in;
 }
-// Default params: crossing_near_s 1, crossing_far_s 3, min intensity 0.25.
+// Default params: crossing_near_s 1, crossing_far_s 3, min intensity 0.4.
 float crossingLevel(double t)
 {
-  return static_cast<float>(0.25 + 0.75 * std::min(1.0, std::max(0.0, (3.0 - t) / 2.0)));
+  return static_cast<float>(0.4 + 0.6 * std::min(1.0, std::max(0.0, (3.0 - t) / 2.0)));
 }
 }  // namespace
 
@@ -419,23 +460,23 @@ TEST(CueLogic, CrossingDecisionTable)
   using A = CrossingAdvice;
   const float f = 1.f;
   const std::vector<Row> rows = {
-    { "person, step right in 1.8 s", crossing(base(), A::RIGHT, 1.8), CueMode::PROXIMITY, { 0, 0, 0, 0.7f },
+    { "person, step right in 1.8 s", crossing(base(), A::RIGHT, 1.8), CueMode::PROXIMITY, { 0, 0, 0, crossingLevel(1.8) },
       "person crossing, step right 1.8 s" },
-    { "person, step left in 1.8 s", crossing(base(), A::LEFT, 1.8), CueMode::PROXIMITY, { 0, 0, 0.7f, 0 },
+    { "person, step left in 1.8 s", crossing(base(), A::LEFT, 1.8), CueMode::PROXIMITY, { 0, 0, crossingLevel(1.8), 0 },
       "person crossing, step left 1.8 s" },
-    { "3 s away: weakest", crossing(base(), A::LEFT, 3.0), CueMode::PROXIMITY, { 0, 0, 0.25f, 0 }, "3.0 s" },
+    { "3 s away: weakest", crossing(base(), A::LEFT, 3.0), CueMode::PROXIMITY, { 0, 0, crossingLevel(3.0), 0 }, "3.0 s" },
     { "2 s away", crossing(base(), A::RIGHT, 2.0), CueMode::PROXIMITY, { 0, 0, 0, crossingLevel(2.0) }, "2.0 s" },
     { "0.9 s away: full", crossing(base(), A::LEFT, 0.9), CueMode::PROXIMITY, { 0, 0, f, 0 }, "0.9 s" },
     { "stop", crossing(base(), A::STOP, 0.8), CueMode::ALERT, { f, f, f, f }, "person crossing, stop 0.8 s" },
-    { "no advice: as before", crossing(base(), A::NONE, 0.0), CueMode::IDLE, { 0, 0, 0, 0 }, "on course" },
-    { "crossing beats a turn", crossing(turn(45), A::RIGHT, 1.8), CueMode::PROXIMITY, { 0, 0, 0, 0.7f },
+    { "no advice: as before", crossing(base(), A::NONE, 0.0), CueMode::IDLE, { kTick, kTick, 0, 0 }, "on course" },
+    { "crossing beats a turn", crossing(turn(45), A::RIGHT, 1.8), CueMode::PROXIMITY, { 0, 0, 0, crossingLevel(1.8) },
       "person crossing" },
     { "crossing side beats the obstacle's side-step", crossing(close(0.8, 1.0, 1.5), A::LEFT, 1.8),
-      CueMode::PROXIMITY, { 0, 0, 0.7f, 0 }, "person crossing, step left" },
+      CueMode::PROXIMITY, { 0, 0, crossingLevel(1.8), 0 }, "person crossing, step left" },
     { "crossing stop during an obstacle side-step", crossing(close(0.8, 1.5, 0.2), A::STOP, 1.2), CueMode::ALERT,
       { f, f, f, f }, "person crossing, stop 1.2 s" },
-    { "obstacle under 0.5 m stays first", crossing(close(0.45, 2, 2), A::LEFT, 1.8), CueMode::ALERT, { f, f, f, f },
-      "obstacle 0.45 m ahead: stop" },
+    { "obstacle inside the stop distance stays first", crossing(close(0.45, 2, 2), A::LEFT, 1.8), CueMode::ALERT,
+      { f, f, f, f }, "obstacle 0.45 m ahead: stop" },
     { "obstacle, no room: stays first", crossing(close(0.8, 0.3, 0.3), A::RIGHT, 1.8), CueMode::ALERT,
       { f, f, f, f }, "no room" },
     { "obstacle under 0.5 m over a crossing stop", crossing(close(0.3, 2, 2), A::STOP, 0.5), CueMode::ALERT,
@@ -485,7 +526,8 @@ void runCrossing(const char* name, const CueParams& p, const std::vector<CrossSt
     EXPECT_EQ(std::string(modeName(c.mode)), modeName(steps[i].mode)) << what;
     for (int m = 0; m < 4; ++m)
     {
-      const bool on = steps[i].motor == 4 || steps[i].motor == m;
+      const int k = steps[i].motor;
+      const bool on = k == 4 || k == m || (k == 5 && m < 2) || (k == 6 && m >= 2);
       EXPECT_EQ(c.intensity[m] > 0.f, on) << what << " motor " << m;
     }
     if (steps[i].reason_has)
@@ -515,7 +557,7 @@ TEST(CueLogic, CrossingHoldAndRelease)
                 { 0.750, crossing(b, A::RIGHT, 1.2), M::ALERT, 4, "stop" },    // STOP held 0.125 s < 0.5 s
                 { 0.875, crossing(b, A::NONE, 0.0), M::ALERT, 4, "stop 0.8 s" },
                 { 1.000, crossing(b, A::NONE, 0.0), M::ALERT, 4, nullptr },
-                { 1.125, crossing(b, A::NONE, 0.0), M::IDLE, -1, "on course" } });  // held 0.5 s, advice gone 0.5 s
+                { 1.125, crossing(b, A::NONE, 0.0), M::IDLE, 5, "on course" } });  // held 0.5 s, advice gone 0.5 s: go
   runCrossing("the cue ends with the advice (after the hold)", p,
               { { 0.000, crossing(b, A::RIGHT, 2.8), M::PROXIMITY, RIGHT_WAIST, nullptr },
                 { 0.125, crossing(b, A::RIGHT, 2.7), M::PROXIMITY, RIGHT_WAIST, nullptr },
@@ -523,21 +565,21 @@ TEST(CueLogic, CrossingHoldAndRelease)
                 { 0.500, crossing(b, A::RIGHT, 2.3), M::PROXIMITY, RIGHT_WAIST, nullptr },
                 { 0.875, crossing(b, A::RIGHT, 1.9), M::PROXIMITY, RIGHT_WAIST, "1.9 s" },
                 { 1.000, crossing(b, A::NONE, 0.0), M::PROXIMITY, RIGHT_WAIST, "1.8 s" },  // 0.125 s < release
-                { 1.125, crossing(b, A::NONE, 0.0), M::IDLE, -1, nullptr },                // 0.25 s: ended
+                { 1.125, crossing(b, A::NONE, 0.0), M::IDLE, 5, nullptr },                 // 0.25 s: ended, go
                 { 1.250, crossing(b, A::RIGHT, 1.5), M::PROXIMITY, RIGHT_WAIST, "1.5 s" } });  // a new warning at once
   runCrossing("guidance resumes after the crossing cue", p,
-              { { 0.000, turn(45), M::GUIDANCE, LEFT_SHOULDER, "turn left" },
+              { { 0.000, turn(45), M::GUIDANCE, LEFT_SHOULDER, "veer left" },
                 { 0.125, crossing(turn(45), A::RIGHT, 2.0), M::PROXIMITY, RIGHT_WAIST, "person" },
                 { 0.250, crossing(turn(15), A::RIGHT, 1.9), M::PROXIMITY, RIGHT_WAIST, "person" },
-                { 0.750, turn(15), M::GUIDANCE, LEFT_SHOULDER, "turn left 15" } });  // the turn's hysteresis kept
+                { 0.750, turn(15), M::GUIDANCE, LEFT_SHOULDER, "veer left 15" } });
   runCrossing("losing the pose drops a held crossing cue", p,
               { { 0.000, crossing(b, A::LEFT, 2.0), M::PROXIMITY, LEFT_WAIST, nullptr },
-                { 0.125, status(NavStatus::NO_POSE), M::UNSURE, -1, "no pose" },
-                { 0.250, b, M::IDLE, -1, "on course" } });
+                { 0.125, status(NavStatus::NO_POSE), M::UNSURE, 6, "no pose" },  // the UNSURE pattern
+                { 0.250, b, M::IDLE, 5, "on course" } });
   runCrossing("no path drops a held crossing cue", p,
               { { 0.000, crossing(b, A::STOP, 0.9), M::ALERT, 4, nullptr },
-                { 0.125, crossing(status(NavStatus::NO_PATH), A::STOP, 0.8), M::UNSURE, -1, "no path" },
-                { 0.250, b, M::IDLE, -1, "on course" } });
+                { 0.125, crossing(status(NavStatus::NO_PATH), A::STOP, 0.8), M::UNSURE, 6, "no path" },
+                { 0.250, b, M::IDLE, 5, "on course" } });
 }
 
 // With the shipped defaults (hold 0.5 s, release 0.1 s) at the camera's 15 Hz: one frame without

@@ -148,6 +148,9 @@ private:
   bool steadyHeld(CueMode mode, Instruction ins, const std::array<float, NUM_MOTORS>& drive) const;
   /// An ALERT / PROXIMITY decision (mode, intensities, reason) as its steady pattern.
   Cue shapeSteady(const Cue& c, double now);
+  /// The wearer's reaction time now: learnt, clamped to [0.3, 1.5] s, or `alert_reaction_s`.
+  double reactionEstimate() const;
+  void observeStart(const NavInput& in, double now);
   /// "Clear, walk on": a tick when one is due, else the running pattern (it has ended).
   Cue walkOn(std::string reason, double now, bool standing);
   /// The crossing cue over `base` (the obstacle / guidance cue of a fresh OK state).
@@ -175,6 +178,11 @@ private:
   double busy_angle_ = 0.0;     ///< signed angle asked for (rad, + = left)
   bool busy_turn_ = false;      ///< a stop-and-turn (else a veer)
   double turn_peak_rate_ = 0.0;  ///< rad/s, the fastest head turn seen in this turn
+  /// The wearer's reaction time (s), learnt from its starts after a walk-on tick (kept across
+  /// resets: it is the wearer's, not the situation's); `alert_reaction_s` until the first.
+  double reaction_est_ = 0.0;
+  bool have_reaction_ = false;
+  double start_tick_ = -1.0;   ///< the "go" tick to a standing wearer being timed (< 0: none)
   /// The wearer's turning rate on the spot (rad/s), learnt from its turns (kept across resets:
   /// it is the wearer's, not the situation's); 90 deg/s until the first turn.
   double turn_rate_est_ = M_PI / 2.0;

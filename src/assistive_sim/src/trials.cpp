@@ -277,12 +277,22 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
     std::array<float, 4> m{ { 0.f, 0.f, 0.f, 0.f } };
     vest_pattern_t pat{ playing.pattern_id, uint8_t(std::min(255, playing.pulse_on_ms / 10)),
                         uint8_t(std::min(255, playing.pulse_off_ms / 10)), uint8_t(playing.pulse_count) };
-    if (opt.cues_enabled && vest_pattern_on(&pat, uint32_t(std::max(0.0, now - playing_since) * 1000.0 + 0.5)))
+    if (!opt.cues_enabled)
+    {
+      // the cue stage removed: the vest only ticks "walk on" by itself (a silent vest would only
+      // stop the wearer, which shows nothing): the negative control walks straight on
+      const float k = 0.7f;
+      if (std::fmod(now, opt.cues.tick_period_s) < 0.1) m = { { k, k, 0.f, 0.f } };
+      return m;
+    }
+    if (vest_pattern_on(&pat, uint32_t(std::max(0.0, now - playing_since) * 1000.0 + 0.5)))
       m = playing.motors;
     return m;
   };
   const double period = 1.0 / opt.rate_hz;
   bool unsure_started = false, unsure_done = false;
+  VestWearer::Percept last_percept = VestWearer::NOTHING;
+  VestWearer::Action last_action = VestWearer::STOPPED;
   Eigen::Vector2d unsure_from = Eigen::Vector2d::Zero();
   double next_plan = 0.0, clear_sum = 0.0;
   r.min_clearance_m = 1e9;
@@ -360,6 +370,13 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
         }
       }
       wearer.step(t, opt.dt, m, &body);
+      if (trace && (wearer.lastPercept() != last_percept || wearer.action() != last_action))
+      {
+        last_percept = wearer.lastPercept();
+        last_action = wearer.action();
+        std::fprintf(stderr, "WEARER t %.2f percept %d level %d action %d motors %.2f %.2f %.2f %.2f\n", t,
+                     int(last_percept), wearer.lastLevel(), int(last_action), m[0], m[1], m[2], m[3]);
+      }
       chain->observe(t + opt.dt, wearer.state());
     }
     else

@@ -20,54 +20,109 @@ World room(const std::string& elements, const std::string& waypoints = "[[0.5, 0
 }
 }  // namespace
 
-TEST(VestWearer, ShoulderCueTurnsByIntensityTimesDurationPlusOverturn)
+namespace
 {
-  WearerParams p;  // reaction 0.3 s, 90 deg/s at intensity 1, over-turn 0.2 s
-  for (const float intensity : { 0.5f, 1.0f })
+/// A wearer without veering and with exact turns, so the protocol's answers are exact.
+WearerParams exactWearer()
+{
+  WearerParams p;
+  p.reaction_s = 0.5;
+  p.turn_gain = 1.0;
+  p.turn_gain_sd = 0.0;
+  p.veer_sigma_deg = 0.0;
+  p.veer_bias_deg_per_m = 0.0;
+  p.intensity_levels = 4;
+  return p;
+}
+
+/// Drives a wearer with motors(t) for `seconds` at dt 0.01.
+template <class F>
+void drive(VestWearer& w, double seconds, F motors)
+{
+  for (int k = 0; k < int(std::lround(seconds / 0.01)); ++k) w.step(k * 0.01, 0.01, motors(k * 0.01), nullptr);
+}
+
+std::array<float, 4> tickAt(double t, double at) { return t >= at && t < at + 0.1 ? std::array<float, 4>{ { 0.55f, 0.55f, 0.f, 0.f } } : std::array<float, 4>{}; }
+}  // namespace
+
+TEST(VestWearer, StandsUntilTheWalkOnTickThenWalksStraight)
+{
+  VestWearer w(exactWearer(), BodyState(), 3);
+  drive(w, 2.0, [](double) { return std::array<float, 4>{}; });
+  EXPECT_EQ(w.action(), VestWearer::STOPPED);
+  EXPECT_DOUBLE_EQ(w.state().xy.norm(), 0.0);  // silence is never "walk on"
+  VestWearer s(exactWearer(), BodyState(), 3);
+  drive(s, 4.0, [](double t) { return tickAt(t, 0.0); });
+  // the tick ends at 0.1 s and is felt 0.5 s later: walking from 0.6 s (accelerating 1.2 m/s^2)
+  EXPECT_EQ(s.lastPercept(), VestWearer::WALK_ON);
+  EXPECT_DOUBLE_EQ(s.state().yaw, 0.0);
+  EXPECT_NEAR(s.state().xy.y(), 0.0, 1e-12);
+  EXPECT_NEAR(s.state().xy.x(), 0.5 * 1.1 * 1.1 / 1.2 + 1.1 * (3.4 - 1.1 / 1.2), 0.03);
+}
+
+TEST(VestWearer, AVeerBurstTurnsTheWalkByItsLevelWithoutStopping)
+{
+  // two 0.15 s pulses on the left shoulder at level 2 (0.7): veer 30 deg while walking
+  for (const auto& [drive_level, deg] : { std::pair<float, double>{ 0.4f, 15.0 }, { 0.7f, 30.0 }, { 1.0f, 45.0 } })
   {
-    VestWearer w(p, BodyState(), 7);
-    const double dt = 0.01;
-    for (int k = 0; k < 300; ++k)
-    {
-      const double t = k * dt;
-      const bool on = t < 1.0 - 1e-9;  // the left shoulder buzzes for 1 s
-      w.step(t, dt, { { on ? intensity : 0.f, 0.f, 0.f, 0.f } }, nullptr);
-    }
-    // felt from 0.3 s to 1.3 s, then turning on until 1.5 s: 1.2 s at intensity x 90 deg/s
-    EXPECT_NEAR(w.state().yaw, 1.2 * intensity * 90.0 * DEG, 1e-6) << intensity;
+    VestWearer w(exactWearer(), BodyState(), 5);
+    drive(w, 5.0, [&](double t) {
+      std::array<float, 4> m = tickAt(t, 0.0);
+      const double u = t - 2.0;
+      if (u >= 0.0 && u < 0.45 && std::fmod(u, 0.3) < 0.15) m[0] = drive_level;
+      return m;
+    });
+    EXPECT_NEAR(w.state().yaw, deg * DEG, 1e-6) << drive_level;  // the second pulse belongs to the same cue
+    EXPECT_NEAR(w.state().speed, 1.1, 1e-9);                    // never stopped
   }
 }
 
-TEST(VestWearer, RightShoulderTurnsRightAndNoCueWalksStraight)
+TEST(VestWearer, ALongBuzzStopsAndTurnsOnTheSpotAsLongAsItLasts)
 {
-  WearerParams p;
-  p.overturn_s = 0.0;
-  VestWearer w(p, BodyState(), 3);
-  for (int k = 0; k < 100; ++k) w.step(k * 0.01, 0.01, { { 0.f, 1.f, 0.f, 0.f } }, nullptr);
-  EXPECT_NEAR(w.state().yaw, -0.7 * 90.0 * DEG, 1e-6);  // felt after 0.3 s
-  VestWearer s(p, BodyState(), 3);
-  for (int k = 0; k < 500; ++k) s.step(k * 0.01, 0.01, { { 0.f, 0.f, 0.f, 0.f } }, nullptr);
-  EXPECT_DOUBLE_EQ(s.state().yaw, 0.0);
-  EXPECT_NEAR(s.state().xy.y(), 0.0, 1e-12);
-  EXPECT_NEAR(s.state().speed, p.walk_speed, 1e-9);
-  // 5 s: accelerating to 1.1 m/s at 1.2 m/s^2 takes 0.917 s (0.504 m), then 4.083 s at cruise
-  EXPECT_NEAR(s.state().xy.x(), 0.5 * 1.1 * 1.1 / 1.2 + 1.1 * (5.0 - 1.1 / 1.2), 0.02);
+  // right shoulder for 1.25 s: told apart from a veer after 0.25 s, so 1.0 s of turning at
+  // 90 deg/s: the reaction cancels (turning starts and stops 0.5 s late)
+  VestWearer w(exactWearer(), BodyState(), 7);
+  drive(w, 4.0, [](double t) {
+    std::array<float, 4> m = tickAt(t, 0.0);
+    if (t >= 2.0 && t < 3.25) m[1] = 1.f;
+    return m;
+  });
+  EXPECT_NEAR(w.state().yaw, -90.0 * DEG, 1.0 * DEG);
+  EXPECT_EQ(w.action(), VestWearer::STOPPED);  // after a turn: stands until the next tick
+  EXPECT_NEAR(w.state().speed, 0.0, 1e-9);
 }
 
-TEST(VestWearer, WaistCueSideStepsAndAlertStopsAndExplores)
+TEST(VestWearer, WaistSideStepsStopAndUnsureStopAndSilenceStops)
 {
-  WearerParams p;
+  WearerParams p = exactWearer();
   p.reaction_s = 0.0;
   VestWearer w(p, BodyState(), 5);
-  for (int k = 0; k < 100; ++k) w.step(k * 0.01, 0.01, { { 0.f, 0.f, 1.f, 0.f } }, nullptr);
+  drive(w, 1.0, [](double) { return std::array<float, 4>{ { 0.f, 0.f, 1.f, 0.f } }; });
   EXPECT_NEAR(w.state().xy.y(), 0.3, 1e-6);  // 1 s at 0.3 m/s to the left
-  EXPECT_NEAR(w.state().xy.x(), 0.0, 1e-9);
   EXPECT_EQ(w.action(), VestWearer::SIDESTEP);
+  // walking, then all four: stops (and does not go on by itself)
   VestWearer a(p, BodyState(), 5);
-  for (int k = 0; k < 100; ++k) a.step(k * 0.01, 0.01, { { 1.f, 1.f, 1.f, 1.f } }, nullptr);
-  EXPECT_EQ(a.action(), VestWearer::EXPLORE);
-  EXPECT_NEAR(a.state().xy.norm(), 0.0, 1e-9);
-  EXPECT_NEAR(std::abs(a.state().yaw), 40.0 * DEG, 1e-6);  // explores at 40 deg/s, one side
+  drive(a, 6.0, [](double t) {
+    return t >= 3.0 ? std::array<float, 4>{ { 1.f, 1.f, 1.f, 1.f } } : tickAt(t, 0.0);
+  });
+  EXPECT_EQ(a.lastPercept(), VestWearer::STOP);
+  EXPECT_NEAR(a.state().speed, 0.0, 1e-9);
+  // walking, then the UNSURE pattern (three quick pulses on both waists) and silence: stops
+  VestWearer u(p, BodyState(), 5);
+  drive(u, 6.0, [](double t) {
+    std::array<float, 4> m = tickAt(t, 0.0);
+    const double v = t - 3.0;
+    if (v >= 0.0 && v < 0.5 && std::fmod(v, 0.2) < 0.1) m[2] = m[3] = 1.f;
+    return m;
+  });
+  EXPECT_EQ(u.lastPercept(), VestWearer::UNSURE);
+  EXPECT_NEAR(u.state().speed, 0.0, 1e-9);
+  const double x_unsure = u.state().xy.x();
+  // the silence rule: a vest that stops ticking (link lost) stops the wearer after silence_stop_s
+  VestWearer q(p, BodyState(), 5);
+  drive(q, 10.0, [](double t) { return tickAt(t, 0.0); });
+  EXPECT_NEAR(q.state().speed, 0.0, 1e-9);
+  EXPECT_GT(q.state().xy.x(), x_unsure);  // it walked on until the silence limit
 }
 
 TEST(BodyCollider, CylinderAgainstAWallIsExactlyOneWallCollision)
@@ -148,6 +203,7 @@ TEST(Trials, TruthModeGoesRoundABoxWithoutCollisionAndWithoutCuesHitsIt)
 {
   const World w = room("  - {type: box, center: [4.5, 0.0], size: [0.8, 1.2, 1.0]}\n");
   TrialOptions opt;
+  opt.population = false;  // the typical wearer: reaction 0.6 s, exact on average
   opt.start_jitter_m = 0.0;
   opt.start_yaw_deg = 0.0;
   const TrialResult r = runTrial(w, opt, 11);
@@ -218,14 +274,17 @@ TEST(People, TrialCountsAHeadOnWalkerAsAPeopleCollision)
   const World w = withPeople("  - {radius: 0.22, walk: {waypoints: [[10, 0], [3, 0], [3, 5]], speed: 1.0}}\n");
   TrialOptions opt;
   opt.mode = TrialMode::TRUTH;
-  opt.cues_enabled = false;
+  opt.cues_enabled = false;  // the vest ticks "walk on" only
+  opt.population = false;
+  opt.wearer.veer_sigma_deg = 0.0;
   opt.fixed_start_yaw_deg = 0.0;
   const TrialResult r = runTrial(w, opt, 5);
   EXPECT_EQ(r.collisions[size_t(ObstacleKind::PERSON)], 1);
   EXPECT_EQ(r.totalCollisions(), 1);
   ASSERT_EQ(r.collision_places.size(), 1u);
-  // They meet where the wearer (0 -> 1.1 m/s in 0.92 s) and the person close the 10 m, near x = 4.7.
-  EXPECT_NEAR(r.collision_places[0].x(), 4.6, 0.3);
+  // They meet where the wearer (starting 0.7 s late on the first tick, 0 -> 1.1 m/s in 0.92 s)
+  // and the person close the 10 m, near x = 4.3.
+  EXPECT_NEAR(r.collision_places[0].x(), 4.3, 0.3);
   EXPECT_LT(r.min_person_clearance_m, 0.0);
   for (int8_t c : computeOccupancy(w).data) EXPECT_NE(c, 100);
 }

@@ -94,7 +94,9 @@ struct TrialOptions
   double fixed_start_yaw_deg = std::numeric_limits<double>::quiet_NaN();
   double goal_radius_m = 1.0;   ///< a place of the route counts as reached this close
   double timeout_factor = 4.0;  ///< a trial ends unfinished after this x the sighted guide's time (+ 20 s)
-  bool cues_enabled = true;     ///< false: the cue stage is removed from the chain (vest silent)
+  /// false: the cue stage is removed from the chain: the vest only ticks "walk on" every
+  /// tick period by itself (the negative control; a silent vest would only stop the wearer)
+  bool cues_enabled = true;
   /// Each trial's wearer drawn from the wearer population (wearer_population.h) with the trial's
   /// seed; false: `wearer` as given for every trial.
   bool population = true;
