@@ -59,54 +59,106 @@ bool depthEdgeNear(const cv::Mat& disp, double s, double u, double v, int window
   return hi - lo > max_range;
 }
 
+namespace
+{
+/// Bilinear samples of `img` (CV_8UC1) on a cols x rows grid of unit steps from (x0, y0) into `out`
+/// (row-major); the caller keeps the grid inside the image.
+void sampleGrid(const cv::Mat& img, double x0, double y0, int cols, int rows, float* out)
+{
+  const int ix = static_cast<int>(std::floor(x0)), iy = static_cast<int>(std::floor(y0));
+  const float ax = static_cast<float>(x0 - ix), ay = static_cast<float>(y0 - iy);
+  const float w00 = (1 - ax) * (1 - ay), w01 = ax * (1 - ay), w10 = (1 - ax) * ay, w11 = ax * ay;
+  for (int r = 0; r < rows; ++r)
+  {
+    const uint8_t* p0 = img.ptr<uint8_t>(iy + r) + ix;
+    const uint8_t* p1 = img.ptr<uint8_t>(std::min(img.rows - 1, iy + r + 1)) + ix;
+    for (int c = 0; c < cols; ++c)
+      out[r * cols + c] = w00 * p0[c] + w01 * p0[c + 1] + w10 * p1[c] + w11 * p1[c + 1];
+  }
+}
+}  // namespace
+
 double matchDisparity(const cv::Mat& left, const cv::Mat& right, double u, double v, double d0, int window,
                       double search, double min_ncc)
 {
   if (left.empty() || right.empty() || left.size() != right.size() || left.type() != CV_8UC1 ||
       right.type() != CV_8UC1 || window < 3)
     return -1.0;
-  const int h = window / 2, w = 2 * h + 1;
-  const int n = static_cast<int>(std::floor(search));
-  // The window and every shifted one (and a pixel more for the gradient) inside the images.
-  if (u - h < 0 || v - h < 0 || u + h > left.cols - 1 || v + h > left.rows - 1 || u - d0 - n - h - 2 < 0 ||
-      u - d0 + n + h + 2 > right.cols - 1)
+  const int h = window / 2, w = 2 * h + 1, n = static_cast<int>(std::floor(search));
+  // The window and every shifted one (a pixel more for the gradient and the sub-pixel steps) inside the images.
+  if (u - h < 0 || v - h < 0 || u + h + 1 > left.cols - 1 || v + h + 1 > left.rows - 1 || u - d0 - n - h - 3 < 0 ||
+      u - d0 + n + h + 3 > right.cols - 1)
     return -1.0;
-  cv::Mat a, strip;
-  cv::getRectSubPix(left, cv::Size(w, w), cv::Point2f(static_cast<float>(u), static_cast<float>(v)), a, CV_32F);
-  a -= cv::mean(a);
-  const double na = std::sqrt(a.dot(a));
+  const int N = w * w;
+  float a[64 * 64], strip[64 * 96];
+  if (w > 64 || w + 2 * n + 2 > 96) return -1.0;
+  sampleGrid(left, u - h, v - h, w, w, a);
+  double ma = 0.0;
+  for (int i = 0; i < N; ++i) ma += a[i];
+  ma /= N;
+  double na = 0.0;
+  for (int i = 0; i < N; ++i)
+  {
+    a[i] -= static_cast<float>(ma);
+    na += static_cast<double>(a[i]) * a[i];
+  }
+  na = std::sqrt(na);
   // Texture: at least a grey level of RMS contrast across the window.
   if (!(na > w)) return -1.0;
-  // One strip of the right image holds every integer offset: window k (0..2n) is offset k - n.
-  cv::getRectSubPix(right, cv::Size(w + 2 * n, w), cv::Point2f(static_cast<float>(u - d0), static_cast<float>(v)), strip,
-                    CV_32F);
-  std::vector<double> score(static_cast<size_t>(2 * n + 1), -1.0);
-  cv::Mat b;
-  for (int k = 0; k <= 2 * n; ++k)
+  // One strip of the right image holds every integer offset o = -n..n (disparity d0 + o): the
+  // window centred at u - d0 - o starts at strip column n - o. One column more each side for the gradient.
+  const int sw = w + 2 * n + 2;
+  sampleGrid(right, u - d0 - n - h - 1, v - h, sw, w, strip);
+  auto ncc = [&](int col0) {
+    double sb = 0.0, sbb = 0.0, sab = 0.0;
+    for (int r = 0; r < w; ++r)
+      for (int c = 0; c < w; ++c)
+      {
+        const double b = strip[r * sw + col0 + c];
+        sb += b;
+        sbb += b * b;
+        sab += a[r * w + c] * b;
+      }
+    const double vb = sbb - sb * sb / N;
+    return vb > 0.0 ? sab / (na * std::sqrt(vb)) : -1.0;
+  };
+  int best = 0;
+  double best_score = -2.0;
+  std::vector<double> score(static_cast<size_t>(2 * n + 1));
+  for (int o = -n; o <= n; ++o)
   {
-    // Offset o = k - n means disparity d0 + o: the window centred at u - d0 - o, strip column 2n - k.
-    b = strip(cv::Rect(2 * n - k, 0, w, w)) - cv::mean(strip(cv::Rect(2 * n - k, 0, w, w)));
-    const double nb = std::sqrt(b.dot(b));
-    if (nb > 0.0) score[static_cast<size_t>(k)] = a.dot(b) / (na * nb);
+    score[static_cast<size_t>(o + n)] = ncc(1 + n - o);
+    if (score[static_cast<size_t>(o + n)] > best_score)
+    {
+      best_score = score[static_cast<size_t>(o + n)];
+      best = o;
+    }
   }
-  const int best = static_cast<int>(std::max_element(score.begin(), score.end()) - score.begin());
-  if (score[static_cast<size_t>(best)] < min_ncc || best == 0 || best == 2 * n) return -1.0;
-  // Sub-pixel: Gauss-Newton on the disparity (one-dimensional Lucas-Kanade, zero-mean windows),
-  // from the best integer offset; a parabola through NCC scores is biased by up to a quarter pixel
-  // on an edge.
-  const double d_int = d0 + (best - n);
+  if (best_score < min_ncc || best == -n || best == n) return -1.0;
+  // Sub-pixel: Gauss-Newton on the disparity (one-dimensional Lucas-Kanade on zero-mean windows)
+  // from the best integer offset; a parabola through the NCC scores is biased by up to a quarter
+  // pixel on an edge.
+  const double d_int = d0 + best;
   double d = d_int;
-  cv::Mat wide, gx;
+  float wide[64 * 66];
   for (int it = 0; it < 5; ++it)
   {
-    cv::getRectSubPix(right, cv::Size(w + 2, w), cv::Point2f(static_cast<float>(u - d), static_cast<float>(v)), wide, CV_32F);
-    b = wide(cv::Rect(1, 0, w, w)).clone();
-    b -= cv::mean(b);
-    gx = 0.5 * (wide(cv::Rect(2, 0, w, w)) - wide(cv::Rect(0, 0, w, w)));
-    const double gg = gx.dot(gx);
+    sampleGrid(right, u - d - h - 1, v - h, w + 2, w, wide);
+    double mb = 0.0;
+    for (int r = 0; r < w; ++r)
+      for (int c = 1; c <= w; ++c) mb += wide[r * (w + 2) + c];
+    mb /= N;
+    double gb = 0.0, gg = 0.0;
+    for (int r = 0; r < w; ++r)
+      for (int c = 1; c <= w; ++c)
+      {
+        const double gx = 0.5 * (wide[r * (w + 2) + c + 1] - wide[r * (w + 2) + c - 1]);
+        gb += gx * (wide[r * (w + 2) + c] - mb - a[r * w + c - 1]);
+        gg += gx * gx;
+      }
     if (!(gg > 0.0)) break;
     // b(x) = R(u - d + x): raising d by D moves it to b - D gx.
-    const double step = std::clamp(gx.dot(b - a) / gg, -0.5, 0.5);
+    const double step = std::clamp(gb / gg, -0.5, 0.5);
     d += step;
     if (std::abs(d - d_int) > 1.0) return -1.0;
     if (std::abs(step) < 0.005) break;
