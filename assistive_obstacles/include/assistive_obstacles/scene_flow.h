@@ -10,7 +10,10 @@
 // only where the 3x3 disparity range around it is at most `max_disparity_range` (px at the
 // matcher's scale): corners lie on silhouettes more often than anywhere else, and a corner formed
 // by a foreground edge over the background moves with neither (its depth is one of them, its
-// image motion a mix), which reads as motion against the ego-motion in a static scene.
+// image motion a mix), which reads as motion against the ego-motion in a static scene. With the
+// right image given, that disparity only starts the feature's own stereo match (matchDisparity()):
+// the dense matcher aggregates over a neighbourhood, and a corner next to a plain area takes the
+// area's fill (a door jamb over the sky: a depth that stays put while the wearer walks up to it).
 #include <deque>
 #include <vector>
 
