@@ -19,6 +19,10 @@ MoverPipelineParams moverPipelineParams(const ObstaclesParams& p, const StereoMo
   MoverPipelineParams m;
   m.flow.max_features = p.mover_max_features;
   m.flow.max_fb_error = p.mover_max_fb_error;
+  m.flow.edge_window = p.mover_edge_window;
+  m.flow.fair_backward = p.mover_fair_backward;
+  m.flow.stereo_search = p.mover_stereo_search;
+  m.flow.stereo_min_ncc = p.mover_stereo_min_ncc;
   m.flow.frames_apart = p.mover_frames_apart;
   m.flow.min_depth = p.min_depth;
   m.flow.max_depth = p.max_depth;
@@ -150,7 +154,8 @@ std::vector<ReportedMover> MoverPipeline::confirmed() const
 }
 
 const std::vector<MoverFootprint>& MoverPipeline::process(double t, const cv::Mat& grey, const cv::Mat& disp,
-                                                          const StereoModel& model, const Eigen::Isometry3d& T_world_cam)
+                                                          const StereoModel& model, const Eigen::Isometry3d& T_world_cam,
+                                                          const cv::Mat* right)
 {
   footprints_.clear();
   if (has_prev_ && (t <= prev_t_ || t - prev_t_ > params_.max_gap_s)) reset();
@@ -161,7 +166,7 @@ const std::vector<MoverFootprint>& MoverPipeline::process(double t, const cv::Ma
   segmentation_.setParams(sp);
 
   auto t0 = std::chrono::steady_clock::now();
-  const std::vector<SceneFlowPoint>& flow = flow_.process(grey, disp, model, &T_world_cam);
+  const std::vector<SceneFlowPoint>& flow = flow_.process(grey, disp, model, &T_world_cam, right);
   ms_flow_ = msSince(t0);
   t0 = std::chrono::steady_clock::now();
   const int back = flow_.pairedBack();

@@ -329,7 +329,7 @@ private:
     if (params_.movers)
     {
       if (!movers_) movers_ = std::make_unique<MoverPipeline>(moverPipelineParams(params_, model));
-      map_->setMovers(movers_->process(l->header.stamp.toSec(), cl->image, disp, model, T_world_cam.cast<double>()));
+      map_->setMovers(movers_->process(l->header.stamp.toSec(), cl->image, disp, model, T_world_cam.cast<double>(), &cr->image));
     }
     const auto t_movers = std::chrono::steady_clock::now();
     map_->update(points_, T_world_cam, &model, &disp, want_normals ? &normals_ : nullptr);

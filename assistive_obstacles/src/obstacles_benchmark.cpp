@@ -487,7 +487,7 @@ int main(int argc, char** argv)
         ego = it != mover_poses.end() ? &it->second : nullptr;  // no pose (the VO lost it): no flow, as in the chain
       }
       if (ego)
-        map.setMovers(movers->process(f.stamp, f.left, disp, model, *ego));
+        map.setMovers(movers->process(f.stamp, f.left, disp, model, *ego, &f.right));
       else
         map.setMovers({});
       ms_track = movers->msTracking();
@@ -502,6 +502,61 @@ int main(int argc, char** argv)
         for (const ReportedMover& r : movers->confirmed())
           std::fprintf(stderr, " [#%d %.2f %.2f v %.2f %.2f]", r.track.id, r.track.x(0), r.track.x(1), r.track.x(2), r.track.x(3));
         std::fprintf(stderr, "\n");
+      }
+      if (const char* fd = std::getenv("OBST_FLOWDUMP"); fd && ego)
+      {
+        // OBST_FLOWDUMP=T0:T1: per frame in [T0, T1], every clustered moving point: pixels then and now,
+        // depths, the pixel a static point would have now, residual along / across the ray (m),
+        // the 3x3 / 5x5 / 7x7 disparity ranges (matcher px) around each end.
+        double ta = 0, tb = 0;
+        std::sscanf(fd, "%lf:%lf", &ta, &tb);
+        static cv::Mat prev_disp;
+        static Eigen::Isometry3d prev_pose = Eigen::Isometry3d::Identity();
+        if (f.stamp >= ta && f.stamp <= tb && !prev_disp.empty())
+        {
+          const Eigen::Isometry3d T_cur_prev = ego->inverse() * prev_pose;
+          const double sc = static_cast<double>(disp.cols) / model.width;
+          auto range = [&](const cv::Mat& d, double u, double v, int r) {
+            const int cu = static_cast<int>(std::lround((u + 0.5) * sc - 0.5)), cv_ = static_cast<int>(std::lround((v + 0.5) * sc - 0.5));
+            float lo = 1e9f, hi = -1e9f;
+            for (int dv = -r; dv <= r; ++dv)
+              for (int du = -r; du <= r; ++du)
+              {
+                const int x = cu + du, y = cv_ + dv;
+                if (x < 0 || y < 0 || x >= d.cols || y >= d.rows) continue;
+                const float q = d.at<float>(y, x);
+                if (!(q > 0.f)) return -1.f;
+                lo = std::min(lo, q);
+                hi = std::max(hi, q);
+              }
+            return hi - lo;
+          };
+          const std::vector<SceneFlowPoint>& sp = movers->segmented();
+          const std::vector<int>& cl = movers->segmentation().cluster();
+          for (size_t i = 0; i < sp.size() && i < cl.size(); ++i)
+          {
+            if (cl[i] < 0) continue;
+            const SceneFlowPoint& q = sp[i];
+            const Eigen::Vector3d pred = T_cur_prev * q.prev, r = q.cur - pred, ray = q.cur.normalized();
+            const double rr = r.dot(ray);
+            const Eigen::Vector3d w = *ego * q.cur;
+            std::fprintf(stderr,
+                         "flow t %.2f c%d w(%.2f %.2f %.2f) px0 (%.1f %.1f) Z0 %.2f px1 (%.1f %.1f) Z1 %.2f static (%.1f %.1f) "
+                         "r_ray %.3f r_across %.3f rng0 %.2f/%.2f/%.2f rng1 %.2f/%.2f/%.2f\n",
+                         f.stamp, cl[i], w.x(), w.y(), w.z(), model.fx * q.prev.x() / q.prev.z() + model.cx,
+                         model.fy * q.prev.y() / q.prev.z() + model.cy, q.prev.z(), model.fx * q.cur.x() / q.cur.z() + model.cx,
+                         model.fy * q.cur.y() / q.cur.z() + model.cy, q.cur.z(), model.fx * pred.x() / pred.z() + model.cx,
+                         model.fy * pred.y() / pred.z() + model.cy, rr, (r - rr * ray).norm(),
+                         range(prev_disp, model.fx * q.prev.x() / q.prev.z() + model.cx, model.fy * q.prev.y() / q.prev.z() + model.cy, 1),
+                         range(prev_disp, model.fx * q.prev.x() / q.prev.z() + model.cx, model.fy * q.prev.y() / q.prev.z() + model.cy, 2),
+                         range(prev_disp, model.fx * q.prev.x() / q.prev.z() + model.cx, model.fy * q.prev.y() / q.prev.z() + model.cy, 3),
+                         range(disp, model.fx * q.cur.x() / q.cur.z() + model.cx, model.fy * q.cur.y() / q.cur.z() + model.cy, 1),
+                         range(disp, model.fx * q.cur.x() / q.cur.z() + model.cx, model.fy * q.cur.y() / q.cur.z() + model.cy, 2),
+                         range(disp, model.fx * q.cur.x() / q.cur.z() + model.cx, model.fy * q.cur.y() / q.cur.z() + model.cy, 3));
+          }
+        }
+        disp.copyTo(prev_disp);
+        prev_pose = *ego;
       }
     }
     const double t_mov = eval::wallMs();

@@ -37,14 +37,149 @@ double disparityAt(const cv::Mat& disp, double s, double u, double v, double max
   return d / s;
 }
 
+bool depthEdgeNear(const cv::Mat& disp, double s, double u, double v, int window, double max_range)
+{
+  if (disp.empty() || disp.type() != CV_32F || !(s > 0.0) || window <= 1) return false;
+  const double us = (u + 0.5) * s - 0.5, vs = (v + 0.5) * s - 0.5;
+  const int cu = static_cast<int>(std::lround(us)), cv_ = static_cast<int>(std::lround(vs));
+  // The full-resolution half window at the matcher's scale, rounded up.
+  const int r = std::max(1, static_cast<int>(std::ceil(0.5 * (window - 1) * s)));
+  float lo = 1e9f, hi = -1e9f;
+  for (int y = std::max(0, cv_ - r); y <= std::min(disp.rows - 1, cv_ + r); ++y)
+  {
+    const float* row = disp.ptr<float>(y);
+    for (int x = std::max(0, cu - r); x <= std::min(disp.cols - 1, cu + r); ++x)
+    {
+      const float d = row[x];
+      if (!(d > 0.f)) continue;
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+  }
+  return hi - lo > max_range;
+}
+
+namespace
+{
+/// Bilinear samples of `img` (CV_8UC1) on a cols x rows grid of unit steps from (x0, y0) into `out`
+/// (row-major); the caller keeps the grid inside the image.
+void sampleGrid(const cv::Mat& img, double x0, double y0, int cols, int rows, float* out)
+{
+  const int ix = static_cast<int>(std::floor(x0)), iy = static_cast<int>(std::floor(y0));
+  const float ax = static_cast<float>(x0 - ix), ay = static_cast<float>(y0 - iy);
+  const float w00 = (1 - ax) * (1 - ay), w01 = ax * (1 - ay), w10 = (1 - ax) * ay, w11 = ax * ay;
+  for (int r = 0; r < rows; ++r)
+  {
+    const uint8_t* p0 = img.ptr<uint8_t>(iy + r) + ix;
+    const uint8_t* p1 = img.ptr<uint8_t>(std::min(img.rows - 1, iy + r + 1)) + ix;
+    for (int c = 0; c < cols; ++c)
+      out[r * cols + c] = w00 * p0[c] + w01 * p0[c + 1] + w10 * p1[c] + w11 * p1[c + 1];
+  }
+}
+}  // namespace
+
+double matchDisparity(const cv::Mat& left, const cv::Mat& right, double u, double v, double d0, int window,
+                      double search, double min_ncc)
+{
+  if (left.empty() || right.empty() || left.size() != right.size() || left.type() != CV_8UC1 ||
+      right.type() != CV_8UC1 || window < 3)
+    return -1.0;
+  const int h = window / 2, w = 2 * h + 1, n = static_cast<int>(std::floor(search));
+  // The window and every shifted one (a pixel more for the gradient and the sub-pixel steps) inside the images.
+  if (u - h < 0 || v - h < 0 || u + h + 1 > left.cols - 1 || v + h + 1 > left.rows - 1 || u - d0 - n - h - 3 < 0 ||
+      u - d0 + n + h + 3 > right.cols - 1)
+    return -1.0;
+  const int N = w * w;
+  float a[64 * 64], strip[64 * 96];
+  if (w > 64 || w + 2 * n + 2 > 96) return -1.0;
+  sampleGrid(left, u - h, v - h, w, w, a);
+  double ma = 0.0;
+  for (int i = 0; i < N; ++i) ma += a[i];
+  ma /= N;
+  double na = 0.0;
+  for (int i = 0; i < N; ++i)
+  {
+    a[i] -= static_cast<float>(ma);
+    na += static_cast<double>(a[i]) * a[i];
+  }
+  na = std::sqrt(na);
+  // Texture: at least a grey level of RMS contrast across the window.
+  if (!(na > w)) return -1.0;
+  // One strip of the right image holds every integer offset o = -n..n (disparity d0 + o): the
+  // window centred at u - d0 - o starts at strip column n - o. One column more each side for the gradient.
+  const int sw = w + 2 * n + 2;
+  sampleGrid(right, u - d0 - n - h - 1, v - h, sw, w, strip);
+  auto ncc = [&](int col0) {
+    double sb = 0.0, sbb = 0.0, sab = 0.0;
+    for (int r = 0; r < w; ++r)
+      for (int c = 0; c < w; ++c)
+      {
+        const double b = strip[r * sw + col0 + c];
+        sb += b;
+        sbb += b * b;
+        sab += a[r * w + c] * b;
+      }
+    const double vb = sbb - sb * sb / N;
+    return vb > 0.0 ? sab / (na * std::sqrt(vb)) : -1.0;
+  };
+  int best = 0;
+  double best_score = -2.0;
+  std::vector<double> score(static_cast<size_t>(2 * n + 1));
+  for (int o = -n; o <= n; ++o)
+  {
+    score[static_cast<size_t>(o + n)] = ncc(1 + n - o);
+    if (score[static_cast<size_t>(o + n)] > best_score)
+    {
+      best_score = score[static_cast<size_t>(o + n)];
+      best = o;
+    }
+  }
+  if (best_score < min_ncc || best == -n || best == n) return -1.0;
+  // Sub-pixel: Gauss-Newton on the disparity (one-dimensional Lucas-Kanade on zero-mean windows)
+  // from the best integer offset; a parabola through the NCC scores is biased by up to a quarter
+  // pixel on an edge.
+  const double d_int = d0 + best;
+  double d = d_int;
+  float wide[64 * 66];
+  for (int it = 0; it < 5; ++it)
+  {
+    sampleGrid(right, u - d - h - 1, v - h, w + 2, w, wide);
+    double mb = 0.0;
+    for (int r = 0; r < w; ++r)
+      for (int c = 1; c <= w; ++c) mb += wide[r * (w + 2) + c];
+    mb /= N;
+    double gb = 0.0, gg = 0.0;
+    for (int r = 0; r < w; ++r)
+      for (int c = 1; c <= w; ++c)
+      {
+        const double gx = 0.5 * (wide[r * (w + 2) + c + 1] - wide[r * (w + 2) + c - 1]);
+        gb += gx * (wide[r * (w + 2) + c] - mb - a[r * w + c - 1]);
+        gg += gx * gx;
+      }
+    if (!(gg > 0.0)) break;
+    // b(x) = R(u - d + x): raising d by D moves it to b - D gx.
+    const double step = std::clamp(gb / gg, -0.5, 0.5);
+    d += step;
+    if (std::abs(d - d_int) > 1.0) return -1.0;
+    if (std::abs(step) < 0.005) break;
+  }
+  return d;
+}
+
 namespace
 {
 bool lift(const cv::Mat& disp, const StereoModel& m, const SceneFlowParams& p, const cv::Point2f& px,
-          Eigen::Vector3d& out)
+          Eigen::Vector3d& out, const cv::Mat* left = nullptr, const cv::Mat* right = nullptr)
 {
   const double s = static_cast<double>(disp.cols) / m.width;
-  const double d = disparityAt(disp, s, px.x, px.y, p.max_disparity_range);
+  double d = disparityAt(disp, s, px.x, px.y, p.max_disparity_range);
   if (!(d > 0.0)) return false;
+  if (p.edge_window > 3 && depthEdgeNear(disp, s, px.x, px.y, p.edge_window, p.max_disparity_range)) return false;
+  if (left && right && !right->empty() && p.stereo_search >= 1.0)
+  {
+    d = matchDisparity(*left, *right, px.x, px.y, d, p.lk_window, p.stereo_search, p.stereo_min_ncc);
+    if (!(d > 0.0)) return false;
+  }
   const double z = m.fx * m.baseline / d;
   if (z < p.min_depth || z > p.max_depth) return false;
   out = Eigen::Vector3d((px.x - m.cx) * z / m.fx, (px.y - m.cy) * z / m.fy, z);
@@ -104,8 +239,10 @@ void SceneFlowExtractor::reset()
 
 const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& grey, const cv::Mat& disp,
                                                                const StereoModel& model,
-                                                               const Eigen::Isometry3d* T_world_cam)
+                                                               const Eigen::Isometry3d* T_world_cam,
+                                                               const cv::Mat* right)
 {
+  if (right && (right->empty() || right->size() != grey.size() || right->type() != CV_8UC1)) right = nullptr;
   flow_.clear();
   pixels_.clear();
   detected_ = tracked_ = 0;
@@ -155,8 +292,16 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
         }
         flags = cv::OPTFLOW_USE_INITIAL_FLOW;
       }
+      if (flags == 0) p1_ = p0_;  // no poses: no prediction, each track starts at its corner
+      pred_ = p1_;               // where the ego-motion puts each corner
       cv::calcOpticalFlowPyrLK(prev_pyr_, pyr_, p0_, p1_, st_, err_, win, params_.lk_levels, tc, flags);
-      pb_ = p0_;  // initial guess for the way back
+      // The way back starts where the way forward left the prediction: p0 + (p1 - predicted).
+      // Started at p0 itself, a track that slid along an edge on the way forward (a direction the
+      // window's texture does not pin down: a door jamb over a plain wall, a silhouette) stays
+      // at p0 on the way back and passes the check whatever it did forward.
+      pb_ = p0_;
+      if (params_.fair_backward)
+        for (size_t i = 0; i < p0_.size(); ++i) pb_[i] = p0_[i] + (p1_[i] - pred_[i]);
       cv::calcOpticalFlowPyrLK(pyr_, prev_pyr_, p1_, pb_, stb_, err_, win, params_.lk_levels, tc,
                                cv::OPTFLOW_USE_INITIAL_FLOW);
       const double max_fb2 = params_.max_fb_error * params_.max_fb_error;
@@ -168,7 +313,10 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
         if (p1_[i].x < 0 || p1_[i].y < 0 || p1_[i].x > grey.cols - 1 || p1_[i].y > grey.rows - 1) continue;
         ++tracked_;
         SceneFlowPoint f;
-        if (!lift(prev_disp_, prev_model_, params_, p0_[i], f.prev) || !lift(disp, model, params_, p1_[i], f.cur))
+        // Each end's depth: the feature's own stereo match when both right images are there.
+        const bool own = right && !old.right.empty();
+        if (!lift(prev_disp_, prev_model_, params_, p0_[i], f.prev, own ? &prev_grey_ : nullptr, own ? &old.right : nullptr) ||
+            !lift(disp, model, params_, p1_[i], f.cur, own ? &grey : nullptr, right))
           continue;
         flow_.push_back(f);
         pixels_.push_back(p1_[i]);
@@ -179,6 +327,7 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
   grey.copyTo(f.grey);
   std::swap(f.pyr, pyr_);
   disp.copyTo(f.disp);
+  if (right) right->copyTo(f.right);
   f.model = model;
   f.has_pose = T_world_cam != nullptr;
   if (T_world_cam) f.T_world_cam = *T_world_cam;

@@ -104,14 +104,18 @@ public:
   /// One frame at time `t` (s): `grey` the rectified left image (CV_8UC1, full resolution),
   /// `disp` its disparity at the matcher's scale, `T_world_cam` the left optical frame's pose.
   /// Returns the footprints for ObstacleMap::setMovers() (empty at the first frame).
+  /// `right`: the rectified right image (optional): the features' own stereo match (scene_flow.h).
   const std::vector<MoverFootprint>& process(double t, const cv::Mat& grey, const cv::Mat& disp,
-                                             const StereoModel& model, const Eigen::Isometry3d& T_world_cam);
+                                             const StereoModel& model, const Eigen::Isometry3d& T_world_cam,
+                                             const cv::Mat* right = nullptr);
   const std::vector<MoverFootprint>& footprints() const { return footprints_; }
   const std::vector<MoverDetection>& detections() const { return segmentation_.detections(); }
   const std::vector<SceneFlowPoint>& flow() const { return flow_.flow(); }
   /// The flow points segmented (residual speed within max_speed).
   const std::vector<SceneFlowPoint>& segmented() const { return kept_; }
   const MoverTracker& tracker() const { return tracker_; }
+  /// The last segmentation (its moving() / cluster() are per segmented() point).
+  const MoverSegmentation& segmentation() const { return segmentation_; }
   /// Confirmed tracks that are not stationary, with their footprint radius (what obstacles/movers publishes).
   std::vector<ReportedMover> confirmed() const;
   /// Milliseconds of the last process(): flow, segmentation, tracking.

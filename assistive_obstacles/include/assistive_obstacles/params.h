@@ -102,6 +102,10 @@ namespace assistive_obstacles
   X(bool, movers, "movers", true, {}, {}, "", "detect and track movers (scene flow of the left image) and keep their cells out of the map's votes; publishes `movers`") \
   X(int, mover_max_features, "mover_max_features", 600, 10, 5000, "", "corners tracked per frame for the scene flow") \
   X(int, mover_frames_apart, "mover_frames_apart", 1, 1, 10, "frames", "the scene flow pairs each frame with the one this many frames back (walking along the viewing ray moves a point farther than the depth noise only over several frames)") \
+  X(int, mover_edge_window, "mover_edge_window", 0, 0, 101, "px", "no scene-flow point where valid disparities within this window (full resolution, e.g. 11: the Lucas-Kanade window) span a depth edge, at either end of its track (0: the 3x3 check alone; 11 removed the silhouettes but also most points of distant people)") \
+  X(bool, mover_fair_backward, "mover_fair_backward", true, {}, {}, "", "the forward-backward check's way back starts where the way forward left the ego-motion's prediction (false: at the corner itself)") \
+  X(double, mover_stereo_search, "mover_stereo_search", 3.0, 0.0, 32.0, "px", "each scene-flow feature's depth is its own stereo match (normalised cross-correlation of its window) within this many px of the matcher's disparity (full resolution; below 1: the matcher's disparity)") \
+  X(double, mover_stereo_min_ncc, "mover_stereo_min_ncc", 0.8, -1.0, 1.0, "", "... a feature whose best correlation is lower has no depth") \
   X(double, mover_max_fb_error, "mover_max_fb_error", 0.5, 0.01, 10.0, "px", "forward-backward Lucas-Kanade error beyond which a corner's track is dropped") \
   X(double, mover_disparity_sigma, "mover_disparity_sigma", 0.3, 0.01, 100.0, "px", "at full resolution: disparity noise of a tracked corner's depth, for the residual along the ray") \
   X(double, mover_sigma_scale, "mover_sigma_scale", 3.0, 0.5, 100.0, "", "a point moves when its residual against the ego-motion exceeds this many sigmas ...") \

@@ -10,7 +10,10 @@
 // only where the 3x3 disparity range around it is at most `max_disparity_range` (px at the
 // matcher's scale): corners lie on silhouettes more often than anywhere else, and a corner formed
 // by a foreground edge over the background moves with neither (its depth is one of them, its
-// image motion a mix), which reads as motion against the ego-motion in a static scene.
+// image motion a mix), which reads as motion against the ego-motion in a static scene. With the
+// right image given, that disparity only starts the feature's own stereo match (matchDisparity()):
+// the dense matcher aggregates over a neighbourhood, and a corner next to a plain area takes the
+// area's fill (a door jamb over the sky: a depth that stays put while the wearer walks up to it).
 #include <deque>
 #include <vector>
 
@@ -32,6 +35,22 @@ struct SceneFlowParams
   int lk_levels = 3;                 ///< pyramid levels above the base (11 px window: ~40 px motion per frame)
   double max_fb_error = 0.5;         ///< px, forward-backward tracking error beyond which a track is dropped
   double max_disparity_range = 1.0;  ///< px at the matcher's scale: larger 3x3 range = depth edge, no depth
+  /// px at full resolution: no depth edge (valid disparities spanning more than max_disparity_range)
+  /// within this window around a feature, at either end of its track (0: the 3x3 check alone).
+  /// Lucas-Kanade tracks the whole window: one that holds two surfaces moves with neither.
+  int edge_window = 0;
+  /// Whether the way back starts where the way forward left the ego-motion's prediction
+  /// (p0 + (p1 - predicted)); false: at p0 itself (see process()).
+  bool fair_backward = true;
+  /// With the right image given: each end's disparity is the feature's own match, found by
+  /// normalised cross-correlation of its `lk_window` window along the rectified row within
+  /// +-`stereo_search` px (full resolution) of the matcher's value (parabola peak); a feature whose
+  /// best score is below `stereo_min_ncc`, or lies at the end of the search, has no depth. The dense
+  /// matcher's disparity at a corner comes from its aggregation over the neighbourhood: next to a
+  /// plain surface (the sky through a doorway) the edge takes the plain area's fill, which does not
+  /// change as the wearer walks up to it, and the corner seems to recede at walking speed.
+  double stereo_search = 3.0;
+  double stereo_min_ncc = 0.8;
   double min_depth = 0.3, max_depth = 6.0;  ///< m, points outside are dropped
   /// The flow spans this many frames (the current one against the one k frames back; fewer
   /// right after a start): walking along the viewing ray moves a point by only ~0.1 m per frame
@@ -44,6 +63,18 @@ struct SceneFlowParams
 /// matcher's scale `s` (= disp.cols / width): bilinear over the 4 neighbours when every pixel of
 /// the 3x3 around the nearest one is valid (> 0) and their range is at most `max_range`; else -1.
 double disparityAt(const cv::Mat& disp, double s, double u, double v, double max_range);
+
+/// Whether the valid disparities (matcher scale `s` = disp.cols / width) within the full-resolution
+/// window `window` x `window` px centred on (u, v) span more than `max_range` px (a depth edge the
+/// window straddles). Invalid pixels are not counted; a window reaching out of the image is clipped.
+bool depthEdgeNear(const cv::Mat& disp, double s, double u, double v, int window, double max_range);
+
+/// The disparity (full-resolution px) of the window around (u, v) of `left` in `right` by
+/// normalised cross-correlation at integer offsets within +-search px of `d0`, refined by a parabola
+/// through the best score and its neighbours; -1 when the window has no texture, the best score is
+/// below `min_ncc`, or the best offset lies at the end of the search.
+double matchDisparity(const cv::Mat& left, const cv::Mat& right, double u, double v, double d0, int window,
+                      double search, double min_ncc);
 
 /// FAST corners of `grey`, the strongest per min_distance bucket, at most max_features (the
 /// strongest), in raster order of detection. With `disp` and `model` (the image's disparity at the
@@ -65,8 +96,11 @@ public:
   /// the previous and the current left optical frame.
   /// With `T_world_cam` (the left optical frame's pose, for this and the paired frame) each
   /// corner's track starts at the pixel the ego-motion predicts for a static point.
+  /// With `right` (the rectified right image, CV_8UC1) each end's depth is the feature's own
+  /// stereo match (see stereo_search).
   const std::vector<SceneFlowPoint>& process(const cv::Mat& grey, const cv::Mat& disp, const StereoModel& model,
-                                             const Eigen::Isometry3d* T_world_cam = nullptr);
+                                             const Eigen::Isometry3d* T_world_cam = nullptr,
+                                             const cv::Mat* right = nullptr);
   const std::vector<SceneFlowPoint>& flow() const { return flow_; }
   /// Per flow point: its pixel in the current image.
   const std::vector<cv::Point2f>& pixels() const { return pixels_; }
@@ -82,7 +116,7 @@ private:
   SceneFlowParams params_;
   struct Frame
   {
-    cv::Mat grey, disp;
+    cv::Mat grey, disp, right;
     std::vector<cv::Mat> pyr;
     StereoModel model;
     bool has_pose = false;
@@ -94,7 +128,7 @@ private:
   std::vector<cv::Point2f> pixels_;
   std::vector<cv::Mat> pyr_;
   std::vector<cv::KeyPoint> keypoints_;
-  std::vector<cv::Point2f> p0_, p1_, pb_;
+  std::vector<cv::Point2f> p0_, p1_, pb_, pred_;
   std::vector<uint8_t> st_, stb_;
   std::vector<float> err_;
   int detected_ = 0, tracked_ = 0;
