@@ -431,7 +431,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
     out.message = "the wearer stands in unmapped space: no path until a mapped region is reached";
     return out;
   }
-  if (ahead_unknown && out.free_ahead < p_.unknown_ahead_m)
+  if (walking && ahead_unknown && out.free_ahead < p_.unknown_ahead_m)
   {
     // The floor just ahead is unmapped, not blocked (after a map reset it lies below the camera's
     // view until the wearer has walked on): "stop" or "step aside" would be a guess.
@@ -611,8 +611,36 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   }
   // the projection is searched over the path's first stretch only (a path folding back on itself
   // must not send the wearer to its far end)
-  out.steer_point = pointAlong(out.steer_path, projectOnto(out.steer_path, lead, 2.0 * p_.steer_lookahead_max + 1.0) +
-                                                 out.steer_lookahead);
+  const double along = projectOnto(out.steer_path, lead, 2.0 * p_.steer_lookahead_max + 1.0);
+  out.steer_point = pointAlong(out.steer_path, along + out.steer_lookahead);
+  // never a steering point behind a corner: the straight walk to it (from the wearer and from
+  // where the walk takes it) must cross only cells the body fits in, else it comes closer along
+  // the path (pure pursuit cuts corners; a jamb or a box's edge is where it would)
+  {
+    const std::vector<double>& w = dstar_.costs().w;
+    int sx0, sy0;
+    grid.worldToCell(wearer.x, wearer.y, sx0, sy0);
+    auto clearLine = [&](const Point2& a, const Point2& b) {
+      const double len = std::hypot(b.x - a.x, b.y - a.y);
+      for (double d = 0.5 * grid.resolution; d < len; d += 0.25 * grid.resolution)
+      {
+        int x, y;
+        if (!grid.worldToCell(a.x + (b.x - a.x) * d / len, a.y + (b.y - a.y) * d / len, x, y))
+          return false;
+        if (std::abs(x - sx0) <= 1 && std::abs(y - sy0) <= 1)
+          continue;  // the wearer's own neighbourhood (it may stand in the inflation)
+        if (w[size_t(grid.index(x, y))] == COST_INF)
+          return false;
+      }
+      return true;
+    };
+    double ahead = out.steer_lookahead;
+    while (ahead > 0.2 && !(clearLine(wearer, out.steer_point) && clearLine(lead, out.steer_point)))
+    {
+      ahead -= 0.1;
+      out.steer_point = pointAlong(out.steer_path, along + ahead);
+    }
+  }
   {
     const double dx = out.steer_point.x - lead.x, dy = out.steer_point.y - lead.y;
     out.steer_heading = std::hypot(dx, dy) > 0.05 ? std::atan2(dy, dx) : out.path_heading;
@@ -625,6 +653,18 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
     out.free_ahead = freeStrip(grid, wearer, out.steer_heading, p_.free_ray_max, p_.body_half_width, ahead_unknown);
     out.free_left = freeDistance(grid, wearer, out.steer_heading + M_PI_2, p_.free_ray_max);
     out.free_right = freeDistance(grid, wearer, out.steer_heading - M_PI_2, p_.free_ray_max);
+    if (ahead_unknown && out.free_ahead < p_.unknown_ahead_m)
+    {
+      // (standing: judged along the way it will be sent, not the way it faces)
+      char buf[96];
+      std::snprintf(buf, sizeof(buf), "unmapped floor %.2f m ahead: cannot tell what is there", out.free_ahead);
+      out.status = PlanStatus::IN_UNKNOWN;
+      out.message = buf;
+      out.path.clear();
+      out.steer_path.clear();
+      out.has_waypoint = false;
+      return out;
+    }
   }
   ever_planned_ = true;
   out.status = PlanStatus::OK;

@@ -203,7 +203,9 @@ TEST(Trials, TruthModeGoesRoundABoxWithoutCollisionAndWithoutCuesHitsIt)
 {
   const World w = room("  - {type: box, center: [4.5, 0.0], size: [0.8, 1.2, 1.0]}\n");
   TrialOptions opt;
-  opt.population = false;  // the typical wearer: reaction 0.6 s, exact on average
+  opt.population = false;  // the typical wearer (reaction 0.6 s), turning exactly, walking straight
+  opt.wearer.turn_gain_sd = 0.0;
+  opt.wearer.veer_sigma_deg = 0.0;
   opt.start_jitter_m = 0.0;
   opt.start_yaw_deg = 0.0;
   const TrialResult r = runTrial(w, opt, 11);
