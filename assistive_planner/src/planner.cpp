@@ -404,11 +404,13 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   }
   const bool walking = out.walking_speed >= 0.25;
   // what lies ahead of the body: along its walk while it walks, else along the motion vector
-  const double h = walking ? out.walk_heading : out.heading;
+  // (the waypoint search and the crossing watch keep the seed's motion vector)
+  const double h = out.heading;
+  const double h_body = walking ? out.walk_heading : out.heading;
   bool ahead_unknown = false;
-  out.free_ahead = freeStrip(grid, wearer, h, p_.free_ray_max, p_.body_half_width, ahead_unknown);
-  out.free_left = freeDistance(grid, wearer, h + M_PI_2, p_.free_ray_max);
-  out.free_right = freeDistance(grid, wearer, h - M_PI_2, p_.free_ray_max);
+  out.free_ahead = freeStrip(grid, wearer, h_body, p_.free_ray_max, p_.body_half_width, ahead_unknown);
+  out.free_left = freeDistance(grid, wearer, h_body + M_PI_2, p_.free_ray_max);
+  out.free_right = freeDistance(grid, wearer, h_body - M_PI_2, p_.free_ray_max);
   // People crossing: judged on every cycle with a pose and a grid, whatever the status below (the
   // cue logic acts on it only when the status is OK: never on a guess).
   if (std::isfinite(t))

@@ -183,10 +183,11 @@ TEST_F(PlannerNodeletTest, UnknownAtStartUpThenPathAroundWall)
   EXPECT_NEAR(s.waypoint_distance, std::hypot(s.waypoint.x - 0.1, s.waypoint.y - 0.1), 1e-3);
   EXPECT_GT(s.path_length, s.waypoint_distance);  // detour round the wall
   EXPECT_GT(std::abs(s.path_heading), 0.2);
-  EXPECT_NEAR(s.free_distance_ahead, 1.3, 0.21);  // the wall's cells start at x = 1.4
-  EXPECT_GT(s.free_distance_left, 3.0);
+  // standing: what lies ahead is judged along the steering heading, round the wall's end
+  EXPECT_GT(std::abs(s.steer_heading), 0.2);
+  EXPECT_GT(s.free_distance_ahead, 1.4);
   ASSERT_TRUE(rec_.path);
-  ASSERT_GE(rec_.path->poses.size(), 10u);
+  ASSERT_GE(rec_.path->poses.size(), 3u);  // smoothed: the corners round the wall
   EXPECT_EQ(rec_.path->header.frame_id, "odom");
   for (const auto& p : rec_.path->poses)
     EXPECT_FALSE(cellIs(g, p.pose.position.x, p.pose.position.y, 100)) << p.pose.position.x << " " << p.pose.position.y;

@@ -45,6 +45,10 @@ TEST(MobilityChain, WearerOnTheCuesOfTheChain)
   opt.wearer.eye_height = world.trajectory.eye_height;
   opt.wearer.walk_speed = world.trajectory.speed;
   opt.fixed_start_yaw_deg = yaw_off;
+  opt.population = false;  // the typical wearer: the chain is tested here, the population in the trials
+  // without the cue stage the vest is silent, and a silent vest stops the wearer (protocol): the
+  // negative control gives it a vest that only ticks "walk on", so it walks straight on
+  if (expect == "collision") opt.cues_enabled = false;
   RosChain::Options ro;
   ro.kind = RosChain::TRUTH_GRID;
   ro.eye_height = world.trajectory.eye_height;
