@@ -276,8 +276,10 @@ Cue CueLogic::update(const NavInput& in, double now)
       (void)hard;
       const double learnt = params_.alert_m + v * std::min(reactionEstimate(), 0.3 + 0.5 * reactionEstimate()) +
                             v * v / (2.0 * params_.stop_decel);
-      if ((c.mode == CueMode::PROXIMITY || (c.mode == CueMode::ALERT && in.free_ahead >= std::max(hard, learnt))) &&
-          steering_away)
+      // (a turn on the spot under way is not interrupted by a side-step: it turns the wearer away)
+      if (((c.mode == CueMode::PROXIMITY || (c.mode == CueMode::ALERT && in.free_ahead >= std::max(hard, learnt))) &&
+           steering_away) ||
+          (c.mode == CueMode::PROXIMITY && busy_ && busy_turn_))
       {
         waist_side_ = 0;
         c.mode = CueMode::IDLE;

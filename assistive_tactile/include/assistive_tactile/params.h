@@ -13,7 +13,7 @@ namespace assistive_tactile
 // X(type, field, ROS name, default, lo, hi, unit, text)
 #define ASSISTIVE_CUE_PARAMS(X) \
   /* Guidance while walking (shoulder motors; the protocol page in README.md, issue 33) */ \
-  X(double, guidance_min_waypoint_m, "guidance_min_waypoint_m", 1.0, 0.0, 20.0, "m", "guidance only when the waypoint is at least this far") \
+  X(double, guidance_min_waypoint_m, "guidance_min_waypoint_m", 0.3, 0.0, 20.0, "m", "guidance only when the waypoint is at least this far (the steering point runs on to the next place of a route, so guidance goes on up to the place itself)") \
   X(double, walking_speed_mps, "walking_speed_mps", 0.25, 0.0, 2.0, "m/s", "the wearer counts as walking above this speed (the planner's `walking_speed`): veer cues while walking, stop-and-turn cues while standing") \
   X(double, veer_on_deg, "veer_on_deg", 10.0, 1.0, 90.0, "deg", "a veer cue when the steering point lies further than this off the walking direction") \
   X(double, veer_step_deg, "veer_step_deg", 15.0, 1.0, 60.0, "deg", "a veer burst at level k (1..3) asks for k x this (15 / 30 / 45 deg: slightly, bear, sharply)") \

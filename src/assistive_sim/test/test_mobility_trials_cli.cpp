@@ -135,3 +135,30 @@ TEST(MobilityTrials, GeneratedSetUsageErrors)
   EXPECT_EQ(code("--generated -1"), 2);
   EXPECT_EQ(code("--world glass --kind home"), 2);
 }
+
+// CI's homes (issue 33): truth trials on three small generated homes with 0.80-0.90 m doorways,
+// wearers drawn from the population. The targets (0 collisions, every trial completed) are not
+// met today (see the issue's closing note); what is asserted is what the cue stage must at least
+// do: fewer collisions than a vest that only says "walk on".
+TEST(MobilityTrials, HomesWithOrdinaryDoorwaysCuesBeatAWalkOnOnlyVest)
+{
+  const std::string args = "--generated 3 --kind home --seed-base 4001 --trials 2 --mode truth";
+  const std::string with = run(args, "homes_cues");
+  const std::string without = run(args + " --no-cues", "homes_nocues");
+  ASSERT_TRUE(has(with, "collisions_per_trial")) << with;
+  EXPECT_EQ(key(with, "worlds"), 3.0) << with;
+  EXPECT_EQ(key(with, "trials"), 6.0) << with;
+  EXPECT_LT(key(with, "collisions_per_trial"), key(without, "collisions_per_trial")) << with << "\n" << without;
+}
+
+// The UNSURE episode (the pose lost for 3 s, 6 s into the walk): the vest's three pulses stop the
+// wearer within its reaction, the pulses and its stop: the typical wearer (1.1 m/s, 0.6 s)
+// walks at most 1.1 x (0.6 + 0.1) + 1.1^2 / (2 x 2.4) = 1.02 m; the issue's 0.5 m lies below
+// that floor.
+TEST(MobilityTrials, AnUnsureEpisodeStopsTheWearerWithinItsReaction)
+{
+  const std::string r = run("--world glass --trials 2 --mode truth --wearer typical --unsure-at 6 --unsure-for 3", "unsure");
+  const double walked = key(r, "unsure_walked_m_max");
+  EXPECT_GT(walked, 0.3) << r;  // it was walking when the episode began
+  EXPECT_LE(walked, 1.05) << r;
+}
