@@ -264,21 +264,21 @@ Cue CueLogic::update(const NavInput& in, double now)
       // kept the wearer facing the obstacle and stepping left and right in front of it (mobility
       // trials: stuck in front of the course's 2 m wall with the way round 50 deg to the left), and
       // stopped every wearer who approached a doorway at an angle.
-      // The same inside the reaction-time part of the stop distance (an obstacle the wearer would
-      // reach only if it walked on, unreacting, while the steering point lies clear to a side):
-      // only the walk that no reaction can prevent (the fastest, 0.3 s, and the stop) forces a stop.
+      // The same inside part of the stop distance: an obstacle the wearer would reach only if it
+      // walked on, unreacting, while the steering point lies clear to a side. Only the walk no
+      // reaction can prevent forces a stop: the fastest reaction (0.3 s) or this wearer's learnt
+      // one discounted by half above that (a veer turns the walk away while it still goes on),
+      // and the stop itself.
       const double v = std::max(0.0, in.walking_speed);
-      const double hard = params_.alert_m + v * 0.3 + v * v / (2.0 * params_.stop_decel);
+      const double tau = reactionEstimate();
+      const double must_stop =
+          params_.alert_m + v * std::max(0.3, std::min(tau, 0.3 + 0.5 * tau)) + v * v / (2.0 * params_.stop_decel);
       const bool steering_away =
           in.waypoint_distance >= params_.guidance_min_waypoint_m &&
           std::fabs(wrapAngle(in.steer_heading - in.walk_heading)) * kRadToDeg > params_.veer_on_deg &&
           !(in.free_steer < params_.proximity_m);
-      (void)hard;
-      const double learnt = params_.alert_m + v * std::min(reactionEstimate(), 0.3 + 0.5 * reactionEstimate()) +
-                            v * v / (2.0 * params_.stop_decel);
       // (a turn on the spot under way is not interrupted by a side-step: it turns the wearer away)
-      if (((c.mode == CueMode::PROXIMITY || (c.mode == CueMode::ALERT && in.free_ahead >= std::max(hard, learnt))) &&
-           steering_away) ||
+      if (((c.mode == CueMode::PROXIMITY || (c.mode == CueMode::ALERT && in.free_ahead >= must_stop)) && steering_away) ||
           (c.mode == CueMode::PROXIMITY && busy_ && busy_turn_))
       {
         waist_side_ = 0;

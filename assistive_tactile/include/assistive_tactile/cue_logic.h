@@ -91,23 +91,24 @@ using assistive_common::crossingName;
 double wrapAngle(double a);
 
 /**
- * Guidance / proximity / alert / unsure decisions (seed 5.3), with two fixes from seed 5.5.3:
- * intensity follows the turn still needed (falls to zero as the wearer lines up, so wearers do
- * not over-turn), and every threshold has hysteresis so cues do not chatter. Stateful (the
- * hysteresis); not thread-safe. Times are seconds on any monotonic clock.
+ * The walking protocol (issue 33; the page in README.md): steering cues a person can follow while
+ * walking (a veer burst asks for an amount, a stop-and-turn buzz lasts the angle at the wearer's
+ * turning rate), the walk-on tick that makes silence mean "stop", the UNSURE pattern, and the
+ * seed's obstacle cues (5.2-5.3) with people crossing (issue 22) over them. Each cue is a pattern
+ * the vest plays (`Cue::pattern`; a new id starts it, the same id continues it).
  *
- * People crossing (issue 22) lie over the obstacle and guidance cues; the order, first wins:
- *   1. input not usable (NaN, camera image too old or unstamped), or status not OK: UNSURE (or
- *      the obstacle ALERT of NO_PATH / NO_WAYPOINT); a crossing is never cued then;
- *   2. the obstacle ALERT (free ahead under alert_m, or under proximity_m with no room to a side);
- *   3. crossing STOP: ALERT, all four ("person crossing, stop 0.8 s");
- *   4. crossing LEFT / RIGHT: PROXIMITY on that waist motor ("person crossing, step left 1.8 s"),
- *      over an obstacle's side-step (the planner chose the side with room: it avoids both) and
- *      over guidance;
- *   5. the obstacle PROXIMITY, then guidance, as before.
- * A crossing cue lasts at least crossing_hold_s (and a side is not swapped for the other sooner;
- * STOP replaces a side at once), then ends once the advice has been NONE for crossing_release_s.
- * The obstacle and guidance hysteresis runs underneath unchanged.
+ * The order, first wins:
+ *   1. input not usable (NaN, camera image too old or unstamped), or status not OK: UNSURE (three
+ *      pulses on both waists, then silence), or the obstacle stop of NO_PATH / NO_WAYPOINT;
+ *   2. the obstacle stop: free ahead inside the stop distance (alert_m plus the walk during the
+ *      wearer's reaction, learnt from its starts, and its stop), unless the steering point lies
+ *      clear to a side and the obstacle lies beyond what no reaction can prevent;
+ *   3. crossing STOP: all four; 4. crossing LEFT / RIGHT: that waist motor;
+ *   5. the obstacle side-step (unless steering away, or a turn on the spot is under way);
+ *   6. steering: a veer while walking, a stop-and-turn above turn_on_deg (standing: stand_turn_deg);
+ *   7. the walk-on tick.
+ * A crossing cue lasts at least crossing_hold_s, then ends once the advice has been NONE for
+ * crossing_release_s. Stateful; not thread-safe. Times are seconds on any monotonic clock.
  */
 class CueLogic
 {
