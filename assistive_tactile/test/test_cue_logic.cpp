@@ -146,7 +146,7 @@ TEST(CueLogic, SingleDecisionTable)
     { "standing, 30 deg off: walk on (veer once walking)", standing(turn(30)), CueMode::IDLE, { t, t, 0, 0 }, nullptr },
     { "standing, 40 deg right: turn on the spot", standing(turn(-40)), CueMode::GUIDANCE, { 0, level(1), 0, 0 },
       "stop, turn right 40" },
-    { "waypoint 0.8 m: walk on", [] { NavInput in = turn(45); in.waypoint_distance = 0.8; return in; }(),
+    { "waypoint 0.2 m: walk on", [] { NavInput in = turn(45); in.waypoint_distance = 0.2; return in; }(),
       CueMode::IDLE, { t, t, 0, 0 }, "waypoint" },
     { "nothing ahead (inf)", [] { NavInput in = turn(30); in.free_ahead = kInf; return in; }(), CueMode::GUIDANCE,
       { level(2), 0, 0, 0 }, nullptr },
