@@ -85,7 +85,6 @@ double wrapAngle(double a)
 void CueLogic::reset()
 {
   last_mode_ = CueMode::UNSURE;
-  turn_side_ = 0;
   waist_side_ = 0;
   busy_ = false;
   last_yaw_time_ = -1e300;
@@ -311,7 +310,6 @@ Cue CueLogic::update(const NavInput& in, double now)
       }
       else
       {
-        turn_side_ = 0;
         waist_side_ = 0;
         c = unsureCue(what + suffix, now);
       }
@@ -449,7 +447,6 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
   c.mode = CueMode::PROXIMITY;
   c.intensity[side > 0 ? LEFT_WAIST : RIGHT_WAIST] = level;
   c.reason = fmt(side > 0 ? "obstacle %.2f m ahead: step left" : "obstacle %.2f m ahead: step right", d);
-  turn_side_ = 0;
   return c;
 }
 
@@ -571,7 +568,6 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   busy_head0_ = in.head_yaw;
   busy_angle_ = side * level * step / kRadToDeg;
   busy_turn_ = turn;
-  turn_side_ = side;
   const char* dir = side > 0 ? "left" : "right";
   char buf[96];
   if (turn)

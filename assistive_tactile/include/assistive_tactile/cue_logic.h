@@ -160,7 +160,6 @@ private:
 
   CueParams params_;
   CueMode last_mode_ = CueMode::UNSURE;
-  int turn_side_ = 0;   ///< +1 left shoulder active, -1 right, 0 none
   int waist_side_ = 0;  ///< +1 left waist, -1 right, 0 none
   // the crossing cue being held
   CrossingAdvice cross_ = CrossingAdvice::NONE;

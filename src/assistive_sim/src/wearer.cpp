@@ -221,7 +221,6 @@ void VestWearer::perceive(double t, double dt, const std::array<float, 4>& m)
     turn_left_ = 0.0;
     spot_side_ = 0;
     shoulder_side_ = 0;
-    both_shoulders_ = false;
     return;
   }
   if (lw && rw)

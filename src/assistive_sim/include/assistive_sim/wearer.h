@@ -170,7 +170,6 @@ private:
   double shoulder_since_ = -1.0;
   float shoulder_peak_ = 0.f;
   bool shoulder_used_ = false;  ///< this buzz already understood as a turn
-  bool both_shoulders_ = false;
   int last_veer_side_ = 0;      ///< the last one-shoulder pulse: side and end (a veer is two pulses)
   double last_veer_end_ = -1e9;
   // a turn being carried out: rad still to turn (signed), on the spot or while walking
