@@ -14,7 +14,18 @@ double unknownWeight(const Grid& grid, const PlannerParams& p)
   return std::ceil(2.0 * n * max_known + 1.0);  // > any simple known path (n cells, <= sqrt2 * max_known each)
 }
 
-std::vector<double> cellWeights(const Grid& grid, const PlannerParams& p)
+cv::Mat obstacleDistanceCells(const Grid& grid)
+{
+  cv::Mat free_mask(grid.height, grid.width, CV_8UC1);
+  for (int y = 0; y < grid.height; ++y)
+    for (int x = 0; x < grid.width; ++x)
+      free_mask.at<uint8_t>(y, x) = isObstacleCode(grid.at(x, y)) ? 0 : 255;
+  cv::Mat dist;
+  cv::distanceTransform(free_mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  return dist;
+}
+
+std::vector<double> cellWeights(const Grid& grid, const PlannerParams& p, const cv::Mat* known_dist)
 {
   const size_t n = grid.data.size();
   std::vector<double> w(n, 1.0);
@@ -35,13 +46,7 @@ std::vector<double> cellWeights(const Grid& grid, const PlannerParams& p)
   }
   if (any_obstacle && ((p.clearance_weight > 0.0 && p.clearance_radius > 0.0) || p.inflation_radius > 0.0))
   {
-    // distance (cells) of every cell to the nearest obstacle cell
-    cv::Mat free_mask(grid.height, grid.width, CV_8UC1);
-    for (int y = 0; y < grid.height; ++y)
-      for (int x = 0; x < grid.width; ++x)
-        free_mask.at<uint8_t>(y, x) = isObstacleCode(grid.at(x, y)) ? 0 : 255;
-    cv::Mat dist;
-    cv::distanceTransform(free_mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    const cv::Mat dist = known_dist ? *known_dist : obstacleDistanceCells(grid);
     const double r = std::max(1e-9, p.clearance_radius / grid.resolution);
     // the body's radius: closer than it (plus half a cell: the obstacle's surface may lie anywhere
     // in its cell) the body would touch, whatever the cost

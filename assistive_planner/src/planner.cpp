@@ -12,6 +12,21 @@
 
 namespace assistive_planner
 {
+namespace
+{
+/// IN_UNKNOWN for unmapped floor closer ahead than unknown_ahead_m: no path, no target.
+void unmappedAhead(PlanOutput& out)
+{
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), "unmapped floor %.2f m ahead: cannot tell what is there", out.free_ahead);
+  out.status = PlanStatus::IN_UNKNOWN;
+  out.message = buf;
+  out.path.clear();
+  out.steer_path.clear();
+  out.has_waypoint = false;
+}
+}  // namespace
+
 Planner::Planner(const PlannerParams& p) : p_(p), motion_(p), waypoints_(p), crossing_(p) {}
 
 int markWalkedFloor(Grid& grid, const std::vector<Point2>& walked, double radius)
@@ -190,16 +205,12 @@ Point2 Planner::pointAlong(const std::vector<Point2>& path, double dist)
   return path.back();
 }
 
-void Planner::smoothPath(const Grid& grid, const std::vector<double>& weights, std::vector<Point2>& path)
+void Planner::smoothPath(const Grid& grid, const std::vector<double>& weights, const cv::Mat& dist,
+                         std::vector<Point2>& path)
 {
-  if (path.size() < 3 || grid.empty() || weights.size() != grid.data.size())
+  if (path.size() < 3 || grid.empty() || weights.size() != grid.data.size() || dist.rows != grid.height ||
+      dist.cols != grid.width)
     return;
-  cv::Mat free_mask(grid.height, grid.width, CV_8UC1);
-  for (int y = 0; y < grid.height; ++y)
-    for (int x = 0; x < grid.width; ++x)
-      free_mask.at<uint8_t>(y, x) = isObstacleCode(grid.at(x, y)) ? 0 : 255;
-  cv::Mat dist;
-  cv::distanceTransform(free_mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
   auto cellOf = [&](const Point2& q, int& x, int& y) { return grid.worldToCell(q.x, q.y, x, y); };
   // clearance (cells) of a point's cell; -1 outside or blocked
   auto clear = [&](const Point2& q) -> double {
@@ -316,7 +327,8 @@ void Planner::refinePath(const Grid& grid, std::vector<Point2>& path, double cle
 
 void Planner::syncCosts(const Grid& grid, PlanOutput& out)
 {
-  const std::vector<double> w = cellWeights(grid, p_);
+  obstacle_dist_ = obstacleDistanceCells(grid);  // once a cycle: the costs and the path's smoothing
+  const std::vector<double> w = cellWeights(grid, p_, &obstacle_dist_);
   const bool same_shape = have_grid_ && grid.width == last_grid_.width && grid.height == last_grid_.height &&
                           std::abs(grid.resolution - last_grid_.resolution) < 1e-9;
   int dx = 0, dy = 0;
@@ -437,10 +449,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   {
     // The floor just ahead is unmapped, not blocked (after a map reset it lies below the camera's
     // view until the wearer has walked on): "stop" or "step aside" would be a guess.
-    char buf[96];
-    std::snprintf(buf, sizeof(buf), "unmapped floor %.2f m ahead: cannot tell what is there", out.free_ahead);
-    out.status = PlanStatus::IN_UNKNOWN;
-    out.message = buf;
+    unmappedAhead(out);
     return out;
   }
 
@@ -584,7 +593,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   out.path_length = len;
   // Pure pursuit on the path refined towards the middle of narrow passages: the steering point lies
   // a fraction of a second of walking ahead (regulated pure pursuit), within [min, max].
-  smoothPath(grid, dstar_.costs().w, out.path);
+  smoothPath(grid, dstar_.costs().w, obstacle_dist_, out.path);
   refinePath(grid, out.path, p_.path_refine_m);
   out.steer_path = out.path;
   int nx, ny;
@@ -597,7 +606,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
       std::vector<Point2> more{ out.path.back() };
       for (size_t i = 1; i < on.size(); ++i)
         more.push_back({ grid.cellX(on[i] % grid.width), grid.cellY(on[i] / grid.width) });
-      smoothPath(grid, dstar_.costs().w, more);
+      smoothPath(grid, dstar_.costs().w, obstacle_dist_, more);
       refinePath(grid, more, p_.path_refine_m);
       out.steer_path.insert(out.steer_path.end(), more.begin() + 1, more.end());
     }
@@ -658,13 +667,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
     if (ahead_unknown && out.free_ahead < p_.unknown_ahead_m)
     {
       // (standing: judged along the way it will be sent, not the way it faces)
-      char buf[96];
-      std::snprintf(buf, sizeof(buf), "unmapped floor %.2f m ahead: cannot tell what is there", out.free_ahead);
-      out.status = PlanStatus::IN_UNKNOWN;
-      out.message = buf;
-      out.path.clear();
-      out.steer_path.clear();
-      out.has_waypoint = false;
+      unmappedAhead(out);
       return out;
     }
   }

@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
 #include "assistive_planner/cost_grid.h"
 #include "assistive_planner/crossing_watch.h"
 #include "assistive_planner/dstar_lite.h"
@@ -122,9 +124,10 @@ public:
   static void refinePath(const Grid& grid, std::vector<Point2>& path, double clearance);
   /// String pulling: drops the path's points a straight line can skip without passing closer to
   /// an obstacle cell than the skipped stretch did (the middle of a passage stays the middle) and
-  /// without crossing a blocked cell of `weights` (obstacles and the body's inflation). Keeps the
-  /// first and last point.
-  static void smoothPath(const Grid& grid, const std::vector<double>& weights, std::vector<Point2>& path);
+  /// without crossing a blocked cell of `weights` (obstacles and the body's inflation); `dist` is
+  /// obstacleDistanceCells(grid). Keeps the first and last point.
+  static void smoothPath(const Grid& grid, const std::vector<double>& weights, const cv::Mat& dist,
+                         std::vector<Point2>& path);
   /// Cheapest path between two cells on `costs` (A*, 8-connected, the same edge costs as D* Lite):
   /// cell indices from `from` to `to`; empty when there is none.
   static std::vector<int> cheapestPath(const CostGrid& costs, int from, int to);
@@ -151,5 +154,6 @@ private:
   std::vector<Point2> walked_;  // the wearer's positions, >= 0.05 m apart
   std::vector<std::pair<double, Point2>> recent_;  // (t, position) over the last walk_window_s
   Grid work_;                   // the input grid with the walked floor marked
+  cv::Mat obstacle_dist_;       // work_'s obstacle distance field (cells), this cycle's
 };
 }  // namespace assistive_planner
