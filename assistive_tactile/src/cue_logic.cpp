@@ -107,7 +107,6 @@ Cue CueLogic::startPattern(CueMode mode, Instruction ins, int level, std::array<
   c.pattern.count = count;
   c.reason = std::move(reason);
   current_ = c;
-  current_start_ = now;
   last_tick_ = now;
   return c;
 }

@@ -168,7 +168,6 @@ private:
   double cross_time_ = 0.0;       ///< its time to the closest approach then
   // guidance while walking: the burst being executed and the walk's yaw when it started
   Cue current_;                 ///< the pattern last started
-  double current_start_ = -1e300;
   uint8_t next_id_ = 1;
   double last_tick_ = -1e300;   ///< when the last pattern (a tick or any other) started
   bool busy_ = false;           ///< a veer / turn burst is being executed

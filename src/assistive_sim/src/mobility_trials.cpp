@@ -402,6 +402,14 @@ std::string jsonStr(const std::string& s)
   return o + "\"";
 }
 
+/// "name=value" -> (name, value); throws std::invalid_argument without '=' or a number.
+std::pair<std::string, double> keyValue(const std::string& s)
+{
+  const size_t eq = s.find('=');
+  if (eq == std::string::npos) throw std::invalid_argument(s);
+  return { s.substr(0, eq), std::stod(s.substr(eq + 1)) };
+}
+
 std::vector<std::string> splitComma(const std::string& s)
 {
   std::vector<std::string> out;
@@ -467,11 +475,7 @@ int main(int argc, char** argv)
       else if (a == "--lead") opt.planner.steer_lead_s = std::stod(val());
       else if (a == "--fix")  // analysis: name=value replaces a drawn trait (reaction, gain, sigma, bias, levels)
       {
-        const std::string v = val();
-        const size_t eq = v.find('=');
-        if (eq == std::string::npos) throw std::invalid_argument("--fix");
-        const std::string k = v.substr(0, eq);
-        const double x = std::stod(v.substr(eq + 1));
+        const auto [k, x] = keyValue(val());
         if (k == "reaction") opt.fix_reaction_s = x;
         else if (k == "gain") opt.fix_turn_gain = x;
         else if (k == "sigma") opt.fix_veer_sigma = x;
@@ -481,11 +485,7 @@ int main(int argc, char** argv)
       }
       else if (a == "--cue")  // analysis: name=value of a cue parameter (veer_step, veer_on, alert_reaction, turn_on)
       {
-        const std::string v = val();
-        const size_t eq = v.find('=');
-        if (eq == std::string::npos) throw std::invalid_argument("--cue");
-        const std::string k = v.substr(0, eq);
-        const double x = std::stod(v.substr(eq + 1));
+        const auto [k, x] = keyValue(val());
         if (k == "veer_step") opt.cues.veer_step_deg = x;
         else if (k == "veer_on") opt.cues.veer_on_deg = x;
         else if (k == "alert_reaction") opt.cues.alert_reaction_s = x;

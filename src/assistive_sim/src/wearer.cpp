@@ -259,7 +259,6 @@ void VestWearer::perceive(double t, double dt, const std::array<float, 4>& m)
       percept_ = side > 0 ? TURN_LEFT : TURN_RIGHT;
       turn_left_ = 0.0;  // a veer under way gives way to the turn
       spot_side_ = side;
-      turn_on_spot_ = true;
       go_ = false;  // after the turn: stand until the walk-on says go
     }
     return;
@@ -282,8 +281,7 @@ void VestWearer::perceive(double t, double dt, const std::array<float, 4>& m)
         percept_level_ = perceivedLevel(shoulder_peak_);
         percept_ = shoulder_side_ > 0 ? VEER_LEFT : VEER_RIGHT;
         // each burst asks for this much more (a second one before the first is done adds to it)
-        turn_left_ = (turn_on_spot_ ? 0.0 : turn_left_) + shoulder_side_ * percept_level_ * 15.0 * DEG * drawGain();
-        turn_on_spot_ = false;
+        turn_left_ += shoulder_side_ * percept_level_ * 15.0 * DEG * drawGain();
         go_ = true;
       }
       if (shoulder_side_ != 2)

@@ -174,7 +174,6 @@ private:
   double last_veer_end_ = -1e9;
   // a turn being carried out: rad still to turn (signed), on the spot or while walking
   double turn_left_ = 0.0;
-  bool turn_on_spot_ = false;
   int spot_side_ = 0;           ///< turning on the spot towards this side while the buzz is felt
   int explore_side_ = 0;
   double explore_until_ = -1.0;
