@@ -1,5 +1,5 @@
-// assistive_obstacles/obstacles: glue between ROS and the core (disparity, ObstacleMap).
-#include <chrono>
+// assistive_obstacles/obstacles: glue between ROS and the core's frame step (ObstacleFrameProcessor).
+#include <atomic>
 #include <deque>
 #include <memory>
 #include <mutex>
@@ -27,10 +27,7 @@
 #include <assistive_common/wearer.h>
 
 #include <assistive_obstacles/conversions.h>
-#include <assistive_obstacles/disparity.h>
-#include <assistive_obstacles/frame_gate.h>
-#include <assistive_obstacles/mover_pipeline.h>
-#include <assistive_obstacles/obstacle_map.h>
+#include <assistive_obstacles/frame_processor.h>
 #include <nav_msgs/Odometry.h>
 
 namespace assistive_obstacles
@@ -49,9 +46,7 @@ public:
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     readParams(pnh);
-    disparity_ = std::make_unique<DisparityEstimator>(params_);
-    map_ = std::make_unique<ObstacleMap>(params_);
-    gate_ = FrameGate({ params_.max_frame_gap_s, params_.rebuild_frames, params_.min_fresh_points });
+    proc_ = std::make_unique<ObstacleFrameProcessor>(params_, node_.octomap_insert_every);
     tf_buffer_ = std::make_unique<tf2_ros::Buffer>(ros::Duration(10.0));
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);
 
@@ -135,75 +130,20 @@ private:
     last_input_ = ros::WallTime::now();
   }
 
-  /// The forward ranger: queued, applied before the next frame's update once its pose is on tf.
-  void sonarCb(const sensor_msgs::Range::ConstPtr& r)
+  /// The forward ranger: queued, handed to the processor at the next frame (which applies the
+  /// readings stamped up to that frame before its update, once their pose is on tf).
+  void sonarCb(const sensor_msgs::Range::ConstPtr& m)
   {
+    RangeSample r;
+    r.stamp = m->header.stamp.toSec();
+    r.range = m->range;
+    r.min_range = m->min_range;
+    r.max_range = m->max_range;
+    r.field_of_view = m->field_of_view;
+    r.frame = m->header.frame_id;
     std::lock_guard<std::mutex> lock(sonar_mutex_);
-    sonar_queue_.push_back(r);
-    while (sonar_queue_.size() > 100) sonar_queue_.pop_front();  // no frames: keep the latest 5 s
-  }
-
-  /// Readings stamped up to `stamp` into the map (tf world_frame <- the reading's frame).
-  void applySonar(const ros::Time& stamp)
-  {
-    std::deque<sensor_msgs::Range::ConstPtr> ready;
-    {
-      std::lock_guard<std::mutex> lock(sonar_mutex_);
-      while (!sonar_queue_.empty() && sonar_queue_.front()->header.stamp <= stamp)
-      {
-        ready.push_back(sonar_queue_.front());
-        sonar_queue_.pop_front();
-      }
-    }
-    for (const auto& m : ready)
-    {
-      bool in_epoch;
-      {
-        std::lock_guard<std::mutex> lock(gate_mutex_);
-        in_epoch = gate_.inEpoch(m->header.stamp.toSec());
-      }
-      if (!in_epoch)
-      {
-        // Queued through a black-out or a gap: tf would interpolate its pose across the spell
-        // the VO could not trust, and its echo would hold cells of the new map for good.
-        NODELET_WARN_THROTTLE(5.0, "obstacles: ranger reading stamped %.3f is from before the map's last clear: "
-                              "not used", m->header.stamp.toSec());
-        std::lock_guard<std::mutex> lock(stats_mutex_);
-        ++sonar_stale_;
-        continue;
-      }
-      RangeReading r;
-      r.range = m->range;
-      r.min_range = m->min_range;
-      r.max_range = m->max_range;
-      r.field_of_view = m->field_of_view;
-      try
-      {
-        r.T_world_sensor = tf2::transformToEigen(tf_buffer_->lookupTransform(node_.world_frame, m->header.frame_id,
-                                                                             m->header.stamp)).cast<float>();
-      }
-      catch (const tf2::TransformException& e)
-      {
-        NODELET_WARN_THROTTLE(5.0, "obstacles: ranger reading without a pose (%s): not used", e.what());
-        std::lock_guard<std::mutex> lock(stats_mutex_);
-        ++sonar_tf_failures_;
-        continue;
-      }
-      const RangeCheck rc = map_->addRange(r);
-      std::lock_guard<std::mutex> lock(stats_mutex_);
-      if (rc == RangeCheck::ECHO || rc == RangeCheck::NO_ECHO)
-      {
-        ++sonar_used_;
-        last_sonar_ = ros::WallTime::now();
-      }
-      else
-      {
-        ++sonar_rejected_;
-        sonar_rejection_ = rangeCheckName(rc);
-        NODELET_WARN_THROTTLE(5.0, "obstacles: ranger reading rejected (%s, range %.3f in [%.2f, %.2f]): not used",
-                              rangeCheckName(rc), m->range, m->min_range, m->max_range);
-      }
-    }
+    sonar_pending_.push_back(r);
+    while (sonar_pending_.size() > ObstacleFrameProcessor::MaxQueuedRanges) sonar_pending_.pop_front();
   }
 
   /// vo/odom marks a pose it cannot trust with variances of 9999: the map built on the old pose
@@ -211,11 +151,7 @@ private:
   void odomCb(const nav_msgs::Odometry::ConstPtr& o)
   {
     constexpr double kUntrustedVariance = 9999.0;
-    if (!(o->pose.covariance[0] < 0.5 * kUntrustedVariance))
-    {
-      std::lock_guard<std::mutex> lock(gate_mutex_);
-      gate_.poseUntrusted();
-    }
+    if (!(o->pose.covariance[0] < 0.5 * kUntrustedVariance)) pose_untrusted_ = true;
   }
 
   void frameCb(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::ImageConstPtr& r,
@@ -231,12 +167,12 @@ private:
   void frame(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::ImageConstPtr& r,
              const sensor_msgs::CameraInfoConstPtr& li, const sensor_msgs::CameraInfoConstPtr& ri)
   {
-    const auto t0 = std::chrono::steady_clock::now();
-    StereoModel model;
-    if (!fromMsg(*li, *ri, model) || model.width != static_cast<int>(l->width) ||
-        model.height != static_cast<int>(l->height) || l->width != r->width || l->height != r->height)
+    ObstacleFrame f;
+    if (!fromMsg(*li, *ri, f.model) || f.model.width != static_cast<int>(l->width) ||
+        f.model.height != static_cast<int>(l->height) || l->width != r->width || l->height != r->height)
     {
       NODELET_ERROR_THROTTLE(5.0, "obstacles: unusable stereo input (camera_info without fx/baseline or size mismatch)");
+      std::lock_guard<std::mutex> lock(stats_mutex_);
       ++bad_input_;
       return;
     }
@@ -249,133 +185,136 @@ private:
     catch (const cv_bridge::Exception& e)
     {
       NODELET_ERROR_THROTTLE(5.0, "obstacles: cannot convert images to mono8: %s", e.what());
+      std::lock_guard<std::mutex> lock(stats_mutex_);
       ++bad_input_;
       return;
     }
-    // A gap or a time jump (bag loop) makes the old map a guess about a place the wearer has left.
-    bool clear = false;
-    {
-      std::lock_guard<std::mutex> lock(gate_mutex_);
-      clear = gate_.clearBefore(l->header.stamp.toSec());
-      if (clear && !gate_.reason().empty())
-        NODELET_WARN_THROTTLE(2.0, "obstacles: %s", gate_.reason().c_str());
-    }
-    if (clear)
-    {
-      map_->reset();
-      if (movers_) movers_->reset();
-    }
-    cv::Mat disp;
-    if (!disparity_->compute(cl->image, cr->image, disp))
-    {
-      NODELET_ERROR_THROTTLE(5.0, "obstacles: disparity failed (image %ux%u too small for %d disparities?)", l->width,
-                             l->height, disparity_->numDisparities());
-      ++bad_input_;
-      return;
-    }
-    const bool want_normals = map_->usesNormals();
-    disparity_->toPoints(disp, model, points_, want_normals ? &normals_ : nullptr);
-    const auto t1 = std::chrono::steady_clock::now();
-    if (pub_disp_.getNumSubscribers() > 0)
-      pub_disp_.publish(boost::make_shared<stereo_msgs::DisparityImage>(
-          toDisparityMsg(disp, model, disparity_->numDisparities(), l->header)));
-    if (pub_points_.getNumSubscribers() > 0)
-      pub_points_.publish(boost::make_shared<sensor_msgs::PointCloud2>(toCloudMsg(points_, l->header)));
-
-    Eigen::Isometry3f T_world_cam;
+    f.stamp = l->header.stamp.toSec();
+    f.left = cl->image;
+    f.right = cr->image;
+    f.pose_trusted = !pose_untrusted_.exchange(false);
     try
     {
       // Available: the tf filter let the left image through (no timeout, no wait).
-      const auto tf = tf_buffer_->lookupTransform(node_.world_frame, l->header.frame_id, l->header.stamp);
-      T_world_cam = tf2::transformToEigen(tf).cast<float>();
+      f.T_world_cam = tf2::transformToEigen(tf_buffer_->lookupTransform(node_.world_frame, l->header.frame_id,
+                                                                        l->header.stamp));
     }
     catch (const tf2::TransformException& e)
     {
+      f.has_pose = false;
       NODELET_WARN_THROTTLE(5.0, "obstacles: no pose %s -> %s at %.3f: %s", node_.world_frame.c_str(),
                             l->header.frame_id.c_str(), l->header.stamp.toSec(), e.what());
-      std::lock_guard<std::mutex> lock(stats_mutex_);
+    }
+    std::lock_guard<std::mutex> proc_lock(proc_mutex_);
+    {
+      std::lock_guard<std::mutex> lock(sonar_mutex_);
+      for (const RangeSample& s : sonar_pending_) proc_->queueRange(s);
+      sonar_pending_.clear();
+    }
+    const ObstacleFrameCounters before = proc_->counters();
+    const ObstacleFrameResult& res = proc_->process(f, [this](const RangeSample& s, Eigen::Isometry3f& T) {
+      try
+      {
+        T = tf2::transformToEigen(tf_buffer_->lookupTransform(node_.world_frame, s.frame, ros::Time(s.stamp))).cast<float>();
+        return true;
+      }
+      catch (const tf2::TransformException& e)
+      {
+        NODELET_WARN_THROTTLE(5.0, "obstacles: ranger reading without a pose (%s): not used", e.what());
+        return false;
+      }
+    });
+    if (!res.disparity_ok)
+    {
+      NODELET_ERROR_THROTTLE(5.0, "obstacles: disparity failed (image %ux%u too small for %d disparities?)", l->width,
+                             l->height, proc_->disparityEstimator().numDisparities());
+      return;
+    }
+    if (res.cleared && !res.gate_reason.empty())
+      NODELET_WARN_THROTTLE(2.0, "obstacles: %s", res.gate_reason.c_str());
+    publish(res, f.model, l->header);
+    updateStats(res, before);
+  }
+
+  /// What the processor gave, as messages (debug outputs only with subscribers).
+  void publish(const ObstacleFrameResult& res, const StereoModel& model, const std_msgs::Header& header)
+  {
+    if (pub_disp_.getNumSubscribers() > 0)
+      pub_disp_.publish(boost::make_shared<stereo_msgs::DisparityImage>(
+          toDisparityMsg(proc_->disparity(), model, proc_->disparityEstimator().numDisparities(), header)));
+    if (pub_points_.getNumSubscribers() > 0)
+      pub_points_.publish(boost::make_shared<sensor_msgs::PointCloud2>(toCloudMsg(proc_->points(), header)));
+    if (!res.map_updated) return;
+    if (res.movers_enabled)
+    {
+      pub_movers_.publish(boost::make_shared<assistive_msgs::MoverArray>(
+          toMoverArray(res.movers, res.feet_z, node_.world_frame, header.stamp)));
+      if (pub_mover_markers_.getNumSubscribers() > 0)
+        pub_mover_markers_.publish(boost::make_shared<visualization_msgs::MarkerArray>(
+            toMoverMarkers(res.movers, res.feet_z, CrossingHorizonS, node_.world_frame, header.stamp)));
+    }
+    if (res.has_grid)
+      pub_grid_.publish(boost::make_shared<nav_msgs::OccupancyGrid>(toMsg(res.grid, node_.world_frame, header.stamp)));
+    if (pub_dropout_.getNumSubscribers() > 0)
+      pub_dropout_.publish(boost::make_shared<nav_msgs::OccupancyGrid>(
+          toMsg(proc_->map().dropout(), node_.world_frame, header.stamp)));
+    if (res.octomap_inserted && pub_markers_.getNumSubscribers() > 0)
+    {
+      std::vector<Eigen::Vector3f> c;
+      std::vector<float> s;
+      proc_->map().octree().occupiedCenters(c, s);
+      pub_markers_.publish(boost::make_shared<visualization_msgs::MarkerArray>(toMarkers(c, s, node_.world_frame, header.stamp)));
+    }
+  }
+  /// The diagnostics' snapshot of this frame, and the warnings on its ranger readings.
+  void updateStats(const ObstacleFrameResult& res, const ObstacleFrameCounters& before)
+  {
+    const ObstacleFrameCounters& now = proc_->counters();
+    if (now.ranges_stale > before.ranges_stale)
+      NODELET_WARN_THROTTLE(5.0, "obstacles: %ld ranger reading(s) from before the map's last clear: not used",
+                            now.ranges_stale - before.ranges_stale);
+    bool ranger_used = false;
+    for (const AppliedRange& a : res.ranges)
+    {
+      if (a.check == RangeCheck::ECHO || a.check == RangeCheck::NO_ECHO)
+        ranger_used = true;
+      else
+        NODELET_WARN_THROTTLE(5.0, "obstacles: ranger reading rejected (%s, range %.3f in [%.2f, %.2f]): not used",
+                              rangeCheckName(a.check), a.sample.range, a.sample.min_range, a.sample.max_range);
+    }
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    if (!res.has_pose)
+    {
       ++tf_failures_;
       return;
     }
-    // A frame without depth must not make the old map look fresh: no update, no grid (the planner
-    // then sees the grid's stamp fall behind the pose's and stops guiding).
-    FrameGate::Verdict verdict;
+    counters_ = now;
+    last_verdict_ = res.verdict;
+    gate_reason_ = res.gate_reason;
+    gate_clears_ = proc_->gate().clears();
+    gate_no_depth_ = proc_->gate().noDepthFrames();
+    if (res.verdict == FrameGate::Verdict::NO_DEPTH)
     {
-      std::lock_guard<std::mutex> lock(gate_mutex_);
-      verdict = gate_.verdict(points_.size());
-    }
-    {
-      std::lock_guard<std::mutex> lock(stats_mutex_);
-      last_verdict_ = verdict;
-      gate_reason_ = gate_.reason();
-      gate_clears_ = gate_.clears();
-      gate_no_depth_ = gate_.noDepthFrames();
-    }
-    if (verdict == FrameGate::Verdict::NO_DEPTH)
-    {
-      NODELET_WARN_THROTTLE(2.0, "obstacles: %s", gate_.reason().c_str());
+      NODELET_WARN_THROTTLE(2.0, "obstacles: %s", res.gate_reason.c_str());
       return;
     }
-    if (params_.sonar_enabled)
+    if (ranger_used) last_sonar_ = ros::WallTime::now();
+    if (params_.sonar_enabled && counters_.ranges_echo + counters_.ranges_no_echo > 0 &&
+        (ros::WallTime::now() - last_sonar_).toSec() > 1.0)
+      NODELET_WARN_THROTTLE(5.0, "obstacles: no ranger reading for %.1f s: glass is not covered",
+                            (ros::WallTime::now() - last_sonar_).toSec());
+    if (const MoverPipeline* m = proc_->movers())
     {
-      applySonar(l->header.stamp);
-      std::lock_guard<std::mutex> lock(stats_mutex_);
-      if (sonar_used_ > 0 && (ros::WallTime::now() - last_sonar_).toSec() > 1.0)
-        NODELET_WARN_THROTTLE(5.0, "obstacles: no ranger reading for %.1f s: glass is not covered",
-                              (ros::WallTime::now() - last_sonar_).toSec());
+      mover_count_ = static_cast<int>(res.movers.size());
+      mover_cells_ = proc_->map().stats().mover_cells;
+      ms_movers_ = res.ms_movers;
+      ms_tracking_ = m->msTracking();
+      flow_points_ = static_cast<int>(m->flow().size());
     }
-    // Movers (issue 22): scene flow against the ego-motion between this pose and the last one;
-    // their cells take no vote in this update.
-    if (params_.movers)
-    {
-      if (!movers_) movers_ = std::make_unique<MoverPipeline>(moverPipelineParams(params_, model));
-      map_->setMovers(movers_->process(l->header.stamp.toSec(), cl->image, disp, model, T_world_cam.cast<double>(), &cr->image));
-    }
-    const auto t_movers = std::chrono::steady_clock::now();
-    map_->update(points_, T_world_cam, &model, &disp, want_normals ? &normals_ : nullptr);
-    const auto t2 = std::chrono::steady_clock::now();
-    if (movers_)
-    {
-      // Every frame with depth, also with no one (an empty array: "no one", not "no news").
-      const std::vector<ReportedMover> reported = movers_->confirmed();
-      const double feet = T_world_cam.translation().z() - params_.camera_height;
-      pub_movers_.publish(boost::make_shared<assistive_msgs::MoverArray>(
-          toMoverArray(reported, feet, node_.world_frame, l->header.stamp)));
-      if (pub_mover_markers_.getNumSubscribers() > 0)
-        pub_mover_markers_.publish(boost::make_shared<visualization_msgs::MarkerArray>(
-            toMoverMarkers(reported, feet, CrossingHorizonS, node_.world_frame, l->header.stamp)));
-      std::lock_guard<std::mutex> lock(stats_mutex_);
-      mover_count_ = static_cast<int>(reported.size());
-      mover_cells_ = map_->stats().mover_cells;
-      ms_movers_ = std::chrono::duration<double, std::milli>(t_movers - t1).count();
-      ms_tracking_ = movers_->msTracking();
-      flow_points_ = static_cast<int>(movers_->flow().size());
-    }
-    GridData grid;
-    if (verdict == FrameGate::Verdict::FRESH)
-    {
-      map_->grid(grid);
-      pub_grid_.publish(boost::make_shared<nav_msgs::OccupancyGrid>(toMsg(grid, node_.world_frame, l->header.stamp)));
-    }
-    if (pub_dropout_.getNumSubscribers() > 0)
-      pub_dropout_.publish(boost::make_shared<nav_msgs::OccupancyGrid>(toMsg(map_->dropout(), node_.world_frame, l->header.stamp)));
-    ++frames_;
-    if (params_.octomap_enabled && frames_ % node_.octomap_insert_every == 0)
-    {
-      map_->insertOctomap();
-      if (pub_markers_.getNumSubscribers() > 0)
-      {
-        std::vector<Eigen::Vector3f> c;
-        std::vector<float> s;
-        map_->octree().occupiedCenters(c, s);
-        pub_markers_.publish(boost::make_shared<visualization_msgs::MarkerArray>(toMarkers(c, s, node_.world_frame, l->header.stamp)));
-      }
-    }
-    std::lock_guard<std::mutex> lock(stats_mutex_);
-    ms_disparity_ = std::chrono::duration<double, std::milli>(t1 - t0).count();
-    ms_map_ = std::chrono::duration<double, std::milli>(t2 - t_movers).count();
-    last_stats_ = map_->stats();
-    last_sonar_held_ = map_->sonar().stats().held;
+    ms_disparity_ = res.ms_disparity;
+    ms_map_ = res.ms_map;
+    last_stats_ = proc_->map().stats();
+    last_sonar_held_ = proc_->map().sonar().stats().held;
   }
 
   bool saveOctomap(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res)
@@ -386,7 +325,10 @@ private:
       res.message = "octomap_enabled is false";
       return true;
     }
-    res.success = map_->octree().save(params_.octomap_save_path);
+    {
+      std::lock_guard<std::mutex> lock(proc_mutex_);
+      res.success = proc_->map().octree().save(params_.octomap_save_path);
+    }
     res.message = res.success ? params_.octomap_save_path : "cannot write " + params_.octomap_save_path;
     NODELET_INFO("obstacles: save_octomap -> %s (%s)", params_.octomap_save_path.c_str(), res.success ? "ok" : "FAILED");
     return true;
@@ -396,7 +338,8 @@ private:
   {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     const double idle = (ros::WallTime::now() - last_input_).toSec();
-    if (frames_ == 0)
+    const long frames = counters_.frames;
+    if (frames == 0)
       st.summary(diagnostic_msgs::DiagnosticStatus::WARN, tf_failures_ ? "no pose from tf" : "waiting for stereo input");
     else if (idle > 2.0)
       st.summary(diagnostic_msgs::DiagnosticStatus::WARN, "stereo input stopped: map stale");
@@ -407,24 +350,25 @@ private:
                   last_stats_.dropout_cells);
     else
       st.summary(diagnostic_msgs::DiagnosticStatus::OK, "mapping");
-    st.add("frames", frames_);
+    st.add("frames", frames);
     st.add("ms disparity", ms_disparity_);
     st.add("ms map", ms_map_);
     st.add("points", last_stats_.points_in);
     st.add("cells observed", last_stats_.cells_observed);
     st.add("dropout cells", last_stats_.dropout_cells);
     st.add("tf failures", tf_failures_);
-    st.add("bad inputs", bad_input_);
+    st.add("bad inputs", bad_input_ + counters_.bad_input);
     st.add("map clears (gap / time jump)", gate_clears_);
     st.add("frames without depth", gate_no_depth_);
-    st.add("ranger readings used", sonar_used_);
-    st.add("ranger readings rejected", sonar_rejected_);
-    if (!sonar_rejection_.empty())
-      st.add("last ranger rejection", sonar_rejection_);
-    st.add("ranger readings without pose", sonar_tf_failures_);
-    st.add("ranger readings from before a map clear", sonar_stale_);
+    const long sonar_used = counters_.ranges_echo + counters_.ranges_no_echo;
+    st.add("ranger readings used", sonar_used);
+    st.add("ranger readings rejected", counters_.ranges_rejected);
+    if (!counters_.last_rejection.empty())
+      st.add("last ranger rejection", counters_.last_rejection);
+    st.add("ranger readings without pose", counters_.ranges_no_pose);
+    st.add("ranger readings from before a map clear", counters_.ranges_stale);
     st.add("ranger", !params_.sonar_enabled ? std::string("disabled")
-                     : sonar_used_ == 0 ? std::string("no reading yet (glass is not covered)")
+                     : sonar_used == 0 ? std::string("no reading yet (glass is not covered)")
                      : (ros::WallTime::now() - last_sonar_).toSec() > 1.0 ? std::string("silent for over 1 s (glass is not covered)")
                      : std::string("ok"));
     st.add("ranger-held cells", static_cast<int>(last_sonar_held_));
@@ -440,25 +384,13 @@ private:
 
   ObstaclesParams params_;
   ObstaclesNodeParams node_;
-  std::unique_ptr<DisparityEstimator> disparity_;
-  std::unique_ptr<ObstacleMap> map_;
-  std::unique_ptr<MoverPipeline> movers_;  // with `movers`; created at the first frame (its rig)
+  std::unique_ptr<ObstacleFrameProcessor> proc_;  // the whole frame step (frame_processor.h)
+  std::mutex proc_mutex_;  // frameCb and the save service run on different threads
+  std::atomic<bool> pose_untrusted_{ false };  // set by odomCb, taken by the next frame
   static constexpr double CrossingHorizonS = 3.0;  // s, predicted path drawn in the markers (CrossingParams::horizon)
-  int mover_count_ = 0, mover_cells_ = 0, flow_points_ = 0;  // under stats_mutex_
-  double ms_movers_ = 0, ms_tracking_ = 0;
-  FrameGate gate_;
-  std::mutex gate_mutex_;  // odomCb and frameCb run on different threads
   ros::Subscriber sub_odom_, sub_sonar_;
   std::mutex sonar_mutex_;
-  std::deque<sensor_msgs::Range::ConstPtr> sonar_queue_;  // under sonar_mutex_
-  long sonar_used_ = 0, sonar_rejected_ = 0, sonar_tf_failures_ = 0, sonar_stale_ = 0;  // under stats_mutex_
-  std::string sonar_rejection_;
-  ros::WallTime last_sonar_;
-  size_t last_sonar_held_ = 0;
-  FrameGate::Verdict last_verdict_ = FrameGate::Verdict::REBUILDING;  // these four under stats_mutex_
-  std::string gate_reason_;
-  long gate_clears_ = 0, gate_no_depth_ = 0;
-  std::vector<Eigen::Vector3f> points_, normals_;  // left optical frame
+  std::deque<RangeSample> sonar_pending_;  // under sonar_mutex_: arrived since the last frame
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   message_filters::Subscriber<Image> sub_l_, sub_r_;
@@ -470,11 +402,18 @@ private:
   ros::ServiceServer srv_save_;
   std::unique_ptr<diagnostic_updater::Updater> diag_;
   ros::Timer diag_timer_;
+  // The diagnostics' snapshot, under stats_mutex_.
   std::mutex stats_mutex_;
-  ros::WallTime last_input_;
+  ros::WallTime last_input_, last_sonar_;
+  ObstacleFrameCounters counters_;
+  FrameGate::Verdict last_verdict_ = FrameGate::Verdict::REBUILDING;
+  std::string gate_reason_;
+  long gate_clears_ = 0, gate_no_depth_ = 0;
   FrameStats last_stats_;
-  double ms_disparity_ = 0, ms_map_ = 0;
-  long frames_ = 0, tf_failures_ = 0, bad_input_ = 0;
+  size_t last_sonar_held_ = 0;
+  int mover_count_ = 0, mover_cells_ = 0, flow_points_ = 0;
+  double ms_disparity_ = 0, ms_map_ = 0, ms_movers_ = 0, ms_tracking_ = 0;
+  long tf_failures_ = 0, bad_input_ = 0;  // the nodelet's own: no pose on tf, messages it cannot convert
 };
 
 }  // namespace assistive_obstacles

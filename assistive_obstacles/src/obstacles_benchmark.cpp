@@ -39,9 +39,7 @@
 #include <assistive_eval/stereo_bag.h>
 
 #include <assistive_obstacles/crossing_predictor.h>
-#include <assistive_obstacles/disparity.h>
-#include <assistive_obstacles/mover_pipeline.h>
-#include <assistive_obstacles/obstacle_map.h>
+#include <assistive_obstacles/frame_processor.h>
 #include <assistive_obstacles/people_score.h>
 
 #include <assistive_msgs/MoverArray.h>
@@ -328,7 +326,7 @@ int main(int argc, char** argv)
       ranges.clear();
     }
   }
-  size_t next_range = 0, ranges_used = 0, ranges_rejected = 0, ranges_no_echo = 0;
+  size_t next_range = 0;
 
   ObstaclesParams params;  // defaults
   // The wearer's camera height: the nodelet takes it from the URDF; here from the world's walk
@@ -337,11 +335,21 @@ int main(int argc, char** argv)
   if (!eval::applySets(cl, overrides, params))  // --set: the node's parameter names (params.h table)
     return 2;
   for (const std::string& w : clampParams(params)) std::cerr << "obstacles_benchmark: " << w << "\n";
-  DisparityEstimator disparity(params);
-  ObstacleMap map(params);
+  // The stage's whole frame step, as the nodelet runs it (frame gate, disparity, ranger, movers,
+  // map, OctoMap insertion).
+  ObstacleFrameProcessor proc(params, ObstaclesNodeParams().octomap_insert_every);
+  const ObstacleMap& map = proc.map();
+  // The ranger's pose: the ground-truth camera pose at the reading's stamp, interpolated, times
+  // the URDF mount.
+  const RangePoseLookup range_pose = [&](const RangeSample& rs, Eigen::Isometry3f& T) {
+    Eigen::Isometry3d T_left;
+    if (!poseAt(reader->groundTruth(), rs.stamp, T_left)) return false;
+    T = (T_left * eval::linkToLeftOptical().inverse() * link_to_sonar).cast<float>();
+    return true;
+  };
+  int no_depth_frames = 0;
   // People who move (issue 22): the stage's mover pipeline on the bag's left image and the truth
   // poses (the ego-motion the stage would take from tf), scored when the bag has people.
-  std::unique_ptr<MoverPipeline> movers;
   std::map<long, Eigen::Isometry3d> mover_poses;  // stamp in microseconds -> pose (--mover-poses)
   if (!mover_poses_path.empty())
   {
@@ -386,8 +394,6 @@ int main(int argc, char** argv)
   Sum s3_strict;  // the truth's own codes, every partly covered cell an obstacle
   eval::StereoFrame f;
   int frames = 0, used = 0, no_pose = 0;
-  std::vector<Eigen::Vector3f> points, normals;
-  cv::Mat disp;
   GridData grid;
   Eigen::Vector2d wearer(0, 0);
   const size_t total = reader->size();
@@ -404,6 +410,13 @@ int main(int argc, char** argv)
     const eval::StereoCalib& c = f.calib;
     const StereoModel model{c.width, c.height, c.fx, c.fy, c.cx, c.cy, c.baseline};
     const double t0 = eval::wallMs();
+    ObstacleFrame in;
+    in.stamp = f.stamp;
+    in.left = f.left;
+    in.right = f.right;
+    in.model = model;
+    in.T_world_cam = f.gt_pose;
+    cv::Mat true_disp;
     if (gt_depth)
     {
       if (f.gt_depth.empty()) continue;
@@ -411,17 +424,42 @@ int main(int argc, char** argv)
       const double sc = params.disparity_scale;
       cv::Mat z;
       cv::resize(f.gt_depth, z, cv::Size(), sc, sc, cv::INTER_NEAREST);
-      disp.create(z.size(), CV_32F);
+      true_disp.create(z.size(), CV_32F);
       const float k = static_cast<float>(model.fx * sc * model.baseline);
       for (int v = 0; v < z.rows; ++v)
         for (int u = 0; u < z.cols; ++u)
         {
           const float zz = z.at<float>(v, u);
-          disp.at<float>(v, u) = zz > 0.f ? k / zz : -1.f;
+          true_disp.at<float>(v, u) = zz > 0.f ? k / zz : -1.f;
         }
+      in.disparity = &true_disp;
     }
-    else if (!disparity.compute(f.left, f.right, disp))
+    const double ms_true_disp = eval::wallMs() - t0;
+    const Eigen::Isometry3d* ego = &f.gt_pose;
+    if (!mover_poses.empty())
+    {
+      const auto it = mover_poses.find(std::lround(f.stamp * 1e6));
+      ego = it != mover_poses.end() ? &it->second : nullptr;  // no pose (the VO lost it): no flow, as in the chain
+      in.own_mover_pose = true;
+      in.mover_pose = ego;
+    }
+    // The ranger's readings as they would have arrived by this frame; the stage applies those
+    // stamped up to it before the frame's update.
+    for (; next_range < ranges.size() && ranges[next_range].stamp <= f.stamp; ++next_range)
+    {
+      const eval::RangeSample& rs = ranges[next_range];
+      proc.queueRange({rs.stamp, rs.range, rs.min_range, rs.max_range, rs.field_of_view, rs.frame_id});
+    }
+    const ObstacleFrameResult& res = proc.process(in, range_pose);
+    if (!res.disparity_ok) continue;
+    if (!res.map_updated)
+    {
+      ++no_depth_frames;  // the stage's gate: no depth, no update, no grid (not scored)
       continue;
+    }
+    const cv::Mat& disp = proc.disparity();
+    const std::vector<Eigen::Vector3f>& points = proc.points();
+    const MoverPipeline* movers = proc.movers();
     if (!gt_depth && !f.gt_depth.empty() && std::getenv("OBST_BIAS"))
     {
       // Disparity error vs the true depth (matcher's scale), binned by true depth.
@@ -447,49 +485,19 @@ int main(int argc, char** argv)
           std::fprintf(stderr, " - ;");
       std::fprintf(stderr, "\n");
     }
-    const bool want_normals = map.usesNormals();
-    disparity.toPoints(disp, model, points, want_normals ? &normals : nullptr);
-    const double t1 = eval::wallMs();
-    // Ranger readings up to this frame (as the nodelet applies them: before the frame's update).
-    for (; next_range < ranges.size() && ranges[next_range].stamp <= f.stamp + 1e-6; ++next_range)
-    {
-      const eval::RangeSample& rs = ranges[next_range];
-      Eigen::Isometry3d T_left;
-      if (!poseAt(reader->groundTruth(), rs.stamp, T_left)) continue;
-      RangeReading r;
-      r.range = rs.range;
-      r.min_range = rs.min_range;
-      r.max_range = rs.max_range;
-      r.field_of_view = rs.field_of_view;
-      r.T_world_sensor = (T_left * eval::linkToLeftOptical().inverse() * link_to_sonar).cast<float>();
-      const RangeCheck rc = map.addRange(r);
-      if (std::getenv("OBST_SONAR") && rc == RangeCheck::ECHO)
+    if (std::getenv("OBST_SONAR"))
+      for (const AppliedRange& a : res.ranges)
       {
-        const SonarStats& ss = map.sonar().stats();
-        const Eigen::Vector3f o = r.T_world_sensor.translation(), ax = r.T_world_sensor.linear().col(0);
+        if (a.check != RangeCheck::ECHO) continue;
+        const SonarStats& ss = a.stats;
+        const Eigen::Vector3f o = a.T_world_sensor.translation(), ax = a.T_world_sensor.linear().col(0);
         std::fprintf(stderr, "sonar t %.2f r %.2f at (%.2f %.2f %.2f) dir (%.2f %.2f %.2f): floor %d explained %d arc %d held %zu\n",
-                     rs.stamp, rs.range, o.x(), o.y(), o.z(), ax.x(), ax.y(), ax.z(), int(ss.floor_ambiguous),
+                     a.sample.stamp, a.sample.range, o.x(), o.y(), o.z(), ax.x(), ax.y(), ax.z(), int(ss.floor_ambiguous),
                      int(ss.explained), ss.arc_cells, ss.held);
       }
-      if (rc == RangeCheck::ECHO) ++ranges_used;
-      else if (rc == RangeCheck::NO_ECHO) ++ranges_no_echo;
-      else ++ranges_rejected;
-    }
     double ms_track = 0.0;
-    const double t_mov0 = eval::wallMs();
-    if (params.movers)
+    if (movers)
     {
-      if (!movers) movers = std::make_unique<MoverPipeline>(moverPipelineParams(params, model));
-      const Eigen::Isometry3d* ego = &f.gt_pose;
-      if (!mover_poses.empty())
-      {
-        const auto it = mover_poses.find(std::lround(f.stamp * 1e6));
-        ego = it != mover_poses.end() ? &it->second : nullptr;  // no pose (the VO lost it): no flow, as in the chain
-      }
-      if (ego)
-        map.setMovers(movers->process(f.stamp, f.left, disp, model, *ego, &f.right));
-      else
-        map.setMovers({});
       ms_track = movers->msTracking();
       if (std::getenv("OBST_MOVERS"))
       {
@@ -559,9 +567,6 @@ int main(int argc, char** argv)
         prev_pose = *ego;
       }
     }
-    const double t_mov = eval::wallMs();
-    map.update(points, f.gt_pose.cast<float>(), &model, &disp, want_normals ? &normals : nullptr);
-    const double t2 = eval::wallMs();
     if (const char* dc = std::getenv("OBST_CELL"))
     {
       int gx = 0, gy = 0;
@@ -591,13 +596,13 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "\n");
       }
     }
-    ms_disp.push_back(t1 - t0);
-    ms_map.push_back((t2 - t1) - (t_mov - t_mov0));  // the map alone (ranger included, movers not)
+    ms_disp.push_back(ms_true_disp + res.ms_disparity);
+    ms_map.push_back(res.ms_ranger + res.ms_map);  // the map alone (ranger included, movers not)
     std::vector<ReportedMover> reported;
     if (movers)
     {
       ms_movers.push_back(movers->msFlow() + movers->msSegmentation() + movers->msTracking());
-      reported = movers->confirmed();
+      reported = res.movers;
       confirmed_sum += static_cast<double>(reported.size());
       mover_cells_sum += map.stats().mover_cells;
     }
@@ -849,7 +854,8 @@ int main(int argc, char** argv)
   // timings: nearest-rank percentiles (no interpolation)
   auto percentile = [](const std::vector<double>& v, double q) { return eval::percentileNearestRank(v, q); };
   const double p95_map = percentile(ms_map, 0.95), p95_disp = percentile(ms_disp, 0.95);
-  std::printf("bag %s: %d frames read, %d used (%d without gt pose), image %dx%d\n", bag.c_str(), frames, used, no_pose,
+  std::printf("bag %s: %d frames read, %d used (%d without gt pose, %d without depth), image %dx%d\n", bag.c_str(), frames,
+              used, no_pose, no_depth_frames,
               f.calib.width, f.calib.height);
   std::printf("%-34s %10s %10s\n", "timing (ms)", "median", "p95");
   std::printf("%-34s %10.2f %10.2f\n", "disparity + points", percentile(ms_disp, 0.5), p95_disp);
@@ -880,7 +886,9 @@ int main(int argc, char** argv)
   if (partial_scoring)
     std::printf("glass-pane cells hit by the ranger: %zu, reported free after the hit: %zu\n", ranger_hit_glass.size(),
                 freed_after_hit.size());
-  std::printf("ranger: %s, %zu echoes fused, %zu no echo, %zu rejected\n",
+  const long ranges_used = proc.counters().ranges_echo, ranges_no_echo = proc.counters().ranges_no_echo;
+  const long ranges_rejected = proc.counters().ranges_rejected;
+  std::printf("ranger: %s, %ld echoes fused, %ld no echo, %ld rejected\n",
               no_sonar ? "off (--no-sonar)" : (ranges.empty() ? "none in the bag" : "on"), ranges_used, ranges_no_echo,
               ranges_rejected);
   if (has_truth) std::printf("map plot: %s\n", png.c_str());
@@ -951,7 +959,7 @@ int main(int argc, char** argv)
       .add("ranger_hit_glass_cells", partial_scoring ? std::to_string(ranger_hit_glass.size()) : "null")
       .add("free_after_ranger_hit_glass_cells", partial_scoring ? std::to_string(freed_after_hit.size()) : "null")
       .add("sonar_readings_fused", ranges_used).add("sonar", !no_sonar && !ranges.empty())
-      .add("frames", used).add("ms_median_map", num(percentile(ms_map, 0.5), 3))
+      .add("frames", used).add("no_depth_frames", no_depth_frames).add("ms_median_map", num(percentile(ms_map, 0.5), 3))
       .add("ms_median_disparity", num(percentile(ms_disp, 0.5), 3))
       .add("misclassified_5m", num(s5.misclassified())).add("coverage_3m", num(s3.coverage()))
       .add("coverage_5m", num(s5.coverage())).add("fp_adjacent_3m", fp_adjacent)

@@ -1,0 +1,278 @@
+// Rostest (issue 32): one processing path from the device to the benchmarks. A bag rendered at
+// test time (a world with people, reported as movers) is replayed frame by frame through the obstacle
+// nodelet in ROS, with tf from the bag's ground truth (the VO is not under test) and the bag's
+// forward ranger, and through ObstacleFrameProcessor in this process on the same inputs (the same
+// parameters read from the nodelet's namespace, the same tf lookups through a tf2::BufferCore).
+// Lockstep: the next frame goes out only once the nodelet answered the last one (its disparity,
+// its movers, its grid when the processor gave one), so every frame is delivered. Asserts that
+// both give the same grids (codes and geometry) and the same movers, frame by frame.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <assistive_msgs/MoverArray.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/Range.h>
+#include <stereo_msgs/DisparityImage.h>
+#include <tf2/buffer_core.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <unistd.h>
+
+#include <assistive_common/ros_params.h>
+#include <assistive_common/wearer.h>
+#include <assistive_eval/stereo_bag.h>
+#include <assistive_obstacles/conversions.h>
+#include <assistive_obstacles/frame_processor.h>
+#include <assistive_sim/ultrasonic.h>
+
+namespace eval = assistive_eval;
+using namespace assistive_obstacles;
+
+namespace
+{
+const std::string kWorld = "odom", kCamera = "camera_left_optical_frame";
+
+nav_msgs::OccupancyGridConstPtr g_grid;
+assistive_msgs::MoverArrayConstPtr g_movers;
+stereo_msgs::DisparityImageConstPtr g_disp;
+void gridCb(const nav_msgs::OccupancyGridConstPtr& m) { g_grid = m; }
+void moversCb(const assistive_msgs::MoverArrayConstPtr& m) { g_movers = m; }
+void dispCb(const stereo_msgs::DisparityImageConstPtr& m) { g_disp = m; }
+
+sensor_msgs::CameraInfo info(const eval::StereoCalib& c, bool right, const std_msgs::Header& h)
+{
+  sensor_msgs::CameraInfo i;
+  i.header = h;
+  i.width = c.width;
+  i.height = c.height;
+  i.distortion_model = "plumb_bob";
+  i.D = { 0, 0, 0, 0, 0 };
+  i.K = { c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1 };
+  i.R = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+  i.P = { c.fx, 0, c.cx, right ? -c.fx * c.baseline : 0.0, 0, c.fy, c.cy, 0, 0, 0, 1, 0 };
+  return i;
+}
+
+sensor_msgs::Image image(const cv::Mat& m, const std_msgs::Header& h)
+{
+  sensor_msgs::Image i;
+  i.header = h;
+  i.width = m.cols;
+  i.height = m.rows;
+  i.encoding = "mono8";
+  i.step = m.cols;
+  i.data.resize(m.total());
+  for (int r = 0; r < m.rows; ++r) std::copy(m.ptr<uint8_t>(r), m.ptr<uint8_t>(r) + m.cols, i.data.begin() + r * m.cols);
+  return i;
+}
+
+/// The nodelet's parameters, read from its namespace as its onInit() reads them.
+ObstaclesParams nodeletParams(ObstaclesNodeParams& node)
+{
+  ros::NodeHandle pnh("obstacles");
+  ObstaclesParams p;
+  assistive_common::readParams(pnh, p);
+  assistive_common::readParams(pnh, node);
+  bool overridden = false;
+  assistive_common::wearerCameraHeight(pnh, node.camera_frame, node.footprint_frame, "camera_height", p.camera_height,
+                                       &overridden);
+  clampParams(p);
+  return p;
+}
+
+template <class M>
+bool waitFor(const M& msg, const ros::Time& stamp, double timeout_s)
+{
+  const ros::WallTime t0 = ros::WallTime::now();
+  while (ros::ok() && (!msg || msg->header.stamp != stamp) && (ros::WallTime::now() - t0).toSec() < timeout_s)
+  {
+    ros::spinOnce();
+    ros::WallDuration(0.002).sleep();
+  }
+  return msg && msg->header.stamp == stamp;
+}
+}  // namespace
+
+TEST(ObstaclesReplay, NodeletGivesTheProcessorsGridsFrameByFrame)
+{
+  ros::NodeHandle nh, pnh("~");
+  std::string world = "plaza_busy";
+  int frames = 90;
+  pnh.param("world", world, world);
+  pnh.param("frames", frames, frames);
+  const std::string bag = "/tmp/assistive_obstacles_replay_" + std::to_string(getpid()) + ".bag";
+  const std::string cmd = "rosrun assistive_sim render_bag --world " + world + " --out " + bag + " --frames " +
+                          std::to_string(frames) + " > /dev/null";
+  const int rc = std::system(cmd.c_str());
+  if (rc != 0) std::remove(bag.c_str());
+  ASSERT_EQ(rc, 0) << cmd;
+
+  ros::Subscriber sg = nh.subscribe("obstacles/traversability", 5, gridCb);
+  ros::Subscriber sm = nh.subscribe("obstacles/movers", 5, moversCb);
+  ros::Subscriber sd = nh.subscribe("obstacles/disparity", 5, dispCb);
+  ros::Publisher pl = nh.advertise<sensor_msgs::Image>("/stereo/left/image_rect", 2);
+  ros::Publisher pr = nh.advertise<sensor_msgs::Image>("/stereo/right/image_rect", 2);
+  ros::Publisher pli = nh.advertise<sensor_msgs::CameraInfo>("/stereo/left/camera_info", 2);
+  ros::Publisher pri = nh.advertise<sensor_msgs::CameraInfo>("/stereo/right/camera_info", 2);
+  ros::Publisher ps = nh.advertise<sensor_msgs::Range>("/sonar/front", 50);
+  tf2_ros::TransformBroadcaster tfb;
+  tf2_ros::StaticTransformBroadcaster static_tfb;
+  const ros::WallTime t_start = ros::WallTime::now();
+  while (ros::ok() && (pl.getNumSubscribers() == 0 || pr.getNumSubscribers() == 0 || pli.getNumSubscribers() == 0 ||
+                       pri.getNumSubscribers() == 0 || ps.getNumSubscribers() == 0 || sg.getNumPublishers() == 0 ||
+                       sm.getNumPublishers() == 0 || sd.getNumPublishers() == 0) &&
+         (ros::WallTime::now() - t_start).toSec() < 60.0)
+  {
+    ros::spinOnce();
+    ros::WallDuration(0.05).sleep();
+  }
+  ASSERT_GT(ps.getNumSubscribers(), 0u) << "nodelet did not subscribe";
+  ASSERT_GT(sm.getNumPublishers(), 0u) << "nodelet does not publish movers";
+
+  ObstaclesNodeParams node;
+  const ObstaclesParams params = nodeletParams(node);
+  ASSERT_EQ(node.world_frame, kWorld);
+  ObstacleFrameProcessor proc(params, node.octomap_insert_every);
+  tf2::BufferCore tf;  // what the nodelet's tf buffer holds, in this process
+
+  eval::StereoBagReader reader(bag);
+  std::vector<eval::RangeSample> ranges;
+  ASSERT_TRUE(reader.readRanges(ranges));
+  ASSERT_FALSE(ranges.empty());
+  // The ranger on the head: camera_link -> sonar_front (URDF) seen from the left optical frame.
+  geometry_msgs::TransformStamped mount =
+      tf2::eigenToTransform(eval::linkToLeftOptical().inverse() * assistive_sim::linkToSonar());
+  mount.header.frame_id = kCamera;
+  mount.child_frame_id = ranges.front().frame_id;
+  static_tfb.sendTransform(mount);
+  tf.setTransform(mount, "test", true);
+
+  const RangePoseLookup range_pose = [&](const RangeSample& s, Eigen::Isometry3f& T) {
+    try
+    {
+      T = tf2::transformToEigen(tf.lookupTransform(kWorld, s.frame, ros::Time(s.stamp))).cast<float>();
+      return true;
+    }
+    catch (const tf2::TransformException&)
+    {
+      return false;
+    }
+  };
+
+  eval::StereoFrame f;
+  size_t next_range = 0;
+  int sent = 0, grids = 0, grids_equal = 0, movers_frames = 0, movers_seen = 0, answered = 0;
+  ros::Duration(0.5).sleep();  // the static mount reaches the nodelet's listener
+  while (reader.next(f))
+  {
+    ASSERT_TRUE(f.has_gt_pose);
+    std_msgs::Header h;
+    h.stamp = ros::Time(f.stamp);
+    h.frame_id = kCamera;
+    geometry_msgs::TransformStamped pose = tf2::eigenToTransform(f.gt_pose);
+    pose.header.stamp = h.stamp;
+    pose.header.frame_id = kWorld;  // ground truth stands in for the VO: gt_world == odom
+    pose.child_frame_id = kCamera;
+    tfb.sendTransform(pose);
+    tf.setTransform(pose, "test");
+    // The ranger's readings up to this frame go out before its images (the nodelet applies those
+    // that arrived by then).
+    for (; next_range < ranges.size() && ranges[next_range].stamp <= f.stamp; ++next_range)
+    {
+      const eval::RangeSample& rs = ranges[next_range];
+      sensor_msgs::Range m;
+      m.header.stamp = ros::Time(rs.stamp);
+      m.header.frame_id = rs.frame_id;
+      m.radiation_type = sensor_msgs::Range::ULTRASOUND;
+      m.field_of_view = static_cast<float>(rs.field_of_view);
+      m.min_range = static_cast<float>(rs.min_range);
+      m.max_range = static_cast<float>(rs.max_range);
+      m.range = static_cast<float>(rs.range);
+      ps.publish(m);
+      // As the nodelet receives it: sensor_msgs/Range carries float32, stamps in ns.
+      proc.queueRange({ m.header.stamp.toSec(), m.range, m.min_range, m.max_range, m.field_of_view, m.header.frame_id });
+    }
+    ros::WallDuration(0.05).sleep();
+    const sensor_msgs::CameraInfo li = info(f.calib, false, h), ri = info(f.calib, true, h);
+    ObstacleFrame in;
+    ASSERT_TRUE(fromMsg(li, ri, in.model));
+    in.stamp = h.stamp.toSec();
+    in.left = f.left;
+    in.right = f.right;
+    in.T_world_cam = tf2::transformToEigen(tf.lookupTransform(kWorld, kCamera, h.stamp));
+    const ObstacleFrameResult& res = proc.process(in, range_pose);
+    ASSERT_TRUE(res.disparity_ok);
+
+    pli.publish(li);
+    pri.publish(ri);
+    pl.publish(image(f.left, h));
+    pr.publish(image(f.right, h));
+    ++sent;
+    // Every frame is answered: its disparity, its movers (every frame the map took), its grid.
+    const bool got_disp = waitFor(g_disp, h.stamp, 20.0);
+    EXPECT_TRUE(got_disp) << "frame " << sent << " dropped by the nodelet";
+    if (!got_disp) break;
+    ++answered;
+    if (res.movers_enabled)
+    {
+      ++movers_frames;
+      EXPECT_TRUE(waitFor(g_movers, h.stamp, 10.0)) << "frame " << sent << ": no movers";
+      if (g_movers && g_movers->header.stamp == h.stamp)
+      {
+        ASSERT_EQ(g_movers->movers.size(), res.movers.size()) << "frame " << sent;
+        for (size_t i = 0; i < res.movers.size(); ++i)
+        {
+          EXPECT_EQ(g_movers->movers[i].id, static_cast<uint32_t>(res.movers[i].track.id)) << "frame " << sent;
+          EXPECT_EQ(g_movers->movers[i].position.x, res.movers[i].track.position().x()) << "frame " << sent;
+          EXPECT_EQ(g_movers->movers[i].position.y, res.movers[i].track.position().y()) << "frame " << sent;
+        }
+        movers_seen += static_cast<int>(res.movers.size());
+      }
+    }
+    if (res.has_grid)
+    {
+      ++grids;
+      ASSERT_TRUE(waitFor(g_grid, h.stamp, 10.0)) << "frame " << sent << ": the processor gave a grid, the nodelet none";
+      const GridData got = fromMsg(*g_grid);
+      EXPECT_EQ(got.origin_x, res.grid.origin_x) << "frame " << sent;
+      EXPECT_EQ(got.origin_y, res.grid.origin_y) << "frame " << sent;
+      EXPECT_EQ(got.resolution, static_cast<float>(res.grid.resolution)) << "frame " << sent;  // float32 in the message
+      ASSERT_EQ(got.width, res.grid.width) << "frame " << sent;
+      ASSERT_EQ(got.height, res.grid.height) << "frame " << sent;
+      size_t differ = 0;
+      for (size_t i = 0; i < got.data.size(); ++i) differ += got.data[i] != res.grid.data[i];
+      EXPECT_EQ(differ, 0u) << "frame " << sent << ": cells that differ";
+      grids_equal += differ == 0;
+    }
+    else
+    {
+      // No grid from the processor (the map is being rebuilt): none from the nodelet either (it
+      // would come just after the frame's disparity).
+      waitFor(g_grid, h.stamp, 0.2);
+      EXPECT_FALSE(g_grid && g_grid->header.stamp == h.stamp) << "frame " << sent << ": a grid the processor withheld";
+    }
+  }
+  std::remove(bag.c_str());
+  std::printf("replay %s: %d frames sent, %d answered, %d grids (%d equal), %d frames with movers (%d movers)\n",
+              world.c_str(), sent, answered, grids, grids_equal, movers_frames, movers_seen);
+  EXPECT_EQ(sent, frames);
+  EXPECT_EQ(answered, sent);
+  EXPECT_EQ(grids, sent - (params.rebuild_frames - 1));  // the truth has depth at every frame
+  EXPECT_EQ(grids_equal, grids);
+  EXPECT_GT(proc.counters().ranges_echo + proc.counters().ranges_no_echo, 0);
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_obstacles_replay");
+  return RUN_ALL_TESTS();
+}
