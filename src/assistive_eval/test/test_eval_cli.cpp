@@ -336,7 +336,8 @@ std::vector<std::string> allClis()
           lib + "/assistive_obstacles/disparity_benchmark",
           lib + "/assistive_planner/planner_benchmark",
           lib + "/assistive_tactile/tactile_benchmark",
-          lib + "/assistive_tactile/sim_vest"};
+          lib + "/assistive_tactile/sim_vest",
+          lib + "/assistive_bringup/chain_benchmark"};
 }
 bool hasUsage(const std::string& s) { return s.find("usage:") != std::string::npos; }
 }  // namespace
