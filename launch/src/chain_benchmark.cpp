@@ -324,6 +324,7 @@ int main(int argc, char** argv)
   {
     std::vector<ev::SetFigure> figures{ { "ms_p95_total" }, { "ms_max_total" }, { "cpu_ms_p95_total" } };
     for (const std::string& s : kStages) figures.push_back({ "ms_p95_" + s });
+    for (const std::string& s : kStages) figures.push_back({ "cpu_ms_p95_" + s });
     figures.push_back({ "frames", true });
     return ev::runSetFromCommandLine(cl, argc, argv, set_options, figures, "", "", "", max_frames);
   }
