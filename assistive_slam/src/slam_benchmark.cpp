@@ -25,9 +25,7 @@
 #include <assistive_eval/stereo_bag.h>
 #include "assistive_slam/map_file.h"
 #include "assistive_slam/slam_system.h"
-#include "assistive_vo/imu_buffer.h"
-#include "assistive_vo/startup_rule.h"
-#include "assistive_vo/visual_odometry.h"
+#include "assistive_vo/vo_front_end.h"
 
 namespace ev = assistive_eval;
 using ev::percentile;
@@ -207,11 +205,10 @@ int main(int argc, char** argv)
 
   assistive_vo::VoParams vp;
   vp.use_imu = imu_on;
-  assistive_vo::VisualOdometry vo(vp);
-  assistive_vo::ImuBuffer imu(5.0);
-  assistive_vo::StartupRule::Options so;
-  so.expect_imu = imu_on && !reader->imuSamples().empty();
-  assistive_vo::StartupRule startup(so);
+  // The device's VO driving loop (assistive_vo/vo_front_end.h, as its nodelet runs it).
+  assistive_vo::VoFrontEnd::Options fo;
+  fo.input_has_imu = !reader->imuSamples().empty();
+  assistive_vo::VoFrontEnd fe(vp, fo);
   std::unique_ptr<SlamSystem> slam;
 
   ev::Trajectory gt, vo_est, online_est;
@@ -235,7 +232,6 @@ int main(int argc, char** argv)
   std::vector<double> ms_added, ms_vo, worker_ms;
   std::vector<std::pair<double, double>> rss_samples;  // (keyframes, resident MB) every 100 frames
   int frames = 0, keyframes_queued = 0;
-  double prev_stamp = -1;
   long skipped = 0;
   size_t stored_keyframes = 0;
   std::vector<Eigen::Isometry3d> loaded_poses;  // the stored keyframes' map poses as loaded
@@ -253,7 +249,6 @@ int main(int argc, char** argv)
     const assistive_vo::StereoCamera cam = assistive_vo::StereoCamera::from(f.calib);
     if (!slam)
     {
-      vo.setCamera(cam);
       StereoModel m;
       m.fx = cam.fx;
       m.fy = cam.fy;
@@ -278,28 +273,15 @@ int main(int argc, char** argv)
       }
     }
     for (const auto& s : f.imu)
-      imu.add(s.stamp, s.gyro, s.accel);
-    Eigen::Quaterniond gyro;
-    Eigen::Vector3d dv;
-    bool have_gyro = false;
-    if (!vo.started())
-    {
-      Eigen::Vector3d up;
-      const auto d = startup.decide(f.stamp, imu, up);
-      if (d == assistive_vo::StartupRule::Decision::WAIT_FOR_IMU)
-      {
-        ++frames;
-        continue;
-      }
-      if (d == assistive_vo::StartupRule::Decision::START_WITH_GRAVITY)
-        vo.setInitialUp(up);
-    }
-    else if (imu_on)
-      have_gyro = imu.integrate(prev_stamp, f.stamp, gyro, dv);
-    prev_stamp = f.stamp;
+      fe.addImu(s.stamp, s.gyro, s.accel);
     const ev::Stopwatch vo_timer;
-    const assistive_vo::VoOutput o =
-        vo.process(f.left, f.right, f.stamp, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr);
+    const assistive_vo::FrontEndStep step = fe.process(cam, f.left, f.right, f.stamp);
+    if (!step.processed)  // waiting for the IMU (start-up rule)
+    {
+      ++frames;
+      continue;
+    }
+    const assistive_vo::VoOutput& o = step.out;
     ms_vo.push_back(vo_timer.cpuMs());
 
     SlamFrame sf;
