@@ -33,6 +33,7 @@
 
 #include "assistive_slam/map_file.h"
 #include "assistive_slam/slam_system.h"
+#include "assistive_slam/vo_adapter.h"
 
 namespace assistive_slam
 {
@@ -126,6 +127,7 @@ class SlamNodelet : public nodelet::Nodelet
                                                    ros::Time(0));
         T_link_optical_ = tf2::transformToEigen(tf);
         have_link_optical_ = true;
+        adapter_ = std::make_unique<VoAdapter>(node_.untrusted_variance, T_link_optical_);
       }
       catch (const tf2::TransformException& e)
       {
@@ -159,33 +161,14 @@ class SlamNodelet : public nodelet::Nodelet
       NODELET_ERROR_THROTTLE(5.0, "slam: image conversion failed: %s", e.what());
       return;
     }
-    Eigen::Isometry3d T_odom_link;
-    tf2::fromMsg(odom->pose.pose, T_odom_link);
-    SlamFrame f;
-    f.stamp = l->header.stamp.toSec();
-    f.left = lc->image;
-    f.right = rc->image;
-    f.T_odom_cam = T_odom_link * T_link_optical_;
-    // The VO marks an untrusted pose by a huge covariance: no keyframe from it. The odometry
-    // message does not say when the VO replenished: keyframes come by distance / angle.
-    f.pose_trusted = odom->pose.covariance[0] < node_.untrusted_variance && T_odom_link.matrix().allFinite();
-    f.vo_replenished = true;
-    // Q_t of the fastslam backend: the VO's twist covariance (camera_link axes) over the frame
-    // interval, in the optical frame's axes.
-    const double dt = f.stamp - prev_frame_stamp_;
-    if (prev_frame_stamp_ > 0 && dt > 0)
-    {
-      Matrix6d tw;
-      for (int i = 0; i < 36; ++i)
-        tw(i / 6, i % 6) = odom->twist.covariance[static_cast<size_t>(i)];
-      Matrix6d A = Matrix6d::Zero();
-      A.topLeftCorner<3, 3>() = T_link_optical_.linear().transpose();
-      A.bottomRightCorner<3, 3>() = T_link_optical_.linear().transpose();
-      f.vo_covariance = A * tw * A.transpose() * (dt * dt);
-      if (!f.vo_covariance.allFinite())
-        f.vo_covariance.setZero();
-    }
-    prev_frame_stamp_ = f.stamp;
+    // The VO's output into SLAM through the core's adapter (vo_adapter.h), as slam_benchmark does.
+    VoOdometry vo;
+    vo.stamp = l->header.stamp.toSec();
+    tf2::fromMsg(odom->pose.pose, vo.T_odom_link);
+    vo.position_variance = odom->pose.covariance[0];
+    for (int i = 0; i < 36; ++i)
+      vo.twist_covariance(i / 6, i % 6) = odom->twist.covariance[static_cast<size_t>(i)];
+    const SlamFrame f = adapter_->frame(vo, lc->image, rc->image);
     slam_->addFrame(f);
     {
       std::lock_guard<std::mutex> lk(m_);
@@ -523,7 +506,7 @@ class SlamNodelet : public nodelet::Nodelet
   tf2_ros::Buffer tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   tf2_ros::TransformBroadcaster tf_pub_;
-  double prev_frame_stamp_ = -1;
+  std::unique_ptr<VoAdapter> adapter_;  ///< vo/odom into SlamFrames (once the optical frame is known)
   bool have_link_optical_ = false;
   Eigen::Isometry3d T_link_optical_ = Eigen::Isometry3d::Identity();
   message_filters::Subscriber<Image> left_sub_, right_sub_;

@@ -25,9 +25,10 @@
 #include <assistive_eval/stereo_bag.h>
 #include "assistive_slam/map_file.h"
 #include "assistive_slam/slam_system.h"
-#include "assistive_vo/imu_buffer.h"
-#include "assistive_vo/startup_rule.h"
-#include "assistive_vo/visual_odometry.h"
+#include "assistive_slam/vo_adapter.h"
+#include "assistive_vo/frames.h"
+#include "assistive_vo/published_odometry.h"
+#include "assistive_vo/vo_front_end.h"
 
 namespace ev = assistive_eval;
 using ev::percentile;
@@ -207,16 +208,19 @@ int main(int argc, char** argv)
 
   assistive_vo::VoParams vp;
   vp.use_imu = imu_on;
-  assistive_vo::VisualOdometry vo(vp);
-  assistive_vo::ImuBuffer imu(5.0);
-  assistive_vo::StartupRule::Options so;
-  so.expect_imu = imu_on && !reader->imuSamples().empty();
-  assistive_vo::StartupRule startup(so);
+  // The device's VO driving loop (assistive_vo/vo_front_end.h, as its nodelet runs it).
+  assistive_vo::VoFrontEnd::Options fo;
+  fo.input_has_imu = !reader->imuSamples().empty();
+  assistive_vo::VoFrontEnd fe(vp, fo);
   std::unique_ptr<SlamSystem> slam;
+  // SLAM takes the VO's output as the nodelet does (vo_adapter.h): what vo/odom would carry
+  // (published_odometry.h), the optical frame in camera_link as the URDF has it.
+  Eigen::Isometry3d T_link_optical = Eigen::Isometry3d::Identity();
+  T_link_optical.linear() = assistive_vo::R_link_optical();
+  VoAdapter adapter(SlamNodeParams().untrusted_variance, T_link_optical);
 
   ev::Trajectory gt, vo_est, online_est;
   std::vector<Eigen::Isometry3d> frame_odom;  // per scored frame: VO pose (for the final SLAM trajectory)
-  double prev_vo_stamp = -1;
   // fastslam: active matching against the truth, the filter's own trajectory per submap
   std::map<uint32_t, std::pair<Eigen::Isometry3d, Eigen::Vector3d>> am_init;  // landmark -> truth at init, stereo point
   long am_checked = 0, am_false = 0;
@@ -235,7 +239,6 @@ int main(int argc, char** argv)
   std::vector<double> ms_added, ms_vo, worker_ms;
   std::vector<std::pair<double, double>> rss_samples;  // (keyframes, resident MB) every 100 frames
   int frames = 0, keyframes_queued = 0;
-  double prev_stamp = -1;
   long skipped = 0;
   size_t stored_keyframes = 0;
   std::vector<Eigen::Isometry3d> loaded_poses;  // the stored keyframes' map poses as loaded
@@ -253,7 +256,6 @@ int main(int argc, char** argv)
     const assistive_vo::StereoCamera cam = assistive_vo::StereoCamera::from(f.calib);
     if (!slam)
     {
-      vo.setCamera(cam);
       StereoModel m;
       m.fx = cam.fx;
       m.fy = cam.fy;
@@ -278,49 +280,29 @@ int main(int argc, char** argv)
       }
     }
     for (const auto& s : f.imu)
-      imu.add(s.stamp, s.gyro, s.accel);
-    Eigen::Quaterniond gyro;
-    Eigen::Vector3d dv;
-    bool have_gyro = false;
-    if (!vo.started())
-    {
-      Eigen::Vector3d up;
-      const auto d = startup.decide(f.stamp, imu, up);
-      if (d == assistive_vo::StartupRule::Decision::WAIT_FOR_IMU)
-      {
-        ++frames;
-        continue;
-      }
-      if (d == assistive_vo::StartupRule::Decision::START_WITH_GRAVITY)
-        vo.setInitialUp(up);
-    }
-    else if (imu_on)
-      have_gyro = imu.integrate(prev_stamp, f.stamp, gyro, dv);
-    prev_stamp = f.stamp;
+      fe.addImu(s.stamp, s.gyro, s.accel);
     const ev::Stopwatch vo_timer;
-    const assistive_vo::VoOutput o =
-        vo.process(f.left, f.right, f.stamp, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr);
+    const assistive_vo::FrontEndStep step = fe.process(cam, f.left, f.right, f.stamp);
+    if (!step.processed)  // waiting for the IMU (start-up rule)
+    {
+      ++frames;
+      continue;
+    }
+    const assistive_vo::VoOutput& o = step.out;
     ms_vo.push_back(vo_timer.cpuMs());
 
-    SlamFrame sf;
-    sf.stamp = f.stamp;
-    sf.left = f.left;
-    sf.right = f.right;
-    sf.T_odom_cam = o.T_odom_optical;
-    sf.vo_replenished = o.stats.keyframe;
-    sf.pose_trusted = o.pose_trusted && o.state == assistive_vo::TrackingState::TRACKING;
-    // Q_t: the VO's twist covariance over the frame interval (eqs. 3.22-3.25 in its bundle
-    // adjustment), from camera_link axes into the optical frame's.
-    if (prev_vo_stamp > 0 && f.stamp > prev_vo_stamp)
+    if (!o.pose_valid || !o.T_odom_link.matrix().allFinite())
     {
-      const double dt = f.stamp - prev_vo_stamp;
-      const Eigen::Matrix3d R_lo = o.T_odom_link.linear().transpose() * o.T_odom_optical.linear();
-      Matrix6d A = Matrix6d::Zero();
-      A.topLeftCorner<3, 3>() = R_lo.transpose();
-      A.bottomRightCorner<3, 3>() = R_lo.transpose();
-      sf.vo_covariance = A * o.twist_covariance * A.transpose() * (dt * dt);
+      ++frames;  // the nodelet publishes no vo/odom for it: SLAM never sees it
+      continue;
     }
-    prev_vo_stamp = f.stamp;
+    const assistive_vo::PublishedOdometry po = assistive_vo::published(o);
+    VoOdometry vo_odom;
+    vo_odom.stamp = f.stamp;
+    vo_odom.T_odom_link = po.T_odom_link;
+    vo_odom.position_variance = po.pose_covariance(0, 0);
+    vo_odom.twist_covariance = po.twist_covariance;
+    const SlamFrame sf = adapter.frame(vo_odom, f.left, f.right);
     const ev::Stopwatch timer;
     const bool queued = slam->addFrame(sf);
     const Eigen::Isometry3d T_map_odom = slam->mapToOdom();

@@ -55,21 +55,15 @@ nav_msgs::Odometry toOdometryMsg(const VoOutput& o, const ros::Time& stamp, cons
   m.header.stamp = stamp;
   m.header.frame_id = odom_frame;
   m.child_frame_id = base_frame;
-  m.pose.pose = tf2::toMsg(o.T_odom_link);
-  if (!o.pose_trusted)
-  {
-    // zero twist (message default), diagonals only
-    for (size_t i = 0; i < 6; ++i)
-      m.pose.covariance[i * 7] = m.twist.covariance[i * 7] = kUntrustedVariance;
-    return m;
-  }
-  tf2::toMsg(o.linear_velocity, m.twist.twist.linear);
-  tf2::toMsg(o.angular_velocity, m.twist.twist.angular);
+  const PublishedOdometry p = published(o);
+  m.pose.pose = tf2::toMsg(p.T_odom_link);
+  tf2::toMsg(p.linear_velocity, m.twist.twist.linear);
+  tf2::toMsg(p.angular_velocity, m.twist.twist.angular);
   for (int i = 0; i < 6; ++i)
     for (int j = 0; j < 6; ++j)
     {
-      m.pose.covariance[static_cast<size_t>(i * 6 + j)] = o.pose_covariance(i, j);
-      m.twist.covariance[static_cast<size_t>(i * 6 + j)] = o.twist_covariance(i, j);
+      m.pose.covariance[static_cast<size_t>(i * 6 + j)] = p.pose_covariance(i, j);
+      m.twist.covariance[static_cast<size_t>(i * 6 + j)] = p.twist_covariance(i, j);
     }
   return m;
 }

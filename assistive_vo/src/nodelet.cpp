@@ -21,9 +21,7 @@
 #include <assistive_common/wearer.h>
 
 #include "assistive_vo/conversions.h"
-#include "assistive_vo/imu_buffer.h"
-#include "assistive_vo/startup_rule.h"
-#include "assistive_vo/visual_odometry.h"
+#include "assistive_vo/vo_front_end.h"
 
 namespace assistive_vo
 {
@@ -41,11 +39,9 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     readParams(pnh);
-    vo_ = std::make_unique<VisualOdometry>(p_);
-    StartupRule::Options so;
-    so.expect_imu = p_.use_imu;
-    so.wait_s = node_.imu_wait;
-    startup_.setOptions(so);
+    VoFrontEnd::Options fo;
+    fo.imu_wait_s = node_.imu_wait;
+    fe_ = std::make_unique<VoFrontEnd>(p_, fo);
 
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 10);
     feat_pub_ = nh.advertise<sensor_msgs::Image>("features", 1);
@@ -129,7 +125,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     if (!m->header.frame_id.empty() && m->header.frame_id != node_.base_frame)
       NODELET_WARN_THROTTLE(30.0, "IMU frame '%s' is not '%s': the gyro is assumed to be in %s axes",
                             m->header.frame_id.c_str(), node_.base_frame.c_str(), node_.base_frame.c_str());
-    imu_.add(m->header.stamp.toSec(), w, a);
+    fe_->addImu(m->header.stamp.toSec(), w, a);
     ++n_imu_;
   }
 
@@ -236,60 +232,31 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       publishUntrusted(l->header.stamp, input_problem_);
       return;
     }
-    const StereoCamera& cur = vo_->camera();
-    if (cur.fx != cam.fx || cur.fy != cam.fy || cur.cx != cam.cx || cur.cy != cam.cy || cur.baseline != cam.baseline ||
-        cur.width != cam.width || cur.height != cam.height)
-    {
-      if (cur.valid())
-        NODELET_WARN("stereo_odometry: calibration changed, re-initialising tracking");
-      vo_->setCamera(cam);
-    }
-
     const double t = l->header.stamp.toSec();
-    if (last_stamp_ > 0 && t < last_stamp_)
+    // The core's driving loop (vo_front_end.h): the start-up rule, the IMU integrals, the gravity
+    // hint, then VisualOdometry; the benchmarks run the same.
+    const FrontEndStep step = fe_->process(cam, lc->image, rc->image, t);
+    if (step.camera_changed)
+      NODELET_WARN("stereo_odometry: calibration changed, re-initialising tracking");
+    if (step.time_went_back)
+      NODELET_WARN_THROTTLE(5.0, "stereo_odometry: time went backwards (%.3f s, bag loop?): re-initialising", t);
+    if (step.startup_decided)
     {
-      // The core keeps the pose and marks the frame untrusted (the same rule as vo_benchmark);
-      // the IMU buffer dropped the old timeline when the first older sample came.
-      NODELET_WARN_THROTTLE(5.0, "stereo_odometry: time went backwards (%.3f -> %.3f, bag loop?): re-initialising",
-                            last_stamp_, t);
-    }
-    if (!vo_->started())
-    {
-      // The start-up rule of the core (startup_rule.h), the same as vo_benchmark's.
-      Eigen::Vector3d up;
-      const StartupRule::Decision d = startup_.decide(t, imu_, up);
-      if (d == StartupRule::Decision::START_WITH_GRAVITY)
-        vo_->setInitialUp(up);
-      else if (d == StartupRule::Decision::WAIT_FOR_IMU)
+      if (step.startup == StartupRule::Decision::WAIT_FOR_IMU)
       {
         NODELET_INFO_THROTTLE(1.0, "stereo_odometry: waiting for the IMU (gravity) before starting (%.1f of %.1f s)",
-                              startup_.waited(t), node_.imu_wait);
+                              fe_->startup().waited(t), node_.imu_wait);
         input_problem_ = "waiting for the IMU";
         return;
       }
-      else if (p_.use_imu)
+      if (step.startup == StartupRule::Decision::START_WITHOUT_IMU && p_.use_imu)
         NODELET_WARN_ONCE("stereo_odometry: no IMU sample within %.1f s; gravity from initial_roll/initial_pitch "
                           "(%.1f / %.1f deg), no gyro prior until it comes",
                           node_.imu_wait, p_.initial_roll_deg, p_.initial_pitch_deg);
       if (p_.use_imu)
         input_problem_.clear();
     }
-    Eigen::Quaterniond gyro;
-    Eigen::Vector3d dv, dp;
-    bool have_gyro = false;
-    if (p_.use_imu && !imu_.empty() && last_stamp_ > 0 && t > last_stamp_)
-      have_gyro = imu_.integrate(last_stamp_, t, gyro, dv, dp);
-    last_stamp_ = t;
-    // Gravity over the last 0.5 s (at least 0.3 s of samples: a step's accelerations average
-    // out); the core levels the pose by it after a gap the gyro does not cover.
-    Eigen::Vector3d up;
-    double span = 0.0;
-    if (p_.use_imu && imu_.meanAccel(t, 0.5, up, &span) && span >= 0.3 && up.norm() > 5.0 && up.norm() < 15.0)
-      vo_->setGravityHint(up);
-
-    const VoOutput o =
-        vo_->process(lc->image, rc->image, t, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr,
-                     have_gyro ? &dp : nullptr);
+    const VoOutput& o = step.out;
     last_ = o;
     freq_->tick();
     if (!o.message.empty())
@@ -313,7 +280,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       tf_.sendTransform(toTransformMsg(o.T_odom_link, l->header.stamp, node_.odom_frame, node_.base_frame));
     if (feat_pub_.getNumSubscribers() > 0)
     {
-      cv_bridge::CvImage ov(l->header, enc::BGR8, vo_->drawOverlay(lc->image));
+      cv_bridge::CvImage ov(l->header, enc::BGR8, fe_->vo().drawOverlay(lc->image));
       feat_pub_.publish(ov.toImageMsg());
     }
   }
@@ -359,11 +326,11 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     s.add("ransac_trials", last_.stats.ransac_trials);
     s.add("ms_per_frame", last_.stats.ms_total);
     s.add("fast_threshold", last_.stats.fast_threshold);
-    s.add("resets", vo_ ? vo_->resets() : 0);
+    s.add("resets", fe_ ? fe_->vo().resets() : 0);
     s.add("pose_trusted", last_.pose_trusted);
-    if (vo_)
+    if (fe_)
     {
-      const FailSafeCounters& f = vo_->failSafe();
+      const FailSafeCounters& f = fe_->vo().failSafe();
       s.add("untrusted_frames", f.untrusted_frames);
       s.add("frozen_camera", f.frozen);
       s.add("gyro_disagreement", f.gyro_disagreement);
@@ -374,17 +341,16 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     }
     s.add("frames", n_processed_);
     s.add("imu_samples", n_imu_);
-    if (vo_)
+    if (fe_)
     {
-      s.add("gravity_tilt_deg", vo_->gravity().lastTiltDeg());
-      s.add("gravity_windows_accepted", vo_->gravity().accepted());
-      s.add("gravity_windows_rejected", vo_->gravity().rejected());
+      s.add("gravity_tilt_deg", fe_->vo().gravity().lastTiltDeg());
+      s.add("gravity_windows_accepted", fe_->vo().gravity().accepted());
+      s.add("gravity_windows_rejected", fe_->vo().gravity().rejected());
     }
   }
 
   VoParams p_;
-  std::unique_ptr<VisualOdometry> vo_;
-  ImuBuffer imu_;
+  std::unique_ptr<VoFrontEnd> fe_;
   VoNodeParams node_;
   double min_freq_ = 7.5, max_freq_ = 30.0;
 
@@ -401,8 +367,6 @@ class StereoOdometryNodelet : public nodelet::Nodelet
 
   VoOutput last_;
   bool last_trusted_ = false;
-  double last_stamp_ = -1.0;
-  StartupRule startup_;
   std::string input_problem_, last_problem_;
   uint64_t n_left_ = 0, n_right_ = 0, n_left_info_ = 0, n_right_info_ = 0, n_imu_ = 0, n_processed_ = 0;
   uint64_t last_left_ = 0, last_right_ = 0, last_processed_ = 0;

@@ -33,9 +33,7 @@
 #include <assistive_eval/recovery.h>
 #include <assistive_eval/stereo_bag.h>
 #include "assistive_vo/frames.h"
-#include "assistive_vo/imu_buffer.h"
-#include "assistive_vo/startup_rule.h"
-#include "assistive_vo/visual_odometry.h"
+#include "assistive_vo/vo_front_end.h"
 
 using namespace assistive_vo;
 namespace ev = assistive_eval;
@@ -200,11 +198,12 @@ int main(int argc, char** argv)
   params.use_imu = imu_on;
   if (!ev::applySets(cl, overrides, params))  // --set: the node's parameter names (params.h table)
     return 2;
-  VisualOdometry vo(params);
-  ImuBuffer imu(5.0);
-  StartupRule::Options startup_options;
-  startup_options.expect_imu = imu_on && !reader->imuSamples().empty();  // a bag without an IMU: no wait
-  StartupRule startup(startup_options);
+  // The device's driving loop (vo_front_end.h, as the nodelet runs it): start-up rule, IMU
+  // integrals, gravity hint. A bag without an IMU: no wait.
+  VoFrontEnd::Options fe_options;
+  fe_options.input_has_imu = !reader->imuSamples().empty();
+  VoFrontEnd fe(params, fe_options);
+  const VisualOdometry& vo = fe.vo();
   Peer peer;
   peer.max_translation_m = peer_max_t;
   ev::Trajectory gt, est, peer_est;
@@ -216,7 +215,6 @@ int main(int argc, char** argv)
   std::vector<double> wall, peer_ms, peer_wall;
   int lost = 0, max_bad_run = 0, bad_run = 0, frames = 0, unusable = 0;
   ev::RecoveryCounter recovery;
-  double prev_stamp = -1;
   Eigen::Isometry3d peer_T_odom_o0 = Eigen::Isometry3d::Identity();
   std::ofstream dump_out;
   if (!dump.empty())
@@ -225,17 +223,10 @@ int main(int argc, char** argv)
   while ((max_frames < 0 || frames < max_frames) && ev::nextFrameOrExit(*reader, f, "vo_benchmark", bag))
   {
     const StereoCamera cam = StereoCamera::from(f.calib);
-    if (frames == 0)
-    {
-      vo.setCamera(cam);
-      if (peer_on)
-        peer.init(cam);
-    }
+    if (frames == 0 && peer_on)
+      peer.init(cam);
     for (const auto& s : f.imu)
-      imu.add(s.stamp, s.gyro, s.accel);
-    Eigen::Quaterniond gyro;
-    Eigen::Vector3d dv, dp;
-    bool have_gyro = false;
+      fe.addImu(s.stamp, s.gyro, s.accel);
     if (first_stamp < 0)
       first_stamp = f.stamp;
     const double t_rel = f.stamp - first_stamp;
@@ -245,26 +236,16 @@ int main(int argc, char** argv)
       f.left = cv::Mat(f.left.size(), f.left.type(), cv::Scalar(128));
       f.right = cv::Mat(f.right.size(), f.right.type(), cv::Scalar(128));
     }
-    if (!vo.started())
-    {
-      // The nodelet's start-up rule (startup_rule.h): gravity from the IMU, else wait, else level.
-      Eigen::Vector3d up;
-      const StartupRule::Decision d = startup.decide(f.stamp, imu, up);
-      if (d == StartupRule::Decision::WAIT_FOR_IMU)
-      {
-        ++frames;
-        continue;
-      }
-      if (d == StartupRule::Decision::START_WITH_GRAVITY)
-        vo.setInitialUp(up);
-    }
-    else if (imu_on)
-      have_gyro = imu.integrate(prev_stamp, f.stamp, gyro, dv, dp);
-    prev_stamp = f.stamp;
-
     const ev::Stopwatch timer;
-    const VoOutput o = vo.process(f.left, f.right, f.stamp, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr,
-                                  have_gyro ? &dp : nullptr);
+    const FrontEndStep step = fe.process(cam, f.left, f.right, f.stamp);
+    if (!step.processed)  // waiting for the IMU (start-up rule): not timed, not scored
+    {
+      ++frames;
+      continue;
+    }
+    const VoOutput& o = step.out;
+    const bool have_gyro = step.have_gyro;
+    const Eigen::Quaterniond& gyro = step.gyro;
     if (bo_start >= 0 && f.has_gt_pose && o.pose_valid)
     {
       if (t_rel < bo_start)
@@ -346,7 +327,7 @@ int main(int argc, char** argv)
         // and the mean accelerometer reading over the frame interval (camera_link)
         const Eigen::Quaterniond g = have_gyro ? gyro : Eigen::Quaterniond::Identity();
         Eigen::Vector3d acc = Eigen::Vector3d::Zero();
-        imu.meanAccel(f.stamp, 1.0 / 15.0, acc);
+        fe.imu().meanAccel(f.stamp, 1.0 / 15.0, acc);
         dump_out << " " << g.x() << " " << g.y() << " " << g.z() << " " << g.w() << " " << vo.gyroBias().transpose()
                  << " " << acc.transpose() << "\n";
       }

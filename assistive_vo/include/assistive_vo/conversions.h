@@ -4,6 +4,7 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/CameraInfo.h>
+#include "assistive_vo/published_odometry.h"
 #include "assistive_vo/stereo_camera.h"
 #include "assistive_vo/visual_odometry.h"
 
@@ -16,13 +17,9 @@ bool fromMsg(const sensor_msgs::CameraInfo& left, const sensor_msgs::CameraInfo&
 /// CameraInfo pair of a StereoCamera (for tests and tools).
 void toMsg(const StereoCamera& cam, sensor_msgs::CameraInfo& left, sensor_msgs::CameraInfo& right);
 
-/// Variance (diagonal of pose.covariance and twist.covariance, off-diagonals 0) of a vo/odom
-/// message whose pose is not trusted (VoOutput::pose_trusted false): rtabmap's "null odometry"
-/// convention. Consumers must not guide on such a pose (README "Topics").
-constexpr double kUntrustedVariance = 9999.0;
-
-/// nav_msgs/Odometry of camera_link in odom, covariance row-major (x y z rotx roty rotz). An
-/// untrusted output gets kUntrustedVariance diagonals and zero twist (its pose is the last trusted one).
+/// nav_msgs/Odometry of camera_link in odom, covariance row-major (x y z rotx roty rotz), of
+/// published(o) (published_odometry.h): an untrusted output gets kUntrustedVariance diagonals and
+/// zero twist (its pose is the last trusted one).
 nav_msgs::Odometry toOdometryMsg(const VoOutput& o, const ros::Time& stamp, const std::string& odom_frame,
                                  const std::string& base_frame);
 geometry_msgs::TransformStamped toTransformMsg(const Eigen::Isometry3d& T, const ros::Time& stamp,

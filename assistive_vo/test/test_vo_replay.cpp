@@ -1,0 +1,227 @@
+// rostest (issue 32): a rendered bag through the stereo_odometry nodelet in ROS, every frame
+// delivered, and through VoFrontEnd in this process as vo_benchmark runs it (the bag read by
+// assistive_eval's StereoBagReader): the same frames processed and the same poses, frame by frame.
+// The frames go one at a time: the IMU samples up to the frame's stamp (as the bag reader hands
+// them to the benchmark), a pause for them to be delivered (they come over their own connection),
+// then the four image / camera_info messages, then a wait for that frame's vo/odom.
+#include <gtest/gtest.h>
+#include <unistd.h>
+#include <cstdio>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <map>
+#include <mutex>
+#include <vector>
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
+#include <opencv2/core.hpp>
+#include <assistive_common/ros_params.h>
+#include <assistive_eval/stereo_bag.h>
+#include "assistive_vo/conversions.h"
+#include "assistive_vo/vo_front_end.h"
+
+namespace
+{
+std::mutex mtx;
+std::map<int64_t, nav_msgs::Odometry> ros_odom;  // stamp (ns) -> the nodelet's vo/odom
+
+void odomCb(const nav_msgs::OdometryConstPtr& m)
+{
+  std::lock_guard<std::mutex> l(mtx);
+  ros_odom[static_cast<int64_t>(m->header.stamp.toNSec())] = *m;
+}
+
+std::string renderBag(const std::string& world, int frames)
+{
+  char dir_tmpl[] = "/tmp/vo_replay_XXXXXX";
+  if (!mkdtemp(dir_tmpl))
+    return "";
+  const std::string dir(dir_tmpl), bag = dir + "/" + world + ".bag";
+  const std::string render = "rosrun assistive_sim render_bag --world " + world + " --frames " + std::to_string(frames) +
+                             " --out " + bag + " > " + dir + "/render.log 2>&1";
+  return std::system(render.c_str()) == 0 ? bag : "";
+}
+
+double angleBetween(const geometry_msgs::Quaternion& a, const geometry_msgs::Quaternion& b)
+{
+  const Eigen::Quaterniond qa(a.w, a.x, a.y, a.z), qb(b.w, b.x, b.y, b.z);
+  return qa.angularDistance(qb);
+}
+}  // namespace
+
+TEST(VoReplay, NodeletAndFrontEndGiveTheSamePosesFrameByFrame)
+{
+  ros::NodeHandle nh, pnh("~");
+  std::string world = "course", node = "/replay_odometry";
+  int frames = 60;
+  double imu_pause_s = 0.05;
+  // Diagnosis: the in-process run takes each frame's stamp as the nodelet does (ros::Time::toSec())
+  // instead of the bag reader's ns * 1e-9 (1 ulp apart on about half the frames).
+  bool header_stamps = false;
+  pnh.param("world", world, world);
+  pnh.param("frames", frames, frames);
+  pnh.param("node", node, node);
+  pnh.param("imu_pause", imu_pause_s, imu_pause_s);
+  pnh.param("header_stamps", header_stamps, header_stamps);
+  const std::string bag_path = renderBag(world, frames);
+  ASSERT_FALSE(bag_path.empty()) << "render_bag failed (world " << world << ")";
+
+  // The nodelet's parameters, read as the nodelet reads them (its params.h tables). No
+  // robot_description here: camera_height is the parameter's, as in the nodelet.
+  ros::NodeHandle node_nh(node);
+  assistive_vo::VoParams p;
+  assistive_vo::VoNodeParams np;
+  assistive_common::readParams(node_nh, p);
+  assistive_common::readParams(node_nh, np);
+
+  // ---- in process: the processor on the bag, as vo_benchmark runs it
+  // Frames are matched by their stamp in ns (the bag reader's f.stamp is ns * 1e-9, the nodelet's
+  // header.stamp.toSec(): the two doubles can differ in the last bit).
+  std::map<int64_t, assistive_vo::VoOutput> ours;  // stamp (ns) -> output of a processed frame
+  std::vector<int64_t> stamps;
+  {
+    cv::setNumThreads(1);  // as the benchmarks (the nodelet runs with OpenCV's default threads)
+    assistive_eval::StereoBagReader reader(bag_path);
+    assistive_vo::VoFrontEnd::Options o;
+    o.input_has_imu = !reader.imuSamples().empty();
+    o.imu_wait_s = np.imu_wait;
+    assistive_vo::VoFrontEnd fe(p, o);
+    assistive_eval::StereoFrame f;
+    while (reader.next(f))
+    {
+      for (const auto& s : f.imu)
+        fe.addImu(s.stamp, s.gyro, s.accel);
+      const int64_t ns = std::llround(f.stamp * 1e9);
+      if (header_stamps)
+        f.stamp = ros::Time().fromNSec(static_cast<uint64_t>(ns)).toSec();
+      const assistive_vo::FrontEndStep s =
+          fe.process(assistive_vo::StereoCamera::from(f.calib), f.left, f.right, f.stamp);
+      stamps.push_back(ns);
+      if (s.processed && s.out.pose_valid && s.out.T_odom_link.matrix().allFinite())  // what the nodelet publishes
+        ours[ns] = s.out;
+    }
+    cv::setNumThreads(-1);
+  }
+  ASSERT_GE(static_cast<int>(stamps.size()), frames * 9 / 10);
+  ASSERT_GE(ours.size(), stamps.size() - 2) << "the in-process run must track the walk";
+
+  // ---- through ROS: the bag's own messages, one frame at a time
+  rosbag::Bag bag(bag_path);
+  const assistive_eval::StereoBagTopics topics;
+  std::vector<sensor_msgs::ImuConstPtr> imus;
+  std::map<int64_t, std::vector<rosbag::MessageInstance>> msgs;  // stamp -> left/right image + info
+  for (const rosbag::MessageInstance& m : rosbag::View(bag))
+  {
+    if (m.getTopic() == topics.imu)
+      imus.push_back(m.instantiate<sensor_msgs::Imu>());
+    else if (m.getTopic() == topics.left_image || m.getTopic() == topics.right_image)
+      msgs[static_cast<int64_t>(m.instantiate<sensor_msgs::Image>()->header.stamp.toNSec())].push_back(m);
+    else if (m.getTopic() == topics.left_info || m.getTopic() == topics.right_info)
+      msgs[static_cast<int64_t>(m.instantiate<sensor_msgs::CameraInfo>()->header.stamp.toNSec())].push_back(m);
+  }
+  ASSERT_EQ(msgs.size(), stamps.size());
+  ros::Publisher li = nh.advertise<sensor_msgs::Image>("/replay/left/image_rect", 5);
+  ros::Publisher ri = nh.advertise<sensor_msgs::Image>("/replay/right/image_rect", 5);
+  ros::Publisher lc = nh.advertise<sensor_msgs::CameraInfo>("/replay/left/camera_info", 5);
+  ros::Publisher rc = nh.advertise<sensor_msgs::CameraInfo>("/replay/right/camera_info", 5);
+  ros::Publisher imu = nh.advertise<sensor_msgs::Imu>("/replay/imu/data", 2000);
+  ros::Subscriber sub = nh.subscribe("/replay/odom", 100, odomCb);
+  for (int i = 0; i < 300 && (li.getNumSubscribers() == 0 || ri.getNumSubscribers() == 0 || lc.getNumSubscribers() == 0 ||
+                              rc.getNumSubscribers() == 0 || imu.getNumSubscribers() == 0 || sub.getNumPublishers() == 0);
+       ++i)
+    ros::Duration(0.1).sleep();
+  ASSERT_GT(imu.getNumSubscribers(), 0u);
+  ASSERT_GT(sub.getNumPublishers(), 0u);
+  ros::Duration(0.5).sleep();
+
+  size_t next_imu = 0;
+  int waited_out = 0;
+  for (const auto& [t, fm] : msgs)
+  {
+    for (; next_imu < imus.size() && static_cast<int64_t>(imus[next_imu]->header.stamp.toNSec()) <= t; ++next_imu)
+      imu.publish(imus[next_imu]);
+    ros::Duration(imu_pause_s).sleep();
+    for (const auto& m : fm)
+    {
+      const bool left = m.getTopic() == topics.left_image || m.getTopic() == topics.left_info;
+      if (auto im = m.instantiate<sensor_msgs::Image>())
+        (left ? li : ri).publish(im);
+      else if (auto ci = m.instantiate<sensor_msgs::CameraInfo>())
+        (left ? lc : rc).publish(ci);
+    }
+    // A processed frame: wait for its vo/odom (every processed frame publishes); a frame the
+    // in-process run did not process (waiting for the IMU): a short wait that nothing comes.
+    const double limit = ours.count(t) ? 20.0 : 0.5;
+    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(limit);
+    bool got = false;
+    while (!got && ros::WallTime::now() < until)
+    {
+      ros::WallDuration(0.002).sleep();
+      std::lock_guard<std::mutex> l(mtx);
+      got = ros_odom.count(t) > 0;
+    }
+    waited_out += ours.count(t) && !got;
+  }
+  ros::Duration(0.5).sleep();
+
+  std::lock_guard<std::mutex> l(mtx);
+  std::string which;  // per frame: B both, I in-process only, R ROS only, - neither
+  for (int64_t t : stamps)
+    which += ros_odom.count(t) ? (ours.count(t) ? 'B' : 'R') : (ours.count(t) ? 'I' : '-');
+  std::printf("frames published (B both, I in-process only, R ROS only): %s\n", which.c_str());
+  EXPECT_EQ(waited_out, 0) << "frames whose vo/odom never came: " << which;
+  EXPECT_EQ(ros_odom.size(), ours.size()) << "the nodelet published for other frames than the in-process run";
+  double max_dpos = 0, max_drot = 0, max_dcov = 0;
+  int compared = 0, exact = 0;
+  for (size_t k = 0; k < stamps.size(); ++k)
+  {
+    const int64_t t = stamps[k];
+    const auto a = ros_odom.find(t);
+    const auto b = ours.find(t);
+    ASSERT_EQ(a != ros_odom.end(), b != ours.end()) << "frame " << k << " published by only one of the two";
+    if (b == ours.end())
+      continue;
+    // The in-process output as the nodelet would publish it (toOdometryMsg): the message carries
+    // the translation and the covariances as they are and the rotation as a quaternion.
+    const nav_msgs::Odometry e = assistive_vo::toOdometryMsg(b->second, a->second.header.stamp, "odom", "camera_link");
+    const nav_msgs::Odometry& r = a->second;
+    const double dpos = std::hypot(r.pose.pose.position.x - e.pose.pose.position.x,
+                                   r.pose.pose.position.y - e.pose.pose.position.y,
+                                   r.pose.pose.position.z - e.pose.pose.position.z);
+    const double drot = angleBetween(r.pose.pose.orientation, e.pose.pose.orientation);
+    double dcov = 0;
+    for (size_t i = 0; i < 36; ++i)
+      dcov = std::max({dcov, std::abs(r.pose.covariance[i] - e.pose.covariance[i]),
+                       std::abs(r.twist.covariance[i] - e.twist.covariance[i])});
+    // Tolerance: the same code on the same inputs is bit-identical (OpenCV's threads split work
+    // per pixel / per track, not the arithmetic); 1e-9 m / rad leaves room for nothing else.
+    EXPECT_LT(dpos, 1e-9) << "frame " << k << " t=" << t << " ns";
+    EXPECT_LT(drot, 1e-9) << "frame " << k << " t=" << t << " ns";
+    EXPECT_LT(dcov, 1e-9) << "frame " << k << " t=" << t << " ns";
+    EXPECT_EQ(r.pose.covariance[0] >= assistive_vo::kUntrustedVariance, !b->second.pose_trusted) << "frame " << k;
+    max_dpos = std::max(max_dpos, dpos);
+    max_drot = std::max(max_drot, drot);
+    max_dcov = std::max(max_dcov, dcov);
+    exact += dpos == 0 && drot == 0 && dcov == 0;
+    ++compared;
+  }
+  EXPECT_GE(compared, frames * 9 / 10 - 2);
+  std::printf("replay vs in-process: %zu frames, %d compared, %d bit-identical; max position diff %.3g m, "
+              "rotation %.3g rad, covariance %.3g\n",
+              stamps.size(), compared, exact, max_dpos, max_drot, max_dcov);
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_vo_replay");
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
