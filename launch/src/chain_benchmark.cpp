@@ -9,8 +9,9 @@
 // Not the device's scheduling: SLAM's keyframe work runs inline (the device gives it a worker
 // thread, which on one core competes all the same); the planner is fed every grid (its nodelet
 // also re-plans on a 2 Hz timer without one) and the cue logic every planner state.
-// The VO's driving loop (IMU integration, start-up rule) is vo_benchmark's and SLAM's input
-// slam_benchmark's: they move to the VO and SLAM processors once those exist (issue 32).
+// The VO runs through the device's front end (VoFrontEnd: IMU, start-up rule, gravity hint), SLAM
+// takes its output through the nodelet's adapter (VoAdapter), the obstacle stage is its frame
+// processor: the processors the nodelets call.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -31,11 +32,14 @@
 #include <assistive_planner/conversions.h>
 #include <assistive_planner/planner.h>
 #include <assistive_sim/ultrasonic.h>
+#include <assistive_slam/params.h>
 #include <assistive_slam/slam_system.h>
+#include <assistive_slam/vo_adapter.h>
 #include <assistive_tactile/conversions.h>
 #include <assistive_tactile/cue_logic.h>
-#include <assistive_vo/imu_buffer.h>
-#include <assistive_vo/startup_rule.h>
+#include <assistive_vo/frames.h>
+#include <assistive_vo/published_odometry.h>
+#include <assistive_vo/vo_front_end.h>
 #include <assistive_vo/visual_odometry.h>
 
 namespace ev = assistive_eval;
@@ -75,7 +79,10 @@ bool poseAt(const std::map<double, Eigen::Isometry3d>& poses, double t, Eigen::I
 class Chain
 {
 public:
-  explicit Chain(bool expect_imu) : imu_(5.0), startup_(startupOptions(expect_imu)), proc_(obs::ObstaclesParams())
+  explicit Chain(bool expect_imu)
+    : fe_(assistive_vo::VoParams(), frontEndOptions(expect_imu))
+    , adapter_(assistive_slam::SlamNodeParams().untrusted_variance, linkOptical())
+    , proc_(obs::ObstaclesParams())
   {
   }
 
@@ -110,40 +117,29 @@ public:
   long plans() const { return plans_; }
 
 private:
-  static assistive_vo::StartupRule::Options startupOptions(bool expect_imu)
+  static assistive_vo::VoFrontEnd::Options frontEndOptions(bool expect_imu)
   {
-    assistive_vo::StartupRule::Options so;
-    so.expect_imu = expect_imu;
-    return so;
+    assistive_vo::VoFrontEnd::Options fo;
+    fo.input_has_imu = expect_imu;
+    return fo;
+  }
+  static Eigen::Isometry3d linkOptical()
+  {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = assistive_vo::R_link_optical();
+    return T;
   }
 
-  /// As vo_benchmark drives the VO: IMU buffer, start-up rule, gyro prior.
+  /// The device's VO driving loop (assistive_vo/vo_front_end.h, as its nodelet runs it).
   assistive_vo::VoOutput vo(const ev::StereoFrame& f)
   {
-    if (!started_)
-    {
-      vo_.setCamera(assistive_vo::StereoCamera::from(f.calib));
-      started_ = true;
-    }
-    for (const auto& s : f.imu) imu_.add(s.stamp, s.gyro, s.accel);
-    Eigen::Quaterniond gyro;
-    Eigen::Vector3d dv, dp;
-    bool have_gyro = false;
-    if (!vo_.started())
-    {
-      Eigen::Vector3d up;
-      const assistive_vo::StartupRule::Decision d = startup_.decide(f.stamp, imu_, up);
-      if (d == assistive_vo::StartupRule::Decision::WAIT_FOR_IMU) return assistive_vo::VoOutput();
-      if (d == assistive_vo::StartupRule::Decision::START_WITH_GRAVITY) vo_.setInitialUp(up);
-    }
-    else
-      have_gyro = imu_.integrate(prev_stamp_, f.stamp, gyro, dv, dp);
-    prev_stamp_ = f.stamp;
-    return vo_.process(f.left, f.right, f.stamp, have_gyro ? &gyro : nullptr, have_gyro ? &dv : nullptr,
-                       have_gyro ? &dp : nullptr);
+    for (const auto& s : f.imu) fe_.addImu(s.stamp, s.gyro, s.accel);
+    const assistive_vo::FrontEndStep step = fe_.process(assistive_vo::StereoCamera::from(f.calib), f.left, f.right, f.stamp);
+    return step.processed ? step.out : assistive_vo::VoOutput();
   }
 
-  /// As slam_benchmark feeds SLAM (keyframes processed inline).
+  /// SLAM fed as its nodelet feeds it: what vo/odom carries, through the one adapter (keyframes
+  /// processed inline: one core, as the budget is judged).
   void slam(const ev::StereoFrame& f, const assistive_vo::VoOutput& o)
   {
     if (!slam_)
@@ -156,24 +152,13 @@ private:
       m.baseline = f.calib.baseline;
       slam_ = std::make_unique<assistive_slam::SlamSystem>(assistive_slam::SlamParams(), m, false);
     }
-    assistive_slam::SlamFrame sf;
-    sf.stamp = f.stamp;
-    sf.left = f.left;
-    sf.right = f.right;
-    sf.T_odom_cam = o.T_odom_optical;
-    sf.vo_replenished = o.stats.keyframe;
-    sf.pose_trusted = o.pose_trusted && o.state == assistive_vo::TrackingState::TRACKING;
-    if (prev_slam_stamp_ > 0 && f.stamp > prev_slam_stamp_)
-    {
-      const double dt = f.stamp - prev_slam_stamp_;
-      const Eigen::Matrix3d R_lo = o.T_odom_link.linear().transpose() * o.T_odom_optical.linear();
-      assistive_slam::Matrix6d A = assistive_slam::Matrix6d::Zero();
-      A.topLeftCorner<3, 3>() = R_lo.transpose();
-      A.bottomRightCorner<3, 3>() = R_lo.transpose();
-      sf.vo_covariance = A * o.twist_covariance * A.transpose() * (dt * dt);
-    }
-    prev_slam_stamp_ = f.stamp;
-    slam_->addFrame(sf);
+    const assistive_vo::PublishedOdometry po = assistive_vo::published(o);
+    assistive_slam::VoOdometry vo_odom;
+    vo_odom.stamp = f.stamp;
+    vo_odom.T_odom_link = po.T_odom_link;
+    vo_odom.position_variance = po.pose_covariance(0, 0);
+    vo_odom.twist_covariance = po.twist_covariance;
+    slam_->addFrame(adapter_.frame(vo_odom, f.left, f.right));
   }
 
   /// The obstacle stage's frame step on the VO's pose (odom -> left optical frame, as tf gives it).
@@ -235,11 +220,8 @@ private:
     return true;
   }
 
-  assistive_vo::VisualOdometry vo_;
-  assistive_vo::ImuBuffer imu_;
-  assistive_vo::StartupRule startup_;
-  bool started_ = false;
-  double prev_stamp_ = -1.0, prev_slam_stamp_ = -1.0;
+  assistive_vo::VoFrontEnd fe_;
+  assistive_slam::VoAdapter adapter_;
   std::unique_ptr<assistive_slam::SlamSystem> slam_;
   obs::ObstacleFrameProcessor proc_;
   std::map<double, Eigen::Isometry3d> vo_links_;  // odom -> camera_link by stamp
