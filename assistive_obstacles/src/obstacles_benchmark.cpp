@@ -38,7 +38,7 @@
 #include <assistive_eval/plots.h>
 #include <assistive_eval/stereo_bag.h>
 
-#include <assistive_obstacles/crossing_predictor.h>
+#include <assistive_common/crossing_predictor.h>
 #include <assistive_obstacles/disparity.h>
 #include <assistive_obstacles/mover_pipeline.h>
 #include <assistive_obstacles/obstacle_map.h>
@@ -58,6 +58,9 @@
 #include <opencv2/imgproc.hpp>
 
 using namespace assistive_obstacles;
+using assistive_common::CrossingPrediction;
+using assistive_common::CrossingPredictor;
+using assistive_common::Wearer;
 namespace eval = assistive_eval;
 
 namespace
