@@ -38,7 +38,7 @@
 #include <assistive_eval/plots.h>
 #include <assistive_eval/stereo_bag.h>
 
-#include <assistive_obstacles/crossing_predictor.h>
+#include <assistive_common/crossing_predictor.h>
 #include <assistive_obstacles/frame_processor.h>
 #include <assistive_obstacles/people_score.h>
 
@@ -56,6 +56,9 @@
 #include <opencv2/imgproc.hpp>
 
 using namespace assistive_obstacles;
+using assistive_common::CrossingPrediction;
+using assistive_common::CrossingPredictor;
+using assistive_common::Wearer;
 namespace eval = assistive_eval;
 
 namespace

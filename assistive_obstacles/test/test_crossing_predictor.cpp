@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
-#include <assistive_obstacles/crossing_predictor.h>
+#include <assistive_common/crossing_predictor.h>
+#include <assistive_obstacles/mover_tracker.h>
 
+using namespace assistive_common;
 using namespace assistive_obstacles;
 
 namespace

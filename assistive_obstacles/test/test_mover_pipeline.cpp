@@ -5,13 +5,14 @@
 
 #include <gtest/gtest.h>
 
-#include <assistive_obstacles/crossing_predictor.h>
+#include <assistive_common/crossing_predictor.h>
 #include <assistive_obstacles/mover_segmentation.h>
 #include <assistive_obstacles/mover_tracker.h>
 #include <assistive_obstacles/obstacle_map.h>
 
 #include "synthetic.h"
 
+using namespace assistive_common;
 using namespace assistive_obstacles;
 
 namespace

@@ -6,7 +6,7 @@
 // 0.80-0.95 m; a 0.5 m wide body (BodyCollider, radius 0.25 m) fits everywhere along the course's
 // polyline, which goes through several doorways of a home.
 #include <assistive_sim/motion.h>
-#include <assistive_sim/wearer.h>
+#include <assistive_sim/body_collider.h>
 #include <assistive_sim/world_generator.h>
 
 #include <map>

@@ -3,10 +3,8 @@
 // their closest approach within a horizon decides whether the wearer is warned, and to which side
 // to step. ROS-free, header only (Eigen). One place for both of its users: the planner, which
 // warns the wearer (assistive_planner CrossingWatch, on obstacles/movers), and the obstacle stage's
-// benchmark, which scores those warnings against the people's truth (assistive_obstacles includes
-// it as assistive_obstacles/crossing_predictor.h). It lives here because the planner cannot depend
-// on assistive_obstacles: the obstacle stage's tests need the simulator, whose trials need the
-// planner (a catkin dependency cycle).
+// benchmark, which scores those warnings against the people's truth. It lives here, the lowest
+// package both use: the stages do not depend on one another at run time (.ci/check_core, rule 3).
 //
 // Relative position r0 = p_mover - p_wearer, relative velocity vr = v_mover - v_wearer.
 // Closest approach time t* = clamp(-r0.vr / |vr|^2, 0, horizon), distance d* = |r0 + vr t*|.

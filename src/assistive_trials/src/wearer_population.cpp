@@ -3,13 +3,13 @@
 // docs/wearer_population.md. Where a source gives a range but not the population's shape over it,
 // the draw is uniform over the range (the least-informed choice, and one that gives the slow and
 // clumsy ends of a range as much weight as the middle).
-#include <assistive_sim/wearer_population.h>
+#include <assistive_trials/wearer_population.h>
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-namespace assistive_sim
+namespace assistive_trials
 {
 namespace
 {
@@ -237,4 +237,4 @@ const std::vector<TraitSpec>& WearerPopulation::specs()
   return rows;
 }
 
-}  // namespace assistive_sim
+}  // namespace assistive_trials

@@ -17,7 +17,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace assistive_sim
+namespace assistive_trials
 {
 /// One wearer. Units are in the names; angles in degrees, + = to the left (counter-clockwise).
 struct WearerTraits
@@ -72,4 +72,4 @@ public:
   static const std::vector<TraitSpec>& specs();
 };
 
-}  // namespace assistive_sim
+}  // namespace assistive_trials

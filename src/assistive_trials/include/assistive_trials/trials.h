@@ -13,10 +13,10 @@
 #include <opencv2/core.hpp>
 
 #include <assistive_planner/params.h>
-#include <assistive_sim/wearer.h>
+#include <assistive_trials/wearer.h>
 #include <assistive_tactile/params.h>
 
-namespace assistive_sim
+namespace assistive_trials
 {
 enum class TrialMode
 {
@@ -124,7 +124,7 @@ struct TrialResult
   double time_s = 0.0;        ///< to completion (or the timeout)
   double guide_time_s = 0.0;  ///< sighted guide from the same start
   double ppws_pct = 0.0;      ///< guide time / time x 100 (0 when not completed)
-  std::array<int, size_t(ObstacleKind::NUM_KINDS)> collisions{};
+  std::array<int, size_t(assistive_sim::ObstacleKind::NUM_KINDS)> collisions{};
   int totalCollisions() const;
   double mean_clearance_m = 0.0;  ///< body surface to the nearest obstacle, mean over the walk
   double min_clearance_m = 0.0;
@@ -150,21 +150,21 @@ WearerParams trialWearer(const TrialOptions& opt, uint32_t seed);
 cv::Mat timelinePlot(const TrialResult& r, const std::string& title);
 
 /// The course of a world: its script's waypoints (start, then the places to walk through).
-std::vector<Eigen::Vector2d> courseOf(const World& world);
+std::vector<Eigen::Vector2d> courseOf(const assistive_sim::World& world);
 
 /// One trial, deterministic in `seed` (start pose, the wearer's choices). `chain`: the chain that
 /// cues the wearer (nullptr: truth mode's in-process cores; required for VISION).
-TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed, int index = 0,
+TrialResult runTrial(const assistive_sim::World& world, const TrialOptions& opt, uint32_t seed, int index = 0,
                      CueChain* chain = nullptr);
 
 /// The start pose of trial `seed` (what runTrial uses): near the course's start, facing the first
 /// place within +-start_yaw_deg.
-BodyState trialStart(const World& world, const TrialOptions& opt, uint32_t seed);
+BodyState trialStart(const assistive_sim::World& world, const TrialOptions& opt, uint32_t seed);
 
 /// Heat map in the style of the seed's figures 5.9 / 5.21: the floor plan from above (obstacles
 /// grey, glass blue), time spent per place in red (brighter = longer, summed over the trials),
 /// collisions as yellow crosses, the course's places as green dots. `px_per_m` sets the scale.
-cv::Mat heatMap(const World& world, const std::vector<TrialResult>& trials, double dt, const std::string& title,
+cv::Mat heatMap(const assistive_sim::World& world, const std::vector<TrialResult>& trials, double dt, const std::string& title,
                 double px_per_m = 40.0);
 
-}  // namespace assistive_sim
+}  // namespace assistive_trials

@@ -1,6 +1,6 @@
 // RosChain (ros_chain.h): drives the planner/cue nodelets (or the whole pipeline with the
 // renderer) one camera frame at a time on simulated time and waits for that frame's cue.
-#include <assistive_sim/ros_chain.h>
+#include <assistive_trials/ros_chain.h>
 
 #include <chrono>
 #include <cstdio>
@@ -24,8 +24,13 @@
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/transform_broadcaster.h>
 
-namespace assistive_sim
+namespace assistive_trials
 {
+// The simulator's world and its people as messages (assistive_sim), named as the chain always did.
+using assistive_sim::OccupancyParams;
+using assistive_sim::World;
+using assistive_sim::peopleMessage;
+
 struct RosChain::Impl
 {
   Options o;
@@ -313,4 +318,4 @@ ChainCue RosChain::frame(double t, const BodyState& s)
   }
   return out;
 }
-}  // namespace assistive_sim
+}  // namespace assistive_trials

@@ -1,6 +1,6 @@
 // Closed-loop mobility trials (trials.h): truth mode (world occupancy -> planner core -> cue logic
 // core -> vest wearer) and the cane-only baseline; the heat map.
-#include <assistive_sim/trials.h>
+#include <assistive_trials/trials.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,10 +16,19 @@
 #include <assistive_planner/planner.h>
 #include <assistive_tactile/cue_logic.h>
 #include <assistive_tactile/vest_protocol.h>
-#include <assistive_sim/wearer_population.h>
+#include <assistive_trials/wearer_population.h>
 
-namespace assistive_sim
+namespace assistive_trials
 {
+// The simulator's world and body (assistive_sim), named as the trials always did.
+using assistive_sim::BodyCollider;
+using assistive_sim::OccupancyGrid;
+using assistive_sim::OccupancyParams;
+using assistive_sim::PersonState;
+using assistive_sim::Solid;
+using assistive_sim::World;
+using assistive_sim::computeOccupancy;
+
 namespace
 {
 constexpr double DEG = M_PI / 180.0;
@@ -546,4 +555,4 @@ cv::Mat heatMap(const World& world, const std::vector<TrialResult>& trials, doub
   return img;
 }
 
-}  // namespace assistive_sim
+}  // namespace assistive_trials

@@ -20,10 +20,10 @@
 
 #include <ros/ros.h>
 
-#include <assistive_sim/trials.h>
+#include <assistive_trials/trials.h>
 #include <assistive_sim/world.h>
 
-namespace assistive_sim
+namespace assistive_trials
 {
 class RosChain : public CueChain
 {
@@ -48,7 +48,7 @@ public:
     double warmup_s = 1.0;         ///< VISION: the wearer stands this long before each trial (the VO
                                    ///< takes gravity from 0.5 s of IMU at rest)
   };
-  RosChain(ros::NodeHandle& nh, const World& world, const Options& o);
+  RosChain(ros::NodeHandle& nh, const assistive_sim::World& world, const Options& o);
   ~RosChain() override;
 
   void reset(const BodyState& start) override;
@@ -66,4 +66,4 @@ private:
   void publishImu(double t, const BodyState& s);
   long frames_ = 0;
 };
-}  // namespace assistive_sim
+}  // namespace assistive_trials

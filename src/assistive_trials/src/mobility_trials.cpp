@@ -1,7 +1,7 @@
 // mobility_trials: a simulated wearer walks a world's course closed loop (issue 19, seed 5.4-5.5).
-//   rosrun assistive_sim mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S]
+//   rosrun assistive_trials mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S]
 //       [--plot FILE.png] [--no-cues] [--reaction S] [--turn-rate DEG_S]
-//   rosrun assistive_sim mobility_trials --generated N [--kind K[,K...]] [--seed-base B] [--keep DIR] [...]
+//   rosrun assistive_trials mobility_trials --generated N [--kind K[,K...]] [--seed-base B] [--keep DIR] [...]
 // Prints one row per trial (per world for a generated set), a summary table, and as the last line
 // the JSON keys of SPEC.md (for a set: means over the worlds and `_worst` variants).
 #include <netinet/in.h>
@@ -28,11 +28,12 @@
 
 #include <ros/ros.h>
 
-#include <assistive_sim/ros_chain.h>
-#include <assistive_sim/trials.h>
+#include <assistive_trials/ros_chain.h>
+#include <assistive_trials/trials.h>
 #include <assistive_sim/world_generator.h>
 
 using namespace assistive_sim;
+using namespace assistive_trials;
 
 namespace
 {
@@ -52,7 +53,7 @@ void usage(std::ostream& os = std::cerr)
         "  truth: the world's occupancy -> planner core -> cue logic core -> simulated vest wearer (no ROS);\n"
         "  cane: the cane-only walker. --no-cues removes the cue stage (the vest stays silent).\n"
         "  vision: the renderer and the whole pipeline.launch in one nodelet manager (a private roscore and\n"
-        "          roslaunch assistive_sim mobility_vision.launch per trial), lock-stepped on simulated time.\n"
+        "          roslaunch assistive_trials mobility_vision.launch per trial), lock-stepped on simulated time.\n"
         "  Heat map: --plot (default mobility_<world>_<mode>.png in the current folder).\n"
         "  --generated N: score a generated set instead of one world: N worlds (generate_world seeds B .. B+N-1,\n"
         "          --seed-base B, default 1001; --kind K or K1,K2,... cycled over the seeds, default: the seed\n"
@@ -61,14 +62,12 @@ void usage(std::ostream& os = std::cerr)
         "          mobility_generated_<kind>_<mode>); --keep DIR keeps the world files (default: a temporary folder).\n";
 }
 
+// The shipped worlds: assistive_sim's (its CMake config's assistive_sim_WORLDS_DIR: the source
+// folder in a devel space, share/assistive_sim/worlds once installed).
 std::string worldsDir()
 {
-  for (const char* d : { ASSISTIVE_SIM_SOURCE_WORLDS, ASSISTIVE_SIM_SHARE_WORLDS })
-  {
-    struct stat st;
-    if (stat(d, &st) == 0) return d;
-  }
-  return ".";
+  struct stat st;
+  return stat(ASSISTIVE_SIM_WORLDS_DIR, &st) == 0 ? ASSISTIVE_SIM_WORLDS_DIR : ".";
 }
 
 int freePort()
@@ -202,7 +201,7 @@ bool runWorld(const World& world, const std::string& world_arg, const TrialOptio
       ro.eye_height = world.trajectory.eye_height;
       // A fresh chain per trial: its t = 0 is at start_time + warmup_s of simulated time; the
       // renderer puts the people where they are on the trial's clock.
-      const pid_t launch = spawn({ "roslaunch", "assistive_sim", "mobility_vision.launch", "world:=" + world_arg,
+      const pid_t launch = spawn({ "roslaunch", "assistive_trials", "mobility_vision.launch", "world:=" + world_arg,
                                    "people_time_origin:=" + num(ro.start_time + ro.warmup_s, 6) },
                                  log);
       ros::NodeHandle nh;

@@ -16,17 +16,18 @@
 #include <ros/ros.h>
 
 #include <assistive_msgs/MoverArray.h>
-#include <assistive_sim/ros_chain.h>
-#include <assistive_sim/trials.h>
+#include <assistive_trials/ros_chain.h>
+#include <assistive_trials/trials.h>
 
 using namespace assistive_sim;
+using namespace assistive_trials;
 
 namespace
 {
 std::string worldPath(const std::string& w)
 {
   struct stat st;
-  const std::string dir = stat(ASSISTIVE_SIM_SOURCE_WORLDS, &st) == 0 ? ASSISTIVE_SIM_SOURCE_WORLDS : ".";
+  const std::string dir = stat(ASSISTIVE_SIM_WORLDS_DIR, &st) == 0 ? ASSISTIVE_SIM_WORLDS_DIR : ".";
   return resolveWorldPath(w, dir);
 }
 }  // namespace

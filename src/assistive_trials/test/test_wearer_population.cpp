@@ -1,7 +1,7 @@
 // The wearer population (issue 33): a wearer is a pure function of its seed, every trait of 10,000
 // wearers lies inside its published range, the population's means match the stated ones (the
 // sources' where the sources give a mean), and the slowest decile is the slowest.
-#include <assistive_sim/wearer_population.h>
+#include <assistive_trials/wearer_population.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-using namespace assistive_sim;
+using namespace assistive_trials;
 
 namespace
 {

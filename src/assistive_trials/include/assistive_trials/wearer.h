@@ -1,7 +1,7 @@
 #pragma once
 // The simulated wearer of the mobility trials (issue 19, seed 5.2 and 5.5): a body that walks in a
-// world and reacts only to the vest's four motors as the study told its subjects to, a body
-// collider that counts collisions by obstacle kind, and a cane-only walker for the baseline.
+// world and reacts only to the vest's four motors as the study told its subjects to (its body is
+// assistive_sim::BodyCollider, which counts collisions by obstacle kind), and a cane-only walker for the baseline.
 // ROS-free. The wearer never reads the map: it knows only what the vest tells it.
 #include <array>
 #include <deque>
@@ -14,22 +14,11 @@
 
 #include <Eigen/Core>
 
+#include <assistive_sim/body_collider.h>
 #include <assistive_sim/world.h>
 
-namespace assistive_sim
+namespace assistive_trials
 {
-/// What kind of thing the body touched (for `<kind>_collisions_per_trial`).
-enum class ObstacleKind
-{
-  WALL,       ///< `wall` elements (doorway lintels included)
-  OVERHANG,   ///< anything whose underside is above `overhang_min_z` (a sign at head height)
-  GLASS,      ///< `glass` panels
-  FURNITURE,  ///< boxes, columns, tables, benches
-  PERSON,     ///< a walking or standing person (World::people, issue 22)
-  NUM_KINDS
-};
-const char* kindName(ObstacleKind k);  ///< "wall", "overhang", "glass", "furniture", "people"
-
 /// One wearer: the body and how it reacts to the vest. A trial draws one from the population
 /// (wearer_population.h: every value cites its source in docs/wearer_population.md); the defaults
 /// are a typical adult. The protocol (what each cue asks) is assistive_tactile/README.md's page:
@@ -59,61 +48,6 @@ struct WearerParams
   double silence_stop_s = 4.5;
 };
 
-/// The body's collider against a world's solids (glass included; walkable steps never collide)
-/// and, once setTime() was called, its people where they are at that time (issue 22): a person
-/// collides when the body's cylinder and the person's touch (centre distance < the sum of the
-/// radii); it counts once per encounter (the bodies must part by more than 5 cm before it counts
-/// again) and makes the walker bump (stop and feel around) at its start, but never blocks a move: the people follow their
-/// scripts through the wearer (they do not react to it), so blocking would trap the body.
-class BodyCollider
-{
-public:
-  struct Contact
-  {
-    std::string object;  ///< the world element (`Solid::source`): one per table, wall, sign...
-    ObstacleKind kind;
-  };
-  BodyCollider(const World& world, double radius, double height, double overhang_min_z = 1.0);
-  /// Elements whose solids the cylinder at xy (floor to `height`) overlaps.
-  std::vector<Contact> contacts(const Eigen::Vector2d& xy) const;
-  bool free(const Eigen::Vector2d& xy) const { return contacts(xy).empty(); }
-  /// Distance from the body's surface to the nearest solid at body height (m, < 0 inside).
-  double clearance(const Eigen::Vector2d& xy) const;
-  /// Solids whose z range overlaps [z0, z1] at ground point xy (the cane's tip, a probe); people
-  /// too (floor to their height) after setTime().
-  bool occupied(const Eigen::Vector2d& xy, double z0, double z1, bool with_people = true) const;
-  /// The people's clock (s, personAt's) for the following contacts, occupied() and move(); NaN
-  /// (the default) leaves the people out.
-  void setTime(double t) { time_ = t; }
-  /// People (indices) the body at xy touches at the current time.
-  std::vector<size_t> personContacts(const Eigen::Vector2d& xy) const;
-  /// Distance from the body's surface to the nearest person's at the current time (+inf: none).
-  double personClearance(const Eigen::Vector2d& xy) const;
-  /// Move from `from` towards `to`; returns where the body ends (it stops at first contact, in
-  /// 2 cm steps), and registers collision events: an element counts once per contact episode
-  /// (it must be left by more than 5 cm before it can count again).
-  Eigen::Vector2d move(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool& bumped);
-  /// Collision events so far, per kind, and their places.
-  const std::array<int, size_t(ObstacleKind::NUM_KINDS)>& collisions() const { return counts_; }
-  int totalCollisions() const;
-  const std::vector<Eigen::Vector2d>& collisionPlaces() const { return places_; }
-  double radius() const { return radius_; }
-
-private:
-  double distance(const Solid& s, const Eigen::Vector2d& xy) const;  // footprint distance, < 0 inside
-  ObstacleKind classify(const Solid& s) const;
-  void release(const Eigen::Vector2d& xy);
-
-  std::vector<Solid> solids_;  ///< only those at body height
-  std::vector<Person> people_;
-  double time_ = std::numeric_limits<double>::quiet_NaN();
-  double radius_, height_, overhang_min_z_;
-  std::set<std::string> touching_;
-  std::set<size_t> touching_people_;
-  std::array<int, size_t(ObstacleKind::NUM_KINDS)> counts_{};
-  std::vector<Eigen::Vector2d> places_;
-};
-
 /// Body state on the floor: position, body yaw, head yaw, walking speed.
 struct BodyState
 {
@@ -139,7 +73,7 @@ public:
   VestWearer(const WearerParams& p, const BodyState& start, uint32_t seed);
   /// Advance by dt at time t (s) with the motors' drive now (0..1: left shoulder, right
   /// shoulder, left waist, right waist). `collider` may be null (free space).
-  void step(double t, double dt, const std::array<float, 4>& motors, BodyCollider* collider);
+  void step(double t, double dt, const std::array<float, 4>& motors, assistive_sim::BodyCollider* collider);
   const BodyState& state() const { return s_; }
   /// What the wearer is doing, for the per-trial summary.
   enum Action { WALK, TURN, SIDESTEP, EXPLORE, STOPPED, VEER };
@@ -205,13 +139,13 @@ class CaneWalker
 public:
   CaneWalker(const WearerParams& wp, const CaneParams& cp, const BodyState& start, uint32_t seed);
   /// Advance by dt; `target` is the next place of the route (m).
-  void step(double t, double dt, const Eigen::Vector2d& target, BodyCollider& collider);
+  void step(double t, double dt, const Eigen::Vector2d& target, assistive_sim::BodyCollider& collider);
   const BodyState& state() const { return s_; }
   /// Does the cane touch anything now (tip arc within reach, low down)?
-  bool caneContact(const BodyCollider& collider, double yaw) const;
+  bool caneContact(const assistive_sim::BodyCollider& collider, double yaw) const;
   /// The same, with the sweep angles (deg, + = left) of the leftmost and rightmost contact;
   /// `with_people` false: the static world only.
-  bool caneContact(const BodyCollider& collider, double yaw, double& lo_deg, double& hi_deg,
+  bool caneContact(const assistive_sim::BodyCollider& collider, double yaw, double& lo_deg, double& hi_deg,
                    bool with_people = true) const;
   int contacts() const { return contacts_; }
 
@@ -232,7 +166,7 @@ private:
 /// A sighted guide's walk from `start` to `goal` on the shortest collision-free path at the
 /// wearer's cruise speed (seed 5.5.2.2, PWS): returns the time (s), or a negative value when there
 /// is no path. `path` (if given) receives the walked points.
-double sightedGuideTime(const World& world, const WearerParams& p, const Eigen::Vector2d& start,
+double sightedGuideTime(const assistive_sim::World& world, const WearerParams& p, const Eigen::Vector2d& start,
                         const std::vector<Eigen::Vector2d>& route, std::vector<Eigen::Vector2d>* path = nullptr);
 
-}  // namespace assistive_sim
+}  // namespace assistive_trials
