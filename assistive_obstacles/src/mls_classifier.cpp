@@ -59,15 +59,25 @@ CellKind MlsClassifier::analyse(const float* h, int n, float& ground, bool media
 
 void MlsClassifier::classify(const ElevationMap& map, float feet_z, std::vector<FrameLabel>& labels)
 {
-  const Window& w = map.window();
-  const int n = w.n, cells = n * n;
+  const int cells = map.window().n * map.window().n;
   kind_.assign(cells, CellKind::EMPTY);
   ground_.assign(cells, 0.f);
   labels.assign(cells, FrameLabel::NONE);
   filled_.assign(cells, 0);
   spill_.assign(cells, 0);
+  analyseCells(map, feet_z);
+  if (params_.peak_fraction > 0.0)
+    dropSpill(map, feet_z);
+  labelByEdges(map.window(), labels);
+  if (params_.closing_radius > 0)
+    closeObstacles(map.window().n, labels);
+}
+
+void MlsClassifier::analyseCells(const ElevationMap& map, float feet_z)
+{
   const float rise = static_cast<float>(params_.max_surface_rise);
   const float drop = static_cast<float>(params_.max_surface_drop);
+  const int cells = map.window().n * map.window().n;
   for (int c = 0; c < cells; ++c)
   {
     const int cnt = map.count(c);
@@ -80,111 +90,119 @@ void MlsClassifier::classify(const ElevationMap& map, float feet_z, std::vector<
     kind_[c] = k;
     ground_[c] = g;
   }
+}
+
+bool MlsClassifier::holdsDensityPeak(const ElevationMap& map, int lx, int ly) const
+{
+  const int f = map.fine(), fs = map.fineSide();
+  const std::vector<uint16_t>& fc = map.fineCounts();
+  const int R = 2;
+  for (int fy = ly * f; fy < (ly + 1) * f; ++fy)
+    for (int fx = lx * f; fx < (lx + 1) * f; ++fx)
+    {
+      const int v = fc[static_cast<size_t>(fy) * fs + fx];
+      if (v == 0) continue;
+      int mx = 0;
+      for (int y = std::max(0, fy - R); y <= std::min(fs - 1, fy + R); ++y)
+        for (int x = std::max(0, fx - R); x <= std::min(fs - 1, fx + R); ++x)
+          mx = std::max<int>(mx, fc[static_cast<size_t>(y) * fs + x]);
+      if (v >= params_.peak_fraction * mx) return true;
+    }
+  return false;
+}
+
+void MlsClassifier::dropSpill(const ElevationMap& map, float feet_z)
+{
   // Sub-cell check of vertical cells: keep only those holding a local density peak of elevated
   // points (the surface itself), not the tail of a neighbour's depth noise.
-  if (params_.peak_fraction > 0.0)
-  {
-    const int f = map.fine(), fs = map.fineSide();
-    const std::vector<uint16_t>& fc = map.fineCounts();
-    const int R = 2;
-    for (int ly = 0; ly < n; ++ly)
-      for (int lx = 0; lx < n; ++lx)
-      {
-        const int c = w.index(lx, ly);
-        if (kind_[c] != CellKind::VERTICAL) continue;
-        bool peak = false;
-        for (int fy = ly * f; fy < (ly + 1) * f && !peak; ++fy)
-          for (int fx = lx * f; fx < (lx + 1) * f && !peak; ++fx)
-          {
-            const int v = fc[static_cast<size_t>(fy) * fs + fx];
-            if (v == 0) continue;
-            int mx = 0;
-            for (int y = std::max(0, fy - R); y <= std::min(fs - 1, fy + R); ++y)
-              for (int x = std::max(0, fx - R); x <= std::min(fs - 1, fx + R); ++x)
-                mx = std::max<int>(mx, fc[static_cast<size_t>(y) * fs + x]);
-            peak = v >= params_.peak_fraction * mx;
-          }
-        if (!peak)
-        {
-          // Re-analyse the cell without its elevated points: the floor under the spill.
-          const float* h = map.heights(c);
-          int cnt = map.count(c);
-          const float elev = feet_z + static_cast<float>(params_.step_height);
-          while (cnt > 0 && h[cnt - 1] > elev) --cnt;
-          float g = 0.f;
-          // Median: the foot of the obstacle (up to T high) is still in the cell and would lift a higher quantile.
-          const CellKind k = cnt >= params_.min_points_per_cell ? analyse(h, cnt, g, true) : CellKind::EMPTY;
-          kind_[c] = (k == CellKind::HORIZONTAL && g <= feet_z + rise && g >= feet_z - drop) ? k : CellKind::EMPTY;
-          ground_[c] = g;
-          spill_[c] = 1;
-        }
-      }
-  }
-  // Graph pass: compatible 8-neighbour edges between horizontal cells.
+  const Window& w = map.window();
+  const float rise = static_cast<float>(params_.max_surface_rise);
+  const float drop = static_cast<float>(params_.max_surface_drop);
+  for (int ly = 0; ly < w.n; ++ly)
+    for (int lx = 0; lx < w.n; ++lx)
+    {
+      const int c = w.index(lx, ly);
+      if (kind_[c] != CellKind::VERTICAL || holdsDensityPeak(map, lx, ly)) continue;
+      // Re-analyse the cell without its elevated points: the floor under the spill.
+      const float* h = map.heights(c);
+      int cnt = map.count(c);
+      const float elev = feet_z + static_cast<float>(params_.step_height);
+      while (cnt > 0 && h[cnt - 1] > elev) --cnt;
+      float g = 0.f;
+      // Median: the foot of the obstacle (up to T high) is still in the cell and would lift a higher quantile.
+      const CellKind k = cnt >= params_.min_points_per_cell ? analyse(h, cnt, g, true) : CellKind::EMPTY;
+      kind_[c] = (k == CellKind::HORIZONTAL && g <= feet_z + rise && g >= feet_z - drop) ? k : CellKind::EMPTY;
+      ground_[c] = g;
+      spill_[c] = 1;
+    }
+}
+
+FrameLabel MlsClassifier::edgeLabel(const Window& w, int lx, int ly) const
+{
+  const int c = w.index(lx, ly), n = w.n;
   const float T = static_cast<float>(params_.step_height);
   const float smin = static_cast<float>(params_.min_step);
   const int need = params_.min_traversable_edges;
-  for (int ly = 0; ly < n; ++ly)
-    for (int lx = 0; lx < n; ++lx)
+  int compat = 0, unobserved = 0;
+  bool step = false;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+    {
+      if (!dx && !dy) continue;
+      const int x = lx + dx, y = ly + dy;
+      if (x < 0 || y < 0 || x >= n || y >= n)
+      {
+        ++unobserved;
+        continue;
+      }
+      const int o = w.index(x, y);
+      if (kind_[o] == CellKind::EMPTY)
+        ++unobserved;
+      else if (kind_[o] == CellKind::HORIZONTAL)
+      {
+        const float d = std::abs(ground_[o] - ground_[c]);
+        if (d <= T)
+        {
+          ++compat;
+          if (d > smin) step = true;
+        }
+      }
+    }
+  if (compat >= need) return step ? FrameLabel::STEP : FrameLabel::FREE;
+  if (compat + unobserved >= need) return FrameLabel::NONE;  // short of edges only because neighbours were not seen
+  return FrameLabel::OBSTACLE;
+}
+
+void MlsClassifier::labelByEdges(const Window& w, std::vector<FrameLabel>& labels) const
+{
+  // Graph pass: compatible 8-neighbour edges between horizontal cells.
+  for (int ly = 0; ly < w.n; ++ly)
+    for (int lx = 0; lx < w.n; ++lx)
     {
       const int c = w.index(lx, ly);
       if (kind_[c] == CellKind::EMPTY) continue;
-      if (kind_[c] == CellKind::VERTICAL)
-      {
-        labels[c] = FrameLabel::OBSTACLE;
-        continue;
-      }
-      int compat = 0, unobserved = 0;
-      bool step = false;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx)
-        {
-          if (!dx && !dy) continue;
-          const int x = lx + dx, y = ly + dy;
-          if (x < 0 || y < 0 || x >= n || y >= n)
-          {
-            ++unobserved;
-            continue;
-          }
-          const int o = w.index(x, y);
-          if (kind_[o] == CellKind::EMPTY)
-            ++unobserved;
-          else if (kind_[o] == CellKind::HORIZONTAL)
-          {
-            const float d = std::abs(ground_[o] - ground_[c]);
-            if (d <= T)
-            {
-              ++compat;
-              if (d > smin) step = true;
-            }
-          }
-        }
-      if (compat >= need)
-        labels[c] = step ? FrameLabel::STEP : FrameLabel::FREE;
-      else if (compat + unobserved >= need)
-        labels[c] = FrameLabel::NONE;  // short of edges only because neighbours were not seen
-      else
-        labels[c] = FrameLabel::OBSTACLE;
+      labels[c] = kind_[c] == CellKind::VERTICAL ? FrameLabel::OBSTACLE : edgeLabel(w, lx, ly);
     }
+}
+
+void MlsClassifier::closeObstacles(int n, std::vector<FrameLabel>& labels)
+{
   // Morphological closing (dilate then erode) of the obstacle mask.
-  const int r = params_.closing_radius;
-  if (r > 0)
-  {
-    mask_.assign(cells, 0);
-    for (int c = 0; c < cells; ++c) mask_[c] = labels[c] == FrameLabel::OBSTACLE ? 255 : 0;
-    cv::Mat m(n, n, CV_8U, mask_.data());
-    cv::Mat closed;
-    const cv::Mat k = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1));
-    cv::morphologyEx(m, closed, cv::MORPH_CLOSE, k, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-    // The closing fills holes of the depth map between obstacles (seed 4.2.3): cells without a
-    // vote this frame. A cell seen as floor this very frame keeps its label.
-    for (int c = 0; c < cells; ++c)
-      if (closed.data[c] && labels[c] == FrameLabel::NONE)
-      {
-        labels[c] = FrameLabel::OBSTACLE;
-        filled_[c] = 1;
-      }
-  }
+  const int r = params_.closing_radius, cells = n * n;
+  mask_.assign(cells, 0);
+  for (int c = 0; c < cells; ++c) mask_[c] = labels[c] == FrameLabel::OBSTACLE ? 255 : 0;
+  cv::Mat m(n, n, CV_8U, mask_.data());
+  cv::Mat closed;
+  const cv::Mat k = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1));
+  cv::morphologyEx(m, closed, cv::MORPH_CLOSE, k, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  // The closing fills holes of the depth map between obstacles (seed 4.2.3): cells without a
+  // vote this frame. A cell seen as floor this very frame keeps its label.
+  for (int c = 0; c < cells; ++c)
+    if (closed.data[c] && labels[c] == FrameLabel::NONE)
+    {
+      labels[c] = FrameLabel::OBSTACLE;
+      filled_[c] = 1;
+    }
 }
 
 }  // namespace assistive_obstacles

@@ -38,6 +38,50 @@ DepthCheck checkDepth(const Eigen::Vector3f& p_world, const Eigen::Isometry3f& T
   if (z > pc.z() + tol) return DepthCheck::THROUGH;
   return DepthCheck::CONSISTENT;
 }
+
+/// Dropout / glass: the depth image shows nothing at a mapped obstacle's column (0.5 m and 1.2 m
+/// above the feet): no depth or depth passing through it, and nothing consistent or in front.
+bool depthMissesColumn(float x, float y, float feet, const Eigen::Isometry3f& T_cam_world, const StereoModel& m,
+                       const cv::Mat& disp, const ObstaclesParams& params, float tol)
+{
+  int bad = 0, good = 0;
+  for (const float hz : {0.5f, 1.2f})
+  {
+    const Eigen::Vector3f p(x, y, feet + hz);
+    const DepthCheck dc = checkDepth(p, T_cam_world, m, disp, params.min_depth, params.dropout_max_range, tol);
+    if (dc == DepthCheck::VANISHED || dc == DepthCheck::THROUGH) ++bad;
+    if (dc == DepthCheck::CONSISTENT || dc == DepthCheck::OCCLUDED) ++good;
+  }
+  return bad > 0 && good == 0;
+}
+
+/// The cells (global indices) the movers' discs overlap (disc vs cell square).
+std::vector<std::pair<int, int>> moverCells(const std::vector<MoverFootprint>& movers, double res, double window_radius)
+{
+  std::vector<std::pair<int, int>> cells;
+  for (const MoverFootprint& m : movers)
+  {
+    // A footprint wider than the window is no person (and would loop over huge ranges).
+    if (!std::isfinite(m.x) || !std::isfinite(m.y) || !(m.radius > 0.0) || m.radius > window_radius) continue;
+    const int x0 = static_cast<int>(std::floor((m.x - m.radius) / res)), x1 = static_cast<int>(std::floor((m.x + m.radius) / res));
+    const int y0 = static_cast<int>(std::floor((m.y - m.radius) / res)), y1 = static_cast<int>(std::floor((m.y + m.radius) / res));
+    for (int gy = y0; gy <= y1; ++gy)
+      for (int gx = x0; gx <= x1; ++gx)
+      {
+        const double dx = std::max({gx * res - m.x, 0.0, m.x - (gx + 1) * res});
+        const double dy = std::max({gy * res - m.y, 0.0, m.y - (gy + 1) * res});
+        if (dx * dx + dy * dy < m.radius * m.radius) cells.emplace_back(gx, gy);
+      }
+  }
+  return cells;
+}
+
+/// Squared horizontal distance (m^2) from `t` to the centre of local cell (lx, ly).
+double range2(const Window& w, int lx, int ly, const Eigen::Vector3f& t)
+{
+  const double dx = w.centerX(lx) - t.x(), dy = w.centerY(ly) - t.y();
+  return dx * dx + dy * dy;
+}
 }  // namespace
 
 double obstacleEvidenceRange(const ObstaclesParams& p, const StereoModel& m)
@@ -82,74 +126,67 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   last_origin_ = t;
   const float feet = t.z() - static_cast<float>(params_.camera_height);
   const float elevated = feet + static_cast<float>(params_.step_height);  // above this: not walkable
-  if (params_.surface_push > 0.0)
-  {
-    // A camera sees the front face of a solid; the solid lies behind it. Points are moved that far
-    // into it, so a face on a cell border lands in the solid's cell: points of steep surfaces along
-    // the surface's horizontal normal when known (a wall seen at a grazing angle: the ray runs along
-    // the wall and would not move the point off the border), else elevated points along the
-    // horizontal viewing ray.
-    const float push = static_cast<float>(params_.surface_push);
-    const bool use_normals = usesNormals() && normals_cam && normals_cam->size() == points_cam.size();
-    for (size_t i = 0; i < world_.size(); ++i)
-    {
-      Eigen::Vector3f& p = world_[i];
-      float dx = 0.f, dy = 0.f;
-      const Eigen::Vector3f into = use_normals ? Eigen::Vector3f(-(R * (*normals_cam)[i])) : Eigen::Vector3f::Zero();
-      // A steep surface (horizontal normal part >= 0.5) at any height, a wall's foot included; a
-      // table top or the floor is not pushed along its normal.
-      if (use_normals && into.head<2>().squaredNorm() >= 0.25f * into.squaredNorm())
-      {
-        dx = into.x();
-        dy = into.y();
-      }
-      else if (p.z() > elevated)
-      {
-        dx = p.x() - t.x();
-        dy = p.y() - t.y();
-      }
-      else
-        continue;
-      const float d = std::sqrt(dx * dx + dy * dy);
-      if (d > 1e-3f)
-      {
-        p.x() += push * dx / d;
-        p.y() += push * dy / d;
-      }
-    }
-  }
+  if (params_.surface_push > 0.0) pushIntoSurfaces(R, t, normals_cam, elevated);
 
   window_ = Window::around(t.x(), t.y(), params_.window_radius, params_.cell_size);
   temporal_.resize(window_.n);
   temporal_.retain(window_.ox, window_.oy, window_.n);
-  // Ghost-free hook: the cells this frame's movers overlap (disc vs cell square).
-  if (!movers_.empty())
-  {
-    std::vector<std::pair<int, int>> cells;
-    const double res = window_.res;
-    for (const MoverFootprint& m : movers_)
-    {
-      // A footprint wider than the window is no person (and would loop over huge ranges).
-      if (!std::isfinite(m.x) || !std::isfinite(m.y) || !(m.radius > 0.0) || m.radius > params_.window_radius) continue;
-      const int x0 = static_cast<int>(std::floor((m.x - m.radius) / res)), x1 = static_cast<int>(std::floor((m.x + m.radius) / res));
-      const int y0 = static_cast<int>(std::floor((m.y - m.radius) / res)), y1 = static_cast<int>(std::floor((m.y + m.radius) / res));
-      for (int gy = y0; gy <= y1; ++gy)
-        for (int gx = x0; gx <= x1; ++gx)
-        {
-          const double dx = std::max({gx * res - m.x, 0.0, m.x - (gx + 1) * res});
-          const double dy = std::max({gy * res - m.y, 0.0, m.y - (gy + 1) * res});
-          if (dx * dx + dy * dy < m.radius * m.radius) cells.emplace_back(gx, gy);
-        }
-    }
-    temporal_.setMoverCells(cells);
-  }
+  // Ghost-free hook: the cells this frame's movers overlap.
+  if (!movers_.empty()) temporal_.setMoverCells(moverCells(movers_, window_.res, params_.window_radius));
   sonar_.retain(window_);
   last_feet_ = feet;
   const float z_max = t.z() + static_cast<float>(params_.head_clearance);
   elevation_.build(world_, window_, z_max, elevated);
   stats_.points_binned = elevation_.binnedPoints();
   mls_.classify(elevation_, feet, labels_);
+  voteCells(T_world_cam, camera, disparity, feet);
+  // The movers were this frame's.
+  if (!movers_.empty()) temporal_.clearMoverCells();
+  movers_.clear();
+}
 
+void ObstacleMap::pushIntoSurfaces(const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
+                                   const std::vector<Eigen::Vector3f>* normals_cam, float elevated)
+{
+  // A camera sees the front face of a solid; the solid lies behind it. Points are moved that far
+  // into it, so a face on a cell border lands in the solid's cell: points of steep surfaces along
+  // the surface's horizontal normal when known (a wall seen at a grazing angle: the ray runs along
+  // the wall and would not move the point off the border), else elevated points along the
+  // horizontal viewing ray.
+  const float push = static_cast<float>(params_.surface_push);
+  const bool use_normals = usesNormals() && normals_cam && normals_cam->size() == world_.size();
+  for (size_t i = 0; i < world_.size(); ++i)
+  {
+    Eigen::Vector3f& p = world_[i];
+    float dx = 0.f, dy = 0.f;
+    const Eigen::Vector3f into = use_normals ? Eigen::Vector3f(-(R * (*normals_cam)[i])) : Eigen::Vector3f::Zero();
+    // A steep surface (horizontal normal part >= 0.5) at any height, a wall's foot included; a
+    // table top or the floor is not pushed along its normal.
+    if (use_normals && into.head<2>().squaredNorm() >= 0.25f * into.squaredNorm())
+    {
+      dx = into.x();
+      dy = into.y();
+    }
+    else if (p.z() > elevated)
+    {
+      dx = p.x() - t.x();
+      dy = p.y() - t.y();
+    }
+    else
+      continue;
+    const float d = std::sqrt(dx * dx + dy * dy);
+    if (d > 1e-3f)
+    {
+      p.x() += push * dx / d;
+      p.y() += push * dy / d;
+    }
+  }
+}
+
+void ObstacleMap::voteCells(const Eigen::Isometry3f& T_world_cam, const StereoModel* camera,
+                            const cv::Mat* disparity, float feet)
+{
+  const Eigen::Vector3f t = T_world_cam.translation();
   const int n = window_.n;
   dropout_.origin_x = window_.ox * window_.res;
   dropout_.origin_y = window_.oy * window_.res;
@@ -163,6 +200,7 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
   const double vote_r2 = params_.vote_max_range * params_.vote_max_range;
   const double obstacle_r = camera ? obstacleEvidenceRange(params_, *camera) : 0.0;
   const double obstacle_r2 = obstacle_r * obstacle_r;
+  const double full_r2 = params_.full_weight_range * params_.full_weight_range;
   // Column clearance: which height bands of each column this frame saw clear. Without a depth
   // image the rule cannot judge and is off (every band counts as seen).
   std::optional<ColumnClearance> columns;
@@ -172,13 +210,10 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
     for (int lx = 0; lx < n; ++lx)
     {
       if (!window_.inCircle(lx, ly)) continue;
-      if (vote_r2 > 0.0)
-      {
-        const double dx = window_.centerX(lx) - t.x(), dy = window_.centerY(ly) - t.y();
-        if (dx * dx + dy * dy > vote_r2) continue;
-      }
+      if (vote_r2 > 0.0 && range2(window_, lx, ly, t) > vote_r2) continue;
       const int c = window_.index(lx, ly);
       const int gx = window_.ox + lx, gy = window_.oy + ly;
+      const float x = static_cast<float>(window_.centerX(lx)), y = static_cast<float>(window_.centerY(ly));
       if (elevation_.count(c) > 0) ++stats_.cells_observed;
       if (temporal_.moverCell(gx, gy))
       {
@@ -189,47 +224,29 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
       // An obstacle label at any range (even one too far to vote) withdraws the clearance of the
       // bands its points are in.
       if (params_.column_bands > 0)
-        temporal_.observeColumn(gx, gy,
-                                columns ? columns->clearBits(static_cast<float>(window_.centerX(lx)),
-                                                             static_cast<float>(window_.centerY(ly)))
-                                        : all_bands,
+        temporal_.observeColumn(gx, gy, columns ? columns->clearBits(x, y) : all_bands,
                                 lab == FrameLabel::OBSTACLE && !mls_.filled()[c]
                                     ? columnOccupiedBits(params_, feet, elevation_.heights(c), elevation_.count(c))
                                     : 0);
-      bool dropout = false;
-      if (check_depth && temporal_.code(gx, gy) == CELL_OBSTACLE && lab != FrameLabel::OBSTACLE)
+      // Dropout / glass: a mapped obstacle seen "through" or without depth keeps its label.
+      const bool dropout = check_depth && temporal_.code(gx, gy) == CELL_OBSTACLE && lab != FrameLabel::OBSTACLE &&
+                           depthMissesColumn(x, y, feet, T_cam_world, *camera, *disparity, params_, tol);
+      if (dropout)
       {
-        // Dropout / glass: a mapped obstacle seen "through" or without depth keeps its label.
-        int bad = 0, good = 0;
-        for (const float hz : {0.5f, 1.2f})
+        dropout_.data[c] = CELL_OBSTACLE;
+        ++stats_.dropout_cells;
+        if (params_.dropout_free_weight <= 0)
         {
-          const Eigen::Vector3f p(static_cast<float>(window_.centerX(lx)), static_cast<float>(window_.centerY(ly)), feet + hz);
-          const DepthCheck dc = checkDepth(p, T_cam_world, *camera, *disparity, params_.min_depth,
-                                           params_.dropout_max_range, tol);
-          if (dc == DepthCheck::VANISHED || dc == DepthCheck::THROUGH) ++bad;
-          if (dc == DepthCheck::CONSISTENT || dc == DepthCheck::OCCLUDED) ++good;
-        }
-        if (bad > 0 && good == 0)
-        {
-          dropout_.data[c] = CELL_OBSTACLE;
-          ++stats_.dropout_cells;
-          dropout = true;
-          if (params_.dropout_free_weight <= 0)
-          {
-            lab = FrameLabel::NONE;
-            labels_[c] = FrameLabel::NONE;
-          }
+          lab = FrameLabel::NONE;
+          labels_[c] = FrameLabel::NONE;
         }
       }
       if (lab == FrameLabel::OBSTACLE) ++stats_.obstacle_votes;
       if (lab == FrameLabel::FREE || lab == FrameLabel::STEP) ++stats_.free_votes;
       int weight = 1;
       if (params_.full_weight_range > 0.0)
-      {
-        const double dx = window_.centerX(lx) - t.x(), dy = window_.centerY(ly) - t.y();
-        const double r2 = std::max(1e-6, dx * dx + dy * dy), r02 = params_.full_weight_range * params_.full_weight_range;
-        weight = static_cast<int>(std::lround(TemporalFilter::MAX_VOTE_WEIGHT * std::min(1.0, r02 / r2)));
-      }
+        weight = static_cast<int>(std::lround(TemporalFilter::MAX_VOTE_WEIGHT *
+                                              std::min(1.0, full_r2 / std::max(1e-6, range2(window_, lx, ly, t)))));
       // A mapped obstacle seen through / without depth takes only a weak free vote: glass stays an
       // obstacle for a while, but a false obstacle on the floor is not locked for good.
       if (dropout) weight = std::min(weight, params_.dropout_free_weight);
@@ -241,11 +258,9 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
       // points into the cells in front of and behind it). For the same reason a cell judged to
       // hold only a neighbour's spill takes no free vote from there either (it may be the edge
       // of the obstacle itself: parking's columns and cars).
-      if (obstacle_r2 > 0.0 && (lab == FrameLabel::OBSTACLE || mls_.spill()[c] || (lab == FrameLabel::STEP && !params_.far_step_votes)))
-      {
-        const double dx = window_.centerX(lx) - t.x(), dy = window_.centerY(ly) - t.y();
-        if (dx * dx + dy * dy > obstacle_r2) continue;
-      }
+      if (obstacle_r2 > 0.0 && (lab == FrameLabel::OBSTACLE || mls_.spill()[c] || (lab == FrameLabel::STEP && !params_.far_step_votes)) &&
+          range2(window_, lx, ly, t) > obstacle_r2)
+        continue;
       // A cell the ranger hit is never freed by camera rays (they may have passed through glass).
       if (lab != FrameLabel::OBSTACLE && sonar_.held(gx, gy)) continue;
       // Floor seen is not the column seen: a free vote counts only once every band of the column
@@ -253,9 +268,6 @@ void ObstacleMap::update(const std::vector<Eigen::Vector3f>& points_cam, const E
       if ((lab == FrameLabel::FREE || lab == FrameLabel::STEP) && !temporal_.columnClear(gx, gy)) continue;
       temporal_.vote(gx, gy, lab, weight, !filled);
     }
-  // The movers were this frame's.
-  if (!movers_.empty()) temporal_.clearMoverCells();
-  movers_.clear();
 }
 
 RangeCheck ObstacleMap::addRange(const RangeReading& r)

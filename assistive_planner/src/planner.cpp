@@ -25,6 +25,90 @@ void unmappedAhead(PlanOutput& out)
   out.steer_path.clear();
   out.has_waypoint = false;
 }
+
+/// NO_MAP / NO_POSE for an empty grid or a pose that is not finite; false then.
+bool usableInputs(const Grid& input, const Point2& wearer, double head_yaw, PlanOutput& out)
+{
+  if (!input.empty() && input.resolution > 0.0 && std::isfinite(wearer.x) && std::isfinite(wearer.y) &&
+      std::isfinite(head_yaw))
+    return true;
+  out.status = input.empty() ? PlanStatus::NO_MAP : PlanStatus::NO_POSE;
+  out.message = input.empty() ? "no traversability grid" : "invalid wearer pose";
+  return false;
+}
+
+/// The free distances ahead (the body's strip), left and right of `yaw` from the wearer.
+void judgeFreeSpace(const Grid& grid, const Point2& wearer, double yaw, const PlannerParams& p, PlanOutput& out,
+                    bool& ahead_unknown)
+{
+  out.free_ahead = Planner::freeStrip(grid, wearer, yaw, p.free_ray_max, p.body_half_width, ahead_unknown);
+  out.free_left = Planner::freeDistance(grid, wearer, yaw + M_PI_2, p.free_ray_max);
+  out.free_right = Planner::freeDistance(grid, wearer, yaw - M_PI_2, p.free_ray_max);
+}
+
+/// Moves (cx, cy) to the cell within 3 cells of it, inside the grid, of the lowest
+/// cost(x, y, dx, dy) (infinite: no candidate); unchanged when there is none.
+template <class Cost>
+void nearestCellBy(const Grid& grid, int& cx, int& cy, Cost cost)
+{
+  double best = 1e300;
+  const int ox = cx, oy = cy;
+  for (int dy = -3; dy <= 3; ++dy)
+    for (int dx = -3; dx <= 3; ++dx)
+    {
+      const int x = ox + dx, y = oy + dy;
+      if (!grid.inside(x, y))
+        continue;
+      const double d = cost(x, y, dx, dy);
+      if (d < best)
+      {
+        best = d;
+        cx = x;
+        cy = y;
+      }
+    }
+}
+
+/// A goal outside the window or not traversable: the free cell reachable from the wearer nearest
+/// to it; (gx, gy) unchanged when there is none.
+void nearestReachableFree(const Grid& grid, const Point2& wearer, const Point2& goal, int& gx, int& gy)
+{
+  const TriangleSearch all = searchTriangle(grid, wearer, 0.0, 0.0, 0.0);
+  double best = 1e300;
+  for (int y = 0; y < grid.height; ++y)
+    for (int x = 0; x < grid.width; ++x)
+      if (all.reached[size_t(grid.index(x, y))] && grid.at(x, y) == CELL_FREE)
+      {
+        const double d = std::hypot(grid.cellX(x) - goal.x, grid.cellY(y) - goal.y);
+        if (d < best)
+        {
+          best = d;
+          gx = x;
+          gy = y;
+        }
+      }
+}
+
+/// The straight walk from a to b crosses only cells the body fits in (weight not COST_INF), the
+/// wearer's own neighbourhood aside (it may stand in the inflation); false when it leaves the grid.
+bool bodyFitsAlong(const Grid& grid, const std::vector<double>& w, const Point2& wearer, const Point2& a,
+                   const Point2& b)
+{
+  int sx0, sy0;
+  grid.worldToCell(wearer.x, wearer.y, sx0, sy0);
+  const double len = std::hypot(b.x - a.x, b.y - a.y);
+  for (double d = 0.5 * grid.resolution; d < len; d += 0.25 * grid.resolution)
+  {
+    int x, y;
+    if (!grid.worldToCell(a.x + (b.x - a.x) * d / len, a.y + (b.y - a.y) * d / len, x, y))
+      return false;
+    if (std::abs(x - sx0) <= 1 && std::abs(y - sy0) <= 1)
+      continue;
+    if (w[size_t(grid.index(x, y))] == COST_INF)
+      return false;
+  }
+  return true;
+}
 }  // namespace
 
 Planner::Planner(const PlannerParams& p) : p_(p), motion_(p), waypoints_(p), crossing_(p) {}
@@ -371,58 +455,21 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   PlanOutput out;
   out.wearer = wearer;
   out.head_yaw = wrapAngle(head_yaw);
-  if (input.empty() || !(input.resolution > 0.0) || !std::isfinite(wearer.x) || !std::isfinite(wearer.y) ||
-      !std::isfinite(head_yaw))
-  {
-    out.status = input.empty() ? PlanStatus::NO_MAP : PlanStatus::NO_POSE;
-    out.message = input.empty() ? "no traversability grid" : "invalid wearer pose";
+  if (!usableInputs(input, wearer, head_yaw, out))
     return out;
-  }
-  // The wearer stands on the floor under its feet even before the camera has seen it (at the start
-  // it lies below the view): the footprint, and every place stood on since, is free floor. Only
-  // places the body has been; unseen floor ahead stays unknown.
-  if (walked_.empty() || std::hypot(wearer.x - walked_.back().x, wearer.y - walked_.back().y) >= 0.05)
-  {
-    walked_.push_back(wearer);
-    if (walked_.size() > 20000)
-      walked_.erase(walked_.begin(), walked_.begin() + 10000);
-  }
-  work_ = input;
-  markWalkedFloor(work_, walked_, p_.footprint_radius_m);
+  recordWalkedFloor(input, wearer);
   const Grid& grid = work_;
   syncCosts(grid, out);
   const bool motion_changed = motion_.update(wearer, head_yaw);
   out.heading = motion_.heading();
   out.motion_anchor = motion_.anchor();
-  // The walk: the chord over the last walk_window_s (what the body does now, for steering and
-  // for what lies ahead of it); the head's yaw while standing.
-  out.walk_heading = out.head_yaw;
-  if (std::isfinite(t))
-  {
-    if (!recent_.empty() && t < recent_.back().first)
-      recent_.clear();
-    recent_.push_back({ t, wearer });
-    while (recent_.size() > 2 && recent_[1].first <= t - p_.walk_window_s)
-      recent_.erase(recent_.begin());
-    const double dt = t - recent_.front().first;
-    const double cx = wearer.x - recent_.front().second.x, cy = wearer.y - recent_.front().second.y;
-    const double chord = std::hypot(cx, cy);
-    if (dt >= 0.5 * p_.walk_window_s && dt < 4.0 * p_.walk_window_s)
-    {
-      out.walking_speed = chord / dt;
-      if (chord >= 0.05)
-        out.walk_heading = std::atan2(cy, cx);
-    }
-  }
+  measureWalk(wearer, t, out);
   const bool walking = out.walking_speed >= 0.25;
   // what lies ahead of the body: along its walk while it walks, else along the motion vector
   // (the waypoint search and the crossing watch keep the seed's motion vector)
   const double h = out.heading;
-  const double h_body = walking ? out.walk_heading : out.heading;
   bool ahead_unknown = false;
-  out.free_ahead = freeStrip(grid, wearer, h_body, p_.free_ray_max, p_.body_half_width, ahead_unknown);
-  out.free_left = freeDistance(grid, wearer, h_body + M_PI_2, p_.free_ray_max);
-  out.free_right = freeDistance(grid, wearer, h_body - M_PI_2, p_.free_ray_max);
+  judgeFreeSpace(grid, wearer, walking ? out.walk_heading : out.heading, p_, out, ahead_unknown);
   // People crossing: judged on every cycle with a pose and a grid, whatever the status below (the
   // cue logic acts on it only when the status is OK: never on a guess).
   if (std::isfinite(t))
@@ -452,9 +499,75 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
     unmappedAhead(out);
     return out;
   }
+  int gx, gy;
+  if (!chooseTarget(grid, wearer, h, motion_changed, out, gx, gy) || !searchPath(grid, wx, wy, gx, gy, out))
+    return out;
+  shapePath(grid, h, out);
+  extendPastGoal(grid, gx, gy, out);
+  placeSteeringPoint(grid, walking, out);
+  if (!walking)
+  {
+    // A standing wearer will be sent along the steering heading: what lies ahead is judged there
+    // (its motion vector may still point at the wall it stopped in front of).
+    judgeFreeSpace(grid, wearer, out.steer_heading, p_, out, ahead_unknown);
+    if (ahead_unknown && out.free_ahead < p_.unknown_ahead_m)
+    {
+      // (standing: judged along the way it will be sent, not the way it faces)
+      unmappedAhead(out);
+      return out;
+    }
+  }
+  ever_planned_ = true;
+  out.status = PlanStatus::OK;
+  out.message = out.path_through_unknown ? "path crosses unmapped cells (no known free path)"
+                : isObstacleCode(here)   ? "the wearer's cell is an obstacle: path from the nearest free cell"
+                                         : "ok";
+  return out;
+}
 
+void Planner::recordWalkedFloor(const Grid& input, const Point2& wearer)
+{
+  // The wearer stands on the floor under its feet even before the camera has seen it (at the start
+  // it lies below the view): the footprint, and every place stood on since, is free floor. Only
+  // places the body has been; unseen floor ahead stays unknown.
+  if (walked_.empty() || std::hypot(wearer.x - walked_.back().x, wearer.y - walked_.back().y) >= 0.05)
+  {
+    walked_.push_back(wearer);
+    if (walked_.size() > 20000)
+      walked_.erase(walked_.begin(), walked_.begin() + 10000);
+  }
+  work_ = input;
+  markWalkedFloor(work_, walked_, p_.footprint_radius_m);
+}
+
+void Planner::measureWalk(const Point2& wearer, double t, PlanOutput& out)
+{
+  // The walk: the chord over the last walk_window_s (what the body does now, for steering and
+  // for what lies ahead of it); the head's yaw while standing.
+  out.walk_heading = out.head_yaw;
+  if (!std::isfinite(t))
+    return;
+  if (!recent_.empty() && t < recent_.back().first)
+    recent_.clear();
+  recent_.push_back({ t, wearer });
+  while (recent_.size() > 2 && recent_[1].first <= t - p_.walk_window_s)
+    recent_.erase(recent_.begin());
+  const double dt = t - recent_.front().first;
+  const double cx = wearer.x - recent_.front().second.x, cy = wearer.y - recent_.front().second.y;
+  const double chord = std::hypot(cx, cy);
+  if (dt >= 0.5 * p_.walk_window_s && dt < 4.0 * p_.walk_window_s)
+  {
+    out.walking_speed = chord / dt;
+    if (chord >= 0.05)
+      out.walk_heading = std::atan2(cy, cx);
+  }
+}
+
+bool Planner::chooseTarget(const Grid& grid, const Point2& wearer, double heading, bool motion_changed,
+                           PlanOutput& out, int& gx, int& gy)
+{
   // target: explicit goal, else the automatic waypoint
-  int gx = -1, gy = -1;
+  gx = gy = -1;
   if (has_goal_ && std::hypot(goal_.x - wearer.x, goal_.y - wearer.y) <= p_.reached_distance)
     has_goal_ = has_next_ = false;  // reached
   if (has_goal_)
@@ -467,28 +580,12 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
       gy = cy;
     }
     else
-    {
-      // goal outside the window or not traversable: the reachable free cell nearest to it
-      const TriangleSearch all = searchTriangle(grid, wearer, 0.0, 0.0, 0.0);
-      double best = 1e300;
-      for (int y = 0; y < grid.height; ++y)
-        for (int x = 0; x < grid.width; ++x)
-          if (all.reached[size_t(grid.index(x, y))] && grid.at(x, y) == CELL_FREE)
-          {
-            const double d = std::hypot(grid.cellX(x) - goal_.x, grid.cellY(y) - goal_.y);
-            if (d < best)
-            {
-              best = d;
-              gx = x;
-              gy = y;
-            }
-          }
-    }
+      nearestReachableFree(grid, wearer, goal_, gx, gy);
     out.triangle = { wearer, wearer, wearer };
   }
   else
   {
-    waypoints_.update(grid, wearer, h, motion_changed || !waypoints_.has());
+    waypoints_.update(grid, wearer, heading, motion_changed || !waypoints_.has());
     out.triangle = waypoints_.lastSearch().corners;
     if (waypoints_.has())
       grid.worldToCell(waypoints_.waypoint().x, waypoints_.waypoint().y, gx, gy);
@@ -497,64 +594,40 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   {
     out.status = PlanStatus::NO_PATH;
     out.message = "free space ahead but no free path to it";
-    return out;
+    return false;
   }
   if (gx < 0)
   {
     out.status = PlanStatus::NO_WAYPOINT;
     out.message = has_goal_ ? "no reachable free cell near the goal" : "nothing traversable inside the search triangle";
-    return out;
+    return false;
   }
   out.has_waypoint = true;
   out.waypoint = { grid.cellX(gx), grid.cellY(gy) };
   out.waypoint_distance = std::hypot(out.waypoint.x - wearer.x, out.waypoint.y - wearer.y);
+  return true;
+}
 
+bool Planner::searchPath(const Grid& grid, int wx, int wy, int& gx, int& gy, PlanOutput& out)
+{
   // D* Lite: a new goal restarts the search, otherwise the repaired search continues
   // a wearer standing on an obstacle cell (map noise, closing at a wall) starts from the nearest
-  // passable cell within 2 cells instead of getting no path at all
+  // passable cell within 3 cells instead of getting no path at all
   // (or within the body's radius of one: the inflated cells, e.g. beside a wall)
   const std::vector<double>& weight = dstar_.costs().w;
   auto blocked = [&](int x, int y) { return weight[size_t(grid.index(x, y))] == COST_INF; };
+  const double skip = std::numeric_limits<double>::infinity();
   int sx = wx, sy = wy;
   if (blocked(wx, wy))
-  {
-    double best = 1e300;
-    for (int dy = -3; dy <= 3; ++dy)
-      for (int dx = -3; dx <= 3; ++dx)
-      {
-        const int x = wx + dx, y = wy + dy;
-        if (!grid.inside(x, y) || blocked(x, y))
-          continue;
-        const double d = std::hypot(grid.cellX(x) - wearer.x, grid.cellY(y) - wearer.y) +
-                         (isUnknownCode(grid.at(x, y)) ? 100.0 : 0.0);
-        if (d < best)
-        {
-          best = d;
-          sx = x;
-          sy = y;
-        }
-      }
-  }
-  if (blocked(gx, gy))
-  {
-    // a target within the body's radius of an obstacle: the nearest cell the body fits in
-    double best = 1e300;
-    const int ox = gx, oy = gy;
-    for (int dy = -3; dy <= 3; ++dy)
-      for (int dx = -3; dx <= 3; ++dx)
-      {
-        const int x = ox + dx, y = oy + dy;
-        if (!grid.inside(x, y) || blocked(x, y) || isUnknownCode(grid.at(x, y)))
-          continue;
-        const double d = std::hypot(double(dx), double(dy));
-        if (d < best)
-        {
-          best = d;
-          gx = x;
-          gy = y;
-        }
-      }
-  }
+    nearestCellBy(grid, sx, sy, [&](int x, int y, int, int) {
+      return blocked(x, y) ? skip
+                           : std::hypot(grid.cellX(x) - out.wearer.x, grid.cellY(y) - out.wearer.y) +
+                                 (isUnknownCode(grid.at(x, y)) ? 100.0 : 0.0);
+    });
+  if (blocked(gx, gy))  // a target within the body's radius of an obstacle: the nearest cell the body fits in
+    nearestCellBy(grid, gx, gy, [&](int x, int y, int dx, int dy) {
+      return blocked(x, y) || isUnknownCode(grid.at(x, y)) ? skip : std::hypot(double(dx), double(dy));
+    });
   dstar_.resetExpansions();
   dstar_.setGoal(gx, gy);
   dstar_.setStart(sx, sy);
@@ -563,9 +636,14 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   if (!ok)
   {
     out.status = PlanStatus::NO_PATH;
-    out.message = isObstacleCode(here) ? "the wearer's cell is an obstacle" : "no free path to the waypoint";
-    return out;
+    out.message = isObstacleCode(grid.at(wx, wy)) ? "the wearer's cell is an obstacle" : "no free path to the waypoint";
   }
+  return ok;
+}
+
+void Planner::shapePath(const Grid& grid, double heading, PlanOutput& out) const
+{
+  const Point2& wearer = out.wearer;
   const std::vector<int> cells = dstar_.path();
   out.path.reserve(cells.size() + 1);
   out.path.push_back(wearer);
@@ -586,7 +664,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
     if (!heading_set && (len >= p_.path_lookahead || i + 1 == out.path.size()))
     {
       const double dx = out.path[i].x - wearer.x, dy = out.path[i].y - wearer.y;
-      out.path_heading = (std::hypot(dx, dy) > 1e-6) ? std::atan2(dy, dx) : h;
+      out.path_heading = (std::hypot(dx, dy) > 1e-6) ? std::atan2(dy, dx) : heading;
       heading_set = true;
     }
   }
@@ -596,21 +674,28 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   smoothPath(grid, dstar_.costs().w, obstacle_dist_, out.path);
   refinePath(grid, out.path, p_.path_refine_m);
   out.steer_path = out.path;
+}
+
+void Planner::extendPastGoal(const Grid& grid, int gx, int gy, PlanOutput& out) const
+{
   int nx, ny;
-  if (has_goal_ && has_next_ && grid.worldToCell(next_.x, next_.y, nx, ny))
-  {
-    // on round the goal to the next place (steering only: the goal stays the goal)
-    std::vector<int> on = cheapestPath(dstar_.costs(), grid.index(gx, gy), grid.index(nx, ny));
-    if (on.size() > 1)
-    {
-      std::vector<Point2> more{ out.path.back() };
-      for (size_t i = 1; i < on.size(); ++i)
-        more.push_back({ grid.cellX(on[i] % grid.width), grid.cellY(on[i] / grid.width) });
-      smoothPath(grid, dstar_.costs().w, obstacle_dist_, more);
-      refinePath(grid, more, p_.path_refine_m);
-      out.steer_path.insert(out.steer_path.end(), more.begin() + 1, more.end());
-    }
-  }
+  if (!has_goal_ || !has_next_ || !grid.worldToCell(next_.x, next_.y, nx, ny))
+    return;
+  // on round the goal to the next place (steering only: the goal stays the goal)
+  std::vector<int> on = cheapestPath(dstar_.costs(), grid.index(gx, gy), grid.index(nx, ny));
+  if (on.size() <= 1)
+    return;
+  std::vector<Point2> more{ out.path.back() };
+  for (size_t i = 1; i < on.size(); ++i)
+    more.push_back({ grid.cellX(on[i] % grid.width), grid.cellY(on[i] / grid.width) });
+  smoothPath(grid, dstar_.costs().w, obstacle_dist_, more);
+  refinePath(grid, more, p_.path_refine_m);
+  out.steer_path.insert(out.steer_path.end(), more.begin() + 1, more.end());
+}
+
+void Planner::placeSteeringPoint(const Grid& grid, bool walking, PlanOutput& out) const
+{
+  const Point2& wearer = out.wearer;
   out.steer_lookahead =
       std::clamp(out.walking_speed * p_.steer_lookahead_s, p_.steer_lookahead_min, p_.steer_lookahead_max);
   // from where the walk takes the wearer by the time a cue acts (its projection on the path)
@@ -627,55 +712,16 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   // never a steering point behind a corner: the straight walk to it (from the wearer and from
   // where the walk takes it) must cross only cells the body fits in, else it comes closer along
   // the path (pure pursuit cuts corners; a jamb or a box's edge is where it would)
+  const std::vector<double>& w = dstar_.costs().w;
+  double ahead = out.steer_lookahead;
+  while (ahead > 0.2 && !(bodyFitsAlong(grid, w, wearer, wearer, out.steer_point) &&
+                          bodyFitsAlong(grid, w, wearer, lead, out.steer_point)))
   {
-    const std::vector<double>& w = dstar_.costs().w;
-    int sx0, sy0;
-    grid.worldToCell(wearer.x, wearer.y, sx0, sy0);
-    auto clearLine = [&](const Point2& a, const Point2& b) {
-      const double len = std::hypot(b.x - a.x, b.y - a.y);
-      for (double d = 0.5 * grid.resolution; d < len; d += 0.25 * grid.resolution)
-      {
-        int x, y;
-        if (!grid.worldToCell(a.x + (b.x - a.x) * d / len, a.y + (b.y - a.y) * d / len, x, y))
-          return false;
-        if (std::abs(x - sx0) <= 1 && std::abs(y - sy0) <= 1)
-          continue;  // the wearer's own neighbourhood (it may stand in the inflation)
-        if (w[size_t(grid.index(x, y))] == COST_INF)
-          return false;
-      }
-      return true;
-    };
-    double ahead = out.steer_lookahead;
-    while (ahead > 0.2 && !(clearLine(wearer, out.steer_point) && clearLine(lead, out.steer_point)))
-    {
-      ahead -= 0.1;
-      out.steer_point = pointAlong(out.steer_path, along + ahead);
-    }
+    ahead -= 0.1;
+    out.steer_point = pointAlong(out.steer_path, along + ahead);
   }
-  {
-    const double dx = out.steer_point.x - lead.x, dy = out.steer_point.y - lead.y;
-    out.steer_heading = std::hypot(dx, dy) > 0.05 ? std::atan2(dy, dx) : out.path_heading;
-  }
+  const double dx = out.steer_point.x - lead.x, dy = out.steer_point.y - lead.y;
+  out.steer_heading = std::hypot(dx, dy) > 0.05 ? std::atan2(dy, dx) : out.path_heading;
   out.free_steer = freeDistance(grid, wearer, out.steer_heading, p_.free_ray_max);
-  if (!walking)
-  {
-    // A standing wearer will be sent along the steering heading: what lies ahead is judged there
-    // (its motion vector may still point at the wall it stopped in front of).
-    out.free_ahead = freeStrip(grid, wearer, out.steer_heading, p_.free_ray_max, p_.body_half_width, ahead_unknown);
-    out.free_left = freeDistance(grid, wearer, out.steer_heading + M_PI_2, p_.free_ray_max);
-    out.free_right = freeDistance(grid, wearer, out.steer_heading - M_PI_2, p_.free_ray_max);
-    if (ahead_unknown && out.free_ahead < p_.unknown_ahead_m)
-    {
-      // (standing: judged along the way it will be sent, not the way it faces)
-      unmappedAhead(out);
-      return out;
-    }
-  }
-  ever_planned_ = true;
-  out.status = PlanStatus::OK;
-  out.message = out.path_through_unknown ? "path crosses unmapped cells (no known free path)"
-                : isObstacleCode(here)   ? "the wearer's cell is an obstacle: path from the nearest free cell"
-                                         : "ok";
-  return out;
 }
 }  // namespace assistive_planner

@@ -82,15 +82,26 @@ SizeResult runSize(int n, int trials, int grids, unsigned seed)
   return R;
 }
 
-void runGrid(SizeResult& R, int n, int trials, std::mt19937& rng, int done, int total)
+/// D* Lite against A* from scratch on the same costs and cells: counts a check, and a mismatch
+/// when the costs differ; returns A*'s result (its expansions are the comparison figure).
+SearchResult checkAgainstAstar(SizeResult& R, const DStarLite& d)
+{
+  const SearchResult a = astar(d.costs(), d.startX(), d.startY(), d.goalX(), d.goalY());
+  ++R.checks;
+  if (!same(d.startCost(), a.cost))
+    ++R.mismatches;
+  return a;
+}
+
+/// A grid whose corners are connected (at most 50 tries), planned from corner to corner into
+/// `base`: the first plan's time and expansions, and A*'s, go into R.
+void planFirst(SizeResult& R, int n, std::mt19937& rng, DStarLite& base)
 {
   PlannerParams p;
   Grid grid;
   CostGrid cg;
-  DStarLite base;
   double first_ms = 0.0;
   size_t first_exp = 0;
-  // a grid whose corners are connected
   for (int attempt = 0; attempt < 50; ++attempt)
   {
     grid = makeGrid(n, rng);
@@ -115,107 +126,114 @@ void runGrid(SizeResult& R, int n, int trials, std::mt19937& rng, int done, int 
   R.first_astar_exp_v.push_back(double(a0.expansions));
   ++R.checks;
   R.mismatches += !same(base.startCost(), a0.cost);
+}
+
+/// (a) one cell on the current path, anywhere between start and goal, becomes an obstacle.
+/// variant 0: anywhere on the path; 1: within 10 cells (2 m) of the wearer; 2: within 25 cells (5 m,
+/// the obstacle window's radius: where the camera adds and removes obstacles)
+void blockOnePathCell(SizeResult& R, const DStarLite& base, const std::vector<int>& path0, std::mt19937& rng)
+{
+  for (int variant = 0; variant < 3; ++variant)
+  {
+    DStarLite d = base;
+    const size_t lo = 1;
+    const size_t hi = variant == 0 ? path0.size() - 2 : std::min<size_t>(path0.size() - 2, variant == 1 ? 10 : 25);
+    std::uniform_int_distribution<size_t> pick(lo, hi);
+    const int cell = path0[pick(rng)];
+    d.resetExpansions();
+    const Stopwatch s;
+    d.updateCells({ { cell, COST_INF } });
+    d.plan();
+    const double t_ms = s.wallMs();
+    const Stopwatch a0s;
+    const SearchResult a = checkAgainstAstar(R, d);
+    const double a_ms = a0s.wallMs();
+    if (variant == 0)
+    {
+      R.r1_ms.push_back(t_ms);
+      R.r1_exp.push_back(double(d.expansions()));
+      R.a1_exp.push_back(double(a.expansions));
+      R.a1_ms.push_back(a_ms);
+    }
+    else if (variant == 2)
+    {
+      R.r1_5m_exp.push_back(double(d.expansions()));
+      R.a1_5m_exp.push_back(double(a.expansions));
+    }
+    else
+    {
+      R.r1_near_ms.push_back(t_ms);
+      R.r1_near_exp.push_back(double(d.expansions()));
+      R.a1_near_exp.push_back(double(a.expansions));
+    }
+  }
+}
+
+/// (b) 50 changed cells: obstacles appear and vanish in a 5 m (25 cell) patch around a path point
+void change50Cells(SizeResult& R, const DStarLite& base, const std::vector<int>& path0, int n, std::mt19937& rng)
+{
+  DStarLite d = base;
+  std::uniform_int_distribution<size_t> pick(1, path0.size() - 2);
+  const int c = path0[pick(rng)];
+  const int cx = c % n, cy = c / n;
+  std::uniform_int_distribution<int> off(-12, 12);
+  std::vector<std::pair<int, double>> ch;
+  std::vector<double> w = d.costs().w;
+  while (ch.size() < 50)
+  {
+    const int x = std::clamp(cx + off(rng), 0, n - 1), y = std::clamp(cy + off(rng), 0, n - 1);
+    const int i = y * n + x;
+    if ((x <= 1 && y <= 1) || (x >= n - 2 && y >= n - 2))
+      continue;
+    w[size_t(i)] = (w[size_t(i)] == COST_INF) ? 1.0 : COST_INF;
+    ch.emplace_back(i, w[size_t(i)]);
+  }
+  d.resetExpansions();
+  const Stopwatch s;
+  d.updateCells(ch);
+  d.plan();
+  R.r50_ms.push_back(s.wallMs());
+  R.r50_exp.push_back(double(d.expansions()));
+  R.a50_exp.push_back(double(checkAgainstAstar(R, d).expansions));
+}
+
+/// (c) the window scrolls one cell with the wearer (a new column of random cells enters); the first
+/// scroll of the copied planner warms its reusable buffers and is not timed (the nodelet keeps one planner)
+void scrollOneCell(SizeResult& R, const DStarLite& base, int n, std::mt19937& rng)
+{
+  DStarLite d = base;
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int k = 0; k < 2; ++k)
+  {
+    std::vector<double> w(d.costs().w.size());
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x)
+        w[size_t(y * n + x)] = (x + 1 < n) ? d.costs().w[size_t(y * n + x + 1)] : (u(rng) < 0.2 ? COST_INF : 1.0);
+    d.resetExpansions();
+    const Stopwatch s;
+    d.scroll(1, 0, w);  // new (x, y) = old (x + 1, y): the wearer moved one cell in +x
+    d.setStart(d.startX() + 1, d.startY());
+    d.plan();
+    if (k == 0)
+      continue;
+    R.scroll_ms.push_back(s.wallMs());
+    R.scroll_exp.push_back(double(d.expansions()));
+    if (d.hasGoal())
+      R.ascroll_exp.push_back(double(checkAgainstAstar(R, d).expansions));
+  }
+}
+
+void runGrid(SizeResult& R, int n, int trials, std::mt19937& rng, int done, int total)
+{
+  DStarLite base;
+  planFirst(R, n, rng, base);
   const std::vector<int> path0 = base.path();
-
-  auto check = [&](const DStarLite& d) {
-    const SearchResult a = astar(d.costs(), d.startX(), d.startY(), d.goalX(), d.goalY());
-    ++R.checks;
-    if (!same(d.startCost(), a.cost))
-      ++R.mismatches;
-    return a;
-  };
-
   for (int t = 0; t < trials; ++t)
   {
     fprintf(stderr, "\r%dx%d trial %d/%d", n, n, done + t + 1, total);
-    // (a) one cell on the current path, anywhere between start and goal, becomes an obstacle
-    // variant 0: anywhere on the path; 1: within 10 cells (2 m) of the wearer; 2: within 25 cells (5 m,
-    // the obstacle window's radius: where the camera adds and removes obstacles)
-    for (int variant = 0; variant < 3; ++variant)
-    {
-      DStarLite d = base;
-      const size_t lo = 1;
-      const size_t hi = variant == 0 ? path0.size() - 2 : std::min<size_t>(path0.size() - 2, variant == 1 ? 10 : 25);
-      std::uniform_int_distribution<size_t> pick(lo, hi);
-      const int cell = path0[pick(rng)];
-      d.resetExpansions();
-      const Stopwatch s;
-      d.updateCells({ { cell, COST_INF } });
-      d.plan();
-      const double t_ms = s.wallMs();
-      const Stopwatch a0s;
-      const SearchResult a = check(d);
-      const double a_ms = a0s.wallMs();
-      if (variant == 0)
-      {
-        R.r1_ms.push_back(t_ms);
-        R.r1_exp.push_back(double(d.expansions()));
-        R.a1_exp.push_back(double(a.expansions));
-        R.a1_ms.push_back(a_ms);
-      }
-      else if (variant == 2)
-      {
-        R.r1_5m_exp.push_back(double(d.expansions()));
-        R.a1_5m_exp.push_back(double(a.expansions));
-      }
-      else
-      {
-        R.r1_near_ms.push_back(t_ms);
-        R.r1_near_exp.push_back(double(d.expansions()));
-        R.a1_near_exp.push_back(double(a.expansions));
-      }
-    }
-    // (b) 50 changed cells: obstacles appear and vanish in a 5 m (25 cell) patch around a path point
-    {
-      DStarLite d = base;
-      std::uniform_int_distribution<size_t> pick(1, path0.size() - 2);
-      const int c = path0[pick(rng)];
-      const int cx = c % n, cy = c / n;
-      std::uniform_int_distribution<int> off(-12, 12);
-      std::vector<std::pair<int, double>> ch;
-      std::vector<double> w = d.costs().w;
-      while (ch.size() < 50)
-      {
-        const int x = std::clamp(cx + off(rng), 0, n - 1), y = std::clamp(cy + off(rng), 0, n - 1);
-        const int i = y * n + x;
-        if ((x <= 1 && y <= 1) || (x >= n - 2 && y >= n - 2))
-          continue;
-        w[size_t(i)] = (w[size_t(i)] == COST_INF) ? 1.0 : COST_INF;
-        ch.emplace_back(i, w[size_t(i)]);
-      }
-      d.resetExpansions();
-      const Stopwatch s;
-      d.updateCells(ch);
-      d.plan();
-      R.r50_ms.push_back(s.wallMs());
-      R.r50_exp.push_back(double(d.expansions()));
-      R.a50_exp.push_back(double(check(d).expansions));
-    }
-    // (c) the window scrolls one cell with the wearer (a new column of random cells enters); the first
-    // scroll of the copied planner warms its reusable buffers and is not timed (the nodelet keeps one planner)
-    {
-      DStarLite d = base;
-      std::uniform_real_distribution<double> u(0, 1);
-      for (int k = 0; k < 2; ++k)
-      {
-        std::vector<double> w(d.costs().w.size());
-        for (int y = 0; y < n; ++y)
-          for (int x = 0; x < n; ++x)
-            w[size_t(y * n + x)] =
-                (x + 1 < n) ? d.costs().w[size_t(y * n + x + 1)] : (u(rng) < 0.2 ? COST_INF : 1.0);
-        d.resetExpansions();
-        const Stopwatch s;
-        d.scroll(1, 0, w);  // new (x, y) = old (x + 1, y): the wearer moved one cell in +x
-        d.setStart(d.startX() + 1, d.startY());
-        d.plan();
-        if (k == 0)
-          continue;
-        R.scroll_ms.push_back(s.wallMs());
-        R.scroll_exp.push_back(double(d.expansions()));
-        if (d.hasGoal())
-          R.ascroll_exp.push_back(double(check(d).expansions));
-      }
-    }
+    blockOnePathCell(R, base, path0, rng);
+    change50Cells(R, base, path0, n, rng);
+    scrollOneCell(R, base, n, rng);
   }
 }
 

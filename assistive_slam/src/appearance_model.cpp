@@ -248,13 +248,46 @@ AppearanceResult AppearanceModel::query(const cv::Mat& descriptors, int current_
   std::unordered_map<int, std::size_t> index;
   for (std::size_t i = 0; i < cand.size(); ++i)
     index[cand[i]] = i;
+  std::vector<double> loglik(cand.size(), 0.0);
+  res.evidence_features = addObservedWords(w, index, loglik);
+  const std::unordered_set<HashedGrid::Key> seen(w.front().begin(), w.front().end());
+  res.discriminative_absent = addAbsentWords(seen, index, loglik);
+  for (const auto& o : posterior(cand, loglik, res))
+  {
+    if (static_cast<int>(res.candidates.size()) >= params_.max_candidates || o.first < params_.candidate_min)
+      break;
+    LoopCandidate c;
+    c.submap_id = cand[o.second];
+    c.probability = o.first;
+    // the submap's keyframe sharing most finest-grid words with the query
+    int best = -1;
+    for (int kf : submap_keyframes_.at(c.submap_id))
+    {
+      int shared = 0;
+      for (const auto word : keyframe_words_.at(kf))
+        shared += seen.count(word) ? 1 : 0;
+      if (shared > best)
+      {
+        best = shared;
+        c.keyframe_id = kf;
+      }
+    }
+    res.candidates.push_back(c);
+  }
+  return res;
+}
 
-  // ---- observed features (first factor of eq. 3.48). As in the seed, a feature's word is looked up
+int AppearanceModel::addObservedWords(const std::vector<std::vector<HashedGrid::Key>>& w,
+                                      const std::unordered_map<int, std::size_t>& index,
+                                      std::vector<double>& loglik) const
+{
+  // Observed features (first factor of eq. 3.48). As in the seed, a feature's word is looked up
   // from the finest grid to the coarsest and the search stops at the first grid holding it (the
   // grids are shared by all submaps); that grid gives Upsilon (1/R, eq. 3.49) and each submap's
   // counters in that bin give p(W = 1 | M_i) (floored). A feature found only in the coarse grids
   // (beyond evidence_grids) is a new feature: it weighs the same for every hypothesis and is left out.
-  std::vector<double> loglik(cand.size(), 0.0);
+  int evidence_features = 0;
+  const std::size_t nf = w.empty() ? 0 : w.front().size();
   const std::size_t evidence = std::min<std::size_t>(grids_.size(), static_cast<std::size_t>(std::max(0, params_.evidence_grids)));
   std::vector<int> at_floor(grids_.size(), 0);  // features per grid, counted at the floor for every submap
   for (std::size_t f = 0; f < nf; ++f)
@@ -266,7 +299,7 @@ AppearanceResult AppearanceModel::query(const cv::Mat& descriptors, int current_
         continue;
       if (g >= evidence)
         break;
-      ++res.evidence_features;
+      ++evidence_features;
       ++at_floor[g];
       for (const auto& kv : *s)
       {
@@ -281,14 +314,20 @@ AppearanceResult AppearanceModel::query(const cv::Mat& descriptors, int current_
   for (std::size_t g = 0; g < grids_.size(); ++g)
     for (auto& l : loglik)
       l += at_floor[g] * std::log(detectorProbability(g) * params_.word_probability_min);
+  return evidence_features;
+}
 
-  // ---- discriminative words not observed (second factor of eq. 3.48, the F^0 set, 3.2.4.3)
-  std::unordered_set<HashedGrid::Key> seen(w.front().begin(), w.front().end());
+int AppearanceModel::addAbsentWords(const std::unordered_set<HashedGrid::Key>& seen,
+                                    const std::unordered_map<int, std::size_t>& index,
+                                    std::vector<double>& loglik) const
+{
+  // Discriminative words not observed (second factor of eq. 3.48, the F^0 set, 3.2.4.3).
+  int absent = 0;
   for (const auto word : stable_words_)
   {
     if (seen.count(word) || distinctiveness(word) <= params_.distinctiveness_min)
       continue;
-    ++res.discriminative_absent;
+    ++absent;
     const auto* s = grids_.front().submaps(word);
     int hits = 0, misses = 0;
     for (const auto& kv : *s)
@@ -308,8 +347,14 @@ AppearanceResult AppearanceModel::query(const cv::Mat& descriptors, int current_
       loglik[it->second] += std::log((1.0 - p1) + delta * p1);
     }
   }
+  return absent;
+}
 
-  // ---- the new place: the seed leaves its likelihood open. A place never seen looks like a typical
+std::vector<std::pair<double, int>> AppearanceModel::posterior(const std::vector<int>& cand,
+                                                               const std::vector<double>& loglik,
+                                                               AppearanceResult& res) const
+{
+  // The new place: the seed leaves its likelihood open. A place never seen looks like a typical
   // stored one, so its log-likelihood is the candidates' mean plus new_place_std standard
   // deviations (RTAB-Map's normalisation of its new-location hypothesis is of the same kind): a
   // submap must stand out from the rest to win over it.
@@ -320,7 +365,7 @@ AppearanceResult AppearanceModel::query(const cv::Mat& descriptors, int current_
     var += (l - mean) * (l - mean) / static_cast<double>(loglik.size());
   const double loglik_new = mean + params_.new_place_std * std::sqrt(var);
 
-  // ---- recursive Bayes (eq. 3.39) with the new-place hypothesis
+  // Recursive Bayes (eq. 3.39) with the new-place hypothesis.
   const std::vector<double> pr = prior(cand);
   std::vector<double> lp(cand.size());
   double mx = std::log(params_.new_place_prior) + params_.likelihood_exponent * loglik_new;
@@ -341,31 +386,7 @@ AppearanceResult AppearanceModel::query(const cv::Mat& descriptors, int current_
   res.posterior.reserve(cand.size());
   for (std::size_t i = 0; i < cand.size(); ++i)
     res.posterior.emplace_back(cand[i], std::exp(lp[i] - mx) / z);
-
-  for (const auto& o : order)
-  {
-    if (static_cast<int>(res.candidates.size()) >= params_.max_candidates || o.first < params_.candidate_min)
-      break;
-    LoopCandidate c;
-    c.submap_id = cand[o.second];
-    c.probability = o.first;
-    // the submap's keyframe sharing most finest-grid words with the query
-    int best = -1;
-    for (int kf : submap_keyframes_.at(c.submap_id))
-    {
-      const auto& kw = keyframe_words_.at(kf);
-      int shared = 0;
-      for (const auto word : kw)
-        shared += seen.count(word) ? 1 : 0;
-      if (shared > best)
-      {
-        best = shared;
-        c.keyframe_id = kf;
-      }
-    }
-    res.candidates.push_back(c);
-  }
-  return res;
+  return order;
 }
 
 void AppearanceModel::add(int keyframe_id, int submap_id, const cv::Mat& descriptors)

@@ -494,9 +494,7 @@ void FastSlam::process(const cv::Mat& left, const cv::Mat& right, const Eigen::I
     last_odom_ = T_odom_cam;
     reset(T_odom_cam);  // the filter's world is odom at the start
     addLandmarks(left, right, {});
-    stats_.particles = static_cast<int>(particles_.size());
-    stats_.landmarks = static_cast<int>(infos_.size());
-    stats_.landmarks_total = static_cast<int>(id_base_ + infos_.size());
+    countMap();
     return;
   }
   // ---- prediction: the VO's motion since the last frame, N(u_t, Q_t)
@@ -517,8 +515,36 @@ void FastSlam::process(const cv::Mat& left, const cv::Mat& right, const Eigen::I
     if (particles_[m].log_w > particles_[best].log_w)
       best = m;
 
+  std::vector<uint32_t> matched_keys;
+  std::vector<Eigen::Vector2d> matched_z, taken;
+  matchLandmarks(left, pred, best, Q, matched_keys, matched_z, taken);
+  sampleParticles(pred, Q, matched_keys, matched_z);
+  resampleIfDegenerate();
+  updateMean();
+
+  // ---- the filter's map is a submap: restart it beyond the extent
+  if ((origin_.inverse() * mean_).translation().norm() > p_.submap_max_extent_m)
+  {
+    reset(mean_);
+    ++stats_.resets;
+    taken.clear();
+  }
+  if (static_cast<int>(matched_keys.size()) < p_.fastslam_min_matches)
+    addLandmarks(left, right, taken);
+  countMap();
+}
+
+void FastSlam::countMap()
+{
+  stats_.particles = static_cast<int>(particles_.size());
+  stats_.landmarks = static_cast<int>(infos_.size());
+  stats_.landmarks_total = static_cast<int>(id_base_ + infos_.size());
+}
+
+std::vector<uint32_t> FastSlam::searchOrder(const cv::Mat& left, const Eigen::Isometry3d& pred_best, size_t best,
+                                            const Matrix6d& Q)
+{
   // ---- active matching (3.2.2.2-3.2.2.3): candidates from the most likely particle's map
-  const double R2 = p_.fastslam_pixel_sigma * p_.fastslam_pixel_sigma;
   const int h = kSide / 2;
   struct Cand
   {
@@ -533,7 +559,7 @@ void FastSlam::process(const cv::Mat& left, const cv::Mat& right, const Eigen::I
     Eigen::Vector2d z;
     Matrix26d Hs;
     Matrix23d Ht;
-    if (!l || !projectWithJacobians(cam_, pred[best], l->mean, &z, &Hs, &Ht) || z.x() < h || z.y() < h ||
+    if (!l || !projectWithJacobians(cam_, pred_best, l->mean, &z, &Hs, &Ht) || z.x() < h || z.y() < h ||
         z.x() > left.cols - 1 - h || z.y() > left.rows - 1 - h)
       continue;
     Info& in = infos_[k];
@@ -543,8 +569,7 @@ void FastSlam::process(const cv::Mat& left, const cv::Mat& right, const Eigen::I
       in.revisit_pending = true;
     }
     in.last_candidate = stats_.frames;
-    const Eigen::Matrix2d L = Eigen::Matrix2d::Identity() * R2 + Ht * l->cov * Ht.transpose() + Hs * Q * Hs.transpose();
-    cands.push_back({k, L.trace(), in.revisit_pending});
+    cands.push_back({k, projectionCov(*l, Hs, Ht, Q).trace(), in.revisit_pending});
   }
   std::sort(cands.begin(), cands.end(),
             [](const Cand& a, const Cand& b) { return a.revisit != b.revisit ? a.revisit : a.size < b.size; });
@@ -552,22 +577,37 @@ void FastSlam::process(const cv::Mat& left, const cv::Mat& right, const Eigen::I
     cands.resize(static_cast<size_t>(p_.fastslam_max_matches));
   stats_.candidates_last = static_cast<int>(cands.size());
   stats_.candidates_total += static_cast<long>(cands.size());
+  std::vector<uint32_t> keys;
+  for (const Cand& c : cands)
+    keys.push_back(c.key);
+  return keys;
+}
+
+Eigen::Matrix2d FastSlam::projectionCov(const LandmarkEstimate& l, const Matrix26d& Hs, const Matrix23d& Ht,
+                                        const Matrix6d& Q) const
+{
+  const double R2 = p_.fastslam_pixel_sigma * p_.fastslam_pixel_sigma;
+  return Eigen::Matrix2d::Identity() * R2 + Ht * l.cov * Ht.transpose() + Hs * Q * Hs.transpose();  // 3.37
+}
+
+void FastSlam::matchLandmarks(const cv::Mat& left, const std::vector<Eigen::Isometry3d>& pred, size_t best,
+                              const Matrix6d& Q, std::vector<uint32_t>& matched_keys,
+                              std::vector<Eigen::Vector2d>& matched_z, std::vector<Eigen::Vector2d>& taken)
+{
   const double chi2 = chi2Radius2d(p_.fastslam_window_confidence);
-  std::vector<uint32_t> matched_keys;
-  std::vector<Eigen::Vector2d> matched_z, taken;
   std::vector<Eigen::Vector2d> mu(particles_.size());
   std::vector<Eigen::Matrix2d> lam(particles_.size());
-  for (const Cand& c : cands)
+  for (const uint32_t key : searchOrder(left, pred[best], best, Q))
   {
     size_t n = 0;
     for (size_t m = 0; m < particles_.size(); ++m)
     {
-      const LandmarkEstimate* l = particles_[m].map.get(c.key);
+      const LandmarkEstimate* l = particles_[m].map.get(key);
       Matrix26d Hs;
       Matrix23d Ht;
       if (!l || !projectWithJacobians(cam_, pred[m], l->mean, &mu[n], &Hs, &Ht))
         continue;
-      lam[n++] = Eigen::Matrix2d::Identity() * R2 + Ht * l->cov * Ht.transpose() + Hs * Q * Hs.transpose();  // 3.37
+      lam[n++] = projectionCov(*l, Hs, Ht, Q);
     }
     if (n == 0)
       continue;
@@ -577,8 +617,8 @@ void FastSlam::process(const cv::Mat& left, const cv::Mat& right, const Eigen::I
     if (std::sqrt(chi2 * es.eigenvalues().maxCoeff()) > p_.fastslam_max_window)
       continue;  // too uncertain to search
     taken.push_back(win.mean);
-    const Info& in = infos_[c.key];
-    const LandmarkEstimate* lb = particles_[best].map.get(c.key);
+    Info& in = infos_[key];
+    const LandmarkEstimate* lb = particles_[best].map.get(key);
     cv::Mat tmpl;
     if (!warpTemplate(in.ref, patchAffine(cam_, in.T_w_ref, pred[best], lb->mean, in.normal), kSide, &tmpl))
       continue;
@@ -586,20 +626,23 @@ void FastSlam::process(const cv::Mat& left, const cv::Mat& right, const Eigen::I
     const double s = matchInWindow(left, tmpl, win, chi2, &z);
     if (s <= p_.fastslam_ncc)
       continue;
-    matched_keys.push_back(c.key);
+    matched_keys.push_back(key);
     matched_z.push_back(z);
-    matches_.push_back({id_base_ + c.key, z, s});
-    Info& inm = infos_[c.key];
-    inm.last_match = stats_.frames;
-    if (inm.revisit_pending)
+    matches_.push_back({id_base_ + key, z, s});
+    in.last_match = stats_.frames;
+    if (in.revisit_pending)
     {
       ++stats_.refound;
-      inm.revisit_pending = false;
+      in.revisit_pending = false;
     }
   }
   stats_.matches_last = static_cast<int>(matched_keys.size());
   stats_.matches_total += static_cast<long>(matched_keys.size());
+}
 
+void FastSlam::sampleParticles(const std::vector<Eigen::Isometry3d>& pred, const Matrix6d& Q,
+                               const std::vector<uint32_t>& matched_keys, const std::vector<Eigen::Vector2d>& matched_z)
+{
   // ---- per particle: proposal (3.26-3.31), sample, landmark EKFs (3.32-3.35)
   std::normal_distribution<double> gauss(0.0, 1.0);
   std::vector<PoseObservation> obs;
@@ -624,7 +667,10 @@ void FastSlam::process(const cv::Mat& left, const cv::Mat& right, const Eigen::I
     for (size_t j = 0; j < obs.size(); ++j)
       q.map.set(matched_keys[which[j]], updateLandmark(obs[j].landmark, cam_, q.T, obs[j].z, p_.fastslam_pixel_sigma));
   }
+}
 
+void FastSlam::resampleIfDegenerate()
+{
   // ---- importance weights and resampling (3.16, 3.2.1.4)
   std::vector<double> lw(particles_.size());
   for (size_t m = 0; m < particles_.size(); ++m)
@@ -651,20 +697,6 @@ void FastSlam::process(const cv::Mat& left, const cv::Mat& right, const Eigen::I
     for (Particle& q : particles_)
       q.log_w -= mx;  // keep the log weights near 0
   }
-  updateMean();
-
-  // ---- the filter's map is a submap: restart it beyond the extent
-  if ((origin_.inverse() * mean_).translation().norm() > p_.submap_max_extent_m)
-  {
-    reset(mean_);
-    ++stats_.resets;
-    taken.clear();
-  }
-  if (static_cast<int>(matched_keys.size()) < p_.fastslam_min_matches)
-    addLandmarks(left, right, taken);
-  stats_.particles = static_cast<int>(particles_.size());
-  stats_.landmarks = static_cast<int>(infos_.size());
-  stats_.landmarks_total = static_cast<int>(id_base_ + infos_.size());
 }
 
 size_t FastSlam::mapNodes() const

@@ -28,32 +28,37 @@ void onSignal(int)
 {
   g_stop = 1;
 }
-}  // namespace
 
-int main(int argc, char** argv)
+struct Options
 {
   std::string link = "/tmp/assistive_vest";
   bool quiet = false, status = true;
   double duration = -1.0;
-  std::string range_arg = "none";
+  std::string range = "none";
   int old_version = 0;
+};
+
+/// Reads the command line into `o`; returns the exit code when the program is to stop (help or an
+/// unknown argument), else -1.
+int parseOptions(int argc, char** argv, Options& o)
+{
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
     if (a == "--link" && i + 1 < argc)
-      link = argv[++i];
+      o.link = argv[++i];
     else if (a == "--quiet")
-      quiet = true;
+      o.quiet = true;
     else if (a == "--no-status")
-      status = false;
+      o.status = false;
     else if (a == "--duration" && i + 1 < argc)
-      duration = std::atof(argv[++i]);
+      o.duration = std::atof(argv[++i]);
     else if (a == "--range" && i + 1 < argc)
-      range_arg = argv[++i];
+      o.range = argv[++i];
     else if (a == "--v2")
-      old_version = 2;
+      o.old_version = 2;
     else if (a == "--v3")
-      old_version = 3;
+      o.old_version = 3;
     else if (a == "-h" || a == "--help")
     {
       std::printf("usage: sim_vest [--link PATH] [--quiet] [--no-status] [--duration S] [--range M|none|missing] [--v2|--v3]\n"
@@ -68,6 +73,71 @@ int main(int argc, char** argv)
       return 2;
     }
   }
+  return -1;
+}
+
+/// The ranger's reading: a range in m, `none` (no echo) or `missing` (sensor unplugged).
+void setRange(assistive_tactile::SimVest& vest, const std::string& what)
+{
+  vest.setSensorMissing(what == "missing");
+  vest.setRange(what == "none" || what == "missing" ? std::numeric_limits<double>::infinity() : std::atof(what.c_str()));
+}
+
+/// Carries out the complete command lines waiting on stdin (non-blocking): range / press;
+/// `pending` keeps a line not yet complete.
+void readCommands(assistive_tactile::SimVest& vest, std::string& pending, uint32_t now_ms)
+{
+  struct pollfd in;
+  in.fd = 0;
+  in.events = POLLIN;
+  in.revents = 0;
+  if (::poll(&in, 1, 0) <= 0 || !(in.revents & POLLIN))
+    return;
+  char buf[256];
+  const ssize_t n = ::read(0, buf, sizeof(buf));
+  if (n > 0)
+    pending.append(buf, static_cast<size_t>(n));
+  size_t nl;
+  while ((nl = pending.find('\n')) != std::string::npos)
+  {
+    std::istringstream cmd(pending.substr(0, nl));
+    pending.erase(0, nl + 1);
+    std::string verb, arg, kind;
+    cmd >> verb >> arg >> kind;
+    if (verb == "range")
+      setRange(vest, arg);
+    else if (verb == "press" && (arg == "a" || arg == "b"))
+      vest.press(arg == "a" ? VEST_BUTTON_A : VEST_BUTTON_B, kind == "long" ? 1500u : 150u, now_ms);
+    else if (!verb.empty())
+      std::fprintf(stderr, "sim_vest: unknown command '%s' (range M|none|missing, press a|b [long])\n", verb.c_str());
+  }
+}
+
+void printSummary(const assistive_tactile::SimVest& vest, uint64_t changes, int old_version, uint32_t now_ms)
+{
+  const vest_firmware_t& fw = vest.firmware();
+  std::printf("sim_vest: %llu commands, %llu output changes, %u bad packets, %u stray bytes, %u watchdog trips, "
+              "%u cues expired (TTL)\n",
+              static_cast<unsigned long long>(vest.commands()), static_cast<unsigned long long>(changes),
+              fw.parser.rejected, fw.parser.skipped, fw.timeouts, fw.expiries);
+  if (fw.parser.version_mismatch)
+    std::printf("sim_vest: %u packets of a protocol version it does not speak ignored (this vest speaks version %u)\n",
+                fw.parser.version_mismatch, old_version ? static_cast<unsigned>(old_version) : VEST_PROTOCOL_VERSION);
+  const auto on = vest.onSeconds(now_ms);
+  const auto n = vest.onsets();
+  static const char* names[4] = { "left shoulder (veer / turn left)", "right shoulder (veer / turn right)",
+                                  "left waist (step left)", "right waist (step right)" };
+  for (int i = 0; i < 4; ++i)
+    std::printf("sim_vest: %-34s %5u pulses, %8.1f s on\n", names[i], n[i], on[i]);
+  std::fflush(stdout);
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  Options o;
+  if (const int rc = parseOptions(argc, argv, o); rc >= 0)
+    return rc;
   signal(SIGINT, onSignal);
   signal(SIGTERM, onSignal);
   signal(SIGPIPE, SIG_IGN);
@@ -78,79 +148,36 @@ int main(int argc, char** argv)
         std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count());
   };
   assistive_tactile::SimVest vest;
-  vest.reply_status = status;
-  vest.old_version = old_version;
+  vest.reply_status = o.status;
+  vest.old_version = o.old_version;
   vest.clock = nowMs;  // pulses timed on this process's clock
-  auto setRange = [&](const std::string& what) {
-    vest.setSensorMissing(what == "missing");
-    vest.setRange(what == "none" || what == "missing" ? std::numeric_limits<double>::infinity() : std::atof(what.c_str()));
-  };
-  setRange(range_arg);
+  setRange(vest, o.range);
   std::string err;
-  if (!vest.open(link, nowMs(), &err))
+  if (!vest.open(o.link, nowMs(), &err))
   {
     std::fprintf(stderr, "sim_vest: %s\n", err.c_str());
     return 1;
   }
-  std::printf("sim_vest: pty %s, link %s\n", vest.slavePath().c_str(), link.c_str());
+  std::printf("sim_vest: pty %s, link %s\n", vest.slavePath().c_str(), o.link.c_str());
   std::fflush(stdout);
   uint64_t changes = 0;
   vest.on_change = [&](uint32_t t, const std::string& line) {
     ++changes;
-    if (!quiet)
+    if (!o.quiet)
     {
       std::printf("[%9.3f s] %s\n", t / 1000.0, line.c_str());
       std::fflush(stdout);
     }
   };
-  std::string line;
+  std::string pending;
   while (!g_stop)
   {
-    // Commands on stdin (non-blocking): range / press.
-    struct pollfd in;
-    in.fd = 0;
-    in.events = POLLIN;
-    in.revents = 0;
-    if (::poll(&in, 1, 0) > 0 && (in.revents & POLLIN))
-    {
-      char buf[256];
-      const ssize_t n = ::read(0, buf, sizeof(buf));
-      if (n > 0)
-        line.append(buf, static_cast<size_t>(n));
-      size_t nl;
-      while ((nl = line.find('\n')) != std::string::npos)
-      {
-        std::istringstream cmd(line.substr(0, nl));
-        line.erase(0, nl + 1);
-        std::string verb, arg, kind;
-        cmd >> verb >> arg >> kind;
-        if (verb == "range")
-          setRange(arg);
-        else if (verb == "press" && (arg == "a" || arg == "b"))
-          vest.press(arg == "a" ? VEST_BUTTON_A : VEST_BUTTON_B, kind == "long" ? 1500u : 150u, nowMs());
-        else if (!verb.empty())
-          std::fprintf(stderr, "sim_vest: unknown command '%s' (range M|none|missing, press a|b [long])\n", verb.c_str());
-      }
-    }
+    readCommands(vest, pending, nowMs());
     vest.poll(20, nowMs());
-    if (duration > 0.0 && nowMs() / 1000.0 > duration)
+    if (o.duration > 0.0 && nowMs() / 1000.0 > o.duration)
       break;
   }
-  const vest_firmware_t& fw = vest.firmware();
-  std::printf("sim_vest: %llu commands, %llu output changes, %u bad packets, %u stray bytes, %u watchdog trips, "
-              "%u cues expired (TTL)\n",
-              static_cast<unsigned long long>(vest.commands()), static_cast<unsigned long long>(changes),
-              fw.parser.rejected, fw.parser.skipped, fw.timeouts, fw.expiries);
-  if (fw.parser.version_mismatch)
-    std::printf("sim_vest: %u packets of a protocol version it does not speak ignored (this vest speaks version %u)\n",
-                fw.parser.version_mismatch, old_version ? static_cast<unsigned>(old_version) : VEST_PROTOCOL_VERSION);
-  const auto on = vest.onSeconds(nowMs());
-  const auto n = vest.onsets();
-  static const char* names[4] = { "left shoulder (veer / turn left)", "right shoulder (veer / turn right)",
-                                  "left waist (step left)", "right waist (step right)" };
-  for (int i = 0; i < 4; ++i)
-    std::printf("sim_vest: %-34s %5u pulses, %8.1f s on\n", names[i], n[i], on[i]);
-  std::fflush(stdout);
+  printSummary(vest, changes, o.old_version, nowMs());
   vest.close();
   return 0;
 }

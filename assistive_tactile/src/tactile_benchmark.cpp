@@ -253,14 +253,18 @@ std::vector<double> allOffBenchmark(int trials, uint64_t seed, int* by_vest_ttl)
   vest.close();
   return out;
 }
-}  // namespace
-
-int main(int argc, char** argv)
+struct Options
 {
   int cues = 2000;
   double period_ms = 2.0;
   unsigned long long corruptions = 1000000, seed = 1;
   int off_trials = 20;
+};
+
+/// Reads the command line into `o`; returns the exit code when the program is to stop (help or a
+/// bad argument), else -1.
+int parseOptions(int argc, char** argv, Options& o)
+{
   const char* usage =
       "usage: tactile_benchmark [--cues N] [--period-ms P] [--corruptions N] [--off-trials N] [--seed S]\n"
       "  Cue-to-serial latency: the bridge core writes N cues (default 2000, at least 10), one every\n"
@@ -269,87 +273,116 @@ int main(int argc, char** argv)
       "  Framing: --corruptions (default 1000000) random corruptions of valid packet streams;\n"
       "  false accepts = decoded duties + pulse patterns never sent. Last stdout line: JSON.\n";
   assistive_eval::CommandLine cl("tactile_benchmark", usage);
-  cl.count("--cues", &cues, 0)
-      .number("--period-ms", &period_ms)
-      .count("--corruptions", &corruptions)
-      .count("--off-trials", &off_trials, 0)
-      .count("--seed", &seed);
+  cl.count("--cues", &o.cues, 0)
+      .number("--period-ms", &o.period_ms)
+      .count("--corruptions", &o.corruptions)
+      .count("--off-trials", &o.off_trials, 0)
+      .count("--seed", &o.seed);
   if (const int rc = cl.parse(argc, argv); rc >= 0)
     return rc;
-  cues = std::max(10, cues);  // as the usage says
-  period_ms = std::max(0.0, period_ms);
-  off_trials = std::max(1, off_trials);
+  o.cues = std::max(10, o.cues);  // as the usage says
+  o.period_ms = std::max(0.0, o.period_ms);
+  o.off_trials = std::max(1, o.off_trials);
+  return -1;
+}
 
-  const std::string link = "/tmp/assistive_tactile_bench_" + std::to_string(getpid());
-  SimVest vest;
-  std::string err;
-  const Clock::time_point t0 = Clock::now();
-  auto ms = [&]() {
-    return static_cast<uint32_t>(std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count());
-  };
-  vest.clock = ms;  // the vest times its pulses on its own clock, as the firmware does
-  if (!vest.open(link, ms(), &err))
+/// The simulated vest on a pseudo-terminal, polled in a thread of its own that records when it
+/// accepted each SEQ.
+class ListeningVest
+{
+public:
+  bool open(const std::string& link, std::string* err)
   {
-    std::fprintf(stderr, "tactile_benchmark: cannot open a pseudo-terminal: %s\n", err.c_str());
-    std::printf("{\"latency_ms_median\": null, \"latency_ms_p99\": null}\n");
-    return 1;
+    vest_.clock = [this] { return ms(); };  // the vest times its pulses on its own clock, as the firmware does
+    if (!vest_.open(link, ms(), err))
+      return false;
+    thread_ = std::thread([this]() {
+      while (!stop_)
+        if (vest_.poll(5, ms()) > 0)
+        {
+          const double now = secs(Clock::now());
+          std::lock_guard<std::mutex> lock(mu_);
+          accepted_at_[vest_.firmware().last_seq] = now;
+        }
+    });
+    return true;
   }
-  // Vest thread: record when each SEQ was accepted.
-  std::vector<double> accepted_at(256, -1.0);
-  std::mutex mu;
-  std::atomic<bool> stop{ false };
-  uint8_t last_seen_seq = 0;
-  std::atomic<uint64_t> seen{ 0 };
-  std::thread vest_thread([&]() {
-    while (!stop)
+  /// The time (s) the vest accepted `seq` at or after `since`; -1 when it has not within 200 ms.
+  double waitAccepted(uint8_t seq, double since)
+  {
+    const Clock::time_point deadline = Clock::now() + std::chrono::milliseconds(200);
+    while (Clock::now() < deadline)
     {
-      if (vest.poll(5, ms()) > 0)
       {
-        const double now = secs(Clock::now());
-        std::lock_guard<std::mutex> lock(mu);
-        last_seen_seq = vest.firmware().last_seq;
-        accepted_at[last_seen_seq] = now;
-        ++seen;
+        std::lock_guard<std::mutex> lock(mu_);
+        if (accepted_at_[seq] >= since)
+          return accepted_at_[seq];
       }
+      std::this_thread::yield();
     }
-  });
-
-  BridgeParams bp;
-  bp.port = link;
-  VestBridge bridge(bp);
-  bridge.spinOnce(secs(Clock::now()));
-  if (!bridge.stats().open)
+    return -1.0;
+  }
+  void stop()
   {
-    stop = true;
-    vest_thread.join();
-    std::fprintf(stderr, "tactile_benchmark: bridge cannot open %s: %s\n", link.c_str(),
-                 bridge.stats().last_error.c_str());
-    std::printf("{\"latency_ms_median\": null, \"latency_ms_p99\": null}\n");
-    return 1;
+    stop_ = true;
+    if (thread_.joinable())
+      thread_.join();
+  }
+  void close()
+  {
+    stop();
+    vest_.close();
   }
 
-  CueLogic logic;
-  uint64_t patterned = 0;  // cues with a pulse pattern (not steady)
+private:
+  uint32_t ms() const
+  {
+    return static_cast<uint32_t>(std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0_).count());
+  }
+  const Clock::time_point t0_ = Clock::now();
+  SimVest vest_;
+  std::vector<double> accepted_at_ = std::vector<double>(256, -1.0);
+  std::mutex mu_;
+  std::atomic<bool> stop_{ false };
+  std::thread thread_;
+};
+
+/// Cue i's planner state: it alternates veer left / turn right / side-step / on course (the cue
+/// logic holds a burst while it is carried out, so the cues are veer / turn / side-step /
+/// walk-on bursts and their repeats, each with its pulse pattern).
+assistive_msgs::NavigationState plannerState(int i)
+{
+  assistive_msgs::NavigationState st;
+  st.status = assistive_msgs::NavigationState::OK;
+  st.heading = 0.0f;
+  st.path_heading = static_cast<float>((i % 4 == 0) ? 0.4 : (i % 4 == 1) ? -1.3 : 0.0);
+  st.steer_heading = st.path_heading;
+  st.walk_heading = 0.0f;
+  st.walking_speed = (i % 4 == 2) ? 0.0f : 1.0f;
+  st.waypoint_distance = 3.0f;
+  st.free_distance_ahead = (i % 4 == 2) ? 0.8f : 4.0f;
+  st.free_distance_left = 1.5f;
+  st.free_distance_right = 0.2f;
+  return st;
+}
+
+struct LatencyResult
+{
   std::vector<double> lat_ms, chain_ms, decode_ms;
-  lat_ms.reserve(cues);
-  uint64_t missing = 0;
+  uint64_t missing = 0;    ///< cues not written or not decoded by the vest
+  uint64_t patterned = 0;  ///< cues with a pulse pattern (not steady)
+};
+
+/// Cue-to-serial latency: `cues` planner states through the cue logic, the messages and the
+/// bridge (as the nodelets hand them on) to the listening vest, one every `period_ms`.
+LatencyResult measureLatency(int cues, double period_ms, VestBridge& bridge, ListeningVest& vest)
+{
+  CueLogic logic;
+  LatencyResult r;
+  r.lat_ms.reserve(cues);
   for (int i = 0; i < cues; ++i)
   {
-    // A planner state that alternates veer left / turn right / side-step / on course (the cue
-    // logic holds a burst while it is carried out, so the cues are veer / turn / side-step /
-    // walk-on bursts and their repeats, each with its pulse pattern).
-    assistive_msgs::NavigationState st;
-    st.status = assistive_msgs::NavigationState::OK;
-    st.heading = 0.0f;
-    st.path_heading = static_cast<float>((i % 4 == 0) ? 0.4 : (i % 4 == 1) ? -1.3 : 0.0);
-    st.steer_heading = st.path_heading;
-    st.walk_heading = 0.0f;
-    st.walking_speed = (i % 4 == 2) ? 0.0f : 1.0f;
-    st.waypoint_distance = 3.0f;
-    st.free_distance_ahead = (i % 4 == 2) ? 0.8f : 4.0f;
-    st.free_distance_left = 1.5f;
-    st.free_distance_right = 0.2f;
-
+    assistive_msgs::NavigationState st = plannerState(i);
     const Clock::time_point a = Clock::now();
     st.source_stamp = ros::Time(secs(a) - 0.05);  // the image behind it, 50 ms earlier
     const Cue decided = logic.update(fromMsg(st), secs(a));
@@ -364,76 +397,50 @@ int main(int argc, char** argv)
     age.stamp_age_s = secs(b) - msg.header.stamp.toSec();
     age.source_age_s = secs(b) - msg.source_stamp.toSec();
     const bool ok = bridge.setCue(vc, secs(b), age);
-    patterned += cue.pattern.on_10ms != 0;
+    r.patterned += cue.pattern.on_10ms != 0;
     const Clock::time_point c = Clock::now();  // bytes written
+    const double got = ok ? vest.waitAccepted(bridge.stats().seq, secs(b)) : -1.0;
     if (ok)
     {
-      lat_ms.push_back(std::chrono::duration<double, std::milli>(c - b).count());
-      chain_ms.push_back(std::chrono::duration<double, std::milli>(c - a).count());
-      const uint8_t seq = bridge.stats().seq;
-      const Clock::time_point deadline = Clock::now() + std::chrono::milliseconds(200);
-      double got = -1.0;
-      while (Clock::now() < deadline)
-      {
-        {
-          std::lock_guard<std::mutex> lock(mu);
-          if (accepted_at[seq] >= secs(b))
-          {
-            got = accepted_at[seq];
-            break;
-          }
-        }
-        std::this_thread::yield();
-      }
-      if (got >= 0.0)
-        decode_ms.push_back((got - secs(b)) * 1000.0);
-      else
-        ++missing;
+      r.lat_ms.push_back(std::chrono::duration<double, std::milli>(c - b).count());
+      r.chain_ms.push_back(std::chrono::duration<double, std::milli>(c - a).count());
     }
+    if (got >= 0.0)
+      r.decode_ms.push_back((got - secs(b)) * 1000.0);
     else
-      ++missing;
+      ++r.missing;
     bridge.spinOnce(secs(Clock::now()));  // read the vest's replies
     if (period_ms > 0.0)
       std::this_thread::sleep_for(std::chrono::microseconds(static_cast<int>(period_ms * 1000.0)));
     if ((i + 1) % 500 == 0)
       std::fprintf(stderr, "tactile_benchmark: %d / %d cues\n", i + 1, cues);
   }
-  bridge.shutdown();
-  stop = true;
-  vest_thread.join();
-  vest.close();
+  return r;
+}
 
-  const double med = pct(lat_ms, 50), p99 = pct(lat_ms, 99), mx = pct(lat_ms, 100);
-  const double cmed = pct(chain_ms, 50), cp99 = pct(chain_ms, 99);
-  const double dmed = pct(decode_ms, 50), dp99 = pct(decode_ms, 99);
+void printLatency(const LatencyResult& r, int cues, const VestBridge& bridge, const BridgeParams& bp)
+{
   std::printf("tactile_benchmark: %d cues, bridge core -> simulated vest on a pseudo-terminal\n", cues);
   std::printf("%-44s %10s %10s %10s\n", "stage", "median ms", "p99 ms", "max ms");
-  std::printf("%-44s %10.4f %10.4f %10.4f\n", "cue in -> bytes written (latency)", med, p99, mx);
-  std::printf("%-44s %10.4f %10.4f %10.4f\n", "state in -> cue logic -> bytes written", cmed, cp99,
-              pct(chain_ms, 100));
-  std::printf("%-44s %10.4f %10.4f %10.4f\n", "cue in -> packet accepted by the vest code", dmed, dp99,
-              pct(decode_ms, 100));
+  const std::pair<const char*, const std::vector<double>*> rows[] = {
+    { "cue in -> bytes written (latency)", &r.lat_ms },
+    { "state in -> cue logic -> bytes written", &r.chain_ms },
+    { "cue in -> packet accepted by the vest code", &r.decode_ms },
+  };
+  for (const auto& row : rows)
+    std::printf("%-44s %10.4f %10.4f %10.4f\n", row.first, pct(*row.second, 50), pct(*row.second, 99),
+                pct(*row.second, 100));
   std::printf("packets sent %llu (protocol v%u, %u bytes), STATUS replies %llu, cues without a vest decode %llu, "
               "cues with a pulse pattern %llu\n",
               static_cast<unsigned long long>(bridge.stats().packets_sent), VEST_PROTOCOL_VERSION, VEST_PACKET_SIZE,
               static_cast<unsigned long long>(bridge.stats().status_packets),
-              static_cast<unsigned long long>(missing), static_cast<unsigned long long>(patterned));
+              static_cast<unsigned long long>(r.missing), static_cast<unsigned long long>(r.patterned));
   std::printf("(not measured: UART/radio time; %u bytes at %d baud take %.2f ms on the wire)\n",
               VEST_PACKET_SIZE, bp.baud, VEST_PACKET_SIZE * 10.0 / bp.baud * 1000.0);
+}
 
-  std::fprintf(stderr, "tactile_benchmark: all-off timing, %d trials\n", off_trials);
-  int off_by_vest = 0;
-  const std::vector<double> off_ms = allOffBenchmark(off_trials, seed, &off_by_vest);
-  const double off_max = off_ms.empty() ? -1.0 : pct(off_ms, 100), off_med = pct(off_ms, 50);
-  std::printf("all-off after the last valid cue's stamp (stale_s %.0f ms): %zu trials, median %.1f ms, "
-              "max %.1f ms; %d of them ended by the vest's TTL (the bridge's all-off came later)\n",
-              bp.stale_s * 1000.0, off_ms.size(), off_med, off_max, off_by_vest);
-
-  std::fprintf(stderr, "tactile_benchmark: framing, %llu random corruptions\n",
-               static_cast<unsigned long long>(corruptions));
-  const Clock::time_point f0 = Clock::now();
-  const FramingResult fr = framingBenchmark(corruptions, seed);
-  const double f_s = std::chrono::duration<double>(Clock::now() - f0).count();
+void printFraming(const FramingResult& fr, double f_s)
+{
   std::printf("framing (protocol v%u, COBS + CRC-32C): %llu corruptions in %llu streams of 16 packets (%.1f s): "
               "%llu of %llu packets decoded intact, %llu false accepts (duties + pulse pattern never sent), %llu "
               "altered (those sent, other field changed), %llu damaged full-length frames stopped by the CRC\n",
@@ -441,13 +448,20 @@ int main(int argc, char** argv)
               static_cast<unsigned long long>(fr.streams), f_s, static_cast<unsigned long long>(fr.intact),
               static_cast<unsigned long long>(fr.packets_sent), static_cast<unsigned long long>(fr.false_accepts),
               static_cast<unsigned long long>(fr.altered_accepts), static_cast<unsigned long long>(fr.crc_rejects));
+}
 
+void printJson(int cues, const LatencyResult& r, const std::vector<double>& off_ms, int off_by_vest,
+               const FramingResult& fr)
+{
+  const double off_max = off_ms.empty() ? -1.0 : pct(off_ms, 100);
   assistive_eval::JsonLine js;
-  js.add("latency_ms_median", num(med)).add("latency_ms_p99", num(p99)).add("latency_ms_max", num(mx))
-      .add("state_to_bytes_ms_median", num(cmed)).add("state_to_bytes_ms_p99", num(cp99))
-      .add("vest_decode_ms_median", num(dmed)).add("vest_decode_ms_p99", num(dp99)).add("cues", cues)
-      .add("cues_not_decoded", static_cast<unsigned long long>(missing)).add("all_off_ms_max_20", num(off_max, 2))
-      .add("all_off_ms_median", num(off_med, 2)).add("all_off_trials", off_ms.size())
+  js.add("latency_ms_median", num(pct(r.lat_ms, 50))).add("latency_ms_p99", num(pct(r.lat_ms, 99)))
+      .add("latency_ms_max", num(pct(r.lat_ms, 100)))
+      .add("state_to_bytes_ms_median", num(pct(r.chain_ms, 50))).add("state_to_bytes_ms_p99", num(pct(r.chain_ms, 99)))
+      .add("vest_decode_ms_median", num(pct(r.decode_ms, 50))).add("vest_decode_ms_p99", num(pct(r.decode_ms, 99)))
+      .add("cues", cues)
+      .add("cues_not_decoded", static_cast<unsigned long long>(r.missing)).add("all_off_ms_max_20", num(off_max, 2))
+      .add("all_off_ms_median", num(pct(off_ms, 50), 2)).add("all_off_trials", off_ms.size())
       .add("all_off_by_vest_ttl", off_by_vest)
       .add("framing_corruptions", static_cast<unsigned long long>(fr.corruptions))
       .add("framing_false_accepts", static_cast<unsigned long long>(fr.false_accepts))
@@ -457,7 +471,54 @@ int main(int argc, char** argv)
       .add("framing_packets_sent", static_cast<unsigned long long>(fr.packets_sent))
       .add("protocol_version", static_cast<int>(VEST_PROTOCOL_VERSION))
       .add("packet_bytes", static_cast<int>(VEST_PACKET_SIZE))
-      .add("cues_with_pattern", static_cast<unsigned long long>(patterned));
+      .add("cues_with_pattern", static_cast<unsigned long long>(r.patterned));
   std::printf("%s\n", js.str().c_str());
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  Options o;
+  if (const int rc = parseOptions(argc, argv, o); rc >= 0)
+    return rc;
+  const std::string link = "/tmp/assistive_tactile_bench_" + std::to_string(getpid());
+  ListeningVest vest;
+  std::string err;
+  if (!vest.open(link, &err))
+  {
+    std::fprintf(stderr, "tactile_benchmark: cannot open a pseudo-terminal: %s\n", err.c_str());
+    std::printf("{\"latency_ms_median\": null, \"latency_ms_p99\": null}\n");
+    return 1;
+  }
+  BridgeParams bp;
+  bp.port = link;
+  VestBridge bridge(bp);
+  bridge.spinOnce(secs(Clock::now()));
+  if (!bridge.stats().open)
+  {
+    vest.stop();
+    std::fprintf(stderr, "tactile_benchmark: bridge cannot open %s: %s\n", link.c_str(),
+                 bridge.stats().last_error.c_str());
+    std::printf("{\"latency_ms_median\": null, \"latency_ms_p99\": null}\n");
+    return 1;
+  }
+  const LatencyResult lr = measureLatency(o.cues, o.period_ms, bridge, vest);
+  bridge.shutdown();
+  vest.close();
+  printLatency(lr, o.cues, bridge, bp);
+
+  std::fprintf(stderr, "tactile_benchmark: all-off timing, %d trials\n", o.off_trials);
+  int off_by_vest = 0;
+  const std::vector<double> off_ms = allOffBenchmark(o.off_trials, o.seed, &off_by_vest);
+  std::printf("all-off after the last valid cue's stamp (stale_s %.0f ms): %zu trials, median %.1f ms, "
+              "max %.1f ms; %d of them ended by the vest's TTL (the bridge's all-off came later)\n",
+              bp.stale_s * 1000.0, off_ms.size(), pct(off_ms, 50), off_ms.empty() ? -1.0 : pct(off_ms, 100),
+              off_by_vest);
+
+  std::fprintf(stderr, "tactile_benchmark: framing, %llu random corruptions\n", o.corruptions);
+  const Clock::time_point f0 = Clock::now();
+  const FramingResult fr = framingBenchmark(o.corruptions, o.seed);
+  printFraming(fr, std::chrono::duration<double>(Clock::now() - f0).count());
+  printJson(o.cues, lr, off_ms, off_by_vest, fr);
   return 0;  // SPEC: non-zero only when it could not run; the figures are judged from the JSON
 }

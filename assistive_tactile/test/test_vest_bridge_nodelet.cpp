@@ -93,20 +93,22 @@ struct Harness
     return pred();
   }
 };
-}  // namespace
 
-TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
+/// Records the on/off edges (vest clock) of the motors `on` looks at.
+void recordEdges(Harness& h, std::vector<std::pair<uint32_t, bool>>& edges, std::function<bool(const Duty&)> on)
 {
-  Harness h;
-  std::string link;
-  ASSERT_TRUE(ros::NodeHandle("~").getParam("link", link));
-  std::string err;
-  h.vest.clock = nowMs;  // the vest times the pulses on its own clock
-  ASSERT_TRUE(h.vest.open(link, nowMs(), &err)) << err;
+  edges.clear();
+  h.vest.on_change = [&h, &edges, on](uint32_t t, const std::string&) {
+    const bool now_on = on(h.vest.duty());
+    if (edges.empty() ? now_on : edges.back().second != now_on)
+      edges.emplace_back(t, now_on);
+  };
+}
 
-  // The bridge (re)opens the port and talks to the vest.
-  ASSERT_TRUE(h.runUntil([] { return g_level >= 0 && g_diag["link up"] == "True"; }, 30.0)) << g_message;
+// The steps of the test, in order (each starts where the one before left the bridge and the vest).
 
+void cueSequence(Harness& h)
+{
   // Cue sequence -> the right motors.
   h.publishing = true;
   const std::vector<std::pair<std::array<float, 4>, Duty>> seq = {
@@ -121,7 +123,10 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
     const Duty want = s.second;
     ASSERT_TRUE(h.runUntil([&] { return h.vest.duty() == want; }, 10.0)) << describeDuty(want.data());
   }
+}
 
+void staleCuesOff(Harness& h)
+{
   // Cues stop: the bridge itself sends all-off (the vest's own watchdog does not have to).
   const uint16_t trips = h.vest.firmware().timeouts;
   h.publishing = false;
@@ -138,20 +143,27 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
   EXPECT_NE(g_diag["last ignored because"].find("stale"), std::string::npos) << g_diag["last ignored because"];
   h.publishing = false;
   h.stamp_age = 0.0;
+}
 
+void unplugReplug(Harness& h, const std::string& link)
+{
   // Unplug: the nodelet reports it and keeps running.
   h.vest.close();
   ASSERT_TRUE(h.runUntil([] { return g_level == diagnostic_msgs::DiagnosticStatus::ERROR; }, 10.0)) << g_message;
   EXPECT_NE(g_message.find("port closed"), std::string::npos) << g_message;
 
   // Plug back in: reopened, cues flow again.
+  std::string err;
   ASSERT_TRUE(h.vest.open(link, nowMs(), &err)) << err;
   h.cue = { { 0, 0, 0.5f, 0 } };
   h.publishing = true;
   ASSERT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 0, 128, 0 } }; }, 20.0));
   EXPECT_TRUE(h.runUntil([] { return g_diag["opens"] == "2" && g_diag["losses"] == "1"; }, 10.0))
       << g_diag["opens"] << " " << g_diag["losses"];
+}
 
+void garbageIgnored(Harness& h)
+{
   // Garbage from the device: counted, ignored, link stays up.
   std::vector<uint8_t> junk(2000);
   for (size_t i = 0; i < junk.size(); ++i)
@@ -161,79 +173,75 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
   h.cue = { { 0, 1.f, 0, 0 } };
   EXPECT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 255, 0, 0 } }; }, 10.0));
   EXPECT_TRUE(h.runUntil([] { return g_diag["link up"] == "True" && g_level == 0; }, 10.0)) << g_message;
+}
 
+void pulsePatterns(Harness& h)
+{
   // Protocol version 4: the cue's pulse pattern, timed by the vest. A veer burst (150 ms on,
   // 150 ms off, x2) repeated at 20 Hz with the same id: two pulses of 150 ms, 150 ms apart, on
   // the vest's clock, then nothing; "vest drove since last report" shows it on diagnostics.
-  {
-    h.publishing = false;
-    ASSERT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 0, 0, 0 } }; }, 10.0));
-    std::vector<std::pair<uint32_t, bool>> edges;  // vest clock, left shoulder on
-    h.vest.on_change = [&](uint32_t t, const std::string&) {
-      const bool on = h.vest.duty()[0] > 0;
-      if (edges.empty() ? on : edges.back().second != on)
-        edges.emplace_back(t, on);
-    };
-    h.cue = { { 0.7f, 0, 0, 0 } };
-    h.pattern_id = 41;
-    h.pulse_on_ms = 150;
-    h.pulse_off_ms = 150;
-    h.pulse_count = 2;
-    h.publishing = true;
-    h.runUntil([] { return false; }, 1.2);
-    ASSERT_EQ(edges.size(), 4u) << "on/off edges of the left shoulder";
-    EXPECT_TRUE(edges[0].second);
-    EXPECT_NEAR(static_cast<double>(edges[1].first - edges[0].first), 150.0, 20.0);  // pulse
-    EXPECT_NEAR(static_cast<double>(edges[2].first - edges[1].first), 150.0, 20.0);  // gap
-    EXPECT_NEAR(static_cast<double>(edges[3].first - edges[2].first), 150.0, 20.0);  // pulse
-    EXPECT_EQ(h.vest.firmware().pattern.id, 41);
-    EXPECT_EQ(h.vest.duty(), (Duty{ { 0, 0, 0, 0 } }));  // the burst is over, cues still coming
-    EXPECT_TRUE(h.runUntil([] { return g_diag["vest pattern"] == "#41 150 ms on 150 ms off x2"; }, 5.0))
-        << g_diag["vest pattern"];
-    // UNSURE without a camera time (it is often decided because there is none): its opening
-    // pattern (three 100 ms pulses on both waist motors) is still felt.
-    edges.clear();
-    h.vest.on_change = [&](uint32_t t, const std::string&) {
-      const bool on = h.vest.duty()[2] > 0 && h.vest.duty()[3] > 0;
-      if (edges.empty() ? on : edges.back().second != on)
-        edges.emplace_back(t, on);
-    };
-    h.mode = assistive_msgs::TactileCue::UNSURE;
-    h.no_source = true;
-    h.cue = { { 0, 0, 1.f, 1.f } };
-    h.pattern_id = 42;
-    h.pulse_on_ms = 100;
-    h.pulse_off_ms = 100;
-    h.pulse_count = 3;
-    h.runUntil([] { return false; }, 1.2);
-    EXPECT_EQ(edges.size(), 6u) << "three pulses on both waist motors";
-    EXPECT_TRUE(h.runUntil([] { return g_diag["vest pattern"] == "#42 100 ms on 100 ms off x3"; }, 5.0))
-        << g_diag["vest pattern"];
-    h.vest.on_change = nullptr;
-    h.mode = assistive_msgs::TactileCue::GUIDANCE;
-    h.no_source = false;
-    h.pattern_id = 0;
-    h.pulse_on_ms = h.pulse_off_ms = 0;
-    h.pulse_count = 0;
-  }
+  h.publishing = false;
+  ASSERT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 0, 0, 0 } }; }, 10.0));
+  std::vector<std::pair<uint32_t, bool>> edges;  // vest clock, left shoulder on
+  recordEdges(h, edges, [](const Duty& d) { return d[0] > 0; });
+  h.cue = { { 0.7f, 0, 0, 0 } };
+  h.pattern_id = 41;
+  h.pulse_on_ms = 150;
+  h.pulse_off_ms = 150;
+  h.pulse_count = 2;
+  h.publishing = true;
+  h.runUntil([] { return false; }, 1.2);
+  ASSERT_EQ(edges.size(), 4u) << "on/off edges of the left shoulder";
+  EXPECT_TRUE(edges[0].second);
+  EXPECT_NEAR(static_cast<double>(edges[1].first - edges[0].first), 150.0, 20.0);  // pulse
+  EXPECT_NEAR(static_cast<double>(edges[2].first - edges[1].first), 150.0, 20.0);  // gap
+  EXPECT_NEAR(static_cast<double>(edges[3].first - edges[2].first), 150.0, 20.0);  // pulse
+  EXPECT_EQ(h.vest.firmware().pattern.id, 41);
+  EXPECT_EQ(h.vest.duty(), (Duty{ { 0, 0, 0, 0 } }));  // the burst is over, cues still coming
+  EXPECT_TRUE(h.runUntil([] { return g_diag["vest pattern"] == "#41 150 ms on 150 ms off x2"; }, 5.0))
+      << g_diag["vest pattern"];
+  // UNSURE without a camera time (it is often decided because there is none): its opening
+  // pattern (three 100 ms pulses on both waist motors) is still felt.
+  recordEdges(h, edges, [](const Duty& d) { return d[2] > 0 && d[3] > 0; });
+  h.mode = assistive_msgs::TactileCue::UNSURE;
+  h.no_source = true;
+  h.cue = { { 0, 0, 1.f, 1.f } };
+  h.pattern_id = 42;
+  h.pulse_on_ms = 100;
+  h.pulse_off_ms = 100;
+  h.pulse_count = 3;
+  h.runUntil([] { return false; }, 1.2);
+  EXPECT_EQ(edges.size(), 6u) << "three pulses on both waist motors";
+  EXPECT_TRUE(h.runUntil([] { return g_diag["vest pattern"] == "#42 100 ms on 100 ms off x3"; }, 5.0))
+      << g_diag["vest pattern"];
+  h.vest.on_change = nullptr;
+  h.mode = assistive_msgs::TactileCue::GUIDANCE;
+  h.no_source = false;
+  h.pattern_id = 0;
+  h.pulse_on_ms = h.pulse_off_ms = 0;
+  h.pulse_count = 0;
+}
 
+void oldVestRefused(Harness& h)
+{
   // An old vest (protocol version 3, no patterns): refused. Its motors stay off while cues come,
   // ERROR names its version; reflashed (the port stays open), it is driven again.
-  {
-    h.vest.old_version = 3;
-    h.cue = { { 0, 0, 1.f, 0 } };
-    h.publishing = true;
-    EXPECT_FALSE(h.runUntil([&] { return h.vest.duty() != Duty{ { 0, 0, 0, 0 } }; }, 1.0));
-    EXPECT_TRUE(h.runUntil([] { return g_level == diagnostic_msgs::DiagnosticStatus::ERROR &&
-                                       g_message.find("old vest firmware (protocol version 3") != std::string::npos; },
-                           10.0)) << g_message;
-    EXPECT_EQ(g_diag["vest refused (old firmware)"], "True");
-    EXPECT_EQ(h.vest.duty(), (Duty{ { 0, 0, 0, 0 } }));
-    h.vest.old_version = 0;
-    EXPECT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 0, 255, 0 } }; }, 10.0));
-    EXPECT_TRUE(h.runUntil([] { return g_diag["vest refused (old firmware)"] == "False"; }, 10.0));
-  }
+  h.vest.old_version = 3;
+  h.cue = { { 0, 0, 1.f, 0 } };
+  h.publishing = true;
+  EXPECT_FALSE(h.runUntil([&] { return h.vest.duty() != Duty{ { 0, 0, 0, 0 } }; }, 1.0));
+  EXPECT_TRUE(h.runUntil([] { return g_level == diagnostic_msgs::DiagnosticStatus::ERROR &&
+                                     g_message.find("old vest firmware (protocol version 3") != std::string::npos; },
+                         10.0)) << g_message;
+  EXPECT_EQ(g_diag["vest refused (old firmware)"], "True");
+  EXPECT_EQ(h.vest.duty(), (Duty{ { 0, 0, 0, 0 } }));
+  h.vest.old_version = 0;
+  EXPECT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 0, 255, 0 } }; }, 10.0));
+  EXPECT_TRUE(h.runUntil([] { return g_diag["vest refused (old firmware)"] == "False"; }, 10.0));
+}
 
+void rangerAndButtons(Harness& h)
+{
   // The ranger and the buttons (protocol version 3 on): /sonar/front and /vest/buttons.
   sensor_msgs::Range range;
   int short_a = 0;
@@ -256,7 +264,10 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
                                      g_message.find("ranger missing") != std::string::npos; }, 10.0)) << g_message;
   h.vest.setSensorMissing(false);
   EXPECT_TRUE(h.runUntil([] { return g_level == 0; }, 10.0)) << g_message;
+}
 
+void unloadSwitchesOff(Harness& h)
+{
   // Unloading the nodelet from its manager switches the motors off (before the vest's watchdog).
   const uint16_t trips2 = h.vest.firmware().timeouts;
   ros::ServiceClient unload = h.nh.serviceClient<nodelet::NodeletUnload>("/bridge_manager/unload_nodelet");
@@ -270,6 +281,29 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
   ASSERT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 0, 0, 0 } }; }, 2.0));
   EXPECT_EQ(h.vest.firmware().timeouts, trips2) << "the vest's watchdog, not the bridge, switched off after "
                                                 << (ros::WallTime::now() - t_unload).toSec() << " s";
+}
+}  // namespace
+
+// One scenario against one loaded nodelet: each step relies on the state the one before left.
+TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
+{
+  Harness h;
+  std::string link;
+  ASSERT_TRUE(ros::NodeHandle("~").getParam("link", link));
+  std::string err;
+  h.vest.clock = nowMs;  // the vest times the pulses on its own clock
+  ASSERT_TRUE(h.vest.open(link, nowMs(), &err)) << err;
+
+  // The bridge (re)opens the port and talks to the vest.
+  ASSERT_TRUE(h.runUntil([] { return g_level >= 0 && g_diag["link up"] == "True"; }, 30.0)) << g_message;
+  ASSERT_NO_FATAL_FAILURE(cueSequence(h));
+  ASSERT_NO_FATAL_FAILURE(staleCuesOff(h));
+  ASSERT_NO_FATAL_FAILURE(unplugReplug(h, link));
+  ASSERT_NO_FATAL_FAILURE(garbageIgnored(h));
+  ASSERT_NO_FATAL_FAILURE(pulsePatterns(h));
+  ASSERT_NO_FATAL_FAILURE(oldVestRefused(h));
+  ASSERT_NO_FATAL_FAILURE(rangerAndButtons(h));
+  ASSERT_NO_FATAL_FAILURE(unloadSwitchesOff(h));
   h.vest.close();
 }
 

@@ -66,10 +66,123 @@ inline bool evalObs(const StereoCamera& cam, const Eigen::Vector3d& p, const Ste
   return true;
 }
 
+double squaredResidual(const StereoResidual& s)
+{
+  return s.r[0] * s.r[0] + s.r[1] * s.r[1] + (s.rows == 3 ? s.r[2] * s.r[2] : 0.0);
+}
+
+using Mat3List = std::vector<Eigen::Matrix3d, Eigen::aligned_allocator<Eigen::Matrix3d>>;
+
+/// The Gauss-Newton normal equations of one iteration in Schur blocks: motion (c) and points (p).
+struct NormalEquations
+{
+  explicit NormalEquations(size_t n) : Hpp(n), Hcp(n), gp(n) {}
+  Mat66 Hcc = Mat66::Zero();
+  Vec6 gc = Vec6::Zero();
+  Mat3List Hpp;
+  std::vector<Mat63, Eigen::aligned_allocator<Mat63>> Hcp;
+  Vec3List gp;
+};
+
+/// The state T_cur_ref = (R, t) as T_ref_cur.
+Eigen::Isometry3d refFromCur(const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc)
+{
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Rc.transpose();
+  T.translation() = -Rc.transpose() * tc;
+  return T;
+}
+
+/// Linearises every observation (Huber-weighted) at the state (R, t, points) into `ne`.
+void linearize(const StereoCamera& cam, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+               const Vec3List& points_ref, const std::vector<StereoObservation>& obs_ref,
+               const std::vector<StereoObservation>& obs_cur, bool refine_points, double k, NormalEquations& ne)
+{
+  ne.Hcc.setZero();
+  ne.gc = Vec6::Zero();
+  StereoResidual s;
+  for (size_t i = 0; i < points_ref.size(); ++i)
+  {
+    ne.Hpp[i].setZero();
+    ne.Hcp[i].setZero();
+    ne.gp[i].setZero();
+    const Eigen::Vector3d& X = points_ref[i];
+    if (refine_points && evalObs(cam, X, obs_ref[i], s))
+    {
+      const double wgt = huberWeight(squaredResidual(s), k);
+      for (int a = 0; a < s.rows; ++a)
+      {
+        const Eigen::Vector3d Ja(s.J[a][0], s.J[a][1], s.J[a][2]);
+        ne.Hpp[i] += wgt * Ja * Ja.transpose();
+        ne.gp[i] += wgt * Ja * s.r[a];
+      }
+    }
+    const Eigen::Vector3d Xc = R * X + t;
+    if (!evalObs(cam, Xc, obs_cur[i], s))
+      continue;
+    const double wgt = huberWeight(squaredResidual(s), k);
+    // d Xc / d(dt, dw) = [I, -[Xc]x] (left perturbation), d Xc / dX = R
+    Eigen::Matrix<double, 3, 6> dXc;
+    dXc.leftCols<3>().setIdentity();
+    dXc.rightCols<3>() = -skew(Xc);
+    for (int a = 0; a < s.rows; ++a)
+    {
+      const Eigen::RowVector3d Ja(s.J[a][0], s.J[a][1], s.J[a][2]);
+      const Vec6 Jc = (Ja * dXc).transpose();
+      const Eigen::Vector3d Jp = (Ja * R).transpose();
+      ne.Hcc += wgt * Jc * Jc.transpose();
+      ne.gc += wgt * Jc * s.r[a];
+      if (refine_points)
+      {
+        ne.Hpp[i] += wgt * Jp * Jp.transpose();
+        ne.Hcp[i] += wgt * Jc * Jp.transpose();
+        ne.gp[i] += wgt * Jp * s.r[a];
+      }
+    }
+  }
+}
+
+/// The damped motion step `dc` of the reduced (Schur) system, and the damped point blocks' inverses
+/// (for the points' back substitution); false when the step is not finite.
+bool solveStep(const NormalEquations& ne, double lambda, bool refine_points, Vec6& dc, Mat3List& Hinv)
+{
+  const size_t n = ne.Hpp.size();
+  Mat66 S = ne.Hcc;
+  Vec6 b = ne.gc;
+  S.diagonal() *= (1.0 + lambda);
+  Hinv.resize(refine_points ? n : 0);  // every block is set below
+  if (refine_points)
+    for (size_t i = 0; i < n; ++i)
+    {
+      Eigen::Matrix3d H = ne.Hpp[i];
+      H.diagonal() *= (1.0 + lambda);
+      H.diagonal().array() += 1e-9;
+      Hinv[i] = H.inverse();
+      S -= ne.Hcp[i] * Hinv[i] * ne.Hcp[i].transpose();
+      b -= ne.Hcp[i] * Hinv[i] * ne.gp[i];
+    }
+  dc = S.ldlt().solve(b);
+  return dc.allFinite();
+}
+
+/// Covariance of the motion from the reduced (Schur) information at the solution, scaled by the
+/// pixel noise (first-order propagation).
+Mat66 motionCovariance(const NormalEquations& ne, bool refine_points, double pixel_sigma_px)
+{
+  Mat66 info = ne.Hcc;
+  if (refine_points)
+    for (size_t i = 0; i < ne.Hpp.size(); ++i)
+    {
+      Eigen::Matrix3d H = ne.Hpp[i];
+      H.diagonal().array() += 1e-9;
+      info -= ne.Hcp[i] * H.inverse() * ne.Hcp[i].transpose();
+    }
+  return (info + 1e-9 * Mat66::Identity()).inverse() * pixel_sigma_px * pixel_sigma_px;
+}
+
 double obsCost(const StereoResidual& s, double k)
 {
-  const double r2 = s.r[0] * s.r[0] + s.r[1] * s.r[1] + (s.rows == 3 ? s.r[2] * s.r[2] : 0.0);
-  return huberCost(r2, k);
+  return huberCost(squaredResidual(s), k);
 }
 }  // namespace
 
@@ -110,12 +223,6 @@ BundleAdjustmentResult TwoFrameBundleAdjuster::optimize(const StereoCamera& cam,
   // State: T_cur_ref (R, t), X_i in the reference frame.
   Eigen::Matrix3d R = T_ref_cur_init.linear().transpose();
   Eigen::Vector3d t = -R * T_ref_cur_init.translation();
-  auto makeT = [](const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Rc.transpose();
-    T.translation() = -Rc.transpose() * tc;
-    return T;
-  };
   // Rotation prior on R_cur_ref (the state's rotation): residual log(Rp_cur_ref * R^T).
   const Eigen::Matrix3d Rp_cur_ref = opt.rotation_prior.transpose();
   const double wp = opt.use_rotation_prior ? std::max(0.0, opt.rotation_prior_weight) : 0.0;
@@ -128,84 +235,24 @@ BundleAdjustmentResult TwoFrameBundleAdjuster::optimize(const StereoCamera& cam,
   res.initial_cost = cur_cost;
   double lambda = 1e-4;
 
-  std::vector<Eigen::Matrix3d, Eigen::aligned_allocator<Eigen::Matrix3d>> Hpp(n);
-  std::vector<Mat63, Eigen::aligned_allocator<Mat63>> Hcp(n);
-  Vec3List gp(n);
+  NormalEquations ne(n);
   Vec3List new_pts(n);
-  Mat66 Hcc = Mat66::Zero();
+  Mat3List Hinv;
   int it = 0;
   for (; it < opt.iterations; ++it)
   {
-    Hcc.setZero();
-    Vec6 gc = Vec6::Zero();
-    StereoResidual s;
-    for (size_t i = 0; i < n; ++i)
-    {
-      Hpp[i].setZero();
-      Hcp[i].setZero();
-      gp[i].setZero();
-      const Eigen::Vector3d& X = points_ref[i];
-      if (opt.refine_points && evalObs(cam, X, obs_ref[i], s))
-      {
-        const double r2 = s.r[0] * s.r[0] + s.r[1] * s.r[1] + (s.rows == 3 ? s.r[2] * s.r[2] : 0.0);
-        const double wgt = huberWeight(r2, k);
-        for (int a = 0; a < s.rows; ++a)
-        {
-          const Eigen::Vector3d Ja(s.J[a][0], s.J[a][1], s.J[a][2]);
-          Hpp[i] += wgt * Ja * Ja.transpose();
-          gp[i] += wgt * Ja * s.r[a];
-        }
-      }
-      const Eigen::Vector3d Xc = R * X + t;
-      if (!evalObs(cam, Xc, obs_cur[i], s))
-        continue;
-      const double r2 = s.r[0] * s.r[0] + s.r[1] * s.r[1] + (s.rows == 3 ? s.r[2] * s.r[2] : 0.0);
-      const double wgt = huberWeight(r2, k);
-      // d Xc / d(dt, dw) = [I, -[Xc]x] (left perturbation), d Xc / dX = R
-      Eigen::Matrix<double, 3, 6> dXc;
-      dXc.leftCols<3>().setIdentity();
-      dXc.rightCols<3>() = -skew(Xc);
-      for (int a = 0; a < s.rows; ++a)
-      {
-        const Eigen::RowVector3d Ja(s.J[a][0], s.J[a][1], s.J[a][2]);
-        const Vec6 Jc = (Ja * dXc).transpose();
-        const Eigen::Vector3d Jp = (Ja * R).transpose();
-        Hcc += wgt * Jc * Jc.transpose();
-        gc += wgt * Jc * s.r[a];
-        if (opt.refine_points)
-        {
-          Hpp[i] += wgt * Jp * Jp.transpose();
-          Hcp[i] += wgt * Jc * Jp.transpose();
-          gp[i] += wgt * Jp * s.r[a];
-        }
-      }
-    }
-
+    linearize(cam, R, t, points_ref, obs_ref, obs_cur, opt.refine_points, k, ne);
     if (wp > 0)
     {
-      Hcc.bottomRightCorner<3, 3>() += wp * Eigen::Matrix3d::Identity();
-      gc.tail<3>() += wp * priorResidual(R);
+      ne.Hcc.bottomRightCorner<3, 3>() += wp * Eigen::Matrix3d::Identity();
+      ne.gc.tail<3>() += wp * priorResidual(R);
     }
     // LM inner loop: try the step, raise lambda until the cost drops.
     bool improved = false;
     for (int tries = 0; tries < 6 && !improved; ++tries)
     {
-      Mat66 S = Hcc;
-      Vec6 b = gc;
-      S.diagonal() *= (1.0 + lambda);
-      std::vector<Eigen::Matrix3d, Eigen::aligned_allocator<Eigen::Matrix3d>> Hinv(opt.refine_points ? n : 0);
-      if (opt.refine_points)
-        for (size_t i = 0; i < n; ++i)
-        {
-          Eigen::Matrix3d H = Hpp[i];
-          H.diagonal() *= (1.0 + lambda);
-          H.diagonal().array() += 1e-9;
-          Hinv[i] = H.inverse();
-          S -= Hcp[i] * Hinv[i] * Hcp[i].transpose();
-          b -= Hcp[i] * Hinv[i] * gp[i];
-        }
-      const Vec6 dc = S.ldlt().solve(b);
-      if (!dc.allFinite())
+      Vec6 dc;
+      if (!solveStep(ne, lambda, opt.refine_points, dc, Hinv))
       {
         lambda *= 10;
         continue;
@@ -215,11 +262,10 @@ BundleAdjustmentResult TwoFrameBundleAdjuster::optimize(const StereoCamera& cam,
       const Eigen::Vector3d t_new = dR * t + dc.head<3>();
       if (opt.refine_points)
         for (size_t i = 0; i < n; ++i)
-          new_pts[i] = points_ref[i] + Hinv[i] * (gp[i] - Hcp[i].transpose() * dc);
+          new_pts[i] = points_ref[i] + Hinv[i] * (ne.gp[i] - ne.Hcp[i].transpose() * dc);
       else
         new_pts = points_ref;
-      const Eigen::Isometry3d T_new = makeT(R_new, t_new);
-      const double c = cost(cam, T_new, new_pts, obs_ref, obs_cur, k) + priorCost(R_new);
+      const double c = cost(cam, refFromCur(R_new, t_new), new_pts, obs_ref, obs_cur, k) + priorCost(R_new);
       if (std::isfinite(c) && c < cur_cost)
       {
         const double rel = (cur_cost - c) / std::max(cur_cost, 1e-12);
@@ -238,19 +284,9 @@ BundleAdjustmentResult TwoFrameBundleAdjuster::optimize(const StereoCamera& cam,
     if (!improved)
       break;
   }
-  // Covariance of the motion from the reduced (Schur) information at the solution, scaled by the
-  // pixel noise (first-order propagation).
-  Mat66 info = Hcc;
-  if (opt.refine_points)
-    for (size_t i = 0; i < n; ++i)
-    {
-      Eigen::Matrix3d H = Hpp[i];
-      H.diagonal().array() += 1e-9;
-      info -= Hcp[i] * H.inverse() * Hcp[i].transpose();
-    }
-  res.covariance = (info + 1e-9 * Mat66::Identity()).inverse() * opt.pixel_sigma_px * opt.pixel_sigma_px;
+  res.covariance = motionCovariance(ne, opt.refine_points, opt.pixel_sigma_px);
   R = Eigen::Quaterniond(R).normalized().toRotationMatrix();
-  res.T_ref_cur = makeT(R, t);
+  res.T_ref_cur = refFromCur(R, t);
   res.final_cost = cur_cost;
   res.iterations = it;
   res.ok = res.T_ref_cur.matrix().allFinite();

@@ -336,6 +336,259 @@ int scoreLinesOnBag(const std::string& path, long every)
   std::cout << js.str() << std::endl;
   return 0;
 }
+using Coin = std::uniform_int_distribution<int>;
+constexpr int RANSAC_CAP = 1000;
+
+/// The study's figures, per solver and noise level (NOISE_PX).
+struct Study
+{
+  explicit Study(size_t nl) : lin(nl), sub(nl), quat(nl), p3p(nl), q3(nl), q4(nl), q5(nl), ransac_capped(3 * nl, 0)
+  {
+    for (auto& v : ransac_trials)
+      v.resize(nl);
+  }
+  std::vector<Errors> lin, sub, quat;          ///< fig 2.9
+  std::vector<Errors> p3p, q3, q4, q5;         ///< fig 2.10
+  std::vector<std::vector<double>> ransac_trials[3];  ///< fig 2.12, quaternion-3..5
+  std::vector<int> ransac_capped;              ///< [3 * noise + n - 3]
+};
+
+StereoMotions timed(Errors& e, const std::function<StereoMotions()>& f)
+{
+  const double t0 = ev::threadCpuMs();
+  StereoMotions s = f();
+  e.ms += ev::threadCpuMs() - t0;
+  ++e.solves;
+  return s;
+}
+
+/// fig 2.9: a random mix of points and lines (3 features; the linear solver gets a 4th)
+void mixedTrial(std::mt19937& rng, Coin& coin, const TrifocalSceneOptions& so, size_t ni, Study& st)
+{
+  const TrifocalScene s = makeTrifocalScene(rng, 4, 4, so);
+  const int np = coin(rng) % 4;  // 0..3 points, the rest lines
+  PointQuads pts(s.points.begin(), s.points.begin() + np);
+  LineQuads lns(s.lines.begin(), s.lines.begin() + (3 - np));
+  record(st.sub[ni], timed(st.sub[ni], [&] { return solveTrifocalSubspace(s.rig, pts, lns).solutions; }), s.motion);
+  record(st.quat[ni], timed(st.quat[ni], [&] { return solveTrifocalQuaternion(s.rig, pts, lns).solutions; }),
+         s.motion);
+  // a 4th feature for the linear solver, never making {3 points + 1 line} (rank 11 < 12)
+  if (np == 3 || (np < 2 && coin(rng) % 2))
+    pts.push_back(s.points[static_cast<size_t>(np)]);
+  else
+    lns.push_back(s.lines[static_cast<size_t>(3 - np)]);
+  record(st.lin[ni], timed(st.lin[ni], [&] { return solveTrifocalLinear(s.rig, pts, lns).solutions; }), s.motion);
+}
+
+/// fig 2.10: points only
+void pointsTrial(std::mt19937& rng, const TrifocalSceneOptions& so, size_t ni, Study& st)
+{
+  const TrifocalScene s = makeTrifocalScene(rng, 5, 0, so);
+  const LineQuads none;
+  record(st.p3p[ni],
+         timed(st.p3p[ni], [&] { return threePoint(s.rig, PointQuads(s.points.begin(), s.points.begin() + 3)); }),
+         s.motion);
+  Errors* qs[3] = {&st.q3[ni], &st.q4[ni], &st.q5[ni]};
+  for (int n = 3; n <= 5; ++n)
+    record(*qs[n - 3],
+           timed(*qs[n - 3], [&] {
+             return solveTrifocalQuaternion(s.rig, PointQuads(s.points.begin(), s.points.begin() + n), none).solutions;
+           }),
+           s.motion);
+}
+
+/// fig 2.12: RANSAC trials to an acceptable hypothesis, 30 points + 15 lines, n = 3..5 features a sample
+void ransacRun(std::mt19937& rng, Coin& coin, const TrifocalSceneOptions& so, size_t ni, Study& st)
+{
+  const TrifocalScene s = makeTrifocalScene(rng, 30, 15, so);
+  const double accept = std::max(1.5 * rmsError(s, s.motion), 1e-6);
+  const int total = static_cast<int>(s.points.size() + s.lines.size());
+  for (int n = 3; n <= 5; ++n)
+  {
+    int k = 0;
+    bool done = false;
+    std::vector<int> idx(static_cast<size_t>(total));
+    for (int i = 0; i < total; ++i)
+      idx[static_cast<size_t>(i)] = i;
+    while (!done && k < RANSAC_CAP)
+    {
+      ++k;
+      for (int i = 0; i < n; ++i)  // partial Fisher-Yates: n distinct features
+        std::swap(idx[static_cast<size_t>(i)], idx[static_cast<size_t>(i + coin(rng) % (total - i))]);
+      PointQuads pts;
+      LineQuads lns;
+      for (int i = 0; i < n; ++i)
+      {
+        const int f = idx[static_cast<size_t>(i)];
+        if (f < static_cast<int>(s.points.size()))
+          pts.push_back(s.points[static_cast<size_t>(f)]);
+        else
+          lns.push_back(s.lines[static_cast<size_t>(f) - s.points.size()]);
+      }
+      for (const StereoMotion& m : solveTrifocalQuaternion(s.rig, pts, lns).solutions)
+        if (rmsError(s, m) <= accept)
+        {
+          done = true;
+          break;
+        }
+    }
+    if (!done)
+      ++st.ransac_capped[3 * ni + static_cast<size_t>(n - 3)];
+    st.ransac_trials[n - 3][ni].push_back(k);
+  }
+}
+
+double usPerSolve(const std::vector<Errors>& e)
+{
+  double ms = 0;
+  int n = 0;
+  for (const Errors& x : e)
+    ms += x.ms, n += x.solves;
+  return n ? 1000.0 * ms / n : NaN;
+}
+
+void printTables(const Study& st, long trials, long ransac_runs, const TrifocalSceneOptions& so)
+{
+  auto row = [](const std::string& name, const std::vector<Errors>& e, bool rot) {
+    std::cout << std::left << std::setw(14) << name << std::right;
+    for (const Errors& x : e)
+      std::cout << std::setw(11) << std::setprecision(3) << (rot ? q25(x.rot_deg) : q25(x.trans_pct));
+    std::cout << "\n";
+  };
+  auto header = [&](const std::string& what) {
+    std::cout << "\n" << what << "\n" << std::left << std::setw(14) << "noise (px)" << std::right;
+    for (double n : NOISE_PX)
+      std::cout << std::setw(11) << n;
+    std::cout << "\n";
+  };
+  std::cout << "pointline_benchmark: " << trials << " trials per noise level, baseline " << so.baseline
+            << " m, f = " << FOCAL << " px, lower-quartile errors\n";
+  for (const bool rot : {true, false})
+  {
+    header(rot ? "fig 2.9 rotation error, deg (random point/line mixes)" : "fig 2.9 translation error, % of |t|");
+    row("linear-4", st.lin, rot);
+    row("subspace-3", st.sub, rot);
+    row("quaternion-3", st.quat, rot);
+  }
+  for (const bool rot : {true, false})
+  {
+    header(rot ? "fig 2.10 rotation error, deg (points only)" : "fig 2.10 translation error, % of |t|");
+    row("three-point", st.p3p, rot);
+    row("quaternion-3", st.q3, rot);
+    row("quaternion-4", st.q4, rot);
+    row("quaternion-5", st.q5, rot);
+  }
+  header("fig 2.12 RANSAC trials to success, median (mean) over " + std::to_string(ransac_runs) + " runs");
+  for (int n = 3; n <= 5; ++n)
+  {
+    std::cout << std::left << std::setw(14) << ("quaternion-" + std::to_string(n)) << std::right;
+    for (size_t ni = 0; ni < NOISE_PX.size(); ++ni)
+    {
+      std::ostringstream os;
+      os << ev::median(st.ransac_trials[n - 3][ni]) << " (" << std::setprecision(3)
+         << ev::mean(st.ransac_trials[n - 3][ni]) << ")";
+      std::cout << std::setw(11) << os.str();
+    }
+    std::cout << "\n";
+  }
+  header("failures (no solution) per solver, of " + std::to_string(trials));
+  for (auto [name, e] : std::vector<std::pair<std::string, const std::vector<Errors>*>>{
+           {"linear-4", &st.lin}, {"subspace-3", &st.sub}, {"quaternion-3", &st.quat}, {"three-point", &st.p3p},
+           {"quat-3 pts", &st.q3}, {"quat-4 pts", &st.q4}, {"quat-5 pts", &st.q5}})
+  {
+    std::cout << std::left << std::setw(14) << name << std::right;
+    for (const Errors& x : *e)
+      std::cout << std::setw(11) << x.failures;
+    std::cout << "\n";
+  }
+  std::cout << "\nCPU us per solve: linear-4 " << usPerSolve(st.lin) << ", subspace-3 " << usPerSolve(st.sub)
+            << ", quaternion-3 (mixed) " << usPerSolve(st.quat) << ", three-point " << usPerSolve(st.p3p)
+            << ", quaternion-5 " << usPerSolve(st.q5) << "\n";
+}
+
+/// The figures as PNGs PREFIX_fig2_9.png, PREFIX_fig2_10.png, PREFIX_fig2_12.png; false when one
+/// could not be written.
+bool writePlots(const Study& st, const std::string& prefix)
+{
+  // log-scale error plots over the noisy levels (noise 0 is exact: in the tables)
+  const std::vector<double> noisy(NOISE_PX.begin() + 1, NOISE_PX.end());
+  auto series = [](const std::vector<Errors>& e, bool rot) {
+    std::vector<double> v;
+    for (size_t i = 1; i < e.size(); ++i)
+      v.push_back(rot ? q25(e[i].rot_deg) : q25(e[i].trans_pct));
+    return v;
+  };
+  bool plots_ok = true;
+  std::string err;
+  const std::vector<std::string> n29 = {"linear-4", "subspace-3", "quaternion-3"};
+  const cv::Mat f29 = sideBySide(
+      chart("fig 2.9 (a) translation error, lower quartile", "% of |t|", n29,
+            {series(st.lin, false), series(st.sub, false), series(st.quat, false)}, noisy, true),
+      chart("fig 2.9 (b) rotation error, lower quartile", "deg", n29,
+            {series(st.lin, true), series(st.sub, true), series(st.quat, true)}, noisy, true));
+  const std::vector<std::string> n210 = {"three-point", "quaternion-3", "quaternion-4", "quaternion-5"};
+  const cv::Mat f210 = sideBySide(
+      chart("fig 2.10 (a) translation error, points only", "% of |t|", n210,
+            {series(st.p3p, false), series(st.q3, false), series(st.q4, false), series(st.q5, false)}, noisy, true),
+      chart("fig 2.10 (b) rotation error, points only", "deg", n210,
+            {series(st.p3p, true), series(st.q3, true), series(st.q4, true), series(st.q5, true)}, noisy, true));
+  std::vector<std::vector<double>> rt(3);
+  for (int n = 0; n < 3; ++n)
+    for (size_t ni = 0; ni < NOISE_PX.size(); ++ni)
+      rt[static_cast<size_t>(n)].push_back(ev::mean(st.ransac_trials[n][ni]));
+  const cv::Mat f212 = chart("fig 2.12 RANSAC trials to success (mean)", "trials",
+                             {"quaternion-3", "quaternion-4", "quaternion-5"}, rt, NOISE_PX, false);
+  for (auto [name, img] : std::vector<std::pair<std::string, cv::Mat>>{
+           {prefix + "_fig2_9.png", f29}, {prefix + "_fig2_10.png", f210}, {prefix + "_fig2_12.png", f212}})
+  {
+    if (ev::writePng(name, img, &err))
+      std::cout << "wrote " << name << "\n";
+    else
+    {
+      std::cerr << "pointline_benchmark: " << err << "\n";
+      plots_ok = false;
+    }
+  }
+  return plots_ok;
+}
+
+void printJson(const Study& st, long trials, long ransac_runs, const TrifocalSceneOptions& so, bool plots_ok)
+{
+  ev::JsonLine js;
+  js.add("trials", static_cast<long long>(trials)).add("ransac_runs", static_cast<long long>(ransac_runs));
+  js.add("baseline_m", ev::jsonNumber(so.baseline, 3)).add("focal_px", ev::jsonNumber(FOCAL, 4));
+  auto addErr = [&](const std::string& name, const std::vector<Errors>& e) {
+    for (size_t ni = 0; ni < NOISE_PX.size(); ++ni)
+    {
+      js.add(name + "_rot_err_q25_deg_" + noiseKey(NOISE_PX[ni]), ev::jsonNumber(q25(e[ni].rot_deg), 4));
+      js.add(name + "_trans_err_q25_pct_" + noiseKey(NOISE_PX[ni]), ev::jsonNumber(q25(e[ni].trans_pct), 4));
+    }
+    int fails = 0;
+    for (const Errors& x : e)
+      fails += x.failures;
+    js.add(name + "_failures", fails);
+  };
+  addErr("linear4", st.lin);
+  addErr("subspace3", st.sub);
+  addErr("quaternion3_mixed", st.quat);
+  addErr("three_point", st.p3p);
+  addErr("quaternion3_points", st.q3);
+  addErr("quaternion4_points", st.q4);
+  addErr("quaternion5_points", st.q5);
+  for (int n = 3; n <= 5; ++n)
+    for (size_t ni = 0; ni < NOISE_PX.size(); ++ni)
+    {
+      js.add("ransac_trials_mean_quaternion" + std::to_string(n) + "_" + noiseKey(NOISE_PX[ni]),
+             ev::jsonNumber(ev::mean(st.ransac_trials[n - 3][ni]), 4));
+      js.add("ransac_capped_quaternion" + std::to_string(n) + "_" + noiseKey(NOISE_PX[ni]),
+             st.ransac_capped[3 * ni + static_cast<size_t>(n - 3)]);
+    }
+  js.add("us_per_solve_quaternion3", ev::jsonNumber(usPerSolve(st.quat), 4))
+      .add("us_per_solve_quaternion5", ev::jsonNumber(usPerSolve(st.q5), 4))
+      .add("us_per_solve_three_point", ev::jsonNumber(usPerSolve(st.p3p), 4))
+      .add("plots_written", plots_ok);
+  std::cout << js.str() << std::endl;
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -362,250 +615,24 @@ int main(int argc, char** argv)
     return scoreLinesOnBag(bag, every);
 
   std::mt19937 rng(static_cast<unsigned>(seed));
-  std::uniform_int_distribution<int> coin(0, 1 << 30);
+  Coin coin(0, 1 << 30);
   TrifocalSceneOptions so;  // baseline 7.5 cm, rectified, 640x480 at f = 500 px
-  const size_t NL = NOISE_PX.size();
-  // fig 2.9
-  std::vector<Errors> lin(NL), sub(NL), quat(NL);
-  // fig 2.10
-  std::vector<Errors> p3p(NL), q3(NL), q4(NL), q5(NL);
-  // fig 2.12
-  std::vector<std::vector<double>> ransac_trials[3];
-  for (auto& v : ransac_trials)
-    v.resize(NL);
-  std::vector<int> ransac_capped(3 * NL, 0);
-  const int RANSAC_CAP = 1000;
+  Study st(NOISE_PX.size());
   const long ransac_runs = trials;  // fig 2.12: one RANSAC run per trial too
-
-  auto timed = [](Errors& e, const std::function<StereoMotions()>& f) {
-    const double t0 = ev::threadCpuMs();
-    StereoMotions s = f();
-    e.ms += ev::threadCpuMs() - t0;
-    ++e.solves;
-    return s;
-  };
-
-  for (size_t ni = 0; ni < NL; ++ni)
+  for (size_t ni = 0; ni < NOISE_PX.size(); ++ni)
   {
     so.noise_px = NOISE_PX[ni];
     for (long tr = 0; tr < trials; ++tr)
     {
-      // fig 2.9: a random mix of points and lines (3 features; the linear solver gets a 4th)
-      {
-        const TrifocalScene s = makeTrifocalScene(rng, 4, 4, so);
-        const int np = coin(rng) % 4;  // 0..3 points, the rest lines
-        PointQuads pts(s.points.begin(), s.points.begin() + np);
-        LineQuads lns(s.lines.begin(), s.lines.begin() + (3 - np));
-        record(sub[ni], timed(sub[ni], [&] { return solveTrifocalSubspace(s.rig, pts, lns).solutions; }), s.motion);
-        record(quat[ni], timed(quat[ni], [&] { return solveTrifocalQuaternion(s.rig, pts, lns).solutions; }),
-               s.motion);
-        // a 4th feature for the linear solver, never making {3 points + 1 line} (rank 11 < 12)
-        if (np == 3 || (np < 2 && coin(rng) % 2))
-          pts.push_back(s.points[static_cast<size_t>(np)]);
-        else
-          lns.push_back(s.lines[static_cast<size_t>(3 - np)]);
-        record(lin[ni], timed(lin[ni], [&] { return solveTrifocalLinear(s.rig, pts, lns).solutions; }), s.motion);
-      }
-      // fig 2.10: points only
-      {
-        const TrifocalScene s = makeTrifocalScene(rng, 5, 0, so);
-        const LineQuads none;
-        record(p3p[ni], timed(p3p[ni], [&] { return threePoint(s.rig, PointQuads(s.points.begin(), s.points.begin() + 3)); }),
-               s.motion);
-        Errors* qs[3] = {&q3[ni], &q4[ni], &q5[ni]};
-        for (int n = 3; n <= 5; ++n)
-          record(*qs[n - 3],
-                 timed(*qs[n - 3], [&] {
-                   return solveTrifocalQuaternion(s.rig, PointQuads(s.points.begin(), s.points.begin() + n), none).solutions;
-                 }),
-                 s.motion);
-      }
+      mixedTrial(rng, coin, so, ni, st);
+      pointsTrial(rng, so, ni, st);
     }
-    // fig 2.12: RANSAC trials to an acceptable hypothesis, 30 points + 15 lines
     for (long run = 0; run < ransac_runs; ++run)
-    {
-      const TrifocalScene s = makeTrifocalScene(rng, 30, 15, so);
-      const double accept = std::max(1.5 * rmsError(s, s.motion), 1e-6);
-      const int total = static_cast<int>(s.points.size() + s.lines.size());
-      for (int n = 3; n <= 5; ++n)
-      {
-        int k = 0;
-        bool done = false;
-        std::vector<int> idx(static_cast<size_t>(total));
-        for (int i = 0; i < total; ++i)
-          idx[static_cast<size_t>(i)] = i;
-        while (!done && k < RANSAC_CAP)
-        {
-          ++k;
-          for (int i = 0; i < n; ++i)  // partial Fisher-Yates: n distinct features
-            std::swap(idx[static_cast<size_t>(i)], idx[static_cast<size_t>(i + coin(rng) % (total - i))]);
-          PointQuads pts;
-          LineQuads lns;
-          for (int i = 0; i < n; ++i)
-          {
-            const int f = idx[static_cast<size_t>(i)];
-            if (f < static_cast<int>(s.points.size()))
-              pts.push_back(s.points[static_cast<size_t>(f)]);
-            else
-              lns.push_back(s.lines[static_cast<size_t>(f) - s.points.size()]);
-          }
-          for (const StereoMotion& m : solveTrifocalQuaternion(s.rig, pts, lns).solutions)
-            if (rmsError(s, m) <= accept)
-            {
-              done = true;
-              break;
-            }
-        }
-        if (!done)
-          ++ransac_capped[3 * ni + static_cast<size_t>(n - 3)];
-        ransac_trials[n - 3][ni].push_back(k);
-      }
-    }
+      ransacRun(rng, coin, so, ni, st);
     std::cerr << "pointline_benchmark: noise " << NOISE_PX[ni] << " px done\n";
   }
-
-  // ------------------------------------------------------------------ tables
-  auto row = [](const std::string& name, const std::vector<Errors>& e, bool rot) {
-    std::cout << std::left << std::setw(14) << name << std::right;
-    for (const Errors& x : e)
-      std::cout << std::setw(11) << std::setprecision(3) << (rot ? q25(x.rot_deg) : q25(x.trans_pct));
-    std::cout << "\n";
-  };
-  auto header = [&](const std::string& what) {
-    std::cout << "\n" << what << "\n" << std::left << std::setw(14) << "noise (px)" << std::right;
-    for (double n : NOISE_PX)
-      std::cout << std::setw(11) << n;
-    std::cout << "\n";
-  };
-  std::cout << "pointline_benchmark: " << trials << " trials per noise level, baseline " << so.baseline
-            << " m, f = " << FOCAL << " px, lower-quartile errors\n";
-  header("fig 2.9 rotation error, deg (random point/line mixes)");
-  row("linear-4", lin, true);
-  row("subspace-3", sub, true);
-  row("quaternion-3", quat, true);
-  header("fig 2.9 translation error, % of |t|");
-  row("linear-4", lin, false);
-  row("subspace-3", sub, false);
-  row("quaternion-3", quat, false);
-  header("fig 2.10 rotation error, deg (points only)");
-  row("three-point", p3p, true);
-  row("quaternion-3", q3, true);
-  row("quaternion-4", q4, true);
-  row("quaternion-5", q5, true);
-  header("fig 2.10 translation error, % of |t|");
-  row("three-point", p3p, false);
-  row("quaternion-3", q3, false);
-  row("quaternion-4", q4, false);
-  row("quaternion-5", q5, false);
-  header("fig 2.12 RANSAC trials to success, median (mean) over " + std::to_string(ransac_runs) + " runs");
-  for (int n = 3; n <= 5; ++n)
-  {
-    std::cout << std::left << std::setw(14) << ("quaternion-" + std::to_string(n)) << std::right;
-    for (size_t ni = 0; ni < NL; ++ni)
-    {
-      std::ostringstream os;
-      os << ev::median(ransac_trials[n - 3][ni]) << " (" << std::setprecision(3) << ev::mean(ransac_trials[n - 3][ni])
-         << ")";
-      std::cout << std::setw(11) << os.str();
-    }
-    std::cout << "\n";
-  }
-  header("failures (no solution) per solver, of " + std::to_string(trials));
-  for (auto [name, e] : std::vector<std::pair<std::string, const std::vector<Errors>*>>{
-           {"linear-4", &lin}, {"subspace-3", &sub}, {"quaternion-3", &quat}, {"three-point", &p3p},
-           {"quat-3 pts", &q3}, {"quat-4 pts", &q4}, {"quat-5 pts", &q5}})
-  {
-    std::cout << std::left << std::setw(14) << name << std::right;
-    for (const Errors& x : *e)
-      std::cout << std::setw(11) << x.failures;
-    std::cout << "\n";
-  }
-  auto usPerSolve = [](const std::vector<Errors>& e) {
-    double ms = 0;
-    int n = 0;
-    for (const Errors& x : e)
-      ms += x.ms, n += x.solves;
-    return n ? 1000.0 * ms / n : NaN;
-  };
-  std::cout << "\nCPU us per solve: linear-4 " << usPerSolve(lin) << ", subspace-3 " << usPerSolve(sub)
-            << ", quaternion-3 (mixed) " << usPerSolve(quat) << ", three-point " << usPerSolve(p3p)
-            << ", quaternion-5 " << usPerSolve(q5) << "\n";
-
-  // ------------------------------------------------------------------ plots
-  // log-scale error plots over the noisy levels (noise 0 is exact: in the tables)
-  const std::vector<double> noisy(NOISE_PX.begin() + 1, NOISE_PX.end());
-  auto series = [](const std::vector<Errors>& e, bool rot) {
-    std::vector<double> v;
-    for (size_t i = 1; i < e.size(); ++i)
-      v.push_back(rot ? q25(e[i].rot_deg) : q25(e[i].trans_pct));
-    return v;
-  };
-  bool plots_ok = true;
-  std::string err;
-  const std::vector<std::string> n29 = {"linear-4", "subspace-3", "quaternion-3"};
-  const cv::Mat f29 = sideBySide(
-      chart("fig 2.9 (a) translation error, lower quartile", "% of |t|", n29,
-            {series(lin, false), series(sub, false), series(quat, false)}, noisy, true),
-      chart("fig 2.9 (b) rotation error, lower quartile", "deg", n29,
-            {series(lin, true), series(sub, true), series(quat, true)}, noisy, true));
-  const std::vector<std::string> n210 = {"three-point", "quaternion-3", "quaternion-4", "quaternion-5"};
-  const cv::Mat f210 = sideBySide(
-      chart("fig 2.10 (a) translation error, points only", "% of |t|", n210,
-            {series(p3p, false), series(q3, false), series(q4, false), series(q5, false)}, noisy, true),
-      chart("fig 2.10 (b) rotation error, points only", "deg", n210,
-            {series(p3p, true), series(q3, true), series(q4, true), series(q5, true)}, noisy, true));
-  std::vector<std::vector<double>> rt(3);
-  for (int n = 0; n < 3; ++n)
-    for (size_t ni = 0; ni < NL; ++ni)
-      rt[static_cast<size_t>(n)].push_back(ev::mean(ransac_trials[n][ni]));
-  const cv::Mat f212 = chart("fig 2.12 RANSAC trials to success (mean)", "trials",
-                             {"quaternion-3", "quaternion-4", "quaternion-5"}, rt, NOISE_PX, false);
-  for (auto [name, img] : std::vector<std::pair<std::string, cv::Mat>>{
-           {prefix + "_fig2_9.png", f29}, {prefix + "_fig2_10.png", f210}, {prefix + "_fig2_12.png", f212}})
-  {
-    if (ev::writePng(name, img, &err))
-      std::cout << "wrote " << name << "\n";
-    else
-    {
-      std::cerr << "pointline_benchmark: " << err << "\n";
-      plots_ok = false;
-    }
-  }
-
-  // ------------------------------------------------------------------ JSON
-  ev::JsonLine js;
-  js.add("trials", static_cast<long long>(trials)).add("ransac_runs", static_cast<long long>(ransac_runs));
-  js.add("baseline_m", ev::jsonNumber(so.baseline, 3)).add("focal_px", ev::jsonNumber(FOCAL, 4));
-  auto addErr = [&](const std::string& name, const std::vector<Errors>& e) {
-    for (size_t ni = 0; ni < NL; ++ni)
-    {
-      js.add(name + "_rot_err_q25_deg_" + noiseKey(NOISE_PX[ni]), ev::jsonNumber(q25(e[ni].rot_deg), 4));
-      js.add(name + "_trans_err_q25_pct_" + noiseKey(NOISE_PX[ni]), ev::jsonNumber(q25(e[ni].trans_pct), 4));
-    }
-    int fails = 0;
-    for (const Errors& x : e)
-      fails += x.failures;
-    js.add(name + "_failures", fails);
-  };
-  addErr("linear4", lin);
-  addErr("subspace3", sub);
-  addErr("quaternion3_mixed", quat);
-  addErr("three_point", p3p);
-  addErr("quaternion3_points", q3);
-  addErr("quaternion4_points", q4);
-  addErr("quaternion5_points", q5);
-  for (int n = 3; n <= 5; ++n)
-    for (size_t ni = 0; ni < NL; ++ni)
-    {
-      js.add("ransac_trials_mean_quaternion" + std::to_string(n) + "_" + noiseKey(NOISE_PX[ni]),
-             ev::jsonNumber(ev::mean(ransac_trials[n - 3][ni]), 4));
-      js.add("ransac_capped_quaternion" + std::to_string(n) + "_" + noiseKey(NOISE_PX[ni]),
-             ransac_capped[3 * ni + static_cast<size_t>(n - 3)]);
-    }
-  js.add("us_per_solve_quaternion3", ev::jsonNumber(usPerSolve(quat), 4))
-      .add("us_per_solve_quaternion5", ev::jsonNumber(usPerSolve(q5), 4))
-      .add("us_per_solve_three_point", ev::jsonNumber(usPerSolve(p3p), 4))
-      .add("plots_written", plots_ok);
-  std::cout << js.str() << std::endl;
+  printTables(st, trials, ransac_runs, so);
+  const bool plots_ok = writePlots(st, prefix);
+  printJson(st, trials, ransac_runs, so, plots_ok);
   return 0;
 }

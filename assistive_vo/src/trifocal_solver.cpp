@@ -289,6 +289,142 @@ TrifocalResult solveTrifocalLinear(const StereoRig& rig, const PointQuads& point
   return resultFromVector(y, "linear solution degenerate");
 }
 
+namespace
+{
+/// The rotation of the subspace solver: entries affine in lambda, R_e = yp(e) + N(e, :) lambda,
+/// and polynomials of them over the monomials [lambda_i lambda_j (i <= j), lambda_i, 1].
+class AffineRotation
+{
+public:
+  AffineRotation(const Eigen::VectorXd& yp, const Eigen::MatrixXd& N)
+    : yp_(yp), N_(N), k_(static_cast<int>(N.cols())), nq_(k_ * (k_ + 1) / 2), M_(nq_ + k_ + 1)
+  {
+  }
+  int monomials() const { return M_; }
+  int quadratic() const { return nq_; }  ///< the first monomials: lambda_i lambda_j
+
+  /// The rotation's polynomial constraints (R R^T = I, R^T R = I, rows and columns cross
+  /// products: quadratic in lambda), one row each over the monomials.
+  Eigen::MatrixXd constraints() const
+  {
+    std::vector<Eigen::VectorXd> C;
+    for (int a = 0; a < 3; ++a)
+      for (int b = a; b < 3; ++b)
+      {
+        Eigen::VectorXd rowc = Eigen::VectorXd::Zero(M_), colc = Eigen::VectorXd::Zero(M_);
+        for (int e = 0; e < 3; ++e)
+        {
+          rowc += product(entry(a, e), entry(b, e));
+          colc += product(entry(e, a), entry(e, b));
+        }
+        if (a == b)
+        {
+          rowc(M_ - 1) -= 1.0;
+          colc(M_ - 1) -= 1.0;
+        }
+        C.push_back(rowc);
+        C.push_back(colc);
+      }
+    for (int i = 0; i < 3; ++i)  // r_i x r_{i+1} = r_{i+2}, same for columns
+    {
+      const int j = (i + 1) % 3, l = (i + 2) % 3;
+      for (int e = 0; e < 3; ++e)
+      {
+        const int e1 = (e + 1) % 3, e2 = (e + 2) % 3;
+        const Eigen::VectorXd rc = product(entry(i, e1), entry(j, e2)) - product(entry(i, e2), entry(j, e1));
+        C.push_back(rc - linear(l, e));
+        Eigen::VectorXd cc = product(entry(e1, i), entry(e2, j)) - product(entry(e2, i), entry(e1, j));
+        C.push_back(cc - linear(e, l));
+      }
+    }
+    Eigen::MatrixXd B(static_cast<Eigen::Index>(C.size()), M_);
+    for (size_t i = 0; i < C.size(); ++i)
+      B.row(static_cast<Eigen::Index>(i)) = C[i].transpose();
+    return B;
+  }
+
+  /// Gauss-Newton on the constraints B (residual B [mono(lambda); 1]) from `lambda`.
+  void polish(const Eigen::MatrixXd& B, Eigen::VectorXd& lambda) const
+  {
+    for (int it = 0; it < 8 && lambda.allFinite(); ++it)
+    {
+      Eigen::MatrixXd dm = Eigen::MatrixXd::Zero(M_, k_);
+      for (int i = 0; i < k_; ++i)
+      {
+        for (int j = i; j < k_; ++j)
+        {
+          dm(quadIndex(i, j), i) += lambda(j);
+          dm(quadIndex(i, j), j) += lambda(i);
+        }
+        dm(nq_ + i, i) = 1.0;
+      }
+      const Eigen::VectorXd rres = B * mono(lambda);
+      const Eigen::MatrixXd J = B * dm;
+      const Eigen::VectorXd step = J.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(-rres);
+      if (!step.allFinite())
+        break;
+      lambda += step;
+      if (step.norm() < 1e-15 * (1.0 + lambda.norm()))
+        break;
+    }
+  }
+
+private:
+  int quadIndex(int i, int j) const
+  {
+    if (i > j)
+      std::swap(i, j);
+    return i * k_ - i * (i - 1) / 2 + (j - i);
+  }
+  /// Affine form of R(rr, cc): [const, coeffs].
+  Eigen::VectorXd entry(int rr, int cc) const
+  {
+    Eigen::VectorXd f(k_ + 1);
+    f(0) = yp_(3 * rr + cc);
+    f.tail(k_) = N_.row(3 * rr + cc).transpose();
+    return f;
+  }
+  /// R(rr, cc) over the monomials.
+  Eigen::VectorXd linear(int rr, int cc) const
+  {
+    const Eigen::VectorXd f = entry(rr, cc);
+    Eigen::VectorXd lin = Eigen::VectorXd::Zero(M_);
+    lin(M_ - 1) = f(0);
+    for (int q = 0; q < k_; ++q)
+      lin(nq_ + q) = f(1 + q);
+    return lin;
+  }
+  /// The product of two affine forms over the monomials.
+  Eigen::VectorXd product(const Eigen::VectorXd& f, const Eigen::VectorXd& g) const
+  {
+    Eigen::VectorXd p = Eigen::VectorXd::Zero(M_);
+    p(M_ - 1) += f(0) * g(0);
+    for (int i = 0; i < k_; ++i)
+    {
+      p(nq_ + i) += f(0) * g(1 + i) + g(0) * f(1 + i);
+      for (int j = 0; j < k_; ++j)
+        p(quadIndex(i, j)) += f(1 + i) * g(1 + j);
+    }
+    return p;
+  }
+  /// The monomials at lambda.
+  Eigen::VectorXd mono(const Eigen::VectorXd& l) const
+  {
+    Eigen::VectorXd m(M_);
+    for (int i = 0; i < k_; ++i)
+      for (int j = i; j < k_; ++j)
+        m(quadIndex(i, j)) = l(i) * l(j);
+    m.segment(nq_, k_) = l;
+    m(M_ - 1) = 1.0;
+    return m;
+  }
+
+  const Eigen::VectorXd& yp_;
+  const Eigen::MatrixXd& N_;
+  const int k_, nq_, M_;
+};
+}  // namespace
+
 TrifocalResult solveTrifocalSubspace(const StereoRig& rig, const PointQuads& points, const LineQuads& lines)
 {
   TrifocalResult res;
@@ -310,120 +446,25 @@ TrifocalResult solveTrifocalSubspace(const StereoRig& rig, const PointQuads& poi
     yp += (svd.matrixU().col(i).dot(-A.col(12)) / s(i)) * svd.matrixV().col(i);
   const Eigen::MatrixXd N = svd.matrixV().rightCols(k);
 
-  // R entries affine in lambda: R_e = yp(e) + N(e, :) lambda. The rotation's polynomial constraints
-  // (R R^T = I, R^T R = I, rows and columns cross products: quadratic in lambda) linearised over
-  // the monomials [lambda_i lambda_j (i <= j), lambda_i, 1], solved by least squares, then
-  // polished by Gauss-Newton on the same constraints (a closed-form alternative to the seed's
-  // Groebner basis / polynomial eigenvalue problem).
-  const int nq = k * (k + 1) / 2, M = nq + k + 1;
-  auto quadIndex = [k](int i, int j) {
-    if (i > j)
-      std::swap(i, j);
-    return i * k - i * (i - 1) / 2 + (j - i);
-  };
-  auto entry = [&](int rr, int cc) {  // affine form of R(rr, cc): [const, coeffs]
-    Eigen::VectorXd f(k + 1);
-    f(0) = yp(3 * rr + cc);
-    f.tail(k) = N.row(3 * rr + cc).transpose();
-    return f;
-  };
-  auto product = [&](const Eigen::VectorXd& f, const Eigen::VectorXd& g) {  // over the M monomials
-    Eigen::VectorXd p = Eigen::VectorXd::Zero(M);
-    p(M - 1) += f(0) * g(0);
-    for (int i = 0; i < k; ++i)
-    {
-      p(nq + i) += f(0) * g(1 + i) + g(0) * f(1 + i);
-      for (int j = 0; j < k; ++j)
-        p(quadIndex(i, j)) += f(1 + i) * g(1 + j);
-    }
-    return p;
-  };
-  std::vector<Eigen::VectorXd> C;
-  for (int a = 0; a < 3; ++a)
-    for (int b = a; b < 3; ++b)
-    {
-      Eigen::VectorXd rowc = Eigen::VectorXd::Zero(M), colc = Eigen::VectorXd::Zero(M);
-      for (int e = 0; e < 3; ++e)
-      {
-        rowc += product(entry(a, e), entry(b, e));
-        colc += product(entry(e, a), entry(e, b));
-      }
-      if (a == b)
-      {
-        rowc(M - 1) -= 1.0;
-        colc(M - 1) -= 1.0;
-      }
-      C.push_back(rowc);
-      C.push_back(colc);
-    }
-  for (int i = 0; i < 3; ++i)  // r_i x r_{i+1} = r_{i+2}, same for columns
-  {
-    const int j = (i + 1) % 3, l = (i + 2) % 3;
-    for (int e = 0; e < 3; ++e)
-    {
-      const int e1 = (e + 1) % 3, e2 = (e + 2) % 3;
-      const Eigen::VectorXd rc = product(entry(i, e1), entry(j, e2)) - product(entry(i, e2), entry(j, e1));
-      Eigen::VectorXd lin = Eigen::VectorXd::Zero(M);
-      lin(M - 1) = entry(l, e)(0);
-      for (int q = 0; q < k; ++q)
-        lin(nq + q) = entry(l, e)(1 + q);
-      C.push_back(rc - lin);
-      Eigen::VectorXd cc = product(entry(e1, i), entry(e2, j)) - product(entry(e2, i), entry(e1, j));
-      Eigen::VectorXd linc = Eigen::VectorXd::Zero(M);
-      linc(M - 1) = entry(e, l)(0);
-      for (int q = 0; q < k; ++q)
-        linc(nq + q) = entry(e, l)(1 + q);
-      C.push_back(cc - linc);
-    }
-  }
-  Eigen::MatrixXd B(static_cast<Eigen::Index>(C.size()), M);
-  for (size_t i = 0; i < C.size(); ++i)
-    B.row(static_cast<Eigen::Index>(i)) = C[i].transpose();
+  // The rotation's polynomial constraints linearised over the monomials, solved by least squares,
+  // then polished by Gauss-Newton on the same constraints (a closed-form alternative to the
+  // seed's Groebner basis / polynomial eigenvalue problem).
+  const AffineRotation rot(yp, N);
+  const Eigen::MatrixXd B = rot.constraints();
+  const int M = rot.monomials();
   const Eigen::VectorXd z =
       B.leftCols(M - 1).jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(-B.col(M - 1));
-  Eigen::VectorXd lambda = z.segment(nq, k);
-  // Gauss-Newton on the constraints (residual B [mono(lambda); 1])
-  auto mono = [&](const Eigen::VectorXd& l) {
-    Eigen::VectorXd m(M);
-    for (int i = 0; i < k; ++i)
-      for (int j = i; j < k; ++j)
-        m(quadIndex(i, j)) = l(i) * l(j);
-    m.segment(nq, k) = l;
-    m(M - 1) = 1.0;
-    return m;
-  };
-  for (int it = 0; it < 8 && lambda.allFinite(); ++it)
-  {
-    Eigen::MatrixXd dm = Eigen::MatrixXd::Zero(M, k);
-    for (int i = 0; i < k; ++i)
-    {
-      for (int j = i; j < k; ++j)
-      {
-        dm(quadIndex(i, j), i) += lambda(j);
-        dm(quadIndex(i, j), j) += lambda(i);
-      }
-      dm(nq + i, i) = 1.0;
-    }
-    const Eigen::VectorXd rres = B * mono(lambda);
-    const Eigen::MatrixXd J = B * dm;
-    const Eigen::VectorXd step = J.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(-rres);
-    if (!step.allFinite())
-      break;
-    lambda += step;
-    if (step.norm() < 1e-15 * (1.0 + lambda.norm()))
-      break;
-  }
+  Eigen::VectorXd lambda = z.segment(rot.quadratic(), k);
+  rot.polish(B, lambda);
   return resultFromVector(yp + N * lambda, "subspace solution degenerate");
 }
 
-TrifocalResult solveTrifocalQuaternion(const StereoRig& rig, const PointQuads& points, const LineQuads& lines)
+namespace
 {
-  TrifocalResult res;
-  Eigen::MatrixXd A;
-  res.reason = prepare(rig, points, lines, 9, A);
-  if (!res.reason.empty())
-    return res;
-  // eq. 2.32: R from the quaternion (a, b, c, d); monomials m = [a2 b2 c2 d2 ab ac ad bc bd cd]
+/// eq. 2.32: R (row-major) from the quaternion (a, b, c, d) over the monomials
+/// m = [a2 b2 c2 d2 ab ac ad bc bd cd].
+Eigen::Matrix<double, 9, 10> rotationOfMonomials()
+{
   Eigen::Matrix<double, 9, 10> Q = Eigen::Matrix<double, 9, 10>::Zero();
   Q.row(0) << 1, 1, -1, -1, 0, 0, 0, 0, 0, 0;  // R00 = a2+b2-c2-d2
   Q.row(1) << 0, 0, 0, 0, 0, 0, -2, 2, 0, 0;   // R01 = 2(bc-ad)
@@ -434,19 +475,24 @@ TrifocalResult solveTrifocalQuaternion(const StereoRig& rig, const PointQuads& p
   Q.row(6) << 0, 0, 0, 0, 0, -2, 0, 0, 2, 0;   // R20 = 2(bd-ac)
   Q.row(7) << 0, 0, 0, 0, 2, 0, 0, 0, 0, 2;    // R21 = 2(ab+cd)
   Q.row(8) << 1, -1, -1, 1, 0, 0, 0, 0, 0, 0;  // R22 = a2-b2-c2+d2
+  return Q;
+}
+
+/// Eliminates the translation (eqs. 2.33-2.35: t = -Ct [m; 1]) and solves the six monomials of
+/// (b, c, d) for the others (eqs. 2.36-2.37: [b2 c2 d2 bc bd cd] = Cq [a2 ab ac ad 1]); the reason
+/// when the set is degenerate, else "".
+std::string eliminate(const Eigen::MatrixXd& A, const Eigen::Matrix<double, 9, 10>& Q, Eigen::MatrixXd& Ct,
+                      Eigen::MatrixXd& Cq)
+{
   const Eigen::Index nr = A.rows();
   Eigen::MatrixXd Arest(nr, 11);  // [m (10), 1]
   Arest.leftCols(10) = A.leftCols(9) * Q;
   Arest.col(10) = A.col(12);
   const Eigen::MatrixXd At3 = A.middleCols(9, 3);
-  // eqs. 2.33-2.35: t = -Ct y_t
   const Eigen::JacobiSVD<Eigen::MatrixXd> svdT(At3, Eigen::ComputeThinU | Eigen::ComputeThinV);
   if (svdT.singularValues()(2) < RANK_TOL * svdT.singularValues()(0))
-  {
-    res.reason = "degenerate set: translation not observable";
-    return res;
-  }
-  const Eigen::MatrixXd Ct = svdT.solve(Arest);
+    return "degenerate set: translation not observable";
+  Ct = svdT.solve(Arest);
   Eigen::MatrixXd At(nr + 1, 11);
   At.topRows(nr) = Arest - At3 * Ct;
   // the unit norm a2+b2+c2+d2 = 1, weighted like the data rows
@@ -454,7 +500,6 @@ TrifocalResult solveTrifocalQuaternion(const StereoRig& rig, const PointQuads& p
   At.row(nr).setZero();
   At.row(nr).head<4>().setConstant(w);
   At(nr, 10) = -w;
-  // eqs. 2.36-2.37: [b2 c2 d2 bc bd cd] = Cq [a2 ab ac ad 1]
   const int c6[6] = {1, 2, 3, 7, 8, 9}, c5[5] = {0, 4, 5, 6, 10};
   Eigen::MatrixXd A6(nr + 1, 6), A5(nr + 1, 5);
   for (int i = 0; i < 6; ++i)
@@ -463,12 +508,15 @@ TrifocalResult solveTrifocalQuaternion(const StereoRig& rig, const PointQuads& p
     A5.col(i) = At.col(c5[i]);
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd6(A6, Eigen::ComputeThinU | Eigen::ComputeThinV);
   if (svd6.singularValues()(5) < RANK_TOL * svd6.singularValues()(0))
-  {
-    res.reason = "degenerate set: the rotation's monomials are rank deficient";
-    return res;
-  }
-  const Eigen::MatrixXd Cq = -svd6.solve(A5);  // 6 x 5
-  // eq. 2.38: each of the six monomials as a row over (b, c, d, 1), entries polynomials in a
+    return "degenerate set: the rotation's monomials are rank deficient";
+  Cq = -svd6.solve(A5);  // 6 x 5
+  return "";
+}
+
+/// eqs. 2.38-2.39: the six monomials of Cq as rows over (b, c, d, 1) with entries polynomial in
+/// a, then the six consistency conditions between them ((bc)^2 = b2 c2, ...), rows of the same kind.
+std::array<PolyRow, 6> consistencyRows(const Eigen::MatrixXd& Cq)
+{
   std::array<PolyRow, 6> L;
   for (int i = 0; i < 6; ++i)
   {
@@ -505,17 +553,23 @@ TrifocalResult solveTrifocalQuaternion(const StereoRig& rig, const PointQuads& p
     return out;
   };
   // eq. 2.39: (bc)^2 = b2 c2, (bd)^2 = b2 d2, (cd)^2 = c2 d2, bc bd = b2 cd, bc cd = c2 bd, bd cd = d2 bc
-  const std::array<PolyRow, 6> M6 = {diffRow(3, 3, 0, 1), diffRow(4, 4, 0, 2), diffRow(5, 5, 1, 2),
-                                      diffRow(3, 4, 0, 5), diffRow(3, 5, 1, 4), diffRow(4, 5, 2, 3)};
-  auto evalM = [&](double a) {
-    Eigen::Matrix<double, 6, 4> E;
-    for (int i = 0; i < 6; ++i)
-      for (int e = 0; e < 4; ++e)
-        E(i, e) = peval(M6[i][e], a);
-    return E;
-  };
-  // Any 4x4 minor vanishes at the solution (eq. 2.40); take the best conditioned one (rows most
-  // independent at a few sample values of a).
+  return {diffRow(3, 3, 0, 1), diffRow(4, 4, 0, 2), diffRow(5, 5, 1, 2),
+          diffRow(3, 4, 0, 5), diffRow(3, 5, 1, 4), diffRow(4, 5, 2, 3)};
+}
+
+Eigen::Matrix<double, 6, 4> evalRows(const std::array<PolyRow, 6>& M6, double a)
+{
+  Eigen::Matrix<double, 6, 4> E;
+  for (int i = 0; i < 6; ++i)
+    for (int e = 0; e < 4; ++e)
+      E(i, e) = peval(M6[i][e], a);
+  return E;
+}
+
+/// Any 4x4 minor vanishes at the solution (eq. 2.40); the best conditioned one (rows most
+/// independent at a few sample values of a).
+std::array<PolyRow, 4> bestMinor(const std::array<PolyRow, 6>& M6)
+{
   int best_rows[4] = {0, 1, 2, 3};
   double best_score = -1;
   const double samples[3] = {0.35, 0.7, 0.95};
@@ -527,7 +581,7 @@ TrifocalResult solveTrifocalQuaternion(const StereoRig& rig, const PointQuads& p
           double score = 0;
           for (double a : samples)
           {
-            const Eigen::Matrix<double, 6, 4> E = evalM(a);
+            const Eigen::Matrix<double, 6, 4> E = evalRows(M6, a);
             Eigen::Matrix4d S;
             S << E.row(r0), E.row(r1), E.row(r2), E.row(r3);
             double norms = 1;
@@ -544,28 +598,26 @@ TrifocalResult solveTrifocalQuaternion(const StereoRig& rig, const PointQuads& p
   std::array<PolyRow, 4> S4;
   for (int i = 0; i < 4; ++i)
     S4[i] = M6[best_rows[i]];
-  Poly det = pdet4(S4);  // degree 13: a^3 (k1 a^10 + ... + k6), eq. 2.40
+  return S4;
+}
+
+/// eq. 2.41: the real roots alpha = a^2 of the quintic in the coefficients of a^3, a^5, ..., a^13
+/// of the minor's determinant `det`; the reason when it is degenerate, else "".
+std::string quinticRoots(Poly det, std::vector<double>& alphas)
+{
   det.resize(14, 0.0);
-  // eq. 2.41: quintic in alpha = a^2 from the coefficients of a^3, a^5, ..., a^13
   Eigen::VectorXd k5(6);
   for (int j = 0; j < 6; ++j)
     k5(j) = det[3 + 2 * j];
   const double kmax = k5.cwiseAbs().maxCoeff();
   if (!(kmax > 0) || !std::isfinite(kmax))
-  {
-    res.reason = "degenerate set: the quintic vanishes";
-    return res;
-  }
+    return "degenerate set: the quintic vanishes";
   k5 /= kmax;
   int deg = 5;
   while (deg > 0 && std::abs(k5(deg)) < 1e-12)
     --deg;
-  std::vector<double> alphas;
   if (deg == 0)
-  {
-    res.reason = "degenerate set: the quintic is constant";
-    return res;
-  }
+    return "degenerate set: the quintic is constant";
   Eigen::PolynomialSolver<double, Eigen::Dynamic> solver;
   solver.compute(k5.head(deg + 1));
   for (int i = 0; i < solver.roots().size(); ++i)
@@ -576,27 +628,55 @@ TrifocalResult solveTrifocalQuaternion(const StereoRig& rig, const PointQuads& p
     if (std::abs(z.imag()) <= NEAR_REAL * std::max(0.1, std::abs(z)) && z.real() > -1e-9 && z.real() <= ALPHA_MAX)
       alphas.push_back(std::max(0.0, z.real()));
   }
+  return "";
+}
+
+/// The motion at a = sqrt(alpha): (b, c, d, 1) the null vector of all six rows at a; false when
+/// there is none.
+bool motionAt(double alpha, const std::array<PolyRow, 6>& M6, const Eigen::Matrix<double, 9, 10>& Q,
+              const Eigen::MatrixXd& Ct, StereoMotion& m)
+{
+  const double a = std::sqrt(alpha);
+  const Eigen::JacobiSVD<Eigen::Matrix<double, 6, 4>> svd(evalRows(M6, a), Eigen::ComputeFullV);
+  const Eigen::Vector4d v = svd.matrixV().col(3);
+  if (std::abs(v(3)) < 1e-12)
+    return false;
+  Eigen::Vector4d q(a, v(0) / v(3), v(1) / v(3), v(2) / v(3));
+  if (!q.allFinite() || q.norm() < 1e-12)
+    return false;
+  q.normalize();
+  const double qa = q(0), qb = q(1), qc = q(2), qd = q(3);
+  Eigen::Matrix<double, 11, 1> yt;
+  yt << qa * qa, qb * qb, qc * qc, qd * qd, qa * qb, qa * qc, qa * qd, qb * qc, qb * qd, qc * qd, 1.0;
+  const Eigen::Matrix<double, 9, 1> rv = Q * yt.head<10>();
+  for (int e = 0; e < 9; ++e)
+    m.R(e / 3, e % 3) = rv(e);
+  m.t = -Ct * yt;
+  return finiteMotion(m);
+}
+}  // namespace
+
+TrifocalResult solveTrifocalQuaternion(const StereoRig& rig, const PointQuads& points, const LineQuads& lines)
+{
+  TrifocalResult res;
+  Eigen::MatrixXd A;
+  res.reason = prepare(rig, points, lines, 9, A);
+  if (!res.reason.empty())
+    return res;
+  const Eigen::Matrix<double, 9, 10> Q = rotationOfMonomials();
+  Eigen::MatrixXd Ct, Cq;
+  res.reason = eliminate(A, Q, Ct, Cq);
+  if (!res.reason.empty())
+    return res;
+  const std::array<PolyRow, 6> M6 = consistencyRows(Cq);
+  std::vector<double> alphas;
+  res.reason = quinticRoots(pdet4(bestMinor(M6)), alphas);  // det: degree 13, a^3 (k1 a^10 + ... + k6), eq. 2.40
+  if (!res.reason.empty())
+    return res;
   for (double alpha : alphas)
   {
-    const double a = std::sqrt(alpha);
-    // (b, c, d, 1): the null vector of all six rows at a
-    const Eigen::JacobiSVD<Eigen::Matrix<double, 6, 4>> svd(evalM(a), Eigen::ComputeFullV);
-    const Eigen::Vector4d v = svd.matrixV().col(3);
-    if (std::abs(v(3)) < 1e-12)
-      continue;
-    Eigen::Vector4d q(a, v(0) / v(3), v(1) / v(3), v(2) / v(3));
-    if (!q.allFinite() || q.norm() < 1e-12)
-      continue;
-    q.normalize();
-    const double qa = q(0), qb = q(1), qc = q(2), qd = q(3);
-    Eigen::Matrix<double, 11, 1> yt;
-    yt << qa * qa, qb * qb, qc * qc, qd * qd, qa * qb, qa * qc, qa * qd, qb * qc, qb * qd, qc * qd, 1.0;
     StereoMotion m;
-    const Eigen::Matrix<double, 9, 1> rv = Q * yt.head<10>();
-    for (int e = 0; e < 9; ++e)
-      m.R(e / 3, e % 3) = rv(e);
-    m.t = -Ct * yt;
-    if (!finiteMotion(m))
+    if (!motionAt(alpha, M6, Q, Ct, m))
       continue;
     bool dup = false;
     for (const StereoMotion& o : res.solutions)

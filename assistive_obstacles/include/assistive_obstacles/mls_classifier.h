@@ -54,6 +54,14 @@ public:
   const std::vector<uint8_t>& spill() const { return spill_; }
 
 private:
+  // The steps of classify(), in order.
+  void analyseCells(const ElevationMap& map, float feet_z);  ///< kind_ and ground_ of every cell
+  void dropSpill(const ElevationMap& map, float feet_z);     ///< vertical cells without a density peak
+  bool holdsDensityPeak(const ElevationMap& map, int lx, int ly) const;
+  void labelByEdges(const Window& w, std::vector<FrameLabel>& labels) const;  ///< the graph pass
+  FrameLabel edgeLabel(const Window& w, int lx, int ly) const;                ///< a horizontal cell's
+  void closeObstacles(int n, std::vector<FrameLabel>& labels);                ///< the closing, filled_
+
   ObstaclesParams params_;
   std::vector<CellKind> kind_;
   std::vector<float> ground_;

@@ -94,6 +94,14 @@ public:
   void reset();
 
 private:
+  // The steps of update() after the points are in the world frame.
+  /// Moves the points of steep or elevated surfaces surface_push into the solid behind them.
+  void pushIntoSurfaces(const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
+                        const std::vector<Eigen::Vector3f>* normals_cam, float elevated);
+  /// This frame's votes of every cell of the window (and the dropout grid, the frame's stats).
+  void voteCells(const Eigen::Isometry3f& T_world_cam, const StereoModel* camera, const cv::Mat* disparity,
+                 float feet);
+
   ObstaclesParams params_;
   ElevationMap elevation_;
   MlsClassifier mls_;

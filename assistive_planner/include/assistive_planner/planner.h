@@ -138,6 +138,15 @@ public:
 
 private:
   void syncCosts(const Grid& grid, PlanOutput& out);
+  // The steps of update(), in order; a bool step returns false when it has set the status.
+  void recordWalkedFloor(const Grid& input, const Point2& wearer);  // walked_, work_
+  void measureWalk(const Point2& wearer, double t, PlanOutput& out);  // walking_speed, walk_heading
+  bool chooseTarget(const Grid& grid, const Point2& wearer, double heading, bool motion_changed, PlanOutput& out,
+                    int& gx, int& gy);
+  bool searchPath(const Grid& grid, int wx, int wy, int& gx, int& gy, PlanOutput& out);  // D* Lite
+  void shapePath(const Grid& grid, double heading, PlanOutput& out) const;  // path, its heading, length
+  void extendPastGoal(const Grid& grid, int gx, int gy, PlanOutput& out) const;  // steer_path to next_
+  void placeSteeringPoint(const Grid& grid, bool walking, PlanOutput& out) const;
 
   PlannerParams p_;
   DStarLite dstar_;

@@ -141,6 +141,14 @@ private:
   cv::Mat mapDescriptors(const cv::Mat& descriptors) const;
   std::vector<int> candidateSubmaps(int current_submap, int recent_excluded) const;
   std::vector<double> prior(const std::vector<int>& candidates) const;
+  // The steps of query(): the log-likelihoods of the candidates (index: submap id -> candidate),
+  // each returning how many features / words it counted, then the posterior (best first).
+  int addObservedWords(const std::vector<std::vector<HashedGrid::Key>>& w,
+                       const std::unordered_map<int, std::size_t>& index, std::vector<double>& loglik) const;
+  int addAbsentWords(const std::unordered_set<HashedGrid::Key>& seen, const std::unordered_map<int, std::size_t>& index,
+                     std::vector<double>& loglik) const;
+  std::vector<std::pair<double, int>> posterior(const std::vector<int>& cand, const std::vector<double>& loglik,
+                                                AppearanceResult& res) const;
 
   AppearanceParams params_;
   std::vector<HashedGrid> grids_;

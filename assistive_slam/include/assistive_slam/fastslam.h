@@ -234,6 +234,23 @@ private:
   void addLandmarks(const cv::Mat& left, const cv::Mat& right, const std::vector<Eigen::Vector2d>& taken);
   bool stereoMatch(const cv::Mat& left, const cv::Mat& right, double u, double v, double* d) const;
   void updateMean();
+  // The steps of process(), in order.
+  /// The landmarks to search for this frame, from the most likely particle's map (projected
+  /// inside the image): revisits first, then by the size of their search window; at most
+  /// fastslam_max_matches.
+  std::vector<uint32_t> searchOrder(const cv::Mat& left, const Eigen::Isometry3d& pred_best, size_t best,
+                                    const Matrix6d& Q);
+  /// The innovation covariance of a landmark's projection (eq. 3.37).
+  Eigen::Matrix2d projectionCov(const LandmarkEstimate& l, const Matrix26d& Hs, const Matrix23d& Ht,
+                                const Matrix6d& Q) const;
+  /// Active matching: each candidate searched in the window the particles' projections fuse into.
+  void matchLandmarks(const cv::Mat& left, const std::vector<Eigen::Isometry3d>& pred, size_t best,
+                      const Matrix6d& Q, std::vector<uint32_t>& matched_keys, std::vector<Eigen::Vector2d>& matched_z,
+                      std::vector<Eigen::Vector2d>& taken);
+  void sampleParticles(const std::vector<Eigen::Isometry3d>& pred, const Matrix6d& Q,
+                       const std::vector<uint32_t>& matched_keys, const std::vector<Eigen::Vector2d>& matched_z);
+  void resampleIfDegenerate();  ///< resampling below fastslam_resample_neff
+  void countMap();              ///< the particle and landmark counts of stats_
 
   SlamParams p_;
   StereoModel cam_;
