@@ -46,6 +46,8 @@ void usage(std::ostream& os = std::cerr)
         "                       [--timeout-factor X] (a trial ends unfinished after X x the guide's time + 20 s; 4)\n"
         "                       [--wearer population|typical] [--slowest-decile] [--unsure-at S [--unsure-for S]]\n"
         "                       [--timelines PREFIX] (one cue timeline PNG per trial: PREFIX<k>.png)\n"
+        "                       [--lead-from-reaction oracle] (analysis: steer_lead_s = the wearer's true\n"
+        "                       reaction + 0.15 s, never to make the guidance look good)\n"
         "  --wearer: each trial's wearer drawn from the population (default; docs/wearer_population.md) or the\n"
         "            typical adult of WearerParams; --slowest-decile: every wearer from the slowest-reacting 10 %.\n"
         "  --unsure-at: a scripted UNSURE episode (no pose) at that trial time (truth mode): unsure_walked_m.\n"
@@ -472,6 +474,11 @@ int main(int argc, char** argv)
           throw std::invalid_argument("--lookahead");
       }
       else if (a == "--lead") opt.planner.steer_lead_s = std::stod(val());
+      else if (a == "--lead-from-reaction")  // analysis: oracle = the drawn wearer's true reaction
+      {
+        if (val() != "oracle") throw std::invalid_argument("--lead-from-reaction");
+        opt.lead_from_true_reaction = true;
+      }
       else if (a == "--fix")  // analysis: name=value replaces a drawn trait (reaction, gain, sigma, bias, levels)
       {
         const auto [k, x] = keyValue(val());

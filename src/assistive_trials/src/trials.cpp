@@ -266,7 +266,12 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   if (vest && !chain)
   {
     if (opt.mode == TrialMode::VISION) throw std::invalid_argument("runTrial: vision mode needs a ROS chain");
-    truth = std::make_unique<TruthChain>(world, opt);
+    TrialOptions chain_opt = opt;
+    // the oracle lead: where the walk takes this wearer by the time a veer acts (it is understood
+    // when its first 0.15 s pulse ends, then felt one reaction time late)
+    constexpr double kVeerPulseS = 0.15;
+    if (opt.lead_from_true_reaction) chain_opt.planner.steer_lead_s = wp.reaction_s + kVeerPulseS;
+    truth = std::make_unique<TruthChain>(world, chain_opt);
     chain = truth.get();
   }
   VestWearer wearer(wp, r.start, seed ^ 0x9e3779b9u);

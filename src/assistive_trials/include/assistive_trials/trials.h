@@ -109,6 +109,9 @@ struct TrialOptions
   double fix_veer_sigma = std::numeric_limits<double>::quiet_NaN();
   double fix_veer_bias = std::numeric_limits<double>::quiet_NaN();
   int fix_levels = 0;
+  /// Analysis only: the planner's `steer_lead_s` set per trial from the drawn wearer's TRUE
+  /// reaction plus a veer's first pulse (`kVeerPulseS`), not from anything the system measured.
+  bool lead_from_true_reaction = false;
   /// A scripted UNSURE episode (the chain reports no pose) from this trial time on (NaN: none),
   /// for `unsure_for_s` seconds: truth mode only.
   double unsure_at_s = std::numeric_limits<double>::quiet_NaN();
