@@ -28,6 +28,7 @@
 
 #include <assistive_common/ros_params.h>
 #include <assistive_common/wearer.h>
+#include <assistive_eval/conversions.h>
 #include <assistive_eval/stereo_bag.h>
 #include <assistive_obstacles/conversions.h>
 #include <assistive_obstacles/frame_processor.h>
@@ -47,32 +48,6 @@ void gridCb(const nav_msgs::OccupancyGridConstPtr& m) { g_grid = m; }
 void moversCb(const assistive_msgs::MoverArrayConstPtr& m) { g_movers = m; }
 void dispCb(const stereo_msgs::DisparityImageConstPtr& m) { g_disp = m; }
 
-sensor_msgs::CameraInfo info(const eval::StereoCalib& c, bool right, const std_msgs::Header& h)
-{
-  sensor_msgs::CameraInfo i;
-  i.header = h;
-  i.width = c.width;
-  i.height = c.height;
-  i.distortion_model = "plumb_bob";
-  i.D = { 0, 0, 0, 0, 0 };
-  i.K = { c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1 };
-  i.R = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
-  i.P = { c.fx, 0, c.cx, right ? -c.fx * c.baseline : 0.0, 0, c.fy, c.cy, 0, 0, 0, 1, 0 };
-  return i;
-}
-
-sensor_msgs::Image image(const cv::Mat& m, const std_msgs::Header& h)
-{
-  sensor_msgs::Image i;
-  i.header = h;
-  i.width = m.cols;
-  i.height = m.rows;
-  i.encoding = "mono8";
-  i.step = m.cols;
-  i.data.resize(m.total());
-  for (int r = 0; r < m.rows; ++r) std::copy(m.ptr<uint8_t>(r), m.ptr<uint8_t>(r) + m.cols, i.data.begin() + r * m.cols);
-  return i;
-}
 
 /// The nodelet's parameters, read from its namespace as its onInit() reads them.
 ObstaclesParams nodeletParams(ObstaclesNodeParams& node)
@@ -201,7 +176,8 @@ TEST(ObstaclesReplay, NodeletGivesTheProcessorsGridsFrameByFrame)
       proc.queueRange({ m.header.stamp.toSec(), m.range, m.min_range, m.max_range, m.field_of_view, m.header.frame_id });
     }
     ros::WallDuration(0.05).sleep();
-    const sensor_msgs::CameraInfo li = info(f.calib, false, h), ri = info(f.calib, true, h);
+    const sensor_msgs::CameraInfo li = eval::toCameraInfo(f.calib, false, h.frame_id, h.stamp),
+                                 ri = eval::toCameraInfo(f.calib, true, h.frame_id, h.stamp);
     ObstacleFrame in;
     ASSERT_TRUE(fromMsg(li, ri, in.model));
     in.stamp = h.stamp.toSec();
@@ -213,8 +189,8 @@ TEST(ObstaclesReplay, NodeletGivesTheProcessorsGridsFrameByFrame)
 
     pli.publish(li);
     pri.publish(ri);
-    pl.publish(image(f.left, h));
-    pr.publish(image(f.right, h));
+    pl.publish(eval::toImageMsg(f.left, h.frame_id, h.stamp));
+    pr.publish(eval::toImageMsg(f.right, h.frame_id, h.stamp));
     ++sent;
     // Every frame is answered: its disparity, its movers (every frame the map took), its grid.
     const bool got_disp = waitFor(g_disp, h.stamp, 20.0);
