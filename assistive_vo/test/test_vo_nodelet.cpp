@@ -18,6 +18,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
 #include "assistive_vo/frames.h"
+#include "rendered_bag.h"
 
 namespace
 {
@@ -52,17 +53,6 @@ void gtCb(const nav_msgs::OdometryConstPtr& m)
   std::lock_guard<std::mutex> l(mtx);
   gt[m->header.stamp.toSec()] = poseOf(m->pose.pose);
 }
-/// Renders `frames` of `world` with render_bag into a fresh temporary directory; the bag's path.
-std::string renderBag(const std::string& world, int frames)
-{
-  char dir_tmpl[] = "/tmp/vo_rostest_XXXXXX";
-  if (!mkdtemp(dir_tmpl))
-    return "";
-  const std::string dir(dir_tmpl), bag = dir + "/" + world + ".bag";
-  const std::string render = "rosrun assistive_sim render_bag --world " + world + " --frames " + std::to_string(frames) +
-                             " --out " + bag + " > " + dir + "/render.log 2>&1";
-  return std::system(render.c_str()) == 0 ? bag : "";
-}
 void diagCb(const diagnostic_msgs::DiagnosticArrayConstPtr& m)
 {
   std::lock_guard<std::mutex> l(mtx);
@@ -81,7 +71,8 @@ TEST(VoNodelet, ReplayMatchesGroundTruth)
   pnh.param("world", world, world);
   pnh.param("frames", frames, frames);
   pnh.param("play_rate", rate, rate);
-  const std::string bag = renderBag(world, frames);
+  const assistive_vo_test::RenderedBag rendered(world, frames);
+  const std::string& bag = rendered.path();
   ASSERT_FALSE(bag.empty()) << "render_bag failed (world " << world << ")";
 
   // wait until the nodelet subscribes to the images
@@ -206,7 +197,8 @@ void lateOdomCb(const nav_msgs::OdometryConstPtr& m)
 TEST(VoNodelet, WaitsForTheImuBeforeFixingGravity)
 {
   ros::NodeHandle nh;
-  const std::string bag_path = renderBag("course", 20);
+  const assistive_vo_test::RenderedBag rendered("course", 20);
+  const std::string& bag_path = rendered.path();
   ASSERT_FALSE(bag_path.empty()) << "render_bag failed";
   ros::Publisher li = nh.advertise<sensor_msgs::Image>("/late/left/image_rect", 5);
   ros::Publisher ri = nh.advertise<sensor_msgs::Image>("/late/right/image_rect", 5);
@@ -298,7 +290,8 @@ TEST(VoNodelet, UntrustedFramesPublishNullCovarianceAndNoTf)
   ros::NodeHandle nh;
   // 8 good frames, then 52 black ones (3.5 s at 15 Hz): longer than any coasting allows
   // (imu_coast_max 2.5 s with a fitted velocity, coast_max 0.3 s without), whichever applies.
-  const std::string bag_path = renderBag("course", 60);
+  const assistive_vo_test::RenderedBag rendered("course", 60);
+  const std::string& bag_path = rendered.path();
   ASSERT_FALSE(bag_path.empty()) << "render_bag failed";
   ros::Publisher li = nh.advertise<sensor_msgs::Image>("/fs/left/image_rect", 5);
   ros::Publisher ri = nh.advertise<sensor_msgs::Image>("/fs/right/image_rect", 5);

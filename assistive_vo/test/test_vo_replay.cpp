@@ -25,6 +25,7 @@
 #include <assistive_eval/stereo_bag.h>
 #include "assistive_vo/conversions.h"
 #include "assistive_vo/vo_front_end.h"
+#include "rendered_bag.h"
 
 namespace
 {
@@ -35,17 +36,6 @@ void odomCb(const nav_msgs::OdometryConstPtr& m)
 {
   std::lock_guard<std::mutex> l(mtx);
   ros_odom[static_cast<int64_t>(m->header.stamp.toNSec())] = *m;
-}
-
-std::string renderBag(const std::string& world, int frames)
-{
-  char dir_tmpl[] = "/tmp/vo_replay_XXXXXX";
-  if (!mkdtemp(dir_tmpl))
-    return "";
-  const std::string dir(dir_tmpl), bag = dir + "/" + world + ".bag";
-  const std::string render = "rosrun assistive_sim render_bag --world " + world + " --frames " + std::to_string(frames) +
-                             " --out " + bag + " > " + dir + "/render.log 2>&1";
-  return std::system(render.c_str()) == 0 ? bag : "";
 }
 
 double angleBetween(const geometry_msgs::Quaternion& a, const geometry_msgs::Quaternion& b)
@@ -69,7 +59,8 @@ TEST(VoReplay, NodeletAndFrontEndGiveTheSamePosesFrameByFrame)
   pnh.param("node", node, node);
   pnh.param("imu_pause", imu_pause_s, imu_pause_s);
   pnh.param("header_stamps", header_stamps, header_stamps);
-  const std::string bag_path = renderBag(world, frames);
+  const assistive_vo_test::RenderedBag rendered(world, frames);
+  const std::string& bag_path = rendered.path();
   ASSERT_FALSE(bag_path.empty()) << "render_bag failed (world " << world << ")";
 
   // The nodelet's parameters, read as the nodelet reads them (its params.h tables). No

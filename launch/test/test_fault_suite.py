@@ -7,9 +7,11 @@ and the obstacle stage reports no mover on a world without people (movers_confir
 One test case per fault (test_black, test_gap, ...), so a failure names the fault and its figures.
 
 The replays run `~jobs` at a time (default 2: each pipeline plays at half speed and needs well
-under one core), the first fault's replay writing the clean run's record that the others reuse."""
+under one core), the first fault's replay writing the clean run's record that the others reuse.
+The faulted bags are deleted at the end unless `~keep` names a folder to keep them in."""
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -36,7 +38,11 @@ class FaultSuite(unittest.TestCase):
         cls.duration = float(rospy.get_param("~for", 1.5))
         cls.rate = float(rospy.get_param("~rate", 0.5))
         cls.jobs = max(1, int(rospy.get_param("~jobs", 2)))
-        cls.work = tempfile.mkdtemp(prefix="fault_suite_")
+        # The faulted bags (~75 MB each) go to a temporary folder removed at the end, or to ~keep.
+        cls.keep = rospy.get_param("~keep", "")
+        if cls.keep:
+            os.makedirs(cls.keep, exist_ok=True)
+        cls.work = cls.keep or tempfile.mkdtemp(prefix="fault_suite_")
         cls.clean = os.path.join(cls.work, "clean.jsonl")
         lock = threading.Lock()
 
@@ -57,6 +63,11 @@ class FaultSuite(unittest.TestCase):
         with ThreadPoolExecutor(max_workers=cls.jobs) as ex:
             futures = {f: ex.submit(run, f, i > 0) for i, f in enumerate(cls.faults)}
             cls.results = {f: fut.result() for f, fut in futures.items()}
+
+    @classmethod
+    def tearDownClass(cls):
+        if not cls.keep:
+            shutil.rmtree(cls.work, ignore_errors=True)
 
     def check(self, fault):
         rc, out = self.results[fault]
