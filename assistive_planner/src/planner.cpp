@@ -590,6 +590,14 @@ bool Planner::chooseTarget(const Grid& grid, const Point2& wearer, double headin
     if (waypoints_.has())
       grid.worldToCell(waypoints_.waypoint().x, waypoints_.waypoint().y, gx, gy);
   }
+  if (gx < 0 && !has_goal_ && waypoints_.lastSearch().free_behind_unknown > 0)
+  {
+    // free floor beyond unmapped floor: "no path" (an ALERT) would be a guess
+    out.status = PlanStatus::IN_UNKNOWN;
+    out.message = "free floor ahead beyond unmapped floor: cannot tell whether it can be reached";
+    out.has_waypoint = false;
+    return false;
+  }
   if (gx < 0 && !has_goal_ && waypoints_.lastSearch().unreachable_free > 0)
   {
     out.status = PlanStatus::NO_PATH;

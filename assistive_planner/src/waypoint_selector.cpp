@@ -7,6 +7,36 @@
 
 namespace assistive_planner
 {
+namespace
+{
+/// 8-connected flood fill from cell `start` over the cells `passable` accepts, without cutting a
+/// corner past a cell it refuses; `reached` gets one flag per grid cell.
+template <class Passable>
+void floodFrom(const Grid& grid, int start, const Passable& passable, std::vector<char>& reached)
+{
+  reached.assign(grid.data.size(), 0);
+  std::deque<int> q;
+  q.push_back(start);
+  reached[size_t(start)] = 1;
+  while (!q.empty())
+  {
+    const int u = q.front();
+    q.pop_front();
+    const int x = u % grid.width, y = u / grid.width;
+    for (int k = 0; k < 8; ++k)
+    {
+      const int nx = x + NB_DX[k], ny = y + NB_DY[k];
+      if (!passable(nx, ny) || reached[size_t(grid.index(nx, ny))])
+        continue;
+      if (k >= 4 && (!passable(nx, y) || !passable(x, ny)))
+        continue;  // no corner cutting past obstacles or unknown
+      reached[size_t(grid.index(nx, ny))] = 1;
+      q.push_back(grid.index(nx, ny));
+    }
+  }
+}
+}  // namespace
+
 TriangleSearch searchTriangle(const Grid& grid, const Point2& apex, double yaw, double length, double half_angle)
 {
   TriangleSearch r;
@@ -26,28 +56,12 @@ TriangleSearch searchTriangle(const Grid& grid, const Point2& apex, double yaw, 
     return along >= -slack && along <= length + slack && std::abs(perp) <= along * t + slack;
   };
   auto passable = [&](int x, int y) { return grid.inside(x, y) && isTraversableCode(grid.at(x, y)); };
+  auto passableOrUnknown = [&](int x, int y) {
+    return grid.inside(x, y) && (isTraversableCode(grid.at(x, y)) || isUnknownCode(grid.at(x, y)));
+  };
   // reachability over the whole window (a wall across the triangle can be walked around) ...
-  r.reached.assign(grid.data.size(), 0);
-  std::deque<int> q;
   const int a = grid.index(ax, ay);
-  q.push_back(a);
-  r.reached[size_t(a)] = 1;
-  while (!q.empty())
-  {
-    const int u = q.front();
-    q.pop_front();
-    const int x = u % grid.width, y = u / grid.width;
-    for (int k = 0; k < 8; ++k)
-    {
-      const int nx = x + NB_DX[k], ny = y + NB_DY[k];
-      if (!passable(nx, ny) || r.reached[size_t(grid.index(nx, ny))])
-        continue;
-      if (k >= 4 && (!passable(nx, y) || !passable(x, ny)))
-        continue;  // no corner cutting past obstacles or unknown
-      r.reached[size_t(grid.index(nx, ny))] = 1;
-      q.push_back(grid.index(nx, ny));
-    }
-  }
+  floodFrom(grid, a, passable, r.reached);
   // ... then the free area and the farthest free cell inside the triangle: farthest along the axis
   // (in whole cells), ties broken towards the axis
   long best_along = -1;
@@ -79,6 +93,21 @@ TriangleSearch searchTriangle(const Grid& grid, const Point2& apex, double yaw, 
         r.y = y;
       }
     }
+  if (r.unreachable_free > 0)
+  {
+    // Free cells cut off only by unmapped floor (after a map reset the floor at the feet lies below
+    // the camera's view) are not "no path": whether they can be reached cannot be told yet.
+    std::vector<char> through_unknown;
+    floodFrom(grid, a, passableOrUnknown, through_unknown);
+    for (int y = 0; y < grid.height; ++y)
+      for (int x = 0; x < grid.width; ++x)
+      {
+        const size_t u = size_t(grid.index(x, y));
+        if (inside(x, y) && !r.reached[u] && through_unknown[u] && grid.at(x, y) == CELL_FREE)
+          ++r.free_behind_unknown;
+      }
+    r.unreachable_free -= r.free_behind_unknown;
+  }
   r.found = best_along >= 0 && best_d > 0.0;
   r.distance = std::max(0.0, best_d);
   r.area = double(r.cells) * grid.resolution * grid.resolution;

@@ -260,6 +260,25 @@ TEST(Planner, WearerOnObstacleCellStartsFromNearestFreeCell)
   EXPECT_EQ(pl.update(g, { 0.1, 0.1 }, 0.0).status, PlanStatus::NO_PATH);
 }
 
+TEST(Planner, FreeFloorBeyondUnmappedFloorIsUnknownNotNoPath)
+{
+  // Issue 31 (a bag loop on `course`): after a map reset a standing wearer's footprint is free, the
+  // floor just ahead unmapped and free floor beyond it: IN_UNKNOWN (cannot tell), not NO_PATH
+  // (which the cue logic turns into "obstacle ahead: stop").
+  Planner pl;
+  ASSERT_EQ(pl.update(makeGrid(-5, -5), { 0.1, 0.1 }, 0.0).status, PlanStatus::OK);  // it has planned before
+  Grid g = makeGrid(-5, -5);
+  fillRect(g, -5, -5, 5, 5, CELL_UNKNOWN);
+  fillRect(g, 1.2, -1.2, 3.2, 1.4, CELL_FREE);
+  const PlanOutput o = pl.update(g, { 0.1, 0.1 }, 0.0);
+  EXPECT_EQ(o.status, PlanStatus::IN_UNKNOWN) << o.message;
+  EXPECT_FALSE(o.has_waypoint);
+  // walled in (obstacles all round the footprint, as in WearerOnObstacleCellStartsFromNearestFreeCell):
+  // that floor cannot be reached at all: no path
+  fillRect(g, -0.6, -0.6, 0.8, 0.8, CELL_OBSTACLE);
+  EXPECT_EQ(pl.update(g, { 0.1, 0.1 }, 0.0).status, PlanStatus::NO_PATH);
+}
+
 TEST(Planner, WalkedFloorIsTheFootprintAndTheTrailNeverAhead)
 {
   // 0.2 m cells, origin 0: the wearer at (1.1, 1.1) stands on the centre of cell (5, 5). Within

@@ -221,3 +221,24 @@ TEST(WaypointSelector, KeptUntilTheWearerMovesOneMetre)
   EXPECT_TRUE(ws.switched());
   EXPECT_GT(ws.waypoint().x, first.x + 0.5);
 }
+
+TEST(TriangleSearch, FreeFloorBeyondUnmappedFloorIsNotWalledOff)
+{
+  // After a map reset the floor at the feet lies below the camera's view: free floor 1-3 m ahead,
+  // an unmapped band between it and the wearer. Its cells are not reachable over mapped floor, but
+  // not walled off either: "free space but no path" (an ALERT) would be a guess.
+  Grid g = freeGrid();
+  fillRect(g, -5.0, -5.0, 5.0, 5.0, CELL_UNKNOWN);
+  fillRect(g, -0.1, -0.1, 0.1, 0.1, CELL_FREE);  // the wearer's footprint
+  fillRect(g, 1.0, -1.0, 3.0, 1.0, CELL_FREE);
+  const TriangleSearch open = searchTriangle(g, { 0.0, 0.0 }, 0.0, 4.0, 30.0 * DEG);
+  EXPECT_FALSE(open.found);
+  EXPECT_GT(open.free_behind_unknown, 0u);
+  EXPECT_EQ(open.unreachable_free, 0u);
+  // the same free floor behind a wall across the whole window: walled off
+  fillRect(g, 0.5, -5.0, 0.7, 5.0, CELL_OBSTACLE);
+  const TriangleSearch walled = searchTriangle(g, { 0.0, 0.0 }, 0.0, 4.0, 30.0 * DEG);
+  EXPECT_EQ(walled.free_behind_unknown, 0u);
+  EXPECT_GT(walled.unreachable_free, 0u);
+  EXPECT_EQ(open.free_behind_unknown, walled.unreachable_free);
+}

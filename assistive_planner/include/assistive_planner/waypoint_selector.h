@@ -18,7 +18,8 @@ struct TriangleSearch
   double distance = 0.0;  ///< apex -> that cell (m)
   size_t cells = 0;       ///< reachable traversable cells (the free area, in cells)
   double area = 0.0;      ///< m^2
-  size_t unreachable_free = 0;  ///< free cells inside the triangle that cannot be reached
+  size_t unreachable_free = 0;  ///< free cells inside the triangle walled off (not even through unmapped cells)
+  size_t free_behind_unknown = 0;  ///< free cells inside the triangle reachable only through unmapped cells
   std::vector<char> reached;  ///< per grid cell
   std::array<Point2, 3> corners;  ///< apex, left base corner, right base corner
 };
