@@ -25,6 +25,9 @@ ObstacleFrameProcessor::ObstacleFrameProcessor(const ObstaclesParams& p, int oct
 void ObstacleFrameProcessor::queueRange(const RangeSample& r)
 {
   if (!params_.sonar_enabled) return;  // the nodelet does not subscribe then
+  // Time went back (a bag loop, a restarted clock): the queued readings belong to the other walk and,
+  // stamped after every new frame, would block the queue and then be placed at new poses.
+  if (!ranges_.empty() && r.stamp < ranges_.back().stamp) ranges_.clear();
   ranges_.push_back(r);
   while (ranges_.size() > MaxQueuedRanges) ranges_.pop_front();
 }

@@ -235,6 +235,25 @@ TEST(ObstacleFrameProcessor, RangerReadingsStaleAfterAClearWithoutPoseOrLaterWai
   EXPECT_TRUE(quiet.process(s.frame(0.0, disp), rangerOnCamera).ranges.empty());
 }
 
+TEST(ObstacleFrameProcessor, RangerReadingsFromBeforeTimeWentBackAreDropped)
+{
+  // A bag loop (issue 31): readings queued at 4.6-4.7 s, then the clock restarts at 0. The old
+  // ones would block the queue (stamped after every new frame) and later be placed at new poses.
+  WallScene s;
+  const cv::Mat disp = sceneDisparity(s.model, s.params, cameraPose(0.0), true);
+  ObstacleFrameProcessor proc(s.params);
+  proc.process(s.frame(4.5, disp), rangerOnCamera);
+  proc.queueRange({ 4.6, 1.5, 0.2, 4.0, 0.26, "sonar" });
+  proc.queueRange({ 4.7, 1.5, 0.2, 4.0, 0.26, "sonar" });
+  proc.queueRange({ 0.0, 1.5, 0.2, 4.0, 0.26, "sonar" });  // time went back
+  const ObstacleFrameResult& r = proc.process(s.frame(0.0, disp), rangerOnCamera);
+  EXPECT_TRUE(r.cleared);
+  ASSERT_EQ(r.ranges.size(), 1u);
+  EXPECT_EQ(r.ranges[0].sample.stamp, 0.0);
+  // nothing from the old walk is left to come out later
+  EXPECT_TRUE(proc.process(s.frame(5.0, disp), rangerOnCamera).ranges.empty());
+}
+
 TEST(ObstacleFrameProcessor, FrameWithoutPoseOrUnusableImagesUpdatesNothing)
 {
   WallScene s;
