@@ -137,6 +137,40 @@ void CueLogic::observeStart(const NavInput& in, double now)
     start_tick_ = -1.0;  // something else came before the start: not a clean sample
 }
 
+void CueLogic::observeDrift(const NavInput& in, double now, bool walking)
+{
+  // A walker without sight drifts to one side (a constant bias of up to about 6 deg/m, plus a
+  // random walk): learnt from the walk heading while nothing cued turns it (not during a veer or
+  // turn and not for 0.6 s after one: the walk chord still holds it), as rad per metre walked.
+  constexpr double kDriftTauS = 4.0;
+  const bool quiet = walking && !busy_ && now - quiet_since_ >= 0.6 && std::isfinite(in.walk_heading);
+  if (!quiet)
+  {
+    drift_time_ = -1e300;
+    return;
+  }
+  const double dt = now - drift_time_;
+  if (dt > 0.0 && dt < 0.5 && in.walking_speed > 0.2)
+  {
+    const double per_m = wrapAngle(in.walk_heading - drift_heading_) / (dt * in.walking_speed);
+    if (std::fabs(per_m) < 0.5)  // a walk that turns by more than 30 deg/m is not drifting
+      drift_per_m_ += std::min(1.0, dt * in.walking_speed / (kDriftTauS * std::max(0.5, in.walking_speed))) *
+                      (per_m - drift_per_m_);
+  }
+  drift_heading_ = in.walk_heading;
+  drift_time_ = now;
+}
+
+double CueLogic::predictedError(double err, double v) const
+{
+  // The walk chord lags the body by half its window (0.2 s); the veer acts when its first pulse
+  // (0.15 s) is felt, one reaction time late; and `drift_aim_s` beyond that the error lands on
+  // the other side of the path by as much as the drift brings it back.
+  const double lead_s = reactionEstimate() + 0.15 + 0.2 + params_.drift_aim_s;
+  const double drift = std::clamp(drift_per_m_, -0.12, 0.12);  // at most ~7 deg/m
+  return wrapAngle(err - drift * std::max(0.0, v) * lead_s);
+}
+
 Cue CueLogic::holdPattern(std::string reason) const
 {
   Cue c = current_;
@@ -401,7 +435,11 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
   const double tau = reactionEstimate();
   const double reach = v * tau + v * v / (2.0 * p.stop_decel);
   const bool alert = d < p.alert_m + reach + (was_alert ? p.hysteresis_m : 0.0);
-  const bool close = d < p.proximity_m + reach + (was_close ? p.hysteresis_m : 0.0);
+  // the side-step distance is the protocol's 1 m (SPEC), not grown by the walk: a walker is
+  // stopped first (the stop distance grows with its speed) and stepped aside from standing; a
+  // side-step asked of a walker 1.5-2 m before an obstacle sent it sideways into doorway jambs
+  // just before the path turned away from the wall ahead (mobility trials, homes)
+  const bool close = alert || d < p.proximity_m + (was_close ? p.hysteresis_m : 0.0);
   if (!close)
   {
     waist_side_ = 0;
@@ -441,7 +479,7 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
   }
   waist_side_ = side;
   const double span = std::max(1e-6, p.proximity_m - p.alert_m);
-  const double k = clamp01((p.proximity_m + reach - d) / span);
+  const double k = clamp01((p.proximity_m - d) / span);
   const float level = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * k);
   c.mode = CueMode::PROXIMITY;
   c.intensity[side > 0 ? LEFT_WAIST : RIGHT_WAIST] = level;
@@ -482,8 +520,15 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
     const double a = std::min(1.0, (now - last_yaw_time_) / 0.25);
     yaw_rate_ += a * (r - yaw_rate_);
   }
+  if (now > last_yaw_time_ && now - last_yaw_time_ < 1.0 && std::isfinite(in.walking_speed))
+    walked_m_ += std::max(0.0, in.walking_speed) * (now - last_yaw_time_);
   last_yaw_ = in.head_yaw;
   last_yaw_time_ = now;
+  if (std::fabs(yaw_rate_) * kRadToDeg >= 10.0)
+    steady_since_ = now;
+  else if (steady_since_ < -1e299)
+    steady_since_ = now;
+  observeDrift(in, now, in.walking_speed >= p.walking_speed_mps);
 
   const bool guiding = last_mode_ == CueMode::GUIDANCE;
   const double min_wp = p.guidance_min_waypoint_m - (guiding ? p.hysteresis_m : 0.0);
@@ -514,18 +559,51 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
       c.mode = CueMode::GUIDANCE;
       return c;
     }
-    if (turn_peak_rate_ * kRadToDeg > 20.0)
-      turn_rate_est_ = 0.5 * (turn_rate_est_ + std::min(turn_peak_rate_, 4.0 * M_PI));
+    // its turning rate: the angle turned over the time it turned (the buzz less the moment to
+    // tell it from a veer); the smoothed peak rate underestimates short turns (the next buzz
+    // came out too long: turn chains that overshoot)
+    const double turned = wrapAngle(in.head_yaw - busy_head0_) * sign;
+    const double turning_s = 0.01 * current_.pattern.on_10ms - kTellApartS;
+    if (turn_peak_rate_ * kRadToDeg > 20.0 && turning_s > 0.15 && turned * kRadToDeg > 10.0)
+      turn_rate_est_ = std::clamp(0.7 * turn_rate_est_ + 0.3 * turned / turning_s, M_PI / 6.0, M_PI);
     busy_ = false;
+    quiet_since_ = now;
   }
   if (busy_)
   {
-    // A veer burst asks for an amount: wait until the wearer has carried it out (turned by half
-    // of it and steadied) before judging the heading again, or the next burst would ask for the
-    // same veer twice (reaction times of up to 1.2 s).
-    const double turned = wrapAngle(in.walk_heading - busy_yaw0_) * (busy_angle_ > 0.0 ? 1.0 : -1.0);
+    // A veer burst asks for an amount: wait until the wearer has carried it out before judging
+    // the heading again, or the next burst would ask for the same veer twice (reaction times of
+    // up to 1.2 s). Carried out = seen in the head's turn rate (a veer turns the walk at tens of
+    // deg/s, the walk's own drift by a few), steadied, and the walk chord has caught up. Whether
+    // the walk has turned by the amount is no test: the drift during the reaction eats into it.
+    const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
+    const double turned = wrapAngle(in.walk_heading - busy_yaw0_) * sign;
     const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
-    const bool done = now - busy_since_ >= p.settle_timeout_s || (turned >= 0.5 * std::fabs(busy_angle_) && steadied);
+    if (!veer_seen_ && yaw_rate_ * sign * kRadToDeg > 20.0)
+    {
+      veer_seen_ = true;
+      veer_seen_at_ = now;
+      // its reaction: the veer starts when the first pulse (0.15 s) has been felt; the smoothed
+      // rate crosses 20 deg/s about 0.12 s after the turn began
+      const double tau = now - busy_since_ - 0.15 - 0.12;
+      if (tau > 0.1 && tau < 2.5)
+      {
+        reaction_est_ = have_reaction_ ? 0.7 * reaction_est_ + 0.3 * tau : tau;
+        have_reaction_ = true;
+      }
+    }
+    // carried out: seen, and the head steady for 0.3 s (the walk chord, 0.4 s, has then mostly
+    // left the veer behind)
+    const bool done = now - busy_since_ >= p.settle_timeout_s ||
+                      (veer_seen_ && steadied && now - veer_seen_at_ >= 0.3 && now - steady_since_ >= 0.3);
+    if (done && veer_seen_)
+    {
+      // its gain: the walk's turn, less its drift meanwhile, over the veer asked
+      const double drifted = drift_per_m_ * (walked_m_ - busy_walked0_) * sign;
+      const double g = (turned - drifted) / std::max(1e-6, std::fabs(busy_angle_));
+      if (g > 0.4 && g < 2.0)
+        veer_gain_est_ = std::clamp(0.7 * veer_gain_est_ + 0.3 * g, 0.6, 1.6);
+    }
     // The way on changed while a veer is being carried out (a corner came into view): when what
     // will be left after it is large, a new cue asks for the rest at once.
     const double remaining = busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) * std::max(0.0, turned);
@@ -548,27 +626,44 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
     ask = wrapAngle(err - (busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) *
                                             std::max(0.0, wrapAngle(in.walk_heading - busy_yaw0_) *
                                                               (busy_angle_ > 0.0 ? 1.0 : -1.0))));
+  if (busy_)
+    quiet_since_ = now;  // a veer just ended: the walk chord still holds it
   busy_ = false;
+  // walking, a veer is asked for the error expected when it is carried out (the drift goes on)
+  if (walking)
+    ask = predictedError(ask, in.walking_speed);
   const double a_ask = std::fabs(ask) * kRadToDeg;
-  const bool turn = walking ? a > p.turn_on_deg : a > p.stand_turn_deg;
-  const bool veer = walking && !turn && a > p.veer_on_deg;
+  // standing in a tight spot (the way ahead short, or a side close): turned until it faces the
+  // way on, since it will walk along its facing and every veer acts a reaction time late
+  const bool tight = in.free_ahead < p.stand_near_m || std::min(in.free_left, in.free_right) < p.side_free_m;
+  // (also a wearer that has just been told to go and is starting: a wearer who walks off at an
+  // angle in a tight spot meets the jamb before any veer can act; letting it start anyway was
+  // measured worse in generated homes)
+  const double stand_deg = tight ? std::min(p.stand_turn_near_deg, p.stand_turn_deg) : p.stand_turn_deg;
+  const bool turn = walking ? a > p.turn_on_deg : a > stand_deg;
+  const bool veer = walking && !turn && a_ask > p.veer_on_deg;
   if (!turn && !veer)
     return walkOn(fmt("on course (%.0f deg off)", err * kRadToDeg), now, !walking);
   const double step = turn ? p.turn_step_deg : p.veer_step_deg;
   // what is asked beyond a veer still being carried out (the wearer completes it, then turns)
-  const int level = std::max(1, std::min(3, int(std::lround(a_ask / step))));
+  // the level whose veer comes closest at this wearer's learnt gain (a turn's buzz sets its
+  // angle by its length; its level only tells how far)
+  const double gain = turn ? 1.0 : veer_gain_est_;
+  const int level = std::max(1, std::min(3, int(std::lround(a_ask / (step * gain)))));
   const int side = ask > 0.0 ? +1 : -1;
   const float k = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * 0.5 * (level - 1));
   std::array<float, NUM_MOTORS> drive{ { 0.f, 0.f, 0.f, 0.f } };
   drive[side > 0 ? LEFT_SHOULDER : RIGHT_SHOULDER] = k;
   busy_ = true;
+  veer_seen_ = false;
+  busy_walked0_ = walked_m_;
   busy_since_ = now;
   busy_yaw0_ = in.walk_heading;
   busy_head0_ = in.head_yaw;
   busy_angle_ = side * level * step / kRadToDeg;
   busy_turn_ = turn;
   const char* dir = side > 0 ? "left" : "right";
-  char buf[96];
+  char buf[160];
   if (turn)
   {
     // stop and turn: a buzz that lasts while the wearer should turn (the level tells how far:
@@ -582,7 +677,8 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
                         buf);
   }
   // veer while walking: two short pulses (0.15 s on, 0.15 s off)
-  std::snprintf(buf, sizeof(buf), "veer %s %.0f deg (level %d, %.0f deg off)", dir, level * step, level, a);
+  std::snprintf(buf, sizeof(buf), "veer %s %.0f deg (level %d, %.0f deg off, %.0f expected; drift %.1f deg/m, gain %.2f, reaction %.2f s)",
+                dir, level * step, level, a, a_ask, drift_per_m_ * kRadToDeg, veer_gain_est_, reactionEstimate());
   return startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now, buf);
 }
 
