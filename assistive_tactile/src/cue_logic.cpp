@@ -553,9 +553,14 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
     turn_peak_rate_ = std::max(turn_peak_rate_, yaw_rate_ * sign);
     const double buzz_end = busy_since_ + 0.01 * current_.pattern.on_10ms;
     const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
-    if (now < buzz_end + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
+    // (the wearer stops turning its reaction time after the buzz ended: judged before that, a
+    // slow reactor's turn was still to come and a second turn was asked on top of it: chains of
+    // turns back and forth, the slowest decile's wearers timing out)
+    if (now < buzz_end + reactionEstimate() + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
     {
-      Cue c = holdPattern(fmt("turning (%.0f deg to go)", left * kRadToDeg));
+      char why[96];
+      std::snprintf(why, sizeof(why), "turning (%.0f deg to go, head %.0f deg/s)", left * kRadToDeg, yaw_rate_ * kRadToDeg);
+      Cue c = holdPattern(why);
       c.mode = CueMode::GUIDANCE;
       return c;
     }
