@@ -599,7 +599,12 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
     }
     // carried out: seen, and the head steady for 0.3 s (the walk chord, 0.4 s, has then mostly
     // left the veer behind)
-    const bool done = now - busy_since_ >= p.settle_timeout_s ||
+    // ... or at once when the head has already turned well beyond the amount (the wearer misread
+    // the level: a weak burst read as medium turned a typical wearer 34 deg for 15 towards a wall,
+    // and waiting for it to steady left no time to bring it back)
+    const double head_turned = wrapAngle(in.head_yaw - busy_head0_) * sign;
+    const bool overshot = veer_seen_ && head_turned > 1.3 * std::fabs(busy_angle_) + 5.0 / kRadToDeg;
+    const bool done = now - busy_since_ >= p.settle_timeout_s || overshot ||
                       (veer_seen_ && steadied && now - veer_seen_at_ >= 0.3 && now - steady_since_ >= 0.3);
     if (done && veer_seen_)
     {
