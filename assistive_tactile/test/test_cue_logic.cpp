@@ -672,6 +672,37 @@ TEST(CueLogic, VeerDoneWhenSeenDespiteDrift)
   EXPECT_LT(next, 1.8);
 }
 
+// A veer carried out far beyond its amount (a weak burst read as medium) is done at once: the
+// correction is asked while the wearer still turns, not after it steadied.
+TEST(CueLogic, OvershotVeerIsDoneAtOnce)
+{
+  CueLogic v;
+  NavInput in = turn(-12);
+  in.walking_speed = 1.0;
+  const Cue veer = fresh(v, in, 0.0);
+  ASSERT_EQ(veer.instruction, Instruction::VEER);
+  ASSERT_EQ(veer.level, 1);  // right 15
+  double t = 1.0 / 15;
+  for (; t < 0.75; t += 1.0 / 15)
+    EXPECT_EQ(fresh(v, in, t).pattern.id, veer.pattern.id) << t;
+  // the wearer turns right at 60 deg/s (read as a medium burst: 30 deg); past 1.3 x 15 + 5 =
+  // 24.5 deg the next decision comes while it still turns
+  Cue next = fresh(v, in, t);
+  t += 1.0 / 15;
+  double turned = 0.0;
+  auto waiting = [](const Cue& c) { return c.reason.find("veering") != std::string::npos; };
+  for (; t < 1.5 && waiting(next); t += 1.0 / 15)
+  {
+    turned = std::min(30.0, 60.0 * (t - 0.75));
+    in.head_yaw = 0.3 - turned * kDeg;
+    in.walk_heading = 0.3 - std::max(0.0, turned - 12.0) * kDeg;  // the chord lags
+    next = fresh(v, in, t);
+  }
+  EXPECT_FALSE(waiting(next)) << next.reason;  // judged again (here: on course, walk on)
+  EXPECT_GT(turned, 24.5);
+  EXPECT_LT(turned, 30.0);  // before the turn has ended
+}
+
 // The walk's own drift is learnt and led: a veer is asked for the error expected when it is
 // carried out.
 TEST(CueLogic, DriftIsLearntAndLed)
