@@ -509,9 +509,8 @@ Cue CueLogic::walkOn(std::string reason, double now, bool standing)
   return c;
 }
 
-Cue CueLogic::decideGuidance(const NavInput& in, double now)
+void CueLogic::observeHead(const NavInput& in, double now)
 {
-  const CueParams& p = params_;
   // the head's turn rate (smoothed), to tell when a veer or turn has been carried out (the head
   // scans by a few deg/s at most while the body keeps its direction)
   if (now > last_yaw_time_ && now - last_yaw_time_ < 1.0)
@@ -528,120 +527,113 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
     steady_since_ = now;
   else if (steady_since_ < -1e299)
     steady_since_ = now;
-  observeDrift(in, now, in.walking_speed >= p.walking_speed_mps);
+  observeDrift(in, now, in.walking_speed >= params_.walking_speed_mps);
+}
 
-  const bool guiding = last_mode_ == CueMode::GUIDANCE;
-  const double min_wp = p.guidance_min_waypoint_m - (guiding ? p.hysteresis_m : 0.0);
-  if (in.waypoint_distance < min_wp)
+bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
+{
+  const CueParams& p = params_;
+  // Stop and turn: the wearer turns while the buzz lasts, starting its reaction time (and the
+  // moment it takes to tell a buzz from a veer's pulse) after the buzz began and stopping its
+  // reaction time after it ended: the reaction cancels, and the buzz's length sets the angle
+  // at the wearer's own turning rate (learnt from its turns). Wait until the turn is over.
+  const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
+  const double left = wrapAngle(in.steer_heading - in.head_yaw) * sign;  // still to turn
+  turn_peak_rate_ = std::max(turn_peak_rate_, yaw_rate_ * sign);
+  const double buzz_end = busy_since_ + 0.01 * current_.pattern.on_10ms;
+  const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
+  // (the wearer stops turning its reaction time after the buzz ended: judged before that, a
+  // slow reactor's turn was still to come and a second turn was asked on top of it: chains of
+  // turns back and forth, the slowest decile's wearers timing out)
+  if (now < buzz_end + reactionEstimate() + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
   {
-    busy_ = false;
-    return walkOn(fmt("waypoint %.2f m away: walk on", in.waypoint_distance), now,
-                  in.walking_speed < p.walking_speed_mps);
+    char why[96];
+    std::snprintf(why, sizeof(why), "turning (%.0f deg to go, head %.0f deg/s)", left * kRadToDeg, yaw_rate_ * kRadToDeg);
+    out = holdPattern(why);
+    out.mode = CueMode::GUIDANCE;
+    return true;
   }
-  const bool walking = in.walking_speed >= p.walking_speed_mps;
-  const double err = wrapAngle(in.steer_heading - in.walk_heading);  // + = the steering point lies left
+  // its turning rate: the angle turned over the time it turned (the buzz less the moment to
+  // tell it from a veer); the smoothed peak rate underestimates short turns (the next buzz
+  // came out too long: turn chains that overshoot)
+  const double turned = wrapAngle(in.head_yaw - busy_head0_) * sign;
+  const double turning_s = 0.01 * current_.pattern.on_10ms - kTellApartS;
+  if (turn_peak_rate_ * kRadToDeg > 20.0 && turning_s > 0.15 && turned * kRadToDeg > 10.0)
+    turn_rate_est_ = std::clamp(0.7 * turn_rate_est_ + 0.3 * turned / turning_s, M_PI / 6.0, M_PI);
+  busy_ = false;
+  quiet_since_ = now;
+  return false;
+}
+
+bool CueLogic::holdVeer(const NavInput& in, double now, double err, bool walking, Cue& out, bool& superseding)
+{
+  const CueParams& p = params_;
+  // A veer burst asks for an amount: wait until the wearer has carried it out before judging
+  // the heading again, or the next burst would ask for the same veer twice (reaction times of
+  // up to 1.2 s). Carried out = seen in the head's turn rate (a veer turns the walk at tens of
+  // deg/s, the walk's own drift by a few), steadied, and the walk chord has caught up. Whether
+  // the walk has turned by the amount is no test: the drift during the reaction eats into it.
+  const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
+  const double turned = wrapAngle(in.walk_heading - busy_yaw0_) * sign;
+  const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
+  if (!veer_seen_ && yaw_rate_ * sign * kRadToDeg > 20.0)
+  {
+    veer_seen_ = true;
+    veer_seen_at_ = now;
+    // its reaction: the veer starts when the first pulse (0.15 s) has been felt; the smoothed
+    // rate crosses 20 deg/s about 0.12 s after the turn began
+    const double tau = now - busy_since_ - 0.15 - 0.12;
+    if (tau > 0.1 && tau < 2.5)
+    {
+      reaction_est_ = have_reaction_ ? 0.7 * reaction_est_ + 0.3 * tau : tau;
+      have_reaction_ = true;
+    }
+  }
+  // carried out: seen, and the head steady for 0.3 s (the walk chord, 0.4 s, has then mostly
+  // left the veer behind)
+  // ... or at once when the head has already turned well beyond the amount (the wearer misread
+  // the level: a weak burst read as medium turned a typical wearer 34 deg for 15 towards a wall,
+  // and waiting for it to steady left no time to bring it back)
+  const double head_turned = wrapAngle(in.head_yaw - busy_head0_) * sign;
+  const bool overshot = veer_seen_ && head_turned > 1.3 * std::fabs(busy_angle_) + 5.0 / kRadToDeg;
+  const bool done = now - busy_since_ >= p.settle_timeout_s || overshot ||
+                    (veer_seen_ && steadied && now - veer_seen_at_ >= 0.3 && now - steady_since_ >= 0.3);
+  if (done && veer_seen_)
+  {
+    // its gain: the walk's turn, less its drift meanwhile, over the veer asked
+    const double drifted = drift_per_m_ * (walked_m_ - busy_walked0_) * sign;
+    const double g = (turned - drifted) / std::max(1e-6, std::fabs(busy_angle_));
+    if (g > 0.4 && g < 2.0)
+      veer_gain_est_ = std::clamp(0.7 * veer_gain_est_ + 0.3 * g, 0.6, 1.6);
+  }
+  // The way on changed while a veer is being carried out (a corner came into view): when what
+  // will be left after it is large, a new cue asks for the rest at once.
+  const double remaining = busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) * std::max(0.0, turned);
+  const double residual = std::fabs(wrapAngle(err - remaining)) * kRadToDeg;
+  // only further the same way: a path that flips to the other side of an obstacle (two ways
+  // round it cost the same) must not make the wearer zig-zag; that waits until the veer is done
+  const bool same_way = wrapAngle(err - remaining) * busy_angle_ > 0.0;
+  const bool superseded = walking && same_way && residual > 2.0 * p.veer_step_deg;
+  if (!done && !superseded)
+  {
+    out = holdPattern(fmt("veering (%.0f deg to go)", std::max(0.0, std::fabs(busy_angle_) - turned) * kRadToDeg));
+    out.mode = CueMode::GUIDANCE;
+    return true;
+  }
+  superseding = !done;
+  return false;
+  }
+
+Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, bool walking)
+{
+  const CueParams& p = params_;
   const double a = std::fabs(err) * kRadToDeg;
-  bool superseding = false;  // a veer under way is overtaken: ask beyond it
-  if (busy_ && busy_turn_)
-  {
-    // Stop and turn: the wearer turns while the buzz lasts, starting its reaction time (and the
-    // moment it takes to tell a buzz from a veer's pulse) after the buzz began and stopping its
-    // reaction time after it ended: the reaction cancels, and the buzz's length sets the angle
-    // at the wearer's own turning rate (learnt from its turns). Wait until the turn is over.
-    const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
-    const double left = wrapAngle(in.steer_heading - in.head_yaw) * sign;  // still to turn
-    turn_peak_rate_ = std::max(turn_peak_rate_, yaw_rate_ * sign);
-    const double buzz_end = busy_since_ + 0.01 * current_.pattern.on_10ms;
-    const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
-    // (the wearer stops turning its reaction time after the buzz ended: judged before that, a
-    // slow reactor's turn was still to come and a second turn was asked on top of it: chains of
-    // turns back and forth, the slowest decile's wearers timing out)
-    if (now < buzz_end + reactionEstimate() + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
-    {
-      char why[96];
-      std::snprintf(why, sizeof(why), "turning (%.0f deg to go, head %.0f deg/s)", left * kRadToDeg, yaw_rate_ * kRadToDeg);
-      Cue c = holdPattern(why);
-      c.mode = CueMode::GUIDANCE;
-      return c;
-    }
-    // its turning rate: the angle turned over the time it turned (the buzz less the moment to
-    // tell it from a veer); the smoothed peak rate underestimates short turns (the next buzz
-    // came out too long: turn chains that overshoot)
-    const double turned = wrapAngle(in.head_yaw - busy_head0_) * sign;
-    const double turning_s = 0.01 * current_.pattern.on_10ms - kTellApartS;
-    if (turn_peak_rate_ * kRadToDeg > 20.0 && turning_s > 0.15 && turned * kRadToDeg > 10.0)
-      turn_rate_est_ = std::clamp(0.7 * turn_rate_est_ + 0.3 * turned / turning_s, M_PI / 6.0, M_PI);
-    busy_ = false;
-    quiet_since_ = now;
-  }
   if (busy_)
-  {
-    // A veer burst asks for an amount: wait until the wearer has carried it out before judging
-    // the heading again, or the next burst would ask for the same veer twice (reaction times of
-    // up to 1.2 s). Carried out = seen in the head's turn rate (a veer turns the walk at tens of
-    // deg/s, the walk's own drift by a few), steadied, and the walk chord has caught up. Whether
-    // the walk has turned by the amount is no test: the drift during the reaction eats into it.
-    const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
-    const double turned = wrapAngle(in.walk_heading - busy_yaw0_) * sign;
-    const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
-    if (!veer_seen_ && yaw_rate_ * sign * kRadToDeg > 20.0)
-    {
-      veer_seen_ = true;
-      veer_seen_at_ = now;
-      // its reaction: the veer starts when the first pulse (0.15 s) has been felt; the smoothed
-      // rate crosses 20 deg/s about 0.12 s after the turn began
-      const double tau = now - busy_since_ - 0.15 - 0.12;
-      if (tau > 0.1 && tau < 2.5)
-      {
-        reaction_est_ = have_reaction_ ? 0.7 * reaction_est_ + 0.3 * tau : tau;
-        have_reaction_ = true;
-      }
-    }
-    // carried out: seen, and the head steady for 0.3 s (the walk chord, 0.4 s, has then mostly
-    // left the veer behind)
-    // ... or at once when the head has already turned well beyond the amount (the wearer misread
-    // the level: a weak burst read as medium turned a typical wearer 34 deg for 15 towards a wall,
-    // and waiting for it to steady left no time to bring it back)
-    const double head_turned = wrapAngle(in.head_yaw - busy_head0_) * sign;
-    const bool overshot = veer_seen_ && head_turned > 1.3 * std::fabs(busy_angle_) + 5.0 / kRadToDeg;
-    const bool done = now - busy_since_ >= p.settle_timeout_s || overshot ||
-                      (veer_seen_ && steadied && now - veer_seen_at_ >= 0.3 && now - steady_since_ >= 0.3);
-    if (done && veer_seen_)
-    {
-      // its gain: the walk's turn, less its drift meanwhile, over the veer asked
-      const double drifted = drift_per_m_ * (walked_m_ - busy_walked0_) * sign;
-      const double g = (turned - drifted) / std::max(1e-6, std::fabs(busy_angle_));
-      if (g > 0.4 && g < 2.0)
-        veer_gain_est_ = std::clamp(0.7 * veer_gain_est_ + 0.3 * g, 0.6, 1.6);
-    }
-    // The way on changed while a veer is being carried out (a corner came into view): when what
-    // will be left after it is large, a new cue asks for the rest at once.
-    const double remaining = busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) * std::max(0.0, turned);
-    const double residual = std::fabs(wrapAngle(err - remaining)) * kRadToDeg;
-    // only further the same way: a path that flips to the other side of an obstacle (two ways
-    // round it cost the same) must not make the wearer zig-zag; that waits until the veer is done
-    const bool same_way = wrapAngle(err - remaining) * busy_angle_ > 0.0;
-    const bool superseded = walking && same_way && residual > 2.0 * p.veer_step_deg;
-    if (!done && !superseded)
-    {
-      Cue c = holdPattern(fmt("veering (%.0f deg to go)", std::max(0.0, std::fabs(busy_angle_) - turned) * kRadToDeg));
-      c.mode = CueMode::GUIDANCE;
-      return c;
-    }
-    superseding = !done;
-  }
-  // after a superseded veer the new one asks for what is left beyond the one being carried out
-  double ask = err;
-  if (superseding)
-    ask = wrapAngle(err - (busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) *
-                                            std::max(0.0, wrapAngle(in.walk_heading - busy_yaw0_) *
-                                                              (busy_angle_ > 0.0 ? 1.0 : -1.0))));
-  if (busy_)
-    quiet_since_ = now;  // a veer just ended: the walk chord still holds it
+  quiet_since_ = now;  // a veer just ended: the walk chord still holds it
   busy_ = false;
   // walking, a veer is asked for the error expected when it is carried out (the drift goes on)
   if (walking)
-    ask = predictedError(ask, in.walking_speed);
+  ask = predictedError(ask, in.walking_speed);
   const double a_ask = std::fabs(ask) * kRadToDeg;
   // standing in a tight spot (the way ahead short, or a side close): turned until it faces the
   // way on, since it will walk along its facing and every veer acts a reaction time late
@@ -653,7 +645,7 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   const bool turn = walking ? a > p.turn_on_deg : a > stand_deg;
   const bool veer = walking && !turn && a_ask > p.veer_on_deg;
   if (!turn && !veer)
-    return walkOn(fmt("on course (%.0f deg off)", err * kRadToDeg), now, !walking);
+  return walkOn(fmt("on course (%.0f deg off)", err * kRadToDeg), now, !walking);
   const double step = turn ? p.turn_step_deg : p.veer_step_deg;
   // what is asked beyond a veer still being carried out (the wearer completes it, then turns)
   // the level whose veer comes closest at this wearer's learnt gain (a turn's buzz sets its
@@ -676,20 +668,48 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   char buf[160];
   if (turn)
   {
-    // stop and turn: a buzz that lasts while the wearer should turn (the level tells how far:
-    // 45 / 90 / 135 deg and more), stopped early by the wearer's reaction
-    busy_head0_ = in.head_yaw;
-    busy_angle_ = wrapAngle(in.steer_heading - in.head_yaw);
-    turn_peak_rate_ = 0.0;
-    const double dur = std::min(2.5, std::fabs(busy_angle_) / turn_rate_est_ + kTellApartS);
-    std::snprintf(buf, sizeof(buf), "stop, turn %s %.0f deg (%.2f s buzz)", dir, std::fabs(busy_angle_) * kRadToDeg, dur);
-    return startPattern(CueMode::GUIDANCE, Instruction::TURN, level, drive, uint8_t(std::lround(dur * 100.0)), 0, 1, now,
-                        buf);
+  // stop and turn: a buzz that lasts while the wearer should turn (the level tells how far:
+  // 45 / 90 / 135 deg and more), stopped early by the wearer's reaction
+  busy_head0_ = in.head_yaw;
+  busy_angle_ = wrapAngle(in.steer_heading - in.head_yaw);
+  turn_peak_rate_ = 0.0;
+  const double dur = std::min(2.5, std::fabs(busy_angle_) / turn_rate_est_ + kTellApartS);
+  std::snprintf(buf, sizeof(buf), "stop, turn %s %.0f deg (%.2f s buzz)", dir, std::fabs(busy_angle_) * kRadToDeg, dur);
+  return startPattern(CueMode::GUIDANCE, Instruction::TURN, level, drive, uint8_t(std::lround(dur * 100.0)), 0, 1, now,
+                      buf);
   }
   // veer while walking: two short pulses (0.15 s on, 0.15 s off)
   std::snprintf(buf, sizeof(buf), "veer %s %.0f deg (level %d, %.0f deg off, %.0f expected; drift %.1f deg/m, gain %.2f, reaction %.2f s)",
-                dir, level * step, level, a, a_ask, drift_per_m_ * kRadToDeg, veer_gain_est_, reactionEstimate());
-  return startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now, buf);
+              dir, level * step, level, a, a_ask, drift_per_m_ * kRadToDeg, veer_gain_est_, reactionEstimate());
+  return startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now, buf);}
+
+Cue CueLogic::decideGuidance(const NavInput& in, double now)
+{
+  const CueParams& p = params_;
+  observeHead(in, now);
+  const bool guiding = last_mode_ == CueMode::GUIDANCE;
+  const double min_wp = p.guidance_min_waypoint_m - (guiding ? p.hysteresis_m : 0.0);
+  if (in.waypoint_distance < min_wp)
+  {
+  busy_ = false;
+  return walkOn(fmt("waypoint %.2f m away: walk on", in.waypoint_distance), now,
+                in.walking_speed < p.walking_speed_mps);
+  }
+  const bool walking = in.walking_speed >= p.walking_speed_mps;
+  const double err = wrapAngle(in.steer_heading - in.walk_heading);  // + = the steering point lies left
+  bool superseding = false;  // a veer under way is overtaken: ask beyond it
+  Cue held;
+  if (busy_ && busy_turn_ && holdTurn(in, now, held))
+  return held;
+  if (busy_ && holdVeer(in, now, err, walking, held, superseding))
+  return held;
+  // after a superseded veer the new one asks for what is left beyond the one being carried out
+  double ask = err;
+  if (superseding)
+  ask = wrapAngle(err - (busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) *
+                                          std::max(0.0, wrapAngle(in.walk_heading - busy_yaw0_) *
+                                                            (busy_angle_ > 0.0 ? 1.0 : -1.0))));
+  return askSteer(in, now, err, ask, walking);
 }
 
 }  // namespace assistive_tactile

@@ -135,7 +135,6 @@ TEST(CueLogic, SingleDecisionTable)
 {
   const float f = 1.f;
   const float t = kTick;
-  const double v = CueParams().walking_speed_mps;
   const std::vector<Row> rows = {
     { "on course: the walk-on tick", base(), CueMode::IDLE, { t, t, 0, 0 }, "on course" },
     { "9 deg off: walk on", turn(9), CueMode::IDLE, { t, t, 0, 0 }, nullptr },

@@ -137,6 +137,16 @@ public:
 private:
   Cue decideProximity(const NavInput& in, bool have_path);
   Cue decideGuidance(const NavInput& in, double now);
+  /// The head's turn rate, the metres walked, how long the head has been steady, the drift.
+  void observeHead(const NavInput& in, double now);
+  /// A stop-and-turn being carried out: true (and the held cue) while it lasts; its end learns
+  /// the turning rate.
+  bool holdTurn(const NavInput& in, double now, Cue& out);
+  /// A veer being carried out: true (and the held cue) until it was seen and steadied, overshot,
+  /// or timed out; `superseding` when a corner asks for more at once.
+  bool holdVeer(const NavInput& in, double now, double err, bool walking, Cue& out, bool& superseding);
+  /// A new steering decision: walk on, a veer (walking) or a stop-and-turn.
+  Cue askSteer(const NavInput& in, double now, double err, double ask, bool walking);
   /// A new pattern on the given motors (a new pattern id).
   Cue startPattern(CueMode mode, Instruction ins, int level, std::array<float, NUM_MOTORS> drive, uint8_t on_10ms,
                    uint8_t off_10ms, uint8_t count, double now, std::string reason);
