@@ -137,6 +137,40 @@ void CueLogic::observeStart(const NavInput& in, double now)
     start_tick_ = -1.0;  // something else came before the start: not a clean sample
 }
 
+void CueLogic::observeDrift(const NavInput& in, double now, bool walking)
+{
+  // A walker without sight drifts to one side (a constant bias of up to about 6 deg/m, plus a
+  // random walk): learnt from the walk heading while nothing cued turns it (not during a veer or
+  // turn and not for 0.6 s after one: the walk chord still holds it), as rad per metre walked.
+  constexpr double kDriftTauS = 4.0;
+  const bool quiet = walking && !busy_ && now - quiet_since_ >= 0.6 && std::isfinite(in.walk_heading);
+  if (!quiet)
+  {
+    drift_time_ = -1e300;
+    return;
+  }
+  const double dt = now - drift_time_;
+  if (dt > 0.0 && dt < 0.5 && in.walking_speed > 0.2)
+  {
+    const double per_m = wrapAngle(in.walk_heading - drift_heading_) / (dt * in.walking_speed);
+    if (std::fabs(per_m) < 0.5)  // a walk that turns by more than 30 deg/m is not drifting
+      drift_per_m_ += std::min(1.0, dt * in.walking_speed / (kDriftTauS * std::max(0.5, in.walking_speed))) *
+                      (per_m - drift_per_m_);
+  }
+  drift_heading_ = in.walk_heading;
+  drift_time_ = now;
+}
+
+double CueLogic::predictedError(double err, double v) const
+{
+  // The walk chord lags the body by half its window (0.2 s); the veer acts when its first pulse
+  // (0.15 s) is felt, one reaction time late; and `drift_aim_s` beyond that the error lands on
+  // the other side of the path by as much as the drift brings it back.
+  const double lead_s = reactionEstimate() + 0.15 + 0.2 + params_.drift_aim_s;
+  const double drift = std::clamp(drift_per_m_, -0.12, 0.12);  // at most ~7 deg/m
+  return wrapAngle(err - drift * std::max(0.0, v) * lead_s);
+}
+
 Cue CueLogic::holdPattern(std::string reason) const
 {
   Cue c = current_;
@@ -401,7 +435,11 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
   const double tau = reactionEstimate();
   const double reach = v * tau + v * v / (2.0 * p.stop_decel);
   const bool alert = d < p.alert_m + reach + (was_alert ? p.hysteresis_m : 0.0);
-  const bool close = d < p.proximity_m + reach + (was_close ? p.hysteresis_m : 0.0);
+  // the side-step distance is the protocol's 1 m (SPEC), not grown by the walk: a walker is
+  // stopped first (the stop distance grows with its speed) and stepped aside from standing; a
+  // side-step asked of a walker 1.5-2 m before an obstacle sent it sideways into doorway jambs
+  // just before the path turned away from the wall ahead (mobility trials, homes)
+  const bool close = alert || d < p.proximity_m + (was_close ? p.hysteresis_m : 0.0);
   if (!close)
   {
     waist_side_ = 0;
@@ -441,7 +479,7 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
   }
   waist_side_ = side;
   const double span = std::max(1e-6, p.proximity_m - p.alert_m);
-  const double k = clamp01((p.proximity_m + reach - d) / span);
+  const double k = clamp01((p.proximity_m - d) / span);
   const float level = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * k);
   c.mode = CueMode::PROXIMITY;
   c.intensity[side > 0 ? LEFT_WAIST : RIGHT_WAIST] = level;
@@ -471,9 +509,8 @@ Cue CueLogic::walkOn(std::string reason, double now, bool standing)
   return c;
 }
 
-Cue CueLogic::decideGuidance(const NavInput& in, double now)
+void CueLogic::observeHead(const NavInput& in, double now)
 {
-  const CueParams& p = params_;
   // the head's turn rate (smoothed), to tell when a veer or turn has been carried out (the head
   // scans by a few deg/s at most while the body keeps its direction)
   if (now > last_yaw_time_ && now - last_yaw_time_ < 1.0)
@@ -482,108 +519,197 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
     const double a = std::min(1.0, (now - last_yaw_time_) / 0.25);
     yaw_rate_ += a * (r - yaw_rate_);
   }
+  if (now > last_yaw_time_ && now - last_yaw_time_ < 1.0 && std::isfinite(in.walking_speed))
+    walked_m_ += std::max(0.0, in.walking_speed) * (now - last_yaw_time_);
   last_yaw_ = in.head_yaw;
   last_yaw_time_ = now;
+  if (std::fabs(yaw_rate_) * kRadToDeg >= 10.0)
+    steady_since_ = now;
+  else if (steady_since_ < -1e299)
+    steady_since_ = now;
+  observeDrift(in, now, in.walking_speed >= params_.walking_speed_mps);
+}
 
-  const bool guiding = last_mode_ == CueMode::GUIDANCE;
-  const double min_wp = p.guidance_min_waypoint_m - (guiding ? p.hysteresis_m : 0.0);
-  if (in.waypoint_distance < min_wp)
+bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
+{
+  const CueParams& p = params_;
+  // Stop and turn: the wearer turns while the buzz lasts, starting its reaction time (and the
+  // moment it takes to tell a buzz from a veer's pulse) after the buzz began and stopping its
+  // reaction time after it ended: the reaction cancels, and the buzz's length sets the angle
+  // at the wearer's own turning rate (learnt from its turns). Wait until the turn is over.
+  const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
+  const double left = wrapAngle(in.steer_heading - in.head_yaw) * sign;  // still to turn
+  turn_peak_rate_ = std::max(turn_peak_rate_, yaw_rate_ * sign);
+  const double buzz_end = busy_since_ + 0.01 * current_.pattern.on_10ms;
+  const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
+  // (the wearer stops turning its reaction time after the buzz ended: judged before that, a
+  // slow reactor's turn was still to come and a second turn was asked on top of it: chains of
+  // turns back and forth, the slowest decile's wearers timing out)
+  if (now < buzz_end + reactionEstimate() + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
   {
-    busy_ = false;
-    return walkOn(fmt("waypoint %.2f m away: walk on", in.waypoint_distance), now,
-                  in.walking_speed < p.walking_speed_mps);
+    char why[96];
+    std::snprintf(why, sizeof(why), "turning (%.0f deg to go, head %.0f deg/s)", left * kRadToDeg, yaw_rate_ * kRadToDeg);
+    out = holdPattern(why);
+    out.mode = CueMode::GUIDANCE;
+    return true;
   }
-  const bool walking = in.walking_speed >= p.walking_speed_mps;
-  const double err = wrapAngle(in.steer_heading - in.walk_heading);  // + = the steering point lies left
-  const double a = std::fabs(err) * kRadToDeg;
-  bool superseding = false;  // a veer under way is overtaken: ask beyond it
-  if (busy_ && busy_turn_)
-  {
-    // Stop and turn: the wearer turns while the buzz lasts, starting its reaction time (and the
-    // moment it takes to tell a buzz from a veer's pulse) after the buzz began and stopping its
-    // reaction time after it ended: the reaction cancels, and the buzz's length sets the angle
-    // at the wearer's own turning rate (learnt from its turns). Wait until the turn is over.
-    const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
-    const double left = wrapAngle(in.steer_heading - in.head_yaw) * sign;  // still to turn
-    turn_peak_rate_ = std::max(turn_peak_rate_, yaw_rate_ * sign);
-    const double buzz_end = busy_since_ + 0.01 * current_.pattern.on_10ms;
-    const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
-    if (now < buzz_end + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
-    {
-      Cue c = holdPattern(fmt("turning (%.0f deg to go)", left * kRadToDeg));
-      c.mode = CueMode::GUIDANCE;
-      return c;
-    }
-    if (turn_peak_rate_ * kRadToDeg > 20.0)
-      turn_rate_est_ = 0.5 * (turn_rate_est_ + std::min(turn_peak_rate_, 4.0 * M_PI));
-    busy_ = false;
-  }
-  if (busy_)
-  {
-    // A veer burst asks for an amount: wait until the wearer has carried it out (turned by half
-    // of it and steadied) before judging the heading again, or the next burst would ask for the
-    // same veer twice (reaction times of up to 1.2 s).
-    const double turned = wrapAngle(in.walk_heading - busy_yaw0_) * (busy_angle_ > 0.0 ? 1.0 : -1.0);
-    const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
-    const bool done = now - busy_since_ >= p.settle_timeout_s || (turned >= 0.5 * std::fabs(busy_angle_) && steadied);
-    // The way on changed while a veer is being carried out (a corner came into view): when what
-    // will be left after it is large, a new cue asks for the rest at once.
-    const double remaining = busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) * std::max(0.0, turned);
-    const double residual = std::fabs(wrapAngle(err - remaining)) * kRadToDeg;
-    // only further the same way: a path that flips to the other side of an obstacle (two ways
-    // round it cost the same) must not make the wearer zig-zag; that waits until the veer is done
-    const bool same_way = wrapAngle(err - remaining) * busy_angle_ > 0.0;
-    const bool superseded = walking && same_way && residual > 2.0 * p.veer_step_deg;
-    if (!done && !superseded)
-    {
-      Cue c = holdPattern(fmt("veering (%.0f deg to go)", std::max(0.0, std::fabs(busy_angle_) - turned) * kRadToDeg));
-      c.mode = CueMode::GUIDANCE;
-      return c;
-    }
-    superseding = !done;
-  }
-  // after a superseded veer the new one asks for what is left beyond the one being carried out
-  double ask = err;
-  if (superseding)
-    ask = wrapAngle(err - (busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) *
-                                            std::max(0.0, wrapAngle(in.walk_heading - busy_yaw0_) *
-                                                              (busy_angle_ > 0.0 ? 1.0 : -1.0))));
+  // its turning rate: the angle turned over the time it turned (the buzz less the moment to
+  // tell it from a veer); the smoothed peak rate underestimates short turns (the next buzz
+  // came out too long: turn chains that overshoot)
+  const double turned = wrapAngle(in.head_yaw - busy_head0_) * sign;
+  const double turning_s = 0.01 * current_.pattern.on_10ms - kTellApartS;
+  if (turn_peak_rate_ * kRadToDeg > 20.0 && turning_s > 0.15 && turned * kRadToDeg > 10.0)
+    turn_rate_est_ = std::clamp(0.7 * turn_rate_est_ + 0.3 * turned / turning_s, M_PI / 6.0, M_PI);
   busy_ = false;
+  quiet_since_ = now;
+  return false;
+}
+
+bool CueLogic::holdVeer(const NavInput& in, double now, double err, bool walking, Cue& out, bool& superseding)
+{
+  const CueParams& p = params_;
+  // A veer burst asks for an amount: wait until the wearer has carried it out before judging
+  // the heading again, or the next burst would ask for the same veer twice (reaction times of
+  // up to 1.2 s). Carried out = seen in the head's turn rate (a veer turns the walk at tens of
+  // deg/s, the walk's own drift by a few), steadied, and the walk chord has caught up. Whether
+  // the walk has turned by the amount is no test: the drift during the reaction eats into it.
+  const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
+  const double turned = wrapAngle(in.walk_heading - busy_yaw0_) * sign;
+  const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
+  if (!veer_seen_ && yaw_rate_ * sign * kRadToDeg > 20.0)
+  {
+    veer_seen_ = true;
+    veer_seen_at_ = now;
+    // its reaction: the veer starts when the first pulse (0.15 s) has been felt; the smoothed
+    // rate crosses 20 deg/s about 0.12 s after the turn began
+    const double tau = now - busy_since_ - 0.15 - 0.12;
+    if (tau > 0.1 && tau < 2.5)
+    {
+      reaction_est_ = have_reaction_ ? 0.7 * reaction_est_ + 0.3 * tau : tau;
+      have_reaction_ = true;
+    }
+  }
+  // carried out: seen, and the head steady for 0.3 s (the walk chord, 0.4 s, has then mostly
+  // left the veer behind)
+  // ... or at once when the head has already turned well beyond the amount (the wearer misread
+  // the level: a weak burst read as medium turned a typical wearer 34 deg for 15 towards a wall,
+  // and waiting for it to steady left no time to bring it back)
+  const double head_turned = wrapAngle(in.head_yaw - busy_head0_) * sign;
+  const bool overshot = veer_seen_ && head_turned > 1.3 * std::fabs(busy_angle_) + 5.0 / kRadToDeg;
+  const bool done = now - busy_since_ >= p.settle_timeout_s || overshot ||
+                    (veer_seen_ && steadied && now - veer_seen_at_ >= 0.3 && now - steady_since_ >= 0.3);
+  if (done && veer_seen_)
+  {
+    // its gain: the walk's turn, less its drift meanwhile, over the veer asked
+    const double drifted = drift_per_m_ * (walked_m_ - busy_walked0_) * sign;
+    const double g = (turned - drifted) / std::max(1e-6, std::fabs(busy_angle_));
+    if (g > 0.4 && g < 2.0)
+      veer_gain_est_ = std::clamp(0.7 * veer_gain_est_ + 0.3 * g, 0.6, 1.6);
+  }
+  // The way on changed while a veer is being carried out (a corner came into view): when what
+  // will be left after it is large, a new cue asks for the rest at once.
+  const double remaining = busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) * std::max(0.0, turned);
+  const double residual = std::fabs(wrapAngle(err - remaining)) * kRadToDeg;
+  // only further the same way: a path that flips to the other side of an obstacle (two ways
+  // round it cost the same) must not make the wearer zig-zag; that waits until the veer is done
+  const bool same_way = wrapAngle(err - remaining) * busy_angle_ > 0.0;
+  const bool superseded = walking && same_way && residual > 2.0 * p.veer_step_deg;
+  if (!done && !superseded)
+  {
+    out = holdPattern(fmt("veering (%.0f deg to go)", std::max(0.0, std::fabs(busy_angle_) - turned) * kRadToDeg));
+    out.mode = CueMode::GUIDANCE;
+    return true;
+  }
+  superseding = !done;
+  return false;
+  }
+
+Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, bool walking)
+{
+  const CueParams& p = params_;
+  const double a = std::fabs(err) * kRadToDeg;
+  if (busy_)
+  quiet_since_ = now;  // a veer just ended: the walk chord still holds it
+  busy_ = false;
+  // walking, a veer is asked for the error expected when it is carried out (the drift goes on)
+  if (walking)
+  ask = predictedError(ask, in.walking_speed);
   const double a_ask = std::fabs(ask) * kRadToDeg;
-  const bool turn = walking ? a > p.turn_on_deg : a > p.stand_turn_deg;
-  const bool veer = walking && !turn && a > p.veer_on_deg;
+  // standing in a tight spot (the way ahead short, or a side close): turned until it faces the
+  // way on, since it will walk along its facing and every veer acts a reaction time late
+  const bool tight = in.free_ahead < p.stand_near_m || std::min(in.free_left, in.free_right) < p.side_free_m;
+  // (also a wearer that has just been told to go and is starting: a wearer who walks off at an
+  // angle in a tight spot meets the jamb before any veer can act; letting it start anyway was
+  // measured worse in generated homes)
+  const double stand_deg = tight ? std::min(p.stand_turn_near_deg, p.stand_turn_deg) : p.stand_turn_deg;
+  const bool turn = walking ? a > p.turn_on_deg : a > stand_deg;
+  const bool veer = walking && !turn && a_ask > p.veer_on_deg;
   if (!turn && !veer)
-    return walkOn(fmt("on course (%.0f deg off)", err * kRadToDeg), now, !walking);
+  return walkOn(fmt("on course (%.0f deg off)", err * kRadToDeg), now, !walking);
   const double step = turn ? p.turn_step_deg : p.veer_step_deg;
   // what is asked beyond a veer still being carried out (the wearer completes it, then turns)
-  const int level = std::max(1, std::min(3, int(std::lround(a_ask / step))));
+  // the level whose veer comes closest at this wearer's learnt gain (a turn's buzz sets its
+  // angle by its length; its level only tells how far)
+  const double gain = turn ? 1.0 : veer_gain_est_;
+  const int level = std::max(1, std::min(3, int(std::lround(a_ask / (step * gain)))));
   const int side = ask > 0.0 ? +1 : -1;
   const float k = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * 0.5 * (level - 1));
   std::array<float, NUM_MOTORS> drive{ { 0.f, 0.f, 0.f, 0.f } };
   drive[side > 0 ? LEFT_SHOULDER : RIGHT_SHOULDER] = k;
   busy_ = true;
+  veer_seen_ = false;
+  busy_walked0_ = walked_m_;
   busy_since_ = now;
   busy_yaw0_ = in.walk_heading;
   busy_head0_ = in.head_yaw;
   busy_angle_ = side * level * step / kRadToDeg;
   busy_turn_ = turn;
   const char* dir = side > 0 ? "left" : "right";
-  char buf[96];
+  char buf[160];
   if (turn)
   {
-    // stop and turn: a buzz that lasts while the wearer should turn (the level tells how far:
-    // 45 / 90 / 135 deg and more), stopped early by the wearer's reaction
-    busy_head0_ = in.head_yaw;
-    busy_angle_ = wrapAngle(in.steer_heading - in.head_yaw);
-    turn_peak_rate_ = 0.0;
-    const double dur = std::min(2.5, std::fabs(busy_angle_) / turn_rate_est_ + kTellApartS);
-    std::snprintf(buf, sizeof(buf), "stop, turn %s %.0f deg (%.2f s buzz)", dir, std::fabs(busy_angle_) * kRadToDeg, dur);
-    return startPattern(CueMode::GUIDANCE, Instruction::TURN, level, drive, uint8_t(std::lround(dur * 100.0)), 0, 1, now,
-                        buf);
+  // stop and turn: a buzz that lasts while the wearer should turn (the level tells how far:
+  // 45 / 90 / 135 deg and more), stopped early by the wearer's reaction
+  busy_head0_ = in.head_yaw;
+  busy_angle_ = wrapAngle(in.steer_heading - in.head_yaw);
+  turn_peak_rate_ = 0.0;
+  const double dur = std::min(2.5, std::fabs(busy_angle_) / turn_rate_est_ + kTellApartS);
+  std::snprintf(buf, sizeof(buf), "stop, turn %s %.0f deg (%.2f s buzz)", dir, std::fabs(busy_angle_) * kRadToDeg, dur);
+  return startPattern(CueMode::GUIDANCE, Instruction::TURN, level, drive, uint8_t(std::lround(dur * 100.0)), 0, 1, now,
+                      buf);
   }
   // veer while walking: two short pulses (0.15 s on, 0.15 s off)
-  std::snprintf(buf, sizeof(buf), "veer %s %.0f deg (level %d, %.0f deg off)", dir, level * step, level, a);
-  return startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now, buf);
+  std::snprintf(buf, sizeof(buf), "veer %s %.0f deg (level %d, %.0f deg off, %.0f expected; drift %.1f deg/m, gain %.2f, reaction %.2f s)",
+              dir, level * step, level, a, a_ask, drift_per_m_ * kRadToDeg, veer_gain_est_, reactionEstimate());
+  return startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now, buf);}
+
+Cue CueLogic::decideGuidance(const NavInput& in, double now)
+{
+  const CueParams& p = params_;
+  observeHead(in, now);
+  const bool guiding = last_mode_ == CueMode::GUIDANCE;
+  const double min_wp = p.guidance_min_waypoint_m - (guiding ? p.hysteresis_m : 0.0);
+  if (in.waypoint_distance < min_wp)
+  {
+  busy_ = false;
+  return walkOn(fmt("waypoint %.2f m away: walk on", in.waypoint_distance), now,
+                in.walking_speed < p.walking_speed_mps);
+  }
+  const bool walking = in.walking_speed >= p.walking_speed_mps;
+  const double err = wrapAngle(in.steer_heading - in.walk_heading);  // + = the steering point lies left
+  bool superseding = false;  // a veer under way is overtaken: ask beyond it
+  Cue held;
+  if (busy_ && busy_turn_ && holdTurn(in, now, held))
+  return held;
+  if (busy_ && holdVeer(in, now, err, walking, held, superseding))
+  return held;
+  // after a superseded veer the new one asks for what is left beyond the one being carried out
+  double ask = err;
+  if (superseding)
+  ask = wrapAngle(err - (busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) *
+                                          std::max(0.0, wrapAngle(in.walk_heading - busy_yaw0_) *
+                                                            (busy_angle_ > 0.0 ? 1.0 : -1.0))));
+  return askSteer(in, now, err, ask, walking);
 }
 
 }  // namespace assistive_tactile

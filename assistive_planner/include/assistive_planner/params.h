@@ -30,10 +30,10 @@ namespace assistive_planner
   /* Outputs */ \
   X(double, path_lookahead, "path_lookahead", 1.0, 0.05, 10.0, "m", "along the path for `path_heading`") \
   /* Steering (pure pursuit on the path, issue 33) */ \
-  X(double, steer_lookahead_s, "steer_lookahead_s", 0.7, 0.0, 5.0, "s", "the steering point lies this many seconds of walking ahead on the path (regulated pure pursuit), within the two bounds below") \
+  X(double, steer_lookahead_s, "steer_lookahead_s", 1.4, 0.0, 5.0, "s", "the steering point lies this many seconds of walking ahead on the path (regulated pure pursuit), within the two bounds below") \
   X(double, steer_lead_s, "steer_lead_s", 0.6, 0.0, 3.0, "s", "the steering point is looked up from where the walk takes the wearer in this time (a cue acts only after the wearer's reaction, 0.3-1.2 s): turns are cued before the corner") \
   X(double, steer_lookahead_min, "steer_lookahead_min", 0.3, 0.05, 5.0, "m", "nearest steering point (standing, slow)") \
-  X(double, steer_lookahead_max, "steer_lookahead_max", 0.9, steer_lookahead_min, 5.0, "m", "farthest steering point (fast walking)") \
+  X(double, steer_lookahead_max, "steer_lookahead_max", 1.8, steer_lookahead_min, 5.0, "m", "farthest steering point (fast walking)") \
   X(double, path_refine_m, "path_refine_m", 0.5, 0.0, 2.0, "m", "the path's points are moved (on a 5 cm distance field, at most half a cell) towards the middle of a passage until this far from the nearest obstacle cell: the middle of doorways and aisles, finer than the cells (0 = off)") \
   X(double, walk_window_s, "walk_window_s", 0.4, 0.05, 5.0, "s", "the walking direction and speed are the chord of the wearer's positions over this last window") \
   X(double, free_ray_max, "free_ray_max", 5.0, 0.1, 50.0, "m", "longest free-distance ray") \

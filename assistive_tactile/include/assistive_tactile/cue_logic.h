@@ -137,6 +137,16 @@ public:
 private:
   Cue decideProximity(const NavInput& in, bool have_path);
   Cue decideGuidance(const NavInput& in, double now);
+  /// The head's turn rate, the metres walked, how long the head has been steady, the drift.
+  void observeHead(const NavInput& in, double now);
+  /// A stop-and-turn being carried out: true (and the held cue) while it lasts; its end learns
+  /// the turning rate.
+  bool holdTurn(const NavInput& in, double now, Cue& out);
+  /// A veer being carried out: true (and the held cue) until it was seen and steadied, overshot,
+  /// or timed out; `superseding` when a corner asks for more at once.
+  bool holdVeer(const NavInput& in, double now, double err, bool walking, Cue& out, bool& superseding);
+  /// A new steering decision: walk on, a veer (walking) or a stop-and-turn.
+  Cue askSteer(const NavInput& in, double now, double err, double ask, bool walking);
   /// A new pattern on the given motors (a new pattern id).
   Cue startPattern(CueMode mode, Instruction ins, int level, std::array<float, NUM_MOTORS> drive, uint8_t on_10ms,
                    uint8_t off_10ms, uint8_t count, double now, std::string reason);
@@ -152,6 +162,11 @@ private:
   /// The wearer's reaction time now: learnt, clamped to [0.3, 1.5] s, or `alert_reaction_s`.
   double reactionEstimate() const;
   void observeStart(const NavInput& in, double now);
+  /// Learns the walk's drift (rad/m) from the walk heading while no cued turn is under way.
+  void observeDrift(const NavInput& in, double now, bool walking);
+  /// The steering error expected when a veer asked now is carried out: the walk drifts on during
+  /// the wearer's reaction (and the walk chord's lag), and `drift_aim_s` beyond it.
+  double predictedError(double err, double v) const;
   /// "Clear, walk on": a tick when one is due, else the running pattern (it has ended).
   Cue walkOn(std::string reason, double now, bool standing);
   /// The crossing cue over `base` (the obstacle / guidance cue of a fresh OK state).
@@ -177,6 +192,21 @@ private:
   double busy_angle_ = 0.0;     ///< signed angle asked for (rad, + = left)
   bool busy_turn_ = false;      ///< a stop-and-turn (else a veer)
   double turn_peak_rate_ = 0.0;  ///< rad/s, the fastest head turn seen in this turn
+  /// The veer being carried out was seen in the head's turn rate (the wearer's response), and when.
+  bool veer_seen_ = false;
+  double veer_seen_at_ = 0.0;
+  double steady_since_ = -1e300;  ///< the head's turn rate has been under 10 deg/s since
+  double walked_m_ = 0.0;        ///< metres walked (the planner's speed integrated), for the drift
+  double busy_walked0_ = 0.0;    ///< walked_m_ when the veer began
+  /// The wearer's veers: turned / asked (learnt from the veers it carried out, the drift taken
+  /// out; kept across resets: it is the wearer's). Each ask picks the level whose veer, at this
+  /// gain, comes closest to the error.
+  double veer_gain_est_ = 1.0;
+  /// The walk's own drift (rad per metre walked, + = left): veering of a walker without sight,
+  /// learnt from the walk between cues (kept across resets: it is the wearer's).
+  double drift_per_m_ = 0.0;
+  double drift_heading_ = 0.0, drift_time_ = -1e300;  ///< the walk heading last sampled for it
+  double quiet_since_ = -1e300;  ///< the walk has been free of cued turns since (s)
   /// The wearer's reaction time (s), learnt from its starts after a walk-on tick (kept across
   /// resets: it is the wearer's, not the situation's); `alert_reaction_s` until the first.
   double reaction_est_ = 0.0;

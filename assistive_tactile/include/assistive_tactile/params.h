@@ -18,9 +18,12 @@ namespace assistive_tactile
   X(double, veer_on_deg, "veer_on_deg", 10.0, 1.0, 90.0, "deg", "a veer cue when the steering point lies further than this off the walking direction") \
   X(double, veer_step_deg, "veer_step_deg", 15.0, 1.0, 60.0, "deg", "a veer burst at level k (1..3) asks for k x this (15 / 30 / 45 deg: slightly, bear, sharply)") \
   X(double, turn_on_deg, "turn_on_deg", 60.0, 10.0, 170.0, "deg", "above this (while walking; standing: above `stand_turn_deg`) the cue is stop-and-turn") \
-  X(double, stand_turn_deg, "stand_turn_deg", 35.0, 1.0, 170.0, "deg", "a standing wearer is turned on the spot when the steering point lies further than this off the body") \
+  X(double, stand_turn_deg, "stand_turn_deg", 15.0, 1.0, 170.0, "deg", "a standing wearer is turned on the spot when the steering point lies further than this off the body") \
   X(double, turn_step_deg, "turn_step_deg", 45.0, 10.0, 90.0, "deg", "a stop-and-turn buzz's strength: level k (1..3) for turns of about k x this (its length sets the angle: the wearer turns while it buzzes)") \
-  X(double, settle_timeout_s, "settle_timeout_s", 2.5, 0.2, 10.0, "s", "after a veer burst the next one waits until the walk has turned by half of it and steadied, or this long") \
+  X(double, stand_turn_near_deg, "stand_turn_near_deg", 12.0, 1.0, 170.0, "deg", "in a tight spot (the way ahead under `stand_near_m`, or a side under `side_free_m`) a standing wearer is turned on the spot until the steering point lies within this, before the tick says go") \
+  X(double, stand_near_m, "stand_near_m", 2.5, 0.0, 10.0, "m", "the way ahead of a standing wearer counts as tight under this") \
+  X(double, settle_timeout_s, "settle_timeout_s", 2.5, 0.2, 10.0, "s", "after a veer burst the next one waits until the veer was seen in the head's turn rate and steadied, or this long") \
+  X(double, drift_aim_s, "drift_aim_s", 1.0, 0.0, 5.0, "s", "a veer is asked for the steering error expected when it is carried out (the walk's learnt drift over the wearer's reaction) plus the drift over this much more walking (the next error then lies on the other side)") \
   X(double, turn_timeout_s, "turn_timeout_s", 4.0, 0.5, 20.0, "s", "after a stop-and-turn buzz the next cue waits until the buzz has ended and the head is still, or this long") \
   X(double, min_intensity, "min_intensity", 0.4, 0.0, 1.0, "", "level 1's drive; levels 2 and 3 lie evenly up to 1 (0.4 / 0.7 / 1.0: steps of 1.4-1.75x, each well above the vibrotactile intensity JND)") \
   X(double, tick_period_s, "tick_period_s", 2.0, 0.5, 10.0, "s", "clear-walk-on: a tick on both shoulders this often while no other cue is due (a vest silent for two periods means stop)") \
