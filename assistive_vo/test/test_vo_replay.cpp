@@ -45,7 +45,7 @@ double angleBetween(const geometry_msgs::Quaternion& a, const geometry_msgs::Qua
 }
 
 /// The test's settings (private parameters of the rostest).
-struct Setup
+struct ReplaySetup
 {
   std::string world = "course", node = "/replay_odometry";
   int frames = 60;
@@ -57,10 +57,10 @@ struct Setup
   assistive_vo::VoNodeParams np;
 };
 
-Setup readSetup()
+ReplaySetup readSetup()
 {
   ros::NodeHandle pnh("~");
-  Setup s;
+  ReplaySetup s;
   pnh.param("world", s.world, s.world);
   pnh.param("frames", s.frames, s.frames);
   pnh.param("node", s.node, s.node);
@@ -84,7 +84,7 @@ struct InProcess
 };
 
 /// In process: the processor on the bag, as vo_benchmark runs it.
-InProcess runInProcess(const Setup& s, const std::string& bag_path)
+InProcess runInProcess(const ReplaySetup& s, const std::string& bag_path)
 {
   InProcess r;
   cv::setNumThreads(1);  // as the benchmarks (the nodelet runs with OpenCV's default threads)
@@ -134,7 +134,7 @@ void readBagMessages(rosbag::Bag& bag, const assistive_eval::StereoBagTopics& to
 /// Through ROS: the bag's own messages, one frame at a time, each answered by its vo/odom (a
 /// processed frame) or given a short wait (one the in-process run did not process). The number of
 /// processed frames whose vo/odom never came in `waited_out`.
-void replayThroughRos(const Setup& s, const BagMessages& b, const assistive_eval::StereoBagTopics& topics,
+void replayThroughRos(const ReplaySetup& s, const BagMessages& b, const assistive_eval::StereoBagTopics& topics,
                       const InProcess& in, int& waited_out)
 {
   ros::NodeHandle nh;
@@ -185,7 +185,7 @@ void replayThroughRos(const Setup& s, const BagMessages& b, const assistive_eval
 
 /// Frame by frame: the nodelet's vo/odom against the in-process output as the nodelet would
 /// publish it (toOdometryMsg); the same frames published, bit-identical poses and covariances.
-void compareFrameByFrame(const Setup& s, const InProcess& in, int waited_out)
+void compareFrameByFrame(const ReplaySetup& s, const InProcess& in, int waited_out)
 {
   std::lock_guard<std::mutex> l(mtx);
   std::string which;  // per frame: B both, I in-process only, R ROS only, - neither
@@ -237,7 +237,7 @@ void compareFrameByFrame(const Setup& s, const InProcess& in, int waited_out)
 
 TEST(VoReplay, NodeletAndFrontEndGiveTheSamePosesFrameByFrame)
 {
-  const Setup s = readSetup();
+  const ReplaySetup s = readSetup();
   const assistive_vo_test::RenderedBag rendered(s.world, s.frames);
   const std::string& bag_path = rendered.path();
   ASSERT_FALSE(bag_path.empty()) << "render_bag failed (world " << s.world << ")";
