@@ -248,7 +248,10 @@ void replayFrame(const eval::StereoFrame& f, Connections& c, Replay& r, bool& an
   if (!got_disp) return;
   answered = true;
   ++r.answered;
-  if (res.movers_enabled) ASSERT_NO_FATAL_FAILURE(compareMovers(res, h.stamp, r));
+  if (res.movers_enabled)
+  {
+    ASSERT_NO_FATAL_FAILURE(compareMovers(res, h.stamp, r));
+  }
   compareGrid(res, h.stamp, r);
 }
 }  // namespace
