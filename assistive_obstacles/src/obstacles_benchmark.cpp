@@ -136,11 +136,6 @@ const std::vector<PersonState>* peopleAt(const std::vector<std::pair<double, std
   return best;
 }
 
-eval::OccupancyGrid toSim(const GridData& g)
-{
-  return eval::OccupancyGrid{g.origin_x, g.origin_y, g.resolution, g.width, g.height, g.data};
-}
-
 /// Ground-truth pose (left optical frame) at `t`, interpolated between the two nearest samples.
 bool poseAt(const std::vector<std::pair<double, Eigen::Isometry3d>>& gt, double t, Eigen::Isometry3d& out)
 {
@@ -236,18 +231,19 @@ bool worldMasks(const std::string& path, const eval::OccupancyGrid& truth, doubl
 #endif
   return false;
 }
-}  // namespace
 
-int main(int argc, char** argv)
+const char* const kUsage =
+    "usage: obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N] [--gt-depth] [--set PARAM=VALUE ...]\n"
+    "                           [--no-sonar] [--world auto|none|W.yaml] [--partial-depth M] [--mover-poses FILE]\n"
+    "       obstacles_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect]\n"
+    "                           [--keep DIR] [--png DIR] [other options as above]\n"
+    "  Runs the obstacle stage on a stereo bag with ground truth; last stdout line: JSON.\n"
+    "  A set (several bags, or worlds seeds 1..N made by generate_world and render_bag): per-bag rows,\n"
+    "  mean and worst of each figure (worst bag named); JSON keys <key>_mean, <key>_worst, <key>_worst_bag.\n";
+
+/// The command line of a one-bag run.
+struct Options
 {
-  const char* usage =
-      "usage: obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N] [--gt-depth] [--set PARAM=VALUE ...]\n"
-      "                           [--no-sonar] [--world auto|none|W.yaml] [--partial-depth M] [--mover-poses FILE]\n"
-      "       obstacles_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect]\n"
-      "                           [--keep DIR] [--png DIR] [other options as above]\n"
-      "  Runs the obstacle stage on a stereo bag with ground truth; last stdout line: JSON.\n"
-      "  A set (several bags, or worlds seeds 1..N made by generate_world and render_bag): per-bag rows,\n"
-      "  mean and worst of each figure (worst bag named); JSON keys <key>_mean, <key>_worst, <key>_worst_bag.\n";
   std::string bag;
   int max_frames = -1, skip = 0;
   bool gt_depth = false;  // --gt-depth: feed the bag's true depth instead of SGBM (isolates stereo noise)
@@ -260,123 +256,337 @@ int main(int argc, char** argv)
   // left optical frame per image, as the chain's tf gives it) instead of the truth; the map stays on
   // the truth, so that its figures stay comparable
   std::string mover_poses_path;
-  eval::CommandLine cl("obstacles_benchmark", usage);
-  eval::SetOptions set_options;
-  set_options.addTo(cl);
-  cl
-      .flag("--gt-depth", &gt_depth)
-      .flag("--no-sonar", &no_sonar)
-      .count("--frames", &max_frames, 0)
-      .count("--skip", &skip, 0)
-      .text("--png", &png)
-      .text("--world", &world_arg)
-      .number("--partial-depth", &partial_depth)
-      .text("--mover-poses", &mover_poses_path)
-      .sets(&overrides);
-  if (const int rc = cl.parse(argc, argv); rc >= 0)
-    return rc;
-  if (set_options.isSet())
+
+  void addTo(eval::CommandLine& cl)
   {
-    // Worst = the smaller where more is better (recall, precision, coverage), else the larger.
-    const std::vector<eval::SetFigure> figures{
-        {"recall_3m", true}, {"precision_3m", true}, {"free_where_obstacle_cells", false, true},
-        {"free_where_glass_cells", false, true}, {"free_where_obstacle_cells_strict", false, true},
-        {"recall_3m_strict", true}, {"precision_3m_strict", true},
-        {"misclassified_3m"}, {"recall_5m", true}, {"precision_5m", true}, {"coverage_3m", true},
-        {"ms_p95_map"}, {"ms_p95_disparity"}, {"points_per_frame", true}, {"frames", true}};
-    return eval::runSetFromCommandLine(cl, argc, argv, set_options, figures, "--png", png, "_obstacles_map.png",
-                                       max_frames);
+    cl
+        .flag("--gt-depth", &gt_depth)
+        .flag("--no-sonar", &no_sonar)
+        .count("--frames", &max_frames, 0)
+        .count("--skip", &skip, 0)
+        .text("--png", &png)
+        .text("--world", &world_arg)
+        .number("--partial-depth", &partial_depth)
+        .text("--mover-poses", &mover_poses_path)
+        .sets(&overrides);
   }
-  if (set_options.bags.empty())
-    return cl.usageError("no bag given");
-  bag = set_options.bags.front();
-  if (png.empty())
-    png = bag.size() > 4 && bag.substr(bag.size() - 4) == ".bag" ? bag.substr(0, bag.size() - 4) + "_obstacles_map.png"
-                                                                 : bag + "_obstacles_map.png";
+};
 
-  const std::unique_ptr<eval::StereoBagReader> reader = eval::openStereoBag("obstacles_benchmark", bag);
-  if (!reader)
-    return 1;
-  eval::OccupancyGrid truth;
-  const bool has_truth = reader->readOccupancy(truth);
-  if (!has_truth) std::cerr << "obstacles_benchmark: no /ground_truth/occupancy in the bag: map not scored\n";
+/// The set run (several bags or --generated): this program once per bag, per-bag rows, mean and worst.
+int runSet(const eval::CommandLine& cl, int argc, char** argv, const eval::SetOptions& set_options, const Options& opt)
+{
+  // Worst = the smaller where more is better (recall, precision, coverage), else the larger.
+  const std::vector<eval::SetFigure> figures{
+      {"recall_3m", true}, {"precision_3m", true}, {"free_where_obstacle_cells", false, true},
+      {"free_where_glass_cells", false, true}, {"free_where_obstacle_cells_strict", false, true},
+      {"recall_3m_strict", true}, {"precision_3m_strict", true},
+      {"misclassified_3m"}, {"recall_5m", true}, {"precision_5m", true}, {"coverage_3m", true},
+      {"ms_p95_map"}, {"ms_p95_disparity"}, {"points_per_frame", true}, {"frames", true}};
+  return eval::runSetFromCommandLine(cl, argc, argv, set_options, figures, "--png", opt.png, "_obstacles_map.png",
+                                     opt.max_frames);
+}
+
+/// The bag's truth: the occupancy grid and, from the world's solids, the partial-cell and glass masks.
+struct Truth
+{
+  eval::OccupancyGrid grid;
+  bool has_truth = false;
   std::vector<uint8_t> exclude_mask, glass_mask;
-  const std::string world_path = has_truth ? worldFor(world_arg, bag) : "";
-  double eye_height = NAN;
-  const bool partial_scoring = worldMasks(world_path, truth, partial_depth, exclude_mask, glass_mask, &eye_height);
-  if (partial_scoring) std::cerr << "obstacles_benchmark: partial cells from " << world_path << "\n";
+  double eye_height = NAN;  ///< the world walk's camera height
+  bool partial_scoring = false;
+  std::vector<Eigen::Vector2d> glass_cells;  ///< glass-pane cells of the world (their centres)
+};
 
+Truth readTruth(const Options& opt, eval::StereoBagReader& reader)
+{
+  Truth t;
+  eval::OccupancyGrid& truth = t.grid;
+  t.has_truth = reader.readOccupancy(truth);
+  if (!t.has_truth) std::cerr << "obstacles_benchmark: no /ground_truth/occupancy in the bag: map not scored\n";
+  const std::string world_path = t.has_truth ? worldFor(opt.world_arg, opt.bag) : "";
+  t.partial_scoring = worldMasks(world_path, truth, opt.partial_depth, t.exclude_mask, t.glass_mask, &t.eye_height);
+  if (t.partial_scoring) std::cerr << "obstacles_benchmark: partial cells from " << world_path << "\n";
   // Glass-pane cells of the world (their centres), for the ranger's hits on glass.
-  std::vector<Eigen::Vector2d> glass_cells;
-  std::set<size_t> ranger_hit_glass, freed_after_hit;  // indices into glass_cells
-  for (size_t i = 0; i < glass_mask.size(); ++i)
-    if (glass_mask[i])
-      glass_cells.push_back({truth.origin_x + (static_cast<double>(i % truth.width) + 0.5) * truth.resolution,
-                             truth.origin_y + (static_cast<double>(i / truth.width) + 0.5) * truth.resolution});
+  for (size_t i = 0; i < t.glass_mask.size(); ++i)
+    if (t.glass_mask[i])
+      t.glass_cells.push_back({truth.origin_x + (static_cast<double>(i % truth.width) + 0.5) * truth.resolution,
+                               truth.origin_y + (static_cast<double>(i / truth.width) + 0.5) * truth.resolution});
+  return t;
+}
+
+/// The vest's forward ranger in the bag, and its mount (camera_link -> sonar_front, URDF).
+struct Ranger
+{
   std::vector<eval::RangeSample> ranges;
-  bool sonar_pose = false;
   Eigen::Isometry3d link_to_sonar = Eigen::Isometry3d::Identity();
+};
+
+Ranger readRanger(const Options& opt, eval::StereoBagReader& reader)
+{
+  Ranger r;
+  bool sonar_pose = false;
 #ifdef HAVE_ASSISTIVE_SIM
-  link_to_sonar = assistive_sim::linkToSonar();
+  r.link_to_sonar = assistive_sim::linkToSonar();
   sonar_pose = true;
 #endif
-  if (!no_sonar)
+  if (!opt.no_sonar)
   {
-    if (!reader->readRanges(ranges)) std::cerr << "obstacles_benchmark: no /sonar/front in the bag: map without the ranger\n";
-    if (!sonar_pose && !ranges.empty())
+    if (!reader.readRanges(r.ranges)) std::cerr << "obstacles_benchmark: no /sonar/front in the bag: map without the ranger\n";
+    if (!sonar_pose && !r.ranges.empty())
     {
       std::cerr << "obstacles_benchmark: built without assistive_sim (the ranger's mount): map without the ranger\n";
-      ranges.clear();
+      r.ranges.clear();
     }
   }
-  size_t next_range = 0;
+  return r;
+}
 
-  ObstaclesParams params;  // defaults
-  // The wearer's camera height: the nodelet takes it from the URDF; here from the world's walk
-  // (generated walks have eye heights of 1.55-1.75 m), unless --set gives it.
-  if (std::isfinite(eye_height)) params.camera_height = eye_height;
-  if (!eval::applySets(cl, overrides, params))  // --set: the node's parameter names (params.h table)
-    return 2;
-  for (const std::string& w : clampParams(params)) std::cerr << "obstacles_benchmark: " << w << "\n";
+/// --mover-poses: stamp in microseconds -> pose (the estimate of vo_benchmark --dump rows).
+std::map<long, Eigen::Isometry3d> readMoverPoses(const std::string& path)
+{
+  std::map<long, Eigen::Isometry3d> mover_poses;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line))
+  {
+    std::istringstream row(line);
+    double t, v[17];  // stamp, then state keyframe inliers, gt x y z qx qy qz qw, estimate x y z qx qy qz qw
+    if (!(row >> t)) continue;
+    bool ok = true;
+    for (double& x : v) ok = ok && static_cast<bool>(row >> x);
+    if (!ok) continue;
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(v[10], v[11], v[12]);
+    T.linear() = Eigen::Quaterniond(v[16], v[13], v[14], v[15]).normalized().toRotationMatrix();
+    mover_poses[std::lround(t * 1e6)] = T;
+  }
+  std::cerr << "obstacles_benchmark: " << mover_poses.size() << " mover poses from " << path << "\n";
+  return mover_poses;
+}
+
+/// True depth -> disparity at the matcher's scale `sc` (nearest-neighbour downsampling).
+cv::Mat trueDisparity(const cv::Mat& gt_depth, const StereoModel& model, double sc)
+{
+  cv::Mat true_disp;
+  cv::Mat z;
+  cv::resize(gt_depth, z, cv::Size(), sc, sc, cv::INTER_NEAREST);
+  true_disp.create(z.size(), CV_32F);
+  const float k = static_cast<float>(model.fx * sc * model.baseline);
+  for (int v = 0; v < z.rows; ++v)
+    for (int u = 0; u < z.cols; ++u)
+    {
+      const float zz = z.at<float>(v, u);
+      true_disp.at<float>(v, u) = zz > 0.f ? k / zz : -1.f;
+    }
+  return true_disp;
+}
+
+// ------------------------------------------------------------------------------ diagnostics (stderr)
+/// OBST_BIAS: disparity error vs the true depth (matcher's scale), binned by true depth.
+void printDisparityBias(const cv::Mat& gt_depth, const cv::Mat& disp, const StereoModel& model, int frames)
+{
+  const double sc = static_cast<double>(disp.cols) / model.width;
+  cv::Mat z;
+  cv::resize(gt_depth, z, disp.size(), 0, 0, cv::INTER_NEAREST);
+  const double k = model.fx * sc * model.baseline;
+  std::vector<std::vector<float>> err(6);
+  for (int v = 0; v < z.rows; ++v)
+    for (int u = 0; u < z.cols; ++u)
+    {
+      const float zz = z.at<float>(v, u), d = disp.at<float>(v, u);
+      if (zz > 0.f && d > 0.f && zz < 6.f) err[static_cast<int>(zz)].push_back(d - static_cast<float>(k / zz));
+    }
+  std::fprintf(stderr, "bias frame %d:", frames);
+  for (auto& e : err)
+    if (e.size() > 50)
+    {
+      std::sort(e.begin(), e.end());
+      std::fprintf(stderr, " [%zu] med %.3f p10 %.3f p90 %.3f;", e.size(), e[e.size() / 2], e[e.size() / 10], e[e.size() * 9 / 10]);
+    }
+    else
+      std::fprintf(stderr, " - ;");
+  std::fprintf(stderr, "\n");
+}
+
+/// OBST_SONAR: each echo fused this frame.
+void printSonar(const std::vector<AppliedRange>& ranges)
+{
+  for (const AppliedRange& a : ranges)
+  {
+    if (a.check != RangeCheck::ECHO) continue;
+    const SonarStats& ss = a.stats;
+    const Eigen::Vector3f o = a.T_world_sensor.translation(), ax = a.T_world_sensor.linear().col(0);
+    std::fprintf(stderr, "sonar t %.2f r %.2f at (%.2f %.2f %.2f) dir (%.2f %.2f %.2f): floor %d explained %d arc %d held %zu\n",
+                 a.sample.stamp, a.sample.range, o.x(), o.y(), o.z(), ax.x(), ax.y(), ax.z(), int(ss.floor_ambiguous),
+                 int(ss.explained), ss.arc_cells, ss.held);
+  }
+}
+
+/// OBST_MOVERS=1: per frame, the pipeline's timing and its detections / confirmed tracks.
+void printMovers(const MoverPipeline& movers, double stamp)
+{
+  std::fprintf(stderr, "movers t %.2f ms flow %.2f seg %.2f trk %.3f flow %zu det %zu:", stamp, movers.msFlow(),
+               movers.msSegmentation(), movers.msTracking(), movers.flow().size(), movers.detections().size());
+  for (const MoverDetection& d : movers.detections())
+    std::fprintf(stderr, " (%.2f %.2f n%d r%.2f z%.2f-%.2f d%.3f,%.3f)", d.centroid.x(), d.centroid.y(), d.points, d.radius,
+                 d.min_z, d.max_z, d.displacement.x(), d.displacement.y());
+  for (const ReportedMover& r : movers.confirmed())
+    std::fprintf(stderr, " [#%d %.2f %.2f v %.2f %.2f]", r.track.id, r.track.x(0), r.track.x(1), r.track.x(2), r.track.x(3));
+  std::fprintf(stderr, "\n");
+}
+
+/// OBST_FLOWDUMP=T0:T1: per frame in [T0, T1], every clustered moving point: pixels then and now,
+/// depths, the pixel a static point would have now, residual along / across the ray (m),
+/// the 3x3 / 5x5 / 7x7 disparity ranges (matcher px) around each end.
+void printFlow(const char* fd, const MoverPipeline& movers, const cv::Mat& disp, const StereoModel& model, double stamp,
+               const Eigen::Isometry3d& ego)
+{
+  double ta = 0, tb = 0;
+  std::sscanf(fd, "%lf:%lf", &ta, &tb);
+  static cv::Mat prev_disp;
+  static Eigen::Isometry3d prev_pose = Eigen::Isometry3d::Identity();
+  if (stamp >= ta && stamp <= tb && !prev_disp.empty())
+  {
+    const Eigen::Isometry3d T_cur_prev = ego.inverse() * prev_pose;
+    const double sc = static_cast<double>(disp.cols) / model.width;
+    auto range = [&](const cv::Mat& d, double u, double v, int r) {
+      const int cu = static_cast<int>(std::lround((u + 0.5) * sc - 0.5)), cv_ = static_cast<int>(std::lround((v + 0.5) * sc - 0.5));
+      float lo = 1e9f, hi = -1e9f;
+      for (int dv = -r; dv <= r; ++dv)
+        for (int du = -r; du <= r; ++du)
+        {
+          const int x = cu + du, y = cv_ + dv;
+          if (x < 0 || y < 0 || x >= d.cols || y >= d.rows) continue;
+          const float q = d.at<float>(y, x);
+          if (!(q > 0.f)) return -1.f;
+          lo = std::min(lo, q);
+          hi = std::max(hi, q);
+        }
+      return hi - lo;
+    };
+    const std::vector<SceneFlowPoint>& sp = movers.segmented();
+    const std::vector<int>& cl = movers.segmentation().cluster();
+    for (size_t i = 0; i < sp.size() && i < cl.size(); ++i)
+    {
+      if (cl[i] < 0) continue;
+      const SceneFlowPoint& q = sp[i];
+      const Eigen::Vector3d pred = T_cur_prev * q.prev, r = q.cur - pred, ray = q.cur.normalized();
+      const double rr = r.dot(ray);
+      const Eigen::Vector3d w = ego * q.cur;
+      std::fprintf(stderr,
+                   "flow t %.2f c%d w(%.2f %.2f %.2f) px0 (%.1f %.1f) Z0 %.2f px1 (%.1f %.1f) Z1 %.2f static (%.1f %.1f) "
+                   "r_ray %.3f r_across %.3f rng0 %.2f/%.2f/%.2f rng1 %.2f/%.2f/%.2f\n",
+                   stamp, cl[i], w.x(), w.y(), w.z(), model.fx * q.prev.x() / q.prev.z() + model.cx,
+                   model.fy * q.prev.y() / q.prev.z() + model.cy, q.prev.z(), model.fx * q.cur.x() / q.cur.z() + model.cx,
+                   model.fy * q.cur.y() / q.cur.z() + model.cy, q.cur.z(), model.fx * pred.x() / pred.z() + model.cx,
+                   model.fy * pred.y() / pred.z() + model.cy, rr, (r - rr * ray).norm(),
+                   range(prev_disp, model.fx * q.prev.x() / q.prev.z() + model.cx, model.fy * q.prev.y() / q.prev.z() + model.cy, 1),
+                   range(prev_disp, model.fx * q.prev.x() / q.prev.z() + model.cx, model.fy * q.prev.y() / q.prev.z() + model.cy, 2),
+                   range(prev_disp, model.fx * q.prev.x() / q.prev.z() + model.cx, model.fy * q.prev.y() / q.prev.z() + model.cy, 3),
+                   range(disp, model.fx * q.cur.x() / q.cur.z() + model.cx, model.fy * q.cur.y() / q.cur.z() + model.cy, 1),
+                   range(disp, model.fx * q.cur.x() / q.cur.z() + model.cx, model.fy * q.cur.y() / q.cur.z() + model.cy, 2),
+                   range(disp, model.fx * q.cur.x() / q.cur.z() + model.cx, model.fy * q.cur.y() / q.cur.z() + model.cy, 3));
+    }
+  }
+  disp.copyTo(prev_disp);
+  prev_pose = ego;
+}
+
+/// OBST_CELL=gx,gy: the cell's label this frame and the heights of its points.
+void printCell(const char* dc, const ObstacleMap& map, const std::vector<Eigen::Vector3f>& points,
+               const eval::StereoFrame& f, const ObstaclesParams& params, int frames)
+{
+  int gx = 0, gy = 0;
+  std::sscanf(dc, "%d,%d", &gx, &gy);
+  const Window& w = map.window();
+  const int lx = gx - w.ox, ly = gy - w.oy;
+  if (lx >= 0 && ly >= 0 && lx < w.n && ly < w.n)
+  {
+    std::vector<float> zs;
+    double rng = 0;
+    for (size_t i = 0; i < map.worldPoints().size(); ++i)
+    {
+      const auto& q = map.worldPoints()[i];
+      if (std::floor(q.x() / w.res) == gx && std::floor(q.y() / w.res) == gy)
+      {
+        zs.push_back(q.z());
+        rng += points[i].z();
+      }
+    }
+    std::sort(zs.begin(), zs.end());
+    const float feet = f.gt_pose.translation().z() - params.camera_height;
+    std::fprintf(stderr, "frame %d cell label %d n=%zu zrange %s", frames, int(map.frameLabels()[w.index(lx, ly)]), zs.size(),
+                 zs.empty() ? "" : "");
+    if (!zs.empty())
+      std::fprintf(stderr, " z-feet: %.3f %.3f %.3f %.3f %.3f camZ %.2f", zs[0] - feet, zs[zs.size() / 10] - feet,
+                   zs[zs.size() / 2] - feet, zs[zs.size() * 9 / 10] - feet, zs.back() - feet, rng / zs.size());
+    std::fprintf(stderr, "\n");
+  }
+}
+
+// ------------------------------------------------------------------------------ the run
+/// The runner (every frame through the stage's frame step on the truth poses), the scorer (the
+/// map and the people against the truth, summed over frames) and the report.
+class ObstaclesRun
+{
+public:
+  ObstaclesRun(const Options& opt, const ObstaclesParams& params, const Truth& t, const Ranger& ranger,
+               std::map<long, Eigen::Isometry3d> mover_poses, eval::StereoBagReader& reader);
+  /// Every frame of the bag; false (with the message) when none was usable.
+  bool run();
+  /// The PNG of the scored map at the last frame.
+  void plotMap();
+  /// The report on stdout (and OBST_FPMAP's cells on stderr).
+  void printReport() const;
+  /// The last stdout line (docs/design.md: its keys are read by others).
+  eval::JsonLine jsonLine() const;
+
+private:
+  /// One frame with a truth pose through the stage; true when the map took it (scored).
+  bool processFrame();
+  /// The frame's diagnostics asked for in the environment (stderr).
+  void printDiagnostics(const ObstacleFrameResult& res, const StereoModel& model, const Eigen::Isometry3d* ego);
+  /// The wearer now (truth): position, speed over 0.5 s, heading.
+  Wearer wearerNow() const;
+  /// People: tracks against the truth, the crossing predictor's warnings, ghosts and locks; the
+  /// tracker + predictor time added to `ms_track`.
+  void scorePeople(const std::vector<ReportedMover>& reported, const StereoModel& model, double& ms_track);
+  /// The people walking and those in the camera's view, matched by the tracks.
+  void scoreMovingPeople(const std::vector<PersonState>& truth_people, const std::vector<PersonState>& est,
+                         const Eigen::Vector2d& wearer_pos, const StereoModel& model);
+  /// Cells under a person now; cells on people's paths that read obstacle once they left;
+  /// truth-free cells locked for good.
+  void scoreGhosts(const std::vector<PersonState>& truth_people, const Eigen::Vector2d& wearer_pos);
+  /// The map against the truth within 3 m and 5 m of the wearer.
+  void scoreMap();
+  /// False positives by class: next to a true obstacle (8-neighbour) or isolated; STEP code.
+  void classifyFalsePositives(const eval::OccupancyGrid& est);
+  /// Glass cells the ranger hit (held by the map), and those reported free after that hit.
+  void scoreGlass(const eval::OccupancyGrid& est);
+  /// OBST_BANDS: column clearance per band over the truth-free cells within 3 m.
+  void printBands() const;
+  void printPeople() const;
+  void printFpCells() const;
+
+  const Options& opt_;
+  const ObstaclesParams& params;
+  const Truth& t_;
+  const eval::OccupancyGrid& truth;
+  const std::vector<eval::RangeSample>& ranges;
+  const Eigen::Isometry3d link_to_sonar;
+  const std::map<long, Eigen::Isometry3d> mover_poses;  // stamp in microseconds -> pose (--mover-poses)
+  eval::StereoBagReader& reader_;
   // The stage's whole frame step, as the nodelet runs it (frame gate, disparity, ranger, movers,
   // map, OctoMap insertion).
-  ObstacleFrameProcessor proc(params, ObstaclesNodeParams().octomap_insert_every);
-  const ObstacleMap& map = proc.map();
-  // The ranger's pose: the ground-truth camera pose at the reading's stamp, interpolated, times
-  // the URDF mount.
-  const RangePoseLookup range_pose = [&](const RangeSample& rs, Eigen::Isometry3f& T) {
-    Eigen::Isometry3d T_left;
-    if (!poseAt(reader->groundTruth(), rs.stamp, T_left)) return false;
-    T = (T_left * eval::linkToLeftOptical().inverse() * link_to_sonar).cast<float>();
-    return true;
-  };
+  ObstacleFrameProcessor proc;
+  const ObstacleMap& map;
+  RangePoseLookup range_pose;
+  size_t next_range = 0;
   int no_depth_frames = 0;
   // People who move (issue 22): the stage's mover pipeline on the bag's left image and the truth
   // poses (the ego-motion the stage would take from tf), scored when the bag has people.
-  std::map<long, Eigen::Isometry3d> mover_poses;  // stamp in microseconds -> pose (--mover-poses)
-  if (!mover_poses_path.empty())
-  {
-    std::ifstream in(mover_poses_path);
-    std::string line;
-    while (std::getline(in, line))
-    {
-      std::istringstream row(line);
-      double t, v[17];  // stamp, then state keyframe inliers, gt x y z qx qy qz qw, estimate x y z qx qy qz qw
-      if (!(row >> t)) continue;
-      bool ok = true;
-      for (double& x : v) ok = ok && static_cast<bool>(row >> x);
-      if (!ok) continue;
-      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-      T.translation() = Eigen::Vector3d(v[10], v[11], v[12]);
-      T.linear() = Eigen::Quaterniond(v[16], v[13], v[14], v[15]).normalized().toRotationMatrix();
-      mover_poses[std::lround(t * 1e6)] = T;
-    }
-    std::cerr << "obstacles_benchmark: " << mover_poses.size() << " mover poses from " << mover_poses_path << "\n";
-    if (mover_poses.empty()) return cl.usageError("no pose rows in " + mover_poses_path);
-  }
-  const auto people = readPeople(bag);
-  const bool has_people = !people.empty();
-  if (has_people) std::cerr << "obstacles_benchmark: " << people.size() << " people truth messages\n";
+  std::vector<std::pair<double, std::vector<PersonState>>> people;
+  bool has_people = false;
   CrossingPredictor predictor;
   PeopleScoreParams pscore;  // 5 m, gate 0.5 m, velocity after 0.5 s of track
   CrossingScore crossing;
@@ -395,481 +605,415 @@ int main(int argc, char** argv)
   std::map<std::pair<int, int>, std::array<int, 3>> fp_cells;  // OBST_FPMAP: frames each cell was a FP (obstacle, step) / FN
   std::set<size_t> free_where_obstacle, free_where_partial, free_where_glass;
   Sum s3_strict;  // the truth's own codes, every partly covered cell an obstacle
+  std::set<size_t> ranger_hit_glass, freed_after_hit;  // indices into glass_cells
   eval::StereoFrame f;
   int frames = 0, used = 0, no_pose = 0;
   GridData grid;
-  Eigen::Vector2d wearer(0, 0);
-  const size_t total = reader->size();
-  while (eval::nextFrameOrExit(*reader, f, "obstacles_benchmark", bag))
+  Eigen::Vector2d wearer{0, 0};
+  const size_t total;
+};
+
+ObstaclesRun::ObstaclesRun(const Options& opt, const ObstaclesParams& p, const Truth& t, const Ranger& ranger,
+                           std::map<long, Eigen::Isometry3d> poses, eval::StereoBagReader& reader)
+  : opt_(opt), params(p), t_(t), truth(t.grid), ranges(ranger.ranges), link_to_sonar(ranger.link_to_sonar),
+    mover_poses(std::move(poses)), reader_(reader), proc(p, ObstaclesNodeParams().octomap_insert_every),
+    map(proc.map()), total(reader.size())
+{
+  // The ranger's pose: the ground-truth camera pose at the reading's stamp, interpolated, times
+  // the URDF mount.
+  range_pose = [this](const RangeSample& rs, Eigen::Isometry3f& T) {
+    Eigen::Isometry3d T_left;
+    if (!poseAt(reader_.groundTruth(), rs.stamp, T_left)) return false;
+    T = (T_left * eval::linkToLeftOptical().inverse() * link_to_sonar).cast<float>();
+    return true;
+  };
+  people = readPeople(opt.bag);
+  has_people = !people.empty();
+  if (has_people) std::cerr << "obstacles_benchmark: " << people.size() << " people truth messages\n";
+}
+
+bool ObstaclesRun::run()
+{
+  while (eval::nextFrameOrExit(reader_, f, "obstacles_benchmark", opt_.bag))
   {
     ++frames;
-    if (frames <= skip) continue;
-    if (max_frames > 0 && used >= max_frames) break;
+    if (frames <= opt_.skip) continue;
+    if (opt_.max_frames > 0 && used >= opt_.max_frames) break;
     if (!f.has_gt_pose)
     {
       ++no_pose;
       continue;
     }
-    const eval::StereoCalib& c = f.calib;
-    const StereoModel model{c.width, c.height, c.fx, c.fy, c.cx, c.cy, c.baseline};
-    const double t0 = eval::wallMs();
-    ObstacleFrame in;
-    in.stamp = f.stamp;
-    in.left = f.left;
-    in.right = f.right;
-    in.model = model;
-    in.T_world_cam = f.gt_pose;
-    cv::Mat true_disp;
-    if (gt_depth)
-    {
-      if (f.gt_depth.empty()) continue;
-      // True depth -> disparity at the matcher's scale (nearest-neighbour downsampling).
-      const double sc = params.disparity_scale;
-      cv::Mat z;
-      cv::resize(f.gt_depth, z, cv::Size(), sc, sc, cv::INTER_NEAREST);
-      true_disp.create(z.size(), CV_32F);
-      const float k = static_cast<float>(model.fx * sc * model.baseline);
-      for (int v = 0; v < z.rows; ++v)
-        for (int u = 0; u < z.cols; ++u)
-        {
-          const float zz = z.at<float>(v, u);
-          true_disp.at<float>(v, u) = zz > 0.f ? k / zz : -1.f;
-        }
-      in.disparity = &true_disp;
-    }
-    const double ms_true_disp = eval::wallMs() - t0;
-    const Eigen::Isometry3d* ego = &f.gt_pose;
-    if (!mover_poses.empty())
-    {
-      const auto it = mover_poses.find(std::lround(f.stamp * 1e6));
-      ego = it != mover_poses.end() ? &it->second : nullptr;  // no pose (the VO lost it): no flow, as in the chain
-      in.own_mover_pose = true;
-      in.mover_pose = ego;
-    }
-    // The ranger's readings as they would have arrived by this frame; the stage applies those
-    // stamped up to it before the frame's update.
-    for (; next_range < ranges.size() && ranges[next_range].stamp <= f.stamp; ++next_range)
-    {
-      const eval::RangeSample& rs = ranges[next_range];
-      proc.queueRange({rs.stamp, rs.range, rs.min_range, rs.max_range, rs.field_of_view, rs.frame_id});
-    }
-    const ObstacleFrameResult& res = proc.process(in, range_pose);
-    if (!res.disparity_ok) continue;
-    // The stereo figures count every frame; the map's only the frames the map took.
-    ms_disp.push_back(ms_true_disp + res.ms_disparity);
-    npts.push_back(static_cast<double>(proc.points().size()));
-    if (!res.map_updated)
-    {
-      ++no_depth_frames;  // the stage's gate: no depth, no update, no grid (not scored)
-      continue;
-    }
-    const cv::Mat& disp = proc.disparity();
-    const std::vector<Eigen::Vector3f>& points = proc.points();
-    const MoverPipeline* movers = proc.movers();
-    if (!gt_depth && !f.gt_depth.empty() && std::getenv("OBST_BIAS"))
-    {
-      // Disparity error vs the true depth (matcher's scale), binned by true depth.
-      const double sc = static_cast<double>(disp.cols) / model.width;
-      cv::Mat z;
-      cv::resize(f.gt_depth, z, disp.size(), 0, 0, cv::INTER_NEAREST);
-      const double k = model.fx * sc * model.baseline;
-      std::vector<std::vector<float>> err(6);
-      for (int v = 0; v < z.rows; ++v)
-        for (int u = 0; u < z.cols; ++u)
-        {
-          const float zz = z.at<float>(v, u), d = disp.at<float>(v, u);
-          if (zz > 0.f && d > 0.f && zz < 6.f) err[static_cast<int>(zz)].push_back(d - static_cast<float>(k / zz));
-        }
-      std::fprintf(stderr, "bias frame %d:", frames);
-      for (auto& e : err)
-        if (e.size() > 50)
-        {
-          std::sort(e.begin(), e.end());
-          std::fprintf(stderr, " [%zu] med %.3f p10 %.3f p90 %.3f;", e.size(), e[e.size() / 2], e[e.size() / 10], e[e.size() * 9 / 10]);
-        }
-        else
-          std::fprintf(stderr, " - ;");
-      std::fprintf(stderr, "\n");
-    }
-    if (std::getenv("OBST_SONAR"))
-      for (const AppliedRange& a : res.ranges)
-      {
-        if (a.check != RangeCheck::ECHO) continue;
-        const SonarStats& ss = a.stats;
-        const Eigen::Vector3f o = a.T_world_sensor.translation(), ax = a.T_world_sensor.linear().col(0);
-        std::fprintf(stderr, "sonar t %.2f r %.2f at (%.2f %.2f %.2f) dir (%.2f %.2f %.2f): floor %d explained %d arc %d held %zu\n",
-                     a.sample.stamp, a.sample.range, o.x(), o.y(), o.z(), ax.x(), ax.y(), ax.z(), int(ss.floor_ambiguous),
-                     int(ss.explained), ss.arc_cells, ss.held);
-      }
-    double ms_track = 0.0;
-    if (movers)
-    {
-      ms_track = movers->msTracking();
-      if (std::getenv("OBST_MOVERS"))
-      {
-        // OBST_MOVERS=1: per frame, the pipeline's timing and its detections / confirmed tracks.
-        std::fprintf(stderr, "movers t %.2f ms flow %.2f seg %.2f trk %.3f flow %zu det %zu:", f.stamp, movers->msFlow(),
-                     movers->msSegmentation(), movers->msTracking(), movers->flow().size(), movers->detections().size());
-        for (const MoverDetection& d : movers->detections())
-          std::fprintf(stderr, " (%.2f %.2f n%d r%.2f z%.2f-%.2f d%.3f,%.3f)", d.centroid.x(), d.centroid.y(), d.points, d.radius,
-                       d.min_z, d.max_z, d.displacement.x(), d.displacement.y());
-        for (const ReportedMover& r : movers->confirmed())
-          std::fprintf(stderr, " [#%d %.2f %.2f v %.2f %.2f]", r.track.id, r.track.x(0), r.track.x(1), r.track.x(2), r.track.x(3));
-        std::fprintf(stderr, "\n");
-      }
-      if (const char* fd = std::getenv("OBST_FLOWDUMP"); fd && ego)
-      {
-        // OBST_FLOWDUMP=T0:T1: per frame in [T0, T1], every clustered moving point: pixels then and now,
-        // depths, the pixel a static point would have now, residual along / across the ray (m),
-        // the 3x3 / 5x5 / 7x7 disparity ranges (matcher px) around each end.
-        double ta = 0, tb = 0;
-        std::sscanf(fd, "%lf:%lf", &ta, &tb);
-        static cv::Mat prev_disp;
-        static Eigen::Isometry3d prev_pose = Eigen::Isometry3d::Identity();
-        if (f.stamp >= ta && f.stamp <= tb && !prev_disp.empty())
-        {
-          const Eigen::Isometry3d T_cur_prev = ego->inverse() * prev_pose;
-          const double sc = static_cast<double>(disp.cols) / model.width;
-          auto range = [&](const cv::Mat& d, double u, double v, int r) {
-            const int cu = static_cast<int>(std::lround((u + 0.5) * sc - 0.5)), cv_ = static_cast<int>(std::lround((v + 0.5) * sc - 0.5));
-            float lo = 1e9f, hi = -1e9f;
-            for (int dv = -r; dv <= r; ++dv)
-              for (int du = -r; du <= r; ++du)
-              {
-                const int x = cu + du, y = cv_ + dv;
-                if (x < 0 || y < 0 || x >= d.cols || y >= d.rows) continue;
-                const float q = d.at<float>(y, x);
-                if (!(q > 0.f)) return -1.f;
-                lo = std::min(lo, q);
-                hi = std::max(hi, q);
-              }
-            return hi - lo;
-          };
-          const std::vector<SceneFlowPoint>& sp = movers->segmented();
-          const std::vector<int>& cl = movers->segmentation().cluster();
-          for (size_t i = 0; i < sp.size() && i < cl.size(); ++i)
-          {
-            if (cl[i] < 0) continue;
-            const SceneFlowPoint& q = sp[i];
-            const Eigen::Vector3d pred = T_cur_prev * q.prev, r = q.cur - pred, ray = q.cur.normalized();
-            const double rr = r.dot(ray);
-            const Eigen::Vector3d w = *ego * q.cur;
-            std::fprintf(stderr,
-                         "flow t %.2f c%d w(%.2f %.2f %.2f) px0 (%.1f %.1f) Z0 %.2f px1 (%.1f %.1f) Z1 %.2f static (%.1f %.1f) "
-                         "r_ray %.3f r_across %.3f rng0 %.2f/%.2f/%.2f rng1 %.2f/%.2f/%.2f\n",
-                         f.stamp, cl[i], w.x(), w.y(), w.z(), model.fx * q.prev.x() / q.prev.z() + model.cx,
-                         model.fy * q.prev.y() / q.prev.z() + model.cy, q.prev.z(), model.fx * q.cur.x() / q.cur.z() + model.cx,
-                         model.fy * q.cur.y() / q.cur.z() + model.cy, q.cur.z(), model.fx * pred.x() / pred.z() + model.cx,
-                         model.fy * pred.y() / pred.z() + model.cy, rr, (r - rr * ray).norm(),
-                         range(prev_disp, model.fx * q.prev.x() / q.prev.z() + model.cx, model.fy * q.prev.y() / q.prev.z() + model.cy, 1),
-                         range(prev_disp, model.fx * q.prev.x() / q.prev.z() + model.cx, model.fy * q.prev.y() / q.prev.z() + model.cy, 2),
-                         range(prev_disp, model.fx * q.prev.x() / q.prev.z() + model.cx, model.fy * q.prev.y() / q.prev.z() + model.cy, 3),
-                         range(disp, model.fx * q.cur.x() / q.cur.z() + model.cx, model.fy * q.cur.y() / q.cur.z() + model.cy, 1),
-                         range(disp, model.fx * q.cur.x() / q.cur.z() + model.cx, model.fy * q.cur.y() / q.cur.z() + model.cy, 2),
-                         range(disp, model.fx * q.cur.x() / q.cur.z() + model.cx, model.fy * q.cur.y() / q.cur.z() + model.cy, 3));
-          }
-        }
-        disp.copyTo(prev_disp);
-        prev_pose = *ego;
-      }
-    }
-    if (const char* dc = std::getenv("OBST_CELL"))
-    {
-      int gx = 0, gy = 0;
-      std::sscanf(dc, "%d,%d", &gx, &gy);
-      const Window& w = map.window();
-      const int lx = gx - w.ox, ly = gy - w.oy;
-      if (lx >= 0 && ly >= 0 && lx < w.n && ly < w.n)
-      {
-        std::vector<float> zs;
-        double rng = 0;
-        for (size_t i = 0; i < map.worldPoints().size(); ++i)
-        {
-          const auto& q = map.worldPoints()[i];
-          if (std::floor(q.x() / w.res) == gx && std::floor(q.y() / w.res) == gy)
-          {
-            zs.push_back(q.z());
-            rng += points[i].z();
-          }
-        }
-        std::sort(zs.begin(), zs.end());
-        const float feet = f.gt_pose.translation().z() - params.camera_height;
-        std::fprintf(stderr, "frame %d cell label %d n=%zu zrange %s", frames, int(map.frameLabels()[w.index(lx, ly)]), zs.size(),
-                     zs.empty() ? "" : "");
-        if (!zs.empty())
-          std::fprintf(stderr, " z-feet: %.3f %.3f %.3f %.3f %.3f camZ %.2f", zs[0] - feet, zs[zs.size() / 10] - feet,
-                       zs[zs.size() / 2] - feet, zs[zs.size() * 9 / 10] - feet, zs.back() - feet, rng / zs.size());
-        std::fprintf(stderr, "\n");
-      }
-    }
-    ms_map.push_back(res.ms_ranger + res.ms_map);  // the map alone (ranger included, movers not)
-    std::vector<ReportedMover> reported;
-    if (movers)
-    {
-      ms_movers.push_back(movers->msFlow() + movers->msSegmentation() + movers->msTracking());
-      reported = res.movers;
-      confirmed_sum += static_cast<double>(reported.size());
-      mover_cells_sum += map.stats().mover_cells;
-    }
-    // People: tracks against the truth, the crossing predictor's warnings, ghosts and locks.
-    const std::vector<PersonState>* truth_people = has_people ? peopleAt(people, f.stamp) : nullptr;
-    auto wearerNow = [&]() {
-      Wearer w;
-      w.position = f.gt_pose.translation().head<2>();
-      Eigen::Isometry3d before;
-      Eigen::Vector2d v(0, 0);
-      if (poseAt(reader->groundTruth(), f.stamp - 0.5, before))
-        v = (w.position - before.translation().head<2>()) / 0.5;  // over 0.5 s: the gait's sway averages out
-      w.speed = v.norm();
-      const Eigen::Vector3d fwd = f.gt_pose.linear().col(2);  // optical axis
-      w.heading = w.speed > 0.2 ? std::atan2(v.y(), v.x()) : std::atan2(fwd.y(), fwd.x());
-      return w;
-    };
-    if (movers && !has_people)
-    {
-      // A world without people: every mover is false, and so is every crossing warning.
-      std::vector<MoverTrack> tracks;
-      for (const ReportedMover& r : reported) tracks.push_back(r.track);
-      std::set<int> warned;
-      for (const CrossingPrediction& cp : predictor.predict(wearerNow(), tracks))
-        if (cp.warn) warned.insert(cp.track_id);
-      crossing.addFrame(f.stamp, f.gt_pose.translation().head<2>(), {}, warned, {});
-    }
-    if (truth_people)
-    {
-      const double tp0 = eval::wallMs();
-      const Wearer w = wearerNow();
-      std::vector<MoverTrack> tracks;
-      std::vector<PersonState> est;
-      for (const ReportedMover& r : reported)
-      {
-        tracks.push_back(r.track);
-        PersonState q;
-        q.id = r.track.id;
-        q.position = r.track.position();
-        q.velocity = r.track.velocity();
-        q.radius = r.radius;
-        q.age = f.stamp - r.track.born;
-        est.push_back(q);
-      }
-      std::set<int> warned;
-      for (const CrossingPrediction& cp : predictor.predict(w, tracks))
-        if (cp.warn) warned.insert(cp.track_id);
-      ms_track += eval::wallMs() - tp0;
-      const PeopleFrameScore ps = scorePeopleFrame(*truth_people, est, w.position, pscore);
-      {
-        std::vector<PersonState> moving, in_view;
-        const Eigen::Isometry3d cam_world = f.gt_pose.inverse();
-        for (const PersonState& q : *truth_people)
-        {
-          if (q.velocity.norm() < 0.3) continue;
-          moving.push_back(q);
-          const Eigen::Vector3d c = cam_world * Eigen::Vector3d(q.position.x(), q.position.y(), q.age);
-          if (c.z() < 0.3) continue;
-          const double u = model.fx * c.x() / c.z() + model.cx, v = model.fy * c.y() / c.z() + model.cy;
-          if (u >= 0 && v >= 0 && u < model.width && v < model.height) in_view.push_back(q);
-        }
-        const PeopleFrameScore pm = scorePeopleFrame(moving, est, w.position, pscore);
-        const PeopleFrameScore pv = scorePeopleFrame(in_view, est, w.position, pscore);
-        moving_truth += pm.truth_in_range;
-        moving_matched += pm.truth_matched;
-        view_truth += pv.truth_in_range;
-        view_matched += pv.truth_matched;
-      }
-      people_truth += ps.truth_in_range;
-      people_truth_matched += ps.truth_matched;
-      people_tracks += ps.tracks_in_range;
-      people_tracks_matched += ps.tracks_matched;
-      vel_sum += ps.velocity_err_sum;
-      vel_n += ps.velocity_n;
-      crossing.addFrame(f.stamp, w.position, *truth_people, warned, ps.track_to_truth);
-      if (has_truth)
-      {
-        map.grid(grid);
-        const GridData tg{truth.origin_x, truth.origin_y, truth.resolution, truth.width, truth.height, truth.data};
-        const GhostCount g = countGhostCells(tg, grid, w.position, 5.0, *truth_people);
-        ghosts.free_known += g.free_known;
-        ghosts.ghost += g.ghost;
-        // Cells under a person now; cells on people's paths that read obstacle once they left;
-        // truth-free cells locked for good.
-        const double res = params.cell_size;
-        std::set<std::pair<int, int>> under;
-        for (const PersonState& q : *truth_people)
-        {
-          const int r = static_cast<int>(std::ceil(q.radius / res)) + 1;
-          const int gx = static_cast<int>(std::floor(q.position.x() / res)), gy = static_cast<int>(std::floor(q.position.y() / res));
-          for (int dy = -r; dy <= r; ++dy)
-            for (int dx = -r; dx <= r; ++dx)
-            {
-              const Eigen::Vector2d c((gx + dx + 0.5) * res, (gy + dy + 0.5) * res);
-              if ((c - q.position).norm() < q.radius + res * std::sqrt(0.5)) under.insert({gx + dx, gy + dy});
-            }
-        }
-        people_path.insert(under.begin(), under.end());
-        const Window& win = map.window();
-        for (int ly = 0; ly < win.n; ++ly)
-          for (int lx = 0; lx < win.n; ++lx)
-          {
-            const int gx = win.ox + lx, gy = win.oy + ly;
-            const double x = (gx + 0.5) * res, y = (gy + 0.5) * res;
-            if ((Eigen::Vector2d(x, y) - w.position).squaredNorm() > 25.0) continue;
-            const int tx = static_cast<int>(std::floor((x - truth.origin_x) / truth.resolution));
-            const int ty = static_cast<int>(std::floor((y - truth.origin_y) / truth.resolution));
-            if (tx < 0 || ty < 0 || tx >= truth.width || ty >= truth.height ||
-                truth.data[static_cast<size_t>(ty) * truth.width + tx] != 0)
-              continue;
-            const CellCounters* cc = map.temporal().find(gx, gy);
-            if (cc && cc->permanent) locked_free.insert({gx, gy});
-            if (people_path.count({gx, gy}) && !under.count({gx, gy}))
-            {
-              const int ex = static_cast<int>(std::floor((x - grid.origin_x) / grid.resolution));
-              const int ey = static_cast<int>(std::floor((y - grid.origin_y) / grid.resolution));
-              if (ex >= 0 && ey >= 0 && ex < grid.width && ey < grid.height &&
-                  grid.data[static_cast<size_t>(ey) * grid.width + ex] == 100)
-                ghost_people_path.insert({gx, gy});
-            }
-          }
-      }
-    }
-    if (movers) ms_tracking.push_back(ms_track);
-    ++used;
-    wearer = f.gt_pose.translation().head<2>();
-    if (has_truth)
-    {
-      map.grid(grid);
-      const auto est = toSim(grid);
-      eval::MapScoreParams p3, p5;
-      p3.radius_m = 3.0;
-      p5.radius_m = 5.0;
-      s3_strict.add(eval::scoreMap(truth, est, wearer, p3));
-      if (partial_scoring)
-      {
-        p3.exclude = p5.exclude = &exclude_mask;
-        p3.glass = p5.glass = &glass_mask;
-      }
-      s3.add(partial_scoring ? eval::scoreMap(truth, est, wearer, p3) : s3_strict.last);
-      // False positives by class: next to a true obstacle (8-neighbour) or isolated; STEP code.
-      for (int cy = 0; cy < truth.height; ++cy)
-        for (int cx = 0; cx < truth.width; ++cx)
-        {
-          const int8_t g = truth.data[static_cast<size_t>(cy) * truth.width + cx];
-          if (g != 0 && !(g > 0 && std::getenv("OBST_FPMAP"))) continue;  // ground-truth free only (the scored false positives)
-          const double x = truth.origin_x + (cx + 0.5) * truth.resolution, y = truth.origin_y + (cy + 0.5) * truth.resolution;
-          if ((Eigen::Vector2d(x, y) - wearer).squaredNorm() > 9.0) continue;
-          const int ex = static_cast<int>(std::floor((x - est.origin_x) / est.resolution));
-          const int ey = static_cast<int>(std::floor((y - est.origin_y) / est.resolution));
-          if (ex < 0 || ey < 0 || ex >= est.width || ey >= est.height) continue;
-          const int8_t e = est.data[static_cast<size_t>(ey) * est.width + ex];
-          if (g != 0)
-          {
-            if (e == 0) ++fp_cells[{cx, cy}][2];  // false negative (OBST_FPMAP only)
-            continue;
-          }
-          if (e != 50 && e != 100) continue;
-          if (e == 50) ++fp_step;
-          if (std::getenv("OBST_FPMAP")) ++fp_cells[{cx, cy}][e == 50 ? 1 : 0];
-          bool adj = false;
-          for (int dy = -1; dy <= 1 && !adj; ++dy)
-            for (int dx = -1; dx <= 1 && !adj; ++dx)
-            {
-              const int xx = cx + dx, yy = cy + dy;
-              if (xx < 0 || yy < 0 || xx >= truth.width || yy >= truth.height) continue;
-              const int8_t gn = truth.data[static_cast<size_t>(yy) * truth.width + xx];
-              adj = gn == 100 || gn == 50;
-            }
-          (adj ? fp_adjacent : fp_isolated)++;
-          if (std::getenv("OBST_DEBUG") && reader->size() == static_cast<size_t>(frames))
-          {
-            const int gx = static_cast<int>(std::floor(x / est.resolution)), gy = static_cast<int>(std::floor(y / est.resolution));
-            const CellCounters* cc = map.temporal().find(gx, gy);
-            if (cc)
-              std::fprintf(stderr, "FP adj=%d %d %d r=%.2f o=%d s=%d votes=%d flips=%d perm=%d\n", int(adj), gx, gy,
-                           (Eigen::Vector2d(x, y) - wearer).norm(), cc->o, cc->s, cc->votes, cc->flips, int(cc->permanent));
-          }
-        }
-      // Glass cells the ranger hit (held by the map), and those reported free after that hit.
-      for (size_t k = 0; k < glass_cells.size(); ++k)
-      {
-        const Eigen::Vector2d& c = glass_cells[k];
-        const int gx = static_cast<int>(std::floor(c.x() / params.cell_size)), gy = static_cast<int>(std::floor(c.y() / params.cell_size));
-        if (map.sonar().held(gx, gy)) ranger_hit_glass.insert(k);
-        if (!ranger_hit_glass.count(k)) continue;
-        const int ex = static_cast<int>(std::floor((c.x() - est.origin_x) / est.resolution));
-        const int ey = static_cast<int>(std::floor((c.y() - est.origin_y) / est.resolution));
-        if (ex >= 0 && ey >= 0 && ex < est.width && ey < est.height && est.data[static_cast<size_t>(ey) * est.width + ex] == 0)
-          freed_after_hit.insert(k);
-      }
-      if (std::getenv("OBST_BANDS") && params.column_bands > 0)
-      {
-        // Column clearance diagnostics: per band, how many truth-free cells within 3 m lack that
-        // band's clear bit (summed over frames), and how many lack only it.
-        static std::vector<size_t> lack(8, 0), only(8, 0);
-        static size_t cells = 0, full = 0;
-        const uint8_t all = static_cast<uint8_t>((1u << params.column_bands) - 1u);
-        for (int cy = 0; cy < truth.height; ++cy)
-          for (int cx = 0; cx < truth.width; ++cx)
-          {
-            if (truth.data[static_cast<size_t>(cy) * truth.width + cx] != 0) continue;
-            const double x = truth.origin_x + (cx + 0.5) * truth.resolution, y = truth.origin_y + (cy + 0.5) * truth.resolution;
-            if ((Eigen::Vector2d(x, y) - wearer).squaredNorm() > 9.0) continue;
-            const CellCounters* cc = map.temporal().find(static_cast<int>(std::floor(x / grid.resolution)),
-                                                         static_cast<int>(std::floor(y / grid.resolution)));
-            ++cells;
-            const uint8_t b = cc ? (cc->clear & all) : 0;
-            if (b == all) ++full;
-            for (int i = 0; i < params.column_bands; ++i)
-              if (!(b >> i & 1u))
-              {
-                ++lack[i];
-                if ((b | (1u << i)) == all) ++only[i];
-              }
-          }
-        if (static_cast<size_t>(frames) == total || (max_frames > 0 && used == max_frames))
-        {
-          std::fprintf(stderr, "BANDS cells %zu full %.3f;", cells, double(full) / cells);
-          for (int i = 0; i < params.column_bands; ++i)
-            std::fprintf(stderr, " band %d lacks %.3f only %.3f;", i, double(lack[i]) / cells, double(only[i]) / cells);
-          std::fprintf(stderr, "\n");
-        }
-      }
-      const auto sc5 = eval::scoreMap(truth, est, wearer, p5);
-      s5.add(sc5);
-      free_where_obstacle.insert(sc5.free_where_obstacle_cells.begin(), sc5.free_where_obstacle_cells.end());
-      free_where_partial.insert(sc5.free_where_partial_cells.begin(), sc5.free_where_partial_cells.end());
-      free_where_glass.insert(sc5.free_where_glass_cells.begin(), sc5.free_where_glass_cells.end());
-    }
+    if (!processFrame()) continue;
     if (used % 20 == 0) std::cerr << "\r[obstacles_benchmark] frame " << frames << "/" << total << std::flush;
   }
   std::cerr << "\n";
   if (used == 0 && no_depth_frames == 0)
   {
     std::cerr << "obstacles_benchmark: no usable frame (need stereo images with ground-truth poses)\n";
-    return 1;
+    return false;
   }
-  if (has_truth)
+  return true;
+}
+
+bool ObstaclesRun::processFrame()
+{
+  const eval::StereoCalib& c = f.calib;
+  const StereoModel model{c.width, c.height, c.fx, c.fy, c.cx, c.cy, c.baseline};
+  const double t0 = eval::wallMs();
+  ObstacleFrame in;
+  in.stamp = f.stamp;
+  in.left = f.left;
+  in.right = f.right;
+  in.model = model;
+  in.T_world_cam = f.gt_pose;
+  cv::Mat true_disp;
+  if (opt_.gt_depth)
   {
-    map.grid(grid);
-    const cv::Mat img = eval::plotMapScore(truth, toSim(grid), wearer, 3.0, Eigen::Isometry2d::Identity(), 0,
-                                           "obstacles: " + bag + " (last frame, 3 m)");
-    std::string err;
-    if (!eval::writePng(png, img, &err)) std::cerr << "obstacles_benchmark: " << err << "\n";
+    if (f.gt_depth.empty()) return false;
+    true_disp = trueDisparity(f.gt_depth, model, params.disparity_scale);
+    in.disparity = &true_disp;
   }
+  const double ms_true_disp = eval::wallMs() - t0;
+  const Eigen::Isometry3d* ego = &f.gt_pose;
+  if (!mover_poses.empty())
+  {
+    const auto it = mover_poses.find(std::lround(f.stamp * 1e6));
+    ego = it != mover_poses.end() ? &it->second : nullptr;  // no pose (the VO lost it): no flow, as in the chain
+    in.own_mover_pose = true;
+    in.mover_pose = ego;
+  }
+  // The ranger's readings as they would have arrived by this frame; the stage applies those
+  // stamped up to it before the frame's update.
+  for (; next_range < ranges.size() && ranges[next_range].stamp <= f.stamp; ++next_range)
+  {
+    const eval::RangeSample& rs = ranges[next_range];
+    proc.queueRange({rs.stamp, rs.range, rs.min_range, rs.max_range, rs.field_of_view, rs.frame_id});
+  }
+  const ObstacleFrameResult& res = proc.process(in, range_pose);
+  if (!res.disparity_ok) return false;
+  // The stereo figures count every frame; the map's only the frames the map took.
+  ms_disp.push_back(ms_true_disp + res.ms_disparity);
+  npts.push_back(static_cast<double>(proc.points().size()));
+  if (!res.map_updated)
+  {
+    ++no_depth_frames;  // the stage's gate: no depth, no update, no grid (not scored)
+    return false;
+  }
+  const MoverPipeline* movers = proc.movers();
+  printDiagnostics(res, model, ego);
+  double ms_track = movers ? movers->msTracking() : 0.0;
+  ms_map.push_back(res.ms_ranger + res.ms_map);  // the map alone (ranger included, movers not)
+  std::vector<ReportedMover> reported;
+  if (movers)
+  {
+    ms_movers.push_back(movers->msFlow() + movers->msSegmentation() + movers->msTracking());
+    reported = res.movers;
+    confirmed_sum += static_cast<double>(reported.size());
+    mover_cells_sum += map.stats().mover_cells;
+  }
+  scorePeople(reported, model, ms_track);
+  if (movers) ms_tracking.push_back(ms_track);
+  ++used;
+  wearer = f.gt_pose.translation().head<2>();
+  if (t_.has_truth) scoreMap();
+  return true;
+}
+
+void ObstaclesRun::printDiagnostics(const ObstacleFrameResult& res, const StereoModel& model, const Eigen::Isometry3d* ego)
+{
+  const cv::Mat& disp = proc.disparity();
+  const MoverPipeline* movers = proc.movers();
+  if (!opt_.gt_depth && !f.gt_depth.empty() && std::getenv("OBST_BIAS")) printDisparityBias(f.gt_depth, disp, model, frames);
+  if (std::getenv("OBST_SONAR")) printSonar(res.ranges);
+  if (movers)
+  {
+    if (std::getenv("OBST_MOVERS")) printMovers(*movers, f.stamp);
+    if (const char* fd = std::getenv("OBST_FLOWDUMP"); fd && ego) printFlow(fd, *movers, disp, model, f.stamp, *ego);
+  }
+  if (const char* dc = std::getenv("OBST_CELL")) printCell(dc, map, proc.points(), f, params, frames);
+}
+
+Wearer ObstaclesRun::wearerNow() const
+{
+  Wearer w;
+  w.position = f.gt_pose.translation().head<2>();
+  Eigen::Isometry3d before;
+  Eigen::Vector2d v(0, 0);
+  if (poseAt(reader_.groundTruth(), f.stamp - 0.5, before))
+    v = (w.position - before.translation().head<2>()) / 0.5;  // over 0.5 s: the gait's sway averages out
+  w.speed = v.norm();
+  const Eigen::Vector3d fwd = f.gt_pose.linear().col(2);  // optical axis
+  w.heading = w.speed > 0.2 ? std::atan2(v.y(), v.x()) : std::atan2(fwd.y(), fwd.x());
+  return w;
+}
+
+void ObstaclesRun::scorePeople(const std::vector<ReportedMover>& reported, const StereoModel& model, double& ms_track)
+{
+  const std::vector<PersonState>* truth_people = has_people ? peopleAt(people, f.stamp) : nullptr;
+  if (proc.movers() && !has_people)
+  {
+    // A world without people: every mover is false, and so is every crossing warning.
+    std::vector<MoverTrack> tracks;
+    for (const ReportedMover& r : reported) tracks.push_back(r.track);
+    std::set<int> warned;
+    for (const CrossingPrediction& cp : predictor.predict(wearerNow(), tracks))
+      if (cp.warn) warned.insert(cp.track_id);
+    crossing.addFrame(f.stamp, f.gt_pose.translation().head<2>(), {}, warned, {});
+  }
+  if (!truth_people) return;
+  const double tp0 = eval::wallMs();
+  const Wearer w = wearerNow();
+  std::vector<MoverTrack> tracks;
+  std::vector<PersonState> est;
+  for (const ReportedMover& r : reported)
+  {
+    tracks.push_back(r.track);
+    PersonState q;
+    q.id = r.track.id;
+    q.position = r.track.position();
+    q.velocity = r.track.velocity();
+    q.radius = r.radius;
+    q.age = f.stamp - r.track.born;
+    est.push_back(q);
+  }
+  std::set<int> warned;
+  for (const CrossingPrediction& cp : predictor.predict(w, tracks))
+    if (cp.warn) warned.insert(cp.track_id);
+  ms_track += eval::wallMs() - tp0;
+  const PeopleFrameScore ps = scorePeopleFrame(*truth_people, est, w.position, pscore);
+  scoreMovingPeople(*truth_people, est, w.position, model);
+  people_truth += ps.truth_in_range;
+  people_truth_matched += ps.truth_matched;
+  people_tracks += ps.tracks_in_range;
+  people_tracks_matched += ps.tracks_matched;
+  vel_sum += ps.velocity_err_sum;
+  vel_n += ps.velocity_n;
+  crossing.addFrame(f.stamp, w.position, *truth_people, warned, ps.track_to_truth);
+  if (t_.has_truth) scoreGhosts(*truth_people, w.position);
+}
+
+void ObstaclesRun::scoreMovingPeople(const std::vector<PersonState>& truth_people, const std::vector<PersonState>& est,
+                                     const Eigen::Vector2d& wearer_pos, const StereoModel& model)
+{
+  std::vector<PersonState> moving, in_view;
+  const Eigen::Isometry3d cam_world = f.gt_pose.inverse();
+  for (const PersonState& q : truth_people)
+  {
+    if (q.velocity.norm() < 0.3) continue;
+    moving.push_back(q);
+    const Eigen::Vector3d c = cam_world * Eigen::Vector3d(q.position.x(), q.position.y(), q.age);
+    if (c.z() < 0.3) continue;
+    const double u = model.fx * c.x() / c.z() + model.cx, v = model.fy * c.y() / c.z() + model.cy;
+    if (u >= 0 && v >= 0 && u < model.width && v < model.height) in_view.push_back(q);
+  }
+  const PeopleFrameScore pm = scorePeopleFrame(moving, est, wearer_pos, pscore);
+  const PeopleFrameScore pv = scorePeopleFrame(in_view, est, wearer_pos, pscore);
+  moving_truth += pm.truth_in_range;
+  moving_matched += pm.truth_matched;
+  view_truth += pv.truth_in_range;
+  view_matched += pv.truth_matched;
+}
+
+void ObstaclesRun::scoreGhosts(const std::vector<PersonState>& truth_people, const Eigen::Vector2d& wearer_pos)
+{
+  map.grid(grid);
+  const GhostCount g = countGhostCells(truth, grid, wearer_pos, 5.0, truth_people);
+  ghosts.free_known += g.free_known;
+  ghosts.ghost += g.ghost;
+  // Cells under a person now; cells on people's paths that read obstacle once they left;
+  // truth-free cells locked for good.
+  const double res = params.cell_size;
+  std::set<std::pair<int, int>> under;
+  for (const PersonState& q : truth_people)
+  {
+    const int r = static_cast<int>(std::ceil(q.radius / res)) + 1;
+    const int gx = static_cast<int>(std::floor(q.position.x() / res)), gy = static_cast<int>(std::floor(q.position.y() / res));
+    for (int dy = -r; dy <= r; ++dy)
+      for (int dx = -r; dx <= r; ++dx)
+      {
+        const Eigen::Vector2d c((gx + dx + 0.5) * res, (gy + dy + 0.5) * res);
+        if ((c - q.position).norm() < q.radius + res * std::sqrt(0.5)) under.insert({gx + dx, gy + dy});
+      }
+  }
+  people_path.insert(under.begin(), under.end());
+  const Window& win = map.window();
+  for (int ly = 0; ly < win.n; ++ly)
+    for (int lx = 0; lx < win.n; ++lx)
+    {
+      const int gx = win.ox + lx, gy = win.oy + ly;
+      const double x = (gx + 0.5) * res, y = (gy + 0.5) * res;
+      if ((Eigen::Vector2d(x, y) - wearer_pos).squaredNorm() > 25.0) continue;
+      const int tx = static_cast<int>(std::floor((x - truth.origin_x) / truth.resolution));
+      const int ty = static_cast<int>(std::floor((y - truth.origin_y) / truth.resolution));
+      if (tx < 0 || ty < 0 || tx >= truth.width || ty >= truth.height ||
+          truth.data[static_cast<size_t>(ty) * truth.width + tx] != 0)
+        continue;
+      const CellCounters* cc = map.temporal().find(gx, gy);
+      if (cc && cc->permanent) locked_free.insert({gx, gy});
+      if (people_path.count({gx, gy}) && !under.count({gx, gy}))
+      {
+        const int ex = static_cast<int>(std::floor((x - grid.origin_x) / grid.resolution));
+        const int ey = static_cast<int>(std::floor((y - grid.origin_y) / grid.resolution));
+        if (ex >= 0 && ey >= 0 && ex < grid.width && ey < grid.height &&
+            grid.data[static_cast<size_t>(ey) * grid.width + ex] == 100)
+          ghost_people_path.insert({gx, gy});
+      }
+    }
+}
+
+void ObstaclesRun::scoreMap()
+{
+  map.grid(grid);
+  const eval::OccupancyGrid& est = grid;
+  eval::MapScoreParams p3, p5;
+  p3.radius_m = 3.0;
+  p5.radius_m = 5.0;
+  s3_strict.add(eval::scoreMap(truth, est, wearer, p3));
+  if (t_.partial_scoring)
+  {
+    p3.exclude = p5.exclude = &t_.exclude_mask;
+    p3.glass = p5.glass = &t_.glass_mask;
+  }
+  s3.add(t_.partial_scoring ? eval::scoreMap(truth, est, wearer, p3) : s3_strict.last);
+  classifyFalsePositives(est);
+  scoreGlass(est);
+  if (std::getenv("OBST_BANDS") && params.column_bands > 0) printBands();
+  const auto sc5 = eval::scoreMap(truth, est, wearer, p5);
+  s5.add(sc5);
+  free_where_obstacle.insert(sc5.free_where_obstacle_cells.begin(), sc5.free_where_obstacle_cells.end());
+  free_where_partial.insert(sc5.free_where_partial_cells.begin(), sc5.free_where_partial_cells.end());
+  free_where_glass.insert(sc5.free_where_glass_cells.begin(), sc5.free_where_glass_cells.end());
+}
+
+void ObstaclesRun::classifyFalsePositives(const eval::OccupancyGrid& est)
+{
+  for (int cy = 0; cy < truth.height; ++cy)
+    for (int cx = 0; cx < truth.width; ++cx)
+    {
+      const int8_t g = truth.data[static_cast<size_t>(cy) * truth.width + cx];
+      if (g != 0 && !(g > 0 && std::getenv("OBST_FPMAP"))) continue;  // ground-truth free only (the scored false positives)
+      const double x = truth.origin_x + (cx + 0.5) * truth.resolution, y = truth.origin_y + (cy + 0.5) * truth.resolution;
+      if ((Eigen::Vector2d(x, y) - wearer).squaredNorm() > 9.0) continue;
+      const int ex = static_cast<int>(std::floor((x - est.origin_x) / est.resolution));
+      const int ey = static_cast<int>(std::floor((y - est.origin_y) / est.resolution));
+      if (ex < 0 || ey < 0 || ex >= est.width || ey >= est.height) continue;
+      const int8_t e = est.data[static_cast<size_t>(ey) * est.width + ex];
+      if (g != 0)
+      {
+        if (e == 0) ++fp_cells[{cx, cy}][2];  // false negative (OBST_FPMAP only)
+        continue;
+      }
+      if (e != 50 && e != 100) continue;
+      if (e == 50) ++fp_step;
+      if (std::getenv("OBST_FPMAP")) ++fp_cells[{cx, cy}][e == 50 ? 1 : 0];
+      bool adj = false;
+      for (int dy = -1; dy <= 1 && !adj; ++dy)
+        for (int dx = -1; dx <= 1 && !adj; ++dx)
+        {
+          const int xx = cx + dx, yy = cy + dy;
+          if (xx < 0 || yy < 0 || xx >= truth.width || yy >= truth.height) continue;
+          const int8_t gn = truth.data[static_cast<size_t>(yy) * truth.width + xx];
+          adj = gn == 100 || gn == 50;
+        }
+      (adj ? fp_adjacent : fp_isolated)++;
+      if (std::getenv("OBST_DEBUG") && reader_.size() == static_cast<size_t>(frames))
+      {
+        const int gx = static_cast<int>(std::floor(x / est.resolution)), gy = static_cast<int>(std::floor(y / est.resolution));
+        const CellCounters* cc = map.temporal().find(gx, gy);
+        if (cc)
+          std::fprintf(stderr, "FP adj=%d %d %d r=%.2f o=%d s=%d votes=%d flips=%d perm=%d\n", int(adj), gx, gy,
+                       (Eigen::Vector2d(x, y) - wearer).norm(), cc->o, cc->s, cc->votes, cc->flips, int(cc->permanent));
+      }
+    }
+}
+
+void ObstaclesRun::scoreGlass(const eval::OccupancyGrid& est)
+{
+  for (size_t k = 0; k < t_.glass_cells.size(); ++k)
+  {
+    const Eigen::Vector2d& c = t_.glass_cells[k];
+    const int gx = static_cast<int>(std::floor(c.x() / params.cell_size)), gy = static_cast<int>(std::floor(c.y() / params.cell_size));
+    if (map.sonar().held(gx, gy)) ranger_hit_glass.insert(k);
+    if (!ranger_hit_glass.count(k)) continue;
+    const int ex = static_cast<int>(std::floor((c.x() - est.origin_x) / est.resolution));
+    const int ey = static_cast<int>(std::floor((c.y() - est.origin_y) / est.resolution));
+    if (ex >= 0 && ey >= 0 && ex < est.width && ey < est.height && est.data[static_cast<size_t>(ey) * est.width + ex] == 0)
+      freed_after_hit.insert(k);
+  }
+}
+
+void ObstaclesRun::printBands() const
+{
+  // Column clearance diagnostics: per band, how many truth-free cells within 3 m lack that
+  // band's clear bit (summed over frames), and how many lack only it.
+  static std::vector<size_t> lack(8, 0), only(8, 0);
+  static size_t cells = 0, full = 0;
+  const uint8_t all = static_cast<uint8_t>((1u << params.column_bands) - 1u);
+  for (int cy = 0; cy < truth.height; ++cy)
+    for (int cx = 0; cx < truth.width; ++cx)
+    {
+      if (truth.data[static_cast<size_t>(cy) * truth.width + cx] != 0) continue;
+      const double x = truth.origin_x + (cx + 0.5) * truth.resolution, y = truth.origin_y + (cy + 0.5) * truth.resolution;
+      if ((Eigen::Vector2d(x, y) - wearer).squaredNorm() > 9.0) continue;
+      const CellCounters* cc = map.temporal().find(static_cast<int>(std::floor(x / grid.resolution)),
+                                                   static_cast<int>(std::floor(y / grid.resolution)));
+      ++cells;
+      const uint8_t b = cc ? (cc->clear & all) : 0;
+      if (b == all) ++full;
+      for (int i = 0; i < params.column_bands; ++i)
+        if (!(b >> i & 1u))
+        {
+          ++lack[i];
+          if ((b | (1u << i)) == all) ++only[i];
+        }
+    }
+  if (static_cast<size_t>(frames) == total || (opt_.max_frames > 0 && used == opt_.max_frames))
+  {
+    std::fprintf(stderr, "BANDS cells %zu full %.3f;", cells, double(full) / cells);
+    for (int i = 0; i < params.column_bands; ++i)
+      std::fprintf(stderr, " band %d lacks %.3f only %.3f;", i, double(lack[i]) / cells, double(only[i]) / cells);
+    std::fprintf(stderr, "\n");
+  }
+}
+
+void ObstaclesRun::plotMap()
+{
+  if (!t_.has_truth) return;
+  map.grid(grid);
+  const cv::Mat img = eval::plotMapScore(truth, grid, wearer, 3.0, Eigen::Isometry2d::Identity(), 0,
+                                         "obstacles: " + opt_.bag + " (last frame, 3 m)");
+  std::string err;
+  if (!eval::writePng(opt_.png, img, &err)) std::cerr << "obstacles_benchmark: " << err << "\n";
+}
+
+// timings: nearest-rank percentiles (no interpolation)
+double percentile(const std::vector<double>& v, double q)
+{
+  return eval::percentileNearestRank(v, q);
+}
+
+double ratio(long a, long b)
+{
+  return b > 0 ? static_cast<double>(a) / b : NAN;
+}
+
+void ObstaclesRun::printReport() const
+{
   using eval::mean;
-  // timings: nearest-rank percentiles (no interpolation)
-  auto percentile = [](const std::vector<double>& v, double q) { return eval::percentileNearestRank(v, q); };
   const double p95_map = percentile(ms_map, 0.95), p95_disp = percentile(ms_disp, 0.95);
-  std::printf("bag %s: %d frames read, %d used (%d without gt pose, %d without depth), image %dx%d\n", bag.c_str(), frames,
+  std::printf("bag %s: %d frames read, %d used (%d without gt pose, %d without depth), image %dx%d\n", opt_.bag.c_str(), frames,
               used, no_pose, no_depth_frames,
               f.calib.width, f.calib.height);
   std::printf("%-34s %10s %10s\n", "timing (ms)", "median", "p95");
   std::printf("%-34s %10.2f %10.2f\n", "disparity + points", percentile(ms_disp, 0.5), p95_disp);
   std::printf("%-34s %10.2f %10.2f\n", "elevation + MLS + temporal", percentile(ms_map, 0.5), p95_map);
   const double p95_movers = ms_movers.empty() ? NAN : percentile(ms_movers, 0.95);
-  const double p95_tracking = ms_tracking.empty() ? NAN : percentile(ms_tracking, 0.95);
   if (!ms_movers.empty())
   {
     std::printf("%-34s %10.2f %10.2f\n", "movers: flow + segment + track", percentile(ms_movers, 0.5), p95_movers);
-    std::printf("%-34s %10.2f %10.2f\n", "movers: tracker + predictor", percentile(ms_tracking, 0.5), p95_tracking);
+    std::printf("%-34s %10.2f %10.2f\n", "movers: tracker + predictor", percentile(ms_tracking, 0.5),
+                ms_tracking.empty() ? NAN : percentile(ms_tracking, 0.95));
     std::printf("movers: confirmed tracks per frame (mean) %.3f, cells kept out of the votes per frame %.2f\n",
                 confirmed_sum / used, mover_cells_sum / used);
   }
@@ -880,12 +1024,13 @@ int main(int argc, char** argv)
   std::printf("%-10s %9.3f %9.3f %13.3f %9.3f\n", "5 m", s5.recall(), s5.precision(), s5.misclassified(), s5.coverage());
   std::printf("false positives 3 m: %zu next to a true obstacle, %zu isolated, %zu of them STEP\n", fp_adjacent,
               fp_isolated, fp_step);
+  const bool partial_scoring = t_.partial_scoring;
   std::printf("ground-truth obstacle cells ever reported free (5 m): %zu (glass %zu)%s\n", free_where_obstacle.size(),
               free_where_glass.size(), partial_scoring ? "" : " [no world: partial cells scored as the truth codes]");
   if (partial_scoring)
     std::printf("partial cells (an obstacle within %.0f cm of the border) scored neither way; of them reported free: %zu;\n"
                 "  strict truth (any overlap = obstacle): 3 m recall %.3f precision %.3f, cells reported free %zu\n",
-                partial_depth * 100, free_where_partial.size(), s3_strict.recall(), s3_strict.precision(),
+                opt_.partial_depth * 100, free_where_partial.size(), s3_strict.recall(), s3_strict.precision(),
                 free_where_obstacle.size() + free_where_partial.size());
   if (partial_scoring)
     std::printf("glass-pane cells hit by the ranger: %zu, reported free after the hit: %zu\n", ranger_hit_glass.size(),
@@ -893,33 +1038,36 @@ int main(int argc, char** argv)
   const long ranges_used = proc.counters().ranges_echo, ranges_no_echo = proc.counters().ranges_no_echo;
   const long ranges_rejected = proc.counters().ranges_rejected;
   std::printf("ranger: %s, %ld echoes fused, %ld no echo, %ld rejected\n",
-              no_sonar ? "off (--no-sonar)" : (ranges.empty() ? "none in the bag" : "on"), ranges_used, ranges_no_echo,
+              opt_.no_sonar ? "off (--no-sonar)" : (ranges.empty() ? "none in the bag" : "on"), ranges_used, ranges_no_echo,
               ranges_rejected);
-  if (has_truth) std::printf("map plot: %s\n", png.c_str());
-  if (std::getenv("OBST_FPMAP"))
+  if (t_.has_truth) std::printf("map plot: %s\n", opt_.png.c_str());
+  if (std::getenv("OBST_FPMAP")) printFpCells();
+  printPeople();
+}
+
+void ObstaclesRun::printFpCells() const
+{
+  std::vector<std::pair<int, std::pair<int, int>>> top;
+  for (const auto& kv : fp_cells)
+    if (kv.second[0] + kv.second[1] > 0) top.push_back({kv.second[0] + kv.second[1], kv.first});
+  std::sort(top.rbegin(), top.rend());
+  for (size_t i = 0; i < std::min<size_t>(top.size(), 60); ++i)
   {
-    std::vector<std::pair<int, std::pair<int, int>>> top;
-    for (const auto& kv : fp_cells)
-      if (kv.second[0] + kv.second[1] > 0) top.push_back({kv.second[0] + kv.second[1], kv.first});
-    std::sort(top.rbegin(), top.rend());
-    for (size_t i = 0; i < std::min<size_t>(top.size(), 60); ++i)
-    {
-      const auto& c = top[i].second;
-      std::fprintf(stderr, "FPCELL x %.2f y %.2f frames %d (step %d)\n", truth.origin_x + (c.first + 0.5) * truth.resolution,
-                   truth.origin_y + (c.second + 0.5) * truth.resolution, top[i].first, fp_cells[c][1]);
-    }
-    top.clear();
-    for (const auto& kv : fp_cells)
-      if (kv.second[2] > 0) top.push_back({kv.second[2], kv.first});
-    std::sort(top.rbegin(), top.rend());
-    for (size_t i = 0; i < std::min<size_t>(top.size(), 60); ++i)
-      std::fprintf(stderr, "FNCELL x %.2f y %.2f frames %d\n", truth.origin_x + (top[i].second.first + 0.5) * truth.resolution,
-                   truth.origin_y + (top[i].second.second + 0.5) * truth.resolution, top[i].first);
+    const auto& c = top[i].second;
+    std::fprintf(stderr, "FPCELL x %.2f y %.2f frames %d (step %d)\n", truth.origin_x + (c.first + 0.5) * truth.resolution,
+                 truth.origin_y + (c.second + 0.5) * truth.resolution, top[i].first, fp_cells.at(c)[1]);
   }
-  auto num = [](double v, int decimals = 4) { return eval::jsonFixed(v, decimals); };
-  auto ratio = [](long a, long b) { return b > 0 ? static_cast<double>(a) / b : NAN; };
-  const bool scored_people = has_people && params.movers;
-  const bool scored_ghosts = has_people && has_truth;
+  top.clear();
+  for (const auto& kv : fp_cells)
+    if (kv.second[2] > 0) top.push_back({kv.second[2], kv.first});
+  std::sort(top.rbegin(), top.rend());
+  for (size_t i = 0; i < std::min<size_t>(top.size(), 60); ++i)
+    std::fprintf(stderr, "FNCELL x %.2f y %.2f frames %d\n", truth.origin_x + (top[i].second.first + 0.5) * truth.resolution,
+                 truth.origin_y + (top[i].second.second + 0.5) * truth.resolution, top[i].first);
+}
+
+void ObstaclesRun::printPeople() const
+{
   if (has_people)
   {
     std::printf("people (truth within 5 m, confirmed tracks, matched within %.1f m): recall %.3f (%ld/%ld) precision %.3f "
@@ -947,6 +1095,18 @@ int main(int argc, char** argv)
   if (!has_people && params.movers)
     std::printf("movers on a world without people (all false): %.3f confirmed a frame; crossing warnings: %d in %.2f min\n",
                 confirmed_sum / std::max(1, used), crossing.falseWarnings(), crossing.minutes());
+}
+
+eval::JsonLine ObstaclesRun::jsonLine() const
+{
+  using eval::mean;
+  auto num = [](double v, int decimals = 4) { return eval::jsonFixed(v, decimals); };
+  const double p95_map = percentile(ms_map, 0.95), p95_disp = percentile(ms_disp, 0.95);
+  const double p95_movers = ms_movers.empty() ? NAN : percentile(ms_movers, 0.95);
+  const double p95_tracking = ms_tracking.empty() ? NAN : percentile(ms_tracking, 0.95);
+  const bool scored_people = has_people && params.movers;
+  const bool scored_ghosts = has_people && t_.has_truth;
+  const bool has_truth = t_.has_truth, partial_scoring = t_.partial_scoring;
   const size_t locked_on_paths = static_cast<size_t>(
       std::count_if(locked_free.begin(), locked_free.end(), [&](const auto& c) { return people_path.count(c) > 0; }));
   eval::JsonLine js;
@@ -962,12 +1122,12 @@ int main(int argc, char** argv)
       .add("partial_scoring", partial_scoring)
       .add("ranger_hit_glass_cells", partial_scoring ? std::to_string(ranger_hit_glass.size()) : "null")
       .add("free_after_ranger_hit_glass_cells", partial_scoring ? std::to_string(freed_after_hit.size()) : "null")
-      .add("sonar_readings_fused", ranges_used).add("sonar", !no_sonar && !ranges.empty())
+      .add("sonar_readings_fused", proc.counters().ranges_echo).add("sonar", !opt_.no_sonar && !ranges.empty())
       .add("frames", used).add("no_depth_frames", no_depth_frames).add("ms_median_map", num(percentile(ms_map, 0.5), 3))
       .add("ms_median_disparity", num(percentile(ms_disp, 0.5), 3))
       .add("misclassified_5m", num(s5.misclassified())).add("coverage_3m", num(s3.coverage()))
       .add("coverage_5m", num(s5.coverage())).add("fp_adjacent_3m", fp_adjacent)
-      .add("fp_isolated_3m", fp_isolated).add("fp_step_3m", fp_step).add("gt_depth", gt_depth)
+      .add("fp_isolated_3m", fp_isolated).add("fp_step_3m", fp_step).add("gt_depth", opt_.gt_depth)
       .add("movers", params.movers)
       .add("ms_p95_movers", num(p95_movers, 3)).add("ms_p95_tracking", num(p95_tracking, 3))
       .add("movers_confirmed_per_frame", params.movers ? num(confirmed_sum / used, 3) : "null")
@@ -983,6 +1143,49 @@ int main(int argc, char** argv)
       .add("crossing_warned_pct", scored_people ? num(crossing.warnedPct(), 1) : "null")
       .add("crossings", scored_people ? std::to_string(crossing.crossings()) : "null")
       .add("false_crossing_warnings_per_min", params.movers ? num(crossing.falseWarningsPerMin(), 2) : "null");
-  std::cout << js.str() << std::endl;
+  return js;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  Options opt;
+  eval::CommandLine cl("obstacles_benchmark", kUsage);
+  eval::SetOptions set_options;
+  set_options.addTo(cl);
+  opt.addTo(cl);
+  const auto run_set = [&] { return runSet(cl, argc, argv, set_options, opt); };
+  if (const int rc = set_options.parse(cl, argc, argv, run_set, opt.bag); rc >= 0)
+    return rc;
+  const std::string& bag = opt.bag;
+  if (opt.png.empty())
+    opt.png = bag.size() > 4 && bag.substr(bag.size() - 4) == ".bag" ? bag.substr(0, bag.size() - 4) + "_obstacles_map.png"
+                                                                     : bag + "_obstacles_map.png";
+
+  const std::unique_ptr<eval::StereoBagReader> reader = eval::openStereoBag("obstacles_benchmark", bag);
+  if (!reader)
+    return 1;
+  const Truth truth = readTruth(opt, *reader);
+  const Ranger ranger = readRanger(opt, *reader);
+
+  ObstaclesParams params;  // defaults
+  // The wearer's camera height: the nodelet takes it from the URDF; here from the world's walk
+  // (generated walks have eye heights of 1.55-1.75 m), unless --set gives it.
+  if (std::isfinite(truth.eye_height)) params.camera_height = truth.eye_height;
+  if (!eval::applySets(cl, opt.overrides, params))  // --set: the node's parameter names (params.h table)
+    return 2;
+  for (const std::string& w : clampParams(params)) std::cerr << "obstacles_benchmark: " << w << "\n";
+  std::map<long, Eigen::Isometry3d> mover_poses;
+  if (!opt.mover_poses_path.empty())
+  {
+    mover_poses = readMoverPoses(opt.mover_poses_path);
+    if (mover_poses.empty()) return cl.usageError("no pose rows in " + opt.mover_poses_path);
+  }
+  ObstaclesRun run(opt, params, truth, ranger, std::move(mover_poses), *reader);
+  if (!run.run())
+    return 1;
+  run.plotMap();
+  run.printReport();
+  std::cout << run.jsonLine().str() << std::endl;
   return 0;
 }

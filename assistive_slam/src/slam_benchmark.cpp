@@ -151,86 +151,75 @@ int runBoth(int argc, char** argv)
   std::cout << js.str() << std::endl;
   return 0;
 }
-}  // namespace
 
-int main(int argc, char** argv)
+const char* const kUsage =
+    "usage: slam_benchmark FILE.bag [--no-imu] [--plot OUT.png] [--frames N] [--skip N] [--realtime] [--map FILE]\n"
+    "                     [--load-map FILE] [--set name=value ...]\n"
+    "  VO alone and VO + SLAM on the same frames of a stereo bag; last stdout line: JSON.\n"
+    "  --map: where the map is written at the end; --load-map: start from a saved map (relocalisation);\n"
+    "  --skip N: the first N frames are not run (e.g. the first loop, mapped by an earlier run).\n"
+    "  --set: the SLAM stage's parameters (README table), e.g. --set loop_closure=false\n"
+    "  --backend keyframe_ba|fastslam|both: the metric layer (default: metric_backend); both: one run\n"
+    "    each on the same frames, JSON keys prefixed keyframe_ba_ and fastslam_\n";
+
+/// The command line of a one-backend run.
+struct Options
 {
-  for (int i = 1; i + 1 < argc; ++i)
-    if (std::string(argv[i]) == "--backend" && std::string(argv[i + 1]) == "both")
-      return runBoth(argc, argv);
   std::string bag, plot, map_path, load_path, backend, plot_suffix;
   long skip_frames = 0;
   bool imu_on = true, realtime = false;
   long max_frames = -1;
   ev::CommandLine::Sets overrides;
-  const char* usage =
-      "usage: slam_benchmark FILE.bag [--no-imu] [--plot OUT.png] [--frames N] [--skip N] [--realtime] [--map FILE]\n"
-      "                     [--load-map FILE] [--set name=value ...]\n"
-      "  VO alone and VO + SLAM on the same frames of a stereo bag; last stdout line: JSON.\n"
-      "  --map: where the map is written at the end; --load-map: start from a saved map (relocalisation);\n"
-      "  --skip N: the first N frames are not run (e.g. the first loop, mapped by an earlier run).\n"
-      "  --set: the SLAM stage's parameters (README table), e.g. --set loop_closure=false\n"
-      "  --backend keyframe_ba|fastslam|both: the metric layer (default: metric_backend); both: one run\n"
-      "    each on the same frames, JSON keys prefixed keyframe_ba_ and fastslam_\n";
-  ev::CommandLine cl("slam_benchmark", usage);
-  cl.positional(&bag, "bag", true)
-      .flag("--no-imu", &imu_on, false)
-      .flag("--realtime", &realtime)
-      .text("--plot", &plot)
-      .text("--map", &map_path)
-      .text("--load-map", &load_path)
-      .text("--backend", &backend)
-      .text("--plot-suffix", &plot_suffix)
-      .count("--skip", &skip_frames, 0L)
-      .count("--frames", &max_frames, 0L)
-      .sets(&overrides);
-  if (const int rc = cl.parse(argc, argv); rc >= 0)
-    return rc;
-  if (plot.empty())
-  {
-    const size_t dot = bag.rfind(".bag");
-    plot = (dot == std::string::npos ? bag : bag.substr(0, dot)) + "_slam_trajectory" + plot_suffix + ".png";
-  }
-  cv::setNumThreads(1);
-  SlamParams sp;
-  if (!ev::applySets(cl, overrides, sp))
-    return 2;
-  if (!backend.empty())
-    sp.metric_backend = backend;
-  if (sp.metric_backend != "keyframe_ba" && sp.metric_backend != "fastslam")
-  {
-    std::cerr << "slam_benchmark: unknown backend " << sp.metric_backend << " (keyframe_ba | fastslam | both)\n";
-    return 2;
-  }
-  const std::unique_ptr<ev::StereoBagReader> reader = ev::openStereoBag("slam_benchmark", bag);
-  if (!reader)
-    return 1;
 
-  assistive_vo::VoParams vp;
-  vp.use_imu = imu_on;
-  // The device's VO driving loop (assistive_vo/vo_front_end.h, as its nodelet runs it).
-  assistive_vo::VoFrontEnd::Options fo;
-  fo.input_has_imu = !reader->imuSamples().empty();
-  assistive_vo::VoFrontEnd fe(vp, fo);
+  void addTo(ev::CommandLine& cl)
+  {
+    cl.positional(&bag, "bag", true)
+        .flag("--no-imu", &imu_on, false)
+        .flag("--realtime", &realtime)
+        .text("--plot", &plot)
+        .text("--map", &map_path)
+        .text("--load-map", &load_path)
+        .text("--backend", &backend)
+        .text("--plot-suffix", &plot_suffix)
+        .count("--skip", &skip_frames, 0L)
+        .count("--frames", &max_frames, 0L)
+        .sets(&overrides);
+  }
+};
+
+/// fastslam: one frame of the filter's own trajectory (per filter submap, between resets).
+struct FilterFrame
+{
+  double t;
+  Eigen::Isometry3d gt, filter, vo;
+  int segment;
+};
+
+/// The runner: every stereo frame through the device's VO driving loop, then SLAM as its nodelet
+/// takes the VO's output; keeps the trajectories, times, memory samples and the filter's matches.
+class SlamRun
+{
+public:
+  SlamRun(const Options& opt, const SlamParams& sp, bool input_has_imu);
+  /// Runs the frames; false (with the message) when nothing could be scored or the map not loaded.
+  bool run(ev::StereoBagReader& reader);
+  /// The truth at a frame's stamp (every frame read, skipped ones included).
+  bool truthOf(double stamp, Eigen::Isometry3d& T) const
+  {
+    auto it = gt_at.find(stamp);
+    if (it == gt_at.end())
+      return false;
+    T = it->second;
+    return true;
+  }
+
   std::unique_ptr<SlamSystem> slam;
-  // SLAM takes the VO's output as the nodelet does (vo_adapter.h): what vo/odom would carry
-  // (published_odometry.h), the optical frame in camera_link as the URDF has it.
-  Eigen::Isometry3d T_link_optical = Eigen::Isometry3d::Identity();
-  T_link_optical.linear() = assistive_vo::R_link_optical();
-  VoAdapter adapter(SlamNodeParams().untrusted_variance, T_link_optical);
-
   ev::Trajectory gt, vo_est, online_est;
   std::vector<Eigen::Isometry3d> frame_odom;  // per scored frame: VO pose (for the final SLAM trajectory)
   // fastslam: active matching against the truth, the filter's own trajectory per submap
   std::map<uint32_t, std::pair<Eigen::Isometry3d, Eigen::Vector3d>> am_init;  // landmark -> truth at init, stereo point
   long am_checked = 0, am_false = 0;
   std::vector<double> am_err;  // px, each match against the truth
-  struct FilterFrame
-  {
-    double t;
-    Eigen::Isometry3d gt, filter, vo;
-    int segment;
-  };
   std::vector<FilterFrame> filter_frames;
   size_t peak_map_nodes = 0;
   int filter_frames_seen = 0;
@@ -243,10 +232,61 @@ int main(int argc, char** argv)
   size_t stored_keyframes = 0;
   std::vector<Eigen::Isometry3d> loaded_poses;  // the stored keyframes' map poses as loaded
   int reloc_frame = -1;       // session frame at which the wearer was relocalised
+
+private:
+  /// SLAM on the first frame's camera, with --load-map's map; false when the map did not load.
+  bool startSlam(const assistive_vo::StereoCamera& cam);
+  /// One frame the VO published: SLAM's step, its times, the filter's figures, the trajectories.
+  void slamFrame(const ev::StereoFrame& f, const assistive_vo::StereoCamera& cam, const assistive_vo::VoOutput& o);
+  /// fastslam: this frame's matches against the truth, and the filter's pose.
+  void scoreFilterFrame(const FastSlam& fs, const ev::StereoFrame& f, const assistive_vo::StereoCamera& cam,
+                        const assistive_vo::VoOutput& o);
+  /// Every 100 frames: the filter's map size and the resident memory.
+  void sampleMemory();
+
+  const Options& opt_;
+  const SlamParams& sp_;
+  assistive_vo::VoFrontEnd fe_;
+  VoAdapter adapter_;
+};
+
+assistive_vo::VoFrontEnd::Options frontEndOptions(bool input_has_imu)
+{
+  assistive_vo::VoFrontEnd::Options fo;
+  fo.input_has_imu = input_has_imu;
+  return fo;
+}
+
+assistive_vo::VoParams voParams(bool imu_on)
+{
+  assistive_vo::VoParams vp;
+  vp.use_imu = imu_on;
+  return vp;
+}
+
+/// The optical frame in camera_link as the URDF has it.
+Eigen::Isometry3d linkOptical()
+{
+  Eigen::Isometry3d T_link_optical = Eigen::Isometry3d::Identity();
+  T_link_optical.linear() = assistive_vo::R_link_optical();
+  return T_link_optical;
+}
+
+// The device's VO driving loop (assistive_vo/vo_front_end.h, as its nodelet runs it). SLAM takes
+// the VO's output as the nodelet does (vo_adapter.h): what vo/odom would carry
+// (published_odometry.h), the optical frame in camera_link as the URDF has it.
+SlamRun::SlamRun(const Options& opt, const SlamParams& sp, bool input_has_imu)
+  : opt_(opt), sp_(sp), fe_(voParams(opt.imu_on), frontEndOptions(input_has_imu)),
+    adapter_(SlamNodeParams().untrusted_variance, linkOptical())
+{
+}
+
+bool SlamRun::run(ev::StereoBagReader& reader)
+{
   ev::StereoFrame f;
-  while ((max_frames < 0 || frames < max_frames) && ev::nextFrameOrExit(*reader, f, "slam_benchmark", bag))
+  while ((opt_.max_frames < 0 || frames < opt_.max_frames) && ev::nextFrameOrExit(reader, f, "slam_benchmark", opt_.bag))
   {
-    if (skipped < skip_frames)
+    if (skipped < opt_.skip_frames)
     {
       ++skipped;
       if (f.has_gt_pose)
@@ -254,35 +294,12 @@ int main(int argc, char** argv)
       continue;
     }
     const assistive_vo::StereoCamera cam = assistive_vo::StereoCamera::from(f.calib);
-    if (!slam)
-    {
-      StereoModel m;
-      m.fx = cam.fx;
-      m.fy = cam.fy;
-      m.cx = cam.cx;
-      m.cy = cam.cy;
-      m.baseline = cam.baseline;
-      slam = std::make_unique<SlamSystem>(sp, m, true);
-      if (!load_path.empty())
-      {
-        MapData md;
-        std::string err;
-        if (!loadMapFile(load_path, md, &err) || !slam->loadMap(md, &err))
-        {
-          std::cerr << "slam_benchmark: map " << load_path << " not loaded: " << err << "\n";
-          return 1;
-        }
-        stored_keyframes = md.keyframes.size();
-        for (const Keyframe& k : md.keyframes)
-          loaded_poses.push_back(k.T_map_cam);
-        std::cerr << "[slam_benchmark] map " << load_path << ": " << md.keyframes.size() << " keyframes, "
-                  << md.submaps.size() << " submaps, " << md.places.size() << " places\n";
-      }
-    }
+    if (!slam && !startSlam(cam))
+      return false;
     for (const auto& s : f.imu)
-      fe.addImu(s.stamp, s.gyro, s.accel);
+      fe_.addImu(s.stamp, s.gyro, s.accel);
     const ev::Stopwatch vo_timer;
-    const assistive_vo::FrontEndStep step = fe.process(cam, f.left, f.right, f.stamp);
+    const assistive_vo::FrontEndStep step = fe_.process(cam, f.left, f.right, f.stamp);
     if (!step.processed)  // waiting for the IMU (start-up rule)
     {
       ++frames;
@@ -296,407 +313,587 @@ int main(int argc, char** argv)
       ++frames;  // the nodelet publishes no vo/odom for it: SLAM never sees it
       continue;
     }
-    const assistive_vo::PublishedOdometry po = assistive_vo::published(o);
-    VoOdometry vo_odom;
-    vo_odom.stamp = f.stamp;
-    vo_odom.T_odom_link = po.T_odom_link;
-    vo_odom.position_variance = po.pose_covariance(0, 0);
-    vo_odom.twist_covariance = po.twist_covariance;
-    const SlamFrame sf = adapter.frame(vo_odom, f.left, f.right);
-    const ev::Stopwatch timer;
-    const bool queued = slam->addFrame(sf);
-    const Eigen::Isometry3d T_map_odom = slam->mapToOdom();
-    ms_added.push_back(timer.cpuMs());
-    if (const FastSlam* fs = slam->filter())
-    {
-      for (const FastSlamInit& in : fs->lastInits())
-        if (f.has_gt_pose)
-          am_init[in.landmark] = {f.gt_pose, in.X_cam};
-      for (const FastSlamMatch& m : fs->lastMatches())
-      {
-        auto it = am_init.find(m.landmark);
-        if (!f.has_gt_pose || it == am_init.end())
-          continue;
-        // The truth of a match: the landmark lies on the true ray of its first pixel (exact), at a
-        // depth its stereo initialisation knows to a few per cent. A match is false when it lies
-        // more than 3 px from that ray's image between 0.75 and 1.33 x the stereo depth (the
-        // stereo depth alone would blame far landmarks' depth error on the matcher).
-        const Eigen::Isometry3d T_cur_init = f.gt_pose.inverse() * it->second.first;
-        auto proj = [&](double k, Eigen::Vector2d* z) {
-          const Eigen::Vector3d p = T_cur_init * (it->second.second * k);
-          if (p.z() <= 0.05)
-            return false;
-          *z = Eigen::Vector2d(cam.fx * p.x() / p.z() + cam.cx, cam.fy * p.y() / p.z() + cam.cy);
-          return true;
-        };
-        Eigen::Vector2d a, b;
-        if (!proj(0.75, &a) || !proj(1.0 / 0.75, &b))
-          continue;
-        const Eigen::Vector2d ab = b - a;
-        const double tpar = ab.squaredNorm() > 1e-12 ? std::clamp((m.z - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
-        const double err = (a + tpar * ab - m.z).norm();
-        ++am_checked;
-        am_false += err > 3.0;
-        am_err.push_back(err);
-      }
-      const bool filtered = fs->stats().frames != filter_frames_seen;  // (untrusted frames are not filtered)
-      filter_frames_seen = fs->stats().frames;
-      if (f.has_gt_pose && o.pose_valid && filtered)
-        filter_frames.push_back({f.stamp, f.gt_pose, fs->pose(), o.T_odom_optical, fs->stats().resets});
-    }
-    if (queued)
-    {
-      ++keyframes_queued;
-      if (!realtime)
-      {
-        slam->waitIdle();
-        worker_ms.push_back(slam->stats().worker_ms_last);
-      }
-    }
-    if (reloc_frame < 0 && !load_path.empty() && slam->localised())
-      reloc_frame = frames;
-
-    if (f.has_gt_pose)
-      session_truth.push_back({f.stamp, f.gt_pose});
-    if (f.has_gt_pose && o.pose_valid)
-    {
-      gt.push_back({f.stamp, f.gt_pose});
-      gt_at[f.stamp] = f.gt_pose;
-      vo_est.push_back({f.stamp, o.T_odom_optical});
-      online_est.push_back({f.stamp, T_map_odom * o.T_odom_optical});
-      frame_odom.push_back(o.T_odom_optical);
-    }
+    slamFrame(f, cam, o);
     ++frames;
     if (frames % 100 == 0)
-    {
-      if (const FastSlam* fs = slam->filter())
-        peak_map_nodes = std::max(peak_map_nodes, fs->mapNodes());
-      const SlamStats st = slam->stats();
-      const double rss = currentRssMb();
-      rss_samples.push_back({static_cast<double>(st.keyframes), rss});
-      std::cerr << "[slam_benchmark] " << frames << " frames, " << st.keyframes << " keyframes, " << st.submaps
-                << " submaps, loop closures " << st.loops_accepted << " (rejected " << st.loops_rejected << "), RSS "
-                << rss << " MB\n";
-    }
+      sampleMemory();
   }
   if (!slam || gt.size() < 3)
   {
-    std::cerr << "slam_benchmark: no scored frames (no stereo frames or no ground truth) in " << bag << "\n";
-    return 1;
+    std::cerr << "slam_benchmark: no scored frames (no stereo frames or no ground truth) in " << opt_.bag << "\n";
+    return false;
   }
   slam->waitIdle();
-  const SlamStats st = slam->stats();
-  const std::vector<Keyframe> kfs = slam->keyframes();
-  const std::vector<Keyframe> session_kfs(kfs.begin() + static_cast<long>(std::min(stored_keyframes, kfs.size())), kfs.end());
-  const std::vector<LoopEvent> events = slam->loopEvents();
+  return true;
+}
 
-  // Final SLAM trajectory: each frame rides on the last keyframe before it (optimised pose).
-  ev::Trajectory slam_est;
+bool SlamRun::startSlam(const assistive_vo::StereoCamera& cam)
+{
+  StereoModel m;
+  m.fx = cam.fx;
+  m.fy = cam.fy;
+  m.cx = cam.cx;
+  m.cy = cam.cy;
+  m.baseline = cam.baseline;
+  slam = std::make_unique<SlamSystem>(sp_, m, true);
+  if (opt_.load_path.empty())
+    return true;
+  MapData md;
+  std::string err;
+  if (!loadMapFile(opt_.load_path, md, &err) || !slam->loadMap(md, &err))
   {
-    size_t k = 0;
-    for (size_t i = 0; i < gt.size(); ++i)
+    std::cerr << "slam_benchmark: map " << opt_.load_path << " not loaded: " << err << "\n";
+    return false;
+  }
+  stored_keyframes = md.keyframes.size();
+  for (const Keyframe& k : md.keyframes)
+    loaded_poses.push_back(k.T_map_cam);
+  std::cerr << "[slam_benchmark] map " << opt_.load_path << ": " << md.keyframes.size() << " keyframes, "
+            << md.submaps.size() << " submaps, " << md.places.size() << " places\n";
+  return true;
+}
+
+void SlamRun::slamFrame(const ev::StereoFrame& f, const assistive_vo::StereoCamera& cam, const assistive_vo::VoOutput& o)
+{
+  const assistive_vo::PublishedOdometry po = assistive_vo::published(o);
+  VoOdometry vo_odom;
+  vo_odom.stamp = f.stamp;
+  vo_odom.T_odom_link = po.T_odom_link;
+  vo_odom.position_variance = po.pose_covariance(0, 0);
+  vo_odom.twist_covariance = po.twist_covariance;
+  const SlamFrame sf = adapter_.frame(vo_odom, f.left, f.right);
+  const ev::Stopwatch timer;
+  const bool queued = slam->addFrame(sf);
+  const Eigen::Isometry3d T_map_odom = slam->mapToOdom();
+  ms_added.push_back(timer.cpuMs());
+  if (const FastSlam* fs = slam->filter())
+    scoreFilterFrame(*fs, f, cam, o);
+  if (queued)
+  {
+    ++keyframes_queued;
+    if (!opt_.realtime)
     {
-      while (k + 1 < session_kfs.size() && session_kfs[k + 1].stamp <= gt[i].t)
-        ++k;
-      Eigen::Isometry3d T = frame_odom[i];
-      if (!session_kfs.empty() && session_kfs[k].stamp <= gt[i].t)
-        T = session_kfs[k].T_map_cam * session_kfs[k].T_odom_cam.inverse() * frame_odom[i];
-      slam_est.push_back({gt[i].t, T});
+      slam->waitIdle();
+      worker_ms.push_back(slam->stats().worker_ms_last);
     }
   }
+  if (reloc_frame < 0 && !opt_.load_path.empty() && slam->localised())
+    reloc_frame = frames;
 
-  // Loop closures against the truth.
-  auto truthOf = [&](double stamp, Eigen::Isometry3d& T) {
-    auto it = gt_at.find(stamp);
-    if (it == gt_at.end())
-      return false;
-    T = it->second;
-    return true;
-  };
+  if (f.has_gt_pose)
+    session_truth.push_back({f.stamp, f.gt_pose});
+  if (f.has_gt_pose && o.pose_valid)
+  {
+    gt.push_back({f.stamp, f.gt_pose});
+    gt_at[f.stamp] = f.gt_pose;
+    vo_est.push_back({f.stamp, o.T_odom_optical});
+    online_est.push_back({f.stamp, T_map_odom * o.T_odom_optical});
+    frame_odom.push_back(o.T_odom_optical);
+  }
+}
+
+void SlamRun::scoreFilterFrame(const FastSlam& fs, const ev::StereoFrame& f, const assistive_vo::StereoCamera& cam,
+                               const assistive_vo::VoOutput& o)
+{
+  for (const FastSlamInit& in : fs.lastInits())
+    if (f.has_gt_pose)
+      am_init[in.landmark] = {f.gt_pose, in.X_cam};
+  for (const FastSlamMatch& m : fs.lastMatches())
+  {
+    auto it = am_init.find(m.landmark);
+    if (!f.has_gt_pose || it == am_init.end())
+      continue;
+    // The truth of a match: the landmark lies on the true ray of its first pixel (exact), at a
+    // depth its stereo initialisation knows to a few per cent. A match is false when it lies
+    // more than 3 px from that ray's image between 0.75 and 1.33 x the stereo depth (the
+    // stereo depth alone would blame far landmarks' depth error on the matcher).
+    const Eigen::Isometry3d T_cur_init = f.gt_pose.inverse() * it->second.first;
+    auto proj = [&](double k, Eigen::Vector2d* z) {
+      const Eigen::Vector3d p = T_cur_init * (it->second.second * k);
+      if (p.z() <= 0.05)
+        return false;
+      *z = Eigen::Vector2d(cam.fx * p.x() / p.z() + cam.cx, cam.fy * p.y() / p.z() + cam.cy);
+      return true;
+    };
+    Eigen::Vector2d a, b;
+    if (!proj(0.75, &a) || !proj(1.0 / 0.75, &b))
+      continue;
+    const Eigen::Vector2d ab = b - a;
+    const double tpar = ab.squaredNorm() > 1e-12 ? std::clamp((m.z - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+    const double err = (a + tpar * ab - m.z).norm();
+    ++am_checked;
+    am_false += err > 3.0;
+    am_err.push_back(err);
+  }
+  const bool filtered = fs.stats().frames != filter_frames_seen;  // (untrusted frames are not filtered)
+  filter_frames_seen = fs.stats().frames;
+  if (f.has_gt_pose && o.pose_valid && filtered)
+    filter_frames.push_back({f.stamp, f.gt_pose, fs.pose(), o.T_odom_optical, fs.stats().resets});
+}
+
+void SlamRun::sampleMemory()
+{
+  if (const FastSlam* fs = slam->filter())
+    peak_map_nodes = std::max(peak_map_nodes, fs->mapNodes());
+  const SlamStats st = slam->stats();
+  const double rss = currentRssMb();
+  rss_samples.push_back({static_cast<double>(st.keyframes), rss});
+  std::cerr << "[slam_benchmark] " << frames << " frames, " << st.keyframes << " keyframes, " << st.submaps
+            << " submaps, loop closures " << st.loops_accepted << " (rejected " << st.loops_rejected << "), RSS "
+            << rss << " MB\n";
+}
+
+/// What SLAM holds at the end of the run.
+struct SlamEnd
+{
+  SlamStats st;
+  std::vector<Keyframe> kfs, session_kfs;  ///< every keyframe; those of this session (not loaded)
+  std::vector<LoopEvent> events;
+};
+
+SlamEnd slamEnd(const SlamRun& run)
+{
+  SlamEnd e;
+  e.st = run.slam->stats();
+  e.kfs = run.slam->keyframes();
+  e.session_kfs.assign(e.kfs.begin() + static_cast<long>(std::min(run.stored_keyframes, e.kfs.size())), e.kfs.end());
+  e.events = run.slam->loopEvents();
+  return e;
+}
+
+/// Final SLAM trajectory: each frame rides on the last keyframe before it (optimised pose).
+ev::Trajectory finalTrajectory(const SlamRun& run, const std::vector<Keyframe>& session_kfs)
+{
+  ev::Trajectory slam_est;
+  size_t k = 0;
+  for (size_t i = 0; i < run.gt.size(); ++i)
+  {
+    while (k + 1 < session_kfs.size() && session_kfs[k + 1].stamp <= run.gt[i].t)
+      ++k;
+    Eigen::Isometry3d T = run.frame_odom[i];
+    if (!session_kfs.empty() && session_kfs[k].stamp <= run.gt[i].t)
+      T = session_kfs[k].T_map_cam * session_kfs[k].T_odom_cam.inverse() * run.frame_odom[i];
+    slam_est.push_back({run.gt[i].t, T});
+  }
+  return slam_est;
+}
+
+/// Loop closures against the truth, and the revisits they should have closed.
+struct ClosureScore
+{
   int accepted = 0, false_closures = 0;
-  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> closure_lines;
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> closure_lines;  ///< truth positions, for the plot
   std::set<uint32_t> closed_new;
-  for (const LoopEvent& e : events)
+  int revisit_runs = 0, missed = 0;
+};
+
+/// The accepted closures against the truth (a line each on stdout; false: > 0.5 m or 5 deg off).
+void scoreClosures(const SlamRun& run, const SlamEnd& end, ClosureScore& cs)
+{
+  for (const LoopEvent& e : end.events)
   {
     if (!e.accepted)
       continue;
-    ++accepted;
+    ++cs.accepted;
     Eigen::Isometry3d Ta, Tb;
-    if (!truthOf(kfs[e.keyframe_old].stamp, Ta) || !truthOf(kfs[e.keyframe_new].stamp, Tb))
+    if (!run.truthOf(end.kfs[e.keyframe_old].stamp, Ta) || !run.truthOf(end.kfs[e.keyframe_new].stamp, Tb))
       continue;
     const Eigen::Isometry3d T_true = Ta.inverse() * Tb;
     const Eigen::Isometry3d d = T_true.inverse() * e.T_old_new;
     const bool wrong = d.translation().norm() > 0.5 || angDeg(d.linear()) > 5.0;
-    false_closures += wrong;
+    cs.false_closures += wrong;
     std::cout << (wrong ? "FALSE " : "") << "loop closure: keyframe " << e.keyframe_new << " (submap "
               << e.submap_new << ") -> " << e.keyframe_old << " (submap " << e.submap_old << "), " << e.inliers
               << " inliers, correction " << std::setprecision(3) << e.correction_m << " m " << e.correction_deg
               << " deg; error vs truth " << d.translation().norm() << " m " << angDeg(d.linear()) << " deg\n";
-    closure_lines.push_back({Ta.translation(), Tb.translation()});
-    closed_new.insert(e.keyframe_new);
+    cs.closure_lines.push_back({Ta.translation(), Tb.translation()});
+    cs.closed_new.insert(e.keyframe_new);
   }
-  // Revisits: keyframes whose true position is within 1 m (view within 30 deg) of a keyframe at
-  // least 15 m of path earlier; consecutive revisiting keyframes form one run; a run with no
-  // accepted closure is missed.
-  int revisit_runs = 0, missed = 0;
-  {
-    std::vector<Eigen::Isometry3d> kgt(kfs.size());
-    std::vector<bool> has(kfs.size(), false);
-    for (size_t i = 0; i < kfs.size(); ++i)
-      has[i] = truthOf(kfs[i].stamp, kgt[i]);
-    bool in_run = false, run_closed = false;
-    for (size_t b = 0; b < kfs.size(); ++b)
-    {
-      bool revisit = false;
-      for (size_t a = 0; a < b && has[b] && !revisit; ++a)
-        revisit = has[a] && kfs[b].path_m - kfs[a].path_m > 15.0 &&
-                  (kgt[a].translation() - kgt[b].translation()).norm() < 1.0 &&
-                  angDeg(kgt[a].linear().transpose() * kgt[b].linear()) < 30.0;
-      if (revisit)
-      {
-        if (!in_run)
-        {
-          ++revisit_runs;
-          run_closed = false;
-        }
-        in_run = true;
-        run_closed = run_closed || closed_new.count(static_cast<uint32_t>(b));
-      }
-      else if (in_run)
-      {
-        missed += !run_closed;
-        in_run = false;
-      }
-    }
-    if (in_run)
-      missed += !run_closed;
-  }
+}
 
-  // Relocalisation (--load-map): frames from the first one with a stored keyframe in view (truly
-  // within 1 m and 30 deg; needs the stored keyframes' truth, i.e. the same bag) to the one that
-  // relocalised, and the error of the relocalised pose in world through the fit of the stored
-  // keyframes' map poses to their truth.
-  double reloc_frames = -1, reloc_err_m = -1, reloc_err_deg = -1;
-  if (!load_path.empty())
+// Revisits: keyframes whose true position is within 1 m (view within 30 deg) of a keyframe at
+// least 15 m of path earlier; consecutive revisiting keyframes form one run; a run with no
+// accepted closure is missed.
+void scoreRevisits(const SlamRun& run, const std::vector<Keyframe>& kfs, ClosureScore& cs)
+{
+  std::vector<Eigen::Isometry3d> kgt(kfs.size());
+  std::vector<bool> has(kfs.size(), false);
+  for (size_t i = 0; i < kfs.size(); ++i)
+    has[i] = run.truthOf(kfs[i].stamp, kgt[i]);
+  bool in_run = false, run_closed = false;
+  for (size_t b = 0; b < kfs.size(); ++b)
   {
-    std::vector<Eigen::Isometry3d> stored_gt;
-    Eigen::Matrix3Xd a(3, 0), b(3, 0);
-    for (size_t i = 0; i < stored_keyframes; ++i)
+    bool revisit = false;
+    for (size_t a = 0; a < b && has[b] && !revisit; ++a)
+      revisit = has[a] && kfs[b].path_m - kfs[a].path_m > 15.0 &&
+                (kgt[a].translation() - kgt[b].translation()).norm() < 1.0 &&
+                angDeg(kgt[a].linear().transpose() * kgt[b].linear()) < 30.0;
+    if (revisit)
     {
-      Eigen::Isometry3d T;
-      if (!truthOf(kfs[i].stamp, T))
-        continue;
-      stored_gt.push_back(T);
-      a.conservativeResize(3, a.cols() + 1);
-      b.conservativeResize(3, b.cols() + 1);
-      a.col(a.cols() - 1) = loaded_poses[i].translation();
-      b.col(b.cols() - 1) = T.translation();
+      if (!in_run)
+      {
+        ++cs.revisit_runs;
+        run_closed = false;
+      }
+      in_run = true;
+      run_closed = run_closed || cs.closed_new.count(static_cast<uint32_t>(b));
     }
-    int in_view = stored_gt.empty() ? 0 : -1;
-    for (size_t i = 0; i < session_truth.size() && in_view < 0; ++i)
-      for (const Eigen::Isometry3d& S : stored_gt)
-        if ((S.translation() - session_truth[i].second.translation()).norm() < 1.0 &&
-            angDeg(S.linear().transpose() * session_truth[i].second.linear()) < 30.0)
-        {
-          in_view = static_cast<int>(i);
-          break;
-        }
-    std::cout << "relocalisation: " << (stored_gt.empty() ? "no truth for the stored keyframes (another bag?); " : "")
-              << "first stored place in view at session frame " << in_view << ", relocalised at frame " << reloc_frame
-              << " (" << st.relocalisation_queries << " keyframes tried)\n";
-    if (reloc_frame >= 0 && in_view >= 0)
-      reloc_frames = std::max(0, reloc_frame - in_view);
-    Eigen::Isometry3d Tt;
-    if (st.relocalised_stamp >= 0 && a.cols() >= 3 && truthOf(st.relocalised_stamp, Tt))
+    else if (in_run)
     {
-      Eigen::Isometry3d A;
-      A.matrix() = Eigen::umeyama(a, b, false);
-      for (const LoopEvent& e : events)
-        if (e.relocalisation)
-        {
-          // the pose the relocalisation gave: the stored keyframe times the verified relative pose
-          const Eigen::Isometry3d Tm = A * loaded_poses.at(e.keyframe_old) * e.T_old_new;
-          reloc_err_m = (Tm.translation() - Tt.translation()).norm();
-          reloc_err_deg = angDeg(Tm.linear().transpose() * Tt.linear());
-        }
-      std::cout << "relocalised pose vs truth (world through the fit of the stored keyframes as loaded): " << reloc_err_m << " m, "
-                << reloc_err_deg << " deg\n";
+      cs.missed += !run_closed;
+      in_run = false;
     }
   }
+  if (in_run)
+    cs.missed += !run_closed;
+}
 
-  if (!load_path.empty() && st.relocalised_stamp >= 0)
+/// --load-map: how soon and how well the wearer was relocalised (-1: not measured).
+struct RelocScore
+{
+  double frames = -1, err_m = -1, err_deg = -1;
+};
+
+// Relocalisation (--load-map): frames from the first one with a stored keyframe in view (truly
+// within 1 m and 30 deg; needs the stored keyframes' truth, i.e. the same bag) to the one that
+// relocalised, and the error of the relocalised pose in world through the fit of the stored
+// keyframes' map poses to their truth.
+RelocScore scoreRelocalisation(const SlamRun& run, const SlamEnd& end)
+{
+  RelocScore r;
+  std::vector<Eigen::Isometry3d> stored_gt;
+  Eigen::Matrix3Xd a(3, 0), b(3, 0);
+  for (size_t i = 0; i < run.stored_keyframes; ++i)
+  {
+    Eigen::Isometry3d T;
+    if (!run.truthOf(end.kfs[i].stamp, T))
+      continue;
+    stored_gt.push_back(T);
+    a.conservativeResize(3, a.cols() + 1);
+    b.conservativeResize(3, b.cols() + 1);
+    a.col(a.cols() - 1) = run.loaded_poses[i].translation();
+    b.col(b.cols() - 1) = T.translation();
+  }
+  int in_view = stored_gt.empty() ? 0 : -1;
+  for (size_t i = 0; i < run.session_truth.size() && in_view < 0; ++i)
+    for (const Eigen::Isometry3d& S : stored_gt)
+      if ((S.translation() - run.session_truth[i].second.translation()).norm() < 1.0 &&
+          angDeg(S.linear().transpose() * run.session_truth[i].second.linear()) < 30.0)
+      {
+        in_view = static_cast<int>(i);
+        break;
+      }
+  std::cout << "relocalisation: " << (stored_gt.empty() ? "no truth for the stored keyframes (another bag?); " : "")
+            << "first stored place in view at session frame " << in_view << ", relocalised at frame " << run.reloc_frame
+            << " (" << end.st.relocalisation_queries << " keyframes tried)\n";
+  if (run.reloc_frame >= 0 && in_view >= 0)
+    r.frames = std::max(0, run.reloc_frame - in_view);
+  Eigen::Isometry3d Tt;
+  if (end.st.relocalised_stamp >= 0 && a.cols() >= 3 && run.truthOf(end.st.relocalised_stamp, Tt))
+  {
+    Eigen::Isometry3d A;
+    A.matrix() = Eigen::umeyama(a, b, false);
+    for (const LoopEvent& e : end.events)
+      if (e.relocalisation)
+      {
+        // the pose the relocalisation gave: the stored keyframe times the verified relative pose
+        const Eigen::Isometry3d Tm = A * run.loaded_poses.at(e.keyframe_old) * e.T_old_new;
+        r.err_m = (Tm.translation() - Tt.translation()).norm();
+        r.err_deg = angDeg(Tm.linear().transpose() * Tt.linear());
+      }
+    std::cout << "relocalised pose vs truth (world through the fit of the stored keyframes as loaded): " << r.err_m << " m, "
+              << r.err_deg << " deg\n";
+  }
+  return r;
+}
+
+/// The three trajectories scored against the truth: VO alone, SLAM final and online.
+struct TrajectoryScores
+{
+  ev::Trajectory gt, vo_est, slam_est, online_est;
+  ev::TrajectoryReport vrep, srep, orep;
+};
+
+TrajectoryScores scoreTrajectories(const Options& opt, const SlamRun& run, const SlamEnd& end)
+{
+  TrajectoryScores t{run.gt, run.vo_est, finalTrajectory(run, end.session_kfs), run.online_est, {}, {}, {}};
+  if (!opt.load_path.empty() && end.st.relocalised_stamp >= 0)
   {
     // A loaded map: frames before the relocalisation have no map pose; all figures from it on.
-    auto from = [&](const ev::Trajectory& t) {
+    auto from = [&](const ev::Trajectory& tr) {
       ev::Trajectory o;
-      for (const auto& p : t)
-        if (p.t >= st.relocalised_stamp)
+      for (const auto& p : tr)
+        if (p.t >= end.st.relocalised_stamp)
           o.push_back(p);
       return o;
     };
-    gt = from(gt);
-    vo_est = from(vo_est);
-    slam_est = from(slam_est);
-    online_est = from(online_est);
+    t.gt = from(t.gt);
+    t.vo_est = from(t.vo_est);
+    t.slam_est = from(t.slam_est);
+    t.online_est = from(t.online_est);
   }
-  const ev::TrajectoryReport vrep = ev::evaluateTrajectory(gt, vo_est);
-  const ev::TrajectoryReport srep = ev::evaluateTrajectory(gt, slam_est);
-  const ev::TrajectoryReport orep = ev::evaluateTrajectory(gt, online_est);
-  std::cout << "assistive_slam benchmark: " << bag << "  (" << frames << " frames, " << (imu_on ? "IMU" : "no IMU")
-            << ", " << (realtime ? "realtime" : "worker awaited per keyframe") << ")\n";
-  std::cout << "--- VO alone vs ground truth ---\n" << ev::reportTable(vrep);
-  std::cout << "--- SLAM (final, optimised keyframes) vs ground truth ---\n" << ev::reportTable(srep);
-  std::cout << "--- SLAM (online: map->odom at the time) vs ground truth ---\n" << ev::reportTable(orep);
-  std::cout << std::fixed << std::setprecision(3) << "frame-loop time added by SLAM: median " << percentile(ms_added, 0.5)
-            << " ms, p95 " << percentile(ms_added, 0.95) << " ms (thread CPU; VO p95 " << percentile(ms_vo, 0.95)
-            << " ms); worker per keyframe: median " << percentile(worker_ms, 0.5) << " ms, p95 "
-            << percentile(worker_ms, 0.95) << " ms (wall)\n";
-  std::cout << "keyframes " << st.keyframes << " (queued " << keyframes_queued << ", dropped " << st.dropped
-            << "), submaps " << st.submaps << ", local BA runs " << st.ba_runs << " (rejected " << st.ba_rejected << ")" << ", pose-graph runs "
-            << st.pose_graph_runs << ", loop closures " << accepted << " accepted (" << false_closures
-            << " false), " << st.loops_rejected << " verified but rejected; revisit runs " << revisit_runs
-            << ", missed " << missed << "\n";
+  t.vrep = ev::evaluateTrajectory(t.gt, t.vo_est);
+  t.srep = ev::evaluateTrajectory(t.gt, t.slam_est);
+  t.orep = ev::evaluateTrajectory(t.gt, t.online_est);
+  return t;
+}
 
-  // Plot: truth, VO and SLAM (SE3-aligned like the ATE), closures as green segments (truth positions).
-  std::vector<ev::PlotSeries> series{{"ground truth", ev::positions(gt), cv::Scalar(0, 0, 0)}};
-  series.push_back({"VO alone", ev::positions(ev::applyAlignment(vo_est, vrep.alignment)), cv::Scalar(0, 0, 230)});
-  series.push_back({"SLAM", ev::positions(ev::applyAlignment(slam_est, srep.alignment)), cv::Scalar(230, 120, 0)});
-  for (size_t i = 0; i < closure_lines.size(); ++i)
-    series.push_back({i == 0 ? "loop closures" : "", {closure_lines[i].first, closure_lines[i].second + Eigen::Vector3d(0.15, 0.15, 0)},
+/// The report's tables: the three trajectories, the times, keyframes and closures.
+void printTables(const Options& opt, const SlamRun& run, const SlamEnd& end, const TrajectoryScores& t,
+                 const ClosureScore& cs)
+{
+  const SlamStats& st = end.st;
+  std::cout << "assistive_slam benchmark: " << opt.bag << "  (" << run.frames << " frames, " << (opt.imu_on ? "IMU" : "no IMU")
+            << ", " << (opt.realtime ? "realtime" : "worker awaited per keyframe") << ")\n";
+  std::cout << "--- VO alone vs ground truth ---\n" << ev::reportTable(t.vrep);
+  std::cout << "--- SLAM (final, optimised keyframes) vs ground truth ---\n" << ev::reportTable(t.srep);
+  std::cout << "--- SLAM (online: map->odom at the time) vs ground truth ---\n" << ev::reportTable(t.orep);
+  std::cout << std::fixed << std::setprecision(3) << "frame-loop time added by SLAM: median " << percentile(run.ms_added, 0.5)
+            << " ms, p95 " << percentile(run.ms_added, 0.95) << " ms (thread CPU; VO p95 " << percentile(run.ms_vo, 0.95)
+            << " ms); worker per keyframe: median " << percentile(run.worker_ms, 0.5) << " ms, p95 "
+            << percentile(run.worker_ms, 0.95) << " ms (wall)\n";
+  std::cout << "keyframes " << st.keyframes << " (queued " << run.keyframes_queued << ", dropped " << st.dropped
+            << "), submaps " << st.submaps << ", local BA runs " << st.ba_runs << " (rejected " << st.ba_rejected << ")" << ", pose-graph runs "
+            << st.pose_graph_runs << ", loop closures " << cs.accepted << " accepted (" << cs.false_closures
+            << " false), " << st.loops_rejected << " verified but rejected; revisit runs " << cs.revisit_runs
+            << ", missed " << cs.missed << "\n";
+}
+
+// Plot: truth, VO and SLAM (SE3-aligned like the ATE), closures as green segments (truth positions).
+void plotTrajectories(const Options& opt, ev::StereoBagReader& reader, const TrajectoryScores& t, const ClosureScore& cs)
+{
+  std::vector<ev::PlotSeries> series{{"ground truth", ev::positions(t.gt), cv::Scalar(0, 0, 0)}};
+  series.push_back({"VO alone", ev::positions(ev::applyAlignment(t.vo_est, t.vrep.alignment)), cv::Scalar(0, 0, 230)});
+  series.push_back({"SLAM", ev::positions(ev::applyAlignment(t.slam_est, t.srep.alignment)), cv::Scalar(230, 120, 0)});
+  for (size_t i = 0; i < cs.closure_lines.size(); ++i)
+    series.push_back({i == 0 ? "loop closures" : "", {cs.closure_lines[i].first, cs.closure_lines[i].second + Eigen::Vector3d(0.15, 0.15, 0)},
                       cv::Scalar(0, 180, 0)});
   ev::OccupancyGrid floor;
-  const bool have_floor = reader->readOccupancy(floor);
+  const bool have_floor = reader.readOccupancy(floor);
   ev::PlotOptions po;
-  po.title = "SLAM trajectory (SE3-aligned): " + bag;
+  po.title = "SLAM trajectory (SE3-aligned): " + opt.bag;
   std::string err;
-  if (ev::writePng(plot, ev::plotTopDown(series, have_floor ? &floor : nullptr, po), &err))
-    std::cout << "trajectory plot: " << plot << "\n";
+  if (ev::writePng(opt.plot, ev::plotTopDown(series, have_floor ? &floor : nullptr, po), &err))
+    std::cout << "trajectory plot: " << opt.plot << "\n";
   else
     std::cerr << "slam_benchmark: plot not written: " << err << "\n";
+}
 
-  // The map file as slam/save_map would write it: its size.
+/// The map file as slam/save_map would write it: its size in MB (-1: not written).
+double writeMapFile(const SlamRun& run, std::string map_path, const std::string& plot)
+{
   if (map_path.empty())
     map_path = plot.substr(0, plot.rfind('.')) + ".map";
   double map_mb = -1;
+  std::string merr;
+  if (saveMapFile(map_path, exportMap(*run.slam), &merr))
   {
-    std::string merr;
-    if (saveMapFile(map_path, exportMap(*slam), &merr))
-    {
-      std::ifstream mf(map_path, std::ios::binary | std::ios::ate);
-      map_mb = static_cast<double>(mf.tellg()) / (1024.0 * 1024.0);
-      std::cout << "map file: " << map_path << " (" << map_mb << " MB)\n";
-    }
-    else
-      std::cerr << "slam_benchmark: " << merr << "\n";
+    std::ifstream mf(map_path, std::ios::binary | std::ios::ate);
+    map_mb = static_cast<double>(mf.tellg()) / (1024.0 * 1024.0);
+    std::cout << "map file: " << map_path << " (" << map_mb << " MB)\n";
   }
-  // Memory: least-squares slope of the resident size against the keyframes (second half of the
-  // samples: the start-up allocations are behind).
+  else
+    std::cerr << "slam_benchmark: " << merr << "\n";
+  return map_mb;
+}
+
+// Memory: least-squares slope of the resident size against the keyframes (second half of the
+// samples: the start-up allocations are behind). MB per keyframe, -1 when too few samples.
+double memorySlope(const std::vector<std::pair<double, double>>& rss_samples)
+{
   double rss_slope = -1;
+  const size_t h = rss_samples.size() / 2;
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (size_t i = h; i < rss_samples.size(); ++i, ++n)
   {
-    const size_t h = rss_samples.size() / 2;
-    double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
-    for (size_t i = h; i < rss_samples.size(); ++i, ++n)
-    {
-      sx += rss_samples[i].first;
-      sy += rss_samples[i].second;
-      sxx += rss_samples[i].first * rss_samples[i].first;
-      sxy += rss_samples[i].first * rss_samples[i].second;
-    }
-    if (n >= 3 && n * sxx - sx * sx > 0)
-      rss_slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
-    std::cout << "resident memory: " << (rss_samples.empty() ? 0.0 : rss_samples.back().second) << " MB at "
-              << (rss_samples.empty() ? 0.0 : rss_samples.back().first) << " keyframes; slope " << rss_slope * 1024
-              << " kB per keyframe (second half of the run)\n";
+    sx += rss_samples[i].first;
+    sy += rss_samples[i].second;
+    sxx += rss_samples[i].first * rss_samples[i].first;
+    sxy += rss_samples[i].first * rss_samples[i].second;
   }
-  auto num = [](double v, int significant = 4) { return ev::jsonNumber(v, significant); };
-  // The filter (fastslam): its own per-frame trajectory, whole and per filter submap (between
-  // resets), against the VO's on the same frames; SE3-aligned ATE each.
-  const FastSlamStats fst = slam->filter() ? slam->filter()->stats() : FastSlamStats();
+  if (n >= 3 && n * sxx - sx * sx > 0)
+    rss_slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  std::cout << "resident memory: " << (rss_samples.empty() ? 0.0 : rss_samples.back().second) << " MB at "
+            << (rss_samples.empty() ? 0.0 : rss_samples.back().first) << " keyframes; slope " << rss_slope * 1024
+            << " kB per keyframe (second half of the run)\n";
+  return rss_slope;
+}
+
+/// fastslam: the filter's own trajectory against the truth, whole and per filter submap.
+struct FilterScore
+{
+  FastSlamStats fst;
   double filter_ate = -1, seg_filter = 0, seg_vo = 0;
   int seg_n = 0, seg_better = 0;
-  if (!filter_frames.empty())
+};
+
+// The filter (fastslam): its own per-frame trajectory, whole and per filter submap (between
+// resets), against the VO's on the same frames; SE3-aligned ATE each.
+FilterScore scoreFilter(const SlamRun& run)
+{
+  FilterScore fsc;
+  fsc.fst = run.slam->filter() ? run.slam->filter()->stats() : FastSlamStats();
+  const std::vector<FilterFrame>& filter_frames = run.filter_frames;
+  if (filter_frames.empty())
+    return fsc;
+  ev::Trajectory g, e;
+  for (const FilterFrame& ff : filter_frames)
   {
-    ev::Trajectory g, e;
-    for (const FilterFrame& ff : filter_frames)
-    {
-      g.push_back({ff.t, ff.gt});
-      e.push_back({ff.t, ff.filter});
-    }
-    filter_ate = ev::evaluateTrajectory(g, e).ate.rmse;
-    for (size_t a = 0; a < filter_frames.size();)
-    {
-      size_t b = a;
-      ev::Trajectory sg, sf, sv;
-      while (b < filter_frames.size() && filter_frames[b].segment == filter_frames[a].segment)
-      {
-        sg.push_back({filter_frames[b].t, filter_frames[b].gt});
-        sf.push_back({filter_frames[b].t, filter_frames[b].filter});
-        sv.push_back({filter_frames[b].t, filter_frames[b].vo});
-        ++b;
-      }
-      if (sg.size() >= 20)
-      {
-        const double ef = ev::evaluateTrajectory(sg, sf).ate.rmse, evo = ev::evaluateTrajectory(sg, sv).ate.rmse;
-        seg_filter += ef;
-        seg_vo += evo;
-        ++seg_n;
-        seg_better += ef <= evo + 1e-4;
-      }
-      a = b;
-    }
-    std::cout << "fastslam: " << fst.particles << " particles, " << fst.landmarks_total << " landmarks, "
-              << fst.resamplings << " resamplings, " << fst.resets << " filter submaps, "
-              << static_cast<double>(fst.matches_total) / std::max(1, fst.frames) << " matches per frame (of "
-              << static_cast<double>(fst.candidates_total) / std::max(1, fst.frames)
-              << " candidates); filter ATE " << filter_ate << " m; per filter submap: filter " << seg_filter / std::max(1, seg_n)
-              << " m vs VO " << seg_vo / std::max(1, seg_n) << " m (" << seg_better << " of " << seg_n
-              << " not worse); active matching: " << fst.refound << " of " << fst.revisits << " revisits re-found, "
-              << am_false << " of " << am_checked << " matches > 3 px off the true ray (median " << percentile(am_err, 0.5)
-              << " px, p90 " << percentile(am_err, 0.9) << " px)\n";
+    g.push_back({ff.t, ff.gt});
+    e.push_back({ff.t, ff.filter});
   }
-  ev::JsonLine js;
-  js.add("frames", frames)
-      .add("ms_p95", num(percentile(ms_added, 0.95)))
-      .add("ms_median", num(percentile(ms_added, 0.5)))
-      .add("worker_ms_p95", num(percentile(worker_ms, 0.95)))
-      .add("ate_rmse_m", num(srep.ate.rmse))
-      .add("ate_rmse_online_m", num(orep.ate.rmse))
-      .add("vo_ate_rmse_m", num(vrep.ate.rmse))
-      .add("drift_deg_per_m", num(srep.drift.drift_deg_per_m, 6))
-      .add("vo_drift_deg_per_m", num(vrep.drift.drift_deg_per_m, 6))
-      .add("drift_pct", num(srep.drift.drift_pct))
-      .add("vo_drift_pct", num(vrep.drift.drift_pct))
-      .add("loop_closures", accepted)
-      .add("false_loop_closures", false_closures)
-      .add("loop_closures_rejected", st.loops_rejected)
-      .add("loop_closures_missed", missed)
-      .add("revisit_runs", revisit_runs)
-      .add("keyframes", st.keyframes)
-      .add("keyframes_dropped", st.dropped)
-      .add("submaps", st.submaps)
-      .add("peak_rss_mb", num(peakRssMb()))
-      .add("rss_mb_per_keyframe", rss_slope >= 0 ? num(rss_slope) : "null")
-      .add("relocalisation_frames", reloc_frames >= 0 ? num(reloc_frames) : "null")
-      .add("relocalisation_err_m", reloc_err_m >= 0 ? num(reloc_err_m) : "null")
-      .add("relocalisation_err_deg", reloc_err_deg >= 0 ? num(reloc_err_deg) : "null")
-      .add("map_file_mb", map_mb >= 0 ? num(map_mb) : "null")
-      .add("path_length_m", num(vrep.path_length_m))
-      .add("backend", "\"" + sp.metric_backend + "\"")
-      .add("particles", fst.particles)
+  fsc.filter_ate = ev::evaluateTrajectory(g, e).ate.rmse;
+  for (size_t a = 0; a < filter_frames.size();)
+  {
+    size_t b = a;
+    ev::Trajectory sg, sf, sv;
+    while (b < filter_frames.size() && filter_frames[b].segment == filter_frames[a].segment)
+    {
+      sg.push_back({filter_frames[b].t, filter_frames[b].gt});
+      sf.push_back({filter_frames[b].t, filter_frames[b].filter});
+      sv.push_back({filter_frames[b].t, filter_frames[b].vo});
+      ++b;
+    }
+    if (sg.size() >= 20)
+    {
+      const double ef = ev::evaluateTrajectory(sg, sf).ate.rmse, evo = ev::evaluateTrajectory(sg, sv).ate.rmse;
+      fsc.seg_filter += ef;
+      fsc.seg_vo += evo;
+      ++fsc.seg_n;
+      fsc.seg_better += ef <= evo + 1e-4;
+    }
+    a = b;
+  }
+  const FastSlamStats& fst = fsc.fst;
+  std::cout << "fastslam: " << fst.particles << " particles, " << fst.landmarks_total << " landmarks, "
+            << fst.resamplings << " resamplings, " << fst.resets << " filter submaps, "
+            << static_cast<double>(fst.matches_total) / std::max(1, fst.frames) << " matches per frame (of "
+            << static_cast<double>(fst.candidates_total) / std::max(1, fst.frames)
+            << " candidates); filter ATE " << fsc.filter_ate << " m; per filter submap: filter " << fsc.seg_filter / std::max(1, fsc.seg_n)
+            << " m vs VO " << fsc.seg_vo / std::max(1, fsc.seg_n) << " m (" << fsc.seg_better << " of " << fsc.seg_n
+            << " not worse); active matching: " << fst.refound << " of " << fst.revisits << " revisits re-found, "
+            << run.am_false << " of " << run.am_checked << " matches > 3 px off the true ray (median " << percentile(run.am_err, 0.5)
+            << " px, p90 " << percentile(run.am_err, 0.9) << " px)\n";
+  return fsc;
+}
+
+std::string num(double v, int significant = 4)
+{
+  return ev::jsonNumber(v, significant);
+}
+
+/// The JSON line's keys from fastslam (the filter, its map, active matching); null / 0 for keyframe_ba.
+void addFilterKeys(const SlamRun& run, const FilterScore& fsc, ev::JsonLine& js)
+{
+  const FastSlamStats& fst = fsc.fst;
+  js.add("particles", fst.particles)
       .add("landmarks", fst.landmarks_total)
       .add("resamplings", fst.resamplings)
       .add("filter_resets", fst.resets)
       .add("matches_per_frame", fst.frames > 0 ? num(static_cast<double>(fst.matches_total) / fst.frames) : "null")
-      .add("map_nodes_peak", static_cast<long>(peak_map_nodes))
-      .add("filter_ate_rmse_m", filter_ate >= 0 ? num(filter_ate) : "null")
-      .add("submap_ate_m", seg_n > 0 ? num(seg_filter / seg_n) : "null")
-      .add("vo_submap_ate_m", seg_n > 0 ? num(seg_vo / seg_n) : "null")
-      .add("submaps_scored", seg_n)
-      .add("submaps_filter_not_worse", seg_better)
+      .add("map_nodes_peak", static_cast<long>(run.peak_map_nodes))
+      .add("filter_ate_rmse_m", fsc.filter_ate >= 0 ? num(fsc.filter_ate) : "null")
+      .add("submap_ate_m", fsc.seg_n > 0 ? num(fsc.seg_filter / fsc.seg_n) : "null")
+      .add("vo_submap_ate_m", fsc.seg_n > 0 ? num(fsc.seg_vo / fsc.seg_n) : "null")
+      .add("submaps_scored", fsc.seg_n)
+      .add("submaps_filter_not_worse", fsc.seg_better)
       .add("am_revisits", fst.revisits)
       .add("am_refound_share", fst.revisits > 0 ? num(static_cast<double>(fst.refound) / fst.revisits) : "null")
-      .add("am_matches_checked", am_checked)
-      .add("am_false_match_rate", am_checked > 0 ? num(static_cast<double>(am_false) / am_checked) : "null");
-  std::cout << js.str() << std::endl;
+      .add("am_matches_checked", run.am_checked)
+      .add("am_false_match_rate", run.am_checked > 0 ? num(static_cast<double>(run.am_false) / run.am_checked) : "null");
+}
+
+/// The run's resources: memory, the map file.
+struct Resources
+{
+  double rss_slope = -1, map_mb = -1;
+};
+
+/// The last stdout line (docs/design.md: its keys are read by others).
+ev::JsonLine jsonLine(const SlamParams& sp, const SlamRun& run, const SlamEnd& end, const TrajectoryScores& t,
+                      const ClosureScore& cs, const RelocScore& reloc, const Resources& res, const FilterScore& fsc)
+{
+  const SlamStats& st = end.st;
+  ev::JsonLine js;
+  js.add("frames", run.frames)
+      .add("ms_p95", num(percentile(run.ms_added, 0.95)))
+      .add("ms_median", num(percentile(run.ms_added, 0.5)))
+      .add("worker_ms_p95", num(percentile(run.worker_ms, 0.95)))
+      .add("ate_rmse_m", num(t.srep.ate.rmse))
+      .add("ate_rmse_online_m", num(t.orep.ate.rmse))
+      .add("vo_ate_rmse_m", num(t.vrep.ate.rmse))
+      .add("drift_deg_per_m", num(t.srep.drift.drift_deg_per_m, 6))
+      .add("vo_drift_deg_per_m", num(t.vrep.drift.drift_deg_per_m, 6))
+      .add("drift_pct", num(t.srep.drift.drift_pct))
+      .add("vo_drift_pct", num(t.vrep.drift.drift_pct))
+      .add("loop_closures", cs.accepted)
+      .add("false_loop_closures", cs.false_closures)
+      .add("loop_closures_rejected", st.loops_rejected)
+      .add("loop_closures_missed", cs.missed)
+      .add("revisit_runs", cs.revisit_runs)
+      .add("keyframes", st.keyframes)
+      .add("keyframes_dropped", st.dropped)
+      .add("submaps", st.submaps)
+      .add("peak_rss_mb", num(peakRssMb()))
+      .add("rss_mb_per_keyframe", res.rss_slope >= 0 ? num(res.rss_slope) : "null")
+      .add("relocalisation_frames", reloc.frames >= 0 ? num(reloc.frames) : "null")
+      .add("relocalisation_err_m", reloc.err_m >= 0 ? num(reloc.err_m) : "null")
+      .add("relocalisation_err_deg", reloc.err_deg >= 0 ? num(reloc.err_deg) : "null")
+      .add("map_file_mb", res.map_mb >= 0 ? num(res.map_mb) : "null")
+      .add("path_length_m", num(t.vrep.path_length_m))
+      .add("backend", "\"" + sp.metric_backend + "\"");
+  addFilterKeys(run, fsc, js);
+  return js;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  for (int i = 1; i + 1 < argc; ++i)
+    if (std::string(argv[i]) == "--backend" && std::string(argv[i + 1]) == "both")
+      return runBoth(argc, argv);
+  Options opt;
+  ev::CommandLine cl("slam_benchmark", kUsage);
+  opt.addTo(cl);
+  if (const int rc = cl.parse(argc, argv); rc >= 0)
+    return rc;
+  if (opt.plot.empty())
+  {
+    const size_t dot = opt.bag.rfind(".bag");
+    opt.plot = (dot == std::string::npos ? opt.bag : opt.bag.substr(0, dot)) + "_slam_trajectory" + opt.plot_suffix + ".png";
+  }
+  cv::setNumThreads(1);
+  SlamParams sp;
+  if (!ev::applySets(cl, opt.overrides, sp))
+    return 2;
+  if (!opt.backend.empty())
+    sp.metric_backend = opt.backend;
+  if (sp.metric_backend != "keyframe_ba" && sp.metric_backend != "fastslam")
+  {
+    std::cerr << "slam_benchmark: unknown backend " << sp.metric_backend << " (keyframe_ba | fastslam | both)\n";
+    return 2;
+  }
+  const std::unique_ptr<ev::StereoBagReader> reader = ev::openStereoBag("slam_benchmark", opt.bag);
+  if (!reader)
+    return 1;
+
+  SlamRun run(opt, sp, !reader->imuSamples().empty());
+  if (!run.run(*reader))
+    return 1;
+
+  // ---- scores and report ----
+  const SlamEnd end = slamEnd(run);
+  ClosureScore cs;
+  scoreClosures(run, end, cs);
+  scoreRevisits(run, end.kfs, cs);
+  const RelocScore reloc = opt.load_path.empty() ? RelocScore() : scoreRelocalisation(run, end);
+  const TrajectoryScores t = scoreTrajectories(opt, run, end);
+  printTables(opt, run, end, t, cs);
+  plotTrajectories(opt, *reader, t, cs);
+  Resources res;
+  res.map_mb = writeMapFile(run, opt.map_path, opt.plot);
+  res.rss_slope = memorySlope(run.rss_samples);
+  const FilterScore fsc = scoreFilter(run);
+  std::cout << jsonLine(sp, run, end, t, cs, reloc, res, fsc).str() << std::endl;
   return 0;
 }

@@ -638,26 +638,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
   if (pointline_)
     trackLines(right, st);
   MotionEstimate m;
-  // pointline: the point+line RANSAC while stereo line tracks exist; without any it would be
-  // the quaternion solver on points alone, slower than P3P and no better (README figures).
-  // Where corners are plenty (3 x min_inliers tracks), P3P too: the lines only help where points are few.
-  const bool with_lines = pointline_ && static_cast<int>(tracks_.size()) < 3 * p_.min_inliers &&
-                          std::any_of(lines_.begin(), lines_.end(), [](const LineTrack& t) { return t.stereo; });
-  // With the IMU the points first and the lines only where the points alone fail: a weak frame
-  // coasts well on the IMU, and the lines of one wall were no better than the few corners there
-  // (shipped worlds and generated ones with the IMU: as many bags worse as better, README).
-  bool pose_found = false;
-  if (with_lines && fc.have_imu)
-  {
-    pose_found = estimatePose(T_kf_pred, st, m);
-    if (!pose_found)
-    {
-      m = MotionEstimate();
-      pose_found = estimatePosePointLine(st, m);
-    }
-  }
-  else
-    pose_found = with_lines ? estimatePosePointLine(st, m) : estimatePose(T_kf_pred, st, m);
+  const bool pose_found = estimateMotion(T_kf_pred, fc, st, m);
   last_dt_ = fc.dt;
   if (!pose_found)
     return finish(fail("too few inliers (" + std::to_string(m.rr.inliers.size()) + "): re-initialising", &left,
@@ -665,18 +646,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
   refinePose(fc, st, m);
 
   // ---- plausibility ----
-  measureStereoConsistency(m, st);
-  std::string bad = checkPlausibility(m, gyro_link != nullptr, fc, st);
-  // A point+line motion (few corners: the weakest estimates) is accepted only while its vision
-  // rotation agrees with the gyro on the frame; else the frame is lost and coasts on the IMU
-  // (corridor's end wall: 0.5-1.3 deg a frame against the gyro, 2-5 cm off; README).
-  if (bad.empty() && m.with_lines && fc.have_gyro && st.gyro_disagreement_deg > p_.pointline_max_gyro_disagreement_deg)
-    bad = "point+line rotation " + std::to_string(st.gyro_disagreement_deg) + " deg off the gyro";
-  // With the IMU a line frame without checked points coasts: the motion along the lines would be
-  // the constant-velocity prior's, which the accelerometer knows better (corridor with the IMU:
-  // 0.303 -> 0.587 % drift when accepted, its y error carried on into the coast's velocity).
-  if (bad.empty() && m.lines_only && fc.have_imu && fc.coast_ok)
-    bad = "point+line motion without checked points (the IMU coasts)";
+  const std::string bad = judgeMotion(m, gyro_link != nullptr, fc, st);
   if (!bad.empty())
     return finish(fail(bad + ": re-initialising", &left, &right, lostMotion(fc), stamp, st));
   R_kf_prev_vision_ = m.R_vision;
@@ -696,6 +666,44 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
   std::swap(prev_pyr_, cur_pyr_);
   last_stamp_ = stamp;
   return finish(makeOutput(TrackingState::TRACKING, st, m.T_prev_cur, fc.dt));
+}
+
+bool VisualOdometry::estimateMotion(const Eigen::Isometry3d& T_kf_pred, const FrameContext& fc, FrameStats& st,
+                                    MotionEstimate& m)
+{
+  // pointline: the point+line RANSAC while stereo line tracks exist; without any it would be
+  // the quaternion solver on points alone, slower than P3P and no better (README figures).
+  // Where corners are plenty (3 x min_inliers tracks), P3P too: the lines only help where points are few.
+  const bool with_lines = pointline_ && static_cast<int>(tracks_.size()) < 3 * p_.min_inliers &&
+                          std::any_of(lines_.begin(), lines_.end(), [](const LineTrack& t) { return t.stereo; });
+  // With the IMU the points first and the lines only where the points alone fail: a weak frame
+  // coasts well on the IMU, and the lines of one wall were no better than the few corners there
+  // (shipped worlds and generated ones with the IMU: as many bags worse as better, README).
+  if (with_lines && fc.have_imu)
+  {
+    if (estimatePose(T_kf_pred, st, m))
+      return true;
+    m = MotionEstimate();
+    return estimatePosePointLine(st, m);
+  }
+  return with_lines ? estimatePosePointLine(st, m) : estimatePose(T_kf_pred, st, m);
+}
+
+std::string VisualOdometry::judgeMotion(const MotionEstimate& m, bool gyro_given, FrameContext& fc, FrameStats& st)
+{
+  measureStereoConsistency(m, st);
+  std::string bad = checkPlausibility(m, gyro_given, fc, st);
+  // A point+line motion (few corners: the weakest estimates) is accepted only while its vision
+  // rotation agrees with the gyro on the frame; else the frame is lost and coasts on the IMU
+  // (corridor's end wall: 0.5-1.3 deg a frame against the gyro, 2-5 cm off; README).
+  if (bad.empty() && m.with_lines && fc.have_gyro && st.gyro_disagreement_deg > p_.pointline_max_gyro_disagreement_deg)
+    bad = "point+line rotation " + std::to_string(st.gyro_disagreement_deg) + " deg off the gyro";
+  // With the IMU a line frame without checked points coasts: the motion along the lines would be
+  // the constant-velocity prior's, which the accelerometer knows better (corridor with the IMU:
+  // 0.303 -> 0.587 % drift when accepted, its y error carried on into the coast's velocity).
+  if (bad.empty() && m.lines_only && fc.have_imu && fc.coast_ok)
+    bad = "point+line motion without checked points (the IMU coasts)";
+  return bad;
 }
 
 const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)

@@ -117,238 +117,201 @@ struct Peer
     prev_depth = depth;
   }
 };
-}  // namespace
 
-int main(int argc, char** argv)
+const char* const kUsage =
+    "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--peer-max-translation M]\n"
+    "                    [--verbose] [--dump FILE] [--set name=value ...] [--blackout START:DURATION]\n"
+    "       vo_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect] [--keep DIR]\n"
+    "                    [--plot DIR] [other options as above]\n"
+    "  Runs the visual odometry on a stereo bag (README \"Topics of a stereo bag\"); last stdout line: JSON.\n"
+    "  A set (several bags, or worlds seeds 1..N made by generate_world and render_bag): per-bag rows,\n"
+    "  mean and worst of each figure (worst bag named); JSON keys <key>_mean, <key>_worst, <key>_worst_bag.\n";
+
+/// The command line of a one-bag run.
+struct Options
 {
   std::string bag, plot, dump, blackout;
   bool peer_on = true, imu_on = true, verbose = false;
   double peer_max_t = 0.15;
   ev::CommandLine::Sets overrides;
   long max_frames = -1;
-  const char* usage =
-      "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--peer-max-translation M]\n"
-      "                    [--verbose] [--dump FILE] [--set name=value ...] [--blackout START:DURATION]\n"
-      "       vo_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect] [--keep DIR]\n"
-      "                    [--plot DIR] [other options as above]\n"
-      "  Runs the visual odometry on a stereo bag (README \"Topics of a stereo bag\"); last stdout line: JSON.\n"
-      "  A set (several bags, or worlds seeds 1..N made by generate_world and render_bag): per-bag rows,\n"
-      "  mean and worst of each figure (worst bag named); JSON keys <key>_mean, <key>_worst, <key>_worst_bag.\n";
-  ev::CommandLine cl("vo_benchmark", usage);
-  ev::SetOptions set_options;
-  set_options.addTo(cl);
-  cl
-      .flag("--no-peer", &peer_on, false)
-      .flag("--no-imu", &imu_on, false)
-      .flag("--verbose", &verbose)
-      .text("--plot", &plot)
-      .count("--frames", &max_frames, 0L)
-      .number("--peer-max-translation", &peer_max_t)
-      .text("--dump", &dump)
-      .text("--blackout", &blackout)
-      .sets(&overrides);
-  if (const int rc = cl.parse(argc, argv); rc >= 0)
-    return rc;
-  if (set_options.isSet())
-  {
-    // Worst = the larger, except where more is better; rot_drift_over_gyro_floor: the target ratio (<= 2).
-    const std::vector<ev::SetFigure> figures{
-        {"drift_pct"}, {"drift_deg_per_m"}, {"rot_drift_over_gyro_floor"}, {"gyro_floor_deg_per_m"},
-        {"ate_rmse_m"}, {"max_jump_m"}, {"endpoint_drift_pct"}, {"resets", false, true},
-        {"frames_not_tracking", false, true}, {"recovery_frames_max", false, true}, {"ms_p95"},
-        {"ms_median"}, {"peer_drift_pct"}, {"peer_ms_p95"}, {"path_length_m", true}, {"frames", true}};
-    return ev::runSetFromCommandLine(cl, argc, argv, set_options, figures, "--plot", plot, "_vo_trajectory.png",
-                                     max_frames, [](ev::BagResult& b) {
-                                       const auto d = b.values.find("drift_deg_per_m");
-                                       const auto g = b.values.find("gyro_floor_deg_per_m");
-                                       if (d != b.values.end() && g != b.values.end() && g->second > 0)
-                                         b.values["rot_drift_over_gyro_floor"] = d->second / g->second;
-                                     });
-  }
-  if (set_options.bags.empty())
-    return cl.usageError("no bag given");
-  bag = set_options.bags.front();
-  if (plot.empty())
-  {
-    const size_t dot = bag.rfind(".bag");
-    plot = (dot == std::string::npos ? bag : bag.substr(0, dot)) + "_vo_trajectory.png";
-  }
-  cv::setNumThreads(1);
-  // --blackout START:DURATION (s after the first frame)
-  double bo_start = -1, bo_len = 0;
-  if (!blackout.empty() && (std::sscanf(blackout.c_str(), "%lf:%lf", &bo_start, &bo_len) != 2 || bo_start < 0 || bo_len <= 0))
-  {
-    std::cerr << "vo_benchmark: --blackout wants START:DURATION in seconds, got " << blackout << "\n";
-    return 2;
-  }
-  struct Blackout
-  {
-    bool have_a = false, have_b = false, resumed = false, trusted_end = false;
-    Eigen::Isometry3d gt_a, est_a, gt_b, est_b, gt_c, est_c;
-    double sigma_end = -1;
-    int frames_after = 0, resume_frames = -1;
-  } bo;
-  double first_stamp = -1;
+  double bo_start = -1, bo_len = 0;  ///< --blackout START:DURATION (s after the first frame)
 
-  const std::unique_ptr<ev::StereoBagReader> reader = ev::openStereoBag("vo_benchmark", bag);
-  if (!reader)
-    return 1;
+  void addTo(ev::CommandLine& cl)
+  {
+    cl
+        .flag("--no-peer", &peer_on, false)
+        .flag("--no-imu", &imu_on, false)
+        .flag("--verbose", &verbose)
+        .text("--plot", &plot)
+        .count("--frames", &max_frames, 0L)
+        .number("--peer-max-translation", &peer_max_t)
+        .text("--dump", &dump)
+        .text("--blackout", &blackout)
+        .sets(&overrides);
+  }
+  /// --blackout START:DURATION into bo_start, bo_len; false (with the message) when malformed.
+  bool parseBlackout()
+  {
+    if (!blackout.empty() &&
+        (std::sscanf(blackout.c_str(), "%lf:%lf", &bo_start, &bo_len) != 2 || bo_start < 0 || bo_len <= 0))
+    {
+      std::cerr << "vo_benchmark: --blackout wants START:DURATION in seconds, got " << blackout << "\n";
+      return false;
+    }
+    return true;
+  }
+};
 
-  VoParams params;
-  params.use_imu = imu_on;
-  if (!ev::applySets(cl, overrides, params))  // --set: the node's parameter names (params.h table)
-    return 2;
-  // The device's driving loop (vo_front_end.h, as the nodelet runs it): start-up rule, IMU
-  // integrals, gravity hint. A bag without an IMU: no wait.
-  VoFrontEnd::Options fe_options;
-  fe_options.input_has_imu = !reader->imuSamples().empty();
-  VoFrontEnd fe(params, fe_options);
-  const VisualOdometry& vo = fe.vo();
+/// The set run (several bags or --generated): this program once per bag, per-bag rows, mean and worst.
+int runSet(const ev::CommandLine& cl, int argc, char** argv, const ev::SetOptions& set_options, const Options& opt)
+{
+  // Worst = the larger, except where more is better; rot_drift_over_gyro_floor: the target ratio (<= 2).
+  const std::vector<ev::SetFigure> figures{
+      {"drift_pct"}, {"drift_deg_per_m"}, {"rot_drift_over_gyro_floor"}, {"gyro_floor_deg_per_m"},
+      {"ate_rmse_m"}, {"max_jump_m"}, {"endpoint_drift_pct"}, {"resets", false, true},
+      {"frames_not_tracking", false, true}, {"recovery_frames_max", false, true}, {"ms_p95"},
+      {"ms_median"}, {"peer_drift_pct"}, {"peer_ms_p95"}, {"path_length_m", true}, {"frames", true}};
+  return ev::runSetFromCommandLine(cl, argc, argv, set_options, figures, "--plot", opt.plot, "_vo_trajectory.png",
+                                   opt.max_frames, [](ev::BagResult& b) {
+                                     const auto d = b.values.find("drift_deg_per_m");
+                                     const auto g = b.values.find("gyro_floor_deg_per_m");
+                                     if (d != b.values.end() && g != b.values.end() && g->second > 0)
+                                       b.values["rot_drift_over_gyro_floor"] = d->second / g->second;
+                                   });
+}
+
+/// --blackout: the poses before it, at its end and where tracking resumed, against the truth.
+struct Blackout
+{
+  bool have_a = false, have_b = false, resumed = false, trusted_end = false;
+  Eigen::Isometry3d gt_a, est_a, gt_b, est_b, gt_c, est_c;
+  double sigma_end = -1;
+  int frames_after = 0, resume_frames = -1;
+
+  /// One frame with a pose and its truth; `t_rel` s after the first frame, `blanked` inside the window.
+  void add(double t_rel, bool blanked, double bo_start, const Eigen::Isometry3d& gt, const VoOutput& o)
+  {
+    if (t_rel < bo_start)
+    {
+      have_a = true;
+      gt_a = gt;
+      est_a = o.T_odom_optical;
+    }
+    else if (blanked && have_a)
+    {
+      have_b = true;
+      gt_b = gt;
+      est_b = o.T_odom_optical;
+      trusted_end = o.pose_trusted;
+      sigma_end = std::sqrt(o.pose_covariance.topLeftCorner<3, 3>().trace() / 3.0);
+    }
+    else if (have_b && !resumed)
+    {
+      ++frames_after;
+      if (o.state == TrackingState::TRACKING)
+      {
+        resumed = true;
+        resume_frames = frames_after;
+        gt_c = gt;
+        est_c = o.T_odom_optical;
+      }
+    }
+  }
+  /// Position error of the pose change since the last frame before the blackout (its axes).
+  double relErr(const Eigen::Isometry3d& gt_x, const Eigen::Isometry3d& est_x) const
+  {
+    return ((est_a.inverse() * est_x).translation() - (gt_a.inverse() * gt_x).translation()).norm();
+  }
+};
+
+/// The stage names of the VO's timing table and JSON keys (ms_p95_<stage>), in their order.
+const char* const kStages[] = {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect", "lines"};
+
+/// The runner: every stereo frame of the bag through the device's VO driving loop (and the peer),
+/// timed, with the poses kept for scoring.
+class BagRun
+{
+public:
+  BagRun(const Options& opt, VoFrontEnd& fe) : vo(fe.vo()), opt_(opt), fe_(fe)
+  {
+    peer.max_translation_m = opt.peer_max_t;
+    gyro_every_frame = opt.imu_on;
+    if (!opt.dump.empty())
+      dump_out_.open(opt.dump);
+  }
+  /// Runs the frames; false (with the message) when the bag has none.
+  bool run(ev::StereoBagReader& reader);
+  /// The times (ms) of a stage ("total": the whole VO call), empty when no frame was processed.
+  std::vector<double> times(const char* stage) const
+  {
+    const auto it = ms.find(stage);
+    return it == ms.end() ? std::vector<double>() : it->second;
+  }
+
+  const VisualOdometry& vo;
   Peer peer;
-  peer.max_translation_m = peer_max_t;
   ev::Trajectory gt, est, peer_est;
   // The bag's gyro per frame in the optical frame (for the gyro-alone floor); any frame without
   // gyro (first frame aside) voids the floor.
   std::vector<Eigen::Matrix3d> gyro_rel;
-  bool gyro_every_frame = imu_on;
+  bool gyro_every_frame = true;
   std::map<std::string, std::vector<double>> ms;
   std::vector<double> wall, peer_ms, peer_wall;
   int lost = 0, max_bad_run = 0, bad_run = 0, frames = 0, unusable = 0;
   ev::RecoveryCounter recovery;
-  Eigen::Isometry3d peer_T_odom_o0 = Eigen::Isometry3d::Identity();
-  std::ofstream dump_out;
-  if (!dump.empty())
-    dump_out.open(dump);
+  Blackout bo;
+
+private:
+  /// Times, tracking state and recovery of one processed frame.
+  void countFrame(const ev::StereoFrame& f, const VoOutput& o, const ev::Stopwatch& timer);
+  /// --verbose: the frame's stage counts on stderr; and the VO's message of the frame.
+  void logFrame(const ev::StereoFrame& f, const VoOutput& o, bool usable) const;
+  /// A frame with a pose and its truth: the trajectories, the gyro and the peer (and --dump's row).
+  void keepPose(const StereoCamera& cam, const ev::StereoFrame& f, const FrontEndStep& step);
+  /// --dump: one row per frame.
+  void dumpRow(const ev::StereoFrame& f, const FrontEndStep& step);
+
+  const Options& opt_;
+  VoFrontEnd& fe_;
+  std::ofstream dump_out_;
+  double first_stamp_ = -1;
+  Eigen::Isometry3d peer_T_odom_o0_ = Eigen::Isometry3d::Identity();
+};
+
+bool BagRun::run(ev::StereoBagReader& reader)
+{
   ev::StereoFrame f;
-  while ((max_frames < 0 || frames < max_frames) && ev::nextFrameOrExit(*reader, f, "vo_benchmark", bag))
+  while ((opt_.max_frames < 0 || frames < opt_.max_frames) && ev::nextFrameOrExit(reader, f, "vo_benchmark", opt_.bag))
   {
     const StereoCamera cam = StereoCamera::from(f.calib);
-    if (frames == 0 && peer_on)
+    if (frames == 0 && opt_.peer_on)
       peer.init(cam);
     for (const auto& s : f.imu)
-      fe.addImu(s.stamp, s.gyro, s.accel);
-    if (first_stamp < 0)
-      first_stamp = f.stamp;
-    const double t_rel = f.stamp - first_stamp;
-    const bool blanked = bo_start >= 0 && t_rel >= bo_start && t_rel < bo_start + bo_len;
+      fe_.addImu(s.stamp, s.gyro, s.accel);
+    if (first_stamp_ < 0)
+      first_stamp_ = f.stamp;
+    const double t_rel = f.stamp - first_stamp_;
+    const bool blanked = opt_.bo_start >= 0 && t_rel >= opt_.bo_start && t_rel < opt_.bo_start + opt_.bo_len;
     if (blanked)
     {
       f.left = cv::Mat(f.left.size(), f.left.type(), cv::Scalar(128));
       f.right = cv::Mat(f.right.size(), f.right.type(), cv::Scalar(128));
     }
     const ev::Stopwatch timer;
-    const FrontEndStep step = fe.process(cam, f.left, f.right, f.stamp);
+    const FrontEndStep step = fe_.process(cam, f.left, f.right, f.stamp);
     if (!step.processed)  // waiting for the IMU (start-up rule): not timed, not scored
     {
       ++frames;
       continue;
     }
     const VoOutput& o = step.out;
-    const bool have_gyro = step.have_gyro;
-    const Eigen::Quaterniond& gyro = step.gyro;
-    if (bo_start >= 0 && f.has_gt_pose && o.pose_valid)
-    {
-      if (t_rel < bo_start)
-      {
-        bo.have_a = true;
-        bo.gt_a = f.gt_pose;
-        bo.est_a = o.T_odom_optical;
-      }
-      else if (blanked && bo.have_a)
-      {
-        bo.have_b = true;
-        bo.gt_b = f.gt_pose;
-        bo.est_b = o.T_odom_optical;
-        bo.trusted_end = o.pose_trusted;
-        bo.sigma_end = std::sqrt(o.pose_covariance.topLeftCorner<3, 3>().trace() / 3.0);
-      }
-      else if (bo.have_b && !bo.resumed)
-      {
-        ++bo.frames_after;
-        if (o.state == TrackingState::TRACKING)
-        {
-          bo.resumed = true;
-          bo.resume_frames = bo.frames_after;
-          bo.gt_c = f.gt_pose;
-          bo.est_c = o.T_odom_optical;
-        }
-      }
-    }
-    ms["total"].push_back(timer.cpuMs());
-    wall.push_back(timer.wallMs());
-    ms["pyramid"].push_back(o.stats.ms_pyramid);
-    ms["klt"].push_back(o.stats.ms_klt);
-    ms["epipolar"].push_back(o.stats.ms_epipolar);
-    ms["stereo"].push_back(o.stats.ms_stereo);
-    ms["p3p_ransac"].push_back(o.stats.ms_ransac);
-    ms["bundle_adj"].push_back(o.stats.ms_ba);
-    ms["detect"].push_back(o.stats.ms_detect);
-    ms["lines"].push_back(o.stats.ms_lines);
-    // Recovery counted in usable frames only (objective image test, outside the timed call).
-    const bool usable = ev::stereoPairUsable(f.left, f.right);
-    unusable += !usable;
-    recovery.add(o.state == TrackingState::TRACKING, usable);
-    if (o.state != TrackingState::TRACKING)
-    {
-      ++lost;
-      max_bad_run = std::max(max_bad_run, ++bad_run);
-    }
-    else
-      bad_run = 0;
-    if (verbose)
-      std::cerr << "frame " << frames << " " << toString(o.state) << " klt " << o.stats.klt_tracked << " epipolar "
-                << o.stats.epipolar_kept << " p3p_inliers " << o.stats.inliers << " trials " << o.stats.ransac_trials
-                << " lines " << o.stats.lines << " line_inliers " << o.stats.line_inliers << " ms " << o.stats.ms_total
-                << (usable ? "" : " (unusable)") << " step_m " << (est.empty() ? 0.0 : (est.back().pose.translation() - o.T_odom_optical.translation()).norm())
-                << " gt_step_m " << (gt.empty() || !f.has_gt_pose ? 0.0 : (gt.back().pose.translation() - f.gt_pose.translation()).norm())
-                << (o.stats.keyframe ? " | keyframe: detected " + std::to_string(o.stats.detected) +
-                                           " with_depth " + std::to_string(o.stats.new_features)
-                                     : std::string())
-                << "\n";
-    if (!o.message.empty())
-      std::cerr << "frame " << frames << " t=" << std::fixed << std::setprecision(3) << f.stamp << " "
-                << toString(o.state) << ": " << o.message << "\n";
+    if (opt_.bo_start >= 0 && f.has_gt_pose && o.pose_valid)
+      bo.add(t_rel, blanked, opt_.bo_start, f.gt_pose, o);
+    countFrame(f, o, timer);
 
     if (f.has_gt_pose && o.pose_valid)
-    {
-      if (dump_out)
-      {
-        // one row per frame: stamp state keyframe inliers, then gt and estimate (x y z qx qy qz qw)
-        auto row = [&](const Eigen::Isometry3d& T) {
-          const Eigen::Quaterniond q(T.linear());
-          dump_out << " " << T.translation().x() << " " << T.translation().y() << " " << T.translation().z() << " "
-                   << q.x() << " " << q.y() << " " << q.z() << " " << q.w();
-        };
-        dump_out << std::setprecision(9) << f.stamp << " " << static_cast<int>(o.state) << " " << o.stats.keyframe
-                 << " " << o.stats.inliers;
-        row(f.gt_pose);
-        row(o.T_odom_optical);
-        // then the integrated gyro of this frame (camera_link, qx qy qz qw), the gyro bias estimate
-        // and the mean accelerometer reading over the frame interval (camera_link)
-        const Eigen::Quaterniond g = have_gyro ? gyro : Eigen::Quaterniond::Identity();
-        Eigen::Vector3d acc = Eigen::Vector3d::Zero();
-        fe.imu().meanAccel(f.stamp, 1.0 / 15.0, acc);
-        dump_out << " " << g.x() << " " << g.y() << " " << g.z() << " " << g.w() << " " << vo.gyroBias().transpose()
-                 << " " << acc.transpose() << "\n";
-      }
-      gt.push_back({f.stamp, f.gt_pose});
-      est.push_back({f.stamp, o.T_odom_optical});
-      if (gt.size() > 1 && !have_gyro)
-        gyro_every_frame = false;
-      gyro_rel.push_back(have_gyro ? Eigen::Matrix3d(R_link_optical().transpose() * gyro.toRotationMatrix() *
-                                                     R_link_optical())
-                                   : Eigen::Matrix3d::Identity());
-      if (peer_on)
-      {
-        const ev::Stopwatch peer_timer;
-        peer.process(cam, f.left, f.right);
-        peer_ms.push_back(peer_timer.cpuMs());
-        peer_wall.push_back(peer_timer.wallMs());
-        if (peer_est.empty())
-          peer_T_odom_o0 = o.T_odom_optical;  // same start pose as ours (gravity from the IMU)
-        peer_est.push_back({f.stamp, peer_T_odom_o0 * peer.T_w_c});
-      }
-    }
+      keepPose(cam, f, step);
     else if (!gt.empty())
       gyro_every_frame = false;  // a frame left out: the per-frame gyro no longer pairs with gt
     ++frames;
@@ -357,139 +320,312 @@ int main(int argc, char** argv)
   }
   if (frames == 0)
   {
-    std::cerr << "vo_benchmark: no stereo frames in " << bag << "\n";
-    return 1;
+    std::cerr << "vo_benchmark: no stereo frames in " << opt_.bag << "\n";
+    return false;
   }
+  return true;
+}
 
-  // ---- report ----
-  std::cout << "assistive_vo benchmark: " << bag << "  (" << frames << " frames, "
-            << (imu_on ? "gyro prior on" : "no IMU") << ")\n";
+void BagRun::countFrame(const ev::StereoFrame& f, const VoOutput& o, const ev::Stopwatch& timer)
+{
+  ms["total"].push_back(timer.cpuMs());
+  wall.push_back(timer.wallMs());
+  ms["pyramid"].push_back(o.stats.ms_pyramid);
+  ms["klt"].push_back(o.stats.ms_klt);
+  ms["epipolar"].push_back(o.stats.ms_epipolar);
+  ms["stereo"].push_back(o.stats.ms_stereo);
+  ms["p3p_ransac"].push_back(o.stats.ms_ransac);
+  ms["bundle_adj"].push_back(o.stats.ms_ba);
+  ms["detect"].push_back(o.stats.ms_detect);
+  ms["lines"].push_back(o.stats.ms_lines);
+  // Recovery counted in usable frames only (objective image test, outside the timed call).
+  const bool usable = ev::stereoPairUsable(f.left, f.right);
+  unusable += !usable;
+  recovery.add(o.state == TrackingState::TRACKING, usable);
+  if (o.state != TrackingState::TRACKING)
+  {
+    ++lost;
+    max_bad_run = std::max(max_bad_run, ++bad_run);
+  }
+  else
+    bad_run = 0;
+  logFrame(f, o, usable);
+}
+
+void BagRun::logFrame(const ev::StereoFrame& f, const VoOutput& o, bool usable) const
+{
+  if (opt_.verbose)
+    std::cerr << "frame " << frames << " " << toString(o.state) << " klt " << o.stats.klt_tracked << " epipolar "
+              << o.stats.epipolar_kept << " p3p_inliers " << o.stats.inliers << " trials " << o.stats.ransac_trials
+              << " lines " << o.stats.lines << " line_inliers " << o.stats.line_inliers << " ms " << o.stats.ms_total
+              << (usable ? "" : " (unusable)") << " step_m " << (est.empty() ? 0.0 : (est.back().pose.translation() - o.T_odom_optical.translation()).norm())
+              << " gt_step_m " << (gt.empty() || !f.has_gt_pose ? 0.0 : (gt.back().pose.translation() - f.gt_pose.translation()).norm())
+              << (o.stats.keyframe ? " | keyframe: detected " + std::to_string(o.stats.detected) +
+                                         " with_depth " + std::to_string(o.stats.new_features)
+                                   : std::string())
+              << "\n";
+  if (!o.message.empty())
+    std::cerr << "frame " << frames << " t=" << std::fixed << std::setprecision(3) << f.stamp << " "
+              << toString(o.state) << ": " << o.message << "\n";
+}
+
+void BagRun::keepPose(const StereoCamera& cam, const ev::StereoFrame& f, const FrontEndStep& step)
+{
+  const VoOutput& o = step.out;
+  if (dump_out_)
+    dumpRow(f, step);
+  gt.push_back({f.stamp, f.gt_pose});
+  est.push_back({f.stamp, o.T_odom_optical});
+  if (gt.size() > 1 && !step.have_gyro)
+    gyro_every_frame = false;
+  gyro_rel.push_back(step.have_gyro ? Eigen::Matrix3d(R_link_optical().transpose() * step.gyro.toRotationMatrix() *
+                                                      R_link_optical())
+                                    : Eigen::Matrix3d::Identity());
+  if (opt_.peer_on)
+  {
+    const ev::Stopwatch peer_timer;
+    peer.process(cam, f.left, f.right);
+    peer_ms.push_back(peer_timer.cpuMs());
+    peer_wall.push_back(peer_timer.wallMs());
+    if (peer_est.empty())
+      peer_T_odom_o0_ = o.T_odom_optical;  // same start pose as ours (gravity from the IMU)
+    peer_est.push_back({f.stamp, peer_T_odom_o0_ * peer.T_w_c});
+  }
+}
+
+void BagRun::dumpRow(const ev::StereoFrame& f, const FrontEndStep& step)
+{
+  const VoOutput& o = step.out;
+  // one row per frame: stamp state keyframe inliers, then gt and estimate (x y z qx qy qz qw)
+  auto row = [&](const Eigen::Isometry3d& T) {
+    const Eigen::Quaterniond q(T.linear());
+    dump_out_ << " " << T.translation().x() << " " << T.translation().y() << " " << T.translation().z() << " "
+              << q.x() << " " << q.y() << " " << q.z() << " " << q.w();
+  };
+  dump_out_ << std::setprecision(9) << f.stamp << " " << static_cast<int>(o.state) << " " << o.stats.keyframe
+            << " " << o.stats.inliers;
+  row(f.gt_pose);
+  row(o.T_odom_optical);
+  // then the integrated gyro of this frame (camera_link, qx qy qz qw), the gyro bias estimate
+  // and the mean accelerometer reading over the frame interval (camera_link)
+  const Eigen::Quaterniond g = step.have_gyro ? step.gyro : Eigen::Quaterniond::Identity();
+  Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+  fe_.imu().meanAccel(f.stamp, 1.0 / 15.0, acc);
+  dump_out_ << " " << g.x() << " " << g.y() << " " << g.z() << " " << g.w() << " " << vo.gyroBias().transpose()
+            << " " << acc.transpose() << "\n";
+}
+
+/// The report's first part: per-stage times, resets, tracking and recovery.
+void printRun(const Options& opt, const BagRun& run)
+{
+  std::cout << "assistive_vo benchmark: " << opt.bag << "  (" << run.frames << " frames, "
+            << (opt.imu_on ? "gyro prior on" : "no IMU") << ")\n";
   std::cout << "stage          ms_median   ms_p95   (thread CPU time, one core)\n";
   for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect", "lines", "total"})
     std::cout << "  " << std::left << std::setw(12) << k << std::right << std::fixed << std::setprecision(3)
-              << std::setw(10) << percentile(ms[k], 0.5) << std::setw(9) << percentile(ms[k], 0.95) << "\n";
-  std::cout << "  total (wall)" << std::setw(10) << percentile(wall, 0.5) << std::setw(9) << percentile(wall, 0.95)
-            << "\n";
-  std::cout << "stereo disparity offset estimated " << vo.disparityOffset() << " px\n";
-  std::cout << "resets " << vo.resets() << ", frames not tracking " << lost << ", longest non-tracking run "
-            << max_bad_run << " frames; usable frames needed to track again (recovery_frames_max) "
-            << recovery.maxUsableInRun() << ", unusable frames " << unusable << "\n";
+              << std::setw(10) << percentile(run.times(k), 0.5) << std::setw(9) << percentile(run.times(k), 0.95)
+              << "\n";
+  std::cout << "  total (wall)" << std::setw(10) << percentile(run.wall, 0.5) << std::setw(9)
+            << percentile(run.wall, 0.95) << "\n";
+  std::cout << "stereo disparity offset estimated " << run.vo.disparityOffset() << " px\n";
+  std::cout << "resets " << run.vo.resets() << ", frames not tracking " << run.lost << ", longest non-tracking run "
+            << run.max_bad_run << " frames; usable frames needed to track again (recovery_frames_max) "
+            << run.recovery.maxUsableInRun() << ", unusable frames " << run.unusable << "\n";
+}
 
+/// The scorer's figures: ours and the peer's trajectory against the truth, the gyro's floor.
+struct Scores
+{
   ev::TrajectoryReport rep, prep;
   ev::DriftResult gyro_floor;
   // The simulator's bags (they carry its ground-truth occupancy) have a z-up world: only there is
   // the tilt against gravity measurable (imported datasets keep their own world axes).
   bool z_up_world = false;
-  const bool have_gt = gt.size() >= 3;
-  if (have_gt)
-  {
-    rep = ev::evaluateTrajectory(gt, est);
-    std::cout << "\n--- ours (assistive_vo) vs ground truth ---\n" << ev::reportTable(rep);
-    std::cout << "rotational drift split  yaw " << rep.drift.drift_deg_per_m_yaw << " deg/m  tilt (roll/pitch) "
-              << rep.drift.drift_deg_per_m_tilt << " deg/m\n";
-    if (gyro_every_frame)
-    {
-      // The floor the gyro's angle random walk sets: the gyro alone, its bias fit to the truth.
-      const ev::Trajectory g = ev::gyroOnlyTrajectory(gt, gyro_rel);
-      if (!g.empty())
-      {
-        gyro_floor = ev::segmentDrift(gt, g, ev::TrajectoryEvalParams().drift_lengths_m, 1, ev::YawBandParams().up);
-        std::cout << std::setprecision(4) << "gyro alone, bias fit to ground truth (the angle random walk floor): "
-                  << gyro_floor.drift_deg_per_m << " deg/m (";
-        for (const auto& l : gyro_floor.per_length)
-          std::cout << std::setprecision(0) << l.length_m << " m: " << std::setprecision(4) << l.r_err_deg_per_m
-                    << (&l == &gyro_floor.per_length.back() ? "" : ", ");
-        std::cout << ")\n";
-      }
-    }
-    if (peer_on && peer_est.size() == gt.size())
-    {
-      prep = ev::evaluateTrajectory(gt, peer_est);
-      std::cout << "\n--- peer (SGBM + cv::rgbd::RgbdOdometry) vs ground truth ---\n" << ev::reportTable(prep);
-      std::cout << "peer ms median " << percentile(peer_ms, 0.5) << "  p95 " << percentile(peer_ms, 0.95)
-                << "  (wall p95 " << percentile(peer_wall, 0.95) << "), failures " << peer.failures << "\n";
-    }
-    // Trajectory plot: ground truth, ours and the peer, top-down over the floor plan.
-    std::vector<ev::PlotSeries> series{{"ground truth", ev::positions(gt), cv::Scalar(0, 0, 0)}};
-    const ev::Alignment al = rep.alignment;
-    series.push_back({"assistive_vo", ev::positions(ev::applyAlignment(est, al)), cv::Scalar(0, 0, 230)});
-    if (prep.ate.n > 0)
-      series.push_back({"peer RgbdOdometry", ev::positions(ev::applyAlignment(peer_est, prep.alignment)),
-                        cv::Scalar(230, 120, 0)});
-    ev::OccupancyGrid floor;
-    const bool have_floor = reader->readOccupancy(floor);
-    z_up_world = have_floor;
-    ev::PlotOptions po;
-    po.title = "VO trajectory (SE3-aligned): " + bag;
-    std::string err;
-    if (ev::writePng(plot, ev::plotTopDown(series, have_floor ? &floor : nullptr, po), &err))
-      std::cout << "trajectory plot: " << plot << "\n";
-    else
-      std::cerr << "vo_benchmark: plot not written: " << err << "\n";
-  }
-  else
-    std::cout << "no ground truth in the bag: trajectory errors are null\n";
+  bool have_gt = false;
+};
 
-  auto num = [](double v, int significant = 4) { return ev::jsonNumber(v, significant); };
-  // position error of the pose change since the last frame before the blackout (its axes)
-  auto relErr = [&](const Eigen::Isometry3d& gt_x, const Eigen::Isometry3d& est_x) {
-    return ((bo.est_a.inverse() * est_x).translation() - (bo.gt_a.inverse() * gt_x).translation()).norm();
-  };
-  if (bo_start >= 0)
+/// The floor the gyro's angle random walk sets: the gyro alone, its bias fit to the truth.
+void scoreGyroFloor(const BagRun& run, Scores& sc)
+{
+  const ev::Trajectory g = ev::gyroOnlyTrajectory(run.gt, run.gyro_rel);
+  if (g.empty())
+    return;
+  sc.gyro_floor = ev::segmentDrift(run.gt, g, ev::TrajectoryEvalParams().drift_lengths_m, 1, ev::YawBandParams().up);
+  std::cout << std::setprecision(4) << "gyro alone, bias fit to ground truth (the angle random walk floor): "
+            << sc.gyro_floor.drift_deg_per_m << " deg/m (";
+  for (const auto& l : sc.gyro_floor.per_length)
+    std::cout << std::setprecision(0) << l.length_m << " m: " << std::setprecision(4) << l.r_err_deg_per_m
+              << (&l == &sc.gyro_floor.per_length.back() ? "" : ", ");
+  std::cout << ")\n";
+}
+
+/// Trajectory plot: ground truth, ours and the peer, top-down over the floor plan.
+void plotTrajectories(const Options& opt, const BagRun& run, ev::StereoBagReader& reader, Scores& sc)
+{
+  std::vector<ev::PlotSeries> series{{"ground truth", ev::positions(run.gt), cv::Scalar(0, 0, 0)}};
+  const ev::Alignment al = sc.rep.alignment;
+  series.push_back({"assistive_vo", ev::positions(ev::applyAlignment(run.est, al)), cv::Scalar(0, 0, 230)});
+  if (sc.prep.ate.n > 0)
+    series.push_back({"peer RgbdOdometry", ev::positions(ev::applyAlignment(run.peer_est, sc.prep.alignment)),
+                      cv::Scalar(230, 120, 0)});
+  ev::OccupancyGrid floor;
+  const bool have_floor = reader.readOccupancy(floor);
+  sc.z_up_world = have_floor;
+  ev::PlotOptions po;
+  po.title = "VO trajectory (SE3-aligned): " + opt.bag;
+  std::string err;
+  if (ev::writePng(opt.plot, ev::plotTopDown(series, have_floor ? &floor : nullptr, po), &err))
+    std::cout << "trajectory plot: " << opt.plot << "\n";
+  else
+    std::cerr << "vo_benchmark: plot not written: " << err << "\n";
+}
+
+/// The scorer: ours and the peer against the truth (printed), the gyro floor, the plot.
+Scores scoreRun(const Options& opt, const BagRun& run, ev::StereoBagReader& reader)
+{
+  Scores sc;
+  sc.have_gt = run.gt.size() >= 3;
+  if (!sc.have_gt)
   {
-    std::cout << "blackout " << bo_start << " s + " << bo_len << " s: ";
-    if (bo.have_b)
-      std::cout << "position error at its end " << relErr(bo.gt_b, bo.est_b) << " m (truth moved "
-                << (bo.gt_a.inverse() * bo.gt_b).translation().norm() << " m; published 1-sigma " << bo.sigma_end
-                << " m, " << (bo.trusted_end ? "trusted" : "untrusted") << "), tracking again after "
-                << bo.resume_frames << " frames"
-                << (bo.resumed ? ", error then " + std::to_string(relErr(bo.gt_c, bo.est_c)) + " m" : "") << "\n";
-    else
-      std::cout << "no frame with a pose in the window\n";
+    std::cout << "no ground truth in the bag: trajectory errors are null\n";
+    return sc;
   }
-  ev::JsonLine js;
-  js.add("frames", frames).add("ms_median", num(percentile(ms["total"], 0.5)))
-      .add("ms_p95", num(percentile(ms["total"], 0.95))).add("ms_p95_wall", num(percentile(wall, 0.95)));
-  if (have_gt)
+  sc.rep = ev::evaluateTrajectory(run.gt, run.est);
+  std::cout << "\n--- ours (assistive_vo) vs ground truth ---\n" << ev::reportTable(sc.rep);
+  std::cout << "rotational drift split  yaw " << sc.rep.drift.drift_deg_per_m_yaw << " deg/m  tilt (roll/pitch) "
+            << sc.rep.drift.drift_deg_per_m_tilt << " deg/m\n";
+  if (run.gyro_every_frame)
+    scoreGyroFloor(run, sc);
+  if (opt.peer_on && run.peer_est.size() == run.gt.size())
+  {
+    sc.prep = ev::evaluateTrajectory(run.gt, run.peer_est);
+    std::cout << "\n--- peer (SGBM + cv::rgbd::RgbdOdometry) vs ground truth ---\n" << ev::reportTable(sc.prep);
+    std::cout << "peer ms median " << percentile(run.peer_ms, 0.5) << "  p95 " << percentile(run.peer_ms, 0.95)
+              << "  (wall p95 " << percentile(run.peer_wall, 0.95) << "), failures " << run.peer.failures << "\n";
+  }
+  plotTrajectories(opt, run, reader, sc);
+  return sc;
+}
+
+/// --blackout's line of the report.
+void printBlackout(const Options& opt, const Blackout& bo)
+{
+  std::cout << "blackout " << opt.bo_start << " s + " << opt.bo_len << " s: ";
+  if (bo.have_b)
+    std::cout << "position error at its end " << bo.relErr(bo.gt_b, bo.est_b) << " m (truth moved "
+              << (bo.gt_a.inverse() * bo.gt_b).translation().norm() << " m; published 1-sigma " << bo.sigma_end
+              << " m, " << (bo.trusted_end ? "trusted" : "untrusted") << "), tracking again after "
+              << bo.resume_frames << " frames"
+              << (bo.resumed ? ", error then " + std::to_string(bo.relErr(bo.gt_c, bo.est_c)) + " m" : "") << "\n";
+  else
+    std::cout << "no frame with a pose in the window\n";
+}
+
+std::string num(double v, int significant = 4)
+{
+  return ev::jsonNumber(v, significant);
+}
+
+/// The JSON line's trajectory keys (drift, ATE, tilt, the estimate's net motion).
+void addTrajectoryKeys(const BagRun& run, const Scores& sc, ev::JsonLine& js)
+{
+  const ev::TrajectoryReport& rep = sc.rep;
+  if (sc.have_gt)
     js.add("drift_pct", num(rep.drift.drift_pct)).add("drift_deg_per_m", num(rep.drift.drift_deg_per_m, 6))
         .add("drift_deg_per_m_yaw", num(rep.drift.drift_deg_per_m_yaw, 6))
         .add("drift_deg_per_m_tilt", num(rep.drift.drift_deg_per_m_tilt, 6)).add("ate_rmse_m", num(rep.ate.rmse))
-        .add("max_jump_m", num(rep.max_jump_m)).add("gyro_floor_deg_per_m", num(gyro_floor.drift_deg_per_m, 6))
-        .add("tilt_err_deg_mean", z_up_world ? num(rep.tilt_deg.mean) : "null")
-        .add("tilt_err_deg_max", z_up_world ? num(rep.tilt_deg.max) : "null")
+        .add("max_jump_m", num(rep.max_jump_m)).add("gyro_floor_deg_per_m", num(sc.gyro_floor.drift_deg_per_m, 6))
+        .add("tilt_err_deg_mean", sc.z_up_world ? num(rep.tilt_deg.mean) : "null")
+        .add("tilt_err_deg_max", sc.z_up_world ? num(rep.tilt_deg.max) : "null")
         .add("endpoint_drift_pct", num(rep.endpoint_drift_pct)).add("path_length_m", num(rep.path_length_m));
   else
     js.addNull("drift_pct").addNull("drift_deg_per_m").addNull("ate_rmse_m").addNull("max_jump_m");
   // Net estimated motion first -> last pose (a still clip must stay near zero).
-  if (est.size() >= 2)
+  if (run.est.size() >= 2)
   {
-    const Eigen::Isometry3d d = est.front().pose.inverse() * est.back().pose;
+    const Eigen::Isometry3d d = run.est.front().pose.inverse() * run.est.back().pose;
     js.add("est_net_motion_m", num(d.translation().norm(), 6))
         .add("est_net_rotation_deg", num(Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI, 6));
   }
   else
     js.addNull("est_net_motion_m").addNull("est_net_rotation_deg");
-  if (bo_start >= 0)
-    js.add("blackout_err_m", bo.have_b ? num(relErr(bo.gt_b, bo.est_b)) : "null")
+}
+
+/// The last stdout line (docs/design.md: its keys are read by others).
+ev::JsonLine jsonLine(const Options& opt, const BagRun& run, const Scores& sc)
+{
+  const Blackout& bo = run.bo;
+  ev::JsonLine js;
+  js.add("frames", run.frames).add("ms_median", num(percentile(run.times("total"), 0.5)))
+      .add("ms_p95", num(percentile(run.times("total"), 0.95))).add("ms_p95_wall", num(percentile(run.wall, 0.95)));
+  addTrajectoryKeys(run, sc, js);
+  if (opt.bo_start >= 0)
+    js.add("blackout_err_m", bo.have_b ? num(bo.relErr(bo.gt_b, bo.est_b)) : "null")
         .add("blackout_moved_m", bo.have_b ? num((bo.gt_a.inverse() * bo.gt_b).translation().norm()) : "null")
         .add("blackout_sigma_m", bo.have_b ? num(bo.sigma_end) : "null")
         .add("blackout_trusted_end", bo.have_b ? (bo.trusted_end ? "true" : "false") : "null")
         .add("blackout_resume_frames", bo.resumed ? std::to_string(bo.resume_frames) : "null")
-        .add("blackout_err_resumed_m", bo.resumed ? num(relErr(bo.gt_c, bo.est_c)) : "null");
-  js.add("resets", vo.resets()).add("frames_not_tracking", lost).add("max_recovery_frames", max_bad_run)
-      .add("recovery_frames_max", recovery.maxUsableInRun()).add("unusable_frames", unusable);
-  for (const char* k : {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect", "lines"})
-    js.add(std::string("ms_p95_") + k, num(percentile(ms[k], 0.95)));
-  if (have_gt)
-    for (const auto& b : rep.yaw_bands)
+        .add("blackout_err_resumed_m", bo.resumed ? num(bo.relErr(bo.gt_c, bo.est_c)) : "null");
+  js.add("resets", run.vo.resets()).add("frames_not_tracking", run.lost).add("max_recovery_frames", run.max_bad_run)
+      .add("recovery_frames_max", run.recovery.maxUsableInRun()).add("unusable_frames", run.unusable);
+  for (const char* k : kStages)
+    js.add(std::string("ms_p95_") + k, num(percentile(run.times(k), 0.95)));
+  if (sc.have_gt)
+    for (const auto& b : sc.rep.yaw_bands)
       js.add("yaw_err_deg_" + b.name, num(b.mean_err_deg, 5));
-  const bool peer_ok = peer_on && have_gt && prep.ate.n > 0;
-  js.add("peer_ms_median", peer_on ? num(percentile(peer_ms, 0.5)) : "null")
-      .add("peer_ms_p95", peer_on ? num(percentile(peer_ms, 0.95)) : "null")
-      .add("peer_drift_pct", peer_ok ? num(prep.drift.drift_pct) : "null")
-      .add("peer_drift_deg_per_m", peer_ok ? num(prep.drift.drift_deg_per_m, 6) : "null")
-      .add("peer_ate_rmse_m", peer_ok ? num(prep.ate.rmse) : "null")
-      .add("peer_failures", peer_on ? std::to_string(peer.failures) : "null");
-  std::cout << js.str() << std::endl;
+  const bool peer_on = opt.peer_on;
+  const bool peer_ok = peer_on && sc.have_gt && sc.prep.ate.n > 0;
+  js.add("peer_ms_median", peer_on ? num(percentile(run.peer_ms, 0.5)) : "null")
+      .add("peer_ms_p95", peer_on ? num(percentile(run.peer_ms, 0.95)) : "null")
+      .add("peer_drift_pct", peer_ok ? num(sc.prep.drift.drift_pct) : "null")
+      .add("peer_drift_deg_per_m", peer_ok ? num(sc.prep.drift.drift_deg_per_m, 6) : "null")
+      .add("peer_ate_rmse_m", peer_ok ? num(sc.prep.ate.rmse) : "null")
+      .add("peer_failures", peer_on ? std::to_string(run.peer.failures) : "null");
+  return js;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  Options opt;
+  ev::CommandLine cl("vo_benchmark", kUsage);
+  ev::SetOptions set_options;
+  set_options.addTo(cl);
+  opt.addTo(cl);
+  const auto run_set = [&] { return runSet(cl, argc, argv, set_options, opt); };
+  if (const int rc = set_options.parse(cl, argc, argv, run_set, opt.bag); rc >= 0)
+    return rc;
+  if (opt.plot.empty())
+  {
+    const size_t dot = opt.bag.rfind(".bag");
+    opt.plot = (dot == std::string::npos ? opt.bag : opt.bag.substr(0, dot)) + "_vo_trajectory.png";
+  }
+  cv::setNumThreads(1);
+  if (!opt.parseBlackout())
+    return 2;
+
+  const std::unique_ptr<ev::StereoBagReader> reader = ev::openStereoBag("vo_benchmark", opt.bag);
+  if (!reader)
+    return 1;
+
+  VoParams params;
+  params.use_imu = opt.imu_on;
+  if (!ev::applySets(cl, opt.overrides, params))  // --set: the node's parameter names (params.h table)
+    return 2;
+  // The device's driving loop (vo_front_end.h, as the nodelet runs it): start-up rule, IMU
+  // integrals, gravity hint. A bag without an IMU: no wait.
+  VoFrontEnd::Options fe_options;
+  fe_options.input_has_imu = !reader->imuSamples().empty();
+  VoFrontEnd fe(params, fe_options);
+  BagRun run(opt, fe);
+  if (!run.run(*reader))
+    return 1;
+
+  // ---- report ----
+  printRun(opt, run);
+  const Scores sc = scoreRun(opt, run, *reader);
+  if (opt.bo_start >= 0)
+    printBlackout(opt, run.bo);
+  std::cout << jsonLine(opt, run, sc).str() << std::endl;
   return 0;
 }

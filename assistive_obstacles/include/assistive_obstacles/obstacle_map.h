@@ -7,6 +7,8 @@
 
 #include <Eigen/Geometry>
 
+#include <assistive_common/code_grid.h>
+
 #include <assistive_obstacles/cell_values.h>
 #include <assistive_obstacles/disparity.h>
 #include <assistive_obstacles/elevation_map.h>
@@ -18,14 +20,9 @@
 
 namespace assistive_obstacles
 {
-/// A square grid of output codes (row-major, index = iy * width + ix), axis-aligned in the world.
-struct GridData
-{
-  double origin_x = 0.0, origin_y = 0.0;  ///< m, lower-left corner of cell (0, 0)
-  double resolution = 0.2;
-  int width = 0, height = 0;
-  std::vector<int8_t> data;
-};
+/// A square grid of output codes (row-major, index = iy * width + ix), axis-aligned in the world:
+/// the one grid of cell codes (assistive_common/code_grid.h).
+using GridData = assistive_common::CodeGrid;
 
 struct FrameStats
 {

@@ -229,6 +229,10 @@ private:
   /// motion_solver pointline: trifocal point+line RANSAC over the tracks with a stereo match now
   /// and the stereo line tracks; tracks without one join the inliers by their left reprojection.
   bool estimatePosePointLine(FrameStats& st, MotionEstimate& m);
+  /// The frame's motion against the keyframe: P3P, or the point+line RANSAC where few corners and
+  /// stereo line tracks are (with the IMU: the points first, the lines where they fail); false:
+  /// too few inliers.
+  bool estimateMotion(const Eigen::Isometry3d& T_kf_pred, const FrameContext& fc, FrameStats& st, MotionEstimate& m);
   /// Stereo line segments of a new keyframe (left segments with a right match).
   void startLines(const cv::Mat& left, const cv::Mat& right);
   /// The points' KLT pyramids (klt_window, klt_levels) serve the line tracks too.
@@ -248,6 +252,10 @@ private:
   void measureStereoConsistency(const MotionEstimate& m, FrameStats& st) const;
   /// Jumps, gyro contradiction, stereo inconsistency: the reason to reject the frame (empty: fine).
   std::string checkPlausibility(const MotionEstimate& m, bool gyro_given, FrameContext& fc, FrameStats& st);
+  /// The stereo consistency measured, then checkPlausibility() and the point+line motion's own
+  /// checks (against the gyro; none without checked points while the IMU coasts): the reason to
+  /// reject the frame (empty: fine).
+  std::string judgeMotion(const MotionEstimate& m, bool gyro_given, FrameContext& fc, FrameStats& st);
   VoOutput fail(const std::string& why, const cv::Mat* left, const cv::Mat* right,
                 const Eigen::Isometry3d& T_prev_cur_pred, double stamp, FrameStats& st);
   VoOutput makeOutput(TrackingState s, const FrameStats& st, const Eigen::Isometry3d& T_prev_cur, double dt);

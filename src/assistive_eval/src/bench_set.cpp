@@ -330,6 +330,19 @@ void SetOptions::addTo(CommandLine& cl)
       .text("--keep", &keep);
 }
 
+int SetOptions::parse(const CommandLine& cl, int argc, char** argv, const std::function<int()>& run_set,
+                      std::string& bag) const
+{
+  if (const int rc = cl.parse(argc, argv); rc >= 0)
+    return rc;
+  if (isSet())
+    return run_set();
+  if (bags.empty())
+    return cl.usageError("no bag given");
+  bag = bags.front();
+  return -1;
+}
+
 int runSetFromCommandLine(const CommandLine& cl, int argc, char** argv, const SetOptions& so,
                           const std::vector<SetFigure>& figures, const std::string& per_bag_file_option,
                           const std::string& per_bag_file_value, const std::string& per_bag_file_suffix, long frames,

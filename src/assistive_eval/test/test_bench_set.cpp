@@ -138,6 +138,27 @@ TEST(BenchSet, CommandLinePassesOptionsButNotBagsOrSetOptionsToEachBag)
   EXPECT_EQ(c0.parse(3, const_cast<char**>(a0)), 2);  // --generated needs N >= 1
 }
 
+TEST(BenchSet, ParseGivesTheOneBagOrRunsTheSet)
+{
+  int set_runs = 0;
+  const auto run_set = [&] { ++set_runs; return 7; };
+  auto parse = [&](std::vector<const char*> args, std::string& bag) {
+    SetOptions so;
+    CommandLine cl("bench", "usage: bench\n");
+    so.addTo(cl);
+    return so.parse(cl, static_cast<int>(args.size()), const_cast<char**>(args.data()), run_set, bag);
+  };
+  std::string bag;
+  EXPECT_EQ(parse({"bench", "only.bag"}, bag), -1);  // one bag: the program runs it
+  EXPECT_EQ(bag, "only.bag");
+  EXPECT_EQ(set_runs, 0);
+  EXPECT_EQ(parse({"bench", "a.bag", "b.bag"}, bag), 7);  // a set: run_set's exit code
+  EXPECT_EQ(set_runs, 1);
+  EXPECT_EQ(parse({"bench"}, bag), 2);  // no bag: a usage error
+  EXPECT_EQ(parse({"bench", "--help"}, bag), 0);
+  EXPECT_EQ(set_runs, 1);
+}
+
 TEST(BenchSet, RunCaptureReturnsTheChildsStdoutAndExitCode)
 {
   std::string out;

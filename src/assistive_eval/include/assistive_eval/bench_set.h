@@ -99,6 +99,10 @@ struct SetOptions
   void addTo(CommandLine& cl);
   /// True when a set run is asked for (several bags or --generated).
   bool isSet() const { return bags.size() > 1 || generated > 0; }
+  /// A one-bag-or-set benchmark's command line (these options added to `cl`): -1 with the one bag
+  /// in `bag` when the program runs it; else the exit code: of --help or a usage error (no bag),
+  /// or of `run_set()` when a set is asked for.
+  int parse(const CommandLine& cl, int argc, char** argv, const std::function<int()>& run_set, std::string& bag) const;
 };
 
 /// The set run of a benchmark from its parsed command line: every option except the set options

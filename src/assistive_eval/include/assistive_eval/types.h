@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <assistive_common/code_grid.h>
 #include <assistive_common/codes.h>
 
 namespace assistive_eval
@@ -62,38 +63,8 @@ using assistive_common::CELL_STEP;
 using assistive_common::CELL_UNKNOWN;
 
 /// 2D occupancy grid in gt_world (axis-aligned, like nav_msgs/OccupancyGrid with identity
-/// origin orientation). Cell (ix, iy) covers x in [origin_x + ix*res, origin_x + (ix+1)*res).
-struct OccupancyGrid
-{
-  double origin_x = 0.0;  ///< m, lower-left corner of cell (0,0)
-  double origin_y = 0.0;  ///< m
-  double resolution = 0.2;  ///< m / cell
-  int width = 0;   ///< cells along x
-  int height = 0;  ///< cells along y
-  std::vector<int8_t> data;  ///< row-major, index = iy * width + ix
-
-  bool empty() const { return data.empty(); }
-  bool inside(int ix, int iy) const { return ix >= 0 && iy >= 0 && ix < width && iy < height; }
-  int8_t at(int ix, int iy) const { return inside(ix, iy) ? data[iy * width + ix] : CELL_UNKNOWN; }
-  /// World coordinates -> cell index; false when outside the grid.
-  bool cellOf(double x, double y, int& ix, int& iy) const
-  {
-    ix = static_cast<int>(std::floor((x - origin_x) / resolution));
-    iy = static_cast<int>(std::floor((y - origin_y) / resolution));
-    return inside(ix, iy);
-  }
-  /// Code at a world point (CELL_UNKNOWN outside).
-  int8_t atWorld(double x, double y) const
-  {
-    int ix, iy;
-    return cellOf(x, y, ix, iy) ? data[iy * width + ix] : CELL_UNKNOWN;
-  }
-  /// Centre of a cell in world coordinates.
-  Eigen::Vector2d cellCenter(int ix, int iy) const
-  {
-    return {origin_x + (ix + 0.5) * resolution, origin_y + (iy + 0.5) * resolution};
-  }
-};
+/// origin orientation): the one grid of cell codes (assistive_common/code_grid.h).
+using OccupancyGrid = assistive_common::CodeGrid;
 
 /// Fixed transform camera_link -> left optical frame used by the simulator's ground truth:
 /// same origin (camera_link sits at the left camera's centre), optical z = link x,
