@@ -25,6 +25,12 @@ namespace assistive_tactile
   X(double, settle_timeout_s, "settle_timeout_s", 2.5, 0.2, 10.0, "s", "after a veer burst the next one waits until the veer was seen in the head's turn rate and steadied, or this long") \
   X(double, drift_aim_s, "drift_aim_s", 1.0, 0.0, 5.0, "s", "a veer is asked for the steering error expected when it is carried out (the walk's learnt drift over the wearer's reaction) plus the drift over this much more walking (the next error then lies on the other side)") \
   X(double, turn_timeout_s, "turn_timeout_s", 4.0, 0.5, 20.0, "s", "after a stop-and-turn buzz the next cue waits until the buzz has ended and the head is still, or this long") \
+  /* Doorways and gaps (the planner's passage_*): stop before, face the middle, walk straight through */ \
+  X(double, passage_align_m, "passage_align_m", 0.9, 0.0, 5.0, "m", "a walker whose straight walk would miss a passage's middle by more than the room it has is stopped (a turn buzz towards the middle) so that it stands about this far before the middle (0 = off: ordinary steering through passages)") \
+  X(double, passage_stand_m, "passage_stand_m", 2.0, 0.0, 10.0, "m", "a standing wearer this close to a passage's middle is turned on the spot until the middle lies within `passage_align_deg`, before the tick says go") \
+  X(double, passage_align_deg, "passage_align_deg", 4.0, 0.5, 30.0, "deg", "standing before a passage: the middle must lie within this of the head's facing") \
+  X(double, passage_body_m, "passage_body_m", 0.25, 0.0, 1.0, "m", "the body's half-width for a passage: the room to miss its middle by is half its width less this") \
+  X(double, passage_inside_m, "passage_inside_m", 0.6, 0.0, 2.0, "m", "closer than this to the middle the wearer is in the passage: ordinary steering again (a turn just beyond the passage is cued at once; a veer acts a reaction time later, past the jambs)") \
   X(double, min_intensity, "min_intensity", 0.4, 0.0, 1.0, "", "level 1's drive; levels 2 and 3 lie evenly up to 1 (0.4 / 0.7 / 1.0: steps of 1.4-1.75x, each well above the vibrotactile intensity JND)") \
   X(double, tick_period_s, "tick_period_s", 2.0, 0.5, 10.0, "s", "clear-walk-on: a tick on both shoulders this often while no other cue is due (a vest silent for two periods means stop)") \
   /* Proximity (waist motors) and alert (all four) */ \
