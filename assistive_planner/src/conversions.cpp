@@ -63,6 +63,10 @@ assistive_msgs::NavigationState toMsg(const PlanOutput& out, const std_msgs::Hea
   s.walk_heading = finiteOr(out.walk_heading);
   s.walking_speed = finiteOr(out.walking_speed);
   s.free_distance_steer = ok ? finiteOr(out.free_steer) : 0.0f;
+  const bool passage = ok && std::isfinite(out.passage_distance) && out.passage_distance >= 0.0;
+  s.passage_distance = passage ? float(out.passage_distance) : -1.0f;
+  s.passage_heading = passage ? finiteOr(out.passage_heading) : 0.0f;
+  s.passage_width = passage ? finiteOr(out.passage_width) : 0.0f;
   const CrossingResult& c = out.crossing;
   const bool warn = c.advice != CrossingAdvice::NONE && std::isfinite(c.time) && std::isfinite(c.distance);
   s.crossing = uint8_t(warn ? c.advice : CrossingAdvice::NONE);
