@@ -1,8 +1,6 @@
 #include <assistive_obstacles/conversions.h>
 
 #include <cstdint>
-#include <type_traits>
-#include <nav_msgs/OccupancyGrid.h>
 #include "assistive_obstacles/cell_values.h"
 
 #include <algorithm>
@@ -15,43 +13,6 @@
 
 namespace assistive_obstacles
 {
-// The grid codes (assistive_common/codes.h) are nav_msgs/OccupancyGrid values: int8 cells, -1
-// unknown, occupancy 0..100 with the step code in between.
-static_assert(std::is_same<nav_msgs::OccupancyGrid::_data_type::value_type, int8_t>::value,
-              "nav_msgs/OccupancyGrid cells are int8");
-static_assert(CELL_UNKNOWN == -1, "nav_msgs/OccupancyGrid: -1 is unknown");
-static_assert(CELL_FREE == 0 && CELL_OBSTACLE == 100, "nav_msgs/OccupancyGrid: occupancy 0 (free) .. 100 (occupied)");
-static_assert(CELL_FREE < CELL_STEP && CELL_STEP < CELL_OBSTACLE, "the step code lies between free and obstacle");
-
-nav_msgs::OccupancyGrid toMsg(const GridData& g, const std::string& frame, const ros::Time& stamp)
-{
-  nav_msgs::OccupancyGrid m;
-  m.header.frame_id = frame;
-  m.header.stamp = stamp;
-  m.info.map_load_time = stamp;
-  m.info.resolution = static_cast<float>(g.resolution);
-  m.info.width = static_cast<uint32_t>(g.width);
-  m.info.height = static_cast<uint32_t>(g.height);
-  m.info.origin.position.x = g.origin_x;
-  m.info.origin.position.y = g.origin_y;
-  m.info.origin.orientation.w = 1.0;
-  m.data = g.data;
-  return m;
-}
-
-GridData fromMsg(const nav_msgs::OccupancyGrid& m)
-{
-  GridData g;
-  g.origin_x = m.info.origin.position.x;
-  g.origin_y = m.info.origin.position.y;
-  g.resolution = m.info.resolution;
-  g.width = static_cast<int>(m.info.width);
-  g.height = static_cast<int>(m.info.height);
-  g.data = m.data;
-  if (g.data.size() != static_cast<size_t>(g.width) * g.height) g.data.resize(static_cast<size_t>(g.width) * g.height, -1);
-  return g;
-}
-
 bool fromMsg(const sensor_msgs::CameraInfo& l, const sensor_msgs::CameraInfo& r, StereoModel& m)
 {
   const double fx = l.P[0], fy = l.P[5];

@@ -11,13 +11,6 @@
 
 namespace assistive_planner
 {
-// The grid codes (assistive_common/codes.h) are nav_msgs/OccupancyGrid values: int8 cells, -1
-// unknown, occupancy 0..100 with the step code in between.
-static_assert(std::is_same<nav_msgs::OccupancyGrid::_data_type::value_type, int8_t>::value,
-              "nav_msgs/OccupancyGrid cells are int8");
-static_assert(CELL_UNKNOWN == -1, "nav_msgs/OccupancyGrid: -1 is unknown");
-static_assert(CELL_FREE == 0 && CELL_OBSTACLE == 100, "nav_msgs/OccupancyGrid: occupancy 0 (free) .. 100 (occupied)");
-static_assert(CELL_FREE < CELL_STEP && CELL_STEP < CELL_OBSTACLE, "the step code lies between free and obstacle");
 // The navigation status (assistive_common/codes.h) is assistive_msgs/NavigationState.status.
 static_assert(static_cast<int>(PlanStatus::OK) == static_cast<int>(assistive_msgs::NavigationState::OK), "NavigationState.OK");
 static_assert(static_cast<int>(PlanStatus::NO_POSE) == static_cast<int>(assistive_msgs::NavigationState::NO_POSE), "NavigationState.NO_POSE");
@@ -47,40 +40,6 @@ float finiteOr(double v, float fallback = 0.0f)
 }
 }  // namespace
 
-bool fromMsg(const nav_msgs::OccupancyGrid& msg, Grid& out)
-{
-  out = Grid();
-  const auto& info = msg.info;
-  const auto& q = info.origin.orientation;
-  const bool identity = std::abs(q.x) < 1e-6 && std::abs(q.y) < 1e-6 && std::abs(q.z) < 1e-6;
-  if (info.width == 0 || info.height == 0 || !(info.resolution > 0.0f) || !std::isfinite(info.resolution) ||
-      msg.data.size() != size_t(info.width) * size_t(info.height) || !identity ||
-      !std::isfinite(info.origin.position.x) || !std::isfinite(info.origin.position.y))
-    return false;
-  out.width = int(info.width);
-  out.height = int(info.height);
-  out.resolution = info.resolution;
-  out.origin_x = info.origin.position.x;
-  out.origin_y = info.origin.position.y;
-  out.data = msg.data;
-  return true;
-}
-
-nav_msgs::OccupancyGrid toMsg(const Grid& grid, const std_msgs::Header& header)
-{
-  nav_msgs::OccupancyGrid m;
-  m.header = header;
-  m.info.map_load_time = header.stamp;
-  m.info.width = uint32_t(std::max(0, grid.width));
-  m.info.height = uint32_t(std::max(0, grid.height));
-  m.info.resolution = float(grid.resolution);
-  m.info.origin.position.x = grid.origin_x;
-  m.info.origin.position.y = grid.origin_y;
-  m.info.origin.orientation.w = 1.0;
-  m.data = grid.data;
-  return m;
-}
-
 assistive_msgs::NavigationState toMsg(const PlanOutput& out, const std_msgs::Header& header, const ros::Time& source_stamp)
 {
   assistive_msgs::NavigationState s;
@@ -104,6 +63,10 @@ assistive_msgs::NavigationState toMsg(const PlanOutput& out, const std_msgs::Hea
   s.walk_heading = finiteOr(out.walk_heading);
   s.walking_speed = finiteOr(out.walking_speed);
   s.free_distance_steer = ok ? finiteOr(out.free_steer) : 0.0f;
+  const bool passage = ok && std::isfinite(out.passage_distance) && out.passage_distance >= 0.0;
+  s.passage_distance = passage ? float(out.passage_distance) : -1.0f;
+  s.passage_heading = passage ? finiteOr(out.passage_heading) : 0.0f;
+  s.passage_width = passage ? finiteOr(out.passage_width) : 0.0f;
   const CrossingResult& c = out.crossing;
   const bool warn = c.advice != CrossingAdvice::NONE && std::isfinite(c.time) && std::isfinite(c.distance);
   s.crossing = uint8_t(warn ? c.advice : CrossingAdvice::NONE);

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -108,10 +110,15 @@ private:
     if (monitor_.onPose(msg->header.stamp.toSec(), trusted))
     {
       NODELET_WARN_THROTTLE(2.0, "planner: %s: motion vector, waypoint and map forgotten", why);
-      const bool had_goal = planner_->hasGoal();
       planner_ = std::make_unique<Planner>(params_);
-      if (had_goal)
-        NODELET_WARN("planner: explicit goal dropped after the gap (its position is no longer known)");
+      // A goal given in world_frame (the VO's odom) is lost with the pose; one given in another
+      // frame (SLAM's map) is found again through tf at the next grid, once the map has the wearer.
+      if (goal_ && goal_->header.frame_id == node_.world_frame)
+      {
+        goal_.reset();
+        NODELET_WARN("planner: explicit goal in %s dropped after the gap (its position is no longer known); "
+                     "a goal in the map frame survives", node_.world_frame.c_str());
+      }
     }
     last_pose_stamp_ = msg->header.stamp.toSec();
     const InputVerdict v = monitor_.check(true);
@@ -183,12 +190,22 @@ private:
       return;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    // the planner is rebuilt after a gap: the movers are handed over every cycle
+    // the planner is rebuilt after a gap: the movers and the goal are handed over every cycle
     if (have_movers_)
       planner_->setMovers(movers_stamp_, movers_);
     else
       planner_->clearMovers();
+    if (goal_ && !goalInWorld())
+    {
+      publish(status(PlanStatus::NO_POSE, "explicit goal: " + goal_frame_error_), header, msg->header.stamp);
+      return;
+    }
     const PlanOutput out = planner_->update(grid, pos, yaw, msg->header.stamp.toSec());
+    if (goal_ && !planner_->hasGoal())
+    {
+      NODELET_INFO("planner: explicit goal reached, back to the automatic waypoint");
+      goal_.reset();
+    }
     plan_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     publish(out, header, msg->header.stamp);
   }
@@ -225,23 +242,47 @@ private:
     std::lock_guard<std::mutex> lock(mutex_);
     if (msg->header.frame_id.empty())
     {
+      goal_.reset();
       planner_->clearGoal();
       NODELET_INFO("planner: explicit goal cleared, back to the automatic waypoint");
       return;
     }
+    if (!std::isfinite(msg->pose.position.x) || !std::isfinite(msg->pose.position.y))
+    {
+      NODELET_WARN_THROTTLE(5.0, "planner: goal ignored: non-finite position");
+      return;
+    }
+    // Kept in the frame it was given in and expressed in world_frame at every grid: a goal in `map`
+    // follows SLAM's corrections and survives the VO's re-initialisation.
+    goal_ = *msg;
+    goal_frame_error_.clear();
+    if (goalInWorld())
+      NODELET_INFO("planner: explicit goal (%.2f, %.2f) in %s", msg->pose.position.x, msg->pose.position.y,
+                   msg->header.frame_id.c_str());
+    else
+      NODELET_WARN_THROTTLE(5.0, "planner: explicit goal in %s not yet in %s (%s): kept, guidance waits for it",
+                            msg->header.frame_id.c_str(), node_.world_frame.c_str(), goal_frame_error_.c_str());
+  }
+
+  /// The kept goal through the newest tf into world_frame and on to the core; false (with
+  /// goal_frame_error_) while the transform is not known, e.g. before SLAM has placed the wearer.
+  bool goalInWorld()
+  {
     try
     {
-      geometry_msgs::PoseStamped g;
-      tf_buffer_->transform(*msg, g, node_.world_frame);  // no timeout: no wait in a callback
+      geometry_msgs::PoseStamped latest = *goal_, g;
+      latest.header.stamp = ros::Time(0);  // the newest correction: the goal is a fixed place in its frame
+      tf_buffer_->transform(latest, g, node_.world_frame);  // no timeout: no wait in a callback
       if (!std::isfinite(g.pose.position.x) || !std::isfinite(g.pose.position.y))
-        throw tf2::TransformException("non-finite goal");
+        throw tf2::TransformException("non-finite goal after the transform");
       planner_->setGoal({ g.pose.position.x, g.pose.position.y });
-      NODELET_INFO("planner: explicit goal (%.2f, %.2f) in %s", g.pose.position.x, g.pose.position.y,
-                   node_.world_frame.c_str());
+      goal_frame_error_.clear();
+      return true;
     }
     catch (const tf2::TransformException& e)
     {
-      NODELET_WARN_THROTTLE(5.0, "planner: goal ignored: %s", e.what());
+      goal_frame_error_ = e.what();
+      return false;
     }
   }
 
@@ -306,6 +347,7 @@ private:
     st.add("waypoint_distance_m", o.waypoint_distance);
     st.add("path_length_m", o.path_length);
     st.add("explicit_goal", o.explicit_goal);
+    st.add("explicit_goal_frame", goal_ ? goal_->header.frame_id : std::string());
     st.add("grid_age_s", have_grid_ ? (ros::WallTime::now() - last_grid_time_).toSec() : -1.0);
     st.add("grid_lag_behind_newest_frame_s", monitor_.newest() - monitor_.gridStamp());
     st.add("resets_after_gap", monitor_.resets());
@@ -323,6 +365,8 @@ private:
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::Publisher state_pub_, path_pub_, waypoint_pub_, markers_pub_;
   ros::Subscriber grid_sub_, goal_sub_, odom_sub_, movers_sub_;
+  std::optional<geometry_msgs::PoseStamped> goal_;  ///< as given (its own frame); empty: automatic waypoint
+  std::string goal_frame_error_;
   bool have_movers_ = false;
   double movers_stamp_ = 0.0;
   std::vector<MoverState> movers_;

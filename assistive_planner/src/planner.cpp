@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <queue>
 
@@ -338,55 +339,79 @@ void Planner::smoothPath(const Grid& grid, const std::vector<double>& weights, c
   path.swap(out);
 }
 
-void Planner::refinePath(const Grid& grid, std::vector<Point2>& path, double clearance)
+namespace
 {
-  if (path.size() < 3 || grid.empty() || !(clearance > 0.0))
-    return;
-  // The obstacle cells at 5 cm over the path's box (and a margin): each cell is 4 x 4 pixels, so
-  // the distance field measures to the cell's square, as a body's surface would.
-  const int f = std::max(1, int(std::lround(grid.resolution / 0.05)));
-  const double fine = grid.resolution / f;
-  double minx = 1e300, miny = 1e300, maxx = -1e300, maxy = -1e300;
-  for (const Point2& q : path)
-  {
-    minx = std::min(minx, q.x);
-    miny = std::min(miny, q.y);
-    maxx = std::max(maxx, q.x);
-    maxy = std::max(maxy, q.y);
-  }
-  const double margin = clearance + 2.0 * grid.resolution;
-  int x0, y0, x1, y1;
-  grid.worldToCell(minx - margin, miny - margin, x0, y0);
-  grid.worldToCell(maxx + margin, maxy + margin, x1, y1);
-  x0 = std::max(0, x0);
-  y0 = std::max(0, y0);
-  x1 = std::min(grid.width - 1, x1);
-  y1 = std::min(grid.height - 1, y1);
-  if (x1 < x0 || y1 < y0)
-    return;
-  cv::Mat mask((y1 - y0 + 1) * f, (x1 - x0 + 1) * f, CV_8UC1, cv::Scalar(255));
-  bool any = false;
-  for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x)
-      if (isObstacleCode(grid.at(x, y)))
-      {
-        mask(cv::Rect((x - x0) * f, (y - y0) * f, f, f)).setTo(0);
-        any = true;
-      }
-  if (!any)
-    return;
+/// The obstacle cells of `grid` at 5 cm over a box (each cell 4 x 4 pixels, so distances run to
+/// the cell's square, as a body's surface would) and its distance field, sampled bilinearly.
+struct FineField
+{
   cv::Mat dist;
-  cv::distanceTransform(mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  // world -> fine pixel (pixel centres at (i + 0.5) * fine from the box's corner)
-  const double bx = grid.cellX(x0) - 0.5 * grid.resolution, by = grid.cellY(y0) - 0.5 * grid.resolution;
-  auto sample = [&](double wx, double wy) {
+  double bx = 0.0, by = 0.0, fine = 0.05;
+  bool any = false;
+  FineField(const Grid& grid, double minx, double miny, double maxx, double maxy)
+  {
+    const int f = std::max(1, int(std::lround(grid.resolution / 0.05)));
+    fine = grid.resolution / f;
+    int x0, y0, x1, y1;
+    grid.worldToCell(minx, miny, x0, y0);
+    grid.worldToCell(maxx, maxy, x1, y1);
+    x0 = std::max(0, x0);
+    y0 = std::max(0, y0);
+    x1 = std::min(grid.width - 1, x1);
+    y1 = std::min(grid.height - 1, y1);
+    if (x1 < x0 || y1 < y0)
+      return;
+    cv::Mat mask((y1 - y0 + 1) * f, (x1 - x0 + 1) * f, CV_8UC1, cv::Scalar(255));
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x)
+        if (isObstacleCode(grid.at(x, y)))
+        {
+          mask(cv::Rect((x - x0) * f, (y - y0) * f, f, f)).setTo(0);
+          any = true;
+        }
+    if (!any)
+      return;
+    cv::distanceTransform(mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    // world -> fine pixel (pixel centres at (i + 0.5) * fine from the box's corner)
+    bx = grid.cellX(x0) - 0.5 * grid.resolution;
+    by = grid.cellY(y0) - 0.5 * grid.resolution;
+  }
+  /// Distance (m) from (wx, wy) to the nearest obstacle cell's square (clamped to the box).
+  double operator()(double wx, double wy) const
+  {
     const double u = (wx - bx) / fine - 0.5, v = (wy - by) / fine - 0.5;
     const int iu = std::clamp(int(std::floor(u)), 0, dist.cols - 2), iv = std::clamp(int(std::floor(v)), 0, dist.rows - 2);
     const double a = std::clamp(u - iu, 0.0, 1.0), b = std::clamp(v - iv, 0.0, 1.0);
     const double d = (1 - a) * (1 - b) * dist.at<float>(iv, iu) + a * (1 - b) * dist.at<float>(iv, iu + 1) +
                      (1 - a) * b * dist.at<float>(iv + 1, iu) + a * b * dist.at<float>(iv + 1, iu + 1);
     return d * fine;
-  };
+  }
+};
+
+/// The bounding box of `pts` grown by `margin`.
+std::array<double, 4> boxOf(const std::vector<Point2>& pts, double margin)
+{
+  std::array<double, 4> b{ { 1e300, 1e300, -1e300, -1e300 } };
+  for (const Point2& q : pts)
+  {
+    b[0] = std::min(b[0], q.x);
+    b[1] = std::min(b[1], q.y);
+    b[2] = std::max(b[2], q.x);
+    b[3] = std::max(b[3], q.y);
+  }
+  return { { b[0] - margin, b[1] - margin, b[2] + margin, b[3] + margin } };
+}
+}  // namespace
+
+void Planner::refinePath(const Grid& grid, std::vector<Point2>& path, double clearance)
+{
+  if (path.size() < 3 || grid.empty() || !(clearance > 0.0))
+    return;
+  const std::array<double, 4> box = boxOf(path, clearance + 2.0 * grid.resolution);
+  const FineField sample(grid, box[0], box[1], box[2], box[3]);
+  if (!sample.any || sample.dist.rows < 2 || sample.dist.cols < 2)
+    return;
+  const double fine = sample.fine;
   const double max_shift = 0.5 * grid.resolution, step = 0.25 * fine, h = fine;
   for (size_t i = 1; i + 1 < path.size(); ++i)
   {
@@ -407,6 +432,75 @@ void Planner::refinePath(const Grid& grid, std::vector<Point2>& path, double cle
     }
     path[i] = q;
   }
+}
+
+Passage Planner::findPassage(const Grid& grid, const std::vector<Point2>& path, double from_along, double range,
+                             double max_width)
+{
+  Passage out;
+  if (path.size() < 2 || grid.empty() || !(range > 0.0) || !(max_width > 0.0))
+    return out;
+  // the path every 5 cm over the range, with its direction there
+  std::vector<Point2> pts;
+  std::vector<double> along;
+  for (double s = from_along; s <= from_along + range + 1e-9; s += 0.05)
+  {
+    pts.push_back(pointAlong(path, s));
+    along.push_back(s);
+    if (pts.size() > 1 && std::hypot(pts.back().x - pts[pts.size() - 2].x, pts.back().y - pts[pts.size() - 2].y) < 1e-6)
+      break;  // the path ended
+  }
+  if (pts.size() < 2)
+    return out;
+  const double reach = 0.5 * max_width + 0.15;  // how far across the path the middle is searched
+  const std::array<double, 4> box = boxOf(pts, reach + 2.0 * grid.resolution);
+  const FineField field(grid, box[0], box[1], box[2], box[3]);
+  if (!field.any || field.dist.rows < 2 || field.dist.cols < 2)
+    return out;
+  // at each point: the middle across the path (the ridge of the distance field within `reach`);
+  // a passage is where the middle's clearance is under half of max_width (a wall on one side
+  // only leaves a middle farther off; in front of a wall with a doorway it starts before the
+  // doorway); its middle is its narrowest point within 1.2 m of its start
+  bool inside = false;
+  double entry = 0.0, best = 1e300;
+  for (size_t i = 0; i < pts.size(); ++i)
+  {
+    const Point2& a = pts[i > 0 ? i - 1 : 0];
+    const Point2& b = pts[i > 0 ? i : 1];
+    const double len = std::max(1e-9, std::hypot(b.x - a.x, b.y - a.y));
+    const double nx = -(b.y - a.y) / len, ny = (b.x - a.x) / len;
+    double c = -1.0;
+    Point2 mid = pts[i];
+    for (double o = -reach; o <= reach + 1e-9; o += 0.025)
+    {
+      const double d = field(pts[i].x + o * nx, pts[i].y + o * ny);
+      if (d > c + 1e-9 || (std::fabs(d - c) <= 1e-9 && std::fabs(o) < 1e-9))
+      {
+        c = d;
+        mid = { pts[i].x + o * nx, pts[i].y + o * ny };
+      }
+    }
+    const bool narrow = c < 0.5 * max_width;
+    if (narrow && !inside)
+    {
+      inside = true;
+      entry = along[i];
+    }
+    if (!inside)
+      continue;
+    if (!narrow || along[i] > entry + 1.2)
+      break;
+    if (c < best)
+    {
+      best = c;
+      out.found = true;
+      out.along = along[i] - from_along;
+      out.middle = mid;
+      out.width = 2.0 * c;
+      out.axis = std::atan2(b.y - a.y, b.x - a.x);
+    }
+  }
+  return out;
 }
 
 void Planner::syncCosts(const Grid& grid, PlanOutput& out)
@@ -505,6 +599,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   shapePath(grid, h, out);
   extendPastGoal(grid, gx, gy, out);
   placeSteeringPoint(grid, walking, out);
+  markPassage(grid, out);
   if (!walking)
   {
     // A standing wearer will be sent along the steering heading: what lies ahead is judged there
@@ -731,5 +826,24 @@ void Planner::placeSteeringPoint(const Grid& grid, bool walking, PlanOutput& out
   const double dx = out.steer_point.x - lead.x, dy = out.steer_point.y - lead.y;
   out.steer_heading = std::hypot(dx, dy) > 0.05 ? std::atan2(dy, dx) : out.path_heading;
   out.free_steer = freeDistance(grid, wearer, out.steer_heading, p_.free_ray_max);
+}
+
+void Planner::markPassage(const Grid& grid, PlanOutput& out) const
+{
+  // a doorway or gap narrower than passage_width_m on the path just ahead: its middle, for the
+  // cue logic's stop-and-align (the path's cells are 0.2 m; the middle is found on 5 cm)
+  out.passage_distance = -1.0;
+  if (!(p_.passage_width_m > 0.0) || out.steer_path.size() < 2)
+    return;
+  const double from = projectOnto(out.steer_path, out.wearer, 2.0 * p_.passage_range_m + 1.0);
+  const Passage ps = findPassage(grid, out.steer_path, from, p_.passage_range_m, p_.passage_width_m);
+  if (!ps.found)
+    return;
+  out.passage_distance = ps.along;
+  out.passage_point = ps.middle;
+  out.passage_width = ps.width;
+  out.passage_axis = ps.axis;
+  const double dx = ps.middle.x - out.wearer.x, dy = ps.middle.y - out.wearer.y;
+  out.passage_heading = std::hypot(dx, dy) > 1e-6 ? std::atan2(dy, dx) : ps.axis;
 }
 }  // namespace assistive_planner

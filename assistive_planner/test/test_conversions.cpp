@@ -88,6 +88,18 @@ TEST(Conversions, NavigationStateFieldsAndNoNaN)
   EXPECT_EQ(s.crossing_id, 0u);
   EXPECT_EQ(s.crossing_time, 0.0f);
   EXPECT_EQ(s.crossing_distance, 0.0f);
+  // no passage ahead: -1; a doorway 1.5 m ahead: distance, heading, width; not OK: none
+  EXPECT_FLOAT_EQ(s.passage_distance, -1.0f);
+  o.passage_distance = 1.5;
+  o.passage_heading = 0.2;
+  o.passage_width = 0.8;
+  const auto d = toMsg(o, h, ros::Time(9.5));
+  EXPECT_FLOAT_EQ(d.passage_distance, 1.5f);
+  EXPECT_FLOAT_EQ(d.passage_heading, 0.2f);
+  EXPECT_FLOAT_EQ(d.passage_width, 0.8f);
+  o.status = PlanStatus::NO_PATH;
+  EXPECT_FLOAT_EQ(toMsg(o, h, ros::Time(9.5)).passage_distance, -1.0f);
+  o.status = PlanStatus::OK;
   // status values match the message constants
   EXPECT_EQ(uint8_t(PlanStatus::IN_UNKNOWN), assistive_msgs::NavigationState::IN_UNKNOWN);
   EXPECT_EQ(uint8_t(PlanStatus::NO_WAYPOINT), assistive_msgs::NavigationState::NO_WAYPOINT);

@@ -29,6 +29,37 @@ void fillRect(Grid& g, double x0, double y0, double x1, double y1, int8_t code)
 }
 }  // namespace
 
+// A doorway 0.8 m wide in a wall across the path, the path 0.2 m off its middle: found 2 m
+// along, its middle on the 5 cm field (not on the 0.2 m cells the path runs on), 0.8 m wide; a
+// wall on one side only and a 1.3 m gap are no passage.
+TEST(Planner, FindPassageFindsADoorwaysMiddle)
+{
+  Grid g = makeGrid(-5, -5);
+  fillRect(g, 1.89, -5.0, 2.11, -0.29, CELL_OBSTACLE);  // cells up to y = -0.3: edge at -0.2
+  fillRect(g, 1.89, 0.69, 2.11, 5.0, CELL_OBSTACLE);  // cells from y = 0.7: edge at 0.6
+  const std::vector<Point2> path{ { 0.0, 0.0 }, { 4.0, 0.0 } };
+  const Passage p = Planner::findPassage(g, path, 0.0, 3.0, 1.1);
+  ASSERT_TRUE(p.found);
+  EXPECT_NEAR(p.middle.y, 0.2, 0.03);
+  EXPECT_NEAR(p.middle.x, 2.0, 0.15);  // in the wall's 0.2 m depth
+  EXPECT_NEAR(p.along, p.middle.x, 1e-9);
+  EXPECT_NEAR(p.width, 0.8, 0.05);
+  EXPECT_NEAR(p.axis, 0.0, 1e-6);
+  // beyond the search range, or started past it: none
+  EXPECT_FALSE(Planner::findPassage(g, path, 0.0, 1.0, 1.1).found);
+  EXPECT_FALSE(Planner::findPassage(g, path, 2.8, 1.2, 1.1).found);
+
+  Grid one = makeGrid(-5, -5);
+  fillRect(one, -5.0, 0.49, 5.0, 5.0, CELL_OBSTACLE);  // a wall 0.4 m beside the path, nothing on the other side
+  EXPECT_FALSE(Planner::findPassage(one, path, 0.0, 3.0, 1.1).found);
+
+  Grid wide = makeGrid(-5, -5);
+  fillRect(wide, 1.89, -5.0, 2.11, -0.69, CELL_OBSTACLE);  // edge at -0.6
+  fillRect(wide, 1.89, 0.69, 2.11, 5.0, CELL_OBSTACLE);  // edge at 0.6: 1.2 m
+  EXPECT_FALSE(Planner::findPassage(wide, path, 0.0, 3.0, 1.1).found);
+  EXPECT_TRUE(Planner::findPassage(wide, path, 0.0, 3.0, 1.3).found);
+}
+
 TEST(Planner, NoMapAndInUnknownAtStartUp)
 {
   Planner pl;

@@ -7,11 +7,13 @@
 #include <assistive_msgs/MoverArray.h>
 #include <assistive_msgs/NavigationState.h>
 #include <geometry_msgs/PointStamped.h>
+#include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 
 namespace
@@ -71,10 +73,11 @@ protected:
     grid_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("obstacles/traversability", 1);
     odom_pub_ = nh_.advertise<nav_msgs::Odometry>("vo/odom", 5);
     movers_pub_ = nh_.advertise<assistive_msgs::MoverArray>("obstacles/movers", 1);
+    goal_pub_ = nh_.advertise<geometry_msgs::PoseStamped>("planner/goal", 1);
     const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(20.0);
     while (ros::ok() &&
            (grid_pub_.getNumSubscribers() == 0 || odom_pub_.getNumSubscribers() == 0 ||
-            movers_pub_.getNumSubscribers() == 0) &&
+            movers_pub_.getNumSubscribers() == 0 || goal_pub_.getNumSubscribers() == 0) &&
            ros::WallTime::now() < until)
       ros::WallDuration(0.05).sleep();
   }
@@ -159,8 +162,9 @@ protected:
   ros::NodeHandle nh_;
   Recorder rec_;
   ros::Subscriber state_sub_, path_sub_, wp_sub_;
-  ros::Publisher grid_pub_, odom_pub_, movers_pub_;
+  ros::Publisher grid_pub_, odom_pub_, movers_pub_, goal_pub_;
   tf2_ros::TransformBroadcaster tf_;
+  tf2_ros::StaticTransformBroadcaster static_tf_;
 };
 }  // namespace
 
@@ -322,6 +326,70 @@ TEST_F(PlannerNodeletTest, CrossingAdviceFromMovers)
   movers.header.frame_id = "map";
   ASSERT_TRUE(step(0.2, 0.0, 0.0, false, nullptr, &movers));
   EXPECT_EQ(rec_.state->crossing, assistive_msgs::NavigationState::CROSSING_NONE);
+}
+
+// Issue 34: a goal given in SLAM's map is kept there: the planner waits (NO_POSE) while the map is
+// not on tf, follows the map -> odom it is given, and still guides to it after a reset (an
+// untrusted pose); a goal given in odom itself is dropped at the reset.
+TEST_F(PlannerNodeletTest, GoalInTheMapFrameSurvivesAReset)
+{
+  auto goalIn = [&](const std::string& frame, double x, double y) {
+    geometry_msgs::PoseStamped g;
+    g.header.frame_id = frame;
+    g.pose.position.x = x;
+    g.pose.position.y = y;
+    g.pose.orientation.w = 1.0;
+    goal_pub_.publish(g);
+    ros::WallDuration(0.2).sleep();
+  };
+  auto waypointNear = [&](double x, double y) {
+    return rec_.waypoint && rec_.waypoint->header.stamp == rec_.state->source_stamp &&
+           std::hypot(rec_.waypoint->point.x - x, rec_.waypoint->point.y - y) < 0.15;
+  };
+  ASSERT_TRUE(step(0.1, 0.1, 0.0, false));
+  ASSERT_EQ(rec_.state->status, assistive_msgs::NavigationState::OK) << rec_.state->message;
+
+  // "test_map" is not on tf yet: no guidance on a guess
+  goalIn("test_map", 1.0, 3.0);
+  ASSERT_TRUE(step(0.1, 0.1, 0.0, false));
+  EXPECT_EQ(rec_.state->status, assistive_msgs::NavigationState::NO_POSE) << rec_.state->message;
+  EXPECT_NE(rec_.state->message.find("explicit goal"), std::string::npos) << rec_.state->message;
+
+  // test_map -> odom known: the goal (1, 3) in test_map is (1.5, 2) in odom
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = ros::Time::now();
+  t.header.frame_id = "test_map";
+  t.child_frame_id = "odom";
+  t.transform.translation.x = -0.5;
+  t.transform.translation.y = 1.0;
+  t.transform.rotation.w = 1.0;
+  static_tf_.sendTransform(t);
+  ros::WallDuration(0.3).sleep();
+  ASSERT_TRUE(step(0.1, 0.1, 0.0, false));
+  ASSERT_EQ(rec_.state->status, assistive_msgs::NavigationState::OK) << rec_.state->message;
+  EXPECT_TRUE(waypointNear(1.5, 2.0)) << (rec_.waypoint ? rec_.waypoint->point.x : NAN) << ", "
+                                      << (rec_.waypoint ? rec_.waypoint->point.y : NAN);
+
+  // an untrusted pose, trusted again: the planner resets, the goal in test_map survives it
+  ASSERT_TRUE(odomOnly(0.1, 0.1, false, ros::Time::now()));
+  ASSERT_TRUE(odomOnly(0.1, 0.1, true, ros::Time::now()));
+  ASSERT_TRUE(step(0.1, 0.1, 0.0, false));
+  ASSERT_EQ(rec_.state->status, assistive_msgs::NavigationState::OK) << rec_.state->message;
+  EXPECT_TRUE(waypointNear(1.5, 2.0)) << "the goal in test_map was lost at the reset";
+
+  // a goal in odom (behind the wearer) is dropped at the reset: back to the automatic waypoint ahead
+  goalIn("odom", -2.0, 2.0);
+  ASSERT_TRUE(step(0.1, 0.1, 0.0, false));
+  ASSERT_EQ(rec_.state->status, assistive_msgs::NavigationState::OK) << rec_.state->message;
+  EXPECT_TRUE(waypointNear(-2.0, 2.0));
+  ASSERT_TRUE(odomOnly(0.1, 0.1, false, ros::Time::now()));
+  ASSERT_TRUE(odomOnly(0.1, 0.1, true, ros::Time::now()));
+  ASSERT_TRUE(step(0.1, 0.1, 0.0, false));
+  ASSERT_EQ(rec_.state->status, assistive_msgs::NavigationState::OK) << rec_.state->message;
+  ASSERT_TRUE(rec_.waypoint);
+  EXPECT_GT(rec_.waypoint->point.x, 0.1) << "the goal in odom should be gone after the reset";
+
+  goalIn("", 0.0, 0.0);  // cleared for the other tests
 }
 
 int main(int argc, char** argv)

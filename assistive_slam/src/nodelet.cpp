@@ -1,6 +1,7 @@
 // assistive_slam/slam: glue between ROS and the SlamSystem core. Rectified stereo + camera_info +
 // vo/odom (same stamp) in; tf map -> odom, the corrected trajectory, the submap graph, rviz
-// markers, loop-closure events and diagnostics out. Keyframe work runs on the core's worker thread.
+// markers, loop-closure events and diagnostics out. Keyframe work runs on the core's worker thread,
+// loop closing on its loop closer thread (loop_closing_thread).
 #include <memory>
 #include <mutex>
 #include <cv_bridge/cv_bridge.h>
@@ -482,10 +483,12 @@ class SlamNodelet : public nodelet::Nodelet
     s.add("loop closures accepted", st.loops_accepted);
     s.add("loop closures rejected", st.loops_rejected);
     s.add("worker queue depth", st.queue_depth);
+    s.add("loop closer queue depth", st.loop_queue_depth);
     s.add("keyframes dropped", st.dropped);
     s.add("localised", st.localised);
     s.add("relocalisation keyframes tried", st.relocalisation_queries);
     s.add("worker ms (last keyframe)", st.worker_ms_last);
+    s.add("loop closer ms (last keyframe)", st.loop_ms_last);
     s.add("ms per frame", ms_frame_);
     s.add("ms per frame (max)", ms_max_);
     ms_max_ = 0;

@@ -374,7 +374,9 @@ void SlamRun::slamFrame(const ev::StereoFrame& f, const assistive_vo::StereoCame
     if (!opt_.realtime)
     {
       slam->waitIdle();
-      worker_ms.push_back(slam->stats().worker_ms_last);
+      // the keyframe's work: the worker's and, on its own thread, the loop closer's
+      const SlamStats st = slam->stats();
+      worker_ms.push_back(st.worker_ms_last + (sp_.loop_closing_thread ? st.loop_ms_last : 0.0));
     }
   }
   if (reloc_frame < 0 && !opt_.load_path.empty() && slam->localised())

@@ -40,6 +40,9 @@ SlamSystem::SlamSystem(const SlamParams& p, const StereoModel& cam, bool threade
   }
   if (p_.metric_backend == "fastslam")
     filter_ = std::make_unique<FastSlam>(p_, cam_);
+  loop_threaded_ = threaded_ && p_.loop_closing_thread;
+  if (loop_threaded_)
+    loop_thread_ = std::thread(&SlamSystem::loopClosingLoop, this);
   if (threaded_)
     worker_ = std::thread(&SlamSystem::workerLoop, this);
 }
@@ -51,8 +54,11 @@ SlamSystem::~SlamSystem()
     stop_ = true;
   }
   qcv_.notify_all();
+  loop_cv_.notify_all();
   if (worker_.joinable())
     worker_.join();
+  if (loop_thread_.joinable())
+    loop_thread_.join();
 }
 
 bool SlamSystem::addFrame(const SlamFrame& f)
@@ -92,7 +98,7 @@ void SlamSystem::waitIdle()
   if (!threaded_)
     return;
   std::unique_lock<std::mutex> l(qm_);
-  idle_cv_.wait(l, [&] { return queue_.empty() && !busy_; });
+  idle_cv_.wait(l, [&] { return queue_.empty() && !busy_ && loop_queue_.empty() && !loop_busy_; });
 }
 
 void SlamSystem::workerLoop()
@@ -113,6 +119,29 @@ void SlamSystem::workerLoop()
     {
       std::lock_guard<std::mutex> l(qm_);
       busy_ = false;
+    }
+    idle_cv_.notify_all();
+  }
+}
+
+void SlamSystem::loopClosingLoop()
+{
+  for (;;)
+  {
+    LoopJob job;
+    {
+      std::unique_lock<std::mutex> l(qm_);
+      loop_cv_.wait(l, [&] { return stop_ || !loop_queue_.empty(); });
+      if (stop_)
+        return;
+      job = std::move(loop_queue_.front());
+      loop_queue_.pop_front();
+      loop_busy_ = true;
+    }
+    closeLoops(job);
+    {
+      std::lock_guard<std::mutex> l(qm_);
+      loop_busy_ = false;
     }
     idle_cv_.notify_all();
   }
@@ -143,9 +172,34 @@ void SlamSystem::processKeyframe(const Job& job)
   {
     std::lock_guard<std::mutex> l(mm_);
     stats_.worker_ms_last = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    return;  // not in the map: the keyframe was only a query
+    stats_.loop_ms_last = 0.0;
+    return;  // not in the map: the keyframe was only a query (no loop closing)
   }
 
+  LoopJob lj;
+  lj.kf = kf;
+  lj.first_of_session = mapKeyframe(job, kf);
+  if (loop_threaded_)
+  {
+    {
+      std::lock_guard<std::mutex> l(mm_);
+      T_map_odom_ = kfs_.back()->T_map_cam * kfs_.back()->T_odom_cam.inverse();
+    }
+    {
+      std::lock_guard<std::mutex> l(qm_);
+      loop_queue_.push_back(std::move(lj));
+    }
+    loop_cv_.notify_one();
+  }
+  else
+    closeLoops(lj);
+  std::lock_guard<std::mutex> l(mm_);
+  stats_.worker_ms_last = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool SlamSystem::mapKeyframe(const Job& job, const KeyframePtr& kf)
+{
+  std::lock_guard<std::mutex> mu(map_update_m_);
   const bool first_of_session = session_start_;
   Eigen::Isometry3d rel = Eigen::Isometry3d::Identity();
   if (session_start_)
@@ -201,8 +255,15 @@ void SlamSystem::processKeyframe(const Job& job)
     associate(*kf);  // (the first keyframe of a session has no odometry to the stored ones)
   if (!filter_)
     localBundleAdjustment();  // (the filter is the metric layer of fastslam)
+  return first_of_session;
+}
+
+void SlamSystem::closeLoops(const LoopJob& job)
+{
+  const auto t0 = std::chrono::steady_clock::now();
+  const KeyframePtr& kf = job.kf;
   std::vector<uint32_t> seen;
-  if (appearance_ && p_.appearance_loop)
+  if (p_.appearance_loop && appearance_)  // (appearance_loop off: the worker may drop the model after a relocalisation)
   {
     // the model learns every mapped keyframe; its candidates come from older submaps only
     for (const LoopCandidate& c : appearance_->process(static_cast<int>(kf->id), static_cast<int>(kf->submap),
@@ -210,13 +271,14 @@ void SlamSystem::processKeyframe(const Job& job)
       if (c.keyframe_id >= 0)
         seen.push_back(static_cast<uint32_t>(c.keyframe_id));
   }
-  if (p_.loop_closure && !first_of_session)  // (the first of a session has just been verified)
-    detectLoop(kf, seen);
+  if (p_.loop_closure && !job.first_of_session)  // (the first of a session has just been verified)
   {
-    std::lock_guard<std::mutex> l(mm_);
-    T_map_odom_ = kfs_.back()->T_map_cam * kfs_.back()->T_odom_cam.inverse();
-    stats_.worker_ms_last = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    std::lock_guard<std::mutex> mu(map_update_m_);
+    detectLoop(kf, seen);
   }
+  std::lock_guard<std::mutex> l(mm_);
+  T_map_odom_ = kfs_.back()->T_map_cam * kfs_.back()->T_odom_cam.inverse();
+  stats_.loop_ms_last = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void SlamSystem::associate(Keyframe& kf)
@@ -349,6 +411,15 @@ void SlamSystem::localBundleAdjustment()
     s.T_map_origin = kfs_[s.keyframes.front()]->T_map_cam;
 }
 
+StereoCheckOptions SlamSystem::loopCheckOptions() const
+{
+  StereoCheckOptions so;
+  so.min_inliers = p_.loop_min_inliers;
+  so.min_inlier_ratio = p_.loop_min_inlier_ratio;
+  so.inlier_px = p_.loop_inlier_px;
+  return so;
+}
+
 std::vector<uint32_t> SlamSystem::proximityCandidates(const Keyframe& kf) const
 {
   // Keyframes of older submaps near where the map puts the new one, looking the same way; the
@@ -386,10 +457,7 @@ void SlamSystem::detectLoop(const KeyframePtr& kf, const std::vector<uint32_t>& 
   for (uint32_t id : appearance)
     if (std::find(cand.begin(), cand.end(), id) == cand.end())
       cand.push_back(id);
-  StereoCheckOptions so;
-  so.min_inliers = p_.loop_min_inliers;
-  so.min_inlier_ratio = p_.loop_min_inlier_ratio;
-  so.inlier_px = p_.loop_inlier_px;
+  const StereoCheckOptions so = loopCheckOptions();
   int tried = 0;
   for (uint32_t id : cand)
   {
@@ -541,6 +609,7 @@ SlamStats SlamSystem::stats() const
   }
   std::lock_guard<std::mutex> l(qm_);
   s.queue_depth = static_cast<int>(queue_.size());
+  s.loop_queue_depth = static_cast<int>(loop_queue_.size());
   s.dropped = dropped_;
   return s;
 }
@@ -624,10 +693,7 @@ bool SlamSystem::relocalise(const KeyframePtr& kf)
   if (!appearance_ || kf->descriptors.empty())
     return false;
   const AppearanceResult ar = appearance_->query(appearanceRows(kf->descriptors, p_.appearance_features), -1, 0);
-  StereoCheckOptions so;
-  so.min_inliers = p_.loop_min_inliers;
-  so.min_inlier_ratio = p_.loop_min_inlier_ratio;
-  so.inlier_px = p_.loop_inlier_px;
+  const StereoCheckOptions so = loopCheckOptions();
   // The model ranks submaps; its keyframe within a submap is a weak guess (on a generated parking
   // walk it was the submap's first for 8 queries in a row while another of its keyframes matched),
   // so every keyframe of a proposed submap is verified and the one with the most inliers is kept.
@@ -695,7 +761,7 @@ bool SlamSystem::loadMap(const MapData& m, std::string* err)
   };
   {
     std::lock_guard<std::mutex> lq(qm_);
-    if (busy_ || !queue_.empty())
+    if (busy_ || !queue_.empty() || loop_busy_ || !loop_queue_.empty())
       return fail("a map can only be loaded before the first frame");
   }
   std::lock_guard<std::mutex> l(mm_);

@@ -1,5 +1,5 @@
-// Keyframe policy, stereo features with exact depth on a shifted texture, bounded submaps and the
-// bounded worker queue.
+// Keyframe policy, stereo features with exact depth on a shifted texture, bounded submaps, the
+// bounded worker queue and the loop closer thread.
 #include <random>
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -134,6 +134,71 @@ TEST(SlamSystem, WorkerQueueStaysBounded)
   EXPECT_EQ(queued, 40);
   EXPECT_EQ(st.keyframes + st.dropped, 40);
   EXPECT_EQ(st.queue_depth, 0);
+}
+
+namespace
+{
+struct RunResult
+{
+  std::vector<Keyframe> keyframes;
+  std::vector<LoopEvent> events;
+  Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();
+  SlamStats stats;
+};
+/// Out and back along z with the same images everywhere: the way back closes loops on the
+/// keyframes of the way out. `threaded`: worker and loop closer, awaited after every keyframe.
+RunResult outAndBack(bool threaded)
+{
+  SlamParams p;
+  p.submap_max_keyframes = 2;
+  p.loop_skip_submaps = 1;
+  p.ba_iterations = 0;
+  cv::Mat l, r;
+  texturePair(16, l, r);
+  SlamSystem s(p, camera(), threaded);
+  std::vector<double> zs;
+  for (int i = 0; i <= 7; ++i)
+    zs.push_back(0.5 * i);
+  for (int i = 6; i >= 0; --i)
+    zs.push_back(0.5 * i + 0.01);
+  for (size_t i = 0; i < zs.size(); ++i)
+  {
+    SlamFrame f;
+    f.stamp = static_cast<double>(i);
+    f.left = l;
+    f.right = r;
+    f.T_odom_cam = along(zs[i]);
+    f.vo_replenished = true;
+    if (s.addFrame(f))
+      s.waitIdle();
+  }
+  s.waitIdle();
+  return {s.keyframes(), s.loopEvents(), s.mapToOdom(), s.stats()};
+}
+}  // namespace
+
+// Loop closing on its own thread (loop_closing_thread), awaited after every keyframe as
+// slam_benchmark does, builds the inline run's map exactly: the benchmarks' figures do not move.
+TEST(SlamSystem, LoopClosingThreadAwaitedGivesTheInlineMap)
+{
+  const RunResult a = outAndBack(false), b = outAndBack(true);
+  EXPECT_GT(a.stats.loops_accepted, 0);
+  EXPECT_GT(a.stats.pose_graph_runs, 0);
+  EXPECT_EQ(b.stats.loops_accepted, a.stats.loops_accepted);
+  EXPECT_EQ(b.stats.loops_rejected, a.stats.loops_rejected);
+  EXPECT_EQ(b.stats.pose_graph_runs, a.stats.pose_graph_runs);
+  EXPECT_EQ(b.stats.loop_queue_depth, 0);
+  ASSERT_EQ(a.keyframes.size(), b.keyframes.size());
+  for (size_t i = 0; i < a.keyframes.size(); ++i)
+    EXPECT_TRUE(a.keyframes[i].T_map_cam.matrix() == b.keyframes[i].T_map_cam.matrix()) << "keyframe " << i;
+  ASSERT_EQ(a.events.size(), b.events.size());
+  for (size_t i = 0; i < a.events.size(); ++i)
+  {
+    EXPECT_EQ(a.events[i].keyframe_new, b.events[i].keyframe_new);
+    EXPECT_EQ(a.events[i].keyframe_old, b.events[i].keyframe_old);
+    EXPECT_EQ(a.events[i].accepted, b.events[i].accepted);
+  }
+  EXPECT_TRUE(a.T_map_odom.matrix() == b.T_map_odom.matrix());
 }
 
 TEST(SlamSystem, PlacesRideOnTheirKeyframe)

@@ -54,6 +54,9 @@ NavInput fromMsg(const assistive_msgs::NavigationState& msg)
   in.walking_speed = msg.walking_speed;
   in.head_yaw = msg.head_yaw;
   in.free_steer = msg.free_distance_steer;
+  in.passage_distance = msg.passage_distance;
+  in.passage_heading = msg.passage_heading;
+  in.passage_width = msg.passage_width;
   // an advice code this build does not know is no advice (the status still decides the rest)
   in.crossing = msg.crossing <= static_cast<uint8_t>(CrossingAdvice::STOP) ? static_cast<CrossingAdvice>(msg.crossing) :
                                                                             CrossingAdvice::NONE;

@@ -99,7 +99,13 @@ TEST(Conversions, NavigationState)
   s.free_distance_left = 1.2f;
   s.free_distance_right = 0.3f;
   s.message = "ok";
+  s.passage_distance = 1.5f;
+  s.passage_heading = 0.2f;
+  s.passage_width = 0.8f;
   NavInput in = fromMsg(s);
+  EXPECT_FLOAT_EQ(in.passage_distance, 1.5f);
+  EXPECT_FLOAT_EQ(in.passage_heading, 0.2f);
+  EXPECT_FLOAT_EQ(in.passage_width, 0.8f);
   EXPECT_EQ(in.status, NavStatus::OK);
   EXPECT_FLOAT_EQ(in.heading, 0.5f);
   EXPECT_FLOAT_EQ(in.path_heading, 1.0f);

@@ -759,6 +759,69 @@ TEST(CueLogic, TurnRateLearntFromTheAngleTurned)
   EXPECT_EQ(next.pattern.on_10ms, 62);
 }
 
+// Doorways (the planner's passage_*): a walker whose straight walk passes the middle within the
+// room (half the width less passage_body_m) walks on without veers; one that would miss is
+// stopped by a turn buzz towards the middle; standing, it is turned until the middle lies within
+// passage_align_deg, then told to go.
+TEST(CueLogic, PassageStraightOnOrStopAndAlign)
+{
+  auto atDoor = [](double walk_speed, double dist, double middle_deg, double steer_deg) {
+    NavInput in = turn(steer_deg);
+    in.walking_speed = walk_speed;
+    in.passage_distance = dist;
+    in.passage_width = 0.85;  // room 0.425 - 0.25 = 0.175 m
+    in.passage_heading = in.walk_heading + middle_deg * kDeg;
+    return in;
+  };
+  {
+    // 1.5 m ahead at 1 m/s (stop distance 0.6 + 0.25 m: inside 0.9 + 0.85 + 0.3), passing
+    // 1.5 sin 5 deg = 0.13 m off: straight on, although the steering point lies 20 deg off
+    CueLogic c;
+    const Cue k = fresh(c, atDoor(1.0, 1.5, 5.0, 20.0), 0.0);
+    EXPECT_EQ(k.mode, CueMode::IDLE);
+    EXPECT_EQ(k.instruction, Instruction::WALK_ON);
+    // without the passage: a veer
+    CueLogic o;
+    EXPECT_EQ(fresh(o, turn(20.0), 0.0).instruction, Instruction::VEER);
+  }
+  {
+    // 15 deg off: it would pass 0.39 m off the middle: stop, turn left 15 deg (15 / 90 + 0.25 s)
+    CueLogic c;
+    const Cue k = fresh(c, atDoor(1.0, 1.5, 15.0, 0.0), 0.0);
+    ASSERT_EQ(k.instruction, Instruction::TURN);
+    EXPECT_GT(k.intensity[LEFT_SHOULDER], 0.f);
+    EXPECT_EQ(k.intensity[RIGHT_SHOULDER], 0.f);
+    EXPECT_EQ(k.pattern.on_10ms, 42);
+  }
+  {
+    // farther than the stop distance + passage_align_m + 0.3: ordinary steering (a veer)
+    CueLogic c;
+    EXPECT_EQ(fresh(c, atDoor(1.0, 2.5, 15.0, 20.0), 0.0).instruction, Instruction::VEER);
+  }
+  {
+    // standing 1 m before it: 6 deg off -> turn right 6 deg; 3 deg off -> go
+    CueLogic c;
+    const Cue k = fresh(c, standing(atDoor(0.0, 1.0, -6.0, 0.0)), 0.0);
+    ASSERT_EQ(k.instruction, Instruction::TURN);
+    EXPECT_GT(k.intensity[RIGHT_SHOULDER], 0.f);
+    EXPECT_EQ(k.pattern.on_10ms, 32);  // 6 / 90 + 0.25 s
+    CueLogic g;
+    EXPECT_EQ(fresh(g, standing(atDoor(0.0, 1.0, 3.0, 0.0)), 0.0).instruction, Instruction::WALK_ON);
+    // told to go, the head's scanning past the limit during the reaction is no new turn
+    EXPECT_EQ(fresh(g, standing(atDoor(0.0, 1.0, 6.0, 0.0)), 0.5).instruction, Instruction::WALK_ON);
+  }
+  {
+    // in the passage (under passage_inside_m): ordinary steering again (a turn beyond it)
+    CueLogic c;
+    EXPECT_EQ(fresh(c, atDoor(1.0, 0.4, 2.0, 20.0), 0.0).instruction, Instruction::VEER);
+    // switched off: ordinary steering everywhere
+    CueParams p;
+    p.passage_align_m = 0.0;
+    CueLogic off(p);
+    EXPECT_EQ(fresh(off, atDoor(1.0, 1.5, 5.0, 20.0), 0.0).instruction, Instruction::VEER);
+  }
+}
+
 TEST(CueLogic, WrapAngle)
 {
   const std::vector<std::pair<double, double>> table = { { 0, 0 },           { M_PI, M_PI },

@@ -301,16 +301,15 @@ int main(int argc, char** argv)
   ev::SetOptions set_options;
   set_options.addTo(cl);
   cl.count("--frames", &max_frames, 0).count("--threads", &threads, 1);
-  if (const int rc = cl.parse(argc, argv); rc >= 0) return rc;
-  if (set_options.isSet())
-  {
+  const auto run_set = [&] {
     std::vector<ev::SetFigure> figures{ { "ms_p95_total" }, { "ms_max_total" }, { "cpu_ms_p95_total" } };
     for (const std::string& s : kStages) figures.push_back({ "ms_p95_" + s });
     for (const std::string& s : kStages) figures.push_back({ "cpu_ms_p95_" + s });
     figures.push_back({ "frames", true });
     return ev::runSetFromCommandLine(cl, argc, argv, set_options, figures, "", "", "", max_frames);
-  }
-  if (set_options.bags.empty()) return cl.usageError("no bag given");
+  };
+  std::string bag;
+  if (const int rc = set_options.parse(cl, argc, argv, run_set, bag); rc >= 0) return rc;
   cv::setNumThreads(threads);
-  return runBag(set_options.bags.front(), max_frames);
+  return runBag(bag, max_frames);
 }

@@ -10,16 +10,18 @@
 #include <stereo_msgs/DisparityImage.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <assistive_common/code_grid_msg.h>
 #include <assistive_obstacles/disparity.h>
 #include <assistive_obstacles/mover_pipeline.h>
 #include <assistive_obstacles/obstacle_map.h>
 
 namespace assistive_obstacles
 {
-/// Grid -> nav_msgs/OccupancyGrid (identity orientation, z = 0).
-nav_msgs::OccupancyGrid toMsg(const GridData& grid, const std::string& frame, const ros::Time& stamp);
-/// nav_msgs/OccupancyGrid -> grid (orientation ignored: our grids are axis-aligned).
-GridData fromMsg(const nav_msgs::OccupancyGrid& msg);
+/// Grid <-> nav_msgs/OccupancyGrid: the one conversion of the shared grid (code_grid_msg.h):
+/// toMsg(grid, frame, stamp) (identity orientation, z = 0), fromMsg(msg) (orientation ignored:
+/// our grids are axis-aligned).
+using assistive_common::fromMsg;
+using assistive_common::toMsg;
 
 /// Rectified left + right camera_info -> stereo model; false when the infos are unusable
 /// (fx <= 0, no baseline, size mismatch).

@@ -10,16 +10,18 @@
 #include <nav_msgs/Path.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <assistive_common/code_grid_msg.h>
+
 #include "assistive_planner/grid.h"
 #include "assistive_planner/planner.h"
 
 namespace assistive_planner
 {
-/// OccupancyGrid -> Grid. Returns false (and leaves `out` empty) if the grid is malformed or rotated
-/// (the planner needs a grid aligned with its frame).
-bool fromMsg(const nav_msgs::OccupancyGrid& msg, Grid& out);
-/// Grid -> OccupancyGrid (tests and tools).
-nav_msgs::OccupancyGrid toMsg(const Grid& grid, const std_msgs::Header& header);
+/// Grid <-> OccupancyGrid: the one conversion of the shared grid (code_grid_msg.h). fromMsg(msg, out)
+/// returns false (and leaves `out` empty) if the grid is malformed or rotated (the planner needs a
+/// grid aligned with its frame); toMsg(grid, header) for tests and tools.
+using assistive_common::fromMsg;
+using assistive_common::toMsg;
 /// Planner output -> NavigationState (header: world frame and stamp; source_stamp: the grid's stamp).
 assistive_msgs::NavigationState toMsg(const PlanOutput& out, const std_msgs::Header& header, const ros::Time& source_stamp);
 nav_msgs::Path toPathMsg(const PlanOutput& out, const std_msgs::Header& header);

@@ -45,6 +45,15 @@ struct PlanOutput
   double walk_heading = 0.0;
   double walking_speed = 0.0;
   double free_ahead = 0.0, free_left = 0.0, free_right = 0.0;
+  /// A passage narrower than `passage_width_m` (a doorway, a gap) on the path within
+  /// `passage_range_m` ahead: metres along the path to its middle (< 0: none), its middle (on a
+  /// 5 cm field, across the path's cells), the yaw from the wearer to it, its width and the path's
+  /// direction through it.
+  double passage_distance = -1.0;
+  Point2 passage_point;
+  double passage_heading = 0.0;
+  double passage_width = 0.0;
+  double passage_axis = 0.0;
   std::vector<Point2> path;   ///< wearer -> waypoint: cell centres moved towards the middle of narrow passages
   /// The path the steering point runs on: `path`, then on to the next goal when one is set.
   std::vector<Point2> steer_path;
@@ -57,6 +66,16 @@ struct PlanOutput
   size_t expansions = 0;           ///< D* Lite expansions in this update
   size_t changed_cells = 0;        ///< cells whose weight changed since the last update
   bool scrolled = false;
+};
+
+/// A narrow passage on a path (Planner::findPassage).
+struct Passage
+{
+  bool found = false;
+  double along = 0.0;  ///< m along the path from the search's start to the middle
+  Point2 middle;       ///< the middle across the path at the passage's narrowest point
+  double width = 0.0;  ///< twice the middle's distance to the nearest obstacle cell (m)
+  double axis = 0.0;   ///< the path's direction there (rad)
 };
 
 /// The floor the wearer has stood on: unknown cells whose centre lies within `radius` of a point
@@ -122,6 +141,13 @@ public:
   /// `grid` (obstacle cells, 5 cm resolution) until it lies `clearance` from the nearest obstacle
   /// cell or on the ridge between two: the middle of a doorway or aisle.
   static void refinePath(const Grid& grid, std::vector<Point2>& path, double clearance);
+  /// The first passage narrower than `max_width` on `path` between `from_along` and
+  /// `from_along + range` (m along it): where the middle across the path (the ridge of the 5 cm
+  /// obstacle distance field within half of max_width + 0.15 m either side of the path) lies
+  /// closer than half of max_width to an obstacle cell; its middle is that middle at the
+  /// narrowest point of the passage's first 1.2 m. A wall on one side only is no passage.
+  static Passage findPassage(const Grid& grid, const std::vector<Point2>& path, double from_along, double range,
+                             double max_width);
   /// String pulling: drops the path's points a straight line can skip without passing closer to
   /// an obstacle cell than the skipped stretch did (the middle of a passage stays the middle) and
   /// without crossing a blocked cell of `weights` (obstacles and the body's inflation); `dist` is
@@ -147,6 +173,7 @@ private:
   void shapePath(const Grid& grid, double heading, PlanOutput& out) const;  // path, its heading, length
   void extendPastGoal(const Grid& grid, int gx, int gy, PlanOutput& out) const;  // steer_path to next_
   void placeSteeringPoint(const Grid& grid, bool walking, PlanOutput& out) const;
+  void markPassage(const Grid& grid, PlanOutput& out) const;  // passage_* (findPassage)
 
   PlannerParams p_;
   DStarLite dstar_;

@@ -75,7 +75,8 @@ namespace assistive_slam
   X(double, fastslam_q_floor_deg, "fastslam_q_floor_deg", 0.01, 1e-6, 10.0, "deg", "rotation noise of the VO per frame at least") \
   X(int, fastslam_seed, "fastslam_seed", 1, 0, 1000000000, "", "random seed of the filter (sampling, resampling)") \
   /* --- worker thread --- */ \
-  X(int, queue_size, "queue_size", 4, 1, 100, "", "keyframes waiting for the worker at most (the oldest is dropped beyond)")
+  X(int, queue_size, "queue_size", 4, 1, 100, "", "keyframes waiting for the worker at most (the oldest is dropped beyond)") \
+  X(bool, loop_closing_thread, "loop_closing_thread", true, {}, {}, "", "loop closing (detection, verification, pose graph) on a thread of its own behind the worker; false: on the worker after each keyframe")
 
 // The nodelet's own parameters (ROS plumbing; slam_benchmark has no use for them).
 #define ASSISTIVE_SLAM_NODE_PARAMS(X) \

@@ -2,7 +2,10 @@
 // The SLAM core (seed 3.2.3): keyframes from the VO's frames, bounded submaps linked by relative
 // transforms, a local bundle adjustment over a sliding window of keyframes and a pose-graph
 // optimisation of the submap graph after every accepted loop closure. Keyframe work runs on a
-// worker thread fed by a bounded queue: addFrame() never waits for it.
+// worker thread fed by a bounded queue: addFrame() never waits for it. Loop closing (detection,
+// verification, pose-graph correction) runs on a thread of its own behind the worker (ORB-SLAM's
+// LoopClosing; `loop_closing_thread`), so that the next keyframe's features are extracted while a
+// closure is verified.
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -77,7 +80,9 @@ struct SlamStats
 {
   int keyframes = 0, submaps = 0, loops_accepted = 0, loops_rejected = 0, queue_depth = 0, dropped = 0;
   int ba_runs = 0, ba_rejected = 0, pose_graph_runs = 0;
-  double worker_ms_last = 0;
+  int loop_queue_depth = 0;           ///< mapped keyframes waiting for the loop closer
+  double worker_ms_last = 0;          ///< the last keyframe's work (with loop_closing_thread: without loop closing)
+  double loop_ms_last = 0;            ///< the last keyframe's loop closing
   bool localised = true;              ///< false after a load until a stored place is recognised
   double relocalised_stamp = -1;      ///< the keyframe that relocalised the wearer (-1: none)
   int relocalisation_queries = 0;     ///< keyframes tried against the loaded map
@@ -92,7 +97,8 @@ using CandidateSource = std::function<std::vector<uint32_t>(const Keyframe& kf)>
 class SlamSystem
 {
 public:
-  /// `threaded`: keyframes are processed on a worker thread (false: inside addFrame, for tests).
+  /// `threaded`: keyframes are processed on a worker thread, and with `loop_closing_thread` their
+  /// loop closing on another (false: both inside addFrame, for tests and chain_benchmark).
   SlamSystem(const SlamParams& p, const StereoModel& cam, bool threaded = true);
   ~SlamSystem();
   SlamSystem(const SlamSystem&) = delete;
@@ -100,7 +106,10 @@ public:
 
   /// Frame loop. Returns true when the frame was queued as a keyframe.
   bool addFrame(const SlamFrame& f);
-  /// Blocks until the worker's queue is empty and the keyframe in work is done.
+  /// Blocks until the worker's queue is empty, the keyframe in work is done and the loop closer
+  /// has handled every keyframe the worker gave it. Called after each queued keyframe (as
+  /// slam_benchmark does), the threads run in the same order as inline: the same map, the same
+  /// figures.
   void waitIdle();
 
   Eigen::Isometry3d mapToOdom() const;
@@ -143,6 +152,19 @@ private:
   };
   void workerLoop();
   void processKeyframe(const Job& job);
+  /// The keyframe's mapping step (map pose, submap, associations, local BA), under map_update_m_;
+  /// false: the first keyframe of a session.
+  bool mapKeyframe(const Job& job, const KeyframePtr& kf);
+  /// A mapped keyframe for the loop closer (`first_of_session`: just verified by relocalisation).
+  struct LoopJob
+  {
+    KeyframePtr kf;
+    bool first_of_session = false;
+  };
+  void loopClosingLoop();
+  /// Loop closing of one mapped keyframe: the appearance model learns it, closures are detected,
+  /// verified and the pose graph corrected (under map_update_m_); map -> odom updated.
+  void closeLoops(const LoopJob& job);
   void associate(Keyframe& kf);
   void localBundleAdjustment();
   void detectLoop(const KeyframePtr& kf, const std::vector<uint32_t>& appearance);
@@ -151,25 +173,35 @@ private:
   Matrix6d odomInformation(double path_m) const;
   Matrix6d odomCovariance(double path_m) const;
   std::vector<uint32_t> proximityCandidates(const Keyframe& kf) const;
+  /// The geometric check of a loop closure or a relocalisation (loop_min_inliers, ...).
+  StereoCheckOptions loopCheckOptions() const;
   Eigen::Isometry3d submapOdometry(uint32_t i) const;  ///< origin_i -> origin_i+1 from the keyframe chain
 
   SlamParams p_;
   StereoModel cam_;
   bool threaded_;
+  bool loop_threaded_ = false;  ///< loop closing on loop_thread_ (threaded_ and loop_closing_thread)
   StereoFeatureExtractor extractor_;
   KeyframePolicy policy_;
   std::unique_ptr<FastSlam> filter_;  ///< frame thread only
   Eigen::Isometry3d prev_metric_ = Eigen::Isometry3d::Identity();  ///< worker: metric pose of the last mapped keyframe
 
-  // ---- worker queue
+  // ---- worker queue and loop closer queue (both under qm_)
   mutable std::mutex qm_;
-  std::condition_variable qcv_, idle_cv_;
+  std::condition_variable qcv_, idle_cv_, loop_cv_;
   std::deque<Job> queue_;
   bool busy_ = false, stop_ = false;
   int dropped_ = 0;
   std::thread worker_;
+  std::deque<LoopJob> loop_queue_;  ///< unbounded: closures are confirmed by consecutive keyframes
+  bool loop_busy_ = false;
+  std::thread loop_thread_;
+  /// Held while the map's poses change or are read for a closure: the worker's mapping step
+  /// (insertion, associations, local BA) and the loop closer's detection and pose graph exclude
+  /// each other (feature extraction and the appearance model run beside either). Taken before mm_.
+  std::mutex map_update_m_;
 
-  // ---- map (written by the worker only; readers lock mm_)
+  // ---- map (written by the worker and the loop closer under map_update_m_; readers lock mm_)
   mutable std::mutex mm_;
   std::vector<KeyframePtr> kfs_;
   std::vector<Eigen::Isometry3d> kf_rel_;  ///< T_prev_cur per keyframe (BA-refined odometry), [0] = identity
@@ -187,14 +219,16 @@ private:
     LoopLink link{0, 0, Eigen::Isometry3d::Identity()};
     Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
   };
-  Pending pending_;  ///< a verified closure waiting for the next keyframe's confirmation
+  Pending pending_;  ///< a verified closure waiting for the next keyframe's confirmation (loop closer only)
   std::vector<LoopEvent> events_;
   Eigen::Isometry3d T_map_odom_ = Eigen::Isometry3d::Identity();
   SlamStats stats_;
   int64_t next_landmark_ = 0;
   CandidateSource candidates_;
   std::vector<Place> places_;  ///< guarded by mm_; tag order (the last is the default way back)
-  std::unique_ptr<AppearanceModel> appearance_;  ///< worker only
+  /// The loop closer's (it learns every mapped keyframe); before the first mapped keyframe of a
+  /// loaded map the worker's (relocalisation), while the loop closer has nothing to do.
+  std::unique_ptr<AppearanceModel> appearance_;
   // ---- after a load (worker only, except localised_ under mm_)
   bool localised_ = true;
   bool session_start_ = false;  ///< the next mapped keyframe is the first of this session

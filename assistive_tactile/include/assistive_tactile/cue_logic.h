@@ -43,6 +43,11 @@ struct NavInput
   /// Free distance along `steer_heading` (NaN or +inf: unknown / not limited).
   double free_steer = std::numeric_limits<double>::infinity();
   double waypoint_distance = 0.0;
+  /// A doorway or gap narrower than the planner's passage_width_m on the path ahead: metres along
+  /// the path to its middle (< 0 or NaN: none), the yaw from the wearer to its middle, its width.
+  double passage_distance = -1.0;
+  double passage_heading = 0.0;
+  double passage_width = 0.0;
   double free_ahead = 0.0;
   double free_left = 0.0;
   double free_right = 0.0;
@@ -145,6 +150,13 @@ private:
   /// A veer being carried out: true (and the held cue) until it was seen and steadied, overshot,
   /// or timed out; `superseding` when a corner asks for more at once.
   bool holdVeer(const NavInput& in, double now, double err, bool walking, Cue& out, bool& superseding);
+  /// A doorway or gap ahead (the planner's passage_*): walk straight through when the walk passes
+  /// its middle within the room, else stop and face the middle (closed loop on the head's yaw).
+  /// False: no passage near, ordinary steering.
+  bool passageCue(const NavInput& in, double now, bool walking, Cue& out);
+  /// A stop-and-turn buzz for `angle` (rad, + = left) from the wearer's facing now; `level`
+  /// (its strength, 1..3) from the angle when 0.
+  Cue startTurn(const NavInput& in, double now, double angle, const char* why, int level = 0);
   /// A new steering decision: walk on, a veer (walking) or a stop-and-turn.
   Cue askSteer(const NavInput& in, double now, double err, double ask, bool walking);
   /// A new pattern on the given motors (a new pattern id).
@@ -217,6 +229,7 @@ private:
   double turn_rate_est_ = M_PI / 2.0;
   double last_yaw_ = 0.0, last_yaw_time_ = -1e300;  ///< for the turn rate
   double yaw_rate_ = 0.0;       ///< rad/s, smoothed
+  double passage_go_ = -1e300;   ///< when a standing wearer facing a passage was told to go
   double last_state_time_ = -1e300;
   double last_source_time_ = std::numeric_limits<double>::quiet_NaN();
   bool have_state_ = false;

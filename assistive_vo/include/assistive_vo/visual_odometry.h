@@ -4,21 +4,17 @@
 #include <vector>
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
-#include "assistive_vo/bundle_adjustment.h"
 #include "assistive_vo/disparity_offset.h"
-#include "assistive_vo/feature_detector.h"
+#include "assistive_vo/feature_tracker.h"
+#include "assistive_vo/frame_stats.h"
 #include "assistive_vo/gravity_alignment.h"
 #include "assistive_vo/gyro_bias_estimator.h"
 #include "assistive_vo/inertial_coasting.h"
-#include "assistive_vo/line_detector.h"
-#include "assistive_vo/line_tracking.h"
-#include "assistive_vo/p3p_ransac.h"
+#include "assistive_vo/keyframe_manager.h"
+#include "assistive_vo/motion_estimator.h"
+#include "assistive_vo/motion_refiner.h"
 #include "assistive_vo/params.h"
-#include "assistive_vo/patch_alignment.h"
 #include "assistive_vo/plausibility.h"
-#include "assistive_vo/pointline_ransac.h"
-#include "assistive_vo/pointline_refine.h"
-#include "assistive_vo/sparse_stereo.h"
 #include "assistive_vo/stereo_camera.h"
 
 namespace assistive_vo
@@ -31,28 +27,6 @@ enum class TrackingState
   REINITIALISING   ///< a new keyframe was started after a failure (pose chain kept)
 };
 const char* toString(TrackingState s);
-
-/// Per-frame timings (ms of CPU time of the calling thread) and counters.
-struct FrameStats
-{
-  double ms_total = 0, ms_pyramid = 0, ms_klt = 0, ms_epipolar = 0, ms_stereo = 0, ms_ransac = 0,
-         ms_ba = 0, ms_detect = 0, ms_lines = 0;
-  int tracks = 0, inliers = 0, ransac_trials = 0, new_features = 0, fast_threshold = 0;
-  // per-stage counts of this frame (diagnosis): corners detected, KLT tracks kept, tracks kept
-  // by the epipolar RANSAC (new_features = detected corners with stereo depth, inliers = P3P)
-  int detected = 0, klt_tracked = 0, epipolar_kept = 0;
-  int aligned = 0;  ///< tracks refined against their keyframe patch
-  // motion_solver pointline: stereo line segments tracked since the keyframe with a stereo
-  // match in this frame, and the RANSAC's line inliers among them
-  int lines = 0, line_inliers = 0;
-  bool keyframe = false, reset = false;
-  // fail-safe detector inputs of this frame (-1: not measured)
-  double image_change = -1;     ///< mean absolute difference to the previous left image (every 4th pixel)
-  double gyro_rate_dps = -1;    ///< bias-corrected gyro rate over the frame interval
-  double gyro_disagreement_deg = -1;  ///< vision-only frame-to-frame rotation against the gyro's
-  double stereo_error_px = -1;  ///< median |disparity - disparity predicted by the pose| of the inliers
-  double stereo_matched_ratio = -1;  ///< inliers with a stereo match in this frame
-};
 
 struct VoOutput
 {
@@ -81,9 +55,13 @@ struct VoOutput
 /// Motion is always estimated against the keyframe (the frame the tracks were (re)started in), so
 /// drift only accumulates at keyframe changes. On failure the pose is predicted (gyro / constant
 /// velocity), a new keyframe is started and the pose chain continues.
-/// process() runs named parts (README "Overview"): keyframe tracking (trackFrame, matchStereo,
-/// startKeyframe), motion estimation (filterEpipolar, estimatePose, refinePose), plausibility
-/// (checkPlausibility, PlausibilityMonitor), gyro bias (GyroBiasEstimator), gravity, overlay.
+/// A coordinator (issue 32): process() runs the parts in order (README "Overview"), each a class
+/// of its own: tracking (FeatureTracker: KLT, epipolar RANSAC, stereo, line tracks), keyframes
+/// (KeyframeManager: selection and the keyframe's store), pose estimation (MotionEstimator: P3P or
+/// point+line RANSAC), refinement (MotionRefiner: two-frame bundle adjustment, point+line
+/// refinement), plausibility (checkPlausibility, PlausibilityMonitor), gyro bias
+/// (GyroBiasEstimator), gravity (GravityAligner), coasting (InertialCoaster) and the trust of
+/// the output, which stay here.
 class VisualOdometry
 {
 public:
@@ -118,7 +96,7 @@ public:
   /// Inertial coasting (velocity, accelerometer error fitted, coasting time).
   const InertialCoaster& coaster() const { return coast_; }
   /// The stereo disparity offset estimated so far (px, added to every disparity).
-  double disparityOffset() const { return stereo_.offset(); }
+  double disparityOffset() const { return tracker_.stereo().offset(); }
 
   /// Flow vectors of the last frame over the left image (BGR): green = inlier, red = rejected.
   cv::Mat drawOverlay(const cv::Mat& left) const;
@@ -132,16 +110,6 @@ public:
   const GravityAligner& gravity() const { return gravity_; }
 
 private:
-  struct Track
-  {
-    Eigen::Vector3d X_kf;       ///< 3D point in the keyframe's optical frame
-    StereoObservation kf_obs;   ///< its stereo observation in the keyframe
-    cv::Point2f prev, cur;
-    float cur_disp = -1.f;
-    bool inlier = true;
-    std::shared_ptr<const KeyframePatch> patch;  ///< keyframe appearance (null: KLT only)
-    Eigen::Matrix2f warp = Eigen::Matrix2f::Identity();  ///< keyframe patch axes in the current image
-  };
   /// What one frame knows before it is tracked: its timing, the gyro and the predicted motion,
   /// and the fail-safe verdicts so far.
   struct FrameContext
@@ -173,21 +141,6 @@ private:
   double brightness_ref_ = 0.0;  ///< the mean every image is scaled to (set by the first image)
   /// Sets the coaster's gyro noise and bias error (before a coast starts).
   void setCoastGyro();
-  /// Motion of the current frame against the keyframe (P3P RANSAC, then the bundle adjustment).
-  struct MotionEstimate
-  {
-    RansacResult rr;
-    BundleAdjustmentResult br;
-    Vec3List X_in;  ///< the inliers' keyframe points, refined by the bundle adjustment
-    Eigen::Matrix3d R_vision = Eigen::Matrix3d::Identity();  ///< vision-only rotation keyframe -> current
-    Eigen::Matrix<double, 6, 6> cov_vision = Eigen::Matrix<double, 6, 6>::Identity();
-    Eigen::Isometry3d T_kf_cur = Eigen::Isometry3d::Identity();
-    Eigen::Isometry3d T_prev_cur = Eigen::Isometry3d::Identity();
-    double dt_kf = 0.0;  ///< time since the keyframe
-    bool with_lines = false;  ///< from the point+line RANSAC (refined on points and lines)
-    bool lines_only = false;  ///< refined on the lines (and the motion prior) alone: too few points to check
-  };
-
   // ---- frame set-up (process() in order) ----
   /// Camera and image checks; false: `o` is the frame's (untrusted) output.
   bool checkInput(const cv::Mat& left, const cv::Mat& right, FrameStats& st, FrameContext& fc, VoOutput& o);
@@ -209,41 +162,11 @@ private:
   /// First frame, a frame after a failure, or a stream gap: a new keyframe here.
   VoOutput restartKeyframe(const cv::Mat& left, const cv::Mat& right, FrameContext& fc, FrameStats& st);
 
-  // ---- keyframe tracking ----
+  // ---- keyframe tracking, motion estimation (the parts' glue) ----
+  /// A new keyframe at the current pose (KeyframeManager::start).
   void startKeyframe(const cv::Mat& left, const cv::Mat& right, bool from_current_tracks, FrameStats& st);
-  /// KLT from the previous frame (initial guess from the predicted motion), then each track
-  /// refined against its keyframe patch.
-  void trackFrame(const cv::Mat& left, const Eigen::Isometry3d& T_pred, FrameStats& st);
-  /// Stereo disparity of the tracked points in the current pair.
-  void matchStereo(const cv::Mat& left, const cv::Mat& right, FrameStats& st);
-  /// Time for a new keyframe: too few tracks left, too little image covered, turned too far.
-  bool needKeyframe(const Eigen::Isometry3d& T_kf_cur) const;
-  /// Cells of the detector's bucketing grid (bucketGrid) that hold a track.
-  int occupiedCells() const;
-
-  // ---- motion estimation ----
-  /// RANSAC on the epipolar constraint keyframe -> current: drops tracks off the epipolar lines.
-  void filterEpipolar(FrameStats& st);
-  /// P3P RANSAC (LMedS) against the keyframe's 3D points; false: too few inliers.
-  bool estimatePose(const Eigen::Isometry3d& T_kf_pred, FrameStats& st, MotionEstimate& m);
-  /// motion_solver pointline: trifocal point+line RANSAC over the tracks with a stereo match now
-  /// and the stereo line tracks; tracks without one join the inliers by their left reprojection.
-  bool estimatePosePointLine(FrameStats& st, MotionEstimate& m);
-  /// The frame's motion against the keyframe: P3P, or the point+line RANSAC where few corners and
-  /// stereo line tracks are (with the IMU: the points first, the lines where they fail); false:
-  /// too few inliers.
-  bool estimateMotion(const Eigen::Isometry3d& T_kf_pred, const FrameContext& fc, FrameStats& st, MotionEstimate& m);
-  /// Stereo line segments of a new keyframe (left segments with a right match).
-  void startLines(const cv::Mat& left, const cv::Mat& right);
-  /// The points' KLT pyramids (klt_window, klt_levels) serve the line tracks too.
-  bool pointPyramidsServeLines() const;
-  /// prev_right_ = right (this frame's; a pyramid built of it this frame stays valid).
-  void setPrevRight(const cv::Mat& right);
-  /// Line tracks: KLT along the segments from the previous left and right images.
-  void trackLines(const cv::Mat& right, FrameStats& st);
-  /// Two-frame bundle adjustment over the inliers, then again with the integrated gyro as a
-  /// rotation prior.
-  void refinePose(const FrameContext& fc, FrameStats& st, MotionEstimate& m);
+  /// The gyro since the keyframe joins it; the motion refined with it as a prior (MotionRefiner).
+  void refinePose(const FrameContext& fc, const Eigen::Isometry3d& T_kf_pred, FrameStats& st, MotionEstimate& m);
   /// Accepts the estimate: inliers kept (points refined), pose and covariance updated.
   void accept(const MotionEstimate& m, FrameStats& st);
 
@@ -275,47 +198,16 @@ private:
   /// Keeps the odom frame level (about the current position: no jump).
   void levelWithGravity(double stamp, const Eigen::Vector3d* dv_link);
 
-  // ---- line tracks (motion_solver pointline) ----
-  struct LineTrack
-  {
-    LineSegment kf_left, kf_right;  ///< in the keyframe
-    LineSegment cur, cur_right;     ///< in the current frame (cur_right valid when `stereo`)
-    bool stereo = false;
-  };
-  bool pointline_ = false;  ///< motion_solver is pointline
-  static constexpr int kLineDetectFrames = 5;      ///< tracked frames between two line detections at most
-  int frames_since_line_detect_ = 0;
-  LineDetector line_detector_;
-  LineMatchParams line_match_;
-  PointLineRansac pl_ransac_;
-  std::vector<LineTrack> lines_;
-  cv::Mat prev_right_;  ///< the previous right image (line tracks)
-  std::vector<cv::Mat> prev_right_pyr_;  ///< its KLT pyramid when built (frame_index_ of both below)
-  unsigned long frame_index_ = 0, prev_right_frame_ = 0, prev_right_pyr_frame_ = ~0ul;
-  int lines_started_ = 0;
-
-  // ---- overlay ----
-  void clearOverlay();
-  void addOverlay(const Track& t, bool inlier);
-
-  /// Stereo search range: disparity of the nearest useful depth (fx * baseline / min_depth_m),
-  /// capped by max_disparity_px.
-  double maxDisparity() const
-  {
-    return std::min<double>(p_.max_disparity_px, cam_.fx * cam_.baseline / p_.min_depth_m);
-  }
-
   VoParams p_;
   StereoCamera cam_;
-  FeatureDetector detector_;
-  SparseStereo stereo_;
-  P3PRansac ransac_;
-  TwoFrameBundleAdjuster ba_;
+  FeatureTracker tracker_;
+  KeyframeManager keyframes_;
+  MotionEstimator estimator_;
+  MotionRefiner refiner_;
   PlausibilityMonitor checks_;
   GyroBiasEstimator bias_;
 
   bool have_pose_ = false;       ///< T_w_cur_ is meaningful
-  bool have_keyframe_ = false;   ///< tracks_ and prev_pyr_ are meaningful
   Eigen::Isometry3d T_odom_o0_ = Eigen::Isometry3d::Identity();  ///< first optical frame in odom
   Eigen::Vector3d up_link_ = Eigen::Vector3d::UnitZ();
   bool have_up_ = false;
@@ -323,28 +215,14 @@ private:
   bool have_up_hint_ = false, hints_seen_ = false;
   bool level_pending_ = false;  ///< tilt unknown since an uncovered gap at level_pending_since_
   double level_pending_since_ = 0.0;
-  Eigen::Isometry3d T_w_kf_ = Eigen::Isometry3d::Identity();     ///< w = first optical frame
-  Eigen::Isometry3d T_w_cur_ = Eigen::Isometry3d::Identity();
-  Eigen::Isometry3d T_kf_prev_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_w_cur_ = Eigen::Isometry3d::Identity();  ///< w = first optical frame
   Eigen::Isometry3d last_T_prev_cur_ = Eigen::Isometry3d::Identity();
   double last_dt_ = 0.0;
-  Eigen::Matrix<double, 6, 6> cov_kf_ = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 6, 6> cov_cur_ = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 6, 6> cov_rel_ = Eigen::Matrix<double, 6, 6>::Identity();
   double last_stamp_ = 0.0;
-  std::vector<cv::Mat> prev_pyr_, cur_pyr_;
-  std::vector<Track> tracks_;
-  int tracks_started_ = 0;
-  int cells_started_ = 0;  ///< grid cells holding a track when the keyframe started
   int resets_ = 0;
-  // last frame's flow for the overlay
-  std::vector<cv::Point2f> ov_from_, ov_to_;
-  std::vector<uint8_t> ov_inlier_;
   TrackingState last_state_ = TrackingState::INITIALISING;
-  // gyro since the keyframe (bias-corrected, optical axes)
-  Eigen::Matrix3d R_kf_gyro_ = Eigen::Matrix3d::Identity();
-  bool gyro_since_kf_ = false;
-  double t_kf_ = 0.0;
   double last_stamp_pending_ = 0.0;
   GravityAligner gravity_;
   InertialCoaster coast_;
@@ -363,6 +241,5 @@ private:
   Eigen::Matrix<double, 6, 6> trusted_cov_ = Eigen::Matrix<double, 6, 6>::Zero();
   bool have_trusted_ = false;
   cv::Mat prev_thumb_;                ///< left image of the previous frame, every 4th pixel
-  Eigen::Matrix3d R_kf_prev_vision_ = Eigen::Matrix3d::Identity();  ///< vision-only, keyframe -> previous
 };
 }  // namespace assistive_vo

@@ -14,14 +14,6 @@
 
 namespace assistive_eval
 {
-// The ground-truth occupancy codes (assistive_common/codes.h) are nav_msgs/OccupancyGrid values: int8 cells, -1
-// unknown, occupancy 0..100 with the step code in between.
-static_assert(std::is_same<nav_msgs::OccupancyGrid::_data_type::value_type, int8_t>::value,
-              "nav_msgs/OccupancyGrid cells are int8");
-static_assert(CELL_UNKNOWN == -1, "nav_msgs/OccupancyGrid: -1 is unknown");
-static_assert(CELL_FREE == 0 && CELL_OBSTACLE == 100, "nav_msgs/OccupancyGrid: occupancy 0 (free) .. 100 (occupied)");
-static_assert(CELL_FREE < CELL_STEP && CELL_STEP < CELL_OBSTACLE, "the step code lies between free and obstacle");
-
 namespace
 {
 std_msgs::Header header(const std::string& frame, const ros::Time& stamp)
@@ -89,28 +81,6 @@ StereoCalib fromCameraInfos(const sensor_msgs::CameraInfo& l, const sensor_msgs:
   c.cy = has_p ? l.P[6] : l.K[5];
   if (r && r->P[0] > 0.0) c.baseline = -r->P[3] / r->P[0];
   return c;
-}
-
-nav_msgs::OccupancyGrid toMsg(const OccupancyGrid& g, const std::string& frame, const ros::Time& stamp)
-{
-  nav_msgs::OccupancyGrid m;
-  m.header = header(frame, stamp);
-  m.info.map_load_time = stamp;
-  m.info.resolution = static_cast<float>(g.resolution);
-  m.info.width = g.width;
-  m.info.height = g.height;
-  m.info.origin.position.x = g.origin_x;
-  m.info.origin.position.y = g.origin_y;
-  m.info.origin.orientation.w = 1.0;
-  m.data = g.data;
-  return m;
-}
-
-OccupancyGrid fromMsg(const nav_msgs::OccupancyGrid& m)
-{
-  const auto& i = m.info;
-  return OccupancyGrid{i.origin.position.x, i.origin.position.y, i.resolution, static_cast<int>(i.width),
-                       static_cast<int>(i.height), m.data};
 }
 
 sensor_msgs::Imu toMsg(const ImuSample& s, const std::string& frame)

@@ -489,7 +489,7 @@ int main(int argc, char** argv)
         else if (k == "levels") opt.fix_levels = int(x);
         else throw std::invalid_argument("--fix");
       }
-      else if (a == "--cue")  // analysis: name=value of a cue parameter (veer_step, veer_on, alert_reaction, turn_on)
+      else if (a == "--cue")  // analysis: name=value of a cue parameter (veer_step, veer_on, alert_reaction, turn_on, settle, passage, passage_align)
       {
         const auto [k, x] = keyValue(val());
         if (k == "veer_step") opt.cues.veer_step_deg = x;
@@ -497,6 +497,8 @@ int main(int argc, char** argv)
         else if (k == "alert_reaction") opt.cues.alert_reaction_s = x;
         else if (k == "turn_on") opt.cues.turn_on_deg = x;
         else if (k == "settle") opt.cues.settle_timeout_s = x;
+        else if (k == "passage") opt.cues.passage_align_m = x;  // 0: doorways steered as before (issue 33)
+        else if (k == "passage_align") opt.cues.passage_align_deg = x;
         else throw std::invalid_argument("--cue");
       }
       else if (a == "--unsure-at") opt.unsure_at_s = std::stod(val());

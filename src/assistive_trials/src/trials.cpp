@@ -142,6 +142,10 @@ public:
     in.walking_speed = out.walking_speed;
     in.head_yaw = out.head_yaw;
     in.free_steer = out.free_steer;
+    const bool passage = out.status == assistive_planner::PlanStatus::OK && out.passage_distance >= 0.0;
+    in.passage_distance = passage ? out.passage_distance : -1.0;  // as the state message carries it
+    in.passage_heading = passage ? out.passage_heading : 0.0;
+    in.passage_width = passage ? out.passage_width : 0.0;
     in.crossing = out.crossing.advice;
     in.crossing_id = out.crossing.id;
     in.crossing_time = out.crossing.time;

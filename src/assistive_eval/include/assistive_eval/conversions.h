@@ -8,6 +8,7 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/Range.h>
 
+#include <assistive_common/code_grid_msg.h>
 #include <assistive_eval/types.h>
 
 namespace assistive_eval
@@ -23,8 +24,10 @@ sensor_msgs::CameraInfo toCameraInfo(const StereoCalib& calib, bool right, const
 /// Stereo calibration from the left (and right, for the baseline; may be null) camera infos.
 StereoCalib fromCameraInfos(const sensor_msgs::CameraInfo& left, const sensor_msgs::CameraInfo* right);
 
-nav_msgs::OccupancyGrid toMsg(const OccupancyGrid& grid, const std::string& frame, const ros::Time& stamp);
-OccupancyGrid fromMsg(const nav_msgs::OccupancyGrid& msg);
+/// Ground-truth occupancy <-> nav_msgs/OccupancyGrid: the one conversion of the shared grid
+/// (code_grid_msg.h): toMsg(grid, frame, stamp), fromMsg(msg).
+using assistive_common::fromMsg;
+using assistive_common::toMsg;
 
 sensor_msgs::Imu toMsg(const ImuSample& sample, const std::string& frame);
 ImuSample fromMsg(const sensor_msgs::Imu& msg);
