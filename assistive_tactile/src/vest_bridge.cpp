@@ -165,6 +165,16 @@ void VestBridge::tryOpen(double now)
   send(now);  // tell the vest the current state right away
 }
 
+bool VestBridge::linkLost(const std::string& err, double now)
+{
+  // the port is closed and reopened after reopen_s; the vest's own watchdog stops the motors
+  stats_.open = false;
+  stats_.losses++;
+  stats_.last_error = err;
+  next_open_time_ = now + params_.reopen_s;
+  return false;
+}
+
 bool VestBridge::send(double now)
 {
   if (!port_.isOpen())
@@ -175,13 +185,7 @@ bool VestBridge::send(double now)
   {
     const ssize_t n = port_.write(pending_.data(), pending_.size(), &err);
     if (n < 0)
-    {
-      stats_.open = false;
-      stats_.losses++;
-      stats_.last_error = err;
-      next_open_time_ = now + params_.reopen_s;
-      return false;
-    }
+      return linkLost(err, now);
     stats_.bytes_written += static_cast<uint64_t>(n);
     pending_.erase(pending_.begin(), pending_.begin() + n);
     if (!pending_.empty())
@@ -222,13 +226,7 @@ bool VestBridge::send(double now)
   vest_encode(&p, buf);  // always our version: an old vest drives nothing on it (refused)
   const ssize_t n = port_.write(buf, sizeof(buf), &err);
   if (n < 0)
-  {
-    stats_.open = false;
-    stats_.losses++;
-    stats_.last_error = err;
-    next_open_time_ = now + params_.reopen_s;
-    return false;
-  }
+    return linkLost(err, now);
   stats_.bytes_written += static_cast<uint64_t>(n);
   if (n == 0)
   {
@@ -436,10 +434,7 @@ void VestBridge::spinOnce(double now)
   std::string err;
   if (!port_.checkAlive(&err))
   {
-    stats_.open = false;
-    stats_.losses++;
-    stats_.last_error = err;
-    next_open_time_ = now + params_.reopen_s;
+    linkLost(err, now);
     return;
   }
   const uint64_t before = stats_.status_packets;

@@ -227,6 +227,7 @@ private:
   void onRange(const vest_range_t& r, double now);
   void onButtons(const vest_buttons_t& b, double now);
   bool send(double now);
+  bool linkLost(const std::string& err, double now);  ///< counts a lost link, schedules the reopen; false
   void tryOpen(double now);
   void readReplies(double now);
   void closePort();
