@@ -161,9 +161,3 @@ TEST(Conversions, CrossingAndMovers)
   EXPECT_DOUBLE_EQ(t[0].P(0, 2), 0.003);  // row-major
   EXPECT_DOUBLE_EQ(t[0].P(2, 0), 0.0);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

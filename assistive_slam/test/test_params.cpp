@@ -12,9 +12,3 @@ TEST(Params, ReadmeAndYamlMatchTheTable)
                                                              assistive_slam::SlamParams(), assistive_slam::SlamNodeParams()))
     ADD_FAILURE() << e;
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

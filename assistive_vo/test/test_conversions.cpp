@@ -89,9 +89,3 @@ TEST(Conversions, UntrustedOdometryHasNullCovarianceAndNoTwist)
     }
   EXPECT_EQ(kUntrustedVariance, 9999.0);  // the chain's contract (README "Topics")
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -840,9 +840,3 @@ TEST(PointLine, AMotionOffTheGyroIsRejected)
   EXPECT_GT(off, 0);
   EXPECT_EQ(lines, 0);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -111,9 +111,3 @@ TEST(VoRealData, KittiClipTracksEveryFrameWithLowDrift)
             << rep.ate.rmse << " m\n";
   EXPECT_LE(rep.drift.drift_pct, KITTI_DRIFT_LIMIT_PCT);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -30,9 +30,3 @@ TEST(Conversions, UncalibratedInfoIsNotCalibrated)
   sensor_msgs::CameraInfo m;  // what camera_info_manager gives without a calibration file
   EXPECT_FALSE(fromMsg(m).isCalibrated());
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -154,9 +154,3 @@ TEST(Rectifier, RejectsBadCalibrationsAndSizes)
   EXPECT_TRUE(r.rectify(cv::Mat(240, 320, CV_8UC1, cv::Scalar(7)), rect));
   EXPECT_EQ(rect.at<uchar>(120, 160), 7);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -77,9 +77,3 @@ TEST(SideBySide, MonoConversion)
   EXPECT_FALSE(toMono8(cv::Mat(2, 2, CV_16UC1), out, &err));
   EXPECT_FALSE(err.empty());
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

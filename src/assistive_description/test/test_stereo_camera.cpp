@@ -221,9 +221,3 @@ TEST(V4l2FrameSource, NonCameraDeviceFailsWithAClearMessage)
   EXPECT_FALSE(src.isOpen());
   EXPECT_NE(src.lastError().find("cannot be opened"), std::string::npos) << src.lastError();
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

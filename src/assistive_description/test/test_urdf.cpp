@@ -185,9 +185,3 @@ TEST(Urdf, GeneratorRejectsBadValues)
   run("python3 '" + PKG + "/scripts/make_urdf.py' --eye-height 0.2 2>/dev/null", status);
   EXPECT_NE(status, 0);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

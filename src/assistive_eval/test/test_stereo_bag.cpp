@@ -316,9 +316,3 @@ TEST(Conversions, RoundTrip)
   EXPECT_EQ(m.data[7], 140);
   EXPECT_THROW(toImageMsg(cv::Mat(2, 2, CV_32F), "l", ros::Time(1.0)), std::invalid_argument);
 }
-
-int main(int argc, char** argv)
-{
-  ::testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}
