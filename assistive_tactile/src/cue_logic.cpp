@@ -652,26 +652,35 @@ Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, b
   // angle by its length; its level only tells how far)
   const double gain = turn ? 1.0 : veer_gain_est_;
   const int level = std::max(1, std::min(3, int(std::lround(a_ask / (step * gain)))));
+  if (turn)
+    return startTurn(in, now, wrapAngle(in.steer_heading - in.head_yaw), "", level);
   const int side = ask > 0.0 ? +1 : -1;
-  const float k = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * 0.5 * (level - 1));
+  const auto drive = beginShoulderCue(in, now, side, level, side * level * step / kRadToDeg, false);
+  const char* dir = side > 0 ? "left" : "right";
+  char buf[160];
+  // veer while walking: two short pulses (0.15 s on, 0.15 s off)
+  std::snprintf(buf, sizeof(buf), "veer %s %.0f deg (level %d, %.0f deg off, %.0f expected; drift %.1f deg/m, gain %.2f, reaction %.2f s)",
+              dir, level * step, level, a, a_ask, drift_per_m_ * kRadToDeg, veer_gain_est_, reactionEstimate());
+  return startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now, buf);}
+
+std::array<float, NUM_MOTORS> CueLogic::beginShoulderCue(const NavInput& in, double now, int side, int level,
+                                                        double angle, bool turn)
+{
+  // one shoulder at the level's intensity; the veer or turn is then watched from here
+  const CueParams& p = params_;
   std::array<float, NUM_MOTORS> drive{ { 0.f, 0.f, 0.f, 0.f } };
-  drive[side > 0 ? LEFT_SHOULDER : RIGHT_SHOULDER] = k;
+  drive[side > 0 ? LEFT_SHOULDER : RIGHT_SHOULDER] =
+      static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * 0.5 * (level - 1));
   busy_ = true;
   veer_seen_ = false;
   busy_walked0_ = walked_m_;
   busy_since_ = now;
   busy_yaw0_ = in.walk_heading;
   busy_head0_ = in.head_yaw;
-  busy_angle_ = side * level * step / kRadToDeg;
+  busy_angle_ = angle;
   busy_turn_ = turn;
-  const char* dir = side > 0 ? "left" : "right";
-  char buf[160];
-  if (turn)
-    return startTurn(in, now, wrapAngle(in.steer_heading - in.head_yaw), "", level);
-  // veer while walking: two short pulses (0.15 s on, 0.15 s off)
-  std::snprintf(buf, sizeof(buf), "veer %s %.0f deg (level %d, %.0f deg off, %.0f expected; drift %.1f deg/m, gain %.2f, reaction %.2f s)",
-              dir, level * step, level, a, a_ask, drift_per_m_ * kRadToDeg, veer_gain_est_, reactionEstimate());
-  return startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now, buf);}
+  return drive;
+}
 
 Cue CueLogic::startTurn(const NavInput& in, double now, double angle, const char* why, int level)
 {
@@ -682,17 +691,7 @@ Cue CueLogic::startTurn(const NavInput& in, double now, double angle, const char
   const double a = std::fabs(angle) * kRadToDeg;
   if (level < 1)
     level = std::max(1, std::min(3, int(std::lround(a / p.turn_step_deg))));
-  const float k = static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * 0.5 * (level - 1));
-  std::array<float, NUM_MOTORS> drive{ { 0.f, 0.f, 0.f, 0.f } };
-  drive[side > 0 ? LEFT_SHOULDER : RIGHT_SHOULDER] = k;
-  busy_ = true;
-  veer_seen_ = false;
-  busy_walked0_ = walked_m_;
-  busy_since_ = now;
-  busy_yaw0_ = in.walk_heading;
-  busy_head0_ = in.head_yaw;
-  busy_angle_ = angle;
-  busy_turn_ = true;
+  const auto drive = beginShoulderCue(in, now, side, level, angle, true);
   turn_peak_rate_ = 0.0;
   const double dur = std::min(2.5, std::fabs(angle) / turn_rate_est_ + kTellApartS);
   char buf[200];

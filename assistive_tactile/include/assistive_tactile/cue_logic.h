@@ -157,6 +157,8 @@ private:
   /// A stop-and-turn buzz for `angle` (rad, + = left) from the wearer's facing now; `level`
   /// (its strength, 1..3) from the angle when 0.
   Cue startTurn(const NavInput& in, double now, double angle, const char* why, int level = 0);
+  /// One shoulder motor at the level's intensity, and the state that watches the veer or turn asked.
+  std::array<float, NUM_MOTORS> beginShoulderCue(const NavInput& in, double now, int side, int level, double angle, bool turn);
   /// A new steering decision: walk on, a veer (walking) or a stop-and-turn.
   Cue askSteer(const NavInput& in, double now, double err, double ask, bool walking);
   /// A new pattern on the given motors (a new pattern id).
