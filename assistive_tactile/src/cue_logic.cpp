@@ -750,27 +750,6 @@ bool CueLogic::passageCue(const NavInput& in, double now, bool walking, Cue& out
     return false;
   const double v = std::max(0.0, in.walking_speed);
   char why[160];
-  // A doorway into a hall (the far side close beyond the middle): a walker going through must stop
-  // in the doorway and turn there; walking on until the ordinary cues come, it meets the far wall
-  // (a reaction of up to 1.2 s, still accelerating after a "go"). Stopped in time, straight: a turn
-  // buzz while walking curves the walk into a jamb.
-  if (walking && p.passage_exit_m > 0.0 && std::isfinite(in.free_ahead) && in.free_ahead - d < p.passage_exit_m)
-  {
-    const double td = reactionEstimate() + 0.15;  // the stop is felt a reaction after it began
-    const double a = now - passage_go_ < 3.0 || now - last_tick_ < 3.0 ? p.start_accel : 0.0;
-    const double v_end = std::min(v + a * td, 1.5);
-    const double travel = 0.5 * (v + v_end) * td + v_end * v_end / (2.0 * p.stop_decel);
-    if (travel >= d + p.passage_exit_past_m || (current_.instruction == Instruction::STOP && passage_stop_))
-    {
-      std::snprintf(why, sizeof(why), "passage %.2f m ahead, %.2f m free beyond it: stop in it (%.2f m to a stop)", d,
-                    in.free_ahead - d, travel);
-      busy_ = false;
-      out = steady(CueMode::ALERT, Instruction::STOP, { { 1.f, 1.f, 1.f, 1.f } }, now, why);
-      passage_stop_ = true;
-      return true;
-    }
-  }
-  passage_stop_ = false;
   if (d < p.passage_inside_m)
     return false;  // in it: ordinary steering (a turn just beyond it must come at once)
   const double room = std::max(0.02, 0.5 * in.passage_width - p.passage_body_m);

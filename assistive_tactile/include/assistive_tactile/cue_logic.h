@@ -245,7 +245,6 @@ private:
   /// towards the walk chord while walking and towards the head's mean while standing.
   double body_yaw_ = 0.0;
   bool have_body_yaw_ = false;
-  bool passage_stop_ = false;
   double go_at_ = -1e300;          ///< when a standing wearer was last told to go
   double go_handled_ = -1e300;     ///< the go whose short walk was judged
   double short_stop_at_ = -1.0;    ///< a timed stop after that go is due then (< 0: none)  ///< a walker is being stopped in a doorway into a hall

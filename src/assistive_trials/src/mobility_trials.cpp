@@ -525,7 +525,7 @@ int main(int argc, char** argv)
         else if (k == "levels") opt.fix_levels = int(x);
         else throw std::invalid_argument("--fix");
       }
-      else if (a == "--cue")  // analysis: name=value of a cue parameter (veer_step, veer_on, alert_reaction, turn_on, settle, passage, passage_align, passage_exit, passage_exit_past, body_stand_tau)
+      else if (a == "--cue")  // analysis: name=value of a cue parameter (veer_step, veer_on, alert_reaction, turn_on, settle, passage, passage_align, body_stand_tau, short_walk)
       {
         const auto [k, x] = keyValue(val());
         if (k == "veer_step") opt.cues.veer_step_deg = x;
@@ -535,10 +535,8 @@ int main(int argc, char** argv)
         else if (k == "settle") opt.cues.settle_timeout_s = x;
         else if (k == "passage") opt.cues.passage_align_m = x;  // 0: doorways steered as before (issue 33)
         else if (k == "passage_align") opt.cues.passage_align_deg = x;
-        else if (k == "passage_exit") opt.cues.passage_exit_m = x;  // 0: no stop in a doorway into a hall
-        else if (k == "passage_exit_past") opt.cues.passage_exit_past_m = x;
-        else if (k == "body_stand_tau") opt.cues.body_stand_tau_s = x;
-        else if (k == "short_walk") opt.cues.short_walk_m = x;  // 0: no timed stop after a go  // 0: standing, the head's yaw is the facing (before)
+        else if (k == "body_stand_tau") opt.cues.body_stand_tau_s = x;  // 0: standing, the head's yaw is the facing (before)
+        else if (k == "short_walk") opt.cues.short_walk_m = x;  // 0: no timed stop after a go
         else throw std::invalid_argument("--cue");
       }
       else if (a == "--unsure-at") opt.unsure_at_s = std::stod(val());
