@@ -502,6 +502,8 @@ Cue CueLogic::walkOn(std::string reason, double now, bool standing)
     Cue c = startPattern(CueMode::IDLE, Instruction::WALK_ON, 0, { { k, k, 0.f, 0.f } }, 10, 0, 1, now, std::move(reason));
     if (first_go)
       start_tick_ = now;  // the first "go" to a standing wearer: its start times its reaction
+    if (standing && now - go_at_ > 2.5)
+      go_at_ = now;  // (not the repeated ticks while it starts: it may have started on the first)  // a "go" to a standing wearer: how far it may walk is judged in decideGuidance
     return c;
   }
   Cue c = holdPattern(std::move(reason));
@@ -521,6 +523,34 @@ void CueLogic::observeHead(const NavInput& in, double now)
   }
   if (now > last_yaw_time_ && now - last_yaw_time_ < 1.0 && std::isfinite(in.walking_speed))
     walked_m_ += std::max(0.0, in.walking_speed) * (now - last_yaw_time_);
+  // The body's yaw: the head's fast motion (a turn or veer: 40-90 deg/s) is the body's; its slow
+  // motion (the scan: at most a few deg/s) is not, and fades towards the walk chord while walking
+  // (within about `body_walk_tau_s`) and towards the head's mean while standing (`body_stand_tau_s`).
+  const bool walking = std::isfinite(in.walking_speed) && in.walking_speed >= params_.walking_speed_mps;
+  if (!have_body_yaw_ || !(now > last_yaw_time_ && now - last_yaw_time_ < 1.0))
+  {
+    body_yaw_ = walking && std::isfinite(in.walk_heading) ? in.walk_heading : in.head_yaw;
+    have_body_yaw_ = true;
+  }
+  else
+  {
+    const double dt = now - last_yaw_time_;
+    const double dh = wrapAngle(in.head_yaw - last_yaw_);
+    if (std::fabs(dh) / dt * kRadToDeg > params_.body_turn_rate_deg)
+    {
+      body_yaw_ = wrapAngle(body_yaw_ + dh);
+      body_turned_at_ = now;
+    }
+    // (the walk chord, 0.4 s of positions, lags a turn: it says nothing while a turn is under
+    // way or just ended, nor while the walk slows to a stop)
+    const bool chord_ok = walking && std::isfinite(in.walk_heading) && now - body_turned_at_ > 0.6;
+    if (chord_ok || !walking)
+    {
+      const double ref = walking ? in.walk_heading : in.head_yaw;
+      const double tau = walking ? params_.body_walk_tau_s : params_.body_stand_tau_s;
+      body_yaw_ = wrapAngle(body_yaw_ + std::min(1.0, dt / std::max(1e-3, tau)) * wrapAngle(ref - body_yaw_));
+    }
+  }
   last_yaw_ = in.head_yaw;
   last_yaw_time_ = now;
   if (std::fabs(yaw_rate_) * kRadToDeg >= 10.0)
@@ -528,6 +558,13 @@ void CueLogic::observeHead(const NavInput& in, double now)
   else if (steady_since_ < -1e299)
     steady_since_ = now;
   observeDrift(in, now, in.walking_speed >= params_.walking_speed_mps);
+}
+
+double CueLogic::facing(const NavInput& in) const
+{
+  if (std::isfinite(in.walking_speed) && in.walking_speed >= params_.walking_speed_mps)
+    return in.walk_heading;
+  return have_body_yaw_ && params_.body_stand_tau_s > 0.0 ? body_yaw_ : in.head_yaw;
 }
 
 bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
@@ -653,7 +690,7 @@ Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, b
   const double gain = turn ? 1.0 : veer_gain_est_;
   const int level = std::max(1, std::min(3, int(std::lround(a_ask / (step * gain)))));
   if (turn)
-    return startTurn(in, now, wrapAngle(in.steer_heading - in.head_yaw), "", level);
+    return startTurn(in, now, wrapAngle(in.steer_heading - facing(in)), "", level);
   const int side = ask > 0.0 ? +1 : -1;
   const auto drive = beginShoulderCue(in, now, side, level, side * level * step / kRadToDeg, false);
   const char* dir = side > 0 ? "left" : "right";
@@ -720,7 +757,7 @@ bool CueLogic::passageCue(const NavInput& in, double now, bool walking, Cue& out
   {
     if (d > p.passage_stand_m)
       return false;
-    const double err = wrapAngle(in.passage_heading - in.head_yaw);
+    const double err = wrapAngle(in.passage_heading - facing(in));
     // told to go: it starts its reaction time later (the head's scanning meanwhile is no new error)
     if (now - passage_go_ < reactionEstimate() + 1.0)
     {
@@ -761,10 +798,55 @@ bool CueLogic::passageCue(const NavInput& in, double now, bool walking, Cue& out
   return true;
 }
 
+bool CueLogic::shortWalk(const NavInput& in, double now, Cue& out)
+{
+  // A standing wearer told to go with little free floor ahead (a wall a metre or two on, a
+  // doorway into a hall): it starts a reaction time (0.3-1.2 s) after the tick and speeds up; a
+  // stop asked once it is seen walking lands another reaction time later, 1.5 m on for the
+  // slowest. A stop asked S after the go lands after S of walking whatever the reaction (the
+  // wearer starts and stops a reaction late): S is chosen so that the walk and the stop end
+  // short of the obstacle.
+  const CueParams& p = params_;
+  if (!(p.short_walk_m > 0.0))
+    return false;
+  const bool walking = in.walking_speed >= p.walking_speed_mps;
+  if (go_at_ > go_handled_)
+  {
+    go_handled_ = go_at_;  // (the go of the last cycle: judged on this cycle's free floor)
+    short_stop_at_ = -1.0;
+    const double room = in.free_ahead - p.alert_m;
+    if (std::isfinite(in.free_ahead) && in.free_ahead < p.short_walk_m)
+    {
+      // walked after accelerating for s: a s^2 / 2, then the stop (a s)^2 / (2 stop_decel)
+      const double a = p.start_accel;
+      const double k = 0.5 * a + a * a / (2.0 * p.stop_decel);
+      short_stop_at_ = go_at_ + 0.1 + std::sqrt(std::max(0.0, room) / k);  // (the tick is felt when it ends, 0.1 s)
+    }
+  }
+  if (short_stop_at_ < 0.0)
+    return false;
+  if (now < short_stop_at_)
+    return false;
+  if (!walking && now - short_stop_at_ > 0.5)
+  {
+    short_stop_at_ = -1.0;  // it stands: the next cue turns it or sends it on
+    return false;
+  }
+  busy_ = false;
+  out = steady(CueMode::ALERT, Instruction::STOP, { { 1.f, 1.f, 1.f, 1.f } }, now,
+               fmt("a short walk: stop (%.2f m free when it went)", in.free_ahead));
+  return true;
+}
+
 Cue CueLogic::decideGuidance(const NavInput& in, double now)
 {
   const CueParams& p = params_;
   observeHead(in, now);
+  {
+    Cue stop;
+    if (shortWalk(in, now, stop))
+      return stop;
+  }
   const bool guiding = last_mode_ == CueMode::GUIDANCE;
   const double min_wp = p.guidance_min_waypoint_m - (guiding ? p.hysteresis_m : 0.0);
   if (in.waypoint_distance < min_wp)
@@ -774,7 +856,8 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
                 in.walking_speed < p.walking_speed_mps);
   }
   const bool walking = in.walking_speed >= p.walking_speed_mps;
-  const double err = wrapAngle(in.steer_heading - in.walk_heading);  // + = the steering point lies left
+  // + = the steering point lies left of the walk (standing: of the body, not the scanning head)
+  const double err = wrapAngle(in.steer_heading - (walking ? in.walk_heading : facing(in)));
   bool superseding = false;  // a veer under way is overtaken: ask beyond it
   Cue held;
   if (busy_ && busy_turn_ && holdTurn(in, now, held))

@@ -822,6 +822,88 @@ TEST(CueLogic, PassageStraightOnOrStopAndAlign)
   }
 }
 
+TEST(CueLogic, StandingFacingLeavesTheHeadScanOut)
+{
+  // A standing wearer whose body faces 0.3 rad, the steering point 10 deg to its left, 5 m free
+  // ahead and 2 m to either side (stand_turn_deg 15 applies); the head scans +-8 deg over 7 s
+  // (the simulated wearer's scan). Judged on the head, the error reaches 18 deg: a turn on the
+  // spot chases the scan. Judged on the body's facing (the scan filtered out), it stays near
+  // 10 deg: no turn, the tick says go.
+  auto head = [](double t) { return 0.3 + 8.0 * kDeg * std::sin(2.0 * M_PI * t / 7.0); };
+  auto run = [&](CueLogic& c, double t0, double t1, double body_turn_deg) {
+    int turns = 0;
+    for (double t = t0; t < t1; t += 1.0 / 15.0)
+    {
+      NavInput in = standing(turn(10.0));
+      in.head_yaw = in.walk_heading = head(t) + body_turn_deg * kDeg;  // (the planner: the head's yaw while standing)
+      turns += fresh(c, in, t).instruction == Instruction::TURN;
+    }
+    return turns;
+  };
+  CueLogic body;
+  EXPECT_EQ(run(body, 0.0, 20.0, 0.0), 0);
+  CueParams p;
+  p.body_stand_tau_s = 0.0;  // the head's yaw itself (before)
+  CueLogic head_only(p);
+  EXPECT_GT(run(head_only, 0.0, 20.0, 0.0), 0);
+
+  // The body turns 30 deg to the left on the spot (at 90 deg/s: the head turns with it): the
+  // steering point now lies 20 deg to its right, a turn right of 20 / 90 + 0.25 s = 0.47 s.
+  CueLogic c;
+  run(c, 0.0, 7.0, 0.0);  // the scan at its start again (sin = 0)
+  Cue k;
+  for (double t = 7.0, b = 0.0; t < 7.5 && k.instruction != Instruction::TURN; t += 1.0 / 15.0)
+  {
+    b = std::min(30.0, b + 90.0 / 15.0);
+    NavInput in = standing(turn(10.0));
+    in.head_yaw = in.walk_heading = head(t) + b * kDeg;
+    k = fresh(c, in, t);
+  }
+  ASSERT_EQ(k.instruction, Instruction::TURN);
+  EXPECT_GT(k.intensity[RIGHT_SHOULDER], 0.f);
+  EXPECT_NEAR(k.pattern.on_10ms, 47, 2);
+}
+
+TEST(CueLogic, ShortWalkStopTimedFromTheGo)
+{
+  // Standing, facing the steering point, 1.5 m free ahead: "go" at t = 0. The stop is asked
+  // S = 0.1 + sqrt((1.5 - alert_m) / (a / 2 + a^2 / (2 stop_decel))) after it, a = 1.2 m/s^2,
+  // stop_decel 2: 0.1 + sqrt(1 / 0.96) = 1.12062 s (the walk then ends alert_m short of the
+  // obstacle whatever the wearer's reaction: it starts and stops a reaction late).
+  auto at = [](double speed, double ahead) {
+    NavInput in = standing(turn(0.0));
+    in.walking_speed = speed;
+    in.free_ahead = ahead;
+    return in;
+  };
+  {
+    CueLogic c;
+    EXPECT_EQ(fresh(c, at(0.0, 1.5), 0.0).instruction, Instruction::WALK_ON);
+    Cue k;
+    double t = 1.0 / 15.0;
+    for (; t < 1.1206; t += 1.0 / 15.0)
+    {
+      k = fresh(c, at(t > 0.6 ? 0.3 : 0.0, 1.5), t);
+      EXPECT_NE(k.instruction, Instruction::STOP) << "t " << t;
+    }
+    k = fresh(c, at(0.3, 1.5), 1.1207);
+    EXPECT_EQ(k.mode, CueMode::ALERT);
+    EXPECT_EQ(k.instruction, Instruction::STOP);
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(k.intensity[size_t(i)], 1.f);
+    // held while it slows down, and for 0.5 s once it stands; then the tick again
+    EXPECT_EQ(fresh(c, at(0.1, 1.3), 1.4).instruction, Instruction::STOP);
+    EXPECT_EQ(fresh(c, at(0.0, 1.2), 1.6).instruction, Instruction::STOP);
+    EXPECT_EQ(fresh(c, at(0.0, 1.2), 1.7).instruction, Instruction::WALK_ON);
+  }
+  {
+    // 3 m free (over short_walk_m, 2.5): no timed stop
+    CueLogic c;
+    EXPECT_EQ(fresh(c, at(0.0, 3.0), 0.0).instruction, Instruction::WALK_ON);
+    for (double t = 1.0 / 15.0; t < 3.0; t += 1.0 / 15.0)
+      EXPECT_NE(fresh(c, at(t > 0.6 ? 0.5 : 0.0, 3.0), t).instruction, Instruction::STOP) << "t " << t;
+  }
+}
+
 TEST(CueLogic, WrapAngle)
 {
   const std::vector<std::pair<double, double>> table = { { 0, 0 },           { M_PI, M_PI },

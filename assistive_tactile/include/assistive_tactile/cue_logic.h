@@ -142,8 +142,13 @@ public:
 private:
   Cue decideProximity(const NavInput& in, bool have_path);
   Cue decideGuidance(const NavInput& in, double now);
-  /// The head's turn rate, the metres walked, how long the head has been steady, the drift.
+  /// The head's turn rate, the metres walked, how long the head has been steady, the drift, the
+  /// body's yaw.
   void observeHead(const NavInput& in, double now);
+  /// The body's facing: the walk chord while walking; standing, the head's yaw without its scan
+  /// (a head-mounted camera's only heading scans +-8 deg over a body that stands still: aligned on
+  /// the head, a turn on the spot chased the scan).
+  double facing(const NavInput& in) const;
   /// A stop-and-turn being carried out: true (and the held cue) while it lasts; its end learns
   /// the turning rate.
   bool holdTurn(const NavInput& in, double now, Cue& out);
@@ -159,6 +164,9 @@ private:
   Cue startTurn(const NavInput& in, double now, double angle, const char* why, int level = 0);
   /// One shoulder motor at the level's intensity, and the state that watches the veer or turn asked.
   std::array<float, NUM_MOTORS> beginShoulderCue(const NavInput& in, double now, int side, int level, double angle, bool turn);
+  /// A "go" to a standing wearer with little floor ahead: the stop timed from the go (true and
+  /// the stop cue while it is due).
+  bool shortWalk(const NavInput& in, double now, Cue& out);
   /// A new steering decision: walk on, a veer (walking) or a stop-and-turn.
   Cue askSteer(const NavInput& in, double now, double err, double ask, bool walking);
   /// A new pattern on the given motors (a new pattern id).
@@ -232,6 +240,15 @@ private:
   double last_yaw_ = 0.0, last_yaw_time_ = -1e300;  ///< for the turn rate
   double yaw_rate_ = 0.0;       ///< rad/s, smoothed
   double passage_go_ = -1e300;   ///< when a standing wearer facing a passage was told to go
+  /// The body's yaw (rad), estimated from the head (bodyYaw): the head's fast turns (a turn on the
+  /// spot, a veer) carried at once, its slow motion (the scan, +-8 deg over seconds) filtered out
+  /// towards the walk chord while walking and towards the head's mean while standing.
+  double body_yaw_ = 0.0;
+  bool have_body_yaw_ = false;
+  double go_at_ = -1e300;          ///< when a standing wearer was last told to go
+  double go_handled_ = -1e300;     ///< the go whose short walk was judged
+  double short_stop_at_ = -1.0;    ///< a timed stop after that go is due then (< 0: none)  ///< a walker is being stopped in a doorway into a hall
+  double body_turned_at_ = -1e300;  ///< the head last turned fast (a turn or veer of the body)
   double last_state_time_ = -1e300;
   double last_source_time_ = std::numeric_limits<double>::quiet_NaN();
   bool have_state_ = false;

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <thread>
 
@@ -46,6 +47,7 @@ void usage(std::ostream& os = std::cerr)
         "                       [--timeout-factor X] (a trial ends unfinished after X x the guide's time + 20 s; 4)\n"
         "                       [--wearer population|typical] [--slowest-decile] [--unsure-at S [--unsure-for S]]\n"
         "                       [--timelines PREFIX] (one cue timeline PNG per trial: PREFIX<k>.png)\n"
+        "                       [--causes] (a line per collision and per unfinished trial: what the wearer did, where)\n"
         "                       [--lead-from-reaction oracle] (analysis: steer_lead_s = the wearer's true\n"
         "                       reaction + 0.15 s, never to make the guidance look good)\n"
         "  --wearer: each trial's wearer drawn from the population (default; docs/wearer_population.md) or the\n"
@@ -187,6 +189,27 @@ void stopVision(VisionContext& vc)
 /// `label`: what the progress bar on stderr names. False when a vision trial could not run.
 /// --timelines PREFIX: one cue timeline per trial (PREFIX<world>_<k>.png); who the wearers were.
 std::string g_timelines, g_wearers = "population";
+/// --causes: one line per collision and per unfinished trial (what the wearer did, where, why).
+bool g_causes = false;
+
+/// The collisions by cause and the unfinished trials by cause, over a set of trials (truth mode
+/// knows where the doorways are; other modes count doorway collisions as elsewhere).
+void reportCauses(const std::vector<TrialResult>& res)
+{
+  std::array<int, size_t(CollisionCause::NUM_CAUSES)> c{};
+  std::map<std::string, int> ends;
+  for (const TrialResult& r : res)
+  {
+    for (const CollisionEvent& e : r.collision_events) ++c[size_t(e.cause)];
+    if (!r.end_cause.empty()) ++ends[r.end_cause];
+  }
+  std::printf("  collision causes    ");
+  for (size_t i = 0; i < c.size(); ++i) std::printf(" %s %d", collisionCauseName(CollisionCause(i)), c[i]);
+  std::printf("\n  unfinished trials   ");
+  if (ends.empty()) std::printf(" none");
+  for (const auto& e : ends) std::printf(" %s %d", e.first.c_str(), e.second);
+  std::printf("\n");
+}
 
 bool runWorld(const World& world, const std::string& world_arg, const TrialOptions& opt, int trials, long seed,
               VisionContext& vc, bool rows, const std::string& label, std::vector<TrialResult>& res)
@@ -237,6 +260,19 @@ bool runWorld(const World& world, const std::string& world_arg, const TrialOptio
                     k, r.wearer.walk_speed, r.wearer.reaction_s, r.wearer.turn_gain, r.wearer.intensity_levels,
                     r.completed ? "" : ", NOT completed");
       cv::imwrite(g_timelines + world.name + "_" + std::to_string(k) + ".png", timelinePlot(r, t));
+    }
+    if (g_causes)
+    {
+      static const char* actions[] = { "walk", "turn", "sidestep", "explore", "stopped", "veer" };
+      for (const CollisionEvent& e : r.collision_events)
+        std::printf("CAUSE %s trial %d t %.1f at %.2f %.2f %s: %s while %s, cue %d, %.2f m from a passage middle\n",
+                    world.name.c_str(), k, e.t, e.xy.x(), e.xy.y(), collisionCauseName(e.cause),
+                    assistive_sim::kindName(ObstacleKind(e.kind)), e.action >= 0 && e.action < 6 ? actions[e.action] : "?",
+                    e.instruction, e.door_m);
+      if (!r.end_cause.empty())
+        std::printf("UNFINISHED %s trial %d (reaction %.2f s, speed %.2f) at %.2f %.2f %s: %s\n", world.name.c_str(), k,
+                    r.wearer.reaction_s, r.wearer.walk_speed, r.path.back().x(), r.path.back().y(), r.end_cause.c_str(),
+                    r.end_detail.c_str());
     }
     if (rows)
     {
@@ -489,7 +525,7 @@ int main(int argc, char** argv)
         else if (k == "levels") opt.fix_levels = int(x);
         else throw std::invalid_argument("--fix");
       }
-      else if (a == "--cue")  // analysis: name=value of a cue parameter (veer_step, veer_on, alert_reaction, turn_on, settle, passage, passage_align)
+      else if (a == "--cue")  // analysis: name=value of a cue parameter (veer_step, veer_on, alert_reaction, turn_on, settle, passage, passage_align, body_stand_tau, short_walk)
       {
         const auto [k, x] = keyValue(val());
         if (k == "veer_step") opt.cues.veer_step_deg = x;
@@ -499,11 +535,14 @@ int main(int argc, char** argv)
         else if (k == "settle") opt.cues.settle_timeout_s = x;
         else if (k == "passage") opt.cues.passage_align_m = x;  // 0: doorways steered as before (issue 33)
         else if (k == "passage_align") opt.cues.passage_align_deg = x;
+        else if (k == "body_stand_tau") opt.cues.body_stand_tau_s = x;  // 0: standing, the head's yaw is the facing (before)
+        else if (k == "short_walk") opt.cues.short_walk_m = x;  // 0: no timed stop after a go
         else throw std::invalid_argument("--cue");
       }
       else if (a == "--unsure-at") opt.unsure_at_s = std::stod(val());
       else if (a == "--unsure-for") opt.unsure_for_s = std::stod(val());
       else if (a == "--timelines") g_timelines = val();
+      else if (a == "--causes") g_causes = true;
       else if (a == "-h" || a == "--help")
       {
         usage(std::cout);
@@ -582,6 +621,7 @@ int main(int argc, char** argv)
                                 world.name + ": " + label + ", " + std::to_string(trials) + " trials, " +
                                     num(S.coll / S.n, 2) + " collisions/trial");
     const bool wrote = cv::imwrite(plot, img);
+    reportCauses(res);
     reportWorld(world, mode, label, opt.cues_enabled, trials, seed, S, plot, wrote);
     return 0;
   }
@@ -731,6 +771,7 @@ int main(int argc, char** argv)
                 100 * A.modes[4] / cycles);
   std::printf("  wall time            %.1f s: generation %.1f s, trials %.1f s\n", wall_s, gen_total, trials_total);
   std::printf("  heat maps            %s_<world>.png\n", prefix.c_str());
+  reportCauses(all);
   std::printf("{\"world\": \"generated\", \"kind\": %s, \"worlds\": %d, \"worlds_failed\": %d, \"seed_base\": %ld, "
               "\"mode\": \"%s\", \"cues\": %s, \"trials\": %d, \"trials_per_world\": %d, "
               "\"collisions_per_trial\": %s, \"collisions_per_trial_worst\": %s, \"collisions_per_trial_worst_world\": %s, "

@@ -146,6 +146,14 @@ public:
     in.passage_distance = passage ? out.passage_distance : -1.0;  // as the state message carries it
     in.passage_heading = passage ? out.passage_heading : 0.0;
     in.passage_width = passage ? out.passage_width : 0.0;
+    if (passage)  // the doorways found, for the collision causes
+    {
+      const Eigen::Vector2d mid = s.xy + std::min(out.passage_distance, 3.0) *
+                                             Eigen::Vector2d(std::cos(out.passage_heading), std::sin(out.passage_heading));
+      bool known = false;
+      for (const Eigen::Vector2d& m : passages_) known = known || (m - mid).norm() < 0.3;
+      if (!known) passages_.push_back(mid);
+    }
     in.crossing = out.crossing.advice;
     in.crossing_id = out.crossing.id;
     in.crossing_time = out.crossing.time;
@@ -173,7 +181,14 @@ public:
     c.instruction = int(cue.instruction);
     c.level = cue.level;
     if (out.status == assistive_planner::PlanStatus::OK) c.steer_heading = out.steer_heading;
+    c.passage_routine = cue.reason.find("passage") != std::string::npos;
     return c;
+  }
+  double passageDistance(const Eigen::Vector2d& xy) const override
+  {
+    double d = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector2d& m : passages_) d = std::min(d, (m - xy).norm());
+    return d;
   }
 
 private:
@@ -211,8 +226,52 @@ private:
   assistive_planner::Planner planner_;
   assistive_tactile::CueLogic cues_;
   bool trace_ = false;
+  std::vector<Eigen::Vector2d> passages_;  ///< passage middles the planner found (world frame)
 };
 }  // namespace
+
+const char* collisionCauseName(CollisionCause c)
+{
+  static const char* names[] = { "door_walk", "door_turn", "turn_spot", "walk_wall", "walk_object", "sidestep", "explore", "people" };
+  const size_t i = size_t(c);
+  return i < sizeof(names) / sizeof(names[0]) ? names[i] : "?";
+}
+
+CollisionCause classifyCollision(int action, int kind, double door_m)
+{
+  if (kind == int(assistive_sim::ObstacleKind::PERSON)) return CollisionCause::PEOPLE;
+  const bool moving = action == VestWearer::WALK || action == VestWearer::VEER;
+  if (door_m < kDoorNearM) return moving ? CollisionCause::DOOR_WALK : CollisionCause::DOOR_TURN;
+  if (action == VestWearer::SIDESTEP) return CollisionCause::SIDESTEP;
+  if (action == VestWearer::EXPLORE) return CollisionCause::EXPLORE;
+  if (!moving) return CollisionCause::TURN_SPOT;
+  return kind == int(assistive_sim::ObstacleKind::FURNITURE) ? CollisionCause::WALK_OBJECT : CollisionCause::WALK_WALL;
+}
+
+void classifyEnd(TrialResult& r, double dt, double door_m)
+{
+  r.end_cause.clear();
+  r.end_detail.clear();
+  if (r.completed || r.path.empty()) return;
+  const size_t back = size_t(std::lround(20.0 / std::max(1e-6, dt)));
+  const Eigen::Vector2d from = r.path[r.path.size() > back ? r.path.size() - 1 - back : 0];
+  const double progress = (r.path.back() - from).norm();
+  std::array<int, 8> ins{};
+  int n = 0, passage = 0;
+  for (auto it = r.timeline.rbegin(); it != r.timeline.rend() && it->t >= r.time_s - 20.0; ++it, ++n)
+  {
+    ++ins[size_t(std::min(7, std::max(0, it->instruction)))];
+    passage += it->passage_routine;
+  }
+  r.end_cause = progress >= 2.0 ? "slow" : door_m < 1.5 ? "stuck_door" : "stuck";
+  static const char* names[] = { "none", "walk_on", "veer", "turn", "sidestep", "stop", "unsure", "?" };
+  const size_t top = size_t(std::max_element(ins.begin(), ins.end()) - ins.begin());
+  char buf[200];
+  std::snprintf(buf, sizeof(buf), "last 20 s: %.1f m progress, cue %s %.0f %% (turn %.0f %%), doorway routine %.0f %%, %.1f m from a passage middle",
+                progress, names[top], n ? 100.0 * ins[top] / n : 0.0, n ? 100.0 * ins[3] / n : 0.0, n ? 100.0 * passage / n : 0.0,
+                door_m);
+  r.end_detail = buf;
+}
 
 WearerParams trialWearer(const TrialOptions& opt, uint32_t seed)
 {
@@ -363,6 +422,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
         ts.mode = playing.mode;
         ts.instruction = playing.instruction;
         ts.level = playing.level;
+        ts.passage_routine = cue.passage_routine;
         ts.speed = s.speed;
         ts.heading_error_deg = std::isfinite(cue.steer_heading) ?
                                    std::atan2(std::sin(s.yaw - cue.steer_heading), std::cos(s.yaw - cue.steer_heading)) / DEG :
@@ -387,7 +447,23 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
           unsure_done = (s.speed <= 1e-6 && t > opt.unsure_at_s) || t >= opt.unsure_at_s + opt.unsure_for_s;
         }
       }
+      const int action_before = int(wearer.action()), before = body.totalCollisions();
+      const std::array<int, size_t(assistive_sim::ObstacleKind::NUM_KINDS)> kinds_before = body.collisions();
       wearer.step(t, opt.dt, m, &body);
+      if (body.totalCollisions() > before)
+        for (size_t k = 0; k < kinds_before.size(); ++k)
+          for (int j = kinds_before[k]; j < body.collisions()[k]; ++j)
+          {
+            CollisionEvent e;
+            e.t = t;
+            e.xy = wearer.state().xy;
+            e.kind = int(k);
+            e.action = action_before;
+            e.instruction = playing.instruction;
+            e.door_m = chain->passageDistance(e.xy);
+            e.cause = classifyCollision(e.action, e.kind, e.door_m);
+            r.collision_events.push_back(e);
+          }
       if (trace && (wearer.lastPercept() != last_percept || wearer.action() != last_action))
       {
         last_percept = wearer.lastPercept();
@@ -434,6 +510,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   r.collision_places = body.collisionPlaces();
   r.mean_clearance_m = steps ? clear_sum / double(steps) : 0.0;
   if (!steps) r.min_clearance_m = 0.0;
+  if (vest && !r.completed && !r.path.empty()) classifyEnd(r, opt.dt, chain->passageDistance(r.path.back()));
   return r;
 }
 

@@ -229,3 +229,56 @@ TEST(People, TrialCountsAHeadOnWalkerAsAPeopleCollision)
   EXPECT_LT(r.min_person_clearance_m, 0.0);
   for (int8_t c : computeOccupancy(w).data) EXPECT_NE(c, 100);
 }
+
+TEST(CollisionCause, TableOfWhatTheWearerDidAndWhere)
+{
+  using K = assistive_sim::ObstacleKind;
+  const double inf = std::numeric_limits<double>::infinity();
+  // at a doorway (within kDoorNearM of a passage middle): walking or veering vs anything else
+  EXPECT_EQ(classifyCollision(VestWearer::WALK, int(K::WALL), 0.3), CollisionCause::DOOR_WALK);
+  EXPECT_EQ(classifyCollision(VestWearer::VEER, int(K::FURNITURE), 0.99), CollisionCause::DOOR_WALK);
+  EXPECT_EQ(classifyCollision(VestWearer::TURN, int(K::WALL), 0.2), CollisionCause::DOOR_TURN);
+  EXPECT_EQ(classifyCollision(VestWearer::STOPPED, int(K::WALL), 0.2), CollisionCause::DOOR_TURN);
+  // elsewhere
+  EXPECT_EQ(classifyCollision(VestWearer::WALK, int(K::WALL), 1.0), CollisionCause::WALK_WALL);
+  EXPECT_EQ(classifyCollision(VestWearer::VEER, int(K::GLASS), inf), CollisionCause::WALK_WALL);
+  EXPECT_EQ(classifyCollision(VestWearer::WALK, int(K::FURNITURE), inf), CollisionCause::WALK_OBJECT);
+  EXPECT_EQ(classifyCollision(VestWearer::TURN, int(K::WALL), inf), CollisionCause::TURN_SPOT);
+  EXPECT_EQ(classifyCollision(VestWearer::STOPPED, int(K::FURNITURE), inf), CollisionCause::TURN_SPOT);
+  EXPECT_EQ(classifyCollision(VestWearer::SIDESTEP, int(K::WALL), inf), CollisionCause::SIDESTEP);
+  EXPECT_EQ(classifyCollision(VestWearer::EXPLORE, int(K::WALL), inf), CollisionCause::EXPLORE);
+  EXPECT_EQ(classifyCollision(VestWearer::WALK, int(K::PERSON), 0.1), CollisionCause::PEOPLE);
+  EXPECT_STREQ(collisionCauseName(CollisionCause::DOOR_WALK), "door_walk");
+  EXPECT_STREQ(collisionCauseName(CollisionCause::PEOPLE), "people");
+}
+
+TEST(CollisionCause, UnfinishedTrialStuckAtADoorOrSlow)
+{
+  // 30 s at 60 Hz: standing still for the last 20 s, turn cues throughout
+  TrialResult r;
+  r.completed = false;
+  r.time_s = 30.0;
+  for (int i = 0; i < 1800; ++i) r.path.push_back(Eigen::Vector2d(i < 600 ? i * 0.005 : 3.0, 0.0));
+  for (int i = 0; i < 450; ++i)
+  {
+    TimelineSample s;
+    s.t = i / 15.0;
+    s.instruction = 3;  // stop and turn
+    s.passage_routine = i % 2 == 0;
+    r.timeline.push_back(s);
+  }
+  classifyEnd(r, 1.0 / 60.0, 0.4);
+  EXPECT_EQ(r.end_cause, "stuck_door");
+  EXPECT_NE(r.end_detail.find("cue turn 100 %"), std::string::npos) << r.end_detail;
+  EXPECT_NE(r.end_detail.find("doorway routine 50 %"), std::string::npos) << r.end_detail;
+  classifyEnd(r, 1.0 / 60.0, 5.0);
+  EXPECT_EQ(r.end_cause, "stuck");
+  // walking on over the last 20 s: slow, not stuck
+  for (int i = 600; i < 1800; ++i) r.path[size_t(i)] = Eigen::Vector2d(i * 0.005, 0.0);
+  classifyEnd(r, 1.0 / 60.0, 0.4);
+  EXPECT_EQ(r.end_cause, "slow");
+  // a completed trial has no end cause
+  r.completed = true;
+  classifyEnd(r, 1.0 / 60.0, 0.4);
+  EXPECT_TRUE(r.end_cause.empty());
+}

@@ -40,6 +40,8 @@ struct ChainCue
   /// The planner's steering heading behind it (rad; NaN when the chain does not know it), for the
   /// timeline's heading error.
   double steer_heading = std::numeric_limits<double>::quiet_NaN();
+  /// The cue came from the doorway routine (stop short, face the middle, go) (truth chain only).
+  bool passage_routine = false;
 };
 
 /// One planner/cue cycle of a trial, for the timeline plot.
@@ -52,6 +54,44 @@ struct TimelineSample
   float drive = 0.f;       ///< the strongest motor's drive now (what the vest does: 0 between pulses)
   double speed = 0.0;      ///< the wearer's walking speed (m/s)
   double heading_error_deg = 0.0;  ///< body yaw - steering heading (NaN: unknown)
+  bool passage_routine = false;    ///< the cue came from the doorway routine
+};
+
+/// Why a collision happened, judged from what the wearer was doing and where (`--causes`):
+/// `door_walk` walking or veering within `kDoorNearM` of a doorway's or gap's middle the planner
+/// found (a jamb while passing), `door_turn` turning, standing or feeling around there,
+/// `turn_spot` turning on the spot or standing elsewhere, `walk_wall` walking or veering into a
+/// wall or glass elsewhere (a veer not corrected in time), `walk_object` walking or veering into
+/// furniture or an object elsewhere, `sidestep`, `explore` feeling around after a bump, `people`.
+enum class CollisionCause
+{
+  DOOR_WALK,
+  DOOR_TURN,
+  TURN_SPOT,
+  WALK_WALL,
+  WALK_OBJECT,
+  SIDESTEP,
+  EXPLORE,
+  PEOPLE,
+  NUM_CAUSES
+};
+const char* collisionCauseName(CollisionCause c);
+/// A collision this close (m) to a passage middle counts as at the doorway.
+constexpr double kDoorNearM = 1.0;
+/// `action`: VestWearer::Action before the step that collided; `kind`: ObstacleKind;
+/// `door_m`: distance to the nearest passage middle seen (+inf: none).
+CollisionCause classifyCollision(int action, int kind, double door_m);
+
+/// One collision of a trial, for `--causes`.
+struct CollisionEvent
+{
+  double t = 0.0;
+  Eigen::Vector2d xy = Eigen::Vector2d::Zero();
+  int kind = 0;         ///< assistive_sim::ObstacleKind
+  int action = 0;       ///< VestWearer::Action before the step
+  int instruction = 0;  ///< the cue playing (assistive_tactile::Instruction)
+  double door_m = std::numeric_limits<double>::infinity();
+  CollisionCause cause = CollisionCause::WALK_WALL;
 };
 
 /// The perception -> planner -> cue chain a trial drives one camera frame at a time. Truth mode
@@ -75,6 +115,13 @@ public:
   {
     (void)t;
     (void)s;
+  }
+  /// Distance from `xy` to the nearest doorway or gap middle the planner has found so far in this
+  /// trial (+inf: none, or the chain does not know).
+  virtual double passageDistance(const Eigen::Vector2d& xy) const
+  {
+    (void)xy;
+    return std::numeric_limits<double>::infinity();
   }
 };
 
@@ -142,7 +189,16 @@ struct TrialResult
   /// With a scripted UNSURE episode: metres walked from its start until the body stood still
   /// (or the episode ended); NaN without one.
   double unsure_walked_m = std::numeric_limits<double>::quiet_NaN();
+  std::vector<CollisionEvent> collision_events;  ///< each collision, with its cause
+  /// A trial not completed: why (`stuck_door`, `stuck`, `slow`: progress over its last 20 s and
+  /// whether it stood near a doorway), and the cue that dominated its last 20 s.
+  std::string end_cause;
+  std::string end_detail;
 };
+
+/// The unfinished trial's cause (fills end_cause / end_detail) from its path, timeline and the
+/// distance of its end to a passage middle.
+void classifyEnd(TrialResult& r, double dt, double door_m);
 
 /// The wearer of trial `seed` under `opt` (population draw, slowest decile, or opt.wearer), its
 /// eye height and cruise speed for the sighted guide kept from `opt.wearer` unless drawn.
