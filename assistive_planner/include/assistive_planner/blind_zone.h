@@ -1,0 +1,48 @@
+#pragma once
+// The blind zone: the floor just ahead of the wearer that the head-mounted camera cannot see (at
+// 1.6 m, pitched 15 deg down, vertical half field of view about 25 deg, its nearest floor lies about
+// 1.9 m ahead). At the start and after every map reset nobody has mapped it; a standing wearer
+// never will. The device vouches for it only on evidence it has (README "The blind zone"). ROS-free.
+#include <cmath>
+#include <limits>
+
+#include "assistive_planner/grid.h"
+
+namespace assistive_planner
+{
+/// The forward ultrasonic ranger's newest reading (sensor_msgs/Range on `sonar/front`), as the
+/// planner judges it.
+struct RangerReading
+{
+  double stamp = std::numeric_limits<double>::quiet_NaN();  ///< camera clock (s); NaN: no reading
+  double range = std::numeric_limits<double>::infinity();   ///< m; +Inf: no echo within max_range
+  double max_range = 0.0;                                   ///< m: the farthest echo it can hear
+  double yaw = std::numeric_limits<double>::quiet_NaN();    ///< its axis in the planner's frame (rad)
+
+  /// A reading the planner may use: a stamp, a finite axis, a positive max_range, and a range that
+  /// is +Inf (no echo) or within (0, max_range].
+  bool valid() const
+  {
+    return std::isfinite(stamp) && std::isfinite(yaw) && std::isfinite(max_range) && max_range > 0.0 &&
+           (range == std::numeric_limits<double>::infinity() || (std::isfinite(range) && range > 0.0 && range <= max_range));
+  }
+  /// How far along its axis nothing echoed: the echo's range, or max_range without an echo; 0 when
+  /// not valid().
+  double clearDistance() const
+  {
+    if (!valid())
+      return 0.0;
+    return std::isfinite(range) ? range : max_range;
+  }
+};
+
+/// Vouches for the blind zone: every unknown cell of `grid` whose centre lies within `zone_m` of
+/// the wearer, within `half_angle` (rad) of `facing` (the way the camera and the ranger point) and
+/// nearer than `clear_m` less one cell (the ranger heard nothing nearer), becomes free, when along
+/// the ray from the wearer through it (1) no cell before it is known and not free (never behind an
+/// obstacle or a step) and (2) a known cell follows beyond it within `zone_m` plus one cell (the
+/// camera saw past the zone there: the floor, or what stands on it, continues at that bearing).
+/// Judged on the grid as given (a cell vouched for is no evidence for another). Returns the number
+/// of cells changed; 0 when zone_m, clear_m or half_angle is not positive.
+int vouchBlindZone(Grid& grid, const Point2& wearer, double facing, double clear_m, double zone_m, double half_angle);
+}  // namespace assistive_planner

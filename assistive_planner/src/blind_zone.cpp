@@ -1,0 +1,63 @@
+#include "assistive_planner/blind_zone.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace assistive_planner
+{
+int vouchBlindZone(Grid& grid, const Point2& wearer, double facing, double clear_m, double zone_m, double half_angle)
+{
+  if (grid.empty() || !(zone_m > 0.0) || !(clear_m > 0.0) || !(half_angle > 0.0) || !std::isfinite(facing) ||
+      !std::isfinite(wearer.x) || !std::isfinite(wearer.y))
+    return 0;
+  const double res = grid.resolution;
+  const double reach = std::min(zone_m, clear_m - res);  // the ranger's echo is never vouched past
+  if (!(reach > 0.0))
+    return 0;
+  const Grid seen = grid;  // judged on the grid as given
+  int cx, cy;
+  seen.worldToCell(wearer.x, wearer.y, cx, cy);
+  const int r = int(std::ceil(zone_m / res)) + 1;
+  const double step = 0.25 * res, beyond = zone_m + res;
+  int changed = 0;
+  for (int y = cy - r; y <= cy + r; ++y)
+    for (int x = cx - r; x <= cx + r; ++x)
+    {
+      if (!seen.inside(x, y) || !isUnknownCode(seen.at(x, y)))
+        continue;
+      const double dx = seen.cellX(x) - wearer.x, dy = seen.cellY(y) - wearer.y;
+      const double d = std::hypot(dx, dy);
+      if (d < 1e-9 || d > reach || std::fabs(wrapAngle(std::atan2(dy, dx) - facing)) > half_angle)
+        continue;
+      const double ux = dx / d, uy = dy / d;
+      bool blocked = false, seen_past = false;
+      for (double s = step; s <= beyond + 1e-9; s += step)
+      {
+        int px, py;
+        if (!seen.worldToCell(wearer.x + s * ux, wearer.y + s * uy, px, py))
+          break;  // the window's edge: nothing seen past the zone
+        const int8_t code = seen.at(px, py);
+        if (px == x && py == y)
+          continue;
+        if (s < d)
+        {
+          if (!isUnknownCode(code) && code != CELL_FREE)
+          {
+            blocked = true;
+            break;
+          }
+        }
+        else if (!isUnknownCode(code))
+        {
+          seen_past = true;
+          break;
+        }
+      }
+      if (blocked || !seen_past)
+        continue;
+      grid.data[size_t(grid.index(x, y))] = CELL_FREE;
+      ++changed;
+    }
+  return changed;
+}
+}  // namespace assistive_planner
