@@ -5,13 +5,17 @@
 
 namespace assistive_planner
 {
-int vouchBlindZone(Grid& grid, const Point2& wearer, double facing, double clear_m, double zone_m, double half_angle)
+int vouchBlindZone(Grid& grid, const Point2& wearer, double facing, const RangerReading& ranger, double zone_m,
+                   double half_angle)
 {
-  if (grid.empty() || !(zone_m > 0.0) || !(clear_m > 0.0) || !(half_angle > 0.0) || !std::isfinite(facing) ||
+  if (grid.empty() || !(zone_m > 0.0) || !ranger.valid() || !(half_angle > 0.0) || !std::isfinite(facing) ||
       !std::isfinite(wearer.x) || !std::isfinite(wearer.y))
     return 0;
   const double res = grid.resolution;
-  const double reach = std::min(zone_m, clear_m - res);  // the ranger's echo is never vouched past
+  const double reach = std::min(zone_m, ranger.clearDistance() - res);  // the ranger's echo is never vouched past
+  const bool echo_near = std::isfinite(ranger.range) && ranger.range <= zone_m + res;
+  const double cone_half =
+      ranger.field_of_view > 0.0 && ranger.field_of_view < M_PI ? 0.5 * ranger.field_of_view : 0.0;
   if (!(reach > 0.0))
     return 0;
   const Grid seen = grid;  // judged on the grid as given
@@ -30,12 +34,16 @@ int vouchBlindZone(Grid& grid, const Point2& wearer, double facing, double clear
       if (d < 1e-9 || d > reach || std::fabs(wrapAngle(std::atan2(dy, dx) - facing)) > half_angle)
         continue;
       const double ux = dx / d, uy = dy / d;
-      bool blocked = false, seen_past = false;
+      bool blocked = false;
+      // the ranger's echo past the cell, within its cone: a solid there, nothing nearer
+      bool seen_past = echo_near && std::fabs(wrapAngle(std::atan2(dy, dx) - ranger.yaw)) <= cone_half;
       for (double s = step; s <= beyond + 1e-9; s += step)
       {
         int px, py;
         if (!seen.worldToCell(wearer.x + s * ux, wearer.y + s * uy, px, py))
           break;  // the window's edge: nothing seen past the zone
+        if (s >= d && seen_past)
+          break;
         const int8_t code = seen.at(px, py);
         if (px == x && py == y)
           continue;
@@ -47,7 +55,7 @@ int vouchBlindZone(Grid& grid, const Point2& wearer, double facing, double clear
             break;
           }
         }
-        else if (!isUnknownCode(code))
+        else if (!seen_past && !isUnknownCode(code))
         {
           seen_past = true;
           break;

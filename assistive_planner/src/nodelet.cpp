@@ -198,6 +198,7 @@ private:
     out.stamp = ranger_msg_->header.stamp.toSec();
     out.range = std::isfinite(ranger_msg_->range) ? double(ranger_msg_->range) : std::numeric_limits<double>::infinity();
     out.max_range = ranger_msg_->max_range;
+    out.field_of_view = ranger_msg_->field_of_view;
     out.yaw = std::atan2(2.0 * (q.x * q.y + q.w * q.z), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
     return out;
   }

@@ -31,6 +31,17 @@ void setRect(Grid& g, double x0, double y0, double x1, double y1, int8_t code)
 }
 constexpr double kDeg = M_PI / 180.0;
 const double kInf = std::numeric_limits<double>::infinity();
+/// A fresh reading along +x: no echo within 4 m (range +Inf) or an echo at `range`; a 15 deg cone.
+RangerReading ranger(double range = kInf, double yaw = 0.0)
+{
+  RangerReading r;
+  r.stamp = 10.0;
+  r.range = range;
+  r.max_range = 4.0;
+  r.yaw = yaw;
+  r.field_of_view = 15.0 * kDeg;
+  return r;
+}
 }  // namespace
 
 // 0.2 m cells from 0: the wearer on cell (5, 20) at (1.1, 4.1) faces +x; cells x <= 12 (centres up
@@ -41,7 +52,7 @@ TEST(BlindZone, VouchesOnlyAheadBeforeSeenFloorAndTheRangersEcho)
   setRect(g, 0.0, 0.0, 2.5, 8.0, CELL_UNKNOWN);
   const Point2 w{ 1.1, 4.1 };
   Grid m = g;
-  const int n = vouchBlindZone(m, w, 0.0, 4.0, 2.0, 30.0 * kDeg);
+  const int n = vouchBlindZone(m, w, 0.0, ranger(), 2.0, 30.0 * kDeg);
   EXPECT_GT(n, 10);
   EXPECT_EQ(m.at(6, 20), CELL_FREE);     // 0.2 m ahead
   EXPECT_EQ(m.at(12, 20), CELL_FREE);    // 1.4 m ahead, seen floor right past it
@@ -50,27 +61,34 @@ TEST(BlindZone, VouchesOnlyAheadBeforeSeenFloorAndTheRangersEcho)
   EXPECT_EQ(m.at(3, 20), CELL_UNKNOWN);  // behind
   // the ranger heard an echo 1.0 m ahead: nothing vouched for past 0.8 m
   m = g;
-  vouchBlindZone(m, w, 0.0, 1.0, 2.0, 30.0 * kDeg);
+  vouchBlindZone(m, w, 0.0, ranger(1.0), 2.0, 30.0 * kDeg);
   EXPECT_EQ(m.at(8, 20), CELL_FREE);     // 0.6 m
   EXPECT_EQ(m.at(10, 20), CELL_UNKNOWN); // 1.0 m
   // never behind an obstacle or a step the camera saw
   m = g;
   m.data[size_t(m.index(9, 20))] = CELL_OBSTACLE;
   m.data[size_t(m.index(9, 18))] = CELL_STEP;
-  vouchBlindZone(m, w, 0.0, 4.0, 2.0, 30.0 * kDeg);
+  vouchBlindZone(m, w, 0.0, ranger(), 2.0, 30.0 * kDeg);
   EXPECT_EQ(m.at(8, 20), CELL_FREE);
   EXPECT_EQ(m.at(11, 20), CELL_UNKNOWN);
   EXPECT_EQ(m.at(11, 17), CELL_UNKNOWN);
   // nothing seen past the zone (dark, bare, or the window's edge): nothing vouched for
   m = blindGrid(0.0, 0.0);
   setRect(m, 0.0, 0.0, 3.5, 8.0, CELL_UNKNOWN);
-  EXPECT_EQ(vouchBlindZone(m, w, 0.0, 4.0, 2.0, 30.0 * kDeg), 0);
+  EXPECT_EQ(vouchBlindZone(m, w, 0.0, ranger(), 2.0, 30.0 * kDeg), 0);
+  // ... unless the ranger heard a solid within the zone: a plain wall the camera gets no
+  // depth from, 1.7 m ahead: vouched for up to one cell before it, within the ranger's cone (7.5 deg either side) only
+  vouchBlindZone(m, w, 0.0, ranger(1.7), 2.0, 30.0 * kDeg);
+  EXPECT_EQ(m.at(8, 20), CELL_FREE);      // 0.6 m on the axis
+  EXPECT_EQ(m.at(12, 20), CELL_FREE);     // 1.4 m on the axis
+  EXPECT_EQ(m.at(13, 20), CELL_UNKNOWN);  // 1.6 m: not one cell before the echo
+  EXPECT_EQ(m.at(12, 22), CELL_UNKNOWN);  // 16 deg off the axis: outside the cone
   // off switches and bad input
   m = g;
-  EXPECT_EQ(vouchBlindZone(m, w, 0.0, 4.0, 0.0, 30.0 * kDeg), 0);
-  EXPECT_EQ(vouchBlindZone(m, w, 0.0, 0.0, 2.0, 30.0 * kDeg), 0);
-  EXPECT_EQ(vouchBlindZone(m, w, std::nan(""), 4.0, 2.0, 30.0 * kDeg), 0);
-  EXPECT_EQ(vouchBlindZone(m, { std::nan(""), 1.0 }, 0.0, 4.0, 2.0, 30.0 * kDeg), 0);
+  EXPECT_EQ(vouchBlindZone(m, w, 0.0, ranger(), 0.0, 30.0 * kDeg), 0);
+  EXPECT_EQ(vouchBlindZone(m, w, 0.0, RangerReading(), 2.0, 30.0 * kDeg), 0);
+  EXPECT_EQ(vouchBlindZone(m, w, std::nan(""), ranger(), 2.0, 30.0 * kDeg), 0);
+  EXPECT_EQ(vouchBlindZone(m, { std::nan(""), 1.0 }, 0.0, ranger(), 2.0, 30.0 * kDeg), 0);
 }
 
 TEST(BlindZone, RangerReadingValidity)

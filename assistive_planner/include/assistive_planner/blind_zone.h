@@ -18,6 +18,7 @@ struct RangerReading
   double range = std::numeric_limits<double>::infinity();   ///< m; +Inf: no echo within max_range
   double max_range = 0.0;                                   ///< m: the farthest echo it can hear
   double yaw = std::numeric_limits<double>::quiet_NaN();    ///< its axis in the planner's frame (rad)
+  double field_of_view = 0.0;                               ///< its cone's full angle (rad; 0: unknown)
 
   /// A reading the planner may use: a stamp, a finite axis, a positive max_range, and a range that
   /// is +Inf (no echo) or within (0, max_range].
@@ -37,12 +38,16 @@ struct RangerReading
 };
 
 /// Vouches for the blind zone: every unknown cell of `grid` whose centre lies within `zone_m` of
-/// the wearer, within `half_angle` (rad) of `facing` (the way the camera and the ranger point) and
-/// nearer than `clear_m` less one cell (the ranger heard nothing nearer), becomes free, when along
-/// the ray from the wearer through it (1) no cell before it is known and not free (never behind an
-/// obstacle or a step) and (2) a known cell follows beyond it within `zone_m` plus one cell (the
-/// camera saw past the zone there: the floor, or what stands on it, continues at that bearing).
-/// Judged on the grid as given (a cell vouched for is no evidence for another). Returns the number
-/// of cells changed; 0 when zone_m, clear_m or half_angle is not positive.
-int vouchBlindZone(Grid& grid, const Point2& wearer, double facing, double clear_m, double zone_m, double half_angle);
+/// the wearer, within `half_angle` (rad) of `facing` (the way the camera points) and nearer than the
+/// ranger's clear distance less one cell (it heard nothing nearer), becomes free, when along the ray
+/// from the wearer through it (1) no cell before it is known and not free (never behind an obstacle
+/// or a step) and (2) something past it is known: a known cell follows within `zone_m` plus one cell
+/// (the camera saw past the zone at that bearing: the floor, or what stands on it), or the ray lies
+/// in the ranger's cone and the ranger heard an echo within `zone_m` plus one cell (a solid there,
+/// nothing nearer, e.g. a plain wall the camera gets no depth from). The caller checks the
+/// reading's age and axis. Judged on the grid as given (a cell vouched for is no evidence for
+/// another). Returns the number of cells changed; 0 when zone_m or half_angle is not positive or the
+/// reading is not valid().
+int vouchBlindZone(Grid& grid, const Point2& wearer, double facing, const RangerReading& ranger, double zone_m,
+                   double half_angle);
 }  // namespace assistive_planner
