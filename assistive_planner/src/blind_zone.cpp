@@ -31,12 +31,19 @@ int vouchBlindZone(Grid& grid, const Point2& wearer, double facing, const Ranger
         continue;
       const double dx = seen.cellX(x) - wearer.x, dy = seen.cellY(y) - wearer.y;
       const double d = std::hypot(dx, dy);
-      if (d < 1e-9 || d > reach || std::fabs(wrapAngle(std::atan2(dy, dx) - facing)) > half_angle)
+      if (d < 1e-9 || d > reach)
+        continue;
+      // a cell counts as inside a sector when any part of it is (its half-diagonal seen from the
+      // wearer): the cells next to the body subtend tens of degrees, and a ray along the facing
+      // crosses cells whose centres lie well off it
+      const double bearing = std::atan2(dy, dx);
+      const double spread = std::asin(std::min(1.0, 0.7072 * res / d));
+      if (std::fabs(wrapAngle(bearing - facing)) > half_angle + spread)
         continue;
       const double ux = dx / d, uy = dy / d;
       bool blocked = false;
       // the ranger's echo past the cell, within its cone: a solid there, nothing nearer
-      bool seen_past = echo_near && std::fabs(wrapAngle(std::atan2(dy, dx) - ranger.yaw)) <= cone_half;
+      bool seen_past = echo_near && std::fabs(wrapAngle(bearing - ranger.yaw)) <= cone_half + spread;
       for (double s = step; s <= beyond + 1e-9; s += step)
       {
         int px, py;

@@ -91,6 +91,19 @@ TEST(BlindZone, VouchesOnlyAheadBeforeSeenFloorAndTheRangersEcho)
   EXPECT_EQ(vouchBlindZone(m, { std::nan(""), 1.0 }, 0.0, ranger(), 2.0, 30.0 * kDeg), 0);
 }
 
+// The cells next to the body subtend tens of degrees: one partly inside the sector counts (a ray
+// along the facing, or along a way 25 deg off it, crosses cells whose centres lie 40-50 deg off).
+TEST(BlindZone, ACellPartlyInsideTheSectorCounts)
+{
+  Grid g = blindGrid(0.0, 0.0);
+  setRect(g, 0.0, 0.0, 2.5, 8.0, CELL_UNKNOWN);
+  Grid m = g;
+  vouchBlindZone(m, { 1.15, 4.15 }, 0.0, ranger(), 2.0, 30.0 * kDeg);
+  EXPECT_EQ(m.at(6, 21), CELL_FREE);      // centre (1.3, 4.3): 0.21 m at 45 deg
+  EXPECT_EQ(m.at(7, 19), CELL_FREE);      // centre (1.5, 3.9): 0.43 m at -36 deg, its corner at -17 deg
+  EXPECT_EQ(m.at(10, 24), CELL_UNKNOWN);  // centre (2.1, 4.9): 1.21 m at 38 deg, wholly outside
+}
+
 TEST(BlindZone, RangerReadingValidity)
 {
   RangerReading r;

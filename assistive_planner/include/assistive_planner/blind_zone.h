@@ -38,7 +38,8 @@ struct RangerReading
 };
 
 /// Vouches for the blind zone: every unknown cell of `grid` whose centre lies within `zone_m` of
-/// the wearer, within `half_angle` (rad) of `facing` (the way the camera points) and nearer than the
+/// the wearer, within `half_angle` (rad) of `facing` (the way the camera points; a cell partly inside
+/// counts: the cells next to the body subtend tens of degrees) and nearer than the
 /// ranger's clear distance less one cell (it heard nothing nearer), becomes free, when along the ray
 /// from the wearer through it (1) no cell before it is known and not free (never behind an obstacle
 /// or a step) and (2) something past it is known: a known cell follows within `zone_m` plus one cell
