@@ -6,7 +6,7 @@
 namespace assistive_planner
 {
 int vouchBlindZone(Grid& grid, const Point2& wearer, double facing, const RangerReading& ranger, double zone_m,
-                   double half_angle)
+                   double half_angle, double view_m)
 {
   if (grid.empty() || !(zone_m > 0.0) || !ranger.valid() || !(half_angle > 0.0) || !std::isfinite(facing) ||
       !std::isfinite(wearer.x) || !std::isfinite(wearer.y))
@@ -22,7 +22,7 @@ int vouchBlindZone(Grid& grid, const Point2& wearer, double facing, const Ranger
   int cx, cy;
   seen.worldToCell(wearer.x, wearer.y, cx, cy);
   const int r = int(std::ceil(zone_m / res)) + 1;
-  const double step = 0.25 * res, beyond = zone_m + res;
+  const double step = 0.25 * res, beyond = zone_m + std::max(res, view_m);
   int changed = 0;
   for (int y = cy - r; y <= cy + r; ++y)
     for (int x = cx - r; x <= cx + r; ++x)
@@ -31,13 +31,23 @@ int vouchBlindZone(Grid& grid, const Point2& wearer, double facing, const Ranger
         continue;
       const double dx = seen.cellX(x) - wearer.x, dy = seen.cellY(y) - wearer.y;
       const double d = std::hypot(dx, dy);
-      if (d < 1e-9 || d > reach)
+      if (d < 1e-9)
         continue;
       // a cell counts as inside a sector when any part of it is (its half-diagonal seen from the
       // wearer): the cells next to the body subtend tens of degrees, and a ray along the facing
       // crosses cells whose centres lie well off it
       const double bearing = std::atan2(dy, dx);
       const double spread = std::asin(std::min(1.0, 0.7072 * res / d));
+      if (echo_near && std::fabs(d - ranger.range) <= 0.5 * res &&
+          std::fabs(wrapAngle(bearing - ranger.yaw)) <= cone_half + spread)
+      {
+        // the ranger's echo: a solid on its arc, as the obstacle stage fuses it (unknown cells only)
+        grid.data[size_t(grid.index(x, y))] = CELL_OBSTACLE;
+        ++changed;
+        continue;
+      }
+      if (d > reach)
+        continue;
       if (std::fabs(wrapAngle(bearing - facing)) > half_angle + spread)
         continue;
       const double ux = dx / d, uy = dy / d;

@@ -678,7 +678,7 @@ void Planner::vouchForBlindZone(const Point2& wearer, double facing, double t, P
     out.vouch_note = buf;
     return;
   }
-  out.vouched_cells = vouchBlindZone(work_, wearer, facing, ranger_, p_.blind_zone_m, half);
+  out.vouched_cells = vouchBlindZone(work_, wearer, facing, ranger_, p_.blind_zone_m, half, p_.blind_zone_view_m);
   if (std::isfinite(ranger_.range) && ranger_.range < p_.blind_zone_m + work_.resolution)
   {
     std::snprintf(buf, sizeof(buf), "the ranger hears an echo %.2f m ahead", ranger_.range);

@@ -39,16 +39,18 @@ struct RangerReading
 
 /// Vouches for the blind zone: every unknown cell of `grid` whose centre lies within `zone_m` of
 /// the wearer, within `half_angle` (rad) of `facing` (the way the camera points; a cell partly inside
-/// counts: the cells next to the body subtend tens of degrees) and nearer than the
-/// ranger's clear distance less one cell (it heard nothing nearer), becomes free, when along the ray
-/// from the wearer through it (1) no cell before it is known and not free (never behind an obstacle
-/// or a step) and (2) something past it is known: a known cell follows within `zone_m` plus one cell
-/// (the camera saw past the zone at that bearing: the floor, or what stands on it), or the ray lies
-/// in the ranger's cone and the ranger heard an echo within `zone_m` plus one cell (a solid there,
-/// nothing nearer, e.g. a plain wall the camera gets no depth from). The caller checks the
-/// reading's age and axis. Judged on the grid as given (a cell vouched for is no evidence for
-/// another). Returns the number of cells changed; 0 when zone_m or half_angle is not positive or the
-/// reading is not valid().
+/// counts: the cells next to the body subtend tens of degrees) and nearer than the ranger's clear
+/// distance less one cell (it heard nothing nearer), becomes free, when along the ray from the
+/// wearer through it (1) no cell before it is known and not free (never behind an obstacle or a
+/// step) and (2) something past it is known: a known cell follows within `zone_m` plus `view_m`
+/// (at least one cell: the camera saw at that bearing past the zone, the floor or what stands on
+/// it), or the ray lies in the ranger's cone and the ranger heard an echo within `zone_m` plus one
+/// cell (a solid there, nothing nearer, e.g. a plain wall the camera gets no depth from). An echo
+/// within the zone is also what the obstacle stage makes of it: the unknown cells on its arc (centre
+/// within half a cell of the range, inside the cone) become obstacles, so the way ahead ends at a
+/// solid, not at "cannot tell". The caller checks the reading's age and axis. Judged on the grid as
+/// given (a cell vouched for is no evidence for another). Returns the number of cells changed; 0
+/// when zone_m or half_angle is not positive or the reading is not valid().
 int vouchBlindZone(Grid& grid, const Point2& wearer, double facing, const RangerReading& ranger, double zone_m,
-                   double half_angle);
+                   double half_angle, double view_m = 1.0);
 }  // namespace assistive_planner
