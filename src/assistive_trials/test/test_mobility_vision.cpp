@@ -7,6 +7,7 @@
 // own roscore on a free port.
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <sys/wait.h>
@@ -15,6 +16,19 @@
 
 namespace
 {
+/// The trial logs' folder mobility_trials names on stderr ("logs in /tmp/mobility_vision_XXXXXX").
+std::string logDir(const std::string& path)
+{
+  std::ifstream in(path);
+  std::string line;
+  const std::string tag = "logs in ";
+  while (std::getline(in, line))
+  {
+    const size_t p = line.find(tag);
+    if (p != std::string::npos) return line.substr(p + tag.size());
+  }
+  return "";
+}
 std::string lastLine(const std::string& path)
 {
   std::ifstream in(path);
@@ -46,6 +60,12 @@ TEST(MobilityVision, TheWearerWalksFromAStandingStartAndReachesTheEnd)
   EXPECT_GE(key(json, "ppws_pct"), 30.0) << json;         // not by creeping
   EXPECT_LT(key(json, "unsure_cue_pct"), 25.0) << json;   // the start is no long "cannot tell"
   EXPECT_LE(key(json, "frames_without_cue"), 5.0) << json;
-  std::remove(log.c_str());
+  // a passing run leaves nothing in /tmp (a failing one keeps its trial logs and this log)
+  if (!::testing::Test::HasFailure())
+  {
+    const std::string dir = logDir(log);
+    if (dir.rfind("/tmp/mobility_vision_", 0) == 0) std::filesystem::remove_all(dir);
+    std::remove(log.c_str());
+  }
   std::remove((::testing::TempDir() + "mobility_vision_test.png").c_str());
 }
