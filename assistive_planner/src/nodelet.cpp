@@ -1,5 +1,6 @@
 // Thin nodelet around assistive_planner::Planner: grid + tf in, NavigationState / path / waypoint out.
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -13,6 +14,7 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
+#include <sensor_msgs/Range.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
@@ -52,6 +54,8 @@ private:
     movers_sub_ = nh.subscribe("movers", 1, &PlannerNodelet::moversCb, this);
     if (node_.use_odom)
       odom_sub_ = nh.subscribe("odom", 5, &PlannerNodelet::odomCb, this);
+    // the forward ranger vouches for the blind zone just ahead (README, the blind zone)
+    ranger_sub_ = nh.subscribe("sonar/front", 5, &PlannerNodelet::rangerCb, this);
 
     diag_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh);
     diag_->setHardwareID("none");
@@ -143,6 +147,62 @@ private:
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
   }
 
+  /// The forward ranger: its newest valid reading is kept for the next grid (RangerReading).
+  void rangerCb(const sensor_msgs::Range::ConstPtr& msg)
+  {
+    assistive_common::guarded(getName(), "ranger", [&] { ranger(msg); });
+  }
+
+  void ranger(const sensor_msgs::Range::ConstPtr& msg)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const double r = msg->range;
+    const bool ok = !msg->header.frame_id.empty() && !msg->header.stamp.isZero() && std::isfinite(msg->max_range) &&
+                    msg->max_range > 0.0 &&
+                    (r == std::numeric_limits<float>::infinity() || (std::isfinite(r) && r >= msg->min_range && r <= msg->max_range));
+    if (!ok)
+    {
+      NODELET_WARN_THROTTLE(5.0, "planner: ranger reading ignored (frame '%s', stamp %.3f, range %.3f in [%.2f, %.2f]): "
+                            "the blind zone is not vouched for", msg->header.frame_id.c_str(),
+                            msg->header.stamp.toSec(), r, msg->min_range, msg->max_range);
+      return;
+    }
+    ranger_msg_ = msg;
+  }
+
+  /// The kept ranger reading with its axis in world_frame at `stamp` (the grid's); none without tf.
+  RangerReading rangerAt(const ros::Time& stamp)
+  {
+    RangerReading out;
+    if (!ranger_msg_)
+      return out;
+    geometry_msgs::TransformStamped t;
+    try
+    {
+      t = tf_buffer_->lookupTransform(node_.world_frame, ranger_msg_->header.frame_id, stamp);
+    }
+    catch (const tf2::TransformException&)
+    {
+      try
+      {
+        t = tf_buffer_->lookupTransform(node_.world_frame, ranger_msg_->header.frame_id, ros::Time(0));
+      }
+      catch (const tf2::TransformException& e)
+      {
+        NODELET_WARN_THROTTLE(5.0, "planner: no pose of the ranger %s in %s: %s", ranger_msg_->header.frame_id.c_str(),
+                              node_.world_frame.c_str(), e.what());
+        return out;
+      }
+    }
+    const auto& q = t.transform.rotation;
+    out.stamp = ranger_msg_->header.stamp.toSec();
+    out.range = std::isfinite(ranger_msg_->range) ? double(ranger_msg_->range) : std::numeric_limits<double>::infinity();
+    out.max_range = ranger_msg_->max_range;
+    out.field_of_view = ranger_msg_->field_of_view;
+    out.yaw = std::atan2(2.0 * (q.x * q.y + q.w * q.z), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+    return out;
+  }
+
   void gridCb(const nav_msgs::OccupancyGrid::ConstPtr& msg)
   {
     assistive_common::guarded(getName(), "grid", [&] { grid(msg); });
@@ -190,6 +250,7 @@ private:
       return;
     }
     const auto t0 = std::chrono::steady_clock::now();
+    planner_->setRanger(rangerAt(msg->header.stamp));
     // the planner is rebuilt after a gap: the movers and the goal are handed over every cycle
     if (have_movers_)
       planner_->setMovers(movers_stamp_, movers_);
@@ -351,6 +412,8 @@ private:
     st.add("grid_age_s", have_grid_ ? (ros::WallTime::now() - last_grid_time_).toSec() : -1.0);
     st.add("grid_lag_behind_newest_frame_s", monitor_.newest() - monitor_.gridStamp());
     st.add("resets_after_gap", monitor_.resets());
+    st.add("blind_zone_vouched_cells", o.vouched_cells);
+    st.add("blind_zone_note", o.vouch_note);
     st.add("movers", o.crossing.movers);
     st.add("movers_fresh", o.crossing.movers_fresh);
     st.add("movers_age_s", have_movers_ ? monitor_.gridStamp() - movers_stamp_ : -1.0);
@@ -364,7 +427,8 @@ private:
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::Publisher state_pub_, path_pub_, waypoint_pub_, markers_pub_;
-  ros::Subscriber grid_sub_, goal_sub_, odom_sub_, movers_sub_;
+  ros::Subscriber grid_sub_, goal_sub_, odom_sub_, movers_sub_, ranger_sub_;
+  sensor_msgs::Range::ConstPtr ranger_msg_;  ///< the newest valid ranger reading
   std::optional<geometry_msgs::PoseStamped> goal_;  ///< as given (its own frame); empty: automatic waypoint
   std::string goal_frame_error_;
   bool have_movers_ = false;

@@ -22,6 +22,8 @@ void unmappedAhead(PlanOutput& out)
   std::snprintf(buf, sizeof(buf), "unmapped floor %.2f m ahead: cannot tell what is there", out.free_ahead);
   out.status = PlanStatus::IN_UNKNOWN;
   out.message = buf;
+  if (!out.vouch_note.empty())
+    out.message += " (" + out.vouch_note + ")";
   out.path.clear();
   out.steer_path.clear();
   out.has_waypoint = false;
@@ -552,6 +554,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   if (!usableInputs(input, wearer, head_yaw, out))
     return out;
   recordWalkedFloor(input, wearer);
+  vouchForBlindZone(wearer, out.head_yaw, t, out);
   const Grid& grid = work_;
   syncCosts(grid, out);
   const bool motion_changed = motion_.update(wearer, head_yaw);
@@ -607,9 +610,21 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
     judgeFreeSpace(grid, wearer, out.steer_heading, p_, out, ahead_unknown);
     if (ahead_unknown && out.free_ahead < p_.unknown_ahead_m)
     {
-      // (standing: judged along the way it will be sent, not the way it faces)
-      unmappedAhead(out);
-      return out;
+      // (standing: judged along the way it will be sent, not the way it faces.) A way outside the
+      // sector the blind zone is vouched for starts with a turn on the spot (the cue logic turns a
+      // standing wearer whose way lies more than its `stand_turn_deg` off its facing): nobody steps
+      // onto that floor before facing it, and it is judged then; until then what lies ahead is what
+      // the wearer faces. Otherwise (or facing unmapped floor too): cannot tell.
+      const bool turn_first =
+          p_.blind_zone_m > 0.0 &&
+          std::fabs(wrapAngle(out.steer_heading - out.head_yaw)) > p_.blind_zone_half_angle_deg * M_PI / 180.0;
+      if (turn_first)
+        judgeFreeSpace(grid, wearer, out.head_yaw, p_, out, ahead_unknown);
+      if (!turn_first || (ahead_unknown && out.free_ahead < p_.unknown_ahead_m))
+      {
+        unmappedAhead(out);
+        return out;
+      }
     }
   }
   ever_planned_ = true;
@@ -633,6 +648,44 @@ void Planner::recordWalkedFloor(const Grid& input, const Point2& wearer)
   }
   work_ = input;
   markWalkedFloor(work_, walked_, p_.footprint_radius_m);
+}
+
+void Planner::vouchForBlindZone(const Point2& wearer, double facing, double t, PlanOutput& out)
+{
+  // The floor just ahead lies below the camera's view (README, the blind zone): vouched for only
+  // on the ranger's fresh "nothing nearer" along the way the head faces, and the camera's view past it.
+  if (!(p_.blind_zone_m > 0.0))
+    return;
+  char buf[128];
+  const double half = p_.blind_zone_half_angle_deg * M_PI / 180.0;
+  if (!ranger_.valid())
+  {
+    out.vouch_note = "no ranger reading to vouch for the blind zone";
+    return;
+  }
+  if (!std::isfinite(t) || std::fabs(t - ranger_.stamp) > p_.ranger_max_age_s)
+  {
+    std::snprintf(buf, sizeof(buf), "the ranger's reading is %.2f s from the frame: the blind zone is not vouched for",
+                  std::isfinite(t) ? std::fabs(t - ranger_.stamp) : std::numeric_limits<double>::infinity());
+    out.vouch_note = buf;
+    return;
+  }
+  const double off = std::fabs(wrapAngle(ranger_.yaw - facing));
+  if (off > half)
+  {
+    std::snprintf(buf, sizeof(buf), "the ranger points %.0f deg off the head: the blind zone is not vouched for",
+                  off * 180.0 / M_PI);
+    out.vouch_note = buf;
+    return;
+  }
+  out.vouched_cells = vouchBlindZone(work_, wearer, facing, ranger_, p_.blind_zone_m, half, p_.blind_zone_view_m);
+  if (std::isfinite(ranger_.range) && ranger_.range < p_.blind_zone_m + work_.resolution)
+  {
+    std::snprintf(buf, sizeof(buf), "the ranger hears an echo %.2f m ahead", ranger_.range);
+    out.vouch_note = buf;
+  }
+  else if (out.vouched_cells == 0)
+    out.vouch_note = "nothing seen past the blind zone to vouch for it";
 }
 
 void Planner::measureWalk(const Point2& wearer, double t, PlanOutput& out)

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include <assistive_msgs/MoverArray.h>
 #include <assistive_msgs/NavigationState.h>
@@ -10,6 +11,7 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/OccupancyGrid.h>
+#include <sensor_msgs/Range.h>
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
@@ -390,6 +392,46 @@ TEST_F(PlannerNodeletTest, GoalInTheMapFrameSurvivesAReset)
   EXPECT_GT(rec_.waypoint->point.x, 0.1) << "the goal in odom should be gone after the reset";
 
   goalIn("", 0.0, 0.0);  // cleared for the other tests
+}
+
+// Issue 34: the blind zone. A standing wearer whose floor within 1 m nobody has mapped (the wall
+// mapped past it): IN_UNKNOWN while no ranger reading came; with a fresh sonar/front reading (no
+// echo, frame camera_link on tf) the planner vouches for the floor ahead: OK; a reading without a
+// frame is ignored (and the next grid, without a fresh reading, is IN_UNKNOWN again).
+TEST_F(PlannerNodeletTest, TheRangerVouchesForTheBlindZone)
+{
+  ros::Publisher sonar = nh_.advertise<sensor_msgs::Range>("sonar/front", 5);
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10.0);
+  while (ros::ok() && sonar.getNumSubscribers() == 0 && ros::WallTime::now() < until)
+    ros::WallDuration(0.05).sleep();
+  ASSERT_GT(sonar.getNumSubscribers(), 0u);
+  auto reading = [&](const std::string& frame) {
+    sensor_msgs::Range r;
+    r.header.stamp = ros::Time::now();
+    r.header.frame_id = frame;
+    r.radiation_type = sensor_msgs::Range::ULTRASOUND;
+    r.field_of_view = 0.26f;
+    r.min_range = 0.2f;
+    r.max_range = 4.0f;
+    r.range = std::numeric_limits<float>::infinity();
+    sonar.publish(r);
+    ros::WallDuration(0.05).sleep();
+  };
+  reading("");  // no frame: ignored
+  ASSERT_TRUE(step(0.1, 0.1, 0.0, true));
+  EXPECT_EQ(rec_.state->status, assistive_msgs::NavigationState::IN_UNKNOWN) << rec_.state->message;
+  bool ok = false;
+  for (int i = 0; i < 10 && !ok; ++i)
+  {
+    reading("camera_link");
+    ASSERT_TRUE(step(0.1, 0.1, 0.0, true));
+    ok = rec_.state->status == assistive_msgs::NavigationState::OK;
+  }
+  EXPECT_TRUE(ok) << rec_.state->message;
+  EXPECT_GT(rec_.state->free_distance_ahead, 1.0) << rec_.state->message;
+  ros::WallDuration(0.7).sleep();  // the reading is stale now
+  ASSERT_TRUE(step(0.1, 0.1, 0.0, true));
+  EXPECT_EQ(rec_.state->status, assistive_msgs::NavigationState::IN_UNKNOWN) << rec_.state->message;
 }
 
 int main(int argc, char** argv)

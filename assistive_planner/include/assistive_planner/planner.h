@@ -9,6 +9,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "assistive_planner/blind_zone.h"
 #include "assistive_planner/cost_grid.h"
 #include "assistive_planner/crossing_watch.h"
 #include "assistive_planner/dstar_lite.h"
@@ -63,6 +64,10 @@ struct PlanOutput
   /// People crossing (CrossingWatch): the most urgent advice; NONE when the cycle had no time
   /// (update() without `t`), no fresh movers, or the wearer's pose or grid was unusable.
   CrossingResult crossing;
+  /// The blind zone (blind_zone.h): unknown cells vouched for as floor this cycle, and why none
+  /// were when the ranger could not vouch (empty otherwise).
+  int vouched_cells = 0;
+  std::string vouch_note;
   size_t expansions = 0;           ///< D* Lite expansions in this update
   size_t changed_cells = 0;        ///< cells whose weight changed since the last update
   bool scrolled = false;
@@ -98,6 +103,10 @@ public:
     crossing_.setMovers(stamp, std::move(movers));
   }
   void clearMovers() { crossing_.clearMovers(); }
+  /// The forward ranger's newest reading (its axis in the planner's frame): with the camera's view
+  /// past the blind zone it vouches for the unmapped floor just ahead (vouchBlindZone), while its
+  /// stamp lies within `ranger_max_age_s` of the cycle's time `t` (never without `t`).
+  void setRanger(const RangerReading& r) { ranger_ = r; }
   const CrossingWatch& crossingWatch() const { return crossing_; }
   /// Explicit target (e.g. a tagged place); replaces the automatic waypoint until reached or cleared.
   void setGoal(const Point2& goal);
@@ -166,6 +175,7 @@ private:
   void syncCosts(const Grid& grid, PlanOutput& out);
   // The steps of update(), in order; a bool step returns false when it has set the status.
   void recordWalkedFloor(const Grid& input, const Point2& wearer);  // walked_, work_
+  void vouchForBlindZone(const Point2& wearer, double facing, double t, PlanOutput& out);  // work_
   void measureWalk(const Point2& wearer, double t, PlanOutput& out);  // walking_speed, walk_heading
   bool chooseTarget(const Grid& grid, const Point2& wearer, double heading, bool motion_changed, PlanOutput& out,
                     int& gx, int& gy);
@@ -180,6 +190,7 @@ private:
   MotionVector motion_;
   WaypointSelector waypoints_;
   CrossingWatch crossing_;
+  RangerReading ranger_;
   bool have_grid_ = false;
   Grid last_grid_;  // geometry only (data not kept)
   bool ever_planned_ = false;

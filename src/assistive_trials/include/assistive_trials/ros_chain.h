@@ -41,8 +41,10 @@ public:
                               ///< when nobody publishes /tactile/cue)
     double start_time = 100.0;///< simulated clock at t = 0 of the first trial
     std::string frame = "odom";    ///< TRUTH_GRID: the planner's world frame
-    std::string goal_frame = "odom";  ///< VISION: the planner's frame (the VO's odom: on the floor under
-                                      ///< the camera's start, x along its heading)
+    std::string goal_frame = "map";   ///< VISION: the goals' frame: SLAM's map, which starts as the VO's
+                                      ///< odom (on the floor under the camera's start, x along its
+                                      ///< heading); the planner keeps a goal in map through a VO reset
+                                      ///< (one in odom is dropped then: issue 34)
     double eye_height = 1.6;
     double pitch_down_deg = 15.0;  ///< VISION: the head's pitch (the worlds' scripts: 10-30 deg)
     double warmup_s = 1.0;         ///< VISION: the wearer stands this long before each trial (the VO
