@@ -18,10 +18,10 @@
 #include <stereo_msgs/DisparityImage.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/transform_broadcaster.h>
-#include <unistd.h>
 
 #include <assistive_eval/map_score.h>
 #include <assistive_eval/stereo_bag.h>
+#include <assistive_sim/rendered_bag.h>
 
 namespace eval = assistive_eval;
 
@@ -70,12 +70,9 @@ TEST(ObstaclesNodelet, ReplayGeneratedBagAndScoreMap)
   int frames = 45;
   pnh.param("world", world, world);
   pnh.param("frames", frames, frames);
-  const std::string bag = "/tmp/assistive_obstacles_rostest_" + std::to_string(getpid()) + ".bag";
-  const std::string cmd = "rosrun assistive_sim render_bag --world " + world + " --out " + bag + " --frames " +
-                          std::to_string(frames) + " > /dev/null";
-  const int rc = std::system(cmd.c_str());
-  if (rc != 0) std::remove(bag.c_str());  // a partial bag
-  ASSERT_EQ(rc, 0) << cmd;
+  const assistive_sim::RenderedBag rendered(world, frames, "obstacles_rostest");
+  const std::string& bag = rendered.path();
+  ASSERT_FALSE(bag.empty()) << "render_bag failed on " << world << " (its output:\n" << rendered.log() << ")";
 
   ros::Subscriber sg = nh.subscribe("obstacles/traversability", 5, gridCb);
   ros::Subscriber sd = nh.subscribe("obstacles/disparity", 5, dispCb);
@@ -137,7 +134,6 @@ TEST(ObstaclesNodelet, ReplayGeneratedBagAndScoreMap)
       EXPECT_TRUE(expect_grid) << "grid published from frame " << sent << ", before the map was rebuilt";
     }
   }
-  std::remove(bag.c_str());
   EXPECT_EQ(answered, sent - (kRebuildFrames - 1));
   ASSERT_TRUE(g_grid);
   EXPECT_GT(g_disp, 0);

@@ -24,12 +24,12 @@
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
-#include <unistd.h>
 
 #include <assistive_common/ros_params.h>
 #include <assistive_common/wearer.h>
 #include <assistive_eval/conversions.h>
 #include <assistive_eval/stereo_bag.h>
+#include <assistive_sim/rendered_bag.h>
 #include <assistive_obstacles/conversions.h>
 #include <assistive_obstacles/frame_processor.h>
 #include <assistive_sim/ultrasonic.h>
@@ -263,12 +263,9 @@ TEST(ObstaclesReplay, NodeletGivesTheProcessorsGridsFrameByFrame)
   int frames = 90;
   pnh.param("world", world, world);
   pnh.param("frames", frames, frames);
-  const std::string bag = "/tmp/assistive_obstacles_replay_" + std::to_string(getpid()) + ".bag";
-  const std::string cmd = "rosrun assistive_sim render_bag --world " + world + " --out " + bag + " --frames " +
-                          std::to_string(frames) + " > /dev/null";
-  const int rc = std::system(cmd.c_str());
-  if (rc != 0) std::remove(bag.c_str());
-  ASSERT_EQ(rc, 0) << cmd;
+  const assistive_sim::RenderedBag rendered(world, frames, "obstacles_replay");
+  const std::string& bag = rendered.path();
+  ASSERT_FALSE(bag.empty()) << "render_bag failed on " << world << " (its output:\n" << rendered.log() << ")";
 
   Connections c(nh);
   ASSERT_GT(c.ps.getNumSubscribers(), 0u) << "nodelet did not subscribe";
@@ -292,7 +289,6 @@ TEST(ObstaclesReplay, NodeletGivesTheProcessorsGridsFrameByFrame)
     if (HasFatalFailure()) return;
     if (!answered) break;
   }
-  std::remove(bag.c_str());
   std::printf("replay %s: %d frames sent, %d answered, %d grids (%d equal), %d frames with movers (%d movers)\n",
               world.c_str(), r.sent, r.answered, r.grids, r.grids_equal, r.movers_frames, r.movers_seen);
   EXPECT_EQ(r.sent, frames);

@@ -343,8 +343,16 @@ class SlamNodelet : public nodelet::Nodelet
       }
       // Future-dated by one period (the tf convention for map -> odom): lookups at the latest
       // odom stamp succeed.
+      // Sent once per stamp: the timer runs on the wall clock and may outpace the odometry (a bag
+      // played slowly, a loaded machine), and tf2 drops a repeated stamp with a TF_REPEATED_DATA
+      // warning per listener; the next odometry frame carries any newer correction. (Only a
+      // repeat is skipped: time going back, a bag started again, is sent on.)
+      const ros::Time stamp = last_stamp_ + ros::Duration(1.0 / node_.tf_rate);
+      if (stamp == last_tf_stamp_)
+        return;
+      last_tf_stamp_ = stamp;
       geometry_msgs::TransformStamped t = tf2::eigenToTransform(slam_->mapToOdom());
-      t.header.stamp = last_stamp_ + ros::Duration(1.0 / node_.tf_rate);
+      t.header.stamp = stamp;
       t.header.frame_id = node_.map_frame;
       t.child_frame_id = odom_frame_;
       tf_pub_.sendTransform(t);
@@ -524,6 +532,7 @@ class SlamNodelet : public nodelet::Nodelet
   std::mutex m_;
   ros::Time last_stamp_;
   std::string odom_frame_ = "odom";
+  ros::Time last_tf_stamp_;  // the newest map -> odom stamp sent
   Eigen::Isometry3d T_odom_optical_last_ = Eigen::Isometry3d::Identity();
   double ms_frame_ = 0, ms_max_ = 0;
   long frames_ = 0;

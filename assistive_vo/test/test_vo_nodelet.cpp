@@ -18,7 +18,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
 #include "assistive_vo/frames.h"
-#include "rendered_bag.h"
+#include <assistive_sim/rendered_bag.h>
 
 namespace
 {
@@ -71,7 +71,7 @@ TEST(VoNodelet, ReplayMatchesGroundTruth)
   pnh.param("world", world, world);
   pnh.param("frames", frames, frames);
   pnh.param("play_rate", rate, rate);
-  const assistive_vo_test::RenderedBag rendered(world, frames);
+  const assistive_sim::RenderedBag rendered(world, frames, "vo_rostest");
   const std::string& bag = rendered.path();
   ASSERT_FALSE(bag.empty()) << "render_bag failed (world " << world << ")";
 
@@ -197,7 +197,7 @@ void lateOdomCb(const nav_msgs::OdometryConstPtr& m)
 TEST(VoNodelet, WaitsForTheImuBeforeFixingGravity)
 {
   ros::NodeHandle nh;
-  const assistive_vo_test::RenderedBag rendered("course", 20);
+  const assistive_sim::RenderedBag rendered("course", 20, "vo_rostest");
   const std::string& bag_path = rendered.path();
   ASSERT_FALSE(bag_path.empty()) << "render_bag failed";
   ros::Publisher li = nh.advertise<sensor_msgs::Image>("/late/left/image_rect", 5);
@@ -290,7 +290,7 @@ TEST(VoNodelet, UntrustedFramesPublishNullCovarianceAndNoTf)
   ros::NodeHandle nh;
   // 8 good frames, then 52 black ones (3.5 s at 15 Hz): longer than any coasting allows
   // (imu_coast_max 2.5 s with a fitted velocity, coast_max 0.3 s without), whichever applies.
-  const assistive_vo_test::RenderedBag rendered("course", 60);
+  const assistive_sim::RenderedBag rendered("course", 60, "vo_rostest");
   const std::string& bag_path = rendered.path();
   ASSERT_FALSE(bag_path.empty()) << "render_bag failed";
   ros::Publisher li = nh.advertise<sensor_msgs::Image>("/fs/left/image_rect", 5);

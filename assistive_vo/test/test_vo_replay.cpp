@@ -25,7 +25,7 @@
 #include <assistive_eval/stereo_bag.h>
 #include "assistive_vo/conversions.h"
 #include "assistive_vo/vo_front_end.h"
-#include "rendered_bag.h"
+#include <assistive_sim/rendered_bag.h>
 
 namespace
 {
@@ -238,7 +238,7 @@ void compareFrameByFrame(const ReplaySetup& s, const InProcess& in, int waited_o
 TEST(VoReplay, NodeletAndFrontEndGiveTheSamePosesFrameByFrame)
 {
   const ReplaySetup s = readSetup();
-  const assistive_vo_test::RenderedBag rendered(s.world, s.frames);
+  const assistive_sim::RenderedBag rendered(s.world, s.frames, "vo_replay");
   const std::string& bag_path = rendered.path();
   ASSERT_FALSE(bag_path.empty()) << "render_bag failed (world " << s.world << ")";
 
