@@ -7,28 +7,14 @@
 
 #include "assistive_planner/blind_zone.h"
 #include "assistive_planner/planner.h"
+#include "grid_fixtures.h"
 
 using namespace assistive_planner;
 
 namespace
 {
-Grid blindGrid(double ox, double oy, int n = 40)
-{
-  Grid g;
-  g.width = g.height = n;
-  g.resolution = 0.2;
-  g.origin_x = ox;
-  g.origin_y = oy;
-  g.data.assign(size_t(n * n), CELL_FREE);
-  return g;
-}
-void setRect(Grid& g, double x0, double y0, double x1, double y1, int8_t code)
-{
-  for (int y = 0; y < g.height; ++y)
-    for (int x = 0; x < g.width; ++x)
-      if (g.cellX(x) >= x0 && g.cellX(x) <= x1 && g.cellY(y) >= y0 && g.cellY(y) <= y1)
-        g.data[size_t(g.index(x, y))] = code;
-}
+Grid blindGrid(double ox, double oy) { return planner_test::freeGrid(ox, oy, 40); }
+using planner_test::fillRect;
 constexpr double kDeg = M_PI / 180.0;
 const double kInf = std::numeric_limits<double>::infinity();
 /// A fresh reading along +x: no echo within 4 m (range +Inf) or an echo at `range`; a 15 deg cone.
@@ -49,7 +35,7 @@ RangerReading ranger(double range = kInf, double yaw = 0.0)
 TEST(BlindZone, VouchesOnlyAheadBeforeSeenFloorAndTheRangersEcho)
 {
   Grid g = blindGrid(0.0, 0.0);
-  setRect(g, 0.0, 0.0, 2.5, 8.0, CELL_UNKNOWN);
+  fillRect(g, 0.0, 0.0, 2.5, 8.0, CELL_UNKNOWN);
   const Point2 w{ 1.1, 4.1 };
   Grid m = g;
   const int n = vouchBlindZone(m, w, 0.0, ranger(), 2.0, 30.0 * kDeg);
@@ -77,13 +63,13 @@ TEST(BlindZone, VouchesOnlyAheadBeforeSeenFloorAndTheRangersEcho)
   // nothing seen past the zone within blind_zone_view_m (dark, bare, or the window's edge): nothing
   // vouched for; the camera's floor 2.6 m ahead (0.6 m past the zone) is enough with the default 1 m
   m = blindGrid(0.0, 0.0);
-  setRect(m, 0.0, 0.0, 3.5, 8.0, CELL_UNKNOWN);
+  fillRect(m, 0.0, 0.0, 3.5, 8.0, CELL_UNKNOWN);
   Grid far = m;
   EXPECT_GT(vouchBlindZone(far, w, 0.0, ranger(), 2.0, 30.0 * kDeg), 10);
   EXPECT_EQ(far.at(12, 20), CELL_FREE);
   far = m;
   EXPECT_EQ(vouchBlindZone(far, w, 0.0, ranger(), 2.0, 30.0 * kDeg, 0.4), 0);
-  setRect(m, 0.0, 0.0, 4.5, 8.0, CELL_UNKNOWN);
+  fillRect(m, 0.0, 0.0, 4.5, 8.0, CELL_UNKNOWN);
   EXPECT_EQ(vouchBlindZone(m, w, 0.0, ranger(), 2.0, 30.0 * kDeg), 0);
   // ... unless the ranger heard a solid within the zone: a plain wall the camera gets no
   // depth from, 1.75 m ahead: vouched for up to one cell before it, within the ranger's cone (7.5 deg either side) only
@@ -106,7 +92,7 @@ TEST(BlindZone, VouchesOnlyAheadBeforeSeenFloorAndTheRangersEcho)
 TEST(BlindZone, ACellPartlyInsideTheSectorCounts)
 {
   Grid g = blindGrid(0.0, 0.0);
-  setRect(g, 0.0, 0.0, 2.5, 8.0, CELL_UNKNOWN);
+  fillRect(g, 0.0, 0.0, 2.5, 8.0, CELL_UNKNOWN);
   Grid m = g;
   vouchBlindZone(m, { 1.15, 4.15 }, 0.0, ranger(), 2.0, 30.0 * kDeg);
   EXPECT_EQ(m.at(6, 21), CELL_FREE);      // centre (1.3, 4.3): 0.21 m at 45 deg
@@ -140,7 +126,7 @@ TEST(BlindZone, RangerReadingValidity)
 TEST(BlindZone, PlannerStartsOnlyOnTheRangersWord)
 {
   Grid start = blindGrid(0.0, 0.0);
-  setRect(start, 0.0, 0.0, 2.5, 8.0, CELL_UNKNOWN);
+  fillRect(start, 0.0, 0.0, 2.5, 8.0, CELL_UNKNOWN);
   const Point2 w{ 1.1, 4.1 };
   PlanOutput o = Planner().update(start, w, 0.0, 10.0);
   EXPECT_EQ(o.status, PlanStatus::IN_UNKNOWN);
@@ -199,7 +185,7 @@ TEST(BlindZone, PlannerStartsOnlyOnTheRangersWord)
 TEST(BlindZone, AWayOutsideTheVouchedSectorStartsWithATurn)
 {
   Grid g = blindGrid(-4.0, 0.0);
-  setRect(g, 1.2, 0.0, 2.5, 8.0, CELL_UNKNOWN);  // a band across the whole window: no known way round
+  fillRect(g, 1.2, 0.0, 2.5, 8.0, CELL_UNKNOWN);  // a band across the whole window: no known way round
   const Point2 w{ 1.1, 4.1 };
   Planner pl;
   pl.setGoal({ 3.5, 4.1 });

@@ -5,28 +5,14 @@
 
 #include "assistive_planner/cost_model.h"
 #include "assistive_planner/planner.h"
+#include "grid_fixtures.h"
 
 using namespace assistive_planner;
 
 namespace
 {
-Grid makeGrid(double ox, double oy, int n = 50)
-{
-  Grid g;
-  g.width = g.height = n;
-  g.resolution = 0.2;
-  g.origin_x = ox;
-  g.origin_y = oy;
-  g.data.assign(size_t(n * n), CELL_FREE);
-  return g;
-}
-void fillRect(Grid& g, double x0, double y0, double x1, double y1, int8_t code)
-{
-  for (int y = 0; y < g.height; ++y)
-    for (int x = 0; x < g.width; ++x)
-      if (g.cellX(x) >= x0 && g.cellX(x) <= x1 && g.cellY(y) >= y0 && g.cellY(y) <= y1)
-        g.data[size_t(g.index(x, y))] = code;
-}
+Grid makeGrid(double ox, double oy, int n = 50) { return planner_test::freeGrid(ox, oy, n); }
+using planner_test::fillRect;
 }  // namespace
 
 // A doorway 0.8 m wide in a wall across the path, the path 0.2 m off its middle: found 2 m

@@ -5,6 +5,7 @@
 
 #include "assistive_planner/motion_vector.h"
 #include "assistive_planner/waypoint_selector.h"
+#include "grid_fixtures.h"
 
 using namespace assistive_planner;
 
@@ -13,23 +14,8 @@ namespace
 constexpr double DEG = M_PI / 180.0;
 
 // 10 m x 10 m free grid at 0.2 m, origin (-5, -5): the wearer at (0, 0) is the centre.
-Grid freeGrid()
-{
-  Grid g;
-  g.width = g.height = 50;
-  g.resolution = 0.2;
-  g.origin_x = g.origin_y = -5.0;
-  g.data.assign(2500, CELL_FREE);
-  return g;
-}
-
-void fillRect(Grid& g, double x0, double y0, double x1, double y1, int8_t code)
-{
-  for (int y = 0; y < g.height; ++y)
-    for (int x = 0; x < g.width; ++x)
-      if (g.cellX(x) >= x0 && g.cellX(x) <= x1 && g.cellY(y) >= y0 && g.cellY(y) <= y1)
-        g.data[size_t(g.index(x, y))] = code;
-}
+Grid freeGrid() { return planner_test::freeGrid(-5.0, -5.0, 50); }
+using planner_test::fillRect;
 }  // namespace
 
 TEST(MotionVector, SmallHeadTurnKeepsHeadingLargeTurnMovesIt)
