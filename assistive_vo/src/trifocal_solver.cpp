@@ -637,7 +637,9 @@ bool motionAt(double alpha, const std::array<PolyRow, 6>& M6, const Eigen::Matri
               const Eigen::MatrixXd& Ct, StereoMotion& m)
 {
   const double a = std::sqrt(alpha);
-  const Eigen::JacobiSVD<Eigen::Matrix<double, 6, 4>> svd(evalRows(M6, a), Eigen::ComputeFullV);
+  // dynamic size on purpose: the file already instantiates JacobiSVD<MatrixXd>, and a fixed-size
+  // 6x4 (and 4x4 below) SVD would instantiate it twice more at about a quarter of its compile time
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(evalRows(M6, a), Eigen::ComputeFullV);
   const Eigen::Vector4d v = svd.matrixV().col(3);
   if (std::abs(v(3)) < 1e-12)
     return false;
@@ -741,7 +743,7 @@ double pointReprojectionError(const StereoRig& rig, const StereoMotion& m, const
     D.row(2 * v) = pt.x[v].x() * P[v].row(2) - P[v].row(0);
     D.row(2 * v + 1) = pt.x[v].y() * P[v].row(2) - P[v].row(1);
   }
-  const Eigen::JacobiSVD<Eigen::Matrix4d> svd(D, Eigen::ComputeFullV);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(D, Eigen::ComputeFullV);
   const Eigen::Vector4d Xh = svd.matrixV().col(3);
   if (std::abs(Xh(3)) < 1e-12)
     return HUGE_ERR;

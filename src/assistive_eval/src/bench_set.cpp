@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <limits>
@@ -212,6 +213,23 @@ std::string lastJsonLine(const std::string& text)
     if (!line.empty() && line[0] == '{')
       last = line;
   return last;
+}
+
+double jsonNumber(const std::string& json_line, const std::string& key, double missing)
+{
+  std::map<std::string, double> values;
+  if (!parseJsonNumbers(json_line, &values))
+    return missing;
+  const auto it = values.find(key);
+  return it == values.end() ? missing : it->second;
+}
+
+std::string readTextFile(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 std::string bagStem(const std::string& path)

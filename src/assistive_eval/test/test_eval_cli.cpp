@@ -1,6 +1,7 @@
 // The evaluation CLIs end to end on a generated bag (no roscore): a walk with a known 4 % scale
 // drift in the pipeline's odometry (camera_link in odom, rotated 90 deg from gt_world), and
 // obstacle grids in the odom frame with one known false positive and one known miss.
+#include <assistive_eval/bench_set.h>
 #include <assistive_eval/map_score.h>
 #include <assistive_eval/trajectory.h>
 #include <assistive_eval/stereo_bag.h>
@@ -109,16 +110,10 @@ std::string lastLine(const std::string& s)
   return p == std::string::npos ? t : t.substr(p + 1);
 }
 
-/// Number after "\"key\": " in a flat JSON object; NaN for null / missing.
+/// A number of a JSON line; NaN for null / missing.
 double jsonValue(const std::string& json, const std::string& key)
 {
-  const auto p = json.find("\"" + key + "\": ");
-  if (p == std::string::npos)
-    return std::nan("");
-  const std::string rest = json.substr(p + key.size() + 4);
-  if (rest.rfind("null", 0) == 0)
-    return std::nan("");
-  return std::stod(rest);
+  return assistive_eval::jsonNumber(json, key, std::nan(""));
 }
 
 Eigen::Isometry3d gtPose(double s)  // optical frame, walking along +y of gt_world

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <assistive_eval/bench_set.h>
+
 using namespace assistive_sim;
 
 namespace
@@ -21,18 +23,12 @@ int run(const std::string& args, const std::string& log)
 }
 std::string slurp(const std::string& path)
 {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  return assistive_eval::readTextFile(path);
 }
+/// The CLI's JSON line (its last line starting with '{') in a captured output file.
 std::string lastLine(const std::string& path)
 {
-  std::ifstream in(path);
-  std::string line, last;
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
-  return last;
+  return assistive_eval::lastJsonLine(assistive_eval::readTextFile(path));
 }
 }  // namespace
 

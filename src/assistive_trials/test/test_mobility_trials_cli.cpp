@@ -12,21 +12,18 @@
 
 #include <gtest/gtest.h>
 
+#include <assistive_eval/bench_set.h>
+
 namespace
 {
+/// The CLI's JSON line (its last line starting with '{') in a captured output file.
 std::string lastLine(const std::string& path)
 {
-  std::ifstream in(path);
-  std::string line, last;
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
-  return last;
+  return assistive_eval::lastJsonLine(assistive_eval::readTextFile(path));
 }
 double key(const std::string& json, const std::string& k)
 {
-  const size_t p = json.find("\"" + k + "\": ");
-  if (p == std::string::npos) return -1.0;
-  return std::atof(json.c_str() + p + k.size() + 4);
+  return assistive_eval::jsonNumber(json, k);
 }
 std::string run(const std::string& args, const std::string& tag)
 {
@@ -63,10 +60,7 @@ namespace
 {
 std::string slurp(const std::string& path)
 {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  return assistive_eval::readTextFile(path);
 }
 bool has(const std::string& json, const std::string& k) { return json.find("\"" + k + "\": ") != std::string::npos; }
 /// The JSON line without its wall-clock figures.

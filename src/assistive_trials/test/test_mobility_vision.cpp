@@ -14,6 +14,8 @@
 
 #include <gtest/gtest.h>
 
+#include <assistive_eval/bench_set.h>
+
 namespace
 {
 /// The trial logs' folder mobility_trials names on stderr ("logs in /tmp/mobility_vision_XXXXXX").
@@ -29,19 +31,14 @@ std::string logDir(const std::string& path)
   }
   return "";
 }
+/// The CLI's JSON line (its last line starting with '{') in a captured output file.
 std::string lastLine(const std::string& path)
 {
-  std::ifstream in(path);
-  std::string line, last;
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
-  return last;
+  return assistive_eval::lastJsonLine(assistive_eval::readTextFile(path));
 }
 double key(const std::string& json, const std::string& k)
 {
-  const size_t p = json.find("\"" + k + "\": ");
-  if (p == std::string::npos) return -1.0;
-  return std::atof(json.c_str() + p + k.size() + 4);
+  return assistive_eval::jsonNumber(json, k);
 }
 }  // namespace
 

@@ -46,6 +46,11 @@ struct SetAggregate
 bool parseJsonNumbers(const std::string& line, std::map<std::string, double>* out);
 /// The last line of `text` that starts with '{' ("" when none).
 std::string lastJsonLine(const std::string& text);
+/// One number of a JSON line (parseJsonNumbers); `missing` when the key is absent or the line no
+/// JSON object: the CLIs' tests read their figures with it.
+double jsonNumber(const std::string& json_line, const std::string& key, double missing = -1.0);
+/// The whole of a file ("" when it cannot be read): a CLI's captured output.
+std::string readTextFile(const std::string& path);
 /// "/a/b/gen3.bag" -> "gen3".
 std::string bagStem(const std::string& path);
 
