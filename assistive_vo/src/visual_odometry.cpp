@@ -144,6 +144,7 @@ void VisualOdometry::reset()
   coast_.clear();
   standing_.clear();
   standing_now_ = false;
+  standing_holds_ = standing_frames_ = 0;
   untrusted_ = true;
   untrusted_why_.clear();
   have_trusted_ = false;
@@ -643,6 +644,7 @@ Eigen::Isometry3d VisualOdometry::standingMotion(const FrameContext& fc)
   cov_cur_.bottomRightCorner<3, 3>() += Eigen::Matrix3d::Identity() * std::max(0.0, rvar - standing_rot_var_);
   standing_rot_var_ = rvar;
   standing_held_ = true;
+  ++standing_frames_;
   imu_coasted_ = true;  // the covariance is grown here (not by growLostCovariance)
   // a zero-velocity measurement: the coaster's window goes on with it, so a walk on with vision
   // still lost coasts from the hold (v = 0) under the coast rules

@@ -101,6 +101,8 @@ public:
   bool holdingStill() const { return standing_now_; }
   /// Holds started so far (lost frames while standing).
   int standingHolds() const { return standing_holds_; }
+  /// Lost frames held standing so far.
+  int standingFrames() const { return standing_frames_; }
   /// The stereo disparity offset estimated so far (px, added to every disparity).
   double disparityOffset() const { return tracker_.stereo().offset(); }
 
@@ -246,7 +248,7 @@ private:
   bool standing_held_ = false;      ///< this frame was held standing
   Eigen::Vector3d standing_pivot_ = Eigen::Vector3d::Zero();  ///< odom, the still neck
   double standing_t0_ = 0.0, standing_rot_var_ = 0.0;
-  int standing_holds_ = 0;
+  int standing_holds_ = 0, standing_frames_ = 0;
   bool imu_coasted_ = false;  ///< this frame's pose was coasted on the IMU (covariance already grown)
   double coast_var_ = 0.0;    ///< position variance the coast has added so far (per axis)
   double coast_rot_var_ = 0.0;  ///< rotation variance the coast has added so far (per axis)
