@@ -346,6 +346,9 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       s.add("gravity_tilt_deg", fe_->vo().gravity().lastTiltDeg());
       s.add("gravity_windows_accepted", fe_->vo().gravity().accepted());
       s.add("gravity_windows_rejected", fe_->vo().gravity().rejected());
+      s.add("holding_still", fe_->vo().holdingStill());
+      s.add("standing_holds", fe_->vo().standingHolds());
+      s.add("standing_accel_sigma", fe_->vo().standingDetector().statistic());
     }
   }
 

@@ -37,6 +37,13 @@ InertialCoaster::Options coastOptions(const VoParams& p)
   o.gyro_noise_density = p.gyro_noise_density;
   return o;
 }
+StandingDetector::Options standingOptions(const VoParams& p)
+{
+  StandingDetector::Options o;
+  o.window_s = p.standing_window_s;
+  o.max_accel_sigma = p.standing_max_accel_sigma;
+  return o;
+}
 GravityAligner::Options gravityOptions(const VoParams& p)
 {
   GravityAligner::Options o;
@@ -60,7 +67,7 @@ const char* toString(TrackingState s)
 
 VisualOdometry::VisualOdometry(const VoParams& p, const StereoCamera& cam)
   : p_(p), cam_(cam), tracker_(p, cam), keyframes_(p, cam), estimator_(p, cam), refiner_(p, cam), checks_(p),
-    bias_(p), gravity_(gravityOptions(p)), coast_(coastOptions(p))
+    bias_(p), gravity_(gravityOptions(p)), coast_(coastOptions(p)), standing_(standingOptions(p))
 {
 }
 
@@ -69,6 +76,7 @@ void VisualOdometry::setParams(const VoParams& p)
   p_ = p;
   gravity_.setOptions(gravityOptions(p));
   coast_.setOptions(coastOptions(p));
+  standing_.setOptions(standingOptions(p));
   tracker_.setParams(p);
   keyframes_.setParams(p);
   estimator_.setParams(p);
@@ -134,6 +142,9 @@ void VisualOdometry::reset()
   bias_.reset();
   gravity_.clear();
   coast_.clear();
+  standing_.clear();
+  standing_now_ = false;
+  standing_holds_ = standing_frames_ = 0;
   untrusted_ = true;
   untrusted_why_.clear();
   have_trusted_ = false;
@@ -150,6 +161,8 @@ bool VisualOdometry::mayCoast(double stamp, const FrameContext& fc) const
   // stays small.
   if (!(fc.have_gyro && have_trusted_ && !untrusted_))
     return false;
+  if (fc.standing)
+    return true;  // standing (no gait, slow): the position is held, however long vision is blind
   const double since = stamp - last_trusted_stamp_;
   if (fc.have_imu && coast_.available())
     return since <= p_.imu_coast_max_s + 1e-6 &&
@@ -197,8 +210,8 @@ void VisualOdometry::applyTrust(VoOutput& o, double stamp, bool coast_ok, const 
     o.pose_trusted = true;
     untrusted_ = false;
     untrusted_why_.clear();
-    if (o.state == TrackingState::TRACKING)
-      last_trusted_stamp_ = stamp;  // coasting frames do not extend the coast window
+    if (o.state == TrackingState::TRACKING || standing_held_)
+      last_trusted_stamp_ = stamp;  // coasting frames do not extend the coast window; held ones do (v = 0 known)
     trusted_T_odom_optical_ = o.T_odom_optical;
     trusted_cov_ = o.pose_covariance;
     trusted_stamp_ = stamp;
@@ -286,7 +299,15 @@ VoOutput VisualOdometry::makeOutput(TrackingState s, const FrameStats& st, const
     {
       // a predicted motion: the variance of the prediction, not the last measured one's
       o.twist_covariance = Eigen::Matrix<double, 6, 6>::Identity() * (1e-2 / (dt * dt));
-      if (imu_coasted_)
+      if (standing_held_)
+      {
+        // held: zero velocity, within the speed a hold may start at; the gyro's rotation
+        o.linear_velocity.setZero();
+        o.twist_covariance.topLeftCorner<3, 3>() =
+            Eigen::Matrix3d::Identity() * std::max(1e-4, p_.standing_max_speed * p_.standing_max_speed);
+        o.twist_covariance.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() * bias_.rotationVariance(dt) / (dt * dt);
+      }
+      else if (imu_coasted_)
       {
         o.twist_covariance.topLeftCorner<3, 3>() =
             Eigen::Matrix3d::Identity() * coast_.velocityVariance(coast_.coastTime());
@@ -410,7 +431,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
                                  const Eigen::Quaterniond* gyro_link, const Eigen::Vector3d* dv_link,
                                  const Eigen::Vector3d* dp_link)
 {
-  imu_coasted_ = false;
+  imu_coasted_ = standing_held_ = false;
   tracker_.beginFrame();
   const auto t_start = Clock::now();
   FrameStats st;
@@ -444,6 +465,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
     fc.imu.dp = *dp_link;
   }
   levelAfterGap(have_up_hint, fc);
+  detectStanding(fc);
   fc.coast_ok = mayCoast(stamp, fc);
   if (rejectImages(left_raw, right_raw, fc, st, o))
     return finish(o);
@@ -485,6 +507,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
 
   // ---- accept; gyro bias and a new keyframe at the end of a keyframe span; gravity ----
   accept(m, st);
+  standing_now_ = false;  // vision measures again
   if (keyframes_.needed(m.T_kf_cur, tracker_))
   {
     updateGyroBias(m);
@@ -531,7 +554,10 @@ const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)
     if (!fc.have_gyro)
       T.linear().setIdentity();
     coast_.clear();
+    standing_now_ = false;
   }
+  else if (fc.standing)
+    T = standingMotion(fc);
   else if (fc.have_imu && (was_coasting || (setCoastGyro(), coast_.start())))
   {
     if (!was_coasting)
@@ -561,6 +587,71 @@ const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)
   }
   else
     coast_.clear();  // constant-velocity guess (coast_max_s at most)
+  if (!fc.standing)
+    standing_now_ = false;  // gait back (or no IMU): the coast rules, from the last held frame
+  return T;
+}
+
+void VisualOdometry::detectStanding(FrameContext& fc)
+{
+  // The specific force over the interval, in odom axes (the orientation at its start, as the
+  // preintegration's dv is expressed): gravity stays put while the head only turns.
+  if (!(p_.standing_detection && fc.have_imu && !fc.gap && fc.imu.dt > 1e-6))
+  {
+    standing_.clear();
+    standing_now_ = false;
+    return;
+  }
+  const Eigen::Matrix3d R_odom_link = linkPose(T_odom_o0_ * T_w_cur_).linear();
+  standing_.add(fc.stamp, fc.imu.dt, R_odom_link * fc.imu.dv / fc.imu.dt);
+  if (!standing_.quiet())
+    return;
+  // No gait. A walk at constant speed without a bob would look the same (the accelerometer cannot
+  // see a constant velocity), so a hold starts only at a speed known to be low: the IMU-coasted
+  // velocity, or the last tracked frame's.
+  double speed = 0.0;
+  if (coast_.coasting())
+    speed = coast_.velocity().norm();
+  else if (last_dt_ > 1e-6)
+    speed = last_T_prev_cur_.translation().norm() / last_dt_;
+  fc.standing = standing_now_ || speed <= p_.standing_max_speed;
+}
+
+Eigen::Isometry3d VisualOdometry::standingMotion(const FrameContext& fc)
+{
+  // Zero velocity: the neck stays where it was when the hold started; the camera turns about it
+  // with the gyro's rotation (bias-corrected). The position variance grows once, by
+  // standing_position_sigma; the rotation's by the gyro's over the hold.
+  const Eigen::Matrix3d R_lo = R_link_optical();
+  const Eigen::Isometry3d T_odom_opt = T_odom_o0_ * T_w_cur_;
+  const Eigen::Vector3d r_link(p_.standing_pivot_forward, 0.0, p_.standing_pivot_up);
+  if (!standing_now_)
+  {
+    standing_now_ = true;
+    ++standing_holds_;
+    standing_pivot_ = T_odom_opt.translation() - T_odom_opt.linear() * R_lo.transpose() * r_link;
+    standing_t0_ = fc.stamp - fc.dt_real;
+    standing_rot_var_ = 0.0;
+    const double s2 = p_.standing_position_sigma * p_.standing_position_sigma;
+    cov_cur_.topLeftCorner<3, 3>() += Eigen::Matrix3d::Identity() * s2;
+  }
+  const Eigen::Matrix3d R1_opt = T_odom_opt.linear() * fc.T_pred.linear();
+  const Eigen::Vector3d p1 = standing_pivot_ + R1_opt * R_lo.transpose() * r_link;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = fc.T_pred.linear();
+  T.translation() = T_odom_opt.linear().transpose() * (p1 - T_odom_opt.translation());
+  const double rvar = bias_.rotationVariance(fc.stamp - standing_t0_);
+  cov_cur_.bottomRightCorner<3, 3>() += Eigen::Matrix3d::Identity() * std::max(0.0, rvar - standing_rot_var_);
+  standing_rot_var_ = rvar;
+  standing_held_ = true;
+  ++standing_frames_;
+  imu_coasted_ = true;  // the covariance is grown here (not by growLostCovariance)
+  // a zero-velocity measurement: the coaster's window goes on with it, so a walk on with vision
+  // still lost coasts from the hold (v = 0) under the coast rules
+  Eigen::Isometry3d T_link1 = Eigen::Isometry3d::Identity();
+  T_link1.linear() = R1_opt * R_lo.transpose();
+  T_link1.translation() = p1;
+  coast_.addTracked(fc.stamp, T_link1, &fc.imu);
   return T;
 }
 

@@ -567,7 +567,9 @@ ev::JsonLine jsonLine(const Options& opt, const BagRun& run, const Scores& sc)
         .add("blackout_resume_frames", bo.resumed ? std::to_string(bo.resume_frames) : "null")
         .add("blackout_err_resumed_m", bo.resumed ? num(bo.relErr(bo.gt_c, bo.est_c)) : "null");
   js.add("resets", run.vo.resets()).add("frames_not_tracking", run.lost).add("max_recovery_frames", run.max_bad_run)
-      .add("recovery_frames_max", run.recovery.maxUsableInRun()).add("unusable_frames", run.unusable);
+      .add("recovery_frames_max", run.recovery.maxUsableInRun()).add("unusable_frames", run.unusable)
+      .add("untrusted_frames", run.vo.failSafe().untrusted_frames).add("standing_frames", run.vo.standingFrames())
+      .add("standing_holds", run.vo.standingHolds());
   for (const char* k : kStages)
     js.add(std::string("ms_p95_") + k, num(percentile(run.times(k), 0.95)));
   if (sc.have_gt)

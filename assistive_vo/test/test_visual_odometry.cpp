@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include "assistive_vo/frames.h"
 #include "assistive_vo/visual_odometry.h"
@@ -839,4 +840,164 @@ TEST(PointLine, AMotionOffTheGyroIsRejected)
   run(1.0, lost, off, lines);
   EXPECT_GT(off, 0);
   EXPECT_EQ(lines, 0);
+}
+
+// ---- standing still known from the IMU (issue 34) ----
+
+namespace
+{
+/// A synthetic IMU for a pose function (optical frame in w, the first optical frame; odom = the VO's
+/// first output): the gyro's rotation, the accelerometer's preintegrated dv and dp between two
+/// stamps (exact for any motion: dv = R0^T (v1 - v0 + g dt), dp = R0^T (p1 - p0 - v0 dt + g dt^2 / 2),
+/// odom axes, g = +9.81 z) with the simulator's white noise (ADIS16448 class: gyro 1.7e-4
+/// rad/s/sqrt(Hz), accelerometer 2e-3 m/s^2/sqrt(Hz)).
+struct SyntheticImu
+{
+  std::function<Eigen::Isometry3d(double)> pose;  ///< T_w_optical(t)
+  Eigen::Isometry3d T_odom_w = Eigen::Isometry3d::Identity();
+  std::mt19937 rng{7};
+  std::normal_distribution<double> n{0.0, 1.0};
+
+  Eigen::Isometry3d link(double t) const
+  {
+    Eigen::Isometry3d T = T_odom_w * pose(t);
+    T.linear() = T.linear() * R_link_optical().transpose();
+    return T;
+  }
+  Eigen::Vector3d velocity(double t) const
+  {
+    const double h = 1e-4;
+    return (link(t + h).translation() - link(t - h).translation()) / (2 * h);
+  }
+  void between(double t0, double t1, Eigen::Quaterniond& gyro, Eigen::Vector3d& dv, Eigen::Vector3d& dp)
+  {
+    const double dt = t1 - t0;
+    const Eigen::Isometry3d A = link(t0), B = link(t1);
+    const Eigen::Vector3d g(0, 0, 9.81), v0 = velocity(t0), v1 = velocity(t1);
+    const Eigen::Vector3d wn = Eigen::Vector3d(n(rng), n(rng), n(rng)) * 1.7e-4 * std::sqrt(dt);
+    gyro = Eigen::Quaterniond(Eigen::Matrix3d(A.linear().transpose() * B.linear() *
+                                              Eigen::AngleAxisd(wn.norm(), wn.normalized()).toRotationMatrix()));
+    dv = A.linear().transpose() * (v1 - v0 + g * dt) + Eigen::Vector3d(n(rng), n(rng), n(rng)) * 2e-3 * std::sqrt(dt);
+    dp = A.linear().transpose() * (B.translation() - A.translation() - v0 * dt + 0.5 * g * dt * dt);
+  }
+};
+
+double yawDeg(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)) * 180.0 / M_PI; }
+}  // namespace
+
+TEST(Standing, TurningOnTheSpotWithBlindFramesHoldsThePositionTrusted)
+{
+  // The wearer stands in front of the textured wall (1 s, tracked), then turns on the spot while the
+  // camera is blind (black, then flat frames) for 6 s: 40 deg left in 3 s, 20 deg back in 3 s, the
+  // head about the neck (standing_pivot_*). Every frame stays trusted, the camera where the truth
+  // has it within a few mm, the yaw the gyro's within its noise; texture back: tracked, no jump.
+  const VoParams p;
+  StereoCamera cam = test::makeCamera();
+  test::PlaneWorld world;
+  VisualOdometry vo(p, cam);
+  const Eigen::Vector3d r_opt = R_link_optical().transpose() *
+                                Eigen::Vector3d(p.standing_pivot_forward, 0.0, p.standing_pivot_up);
+  auto yaw = [](double t) {
+    const double a = std::clamp((t - 1.0) / 3.0, 0.0, 1.0), b = std::clamp((t - 4.0) / 3.0, 0.0, 1.0);
+    auto s5 = [](double x) { return x * x * x * (10 - 15 * x + 6 * x * x); };
+    return (40.0 * s5(a) - 20.0 * s5(b)) * M_PI / 180.0;
+  };
+  SyntheticImu imu;
+  imu.pose = [&](double t) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(-yaw(t), Eigen::Vector3d::UnitY()).toRotationMatrix();  // optical y is down
+    T.translation() = (Eigen::Vector3d(0, 0, 0) - r_opt) + T.linear() * r_opt;  // the neck still
+    return T;
+  };
+  const cv::Mat black(cam.height, cam.width, CV_8UC1, cv::Scalar(0)), flat(cam.height, cam.width, CV_8UC1, cv::Scalar(128));
+  VoOutput o = vo.process(world.render(cam, imu.pose(0), false), world.render(cam, imu.pose(0), true), 0.0);
+  imu.T_odom_w = o.T_odom_optical;
+  Eigen::Vector3d last_pos = Eigen::Vector3d::Zero();
+  double max_err = 0, max_yaw_err = 0;
+  for (int k = 1; k <= 120; ++k)
+  {
+    const double t0 = (k - 1) / 15.0, t = k / 15.0;
+    Eigen::Quaterniond gyro;
+    Eigen::Vector3d dv, dp;
+    imu.between(t0, t, gyro, dv, dp);
+    const bool blind = t > 1.0 + 1e-9 && t <= 7.0 + 1e-9;
+    const cv::Mat& blank = t < 4.0 ? black : flat;
+    const Eigen::Isometry3d T = imu.pose(t);
+    o = blind ? vo.process(blank, blank, t, &gyro, &dv, &dp)
+              : vo.process(world.render(cam, T, false), world.render(cam, T, true), t, &gyro, &dv, &dp);
+    ASSERT_TRUE(o.pose_trusted) << "frame " << k << ": " << o.untrusted_reason;
+    const Eigen::Isometry3d truth = imu.T_odom_w * T;
+    const double err = (o.T_odom_optical.translation() - truth.translation()).norm();
+    const double yerr = std::abs(yawDeg(o.T_odom_link.linear()) - yawDeg(imu.link(t).linear()));
+    if (blind)
+    {
+      EXPECT_EQ(o.state, TrackingState::LOST) << "frame " << k;
+      max_err = std::max(max_err, err);
+      max_yaw_err = std::max(max_yaw_err, yerr);
+    }
+    else if (k > 105)  // texture back at t = 7: a new keyframe at the held pose, then tracked, no jump
+    {
+      EXPECT_LT((o.T_odom_optical.translation() - last_pos).norm(), 0.01) << "frame " << k;
+      EXPECT_LT(err, 0.01) << "frame " << k;
+      if (k >= 107)
+      {
+        EXPECT_EQ(o.state, TrackingState::TRACKING) << "frame " << k;
+      }
+    }
+    last_pos = o.T_odom_optical.translation();
+  }
+  EXPECT_LT(max_err, 0.005);
+  EXPECT_LT(max_yaw_err, 0.1);  // 6 s of the gyro's white noise: 0.004 deg (1 sigma)
+  EXPECT_EQ(vo.standingHolds(), 1);
+  // the covariance is bounded: the position's by what it was plus standing_position_sigma
+  EXPECT_LT(std::sqrt(o.pose_covariance(0, 0)), 0.05);
+  std::cout << "standing: max position error " << max_err * 1000 << " mm, max yaw error " << max_yaw_err << " deg\n";
+}
+
+TEST(Standing, WalkingGaitWithBlindFramesIsUntrustedAfterTheCoastAsBefore)
+{
+  // Walking at 0.9 m/s with the simulator's gait bob (2.5 cm, 0.65 m steps: about 2 m/s^2 at the
+  // head), then black frames: the accelerometer shows gait, so nothing is held; the coast rules
+  // decide as with standing_detection off, frame by frame, and the pose is untrusted within
+  // imu_coast_max.
+  std::vector<int> trusted[2];
+  for (const bool standing : {false, true})
+  {
+    VoParams p;
+    p.standing_detection = standing;
+    StereoCamera cam = test::makeCamera();
+    test::PlaneWorld world;
+    VisualOdometry vo(p, cam);
+    SyntheticImu imu;
+    imu.pose = [](double t) {
+      const double s = 0.9 * t;
+      Eigen::Isometry3d T = test::makePose(0, 0.1 * t, 0, 0, 0.025 * std::cos(2 * M_PI * s / 0.65), s);
+      return T;
+    };
+    const cv::Mat black(cam.height, cam.width, CV_8UC1, cv::Scalar(0));
+    VoOutput o = vo.process(world.render(cam, imu.pose(0), false), world.render(cam, imu.pose(0), true), 0.0);
+    imu.T_odom_w = o.T_odom_optical;
+    for (int k = 1; k <= 75; ++k)
+    {
+      const double t = k / 15.0;
+      Eigen::Quaterniond gyro;
+      Eigen::Vector3d dv, dp;
+      imu.between((k - 1) / 15.0, t, gyro, dv, dp);
+      const Eigen::Isometry3d T = imu.pose(t);
+      o = k > 25 ? vo.process(black, black, t, &gyro, &dv, &dp)
+                 : vo.process(world.render(cam, T, false), world.render(cam, T, true), t, &gyro, &dv, &dp);
+      if (k <= 25)
+        ASSERT_TRUE(o.pose_trusted) << "frame " << k << ": " << o.untrusted_reason;
+      else if (o.pose_trusted)
+        trusted[standing].push_back(k);
+      if (standing && k > 13)
+      {
+        EXPECT_GT(vo.standingDetector().statistic(), p.standing_max_accel_sigma) << "frame " << k;
+      }
+    }
+    EXPECT_EQ(vo.standingHolds(), 0);
+    ASSERT_FALSE(trusted[standing].empty());
+    EXPECT_LE((trusted[standing].back() - 25) / 15.0, p.imu_coast_max_s + 1e-9);
+  }
+  EXPECT_EQ(trusted[0], trusted[1]);
 }

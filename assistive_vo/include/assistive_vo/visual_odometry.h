@@ -15,6 +15,7 @@
 #include "assistive_vo/motion_refiner.h"
 #include "assistive_vo/params.h"
 #include "assistive_vo/plausibility.h"
+#include "assistive_vo/standing_detector.h"
 #include "assistive_vo/stereo_camera.h"
 
 namespace assistive_vo
@@ -95,6 +96,13 @@ public:
                    const Eigen::Vector3d* dp_link = nullptr);
   /// Inertial coasting (velocity, accelerometer error fitted, coasting time).
   const InertialCoaster& coaster() const { return coast_; }
+  /// Standing still from the IMU (no gait): the detector, and whether lost frames hold the position now.
+  const StandingDetector& standingDetector() const { return standing_; }
+  bool holdingStill() const { return standing_now_; }
+  /// Holds started so far (lost frames while standing).
+  int standingHolds() const { return standing_holds_; }
+  /// Lost frames held standing so far.
+  int standingFrames() const { return standing_frames_; }
   /// The stereo disparity offset estimated so far (px, added to every disparity).
   double disparityOffset() const { return tracker_.stereo().offset(); }
 
@@ -127,6 +135,7 @@ private:
     std::string why;              ///< message of the frame
     bool have_imu = false;        ///< the accelerometer's preintegration `imu` is given
     ImuDelta imu;
+    bool standing = false;        ///< the IMU shows no gait, at a low speed: a lost frame holds the position
     bool lost_done = false;       ///< T_lost computed (lostMotion)
     Eigen::Isometry3d T_lost = Eigen::Isometry3d::Identity();
   };
@@ -134,6 +143,11 @@ private:
   /// there and a velocity is known, else the prediction while coasting, else none (the gyro's
   /// rotation only). Coasting grows the pose covariance.
   const Eigen::Isometry3d& lostMotion(FrameContext& fc);
+  /// The accelerometer's specific force over the frame interval (odom axes) to the standing
+  /// detector; fc.standing: no gait, and (unless holding already) a low speed.
+  void detectStanding(FrameContext& fc);
+  /// A lost frame while standing: position held (the neck pivot still), rotation from the gyro.
+  Eigen::Isometry3d standingMotion(const FrameContext& fc);
   /// Grows the pose covariance over a lost frame whose motion was predicted, not measured.
   void growLostCovariance();
   /// `in` scaled to one mean brightness for the run (out = in when it is off or black).
@@ -229,6 +243,12 @@ private:
   DisparityOffsetEstimator disp_offset_;
   /// Feeds the disparity offset estimator with the inliers of a tracked frame; applies an estimate.
   void estimateDisparityOffset(const MotionEstimate& m);
+  StandingDetector standing_;
+  bool standing_now_ = false;       ///< lost frames hold the position (since the hold started)
+  bool standing_held_ = false;      ///< this frame was held standing
+  Eigen::Vector3d standing_pivot_ = Eigen::Vector3d::Zero();  ///< odom, the still neck
+  double standing_t0_ = 0.0, standing_rot_var_ = 0.0;
+  int standing_holds_ = 0, standing_frames_ = 0;
   bool imu_coasted_ = false;  ///< this frame's pose was coasted on the IMU (covariance already grown)
   double coast_var_ = 0.0;    ///< position variance the coast has added so far (per axis)
   double coast_rot_var_ = 0.0;  ///< rotation variance the coast has added so far (per axis)
