@@ -335,6 +335,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       s.add("frozen_camera", f.frozen);
       s.add("gyro_disagreement", f.gyro_disagreement);
       s.add("frame_gaps", f.gaps);
+      s.add("frame_gaps_bridged", fe_->vo().gapsBridged());
       s.add("time_jumps", f.time_jumps);
       s.add("gravity_relevels", f.gravity_relevels);
       s.add("stereo_inconsistent", f.stereo_inconsistent);

@@ -21,6 +21,13 @@ double StandingDetector::statistic() const
 {
   if (s_.empty() || s_.back().t - (s_.front().t - s_.front().dt) < o_.window_s - 1e-6)
     return -1.0;
+  return partialStatistic();
+}
+
+double StandingDetector::partialStatistic() const
+{
+  if (s_.empty())
+    return -1.0;
   // time-weighted mean and rms deviation (the moving-variance statistic's square root)
   double T = 0.0;
   Eigen::Vector3d m = Eigen::Vector3d::Zero();

@@ -145,6 +145,7 @@ void VisualOdometry::reset()
   standing_.clear();
   standing_now_ = false;
   standing_holds_ = standing_frames_ = 0;
+  gaps_bridged_ = 0;
   untrusted_ = true;
   untrusted_why_.clear();
   have_trusted_ = false;
@@ -353,14 +354,19 @@ void VisualOdometry::growLostCovariance()
     cov_cur_ += Eigen::Matrix<double, 6, 6>::Identity() * 1e-2;
 }
 
-void VisualOdometry::setCoastGyro()
+InertialCoaster::Options VisualOdometry::coastGyroOptions() const
 {
   // the gyro's noise and its bias estimate's error tilt the coasted pose (gravity leaks through)
   InertialCoaster::Options o = coastOptions(p_);
   o.gyro_bias_sigma = std::sqrt(std::max(0.0, bias_.variance()));
   if (bias_.variance() < 0)
     o.gyro_bias_sigma = p_.gyro_bias_sigma;
-  coast_.setOptions(o);
+  return o;
+}
+
+void VisualOdometry::setCoastGyro()
+{
+  coast_.setOptions(coastGyroOptions());
 }
 
 VoOutput VisualOdometry::fail(const std::string& why, const cv::Mat* left, const cv::Mat* right,
@@ -464,9 +470,12 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
     fc.imu.dv = *dv_link;
     fc.imu.dp = *dp_link;
   }
+  markBridgeable(fc);
   levelAfterGap(have_up_hint, fc);
   detectStanding(fc);
   fc.coast_ok = mayCoast(stamp, fc);
+  if (fc.bridged)
+    bridgeGap(fc);
   if (rejectImages(left_raw, right_raw, fc, st, o))
     return finish(o);
   // Everything after works on images of the same global brightness (auto-exposure steps, a gain
@@ -596,6 +605,11 @@ void VisualOdometry::detectStanding(FrameContext& fc)
 {
   // The specific force over the interval, in odom axes (the orientation at its start, as the
   // preintegration's dv is expressed): gravity stays put while the head only turns.
+  if (fc.bridged)
+  {
+    standingOverGap(fc);
+    return;
+  }
   if (!(p_.standing_detection && fc.have_imu && !fc.gap && fc.imu.dt > 1e-6))
   {
     standing_.clear();
@@ -605,7 +619,13 @@ void VisualOdometry::detectStanding(FrameContext& fc)
   const Eigen::Matrix3d R_odom_link = linkPose(T_odom_o0_ * T_w_cur_).linear();
   standing_.add(fc.stamp, fc.imu.dt, R_odom_link * fc.imu.dv / fc.imu.dt);
   if (!standing_.quiet())
+  {
+    // a hold carried over a bridged gap (standingOverGap) goes on while the window refills, as long
+    // as what it has shows no gait
+    const double partial = standing_.partialStatistic();
+    fc.standing = standing_now_ && standing_.statistic() < 0 && partial >= 0 && partial <= p_.standing_max_accel_sigma;
     return;
+  }
   // No gait. A walk at constant speed without a bob would look the same (the accelerometer cannot
   // see a constant velocity), so a hold starts only at a speed known to be low: the IMU-coasted
   // velocity, or the last tracked frame's.
@@ -622,24 +642,17 @@ Eigen::Isometry3d VisualOdometry::standingMotion(const FrameContext& fc)
   // Zero velocity: the neck stays where it was when the hold started; the camera turns about it
   // with the gyro's rotation (bias-corrected). The position variance grows once, by
   // standing_position_sigma; the rotation's by the gyro's over the hold.
-  const Eigen::Matrix3d R_lo = R_link_optical();
-  const Eigen::Isometry3d T_odom_opt = T_odom_o0_ * T_w_cur_;
-  const Eigen::Vector3d r_link(p_.standing_pivot_forward, 0.0, p_.standing_pivot_up);
   if (!standing_now_)
   {
     standing_now_ = true;
     ++standing_holds_;
-    standing_pivot_ = T_odom_opt.translation() - T_odom_opt.linear() * R_lo.transpose() * r_link;
+    standing_pivot_ = pivotNow();
     standing_t0_ = fc.stamp - fc.dt_real;
     standing_rot_var_ = 0.0;
     const double s2 = p_.standing_position_sigma * p_.standing_position_sigma;
     cov_cur_.topLeftCorner<3, 3>() += Eigen::Matrix3d::Identity() * s2;
   }
-  const Eigen::Matrix3d R1_opt = T_odom_opt.linear() * fc.T_pred.linear();
-  const Eigen::Vector3d p1 = standing_pivot_ + R1_opt * R_lo.transpose() * r_link;
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = fc.T_pred.linear();
-  T.translation() = T_odom_opt.linear().transpose() * (p1 - T_odom_opt.translation());
+  const Eigen::Isometry3d T = heldMotion(fc, standing_pivot_);
   const double rvar = bias_.rotationVariance(fc.stamp - standing_t0_);
   cov_cur_.bottomRightCorner<3, 3>() += Eigen::Matrix3d::Identity() * std::max(0.0, rvar - standing_rot_var_);
   standing_rot_var_ = rvar;
@@ -648,11 +661,105 @@ Eigen::Isometry3d VisualOdometry::standingMotion(const FrameContext& fc)
   imu_coasted_ = true;  // the covariance is grown here (not by growLostCovariance)
   // a zero-velocity measurement: the coaster's window goes on with it, so a walk on with vision
   // still lost coasts from the hold (v = 0) under the coast rules
-  Eigen::Isometry3d T_link1 = Eigen::Isometry3d::Identity();
-  T_link1.linear() = R1_opt * R_lo.transpose();
-  T_link1.translation() = p1;
-  coast_.addTracked(fc.stamp, T_link1, &fc.imu);
+  coast_.addTracked(fc.stamp, linkPose(T_odom_o0_ * T_w_cur_ * T), &fc.imu);
   return T;
+}
+
+Eigen::Vector3d VisualOdometry::pivotNow() const
+{
+  const Eigen::Isometry3d T_odom_opt = T_odom_o0_ * T_w_cur_;
+  const Eigen::Vector3d r_link(p_.standing_pivot_forward, 0.0, p_.standing_pivot_up);
+  return T_odom_opt.translation() - T_odom_opt.linear() * R_link_optical().transpose() * r_link;
+}
+
+Eigen::Isometry3d VisualOdometry::heldMotion(const FrameContext& fc, const Eigen::Vector3d& pivot) const
+{
+  // Zero velocity: the neck stays at `pivot`; the camera turns about it with the gyro's rotation.
+  const Eigen::Matrix3d R_lo = R_link_optical();
+  const Eigen::Isometry3d T_odom_opt = T_odom_o0_ * T_w_cur_;
+  const Eigen::Vector3d r_link(p_.standing_pivot_forward, 0.0, p_.standing_pivot_up);
+  const Eigen::Matrix3d R1_opt = T_odom_opt.linear() * fc.T_pred.linear();
+  const Eigen::Vector3d p1 = pivot + R1_opt * R_lo.transpose() * r_link;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = fc.T_pred.linear();
+  T.translation() = T_odom_opt.linear().transpose() * (p1 - T_odom_opt.translation());
+  return T;
+}
+
+void VisualOdometry::markBridgeable(FrameContext& fc)
+{
+  // Frames dropped (an overloaded computer, a camera hiccup) while the IMU ran: the motion over
+  // the gap was measured by the gyro and the accelerometer, it is not unknown.
+  if (!(fc.gap && fc.dt_real > 0 && fc.have_imu && p_.imu_bridge_gaps))
+    return;
+  fc.gap = false;
+  fc.bridged = true;
+  fc.force_untrusted.clear();  // the gap's own (checkTiming sets it first; fc.why keeps it)
+  fc.dt = fc.dt_real;
+}
+
+void VisualOdometry::standingOverGap(FrameContext& fc)
+{
+  // One interval over the whole gap: its mean specific force hides any gait, so it is no sample
+  // of the test (the window restarts after it). The stand goes on through the gap when the test
+  // was quiet up to it (at a low speed, as detectStanding asks) and the velocity change over the
+  // gap (odom axes, gravity removed) stays within standing_max_speed: no walk started in it.
+  const bool quiet_before = standing_.quiet();
+  standing_.clear();
+  if (!(p_.standing_detection && (standing_now_ || quiet_before)))
+    return;
+  double speed = 0.0;
+  if (coast_.coasting())
+    speed = coast_.velocity().norm();
+  else if (last_dt_ > 1e-6)
+    speed = last_T_prev_cur_.translation().norm() / last_dt_;
+  const Eigen::Matrix3d R_odom_link = linkPose(T_odom_o0_ * T_w_cur_).linear();
+  const Eigen::Vector3d dv = R_odom_link * fc.imu.dv - Eigen::Vector3d(0, 0, coastOptions(p_).gravity * fc.imu.dt);
+  fc.standing = (standing_now_ || speed <= p_.standing_max_speed) && dv.norm() <= p_.standing_max_speed;
+}
+
+void VisualOdometry::bridgeGap(FrameContext& fc)
+{
+  // The tracking's prediction over the gap, as lostMotion() would carry a lost frame over it (the
+  // same numbers: a copy of the coaster), so the keyframe is tracked on across it; if vision
+  // fails on the frame, lostMotion() takes this motion and a new keyframe starts there.
+  bool ok = fc.coast_ok;
+  Eigen::Isometry3d T = fc.T_pred;  // the gyro's rotation over the gap
+  if (ok && fc.standing)
+    T = heldMotion(fc, standing_now_ ? standing_pivot_ : pivotNow());
+  else if (ok)
+  {
+    InertialCoaster c = coast_;
+    if (!c.coasting())
+    {
+      c.setOptions(coastGyroOptions());
+      ok = c.start();
+    }
+    if (ok)
+    {
+      const Eigen::Isometry3d T_odom_opt = T_odom_o0_ * T_w_cur_;
+      const Eigen::Vector3d dpos = c.step(T_odom_opt.linear() * R_link_optical().transpose(), fc.imu);
+      const double since = fc.stamp - last_trusted_stamp_, smax = p_.imu_coast_max_sigma_m;
+      ok = c.velocity().norm() <= p_.max_speed_mps && c.positionVariance(since) <= smax * smax;
+      T.translation() = T_odom_opt.linear().transpose() * dpos;
+    }
+  }
+  if (!ok)
+  {
+    // beyond the coast rules: the plain gap (pose kept, untrusted, new keyframe)
+    fc.bridged = fc.standing = false;
+    fc.gap = true;
+    fc.force_untrusted = fc.why;
+    fc.dt = last_dt_ > 0 ? last_dt_ : 1.0 / 15.0;
+    fc.T_pred.translation().setZero();
+    standing_now_ = false;
+    return;
+  }
+  fc.T_pred = T;
+  ++gaps_bridged_;
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), "gap of %.2f s in the image stream: bridged on the IMU", fc.dt_real);
+  fc.why = buf;
 }
 
 bool VisualOdometry::checkInput(const cv::Mat& left, const cv::Mat& right, FrameStats& st, FrameContext& fc,

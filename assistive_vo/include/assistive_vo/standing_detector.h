@@ -30,6 +30,9 @@ public:
   /// Rms deviation of the specific force from its mean over the window (m/s^2); -1 while the
   /// samples do not span window_s.
   double statistic() const;
+  /// The same over the samples there are, however short their span (-1: none): what a hold carried
+  /// over a gap goes on with while the window refills.
+  double partialStatistic() const;
   /// No gait over a full window: statistic() within max_accel_sigma.
   bool quiet() const
   {

@@ -103,6 +103,8 @@ public:
   int standingHolds() const { return standing_holds_; }
   /// Lost frames held standing so far.
   int standingFrames() const { return standing_frames_; }
+  /// Stamp gaps (> max_frame_gap_s) bridged on the IMU so far (imu_bridge_gaps; the rest re-initialise untrusted).
+  int gapsBridged() const { return gaps_bridged_; }
   /// The stereo disparity offset estimated so far (px, added to every disparity).
   double disparityOffset() const { return tracker_.stereo().offset(); }
 
@@ -126,7 +128,8 @@ private:
     double dt = 0.0;        ///< step for the motion model (over a gap: the last regular step)
     double dt_real = 0.0;   ///< stamp step as it came (also a gap's)
     bool first = false;     ///< the first frame: the origin of odom
-    bool gap = false;       ///< a stamp gap or time jump before this frame
+    bool gap = false;       ///< a stamp gap or time jump before this frame (not bridged)
+    bool bridged = false;   ///< a stamp gap bridged on the IMU (bridgeGap): tracked on, like lost frames if lost
     bool have_gyro = false;
     Eigen::Matrix3d R_gyro_opt = Eigen::Matrix3d::Identity();  ///< bias-corrected gyro, prev -> cur, optical axes
     Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();  ///< predicted motion prev -> cur, optical
@@ -148,6 +151,22 @@ private:
   void detectStanding(FrameContext& fc);
   /// A lost frame while standing: position held (the neck pivot still), rotation from the gyro.
   Eigen::Isometry3d standingMotion(const FrameContext& fc);
+  /// The motion of a held frame about the neck pivot `pivot` (odom): the gyro's rotation, no step.
+  Eigen::Isometry3d heldMotion(const FrameContext& fc, const Eigen::Vector3d& pivot) const;
+  /// The neck pivot (odom) under the current pose.
+  Eigen::Vector3d pivotNow() const;
+  /// A forward stamp gap that the gyro and the accelerometer cover, with imu_bridge_gaps: marks the
+  /// frame `bridged` (fc.gap off, the real interval as its step) so that the IMU carries the pose
+  /// over it instead of an untrusted re-initialisation.
+  void markBridgeable(FrameContext& fc);
+  /// The bridged gap's motion, for the keyframe tracking's prediction: the position held standing,
+  /// else IMU-coasted under the coast rules (imu_coast_max_s, imu_coast_max_sigma_m at the gap's
+  /// end, max_speed_mps); the gyro's rotation. When neither applies the frame is the plain gap
+  /// again (pose kept, untrusted, new keyframe). Changes no state but fc.
+  void bridgeGap(FrameContext& fc);
+  /// The standing decision over a bridged gap: its one interval hides any gait, so the stand goes
+  /// on only when the test was quiet up to the gap and its velocity change is small.
+  void standingOverGap(FrameContext& fc);
   /// Grows the pose covariance over a lost frame whose motion was predicted, not measured.
   void growLostCovariance();
   /// `in` scaled to one mean brightness for the run (out = in when it is off or black).
@@ -155,6 +174,8 @@ private:
   double brightness_ref_ = 0.0;  ///< the mean every image is scaled to (set by the first image)
   /// Sets the coaster's gyro noise and bias error (before a coast starts).
   void setCoastGyro();
+  /// The coaster's options with the gyro's noise and bias error (setCoastGyro()).
+  InertialCoaster::Options coastGyroOptions() const;
   // ---- frame set-up (process() in order) ----
   /// Camera and image checks; false: `o` is the frame's (untrusted) output.
   bool checkInput(const cv::Mat& left, const cv::Mat& right, FrameStats& st, FrameContext& fc, VoOutput& o);
@@ -249,6 +270,7 @@ private:
   Eigen::Vector3d standing_pivot_ = Eigen::Vector3d::Zero();  ///< odom, the still neck
   double standing_t0_ = 0.0, standing_rot_var_ = 0.0;
   int standing_holds_ = 0, standing_frames_ = 0;
+  int gaps_bridged_ = 0;
   bool imu_coasted_ = false;  ///< this frame's pose was coasted on the IMU (covariance already grown)
   double coast_var_ = 0.0;    ///< position variance the coast has added so far (per axis)
   double coast_rot_var_ = 0.0;  ///< rotation variance the coast has added so far (per axis)
