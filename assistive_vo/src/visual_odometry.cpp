@@ -517,6 +517,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
   // ---- accept; gyro bias and a new keyframe at the end of a keyframe span; gravity ----
   accept(m, st);
   standing_now_ = false;  // vision measures again
+  gaps_bridged_ += fc.bridged && !fc.bridge_within;  // tracked across on the coast's prediction alone
   if (keyframes_.needed(m.T_kf_cur, tracker_))
   {
     updateGyroBias(m);
@@ -559,6 +560,8 @@ const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)
   const bool was_coasting = coast_.coasting();
   if (!fc.coast_ok || !fc.force_untrusted.empty())
   {
+    if (fc.bridged && fc.force_untrusted.empty())
+      fc.force_untrusted = fc.gap_why;  // beyond the coast rules, and vision lost it: the plain gap's reason
     T.translation().setZero();
     if (!fc.have_gyro)
       T.linear().setIdentity();
@@ -694,7 +697,8 @@ void VisualOdometry::markBridgeable(FrameContext& fc)
     return;
   fc.gap = false;
   fc.bridged = true;
-  fc.force_untrusted.clear();  // the gap's own (checkTiming sets it first; fc.why keeps it)
+  fc.gap_why = fc.force_untrusted;  // the gap's own (checkTiming sets it first)
+  fc.force_untrusted.clear();
   fc.dt = fc.dt_real;
 }
 
@@ -720,42 +724,52 @@ void VisualOdometry::standingOverGap(FrameContext& fc)
 
 void VisualOdometry::bridgeGap(FrameContext& fc)
 {
-  // The tracking's prediction over the gap, as lostMotion() would carry a lost frame over it (the
-  // same numbers: a copy of the coaster), so the keyframe is tracked on across it; if vision
-  // fails on the frame, lostMotion() takes this motion and a new keyframe starts there.
-  bool ok = fc.coast_ok;
+  // The keyframe tracking's prediction over the gap: the position held standing, else the IMU
+  // coast (a copy of the coaster: the numbers lostMotion() would use). Within the coast rules the
+  // bridged pose is trusted even when vision fails on the frame (lostMotion() takes this motion, a
+  // new keyframe starts there). Beyond them (a long gap at walking speed: the coast's sigma) the
+  // coast is the tracking's prediction only: tracked, the frame is measured again; lost, it is the
+  // plain gap (lostMotion(): pose kept, untrusted, new keyframe).
   Eigen::Isometry3d T = fc.T_pred;  // the gyro's rotation over the gap
-  if (ok && fc.standing)
+  bool predicted = false;
+  fc.bridge_within = false;
+  if (fc.coast_ok && fc.standing)
+  {
     T = heldMotion(fc, standing_now_ ? standing_pivot_ : pivotNow());
-  else if (ok)
+    predicted = fc.bridge_within = true;
+  }
+  else
   {
     InertialCoaster c = coast_;
     if (!c.coasting())
-    {
       c.setOptions(coastGyroOptions());
-      ok = c.start();
-    }
-    if (ok)
+    if (c.coasting() || c.start())
     {
       const Eigen::Isometry3d T_odom_opt = T_odom_o0_ * T_w_cur_;
       const Eigen::Vector3d dpos = c.step(T_odom_opt.linear() * R_link_optical().transpose(), fc.imu);
       const double since = fc.stamp - last_trusted_stamp_, smax = p_.imu_coast_max_sigma_m;
-      ok = c.velocity().norm() <= p_.max_speed_mps && c.positionVariance(since) <= smax * smax;
+      predicted = c.velocity().norm() <= p_.max_speed_mps;
+      fc.bridge_within = predicted && fc.coast_ok && c.positionVariance(since) <= smax * smax;
       T.translation() = T_odom_opt.linear().transpose() * dpos;
     }
   }
-  if (!ok)
+  if (!predicted)
   {
-    // beyond the coast rules: the plain gap (pose kept, untrusted, new keyframe)
+    // no velocity to coast from: the plain gap (pose kept, untrusted, new keyframe)
     fc.bridged = fc.standing = false;
     fc.gap = true;
-    fc.force_untrusted = fc.why;
+    fc.force_untrusted = fc.gap_why;
     fc.dt = last_dt_ > 0 ? last_dt_ : 1.0 / 15.0;
     fc.T_pred.translation().setZero();
     standing_now_ = false;
     return;
   }
   fc.T_pred = T;
+  if (!fc.bridge_within)
+  {
+    fc.coast_ok = fc.standing = false;  // lost on this frame: the plain gap (lostMotion())
+    return;
+  }
   ++gaps_bridged_;
   char buf[96];
   std::snprintf(buf, sizeof(buf), "gap of %.2f s in the image stream: bridged on the IMU", fc.dt_real);

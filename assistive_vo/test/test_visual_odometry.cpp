@@ -1172,13 +1172,41 @@ TEST(Gap, TurningOnTheSpotThroughAGapHoldsThePosition)
   std::cout << "gap bridged standing, blind after: max error " << max_err * 1000 << " mm, " << max_yaw << " deg\n";
 }
 
+TEST(Gap, BeyondTheCoastRulesOnlyATrackedFrameIsTrusted)
+{
+  // The walk of WalkingThroughAGapWithTheImuTracksOn with imu_coast_max_sigma 0.03 m: the coast's
+  // position sigma at the gap's end is beyond it. With texture after the gap the coast still
+  // predicts the tracking, which takes the pose over (tracked, trusted, no reset, the gap-free
+  // walk's error within 5 mm); with black frames after it, the plain gap (pose kept: 0.8 m
+  // behind, untrusted, a reset).
+  VoParams p;
+  p.imu_coast_max_sigma_m = 0.03;
+  const GapRun ref = GapRun::run(p, gaitWalk(0.6), 1.0 / 15.0, 3.6);
+  const GapRun seen = GapRun::run(p, gaitWalk(0.6), 4.0 / 3.0, 3.6);
+  const GapRun blind = GapRun::run(p, gaitWalk(0.6), 4.0 / 3.0, 3.6, 0.1);
+  const size_t g = seen.first_after;
+  EXPECT_EQ(seen.bridged, 1);
+  EXPECT_EQ(seen.out[g].state, TrackingState::TRACKING) << seen.out[g].message;
+  EXPECT_TRUE(seen.out[g].pose_trusted) << seen.out[g].untrusted_reason;
+  EXPECT_EQ(seen.resets_after, seen.resets_before);
+  const size_t j = static_cast<size_t>(std::lround(seen.t[g] * 15.0)) - 1;
+  ASSERT_NEAR(ref.t[j], seen.t[g], 1e-9);
+  EXPECT_LT(seen.err(g), ref.err(j) + 0.005);
+  EXPECT_EQ(blind.bridged, 0);
+  EXPECT_FALSE(blind.out[g].pose_trusted);
+  EXPECT_NE(blind.out[g].untrusted_reason.find("gap"), std::string::npos) << blind.out[g].untrusted_reason;
+  EXPECT_EQ(blind.resets_after, blind.resets_before + 1);
+  EXPECT_GT(blind.err(g), 0.7);
+}
+
 TEST(Gap, BeyondTheCoastRulesIsThePlainGap)
 {
-  // Walking at 0.6 m/s, a gap of 2.7 s: longer than imu_coast_max_s (2.5 s), so not bridged: pose
-  // kept, untrusted, a new keyframe; the frames after it track again from there.
+  // Walking at 0.6 m/s, a gap of 2.7 s: longer than imu_coast_max_s (2.5 s), and black frames after
+  // it: vision cannot take the pose over, so the plain gap: pose kept, untrusted, a new keyframe;
+  // the frames after it track again from there.
   const VoParams p;
   ASSERT_GT(2.7, p.imu_coast_max_s);
-  const GapRun r = GapRun::run(p, gaitWalk(0.6), 2.7, 4.0 + 1.4);
+  const GapRun r = GapRun::run(p, gaitWalk(0.6), 2.7, 4.7 + 1.0, 0.3);
   const size_t g = r.first_after;
   EXPECT_EQ(r.gaps, 1);
   EXPECT_EQ(r.bridged, 0);

@@ -103,7 +103,8 @@ public:
   int standingHolds() const { return standing_holds_; }
   /// Lost frames held standing so far.
   int standingFrames() const { return standing_frames_; }
-  /// Stamp gaps (> max_frame_gap_s) bridged on the IMU so far (imu_bridge_gaps; the rest re-initialise untrusted).
+  /// Stamp gaps (> max_frame_gap_s) bridged on the IMU so far (imu_bridge_gaps): trusted on the coast
+  /// rules, or tracked across on the IMU's prediction; the rest re-initialise untrusted.
   int gapsBridged() const { return gaps_bridged_; }
   /// The stereo disparity offset estimated so far (px, added to every disparity).
   double disparityOffset() const { return tracker_.stereo().offset(); }
@@ -129,7 +130,9 @@ private:
     double dt_real = 0.0;   ///< stamp step as it came (also a gap's)
     bool first = false;     ///< the first frame: the origin of odom
     bool gap = false;       ///< a stamp gap or time jump before this frame (not bridged)
-    bool bridged = false;   ///< a stamp gap bridged on the IMU (bridgeGap): tracked on, like lost frames if lost
+    bool bridged = false;   ///< a stamp gap bridged on the IMU (bridgeGap): tracked on from its prediction
+    bool bridge_within = false;  ///< ... within the coast rules: trusted like lost frames if vision fails on it
+    std::string gap_why;          ///< the gap's reason (checkTiming), should it be the plain gap after all
     bool have_gyro = false;
     Eigen::Matrix3d R_gyro_opt = Eigen::Matrix3d::Identity();  ///< bias-corrected gyro, prev -> cur, optical axes
     Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();  ///< predicted motion prev -> cur, optical
@@ -160,9 +163,10 @@ private:
   /// over it instead of an untrusted re-initialisation.
   void markBridgeable(FrameContext& fc);
   /// The bridged gap's motion, for the keyframe tracking's prediction: the position held standing,
-  /// else IMU-coasted under the coast rules (imu_coast_max_s, imu_coast_max_sigma_m at the gap's
-  /// end, max_speed_mps); the gyro's rotation. When neither applies the frame is the plain gap
-  /// again (pose kept, untrusted, new keyframe). Changes no state but fc.
+  /// else IMU-coasted; the gyro's rotation. Within the coast rules (imu_coast_max_s,
+  /// imu_coast_max_sigma_m at the gap's end, max_speed_mps) a frame vision loses stays trusted;
+  /// beyond them only a tracked frame is (lost: the plain gap, pose kept, untrusted, new keyframe);
+  /// without a coast the plain gap at once. Changes no state but fc.
   void bridgeGap(FrameContext& fc);
   /// The standing decision over a bridged gap: its one interval hides any gait, so the stand goes
   /// on only when the test was quiet up to the gap and its velocity change is small.
