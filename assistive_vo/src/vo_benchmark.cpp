@@ -304,6 +304,11 @@ public:
   std::map<std::string, std::vector<double>> ms;
   std::vector<double> wall, peer_ms, peer_wall;
   int lost = 0, max_bad_run = 0, bad_run = 0, frames = 0, unusable = 0;
+  /// Frames where the truth's neck (VoParams standing_pivot_*, the simulator's neck) moved under
+  /// kOnSpotSpeed since the previous processed frame: standing or turning on the spot; of them, not
+  /// tracking and untrusted (issue 34: none should be lost while the wearer only turns).
+  int on_spot = 0, on_spot_not_tracking = 0, on_spot_untrusted = 0;
+  static constexpr double kOnSpotSpeed = 0.1;  // m/s
   ev::RecoveryCounter recovery;
   Blackout bo;
   DroppedGap gap;
@@ -322,6 +327,11 @@ private:
   VoFrontEnd& fe_;
   std::ofstream dump_out_;
   double first_stamp_ = -1;
+  bool have_neck_ = false;
+  double neck_stamp_ = 0;
+  Eigen::Vector3d neck_ = Eigen::Vector3d::Zero();
+  /// The on-spot counts of one frame (its truth's neck against the previous frame's).
+  void countOnSpot(const ev::StereoFrame& f, const VoOutput& o);
   Eigen::Isometry3d peer_T_odom_o0_ = Eigen::Isometry3d::Identity();
 };
 
@@ -403,7 +413,30 @@ void BagRun::countFrame(const ev::StereoFrame& f, const VoOutput& o, const ev::S
   }
   else
     bad_run = 0;
+  countOnSpot(f, o);
   logFrame(f, o, usable);
+}
+
+void BagRun::countOnSpot(const ev::StereoFrame& f, const VoOutput& o)
+{
+  if (!f.has_gt_pose)
+  {
+    have_neck_ = false;
+    return;
+  }
+  const VoParams& p = vo.params();
+  const Eigen::Vector3d r_link(p.standing_pivot_forward, 0.0, p.standing_pivot_up);
+  const Eigen::Vector3d neck = f.gt_pose.translation() - f.gt_pose.linear() * R_link_optical().transpose() * r_link;
+  const double dt = f.stamp - neck_stamp_;
+  if (have_neck_ && dt > 1e-6 && (neck - neck_).norm() / dt < kOnSpotSpeed)
+  {
+    ++on_spot;
+    on_spot_not_tracking += o.state != TrackingState::TRACKING;
+    on_spot_untrusted += !o.pose_trusted;
+  }
+  have_neck_ = true;
+  neck_stamp_ = f.stamp;
+  neck_ = neck;
 }
 
 void BagRun::logFrame(const ev::StereoFrame& f, const VoOutput& o, bool usable) const
@@ -644,7 +677,9 @@ ev::JsonLine jsonLine(const Options& opt, const BagRun& run, const Scores& sc)
   js.add("resets", run.vo.resets()).add("frames_not_tracking", run.lost).add("max_recovery_frames", run.max_bad_run)
       .add("recovery_frames_max", run.recovery.maxUsableInRun()).add("unusable_frames", run.unusable)
       .add("untrusted_frames", run.vo.failSafe().untrusted_frames).add("standing_frames", run.vo.standingFrames())
-      .add("standing_holds", run.vo.standingHolds()).add("gaps_bridged", run.vo.gapsBridged());
+      .add("standing_holds", run.vo.standingHolds()).add("gaps_bridged", run.vo.gapsBridged())
+      .add("on_spot_frames", run.on_spot).add("on_spot_not_tracking", run.on_spot_not_tracking)
+      .add("on_spot_untrusted", run.on_spot_untrusted);
   for (const char* k : kStages)
     js.add(std::string("ms_p95_") + k, num(percentile(run.times(k), 0.95)));
   if (sc.have_gt)
