@@ -185,7 +185,8 @@ void CueLogic::observeStart(const NavInput& in, double now)
 
 double CueLogic::stopReach(double v, double tau) const
 {
-  const double pace = have_pace_ ? pace_est_ : 1.4;
+  constexpr double kPacePrior = 1.4;  // m/s: the fast end of preferred walking speeds (0.9-1.4)
+  const double pace = have_pace_ ? pace_est_ : kPacePrior;
   const bool told_to_walk = current_.instruction == Instruction::WALK_ON || current_.instruction == Instruction::VEER;
   const double a = told_to_walk && v < pace ? startAccelEstimate() : 0.0;
   const double t_up = a > 0.0 ? std::min(tau, (pace - v) / a) : 0.0;
@@ -193,9 +194,9 @@ double CueLogic::stopReach(double v, double tau) const
   return 0.5 * (v + v1) * t_up + v1 * (tau - t_up) + v1 * v1 / (2.0 * stopDecelEstimate());
 }
 
-void CueLogic::observeStop(const NavInput& in, double now)
+void CueLogic::observePace(const NavInput& in, double now)
 {
-  // its pace: a walk whose speed stays within 0.03 m/s a cycle for a second
+  // a walk whose speed stays within 0.03 m/s a cycle for a second
   if (std::isfinite(in.walking_speed) && in.walking_speed >= 0.6 &&
       std::fabs(in.walking_speed - prev_speed_) < 0.03 && now - prev_speed_t_ < 0.5)
   {
@@ -209,7 +210,10 @@ void CueLogic::observeStop(const NavInput& in, double now)
   }
   else
     steady_speed_since_ = -1e300;
+}
 
+void CueLogic::observeStop(const NavInput& in, double now)
+{
   // The wearer's stop, read off its stops on all four from a walk (0.6 m/s or more): the walk's
   // speed falling through 0.7 and 0.3 of its speed when the stop began. A bump ends a walk at
   // once and reads as a quick stop: a stop that ends at the obstacle is not sampled, and a
@@ -396,6 +400,7 @@ Cue CueLogic::update(const NavInput& in, double now)
 
   observeStart(in, now);
   observeStop(in, now);
+  observePace(in, now);
   prev_speed_ = std::isfinite(in.walking_speed) ? in.walking_speed : 0.0;
   prev_speed_t_ = now;
   switch (in.status)

@@ -190,8 +190,10 @@ private:
   double stopDecelEstimate() const;
   /// Learns the reaction and the start's acceleration from a standing wearer's start after a go.
   void observeStart(const NavInput& in, double now);
-  /// Learns the stop's deceleration from a walking wearer's stop on all four, and its pace.
+  /// Learns the stop's deceleration from a walking wearer's stop on all four.
   void observeStop(const NavInput& in, double now);
+  /// Learns the wearer's pace: its walking speed once steady for a second.
+  void observePace(const NavInput& in, double now);
   /// How far a wearer walking at `v` goes before it stands when told to stop now: its reaction
   /// `tau` (still speeding up, at its learnt start, towards its pace, while the last pattern asked
   /// it to walk), then its stop.
