@@ -964,10 +964,10 @@ std::pair<double, double> walk(CueLogic& c, GaitWalker& w, double t0, double sec
 
 // Issue 33: the cue logic learns how quickly this wearer starts and stops (gait initiation
 // 0.5-1.2 m/s^2 in the population) instead of assuming one wearer. A wearer that starts at
-// 0.5 m/s^2 and stops at 1 m/s^2 (reaction 0.8 s, pace 1 m/s): after its first start, a go
-// with 1.5 m free gets the timed stop at 0.1 + sqrt(1 / (0.25 + 0.25^2 / 2 ... )) computed with
-// its own start (later than the 1.12 s of an unknown wearer); after its first stop on all four
-// from its pace, the next stop comes v^2 / 2 (1/1 - 1/2) = 0.25 m earlier.
+// 0.5 m/s^2 and stops at 1 m/s^2 (reaction 0.8 s, pace 1 m/s): after its first stop on all
+// four from its pace, the next stop comes v^2 / 2 (1/1 - 1/2) = 0.25 m earlier; a go with 1.5 m
+// free then gets the timed stop computed with its own start and stop, 1.733 s after the go (the
+// 1.12 s of an unknown wearer would stop it 0.6 m short).
 TEST(CueLogic, LearnsTheWearersStartAndStop)
 {
   CueLogic c;

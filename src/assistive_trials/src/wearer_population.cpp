@@ -77,8 +77,8 @@ constexpr double kClothingMm = 10.0;
 // 89 m speed gives a = 0.43-0.62 m/s^2 (subject 1) and 1.00-1.25 m/s^2 (subject 2) (the two
 // subjects whose 89 m walks were in reach). A lower bound where a subject chose a lower peak speed
 // for a short walk (their paper's finding). Cross-checks: steady speed within three steps
-// (Ernst et al., sloped-gait study: >= 95 % with the 3rd step on the level; 0.5 m/s^2 reaches
-// 1.15 m/s in 1.3 m, about two steps) and at the end of the first step in adults (Breniere & Do);
+// (a sloped-gait study in Gait & Posture, authors not in reach: >= 95 % with the 3rd step on the
+// level; 0.5 m/s^2 reaches 1.15 m/s in 1.3 m, about two steps) and at the end of the first step in adults (Breniere & Do);
 // frail adults aged 83 reach only 0.66 m/s after 1.43 m (Lindemann et al. 2008: about
 // 0.15 m/s^2, a slower population than this one's 0.9-1.4 m/s walkers, left out).
 constexpr double kAccelLo = 0.5, kAccelHi = 1.2;
