@@ -642,7 +642,7 @@ void CueLogic::observeHead(const NavInput& in, double now)
   // The body's yaw: the head's fast motion (a turn or veer: 40-90 deg/s) is the body's; its slow
   // motion (the scan: at most a few deg/s) is not, and fades towards the walk chord while walking
   // (within about `body_walk_tau_s`) and towards the head's mean while standing (`body_stand_tau_s`).
-  const bool walking = std::isfinite(in.walking_speed) && in.walking_speed >= params_.walking_speed_mps;
+  const bool walking = walksForward(in);
   if (!have_body_yaw_ || !(now > last_yaw_time_ && now - last_yaw_time_ < 1.0))
   {
     body_yaw_ = walking && std::isfinite(in.walk_heading) ? in.walk_heading : in.head_yaw;
@@ -673,12 +673,25 @@ void CueLogic::observeHead(const NavInput& in, double now)
     steady_since_ = now;
   else if (steady_since_ < -1e299)
     steady_since_ = now;
-  observeDrift(in, now, in.walking_speed >= params_.walking_speed_mps);
+  observeDrift(in, now, walking);
+}
+
+bool CueLogic::walksForward(const NavInput& in) const
+{
+  // A side-step (0.3 m/s, 90 deg off the facing) or a step back moves the body as fast as a slow
+  // walk: its chord is no facing. Traced (gen_home_3004 trial 0, t 1.0-3.1): a side-step's chord
+  // became the body's facing, the turn towards a doorway was asked from it, and the wearer, 66 deg
+  // off, was told "go" into the wall. A forward walk's chord stays within the scan (+-8 deg) and a
+  // veer's lag (about 20 deg) of the head.
+  constexpr double kForwardDeg = 50.0;
+  return std::isfinite(in.walking_speed) && in.walking_speed >= params_.walking_speed_mps &&
+         std::isfinite(in.walk_heading) && std::isfinite(in.head_yaw) &&
+         std::fabs(wrapAngle(in.walk_heading - in.head_yaw)) * kRadToDeg <= kForwardDeg;
 }
 
 double CueLogic::facing(const NavInput& in) const
 {
-  if (std::isfinite(in.walking_speed) && in.walking_speed >= params_.walking_speed_mps)
+  if (walksForward(in))
     return in.walk_heading;
   return have_body_yaw_ && params_.body_stand_tau_s > 0.0 ? body_yaw_ : in.head_yaw;
 }
@@ -973,7 +986,7 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   return walkOn(fmt("waypoint %.2f m away: walk on", in.waypoint_distance), now,
                 in.walking_speed < p.walking_speed_mps);
   }
-  const bool walking = in.walking_speed >= p.walking_speed_mps;
+  const bool walking = walksForward(in);
   // + = the steering point lies left of the walk (standing: of the body, not the scanning head)
   const double err = wrapAngle(in.steer_heading - (walking ? in.walk_heading : facing(in)));
   bool superseding = false;  // a veer under way is overtaken: ask beyond it

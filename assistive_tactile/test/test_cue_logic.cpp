@@ -822,6 +822,39 @@ TEST(CueLogic, PassageStraightOnOrStopAndAlign)
   }
 }
 
+// A side-step moves the body at 0.3 m/s (above walking_speed_mps) 90 deg off its facing: its
+// chord is no facing. Traced (gen_home_3004 trial 0): a wearer facing 100 deg side-stepped left
+// (chord -170 deg) 0.65 m before a doorway whose middle lay at 107 deg; judged on the chord it was
+// asked to turn 83 deg right, and the body's facing (pulled to the chord) then said "facing the
+// middle, go" with the body 66 deg off. Judged on the head, it is 7 deg off: a small turn left.
+TEST(CueLogic, SideStepChordIsNoFacing)
+{
+  auto sideStep = []() {
+    NavInput in = turn(7.0, 100.0 * kDeg);
+    in.passage_distance = 0.65;
+    in.passage_width = 0.80;
+    in.passage_heading = 107.0 * kDeg;
+    in.walking_speed = 0.3;
+    in.walk_heading = -170.0 * kDeg;  // stepping left
+    return in;
+  };
+  CueLogic c;
+  Cue k;
+  for (double t = 0.0; t < 0.5; t += 1.0 / 15.0)
+    k = fresh(c, sideStep(), t);
+  ASSERT_EQ(k.instruction, Instruction::TURN);
+  EXPECT_GT(k.intensity[LEFT_SHOULDER], 0.f);  // towards the middle, 7 deg left of the head
+  EXPECT_EQ(k.intensity[RIGHT_SHOULDER], 0.f);
+  EXPECT_EQ(k.pattern.on_10ms, 33);             // 7 / 90 + 0.25 s, not 83 deg
+  // the same chord along the head (a forward walk at 0.3 m/s 7 deg off the middle 0.65 m on: it
+  // passes 0.08 m off it, within the room of a 1.05 m passage, 0.175 m): straight on
+  CueLogic w;
+  NavInput fw = sideStep();
+  fw.walk_heading = 100.0 * kDeg;
+  fw.passage_width = 1.05;
+  EXPECT_EQ(fresh(w, fw, 0.0).instruction, Instruction::WALK_ON);
+}
+
 TEST(CueLogic, StandingFacingLeavesTheHeadScanOut)
 {
   // A standing wearer whose body faces 0.3 rad, the steering point 10 deg to its left, 5 m free

@@ -149,6 +149,9 @@ private:
   /// (a head-mounted camera's only heading scans +-8 deg over a body that stands still: aligned on
   /// the head, a turn on the spot chased the scan).
   double facing(const NavInput& in) const;
+  /// Walking forwards: at walking speed with the walk chord along the head (within 50 deg), not a
+  /// side-step or a step back, whose chord is no facing.
+  bool walksForward(const NavInput& in) const;
   /// A stop-and-turn being carried out: true (and the held cue) while it lasts; its end learns
   /// the turning rate.
   bool holdTurn(const NavInput& in, double now, Cue& out);
