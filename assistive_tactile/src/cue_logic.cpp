@@ -900,7 +900,9 @@ bool CueLogic::passageCue(const NavInput& in, double now, bool walking, Cue& out
       out = startTurn(in, now, err, why);
       return true;
     }
-    out = walkOn(fmt("facing a passage's middle (%.0f deg off): go", err * kRadToDeg), now, true);
+    std::snprintf(why, sizeof(why), "facing a passage's middle (%.0f deg off, facing %.0f deg): go", err * kRadToDeg,
+                  facing(in) * kRadToDeg);
+    out = walkOn(why, now, true);
     passage_go_ = now;
     return true;
   }
