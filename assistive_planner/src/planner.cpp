@@ -40,10 +40,6 @@ bool usableInputs(const Grid& input, const Point2& wearer, double head_yaw, Plan
   return false;
 }
 
-/// A walk whose chord lies within this of the head's yaw is a walk forwards (the head scans
-/// +-8 deg and leads a veer's chord by about 20 deg; a side-step is 90 deg off, a step back 180).
-constexpr double kForwardWalkRad = 50.0 * M_PI / 180.0;
-
 /// The free distances ahead (the body's strip), left and right of `yaw` from the wearer.
 void judgeFreeSpace(const Grid& grid, const Point2& wearer, double yaw, const PlannerParams& p, PlanOutput& out,
                     bool& ahead_unknown)
@@ -570,16 +566,11 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   out.motion_anchor = motion_.anchor();
   measureWalk(wearer, t, out);
   const bool walking = out.walking_speed >= 0.25;
-  // what lies ahead of the body: along its walk while it walks forwards, else along the motion
-  // vector (the waypoint search and the crossing watch keep the seed's motion vector). A
-  // side-step (0.3 m/s, 90 deg off the facing) is no walk ahead: judged along it, the obstacle
-  // the wearer was stepped away from vanished from ahead at its first step, "go" cut the
-  // side-step short and the next stop faced the obstacle again (plaza, trial seed 11: a loop of
-  // side-steps left and right for the last 20 s)
-  const bool forwards = walking && std::fabs(wrapAngle(out.walk_heading - out.head_yaw)) <= kForwardWalkRad;
+  // what lies ahead of the body: along its walk while it walks, else along the motion vector
+  // (the waypoint search and the crossing watch keep the seed's motion vector)
   const double h = out.heading;
   bool ahead_unknown = false;
-  judgeFreeSpace(grid, wearer, forwards ? out.walk_heading : out.heading, p_, out, ahead_unknown);
+  judgeFreeSpace(grid, wearer, walking ? out.walk_heading : out.heading, p_, out, ahead_unknown);
   // People crossing: judged on every cycle with a pose and a grid, whatever the status below (the
   // cue logic acts on it only when the status is OK: never on a guess).
   if (std::isfinite(t))
@@ -602,7 +593,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
     out.message = "the wearer stands in unmapped space: no path until a mapped region is reached";
     return out;
   }
-  if (forwards && ahead_unknown && out.free_ahead < p_.unknown_ahead_m)
+  if (walking && ahead_unknown && out.free_ahead < p_.unknown_ahead_m)
   {
     // The floor just ahead is unmapped, not blocked (after a map reset it lies below the camera's
     // view until the wearer has walked on): "stop" or "step aside" would be a guess.
