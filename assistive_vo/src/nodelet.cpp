@@ -335,6 +335,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       s.add("frozen_camera", f.frozen);
       s.add("gyro_disagreement", f.gyro_disagreement);
       s.add("frame_gaps", f.gaps);
+      s.add("frame_gaps_bridged", fe_->vo().gapsBridged());
       s.add("time_jumps", f.time_jumps);
       s.add("gravity_relevels", f.gravity_relevels);
       s.add("stereo_inconsistent", f.stereo_inconsistent);
@@ -346,6 +347,9 @@ class StereoOdometryNodelet : public nodelet::Nodelet
       s.add("gravity_tilt_deg", fe_->vo().gravity().lastTiltDeg());
       s.add("gravity_windows_accepted", fe_->vo().gravity().accepted());
       s.add("gravity_windows_rejected", fe_->vo().gravity().rejected());
+      s.add("holding_still", fe_->vo().holdingStill());
+      s.add("standing_holds", fe_->vo().standingHolds());
+      s.add("standing_accel_sigma", fe_->vo().standingDetector().statistic());
     }
   }
 

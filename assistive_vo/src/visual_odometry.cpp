@@ -37,6 +37,13 @@ InertialCoaster::Options coastOptions(const VoParams& p)
   o.gyro_noise_density = p.gyro_noise_density;
   return o;
 }
+StandingDetector::Options standingOptions(const VoParams& p)
+{
+  StandingDetector::Options o;
+  o.window_s = p.standing_window_s;
+  o.max_accel_sigma = p.standing_max_accel_sigma;
+  return o;
+}
 GravityAligner::Options gravityOptions(const VoParams& p)
 {
   GravityAligner::Options o;
@@ -60,7 +67,7 @@ const char* toString(TrackingState s)
 
 VisualOdometry::VisualOdometry(const VoParams& p, const StereoCamera& cam)
   : p_(p), cam_(cam), tracker_(p, cam), keyframes_(p, cam), estimator_(p, cam), refiner_(p, cam), checks_(p),
-    bias_(p), gravity_(gravityOptions(p)), coast_(coastOptions(p))
+    bias_(p), gravity_(gravityOptions(p)), coast_(coastOptions(p)), standing_(standingOptions(p))
 {
 }
 
@@ -69,6 +76,7 @@ void VisualOdometry::setParams(const VoParams& p)
   p_ = p;
   gravity_.setOptions(gravityOptions(p));
   coast_.setOptions(coastOptions(p));
+  standing_.setOptions(standingOptions(p));
   tracker_.setParams(p);
   keyframes_.setParams(p);
   estimator_.setParams(p);
@@ -134,6 +142,10 @@ void VisualOdometry::reset()
   bias_.reset();
   gravity_.clear();
   coast_.clear();
+  standing_.clear();
+  standing_now_ = false;
+  standing_holds_ = standing_frames_ = 0;
+  gaps_bridged_ = 0;
   untrusted_ = true;
   untrusted_why_.clear();
   have_trusted_ = false;
@@ -150,6 +162,8 @@ bool VisualOdometry::mayCoast(double stamp, const FrameContext& fc) const
   // stays small.
   if (!(fc.have_gyro && have_trusted_ && !untrusted_))
     return false;
+  if (fc.standing)
+    return true;  // standing (no gait, slow): the position is held, however long vision is blind
   const double since = stamp - last_trusted_stamp_;
   if (fc.have_imu && coast_.available())
     return since <= p_.imu_coast_max_s + 1e-6 &&
@@ -197,8 +211,8 @@ void VisualOdometry::applyTrust(VoOutput& o, double stamp, bool coast_ok, const 
     o.pose_trusted = true;
     untrusted_ = false;
     untrusted_why_.clear();
-    if (o.state == TrackingState::TRACKING)
-      last_trusted_stamp_ = stamp;  // coasting frames do not extend the coast window
+    if (o.state == TrackingState::TRACKING || standing_held_)
+      last_trusted_stamp_ = stamp;  // coasting frames do not extend the coast window; held ones do (v = 0 known)
     trusted_T_odom_optical_ = o.T_odom_optical;
     trusted_cov_ = o.pose_covariance;
     trusted_stamp_ = stamp;
@@ -286,7 +300,15 @@ VoOutput VisualOdometry::makeOutput(TrackingState s, const FrameStats& st, const
     {
       // a predicted motion: the variance of the prediction, not the last measured one's
       o.twist_covariance = Eigen::Matrix<double, 6, 6>::Identity() * (1e-2 / (dt * dt));
-      if (imu_coasted_)
+      if (standing_held_)
+      {
+        // held: zero velocity, within the speed a hold may start at; the gyro's rotation
+        o.linear_velocity.setZero();
+        o.twist_covariance.topLeftCorner<3, 3>() =
+            Eigen::Matrix3d::Identity() * std::max(1e-4, p_.standing_max_speed * p_.standing_max_speed);
+        o.twist_covariance.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() * bias_.rotationVariance(dt) / (dt * dt);
+      }
+      else if (imu_coasted_)
       {
         o.twist_covariance.topLeftCorner<3, 3>() =
             Eigen::Matrix3d::Identity() * coast_.velocityVariance(coast_.coastTime());
@@ -332,14 +354,19 @@ void VisualOdometry::growLostCovariance()
     cov_cur_ += Eigen::Matrix<double, 6, 6>::Identity() * 1e-2;
 }
 
-void VisualOdometry::setCoastGyro()
+InertialCoaster::Options VisualOdometry::coastGyroOptions() const
 {
   // the gyro's noise and its bias estimate's error tilt the coasted pose (gravity leaks through)
   InertialCoaster::Options o = coastOptions(p_);
   o.gyro_bias_sigma = std::sqrt(std::max(0.0, bias_.variance()));
   if (bias_.variance() < 0)
     o.gyro_bias_sigma = p_.gyro_bias_sigma;
-  coast_.setOptions(o);
+  return o;
+}
+
+void VisualOdometry::setCoastGyro()
+{
+  coast_.setOptions(coastGyroOptions());
 }
 
 VoOutput VisualOdometry::fail(const std::string& why, const cv::Mat* left, const cv::Mat* right,
@@ -410,7 +437,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
                                  const Eigen::Quaterniond* gyro_link, const Eigen::Vector3d* dv_link,
                                  const Eigen::Vector3d* dp_link)
 {
-  imu_coasted_ = false;
+  imu_coasted_ = standing_held_ = false;
   tracker_.beginFrame();
   const auto t_start = Clock::now();
   FrameStats st;
@@ -443,8 +470,12 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
     fc.imu.dv = *dv_link;
     fc.imu.dp = *dp_link;
   }
+  markBridgeable(fc);
   levelAfterGap(have_up_hint, fc);
+  detectStanding(fc);
   fc.coast_ok = mayCoast(stamp, fc);
+  if (fc.bridged)
+    bridgeGap(fc);
   if (rejectImages(left_raw, right_raw, fc, st, o))
     return finish(o);
   // Everything after works on images of the same global brightness (auto-exposure steps, a gain
@@ -485,6 +516,8 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
 
   // ---- accept; gyro bias and a new keyframe at the end of a keyframe span; gravity ----
   accept(m, st);
+  standing_now_ = false;  // vision measures again
+  gaps_bridged_ += fc.bridged && !fc.bridge_within;  // tracked across on the coast's prediction alone
   if (keyframes_.needed(m.T_kf_cur, tracker_))
   {
     updateGyroBias(m);
@@ -527,11 +560,16 @@ const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)
   const bool was_coasting = coast_.coasting();
   if (!fc.coast_ok || !fc.force_untrusted.empty())
   {
+    if (fc.bridged && fc.force_untrusted.empty())
+      fc.force_untrusted = fc.gap_why;  // beyond the coast rules, and vision lost it: the plain gap's reason
     T.translation().setZero();
     if (!fc.have_gyro)
       T.linear().setIdentity();
     coast_.clear();
+    standing_now_ = false;
   }
+  else if (fc.standing)
+    T = standingMotion(fc);
   else if (fc.have_imu && (was_coasting || (setCoastGyro(), coast_.start())))
   {
     if (!was_coasting)
@@ -561,7 +599,181 @@ const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)
   }
   else
     coast_.clear();  // constant-velocity guess (coast_max_s at most)
+  if (!fc.standing)
+    standing_now_ = false;  // gait back (or no IMU): the coast rules, from the last held frame
   return T;
+}
+
+void VisualOdometry::detectStanding(FrameContext& fc)
+{
+  // The specific force over the interval, in odom axes (the orientation at its start, as the
+  // preintegration's dv is expressed): gravity stays put while the head only turns.
+  if (fc.bridged)
+  {
+    standingOverGap(fc);
+    return;
+  }
+  if (!(p_.standing_detection && fc.have_imu && !fc.gap && fc.imu.dt > 1e-6))
+  {
+    standing_.clear();
+    standing_now_ = false;
+    return;
+  }
+  const Eigen::Matrix3d R_odom_link = linkPose(T_odom_o0_ * T_w_cur_).linear();
+  standing_.add(fc.stamp, fc.imu.dt, R_odom_link * fc.imu.dv / fc.imu.dt);
+  if (!standing_.quiet())
+  {
+    // a hold carried over a bridged gap (standingOverGap) goes on while the window refills, as long
+    // as what it has shows no gait
+    const double partial = standing_.partialStatistic();
+    fc.standing = standing_now_ && standing_.statistic() < 0 && partial >= 0 && partial <= p_.standing_max_accel_sigma;
+    return;
+  }
+  // No gait. A walk at constant speed without a bob would look the same (the accelerometer cannot
+  // see a constant velocity), so a hold starts only at a speed known to be low: the IMU-coasted
+  // velocity, or the last tracked frame's.
+  double speed = 0.0;
+  if (coast_.coasting())
+    speed = coast_.velocity().norm();
+  else if (last_dt_ > 1e-6)
+    speed = last_T_prev_cur_.translation().norm() / last_dt_;
+  fc.standing = standing_now_ || speed <= p_.standing_max_speed;
+}
+
+Eigen::Isometry3d VisualOdometry::standingMotion(const FrameContext& fc)
+{
+  // Zero velocity: the neck stays where it was when the hold started; the camera turns about it
+  // with the gyro's rotation (bias-corrected). The position variance grows once, by
+  // standing_position_sigma; the rotation's by the gyro's over the hold.
+  if (!standing_now_)
+  {
+    standing_now_ = true;
+    ++standing_holds_;
+    standing_pivot_ = pivotNow();
+    standing_t0_ = fc.stamp - fc.dt_real;
+    standing_rot_var_ = 0.0;
+    const double s2 = p_.standing_position_sigma * p_.standing_position_sigma;
+    cov_cur_.topLeftCorner<3, 3>() += Eigen::Matrix3d::Identity() * s2;
+  }
+  const Eigen::Isometry3d T = heldMotion(fc, standing_pivot_);
+  const double rvar = bias_.rotationVariance(fc.stamp - standing_t0_);
+  cov_cur_.bottomRightCorner<3, 3>() += Eigen::Matrix3d::Identity() * std::max(0.0, rvar - standing_rot_var_);
+  standing_rot_var_ = rvar;
+  standing_held_ = true;
+  ++standing_frames_;
+  imu_coasted_ = true;  // the covariance is grown here (not by growLostCovariance)
+  // a zero-velocity measurement: the coaster's window goes on with it, so a walk on with vision
+  // still lost coasts from the hold (v = 0) under the coast rules
+  coast_.addTracked(fc.stamp, linkPose(T_odom_o0_ * T_w_cur_ * T), &fc.imu);
+  return T;
+}
+
+Eigen::Vector3d VisualOdometry::pivotNow() const
+{
+  const Eigen::Isometry3d T_odom_opt = T_odom_o0_ * T_w_cur_;
+  const Eigen::Vector3d r_link(p_.standing_pivot_forward, 0.0, p_.standing_pivot_up);
+  return T_odom_opt.translation() - T_odom_opt.linear() * R_link_optical().transpose() * r_link;
+}
+
+Eigen::Isometry3d VisualOdometry::heldMotion(const FrameContext& fc, const Eigen::Vector3d& pivot) const
+{
+  // Zero velocity: the neck stays at `pivot`; the camera turns about it with the gyro's rotation.
+  const Eigen::Matrix3d R_lo = R_link_optical();
+  const Eigen::Isometry3d T_odom_opt = T_odom_o0_ * T_w_cur_;
+  const Eigen::Vector3d r_link(p_.standing_pivot_forward, 0.0, p_.standing_pivot_up);
+  const Eigen::Matrix3d R1_opt = T_odom_opt.linear() * fc.T_pred.linear();
+  const Eigen::Vector3d p1 = pivot + R1_opt * R_lo.transpose() * r_link;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = fc.T_pred.linear();
+  T.translation() = T_odom_opt.linear().transpose() * (p1 - T_odom_opt.translation());
+  return T;
+}
+
+void VisualOdometry::markBridgeable(FrameContext& fc)
+{
+  // Frames dropped (an overloaded computer, a camera hiccup) while the IMU ran: the motion over
+  // the gap was measured by the gyro and the accelerometer, it is not unknown.
+  if (!(fc.gap && fc.dt_real > 0 && fc.have_imu && p_.imu_bridge_gaps))
+    return;
+  fc.gap = false;
+  fc.bridged = true;
+  fc.gap_why = fc.force_untrusted;  // the gap's own (checkTiming sets it first)
+  fc.force_untrusted.clear();
+  fc.dt = fc.dt_real;
+}
+
+void VisualOdometry::standingOverGap(FrameContext& fc)
+{
+  // One interval over the whole gap: its mean specific force hides any gait, so it is no sample
+  // of the test (the window restarts after it). The stand goes on through the gap when the test
+  // was quiet up to it (at a low speed, as detectStanding asks) and the velocity change over the
+  // gap (odom axes, gravity removed) stays within standing_max_speed: no walk started in it.
+  const bool quiet_before = standing_.quiet();
+  standing_.clear();
+  if (!(p_.standing_detection && (standing_now_ || quiet_before)))
+    return;
+  double speed = 0.0;
+  if (coast_.coasting())
+    speed = coast_.velocity().norm();
+  else if (last_dt_ > 1e-6)
+    speed = last_T_prev_cur_.translation().norm() / last_dt_;
+  const Eigen::Matrix3d R_odom_link = linkPose(T_odom_o0_ * T_w_cur_).linear();
+  const Eigen::Vector3d dv = R_odom_link * fc.imu.dv - Eigen::Vector3d(0, 0, coastOptions(p_).gravity * fc.imu.dt);
+  fc.standing = (standing_now_ || speed <= p_.standing_max_speed) && dv.norm() <= p_.standing_max_speed;
+}
+
+void VisualOdometry::bridgeGap(FrameContext& fc)
+{
+  // The keyframe tracking's prediction over the gap: the position held standing, else the IMU
+  // coast (a copy of the coaster: the numbers lostMotion() would use). Within the coast rules the
+  // bridged pose is trusted even when vision fails on the frame (lostMotion() takes this motion, a
+  // new keyframe starts there). Beyond them (a long gap at walking speed: the coast's sigma) the
+  // coast is the tracking's prediction only: tracked, the frame is measured again; lost, it is the
+  // plain gap (lostMotion(): pose kept, untrusted, new keyframe).
+  Eigen::Isometry3d T = fc.T_pred;  // the gyro's rotation over the gap
+  bool predicted = false;
+  fc.bridge_within = false;
+  if (fc.coast_ok && fc.standing)
+  {
+    T = heldMotion(fc, standing_now_ ? standing_pivot_ : pivotNow());
+    predicted = fc.bridge_within = true;
+  }
+  else
+  {
+    InertialCoaster c = coast_;
+    if (!c.coasting())
+      c.setOptions(coastGyroOptions());
+    if (c.coasting() || c.start())
+    {
+      const Eigen::Isometry3d T_odom_opt = T_odom_o0_ * T_w_cur_;
+      const Eigen::Vector3d dpos = c.step(T_odom_opt.linear() * R_link_optical().transpose(), fc.imu);
+      const double since = fc.stamp - last_trusted_stamp_, smax = p_.imu_coast_max_sigma_m;
+      predicted = c.velocity().norm() <= p_.max_speed_mps;
+      fc.bridge_within = predicted && fc.coast_ok && c.positionVariance(since) <= smax * smax;
+      T.translation() = T_odom_opt.linear().transpose() * dpos;
+    }
+  }
+  if (!predicted)
+  {
+    // no velocity to coast from: the plain gap (pose kept, untrusted, new keyframe)
+    fc.bridged = fc.standing = false;
+    fc.gap = true;
+    fc.force_untrusted = fc.gap_why;
+    fc.dt = last_dt_ > 0 ? last_dt_ : 1.0 / 15.0;
+    fc.T_pred.translation().setZero();
+    standing_now_ = false;
+    return;
+  }
+  fc.T_pred = T;
+  if (!fc.bridge_within)
+  {
+    fc.coast_ok = fc.standing = false;  // lost on this frame: the plain gap (lostMotion())
+    return;
+  }
+  ++gaps_bridged_;
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), "gap of %.2f s in the image stream: bridged on the IMU", fc.dt_real);
+  fc.why = buf;
 }
 
 bool VisualOdometry::checkInput(const cv::Mat& left, const cv::Mat& right, FrameStats& st, FrameContext& fc,

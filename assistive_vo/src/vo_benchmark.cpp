@@ -1,8 +1,11 @@
 // vo_benchmark FILE.bag [BAG2.bag ...] [--generated N [--kinds K,...] [--imperfect] [--keep DIR]] [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--verbose] [--dump FILE] [--set name=value ...]
-//              [--blackout START:DURATION]
+//              [--blackout START:DURATION] [--drop START:DURATION]
 // (--blackout: the images from START s after the first frame for DURATION s are replaced by a
 //  plain grey (a plain wall filling the view); reports the position error at its end against the
 //  truth, relative to the last frame before it, and the frames to track again)
+// (--drop: the stereo frames from START s for DURATION s are never given to the VO (dropped: an
+//  overloaded computer), the IMU samples are; reports the first frame after the gap against the
+//  truth: position error relative to the last frame before it, trusted, tracking, resets)
 // (--dump FILE: per-frame ground truth and estimated pose as text rows, for analysis;
 //  --verbose: per-frame stage counts on stderr: KLT tracks, epipolar kept, P3P inliers, corners)
 // Runs the VO core on every stereo frame of a bag (no roscore), and on the same frames the peer:
@@ -121,6 +124,7 @@ struct Peer
 const char* const kUsage =
     "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--peer-max-translation M]\n"
     "                    [--verbose] [--dump FILE] [--set name=value ...] [--blackout START:DURATION]\n"
+    "                    [--drop START:DURATION]\n"
     "       vo_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect] [--keep DIR]\n"
     "                    [--plot DIR] [other options as above]\n"
     "  Runs the visual odometry on a stereo bag (README \"Topics of a stereo bag\"); last stdout line: JSON.\n"
@@ -130,12 +134,13 @@ const char* const kUsage =
 /// The command line of a one-bag run.
 struct Options
 {
-  std::string bag, plot, dump, blackout;
+  std::string bag, plot, dump, blackout, drop;
   bool peer_on = true, imu_on = true, verbose = false;
   double peer_max_t = 0.15;
   ev::CommandLine::Sets overrides;
   long max_frames = -1;
   double bo_start = -1, bo_len = 0;  ///< --blackout START:DURATION (s after the first frame)
+  double drop_start = -1, drop_len = 0;  ///< --drop START:DURATION (s after the first frame)
 
   void addTo(ev::CommandLine& cl)
   {
@@ -148,15 +153,20 @@ struct Options
         .number("--peer-max-translation", &peer_max_t)
         .text("--dump", &dump)
         .text("--blackout", &blackout)
+        .text("--drop", &drop)
         .sets(&overrides);
   }
-  /// --blackout START:DURATION into bo_start, bo_len; false (with the message) when malformed.
+  /// --blackout and --drop START:DURATION into bo_start, bo_len / drop_start, drop_len; false (with
+  /// the message) when malformed.
   bool parseBlackout()
   {
-    if (!blackout.empty() &&
-        (std::sscanf(blackout.c_str(), "%lf:%lf", &bo_start, &bo_len) != 2 || bo_start < 0 || bo_len <= 0))
+    return parseWindow("--blackout", blackout, bo_start, bo_len) && parseWindow("--drop", drop, drop_start, drop_len);
+  }
+  static bool parseWindow(const char* name, const std::string& text, double& start, double& len)
+  {
+    if (!text.empty() && (std::sscanf(text.c_str(), "%lf:%lf", &start, &len) != 2 || start < 0 || len <= 0))
     {
-      std::cerr << "vo_benchmark: --blackout wants START:DURATION in seconds, got " << blackout << "\n";
+      std::cerr << "vo_benchmark: " << name << " wants START:DURATION in seconds, got " << text << "\n";
       return false;
     }
     return true;
@@ -225,6 +235,41 @@ struct Blackout
   }
 };
 
+/// --drop: the last frame before the gap and the first after it, against the truth.
+struct DroppedGap
+{
+  bool have_a = false, have_b = false, trusted_b = false, tracking_b = false;
+  Eigen::Isometry3d gt_a, est_a, gt_b, est_b;
+  int resets_a = 0, resets_b = 0, dropped = 0;
+
+  /// One processed frame with a pose and its truth; `before`: it precedes the gap.
+  void add(bool before, const Eigen::Isometry3d& gt, const VoOutput& o, int resets)
+  {
+    if (before)
+    {
+      have_a = true;
+      gt_a = gt;
+      est_a = o.T_odom_optical;
+      resets_a = resets;
+    }
+    else if (have_a && !have_b && dropped > 0)
+    {
+      have_b = true;
+      gt_b = gt;
+      est_b = o.T_odom_optical;
+      trusted_b = o.pose_trusted;
+      tracking_b = o.state == TrackingState::TRACKING;
+      resets_b = resets;
+    }
+  }
+  /// Position error of the pose change across the gap (the last frame before it, its axes).
+  double err() const
+  {
+    return ((est_a.inverse() * est_b).translation() - (gt_a.inverse() * gt_b).translation()).norm();
+  }
+  double moved() const { return (gt_a.inverse() * gt_b).translation().norm(); }
+};
+
 /// The stage names of the VO's timing table and JSON keys (ms_p95_<stage>), in their order.
 const char* const kStages[] = {"pyramid", "klt", "epipolar", "stereo", "p3p_ransac", "bundle_adj", "detect", "lines"};
 
@@ -259,8 +304,14 @@ public:
   std::map<std::string, std::vector<double>> ms;
   std::vector<double> wall, peer_ms, peer_wall;
   int lost = 0, max_bad_run = 0, bad_run = 0, frames = 0, unusable = 0;
+  /// Frames where the truth's neck (VoParams standing_pivot_*, the simulator's neck) moved under
+  /// kOnSpotSpeed since the previous processed frame: standing or turning on the spot; of them, not
+  /// tracking and untrusted (issue 34: none should be lost while the wearer only turns).
+  int on_spot = 0, on_spot_not_tracking = 0, on_spot_untrusted = 0;
+  static constexpr double kOnSpotSpeed = 0.1;  // m/s
   ev::RecoveryCounter recovery;
   Blackout bo;
+  DroppedGap gap;
 
 private:
   /// Times, tracking state and recovery of one processed frame.
@@ -276,6 +327,11 @@ private:
   VoFrontEnd& fe_;
   std::ofstream dump_out_;
   double first_stamp_ = -1;
+  bool have_neck_ = false;
+  double neck_stamp_ = 0;
+  Eigen::Vector3d neck_ = Eigen::Vector3d::Zero();
+  /// The on-spot counts of one frame (its truth's neck against the previous frame's).
+  void countOnSpot(const ev::StereoFrame& f, const VoOutput& o);
   Eigen::Isometry3d peer_T_odom_o0_ = Eigen::Isometry3d::Identity();
 };
 
@@ -293,6 +349,12 @@ bool BagRun::run(ev::StereoBagReader& reader)
       first_stamp_ = f.stamp;
     const double t_rel = f.stamp - first_stamp_;
     const bool blanked = opt_.bo_start >= 0 && t_rel >= opt_.bo_start && t_rel < opt_.bo_start + opt_.bo_len;
+    if (opt_.drop_start >= 0 && t_rel >= opt_.drop_start && t_rel < opt_.drop_start + opt_.drop_len)
+    {
+      ++gap.dropped;  // never given to the VO (its IMU samples are)
+      ++frames;
+      continue;
+    }
     if (blanked)
     {
       f.left = cv::Mat(f.left.size(), f.left.type(), cv::Scalar(128));
@@ -308,6 +370,8 @@ bool BagRun::run(ev::StereoBagReader& reader)
     const VoOutput& o = step.out;
     if (opt_.bo_start >= 0 && f.has_gt_pose && o.pose_valid)
       bo.add(t_rel, blanked, opt_.bo_start, f.gt_pose, o);
+    if (opt_.drop_start >= 0 && f.has_gt_pose && o.pose_valid)
+      gap.add(t_rel < opt_.drop_start, f.gt_pose, o, vo.resets());
     countFrame(f, o, timer);
 
     if (f.has_gt_pose && o.pose_valid)
@@ -349,7 +413,30 @@ void BagRun::countFrame(const ev::StereoFrame& f, const VoOutput& o, const ev::S
   }
   else
     bad_run = 0;
+  countOnSpot(f, o);
   logFrame(f, o, usable);
+}
+
+void BagRun::countOnSpot(const ev::StereoFrame& f, const VoOutput& o)
+{
+  if (!f.has_gt_pose)
+  {
+    have_neck_ = false;
+    return;
+  }
+  const VoParams& p = vo.params();
+  const Eigen::Vector3d r_link(p.standing_pivot_forward, 0.0, p.standing_pivot_up);
+  const Eigen::Vector3d neck = f.gt_pose.translation() - f.gt_pose.linear() * R_link_optical().transpose() * r_link;
+  const double dt = f.stamp - neck_stamp_;
+  if (have_neck_ && dt > 1e-6 && (neck - neck_).norm() / dt < kOnSpotSpeed)
+  {
+    ++on_spot;
+    on_spot_not_tracking += o.state != TrackingState::TRACKING;
+    on_spot_untrusted += !o.pose_trusted;
+  }
+  have_neck_ = true;
+  neck_stamp_ = f.stamp;
+  neck_ = neck;
 }
 
 void BagRun::logFrame(const ev::StereoFrame& f, const VoOutput& o, bool usable) const
@@ -507,6 +594,18 @@ Scores scoreRun(const Options& opt, const BagRun& run, ev::StereoBagReader& read
   return sc;
 }
 
+/// --drop's line of the report.
+void printDrop(const Options& opt, const DroppedGap& g)
+{
+  std::cout << "drop " << opt.drop_start << " s + " << opt.drop_len << " s (" << g.dropped << " frames): ";
+  if (g.have_b)
+    std::cout << "first frame after it: position error " << g.err() << " m (truth moved " << g.moved() << " m), "
+              << (g.trusted_b ? "trusted" : "untrusted") << ", " << (g.tracking_b ? "tracking" : "not tracking")
+              << ", resets " << g.resets_b - g.resets_a << "\n";
+  else
+    std::cout << "no frame with a pose after it\n";
+}
+
 /// --blackout's line of the report.
 void printBlackout(const Options& opt, const Blackout& bo)
 {
@@ -566,8 +665,21 @@ ev::JsonLine jsonLine(const Options& opt, const BagRun& run, const Scores& sc)
         .add("blackout_trusted_end", bo.have_b ? (bo.trusted_end ? "true" : "false") : "null")
         .add("blackout_resume_frames", bo.resumed ? std::to_string(bo.resume_frames) : "null")
         .add("blackout_err_resumed_m", bo.resumed ? num(bo.relErr(bo.gt_c, bo.est_c)) : "null");
+  if (opt.drop_start >= 0)
+  {
+    const DroppedGap& g = run.gap;
+    js.add("drop_frames", g.dropped).add("drop_err_m", g.have_b ? num(g.err()) : "null")
+        .add("drop_moved_m", g.have_b ? num(g.moved()) : "null")
+        .add("drop_trusted_after", g.have_b ? (g.trusted_b ? "true" : "false") : "null")
+        .add("drop_tracking_after", g.have_b ? (g.tracking_b ? "true" : "false") : "null")
+        .add("drop_resets", g.have_b ? std::to_string(g.resets_b - g.resets_a) : "null");
+  }
   js.add("resets", run.vo.resets()).add("frames_not_tracking", run.lost).add("max_recovery_frames", run.max_bad_run)
-      .add("recovery_frames_max", run.recovery.maxUsableInRun()).add("unusable_frames", run.unusable);
+      .add("recovery_frames_max", run.recovery.maxUsableInRun()).add("unusable_frames", run.unusable)
+      .add("untrusted_frames", run.vo.failSafe().untrusted_frames).add("standing_frames", run.vo.standingFrames())
+      .add("standing_holds", run.vo.standingHolds()).add("gaps_bridged", run.vo.gapsBridged())
+      .add("on_spot_frames", run.on_spot).add("on_spot_not_tracking", run.on_spot_not_tracking)
+      .add("on_spot_untrusted", run.on_spot_untrusted);
   for (const char* k : kStages)
     js.add(std::string("ms_p95_") + k, num(percentile(run.times(k), 0.95)));
   if (sc.have_gt)
@@ -626,6 +738,8 @@ int main(int argc, char** argv)
   const Scores sc = scoreRun(opt, run, *reader);
   if (opt.bo_start >= 0)
     printBlackout(opt, run.bo);
+  if (opt.drop_start >= 0)
+    printDrop(opt, run.gap);
   std::cout << jsonLine(opt, run, sc).str() << std::endl;
   return 0;
 }

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include "assistive_vo/frames.h"
 #include "assistive_vo/visual_odometry.h"
@@ -839,4 +840,378 @@ TEST(PointLine, AMotionOffTheGyroIsRejected)
   run(1.0, lost, off, lines);
   EXPECT_GT(off, 0);
   EXPECT_EQ(lines, 0);
+}
+
+// ---- standing still known from the IMU (issue 34) ----
+
+namespace
+{
+/// A synthetic IMU for a pose function (optical frame in w, the first optical frame; odom = the VO's
+/// first output): the gyro's rotation, the accelerometer's preintegrated dv and dp between two
+/// stamps (exact for any motion: dv = R0^T (v1 - v0 + g dt), dp = R0^T (p1 - p0 - v0 dt + g dt^2 / 2),
+/// odom axes, g = +9.81 z) with the simulator's white noise (ADIS16448 class: gyro 1.7e-4
+/// rad/s/sqrt(Hz), accelerometer 2e-3 m/s^2/sqrt(Hz)).
+struct SyntheticImu
+{
+  std::function<Eigen::Isometry3d(double)> pose;  ///< T_w_optical(t)
+  Eigen::Isometry3d T_odom_w = Eigen::Isometry3d::Identity();
+  std::mt19937 rng{7};
+  std::normal_distribution<double> n{0.0, 1.0};
+
+  Eigen::Isometry3d link(double t) const
+  {
+    Eigen::Isometry3d T = T_odom_w * pose(t);
+    T.linear() = T.linear() * R_link_optical().transpose();
+    return T;
+  }
+  Eigen::Vector3d velocity(double t) const
+  {
+    const double h = 1e-4;
+    return (link(t + h).translation() - link(t - h).translation()) / (2 * h);
+  }
+  void between(double t0, double t1, Eigen::Quaterniond& gyro, Eigen::Vector3d& dv, Eigen::Vector3d& dp)
+  {
+    const double dt = t1 - t0;
+    const Eigen::Isometry3d A = link(t0), B = link(t1);
+    const Eigen::Vector3d g(0, 0, 9.81), v0 = velocity(t0), v1 = velocity(t1);
+    const Eigen::Vector3d wn = Eigen::Vector3d(n(rng), n(rng), n(rng)) * 1.7e-4 * std::sqrt(dt);
+    gyro = Eigen::Quaterniond(Eigen::Matrix3d(A.linear().transpose() * B.linear() *
+                                              Eigen::AngleAxisd(wn.norm(), wn.normalized()).toRotationMatrix()));
+    dv = A.linear().transpose() * (v1 - v0 + g * dt) + Eigen::Vector3d(n(rng), n(rng), n(rng)) * 2e-3 * std::sqrt(dt);
+    dp = A.linear().transpose() * (B.translation() - A.translation() - v0 * dt + 0.5 * g * dt * dt);
+  }
+};
+
+double yawDeg(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)) * 180.0 / M_PI; }
+}  // namespace
+
+TEST(Standing, TurningOnTheSpotWithBlindFramesHoldsThePositionTrusted)
+{
+  // The wearer stands in front of the textured wall (1 s, tracked), then turns on the spot while the
+  // camera is blind (black, then flat frames) for 6 s: 40 deg left in 3 s, 20 deg back in 3 s, the
+  // head about the neck (standing_pivot_*). Every frame stays trusted, the camera where the truth
+  // has it within a few mm, the yaw the gyro's within its noise; texture back: tracked, no jump.
+  const VoParams p;
+  StereoCamera cam = test::makeCamera();
+  test::PlaneWorld world;
+  VisualOdometry vo(p, cam);
+  const Eigen::Vector3d r_opt = R_link_optical().transpose() *
+                                Eigen::Vector3d(p.standing_pivot_forward, 0.0, p.standing_pivot_up);
+  auto yaw = [](double t) {
+    const double a = std::clamp((t - 1.0) / 3.0, 0.0, 1.0), b = std::clamp((t - 4.0) / 3.0, 0.0, 1.0);
+    auto s5 = [](double x) { return x * x * x * (10 - 15 * x + 6 * x * x); };
+    return (40.0 * s5(a) - 20.0 * s5(b)) * M_PI / 180.0;
+  };
+  SyntheticImu imu;
+  imu.pose = [&](double t) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(-yaw(t), Eigen::Vector3d::UnitY()).toRotationMatrix();  // optical y is down
+    T.translation() = (Eigen::Vector3d(0, 0, 0) - r_opt) + T.linear() * r_opt;  // the neck still
+    return T;
+  };
+  const cv::Mat black(cam.height, cam.width, CV_8UC1, cv::Scalar(0)), flat(cam.height, cam.width, CV_8UC1, cv::Scalar(128));
+  VoOutput o = vo.process(world.render(cam, imu.pose(0), false), world.render(cam, imu.pose(0), true), 0.0);
+  imu.T_odom_w = o.T_odom_optical;
+  Eigen::Vector3d last_pos = Eigen::Vector3d::Zero();
+  double max_err = 0, max_yaw_err = 0;
+  for (int k = 1; k <= 120; ++k)
+  {
+    const double t0 = (k - 1) / 15.0, t = k / 15.0;
+    Eigen::Quaterniond gyro;
+    Eigen::Vector3d dv, dp;
+    imu.between(t0, t, gyro, dv, dp);
+    const bool blind = t > 1.0 + 1e-9 && t <= 7.0 + 1e-9;
+    const cv::Mat& blank = t < 4.0 ? black : flat;
+    const Eigen::Isometry3d T = imu.pose(t);
+    o = blind ? vo.process(blank, blank, t, &gyro, &dv, &dp)
+              : vo.process(world.render(cam, T, false), world.render(cam, T, true), t, &gyro, &dv, &dp);
+    ASSERT_TRUE(o.pose_trusted) << "frame " << k << ": " << o.untrusted_reason;
+    const Eigen::Isometry3d truth = imu.T_odom_w * T;
+    const double err = (o.T_odom_optical.translation() - truth.translation()).norm();
+    const double yerr = std::abs(yawDeg(o.T_odom_link.linear()) - yawDeg(imu.link(t).linear()));
+    if (blind)
+    {
+      EXPECT_EQ(o.state, TrackingState::LOST) << "frame " << k;
+      max_err = std::max(max_err, err);
+      max_yaw_err = std::max(max_yaw_err, yerr);
+    }
+    else if (k > 105)  // texture back at t = 7: a new keyframe at the held pose, then tracked, no jump
+    {
+      EXPECT_LT((o.T_odom_optical.translation() - last_pos).norm(), 0.01) << "frame " << k;
+      EXPECT_LT(err, 0.01) << "frame " << k;
+      if (k >= 107)
+      {
+        EXPECT_EQ(o.state, TrackingState::TRACKING) << "frame " << k;
+      }
+    }
+    last_pos = o.T_odom_optical.translation();
+  }
+  EXPECT_LT(max_err, 0.005);
+  EXPECT_LT(max_yaw_err, 0.1);  // 6 s of the gyro's white noise: 0.004 deg (1 sigma)
+  EXPECT_EQ(vo.standingHolds(), 1);
+  // the covariance is bounded: the position's by what it was plus standing_position_sigma
+  EXPECT_LT(std::sqrt(o.pose_covariance(0, 0)), 0.05);
+  std::cout << "standing: max position error " << max_err * 1000 << " mm, max yaw error " << max_yaw_err << " deg\n";
+}
+
+TEST(Standing, WalkingGaitWithBlindFramesIsUntrustedAfterTheCoastAsBefore)
+{
+  // Walking at 0.9 m/s with the simulator's gait bob (2.5 cm, 0.65 m steps: about 2 m/s^2 at the
+  // head), then black frames: the accelerometer shows gait, so nothing is held; the coast rules
+  // decide as with standing_detection off, frame by frame, and the pose is untrusted within
+  // imu_coast_max.
+  std::vector<int> trusted[2];
+  for (const bool standing : {false, true})
+  {
+    VoParams p;
+    p.standing_detection = standing;
+    StereoCamera cam = test::makeCamera();
+    test::PlaneWorld world;
+    VisualOdometry vo(p, cam);
+    SyntheticImu imu;
+    imu.pose = [](double t) {
+      const double s = 0.9 * t;
+      Eigen::Isometry3d T = test::makePose(0, 0.1 * t, 0, 0, 0.025 * std::cos(2 * M_PI * s / 0.65), s);
+      return T;
+    };
+    const cv::Mat black(cam.height, cam.width, CV_8UC1, cv::Scalar(0));
+    VoOutput o = vo.process(world.render(cam, imu.pose(0), false), world.render(cam, imu.pose(0), true), 0.0);
+    imu.T_odom_w = o.T_odom_optical;
+    for (int k = 1; k <= 75; ++k)
+    {
+      const double t = k / 15.0;
+      Eigen::Quaterniond gyro;
+      Eigen::Vector3d dv, dp;
+      imu.between((k - 1) / 15.0, t, gyro, dv, dp);
+      const Eigen::Isometry3d T = imu.pose(t);
+      o = k > 25 ? vo.process(black, black, t, &gyro, &dv, &dp)
+                 : vo.process(world.render(cam, T, false), world.render(cam, T, true), t, &gyro, &dv, &dp);
+      if (k <= 25)
+        ASSERT_TRUE(o.pose_trusted) << "frame " << k << ": " << o.untrusted_reason;
+      else if (o.pose_trusted)
+        trusted[standing].push_back(k);
+      if (standing && k > 13)
+      {
+        EXPECT_GT(vo.standingDetector().statistic(), p.standing_max_accel_sigma) << "frame " << k;
+      }
+    }
+    EXPECT_EQ(vo.standingHolds(), 0);
+    ASSERT_FALSE(trusted[standing].empty());
+    EXPECT_LE((trusted[standing].back() - 25) / 15.0, p.imu_coast_max_s + 1e-9);
+  }
+  EXPECT_EQ(trusted[0], trusted[1]);
+}
+
+// ---- a gap in the image stream with the IMU running (issue 34) ----
+
+namespace
+{
+/// One run through a gap: frames 0..30 every 1/15 s, none for `gap_s` (the IMU runs on), then
+/// frames until t_end; `blind_after_s` s of black frames right after the gap. Per frame: the
+/// output and the truth (odom axes).
+struct GapRun
+{
+  std::vector<VoOutput> out;
+  std::vector<Eigen::Isometry3d> truth;
+  std::vector<double> t;
+  int resets_before = 0;  ///< the VO's resets at the last frame before the gap
+  size_t first_after = 0;  ///< index of the first frame after the gap
+
+  static GapRun run(const VoParams& p, const std::function<Eigen::Isometry3d(double)>& pose, double gap_s,
+                    double t_end, double blind_after_s = 0.0)
+  {
+    GapRun r;
+    StereoCamera cam = test::makeCamera();
+    test::PlaneWorld world;
+    VisualOdometry vo(p, cam);
+    SyntheticImu imu;
+    imu.pose = pose;
+    const cv::Mat black(cam.height, cam.width, CV_8UC1, cv::Scalar(0));
+    VoOutput o = vo.process(world.render(cam, pose(0), false), world.render(cam, pose(0), true), 0.0);
+    imu.T_odom_w = o.T_odom_optical * pose(0).inverse();
+    double t_prev = 0.0;
+    for (int k = 1;; ++k)
+    {
+      double t = k / 15.0;
+      if (k > 30)
+        t += gap_s - 1 / 15.0;  // frame 31 comes gap_s after frame 30
+      if (t > t_end + 1e-9)
+        break;
+      Eigen::Quaterniond gyro;
+      Eigen::Vector3d dv, dp;
+      imu.between(t_prev, t, gyro, dv, dp);
+      const Eigen::Isometry3d T = pose(t);
+      const bool blind = k > 30 && t < 2.0 + gap_s + blind_after_s - 1e-9;
+      if (k == 31)
+      {
+        r.resets_before = vo.resets();
+        r.first_after = r.out.size();
+      }
+      o = blind ? vo.process(black, black, t, &gyro, &dv, &dp)
+                : vo.process(world.render(cam, T, false), world.render(cam, T, true), t, &gyro, &dv, &dp);
+      r.out.push_back(o);
+      r.truth.push_back(imu.T_odom_w * T);
+      r.t.push_back(t);
+      t_prev = t;
+    }
+    r.gaps = vo.failSafe().gaps;
+    r.bridged = vo.gapsBridged();
+    r.resets_after = vo.resets();
+    r.holds = vo.standingHolds();
+    return r;
+  }
+  int gaps = 0, bridged = 0, resets_after = 0, holds = 0;
+  /// Position error of frame i against the truth (m).
+  double err(size_t i) const { return (out[i].T_odom_optical.translation() - truth[i].translation()).norm(); }
+  double yawErrDeg(size_t i) const
+  {
+    return std::abs(Eigen::AngleAxisd(out[i].T_odom_optical.linear().transpose() * truth[i].linear()).angle()) * 180 /
+           M_PI;
+  }
+};
+
+/// A walk at `speed` towards the textured wall with the simulator's gait bob (2.5 cm, 0.65 m steps)
+/// and a slow turn (3 deg/s).
+std::function<Eigen::Isometry3d(double)> gaitWalk(double speed)
+{
+  return [speed](double t) {
+    const double s = speed * t;
+    return test::makePose(0, 0.05 * t, 0, 0, 0.025 * std::cos(2 * M_PI * s / 0.65), s);
+  };
+}
+
+/// Standing 2 s, then the head turns `deg` left about the neck (standing_pivot_*) over 1.2 s from
+/// t = 2.05, then stands still.
+std::function<Eigen::Isometry3d(double)> turnOnTheSpot(double deg)
+{
+  const VoParams p;
+  const Eigen::Vector3d r_opt =
+      R_link_optical().transpose() * Eigen::Vector3d(p.standing_pivot_forward, 0.0, p.standing_pivot_up);
+  return [r_opt, deg](double t) {
+    const double a = std::clamp((t - 2.05) / 1.2, 0.0, 1.0);
+    const double yaw = deg * M_PI / 180.0 * a * a * a * (10 - 15 * a + 6 * a * a);
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();  // optical y is down
+    T.translation() = -r_opt + T.linear() * r_opt;  // the neck still
+    return T;
+  };
+}
+}  // namespace
+
+TEST(Gap, WalkingThroughAGapWithTheImuTracksOn)
+{
+  // Walking at 0.6 m/s, no images for 1.33 s (the overloaded rostest's gap): the IMU coasts the
+  // pose over it (the coast rules allow 2.5 s and 0.15 m 1-sigma), the keyframe is tracked on from
+  // there: the frame after the gap is tracked and trusted, no re-initialisation, no jump. With
+  // imu_bridge_gaps off: the plain gap as before (pose kept: 0.8 m behind; untrusted, a reset).
+  // The errors after the gap are the VO's own on the same walk without a gap (ref), within 5 mm
+  // and 0.05 deg.
+  VoParams p;
+  const GapRun ref = GapRun::run(p, gaitWalk(0.6), 1.0 / 15.0, 4.0);
+  const GapRun on = GapRun::run(p, gaitWalk(0.6), 4.0 / 3.0, 4.0);
+  p.imu_bridge_gaps = false;
+  const GapRun off = GapRun::run(p, gaitWalk(0.6), 4.0 / 3.0, 4.0);
+  const size_t g = on.first_after;
+  ASSERT_EQ(g, off.first_after);
+  ASSERT_LT(g, on.out.size());
+  EXPECT_EQ(on.gaps, 1);
+  EXPECT_EQ(on.bridged, 1);
+  EXPECT_TRUE(on.out[g].pose_trusted) << on.out[g].untrusted_reason;
+  EXPECT_EQ(on.out[g].state, TrackingState::TRACKING) << on.out[g].message;
+  EXPECT_EQ(on.resets_after, on.resets_before);
+  for (size_t i = g; i < on.out.size(); ++i)
+  {
+    EXPECT_TRUE(on.out[i].pose_trusted) << "frame " << i;
+    EXPECT_EQ(on.out[i].state, TrackingState::TRACKING) << "frame " << i;
+    const size_t j = static_cast<size_t>(std::lround(on.t[i] * 15.0)) - 1;  // the same stamp in ref
+    ASSERT_NEAR(ref.t[j], on.t[i], 1e-9);
+    EXPECT_LT(on.err(i), ref.err(j) + 0.005) << "frame " << i;
+    EXPECT_LT(on.yawErrDeg(i), ref.yawErrDeg(j) + 0.05) << "frame " << i;
+  }
+  std::cout << "gap bridged walking: error after it " << on.err(g) * 1000 << " mm (plain gap: " << off.err(g) * 1000
+            << " mm)\n";
+  EXPECT_EQ(off.gaps, 1);
+  EXPECT_EQ(off.bridged, 0);
+  EXPECT_FALSE(off.out[g].pose_trusted);
+  EXPECT_NE(off.out[g].untrusted_reason.find("gap"), std::string::npos) << off.out[g].untrusted_reason;
+  EXPECT_EQ(off.resets_after, off.resets_before + 1);
+  EXPECT_GT(off.err(g), 0.7);
+}
+
+TEST(Gap, TurningOnTheSpotThroughAGapHoldsThePosition)
+{
+  // Standing (tracked 2 s: the gait test quiet), no images for 1.33 s while the head turns 25 deg
+  // about the neck. Texture after it: the frame after the gap is tracked from the held pose and
+  // the gyro's rotation, no reset. Black for 1 s after it: the position held (the neck still) and
+  // trusted on every frame, the gyro's yaw; the hold goes on while the gait test refills.
+  const VoParams p;
+  const GapRun seen = GapRun::run(p, turnOnTheSpot(25.0), 4.0 / 3.0, 4.5);
+  const size_t g = seen.first_after;
+  EXPECT_EQ(seen.bridged, 1);
+  EXPECT_EQ(seen.out[g].state, TrackingState::TRACKING) << seen.out[g].message;
+  EXPECT_EQ(seen.resets_after, seen.resets_before);
+  for (size_t i = g; i < seen.out.size(); ++i)
+  {
+    EXPECT_TRUE(seen.out[i].pose_trusted) << "frame " << i;
+    EXPECT_LT(seen.err(i), 0.01) << "frame " << i;
+    EXPECT_LT(seen.yawErrDeg(i), 0.2) << "frame " << i;
+  }
+  const GapRun blind = GapRun::run(p, turnOnTheSpot(25.0), 4.0 / 3.0, 4.5, 1.0);
+  EXPECT_EQ(blind.bridged, 1);
+  EXPECT_EQ(blind.holds, 1);
+  double max_err = 0, max_yaw = 0;
+  for (size_t i = blind.first_after; i < blind.out.size(); ++i)
+  {
+    EXPECT_TRUE(blind.out[i].pose_trusted) << "frame " << i << ": " << blind.out[i].untrusted_reason;
+    max_err = std::max(max_err, blind.err(i));
+    max_yaw = std::max(max_yaw, blind.yawErrDeg(i));
+  }
+  EXPECT_LT(max_err, 0.01);
+  EXPECT_LT(max_yaw, 0.1);
+  EXPECT_EQ(blind.out.back().state, TrackingState::TRACKING);
+  std::cout << "gap bridged standing, blind after: max error " << max_err * 1000 << " mm, " << max_yaw << " deg\n";
+}
+
+TEST(Gap, BeyondTheCoastRulesOnlyATrackedFrameIsTrusted)
+{
+  // The walk of WalkingThroughAGapWithTheImuTracksOn with imu_coast_max_sigma 0.03 m: the coast's
+  // position sigma at the gap's end is beyond it. With texture after the gap the coast still
+  // predicts the tracking, which takes the pose over (tracked, trusted, no reset, the gap-free
+  // walk's error within 5 mm); with black frames after it, the plain gap (pose kept: 0.8 m
+  // behind, untrusted, a reset).
+  VoParams p;
+  p.imu_coast_max_sigma_m = 0.03;
+  const GapRun ref = GapRun::run(p, gaitWalk(0.6), 1.0 / 15.0, 3.6);
+  const GapRun seen = GapRun::run(p, gaitWalk(0.6), 4.0 / 3.0, 3.6);
+  const GapRun blind = GapRun::run(p, gaitWalk(0.6), 4.0 / 3.0, 3.6, 0.1);
+  const size_t g = seen.first_after;
+  EXPECT_EQ(seen.bridged, 1);
+  EXPECT_EQ(seen.out[g].state, TrackingState::TRACKING) << seen.out[g].message;
+  EXPECT_TRUE(seen.out[g].pose_trusted) << seen.out[g].untrusted_reason;
+  EXPECT_EQ(seen.resets_after, seen.resets_before);
+  const size_t j = static_cast<size_t>(std::lround(seen.t[g] * 15.0)) - 1;
+  ASSERT_NEAR(ref.t[j], seen.t[g], 1e-9);
+  EXPECT_LT(seen.err(g), ref.err(j) + 0.005);
+  EXPECT_EQ(blind.bridged, 0);
+  EXPECT_FALSE(blind.out[g].pose_trusted);
+  EXPECT_NE(blind.out[g].untrusted_reason.find("gap"), std::string::npos) << blind.out[g].untrusted_reason;
+  EXPECT_EQ(blind.resets_after, blind.resets_before + 1);
+  EXPECT_GT(blind.err(g), 0.7);
+}
+
+TEST(Gap, BeyondTheCoastRulesIsThePlainGap)
+{
+  // Walking at 0.6 m/s, a gap of 2.7 s: longer than imu_coast_max_s (2.5 s), and black frames after
+  // it: vision cannot take the pose over, so the plain gap: pose kept, untrusted, a new keyframe;
+  // the frames after it track again from there.
+  const VoParams p;
+  ASSERT_GT(2.7, p.imu_coast_max_s);
+  const GapRun r = GapRun::run(p, gaitWalk(0.6), 2.7, 4.7 + 1.0, 0.3);
+  const size_t g = r.first_after;
+  EXPECT_EQ(r.gaps, 1);
+  EXPECT_EQ(r.bridged, 0);
+  EXPECT_FALSE(r.out[g].pose_trusted);
+  EXPECT_NE(r.out[g].untrusted_reason.find("gap"), std::string::npos) << r.out[g].untrusted_reason;
+  EXPECT_EQ(r.resets_after, r.resets_before + 1);
+  EXPECT_EQ(r.out.back().state, TrackingState::TRACKING);
 }

@@ -291,4 +291,41 @@ TEST(VoFrontEnd, ReportsCalibrationChangesAndTimeGoingBack)
   EXPECT_FALSE(s.have_gyro);
   EXPECT_FALSE(s.out.pose_trusted);
 }
+
+// A gap in the image stream (frames dropped) while the IMU runs on: the next frame gets the gyro
+// and accelerometer integrals over the whole gap while it is within imu_keep_s (the core bridges
+// it within imu_coast_max_s), none beyond.
+TEST(VoFrontEnd, HandsTheImuOverAGapWithinWhatItKeeps)
+{
+  const VoFrontEnd::Options o;
+  ASSERT_GE(o.imu_keep_s, VoParams().imu_coast_max_s);
+  for (const double gap : {2.4, o.imu_keep_s + 0.2})
+  {
+    const Walk w;
+    const double t_end = 1.0 + gap;
+    const std::vector<ImuSample> imu = imuBetween(0.0, t_end);
+    VoFrontEnd fe;
+    size_t next = 0;
+    FrontEndStep s;
+    for (const double t : {0.0, 1.0 / 15, 2.0 / 15, 1.0, t_end})
+    {
+      for (; next < imu.size() && imu[next].t <= t + 1e-9; ++next)
+        fe.addImu(kT0 + imu[next].t, imu[next].gyro, imu[next].accel);
+      s = fe.process(w.cam, w.left(t), w.right(t), kT0 + t);
+      ASSERT_TRUE(s.processed);
+    }
+    EXPECT_EQ(s.have_gyro, gap <= o.imu_keep_s) << "gap " << gap;
+    if (s.have_gyro)  // the integral over the whole gap is the true rotation
+    {
+      const Eigen::Matrix3d R_lo = R_link_optical();
+      const Eigen::Matrix3d R_true =
+          R_lo * truePose(1.0).linear().transpose() * truePose(t_end).linear() * R_lo.transpose();
+      EXPECT_LT(Eigen::AngleAxisd(s.gyro.toRotationMatrix().transpose() * R_true).angle(), 1e-9);
+      // no linear acceleration: dv is gravity's alone, dp half of it times the gap
+      const Eigen::Vector3d up_link = imuAt(1.0).accel;
+      EXPECT_LT((s.dv - up_link * gap).norm(), 1e-6 * gap);
+    }
+    EXPECT_EQ(fe.vo().failSafe().gaps, 1);
+  }
+}
 }  // namespace front_end_test

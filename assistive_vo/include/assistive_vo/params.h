@@ -76,7 +76,8 @@ namespace assistive_vo
   /* --- failure handling and motion limits --- */ \
   X(double, max_speed_mps, "max_speed", 4.0, 0.1, 50.0, "m/s", "larger change of velocity against the constant-velocity prediction = failure (no jumps), unless >= 2 x `min_inliers` and half the tracks support the motion") \
   X(double, max_angular_speed_dps, "max_angular_speed", 400.0, 10.0, 5000.0, "deg/s", "same for rotation") \
-  X(double, max_frame_gap_s, "max_frame_gap", 1.0, 0.05, 10.0, "s", "a larger stamp gap (or time going backwards): pose kept, new keyframe, frame untrusted") \
+  X(double, max_frame_gap_s, "max_frame_gap", 1.0, 0.05, 10.0, "s", "a larger stamp gap (or time going backwards): pose kept, new keyframe, frame untrusted (a gap the IMU covers: see imu_bridge_gaps)") \
+  X(bool, imu_bridge_gaps, "imu_bridge_gaps", true, {}, {}, "", "a forward gap the gyro and the accelerometer cover is bridged like lost frames: the gyro's rotation, the position held standing or IMU-coasted under the imu_coast_* rules, the keyframe tracked on; else as above") \
   /* Auto-exposure steps and a gain different in the two cameras: every image is scaled to one */ \
   /* mean brightness before stereo matching and tracking (the input checks see the raw image). */ \
   X(double, brightness_target, "brightness_target", -1.0, -1.0, 250.0, "intensity", "images scaled to this mean before matching and tracking (gain/auto-exposure invariance; -1: the first image's mean; 0: off)") \
@@ -98,6 +99,17 @@ namespace assistive_vo
   X(double, imu_coast_max_s, "imu_coast_max", 2.5, 0.0, 10.0, "s", "an IMU-coasted pose stays trusted at most this long after the last tracked frame ...") \
   X(double, imu_coast_max_sigma_m, "imu_coast_max_sigma", 0.15, 0.0, 10.0, "m", "... and while its position 1-sigma (per axis) stays within this") \
   X(double, imu_coast_window_s, "imu_coast_window", 1.5, 0.2, 10.0, "s", "tracked frames the velocity and the accelerometer error are fitted over") \
+  /* Standing still known from the IMU (standing_detector.h): no gait in the accelerometer over */ \
+  /* standing_window, at a speed known to be low when vision was lost. A lost frame then holds the */ \
+  /* position (zero velocity; the camera turns about the neck pivot) and takes the gyro's rotation, */ \
+  /* trusted however long vision is blind; gait back: the coast rules above, from the last held frame. */ \
+  X(bool, standing_detection, "standing_detection", true, {}, {}, "", "lost frames while the IMU shows no gait hold the position (zero velocity) and turn with the gyro, trusted") \
+  X(double, standing_window_s, "standing_window", 0.8, 0.2, 5.0, "s", "the accelerometer's gait test window (longer than one step)") \
+  X(double, standing_max_accel_sigma, "standing_max_accel_sigma", 0.25, 0.01, 5.0, "m/s^2", "standing: rms deviation of the specific force (odom axes, per-frame means) from its window mean at most this ...") \
+  X(double, standing_max_speed, "standing_max_speed", 0.25, 0.0, 5.0, "m/s", "... and the speed when the hold starts (last tracked or IMU-coasted) at most this") \
+  X(double, standing_position_sigma, "standing_position_sigma", 0.03, 0.0, 1.0, "m", "position 1-sigma (per axis) added once when a hold starts") \
+  X(double, standing_pivot_forward, "standing_pivot_forward", 0.09, -0.5, 0.5, "m", "the camera sits this far in front of the pivot the head turns about (the neck; camera_link x) ...") \
+  X(double, standing_pivot_up, "standing_pivot_up", 0.1, -0.5, 0.5, "m", "... and this far above it (camera_link z): a held frame keeps the pivot still") \
   X(double, accel_noise_density, "accel_noise_density", 2.0e-3, 1e-6, 1.0, "m/s^2/sqrt(Hz)", "accelerometer white noise (coasting covariance)") \
   X(double, accel_error_sigma, "accel_error_sigma", 0.15, 1e-3, 10.0, "m/s^2", "prior on the accelerometer bias + gravity leaking through tilt error, in the coasting fit") \
   /* Frozen camera: the left image (every 4th pixel) differs from the previous one by at most */ \

@@ -15,6 +15,7 @@
 #include "assistive_vo/motion_refiner.h"
 #include "assistive_vo/params.h"
 #include "assistive_vo/plausibility.h"
+#include "assistive_vo/standing_detector.h"
 #include "assistive_vo/stereo_camera.h"
 
 namespace assistive_vo
@@ -95,6 +96,16 @@ public:
                    const Eigen::Vector3d* dp_link = nullptr);
   /// Inertial coasting (velocity, accelerometer error fitted, coasting time).
   const InertialCoaster& coaster() const { return coast_; }
+  /// Standing still from the IMU (no gait): the detector, and whether lost frames hold the position now.
+  const StandingDetector& standingDetector() const { return standing_; }
+  bool holdingStill() const { return standing_now_; }
+  /// Holds started so far (lost frames while standing).
+  int standingHolds() const { return standing_holds_; }
+  /// Lost frames held standing so far.
+  int standingFrames() const { return standing_frames_; }
+  /// Stamp gaps (> max_frame_gap_s) bridged on the IMU so far (imu_bridge_gaps): trusted on the coast
+  /// rules, or tracked across on the IMU's prediction; the rest re-initialise untrusted.
+  int gapsBridged() const { return gaps_bridged_; }
   /// The stereo disparity offset estimated so far (px, added to every disparity).
   double disparityOffset() const { return tracker_.stereo().offset(); }
 
@@ -118,7 +129,10 @@ private:
     double dt = 0.0;        ///< step for the motion model (over a gap: the last regular step)
     double dt_real = 0.0;   ///< stamp step as it came (also a gap's)
     bool first = false;     ///< the first frame: the origin of odom
-    bool gap = false;       ///< a stamp gap or time jump before this frame
+    bool gap = false;       ///< a stamp gap or time jump before this frame (not bridged)
+    bool bridged = false;   ///< a stamp gap bridged on the IMU (bridgeGap): tracked on from its prediction
+    bool bridge_within = false;  ///< ... within the coast rules: trusted like lost frames if vision fails on it
+    std::string gap_why;          ///< the gap's reason (checkTiming), should it be the plain gap after all
     bool have_gyro = false;
     Eigen::Matrix3d R_gyro_opt = Eigen::Matrix3d::Identity();  ///< bias-corrected gyro, prev -> cur, optical axes
     Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();  ///< predicted motion prev -> cur, optical
@@ -127,6 +141,7 @@ private:
     std::string why;              ///< message of the frame
     bool have_imu = false;        ///< the accelerometer's preintegration `imu` is given
     ImuDelta imu;
+    bool standing = false;        ///< the IMU shows no gait, at a low speed: a lost frame holds the position
     bool lost_done = false;       ///< T_lost computed (lostMotion)
     Eigen::Isometry3d T_lost = Eigen::Isometry3d::Identity();
   };
@@ -134,6 +149,28 @@ private:
   /// there and a velocity is known, else the prediction while coasting, else none (the gyro's
   /// rotation only). Coasting grows the pose covariance.
   const Eigen::Isometry3d& lostMotion(FrameContext& fc);
+  /// The accelerometer's specific force over the frame interval (odom axes) to the standing
+  /// detector; fc.standing: no gait, and (unless holding already) a low speed.
+  void detectStanding(FrameContext& fc);
+  /// A lost frame while standing: position held (the neck pivot still), rotation from the gyro.
+  Eigen::Isometry3d standingMotion(const FrameContext& fc);
+  /// The motion of a held frame about the neck pivot `pivot` (odom): the gyro's rotation, no step.
+  Eigen::Isometry3d heldMotion(const FrameContext& fc, const Eigen::Vector3d& pivot) const;
+  /// The neck pivot (odom) under the current pose.
+  Eigen::Vector3d pivotNow() const;
+  /// A forward stamp gap that the gyro and the accelerometer cover, with imu_bridge_gaps: marks the
+  /// frame `bridged` (fc.gap off, the real interval as its step) so that the IMU carries the pose
+  /// over it instead of an untrusted re-initialisation.
+  void markBridgeable(FrameContext& fc);
+  /// The bridged gap's motion, for the keyframe tracking's prediction: the position held standing,
+  /// else IMU-coasted; the gyro's rotation. Within the coast rules (imu_coast_max_s,
+  /// imu_coast_max_sigma_m at the gap's end, max_speed_mps) a frame vision loses stays trusted;
+  /// beyond them only a tracked frame is (lost: the plain gap, pose kept, untrusted, new keyframe);
+  /// without a coast the plain gap at once. Changes no state but fc.
+  void bridgeGap(FrameContext& fc);
+  /// The standing decision over a bridged gap: its one interval hides any gait, so the stand goes
+  /// on only when the test was quiet up to the gap and its velocity change is small.
+  void standingOverGap(FrameContext& fc);
   /// Grows the pose covariance over a lost frame whose motion was predicted, not measured.
   void growLostCovariance();
   /// `in` scaled to one mean brightness for the run (out = in when it is off or black).
@@ -141,6 +178,8 @@ private:
   double brightness_ref_ = 0.0;  ///< the mean every image is scaled to (set by the first image)
   /// Sets the coaster's gyro noise and bias error (before a coast starts).
   void setCoastGyro();
+  /// The coaster's options with the gyro's noise and bias error (setCoastGyro()).
+  InertialCoaster::Options coastGyroOptions() const;
   // ---- frame set-up (process() in order) ----
   /// Camera and image checks; false: `o` is the frame's (untrusted) output.
   bool checkInput(const cv::Mat& left, const cv::Mat& right, FrameStats& st, FrameContext& fc, VoOutput& o);
@@ -229,6 +268,13 @@ private:
   DisparityOffsetEstimator disp_offset_;
   /// Feeds the disparity offset estimator with the inliers of a tracked frame; applies an estimate.
   void estimateDisparityOffset(const MotionEstimate& m);
+  StandingDetector standing_;
+  bool standing_now_ = false;       ///< lost frames hold the position (since the hold started)
+  bool standing_held_ = false;      ///< this frame was held standing
+  Eigen::Vector3d standing_pivot_ = Eigen::Vector3d::Zero();  ///< odom, the still neck
+  double standing_t0_ = 0.0, standing_rot_var_ = 0.0;
+  int standing_holds_ = 0, standing_frames_ = 0;
+  int gaps_bridged_ = 0;
   bool imu_coasted_ = false;  ///< this frame's pose was coasted on the IMU (covariance already grown)
   double coast_var_ = 0.0;    ///< position variance the coast has added so far (per axis)
   double coast_rot_var_ = 0.0;  ///< rotation variance the coast has added so far (per axis)

@@ -43,7 +43,9 @@ struct VoFrontEndOptions
   /// IMU is never used whatever this says.
   bool input_has_imu = true;
   double imu_wait_s = VoNodeParams().imu_wait;  ///< the start-up rule's wait for the IMU (image time)
-  double imu_keep_s = 2.0;                      ///< IMU samples kept (ImuBuffer)
+  /// IMU samples kept (ImuBuffer): a stamp gap up to this long still gets its gyro and accelerometer
+  /// integrals (VoParams::imu_bridge_gaps bridges it within imu_coast_max_s, 2.5 s).
+  double imu_keep_s = 3.0;
 };
 
 class VoFrontEnd
