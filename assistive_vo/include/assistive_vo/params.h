@@ -157,6 +157,7 @@ namespace assistive_vo
 // The nodelet's own parameters (ROS plumbing; vo_benchmark has no use for them).
 #define ASSISTIVE_VO_NODE_PARAMS(X) \
   X(double, imu_wait, "imu_wait", 1.0, 0.0, 30.0, "s", "with `use_imu`, the first frames wait this long (image time) for an IMU sample before the odom frame is fixed; after it: `initial_roll` / `initial_pitch` and a warning") \
+  X(double, imu_sync_wait, "imu_sync_wait", 0.1, 0.0, 1.0, "s", "a frame whose IMU interval has not fully arrived while the IMU is flowing (its samples behind the images, e.g. from another process) waits up to this long (wall clock) for it; 0 = never: the frame goes without the gyro and the accelerometer") \
   X(int, queue_size, "queue_size", 5, 1, 100, "", "synchroniser queue") \
   X(bool, approximate_sync, "approximate_sync", false, {}, {}, "", "ApproximateTime instead of ExactTime") \
   X(std::string, odom_frame, "odom_frame", "odom", {}, {}, "", "frame of the odometry") \
