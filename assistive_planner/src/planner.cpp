@@ -460,9 +460,13 @@ Passage Planner::findPassage(const Grid& grid, const std::vector<Point2>& path, 
   if (!field.any || field.dist.rows < 2 || field.dist.cols < 2)
     return out;
   // at each point: the middle across the path (the ridge of the distance field within `reach`);
-  // a passage is where the middle's clearance is under half of max_width (a wall on one side
-  // only leaves a middle farther off; in front of a wall with a doorway it starts before the
-  // doorway); its middle is its narrowest point within 1.2 m of its start
+  // a passage is where the width there is under max_width (a wall on one side only leaves a
+  // middle farther off; in front of a wall with a doorway it starts before the doorway); its
+  // middle is its narrowest point within 1.2 m of its start. The width: the field runs to the
+  // obstacle cells' squares, but a jamb fills every cell it touches, so its face lies anywhere
+  // in the cell next to the free ones, half a cell in on average: twice the clearance plus a
+  // cell (a 0.80 m doorway leaves 0.6 m of free cells; 0.85 m, 0.6 or 0.8 m).
+  const double hidden = grid.resolution;  // the two half cells the jambs' faces lie inside
   bool inside = false;
   double entry = 0.0, best = 1e300;
   for (size_t i = 0; i < pts.size(); ++i)
@@ -482,7 +486,7 @@ Passage Planner::findPassage(const Grid& grid, const std::vector<Point2>& path, 
         mid = { pts[i].x + o * nx, pts[i].y + o * ny };
       }
     }
-    const bool narrow = c < 0.5 * max_width;
+    const bool narrow = 2.0 * c + hidden < max_width;
     if (narrow && !inside)
     {
       inside = true;
@@ -498,7 +502,7 @@ Passage Planner::findPassage(const Grid& grid, const std::vector<Point2>& path, 
       out.found = true;
       out.along = along[i] - from_along;
       out.middle = mid;
-      out.width = 2.0 * c;
+      out.width = 2.0 * c + hidden;
       out.axis = std::atan2(b.y - a.y, b.x - a.x);
     }
   }

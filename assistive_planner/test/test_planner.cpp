@@ -15,9 +15,10 @@ Grid makeGrid(double ox, double oy, int n = 50) { return planner_test::freeGrid(
 using planner_test::fillRect;
 }  // namespace
 
-// A doorway 0.8 m wide in a wall across the path, the path 0.2 m off its middle: found 2 m
-// along, its middle on the 5 cm field (not on the 0.2 m cells the path runs on), 0.8 m wide; a
-// wall on one side only and a 1.3 m gap are no passage.
+// A doorway of 0.8 m of free cells in a wall across the path, the path 0.2 m off its middle:
+// found 2 m along, its middle on the 5 cm field (not on the 0.2 m cells the path runs on), 1.0 m
+// wide (the jambs fill the cells they touch: their faces lie half a cell in on average); a wall
+// on one side only and a 1.2 m gap of free cells (1.4 m) are no passage.
 TEST(Planner, FindPassageFindsADoorwaysMiddle)
 {
   Grid g = makeGrid(-5, -5);
@@ -29,7 +30,7 @@ TEST(Planner, FindPassageFindsADoorwaysMiddle)
   EXPECT_NEAR(p.middle.y, 0.2, 0.03);
   EXPECT_NEAR(p.middle.x, 2.0, 0.15);  // in the wall's 0.2 m depth
   EXPECT_NEAR(p.along, p.middle.x, 1e-9);
-  EXPECT_NEAR(p.width, 0.8, 0.05);
+  EXPECT_NEAR(p.width, 1.0, 0.05);
   EXPECT_NEAR(p.axis, 0.0, 1e-6);
   // beyond the search range, or started past it: none
   EXPECT_FALSE(Planner::findPassage(g, path, 0.0, 1.0, 1.1).found);
@@ -41,9 +42,82 @@ TEST(Planner, FindPassageFindsADoorwaysMiddle)
 
   Grid wide = makeGrid(-5, -5);
   fillRect(wide, 1.89, -5.0, 2.11, -0.69, CELL_OBSTACLE);  // edge at -0.6
-  fillRect(wide, 1.89, 0.69, 2.11, 5.0, CELL_OBSTACLE);  // edge at 0.6: 1.2 m
-  EXPECT_FALSE(Planner::findPassage(wide, path, 0.0, 3.0, 1.1).found);
-  EXPECT_TRUE(Planner::findPassage(wide, path, 0.0, 3.0, 1.3).found);
+  fillRect(wide, 1.89, 0.69, 2.11, 5.0, CELL_OBSTACLE);  // edge at 0.6: 1.2 m of free cells, 1.4 m
+  EXPECT_FALSE(Planner::findPassage(wide, path, 0.0, 3.0, 1.3).found);
+  EXPECT_TRUE(Planner::findPassage(wide, path, 0.0, 3.0, 1.5).found);
+}
+
+namespace
+{
+/// Marks every cell whose square overlaps [x0, x1] x [y0, y1] an obstacle, as the truth map and
+/// the obstacle stage do (a solid fills every cell it touches).
+void fillSolid(Grid& g, double x0, double y0, double x1, double y1)
+{
+  const double h = 0.5 * g.resolution;
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x)
+      if (g.cellX(x) + h > x0 && g.cellX(x) - h < x1 && g.cellY(y) + h > y0 && g.cellY(y) - h < y1)
+        g.data[size_t(g.index(x, y))] = CELL_OBSTACLE;
+}
+
+/// A 0.1 m wall across x = 2 with a doorway [lo, hi] in it, drawn on 0.2 m cells.
+Grid doorwayGrid(double lo, double hi)
+{
+  Grid g = makeGrid(-5, -5);
+  fillSolid(g, 1.95, -5.0, 2.05, lo);
+  fillSolid(g, 1.95, hi, 2.05, 5.0);
+  return g;
+}
+
+/// Where the polyline crosses x = `at` (NaN when it does not).
+double crossingY(const std::vector<Point2>& path, double at)
+{
+  for (size_t i = 1; i < path.size(); ++i)
+  {
+    const Point2 &a = path[i - 1], &b = path[i];
+    if ((a.x - at) * (b.x - at) <= 0.0 && std::abs(b.x - a.x) > 1e-9)
+      return a.y + (b.y - a.y) * (at - a.x) / (b.x - a.x);
+  }
+  return std::nan("");
+}
+}  // namespace
+
+// Issue 33: an 0.80 m doorway drawn on 0.2 m cells leaves 0.6 m of free cells wherever its jambs
+// fall in the cells; the planner reports it 0.80 m wide (within 0.1 m), its middle within half a
+// cell, and the path runs through that middle, not along the cells' centres.
+TEST(Planner, AnEightyCentimetreDoorwayIsReportedEightyWideAndPassedThroughItsMiddle)
+{
+  for (double lo : { -0.39, -0.33, -0.27, -0.22, -0.11, 0.03, 0.17 })
+  {
+    const double hi = lo + 0.80, middle = lo + 0.40;
+    const Grid g = doorwayGrid(lo, hi);
+    const std::vector<Point2> line{ { 0.0, middle }, { 4.0, middle } };
+    const Passage ps = Planner::findPassage(g, line, 0.0, 3.0, 1.1);
+    ASSERT_TRUE(ps.found) << lo;
+    EXPECT_NEAR(ps.width, 0.80, 0.1) << lo;
+    EXPECT_NEAR(ps.middle.y, middle, 0.1) << lo;
+    EXPECT_NEAR(ps.middle.x, 2.0, 0.15) << lo;
+
+    Planner pl;
+    pl.setGoal({ 4.0, middle });
+    const PlanOutput o = pl.update(g, { 0.0, middle }, 0.0);
+    ASSERT_EQ(o.status, PlanStatus::OK) << o.message;
+    const double y = crossingY(o.path, 2.0);
+    ASSERT_TRUE(std::isfinite(y)) << lo;
+    EXPECT_NEAR(y, middle, 0.1) << lo;  // through the doorway's middle (within half a cell)
+    EXPECT_GE(o.passage_distance, 0.0) << lo;
+    EXPECT_NEAR(o.passage_width, 0.80, 0.1) << lo;
+  }
+  // 0.85 and 0.90 m: 0.6 or 0.8 m of free cells, depending on where the jambs fall; reported
+  // within half a cell either way (0.80 or 1.00 m)
+  for (double w : { 0.85, 0.90 })
+    for (double lo : { -0.39, -0.30, -0.22, -0.11 })
+    {
+      const Passage ps = Planner::findPassage(doorwayGrid(lo, lo + w), { { 0.0, lo + 0.5 * w }, { 4.0, lo + 0.5 * w } },
+                                              0.0, 3.0, 1.1);
+      ASSERT_TRUE(ps.found) << w << " " << lo;
+      EXPECT_NEAR(ps.width, w, 0.15 + 1e-9) << w << " " << lo;
+    }
 }
 
 TEST(Planner, NoMapAndInUnknownAtStartUp)

@@ -116,25 +116,138 @@ double CueLogic::reactionEstimate() const
   return have_reaction_ ? std::clamp(reaction_est_, 0.3, 1.5) : params_.alert_reaction_s;
 }
 
+double CueLogic::startAccelEstimate() const
+{
+  return have_accel_ ? std::clamp(accel_est_, 0.3, 3.0) : params_.start_accel;
+}
+
+double CueLogic::stopDecelEstimate() const
+{
+  return have_decel_ ? std::clamp(decel_est_, 0.5, 5.0) : params_.stop_decel;
+}
+
+namespace
+{
+/// When a quantity sampled at (t0, v0) and (t1, v1) crossed `mark`, by linear interpolation.
+double crossingTime(double t0, double v0, double t1, double v1, double mark)
+{
+  if (!(t1 > t0) || std::fabs(v1 - v0) < 1e-9)
+    return t1;
+  return t0 + (t1 - t0) * std::clamp((mark - v0) / (v1 - v0), 0.0, 1.0);
+}
+
+// The planner's walking speed is the chord of the wearer's positions over its last 0.4 s
+// (`walk_window_s`): on a ramp of acceleration a it runs a (t - t0 - 0.2 s) once the window lies
+// inside the ramp, so between two marks it rises at a, and extrapolated back to 0 it is half the
+// window late.
+constexpr double kHalfWindowS = 0.2;
+}  // namespace
+
 void CueLogic::observeStart(const NavInput& in, double now)
 {
-  // The wearer's reaction, read off its starts: a walk-on tick to a standing wearer, then the
-  // walk's speed rising past 0.2 m/s. That crossing comes kStartLagS after the body moves (the
-  // tick is understood when it ends, 0.1 s; a walker accelerating at about 1.2 m/s^2 shows
-  // 0.2 m/s on the planner's 0.4 s chord 0.37 s later).
-  constexpr double kStartLagS = 0.47;
-  if (start_tick_ >= 0.0 && std::isfinite(in.walking_speed) && in.walking_speed >= 0.2)
+  // The wearer's reaction and its start, read off its starts: a walk-on tick to a standing
+  // wearer, then the walk's speed rising through kLo and kHi (0.3-0.6 m/s: on the ramp for
+  // starts up to 1.5 m/s^2 and preferred speeds from 0.9 m/s). Their slope is the start's
+  // acceleration; extrapolated back to 0 (less half the chord's window) they give when the body
+  // began to move; the tick is understood when it ends, 0.1 s after it began.
+  constexpr double kLo = 0.3, kHi = 0.6, kTickS = 0.1;
+  const double v = in.walking_speed;
+  if (start_tick_ >= 0.0 && std::isfinite(v))
   {
-    const double tau = now - start_tick_ - kStartLagS;
-    if (tau > 0.1 && tau < 3.0)
+    const bool fresh = prev_speed_t_ >= start_tick_;
+    if (start_lo_t_ < 0.0 && v >= kLo)
+      start_lo_t_ = fresh ? crossingTime(prev_speed_t_, prev_speed_, now, v, kLo) : now;
+    if (start_lo_t_ >= 0.0 && v >= kHi)
     {
-      reaction_est_ = have_reaction_ ? 0.7 * reaction_est_ + 0.3 * tau : tau;
-      have_reaction_ = true;
+      const double t_hi = fresh ? crossingTime(prev_speed_t_, prev_speed_, now, v, kHi) : now;
+      const double a = (kHi - kLo) / std::max(0.05, t_hi - start_lo_t_);
+      const double tau = start_lo_t_ - kLo / a - kHalfWindowS - (start_tick_ + kTickS);
+      if (tau > 0.1 && tau < 3.0)
+      {
+        reaction_est_ = have_reaction_ ? 0.7 * reaction_est_ + 0.3 * tau : tau;
+        have_reaction_ = true;
+      }
+      if (a > 0.2 && a < 5.0)
+      {
+        accel_est_ = have_accel_ ? 0.7 * accel_est_ + 0.3 * a : a;
+        have_accel_ = true;
+      }
+      start_tick_ = -1.0;
+      start_lo_t_ = -1.0;
     }
-    start_tick_ = -1.0;
   }
   if (current_.instruction != Instruction::WALK_ON)
+  {
     start_tick_ = -1.0;  // something else came before the start: not a clean sample
+    start_lo_t_ = -1.0;
+  }
+}
+
+double CueLogic::stopReach(double v, double tau) const
+{
+  constexpr double kPacePrior = 1.4;  // m/s: the fast end of preferred walking speeds (0.9-1.4)
+  const double pace = have_pace_ ? pace_est_ : kPacePrior;
+  const bool told_to_walk = current_.instruction == Instruction::WALK_ON || current_.instruction == Instruction::VEER;
+  const double a = told_to_walk && v < pace ? startAccelEstimate() : 0.0;
+  const double t_up = a > 0.0 ? std::min(tau, (pace - v) / a) : 0.0;
+  const double v1 = v + a * t_up;
+  return 0.5 * (v + v1) * t_up + v1 * (tau - t_up) + v1 * v1 / (2.0 * stopDecelEstimate());
+}
+
+void CueLogic::observePace(const NavInput& in, double now)
+{
+  // a walk whose speed stays within 0.03 m/s a cycle for a second
+  if (std::isfinite(in.walking_speed) && in.walking_speed >= 0.6 &&
+      std::fabs(in.walking_speed - prev_speed_) < 0.03 && now - prev_speed_t_ < 0.5)
+  {
+    if (steady_speed_since_ < -1e299)
+      steady_speed_since_ = now;
+    if (now - steady_speed_since_ >= 1.0)
+    {
+      pace_est_ = have_pace_ ? 0.9 * pace_est_ + 0.1 * in.walking_speed : in.walking_speed;
+      have_pace_ = true;
+    }
+  }
+  else
+    steady_speed_since_ = -1e300;
+}
+
+void CueLogic::observeStop(const NavInput& in, double now)
+{
+  // The wearer's stop, read off its stops on all four from a walk (0.6 m/s or more): the walk's
+  // speed falling through 0.7 and 0.3 of its speed when the stop began. A bump ends a walk at
+  // once and reads as a quick stop: a stop that ends at the obstacle is not sampled, and a
+  // quicker stop than the one learnt moves the estimate less than a slower one (the stop
+  // distances err long).
+  const double v = in.walking_speed;
+  if (current_.instruction != Instruction::STOP || !std::isfinite(v))
+  {
+    stop_v0_ = -1.0;
+    stop_hi_t_ = -1.0;
+    return;
+  }
+  if (stop_v0_ < 0.0)
+  {
+    stop_v0_ = v >= 0.6 ? v : 0.0;
+    return;
+  }
+  if (stop_v0_ <= 0.0)
+    return;
+  const double hi = 0.7 * stop_v0_, lo = 0.3 * stop_v0_;
+  if (stop_hi_t_ < 0.0 && v <= hi)
+    stop_hi_t_ = crossingTime(prev_speed_t_, prev_speed_, now, v, hi);
+  if (stop_hi_t_ >= 0.0 && v <= lo)
+  {
+    const double d = (hi - lo) / std::max(0.05, crossingTime(prev_speed_t_, prev_speed_, now, v, lo) - stop_hi_t_);
+    // (a stop that ends at the obstacle, under 0.15 m free ahead, is no sample: a bump ends a walk at once)
+    if (d > 0.2 && d < 10.0 && !(in.free_ahead < 0.15))
+    {
+      const double k = !have_decel_ ? 1.0 : d < decel_est_ ? 0.5 : 0.2;
+      decel_est_ += k * (d - decel_est_);
+      have_decel_ = true;
+    }
+    stop_v0_ = 0.0;  // this stop is sampled
+  }
 }
 
 void CueLogic::observeDrift(const NavInput& in, double now, bool walking)
@@ -286,6 +399,10 @@ Cue CueLogic::update(const NavInput& in, double now)
   }
 
   observeStart(in, now);
+  observeStop(in, now);
+  observePace(in, now);
+  prev_speed_ = std::isfinite(in.walking_speed) ? in.walking_speed : 0.0;
+  prev_speed_t_ = now;
   switch (in.status)
   {
     case NavStatus::OK:
@@ -303,8 +420,7 @@ Cue CueLogic::update(const NavInput& in, double now)
       // and the stop itself.
       const double v = std::max(0.0, in.walking_speed);
       const double tau = reactionEstimate();
-      const double must_stop =
-          params_.alert_m + v * std::max(0.3, std::min(tau, 0.3 + 0.5 * tau)) + v * v / (2.0 * params_.stop_decel);
+      const double must_stop = params_.alert_m + stopReach(v, std::max(0.3, std::min(tau, 0.3 + 0.5 * tau)));
       const bool steering_away =
           in.waypoint_distance >= params_.guidance_min_waypoint_m &&
           std::fabs(wrapAngle(in.steer_heading - in.walk_heading)) * kRadToDeg > params_.veer_on_deg &&
@@ -433,7 +549,7 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
   // a walking wearer needs its reaction time's walk, and then its stop, before it stands
   const double v = std::max(0.0, std::isfinite(in.walking_speed) ? in.walking_speed : 0.0);
   const double tau = reactionEstimate();
-  const double reach = v * tau + v * v / (2.0 * p.stop_decel);
+  const double reach = stopReach(v, tau);
   const bool alert = d < p.alert_m + reach + (was_alert ? p.hysteresis_m : 0.0);
   // the side-step distance is the protocol's 1 m (SPEC), not grown by the walk: a walker is
   // stopped first (the stop distance grows with its speed) and stepped aside from standing; a
@@ -526,7 +642,7 @@ void CueLogic::observeHead(const NavInput& in, double now)
   // The body's yaw: the head's fast motion (a turn or veer: 40-90 deg/s) is the body's; its slow
   // motion (the scan: at most a few deg/s) is not, and fades towards the walk chord while walking
   // (within about `body_walk_tau_s`) and towards the head's mean while standing (`body_stand_tau_s`).
-  const bool walking = std::isfinite(in.walking_speed) && in.walking_speed >= params_.walking_speed_mps;
+  const bool walking = walksForward(in);
   if (!have_body_yaw_ || !(now > last_yaw_time_ && now - last_yaw_time_ < 1.0))
   {
     body_yaw_ = walking && std::isfinite(in.walk_heading) ? in.walk_heading : in.head_yaw;
@@ -557,12 +673,25 @@ void CueLogic::observeHead(const NavInput& in, double now)
     steady_since_ = now;
   else if (steady_since_ < -1e299)
     steady_since_ = now;
-  observeDrift(in, now, in.walking_speed >= params_.walking_speed_mps);
+  observeDrift(in, now, walking);
+}
+
+bool CueLogic::walksForward(const NavInput& in) const
+{
+  // A side-step (0.3 m/s, 90 deg off the facing) or a step back moves the body as fast as a slow
+  // walk: its chord is no facing. Traced (gen_home_3004 trial 0, t 1.0-3.1): a side-step's chord
+  // became the body's facing, the turn towards a doorway was asked from it, and the wearer, 66 deg
+  // off, was told "go" into the wall. A forward walk's chord stays within the scan (+-8 deg) and a
+  // veer's lag (about 20 deg) of the head.
+  constexpr double kForwardDeg = 50.0;
+  return std::isfinite(in.walking_speed) && in.walking_speed >= params_.walking_speed_mps &&
+         std::isfinite(in.walk_heading) && std::isfinite(in.head_yaw) &&
+         std::fabs(wrapAngle(in.walk_heading - in.head_yaw)) * kRadToDeg <= kForwardDeg;
 }
 
 double CueLogic::facing(const NavInput& in) const
 {
-  if (std::isfinite(in.walking_speed) && in.walking_speed >= params_.walking_speed_mps)
+  if (walksForward(in))
     return in.walk_heading;
   return have_body_yaw_ && params_.body_stand_tau_s > 0.0 ? body_yaw_ : in.head_yaw;
 }
@@ -771,12 +900,14 @@ bool CueLogic::passageCue(const NavInput& in, double now, bool walking, Cue& out
       out = startTurn(in, now, err, why);
       return true;
     }
-    out = walkOn(fmt("facing a passage's middle (%.0f deg off): go", err * kRadToDeg), now, true);
+    std::snprintf(why, sizeof(why), "facing a passage's middle (%.0f deg off, facing %.0f deg): go", err * kRadToDeg,
+                  facing(in) * kRadToDeg);
+    out = walkOn(why, now, true);
     passage_go_ = now;
     return true;
   }
   // walking: the wearer stops its reaction time and its stop later
-  const double stop_m = v * reactionEstimate() + v * v / (2.0 * p.stop_decel);
+  const double stop_m = stopReach(v, reactionEstimate());
   if (d > p.passage_align_m + stop_m + 0.3)
     return false;  // not yet: ordinary steering brings it towards the passage
   const double err = wrapAngle(in.passage_heading - in.walk_heading);
@@ -815,11 +946,13 @@ bool CueLogic::shortWalk(const NavInput& in, double now, Cue& out)
     go_handled_ = go_at_;  // (the go of the last cycle: judged on this cycle's free floor)
     short_stop_at_ = -1.0;
     const double room = in.free_ahead - p.alert_m;
-    if (std::isfinite(in.free_ahead) && in.free_ahead < p.short_walk_m)
+    // (a walk shorter than this wearer needs to stop from its pace, when it is known)
+    const double reach_at_pace = have_pace_ ? p.alert_m + stopReach(pace_est_, reactionEstimate()) : 0.0;
+    if (std::isfinite(in.free_ahead) && in.free_ahead < std::max(p.short_walk_m, reach_at_pace))
     {
       // walked after accelerating for s: a s^2 / 2, then the stop (a s)^2 / (2 stop_decel)
-      const double a = p.start_accel;
-      const double k = 0.5 * a + a * a / (2.0 * p.stop_decel);
+      const double a = startAccelEstimate();
+      const double k = 0.5 * a + a * a / (2.0 * stopDecelEstimate());
       short_stop_at_ = go_at_ + 0.1 + std::sqrt(std::max(0.0, room) / k);  // (the tick is felt when it ends, 0.1 s)
     }
   }
@@ -855,7 +988,7 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   return walkOn(fmt("waypoint %.2f m away: walk on", in.waypoint_distance), now,
                 in.walking_speed < p.walking_speed_mps);
   }
-  const bool walking = in.walking_speed >= p.walking_speed_mps;
+  const bool walking = walksForward(in);
   // + = the steering point lies left of the walk (standing: of the body, not the scanning head)
   const double err = wrapAngle(in.steer_heading - (walking ? in.walk_heading : facing(in)));
   bool superseding = false;  // a veer under way is overtaken: ask beyond it

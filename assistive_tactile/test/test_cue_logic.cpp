@@ -769,7 +769,7 @@ TEST(CueLogic, PassageStraightOnOrStopAndAlign)
     NavInput in = turn(steer_deg);
     in.walking_speed = walk_speed;
     in.passage_distance = dist;
-    in.passage_width = 0.85;  // room 0.425 - 0.25 = 0.175 m
+    in.passage_width = 1.05;  // as the planner reports 0.8 m of free cells (plus a cell): room 0.525 - 0.35 = 0.175 m
     in.passage_heading = in.walk_heading + middle_deg * kDeg;
     return in;
   };
@@ -820,6 +820,39 @@ TEST(CueLogic, PassageStraightOnOrStopAndAlign)
     CueLogic off(p);
     EXPECT_EQ(fresh(off, atDoor(1.0, 1.5, 5.0, 20.0), 0.0).instruction, Instruction::VEER);
   }
+}
+
+// A side-step moves the body at 0.3 m/s (above walking_speed_mps) 90 deg off its facing: its
+// chord is no facing. Traced (gen_home_3004 trial 0): a wearer facing 100 deg side-stepped left
+// (chord -170 deg) 0.65 m before a doorway whose middle lay at 107 deg; judged on the chord it was
+// asked to turn 83 deg right, and the body's facing (pulled to the chord) then said "facing the
+// middle, go" with the body 66 deg off. Judged on the head, it is 7 deg off: a small turn left.
+TEST(CueLogic, SideStepChordIsNoFacing)
+{
+  auto sideStep = []() {
+    NavInput in = turn(7.0, 100.0 * kDeg);
+    in.passage_distance = 0.65;
+    in.passage_width = 0.80;
+    in.passage_heading = 107.0 * kDeg;
+    in.walking_speed = 0.3;
+    in.walk_heading = -170.0 * kDeg;  // stepping left
+    return in;
+  };
+  CueLogic c;
+  Cue k;
+  for (double t = 0.0; t < 0.5; t += 1.0 / 15.0)
+    k = fresh(c, sideStep(), t);
+  ASSERT_EQ(k.instruction, Instruction::TURN);
+  EXPECT_GT(k.intensity[LEFT_SHOULDER], 0.f);  // towards the middle, 7 deg left of the head
+  EXPECT_EQ(k.intensity[RIGHT_SHOULDER], 0.f);
+  EXPECT_EQ(k.pattern.on_10ms, 33);             // 7 / 90 + 0.25 s, not 83 deg
+  // the same chord along the head (a forward walk at 0.3 m/s 7 deg off the middle 0.65 m on: it
+  // passes 0.08 m off it, within the room of a 1.05 m passage, 0.175 m): straight on
+  CueLogic w;
+  NavInput fw = sideStep();
+  fw.walk_heading = 100.0 * kDeg;
+  fw.passage_width = 1.05;
+  EXPECT_EQ(fresh(w, fw, 0.0).instruction, Instruction::WALK_ON);
 }
 
 TEST(CueLogic, StandingFacingLeavesTheHeadScanOut)
@@ -902,6 +935,106 @@ TEST(CueLogic, ShortWalkStopTimedFromTheGo)
     for (double t = 1.0 / 15.0; t < 3.0; t += 1.0 / 15.0)
       EXPECT_NE(fresh(c, at(t > 0.6 ? 0.5 : 0.0, 3.0), t).instruction, Instruction::STOP) << "t " << t;
   }
+}
+
+namespace
+{
+/// A walker for the cue logic, as the planner sees it: it acts on what the cue asks a reaction
+/// time later (a walk-on tick, 0.1 s long, once it ended: speed up at `accel` to `pace`; all
+/// four: slow down at `decel`),
+/// walks straight towards an obstacle `wall` m ahead of where it starts, and its speed is the
+/// chord of its positions over the last 0.4 s (the planner's `walk_window_s`).
+struct GaitWalker
+{
+  double reaction, accel, decel, pace, wall;
+  double x = 0.0, v = 0.0;
+  bool go = false;
+  std::vector<std::pair<double, Instruction>> felt;  // (when it acts, what)
+  std::vector<std::pair<double, double>> track;      // (t, x)
+  NavInput input(double t) const
+  {
+    NavInput in = standing(turn(0.0));
+    double x0 = 0.0;  // where it was 0.4 s ago (it stood at 0 before the track began)
+    for (const auto& [tt, xx] : track)
+      if (tt <= t - 0.4 + 1e-9)
+        x0 = xx;
+    in.walking_speed = (x - x0) / 0.4;
+    in.free_ahead = wall - x;
+    return in;
+  }
+  void step(double t, double dt, const Cue& c)
+  {
+    if (c.instruction == Instruction::WALK_ON)
+      felt.emplace_back(t + 0.1 + reaction, c.instruction);  // a tick is understood when it ends
+    else if (c.instruction == Instruction::STOP)
+      felt.emplace_back(t + reaction, c.instruction);
+    for (const auto& [when, ins] : felt)
+      if (when <= t + 1e-9)
+        go = ins == Instruction::WALK_ON;
+    v = go ? std::min(pace, v + accel * dt) : std::max(0.0, v - decel * dt);
+    x += v * dt;
+    track.emplace_back(t + dt, x);
+  }
+};
+
+/// Runs the walker on the cue logic from `t0` for `seconds` (15 Hz); returns the free distance
+/// ahead when the first all-four came (NaN: none), and the time it came.
+std::pair<double, double> walk(CueLogic& c, GaitWalker& w, double t0, double seconds)
+{
+  std::pair<double, double> first{ std::nan(""), std::nan("") };
+  const double dt = 1.0 / 15.0;
+  for (double t = t0; t < t0 + seconds; t += dt)
+  {
+    const NavInput in = w.input(t);
+    const Cue k = fresh(c, in, t);
+    if (k.instruction == Instruction::STOP && std::isnan(first.first))
+      first = { in.free_ahead, t };
+    w.step(t, dt, k);
+  }
+  return first;
+}
+}  // namespace
+
+// Issue 33: the cue logic learns how quickly this wearer starts and stops (gait initiation
+// 0.5-1.2 m/s^2 in the population) instead of assuming one wearer. A wearer that starts at
+// 0.5 m/s^2 and stops at 1 m/s^2 (reaction 0.8 s, pace 1 m/s): after its first stop on all
+// four from its pace, the next stop comes v^2 / 2 (1/1 - 1/2) = 0.25 m earlier; a go with 1.5 m
+// free then gets the timed stop computed with its own start and stop, 1.733 s after the go (the
+// 1.12 s of an unknown wearer would stop it 0.6 m short).
+TEST(CueLogic, LearnsTheWearersStartAndStop)
+{
+  CueLogic c;
+  GaitWalker w{ 0.8, 0.5, 1.0, 1.0, 9.0 };
+  // first walk: starts, reaches its pace, is stopped before the wall
+  const auto first = walk(c, w, 0.0, 14.0);
+  ASSERT_TRUE(std::isfinite(first.first));
+  EXPECT_NEAR(w.v, 0.0, 1e-9);
+  EXPECT_GT(w.wall - w.x, 0.15) << "stopped short of the wall";
+  // second walk, from standing 9 m from the next wall: stopped 0.25 m earlier (its stop learnt)
+  w.wall = w.x + 9.0;
+  const auto second = walk(c, w, 14.0, 14.0);
+  ASSERT_TRUE(std::isfinite(second.first));
+  EXPECT_NEAR(second.first - first.first, 0.25, 0.08);
+  EXPECT_GT(w.wall - w.x, 0.15);
+
+  // a short walk (1.5 m free) after a go: the stop timed from its own start, 0.5 m/s^2, and its
+  // own stop, 1 m/s^2: S = 0.1 + sqrt(1 / (0.25 + 0.125)) = 1.733 s after the go (1.12 s for a
+  // wearer not yet seen, who is assumed to start at 1.2 and stop at 2 m/s^2)
+  w.wall = w.x + 1.5;
+  double go = std::nan(""), stop = std::nan("");
+  const double dt = 1.0 / 15.0;
+  for (double t = 28.0; t < 32.0 && std::isnan(stop); t += dt)
+  {
+    const Cue k = fresh(c, w.input(t), t);
+    if (k.instruction == Instruction::WALK_ON && std::isnan(go) && k.pattern.id != 0 && w.v == 0.0)
+      go = t;
+    if (k.instruction == Instruction::STOP && std::isfinite(go))
+      stop = t;
+    w.step(t, dt, k);
+  }
+  ASSERT_TRUE(std::isfinite(go));
+  ASSERT_TRUE(std::isfinite(stop));
+  EXPECT_NEAR(stop - go, 1.733, 0.15);
 }
 
 TEST(CueLogic, WrapAngle)

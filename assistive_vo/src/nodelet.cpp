@@ -127,6 +127,48 @@ class StereoOdometryNodelet : public nodelet::Nodelet
                             m->header.frame_id.c_str(), node_.base_frame.c_str(), node_.base_frame.c_str());
     fe_->addImu(m->header.stamp.toSec(), w, a);
     ++n_imu_;
+    if (pend_l_ && fe_->imu().latest() >= pend_l_->header.stamp.toSec() - 1e-4)
+      flushPending();  // the frame waiting for its IMU interval has it now
+  }
+
+  /// With the IMU flowing but not yet up to this frame's stamp (the samples behind the images:
+  /// they come from another process, the images from a nodelet in this manager), the frame would
+  /// go without its gyro and accelerometer interval: tracked, it loses the gyro prior and restarts
+  /// the coast's window; lost, it cannot coast and is untrusted at once (the closed-loop trial's
+  /// stand at a plain wall, issue 34). Such a frame waits (imu_sync_wait, wall clock) for it.
+  bool imuBehind(double t) const
+  {
+    if (!p_.use_imu || node_.imu_sync_wait <= 0.0 || !fe_->vo().started())
+      return false;
+    const double last = fe_->imu().latest();
+    return last > 0.0 && last < t - 1e-4 && last > t - 0.5;
+  }
+
+  void flushPending()
+  {
+    if (!pend_l_)
+      return;
+    pend_timer_.stop();
+    const sensor_msgs::ImageConstPtr l = pend_l_, r = pend_r_;
+    const sensor_msgs::CameraInfoConstPtr li = pend_li_, ri = pend_ri_;
+    pend_l_.reset();
+    pend_r_.reset();
+    pend_li_.reset();
+    pend_ri_.reset();
+    processFrame(l, li, r, ri);
+  }
+
+  void pendingTimeout(const ros::WallTimerEvent&)
+  {
+    assistive_common::guarded(getName(), "frame waiting for the IMU", [&] {
+      if (pend_l_)
+      {
+        ++imu_wait_timeouts_;
+        NODELET_WARN_THROTTLE(5.0, "stereo_odometry: the IMU did not reach the frame's stamp within imu_sync_wait (%.2f s)",
+                              node_.imu_sync_wait);
+      }
+      flushPending();
+    });
   }
 
   void watchdog(const ros::WallTimerEvent&)
@@ -201,6 +243,24 @@ class StereoOdometryNodelet : public nodelet::Nodelet
 
   void stereo(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::CameraInfoConstPtr& li,
               const sensor_msgs::ImageConstPtr& r, const sensor_msgs::CameraInfoConstPtr& ri)
+  {
+    flushPending();  // an older frame still waiting: now, with the IMU there is
+    if (imuBehind(l->header.stamp.toSec()))
+    {
+      pend_l_ = l;
+      pend_r_ = r;
+      pend_li_ = li;
+      pend_ri_ = ri;
+      ++imu_waits_;
+      pend_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(node_.imu_sync_wait),
+                                                    &StereoOdometryNodelet::pendingTimeout, this, true);
+      return;
+    }
+    processFrame(l, li, r, ri);
+  }
+
+  void processFrame(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::CameraInfoConstPtr& li,
+                    const sensor_msgs::ImageConstPtr& r, const sensor_msgs::CameraInfoConstPtr& ri)
   {
     ++n_processed_;
     StereoCamera cam;
@@ -327,6 +387,8 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     s.add("ms_per_frame", last_.stats.ms_total);
     s.add("fast_threshold", last_.stats.fast_threshold);
     s.add("resets", fe_ ? fe_->vo().resets() : 0);
+    s.add("imu_waits", imu_waits_);
+    s.add("imu_wait_timeouts", imu_wait_timeouts_);
     s.add("pose_trusted", last_.pose_trusted);
     if (fe_)
     {
@@ -368,6 +430,11 @@ class StereoOdometryNodelet : public nodelet::Nodelet
   diagnostic_updater::Updater diag_;
   std::unique_ptr<diagnostic_updater::FrequencyStatus> freq_;
   ros::WallTimer watchdog_;
+  // a frame waiting for its IMU interval (imuBehind)
+  sensor_msgs::ImageConstPtr pend_l_, pend_r_;
+  sensor_msgs::CameraInfoConstPtr pend_li_, pend_ri_;
+  ros::WallTimer pend_timer_;
+  int imu_waits_ = 0, imu_wait_timeouts_ = 0;
 
   VoOutput last_;
   bool last_trusted_ = false;

@@ -26,20 +26,27 @@ double StandingDetector::statistic() const
 
 double StandingDetector::partialStatistic() const
 {
-  if (s_.empty())
-    return -1.0;
+  return statisticSince(-1e300);
+}
+
+double StandingDetector::statisticSince(double t0) const
+{
   // time-weighted mean and rms deviation (the moving-variance statistic's square root)
   double T = 0.0;
   Eigen::Vector3d m = Eigen::Vector3d::Zero();
   for (const Sample& s : s_)
-  {
-    m += s.f * s.dt;
-    T += s.dt;
-  }
+    if (s.t - s.dt >= t0 - 1e-6)
+    {
+      m += s.f * s.dt;
+      T += s.dt;
+    }
+  if (!(T > 0.0))
+    return -1.0;
   m /= T;
   double v = 0.0;
   for (const Sample& s : s_)
-    v += (s.f - m).squaredNorm() * s.dt;
+    if (s.t - s.dt >= t0 - 1e-6)
+      v += (s.f - m).squaredNorm() * s.dt;
   return std::sqrt(v / T);
 }
 }  // namespace assistive_vo

@@ -154,22 +154,57 @@ void VisualOdometry::reset()
   checks_.reset();
 }
 
-bool VisualOdometry::mayCoast(double stamp, const FrameContext& fc) const
+bool VisualOdometry::mayCoast(double stamp, const FrameContext& fc, std::string& why) const
 {
   // Coasting is a guess: only with the gyro bounding the rotation, only briefly, and never once
   // the pose has become untrusted (it stays so until a keyframe is tracked again). With the
   // accelerometer preintegrated and a velocity fitted, longer: while the position's uncertainty
   // stays small.
-  if (!(fc.have_gyro && have_trusted_ && !untrusted_))
+  why.clear();
+  if (!fc.have_gyro)
+  {
+    why = p_.use_imu ? "lost without the gyro on this frame (no IMU samples over it)" : "lost without a gyro to coast on";
     return false;
+  }
+  if (!(have_trusted_ && !untrusted_))
+  {
+    why = "lost while not trusted";
+    return false;
+  }
   if (fc.standing)
     return true;  // standing (no gait, slow): the position is held, however long vision is blind
   const double since = stamp - last_trusted_stamp_;
   if (fc.have_imu && coast_.available())
-    return since <= p_.imu_coast_max_s + 1e-6 &&
-           (!coast_.coasting() ||
-            coast_.positionVariance(since) <= p_.imu_coast_max_sigma_m * p_.imu_coast_max_sigma_m);
-  return since <= p_.coast_max_s + 1e-6;
+  {
+    if (since > p_.imu_coast_max_s + 1e-6)
+      why = "lost for longer than imu_coast_max_s";
+    else if (coast_.coasting() &&
+             coast_.positionVariance(since) > p_.imu_coast_max_sigma_m * p_.imu_coast_max_sigma_m)
+      why = "IMU-coasted position 1-sigma beyond imu_coast_max_sigma";
+    return why.empty();
+  }
+  if (since > p_.coast_max_s + 1e-6)
+    why = std::string("lost for longer than coast_max_s") +
+          (fc.have_imu ? " (no IMU coast: too few tracked frames to fit its velocity)" : " (no accelerometer)");
+  return why.empty();
+}
+
+bool VisualOdometry::stopSeen(const FrameContext& fc, const Eigen::Vector3d& f_odom) const
+{
+  if (!(p_.standing_on_stop && fc.have_imu))
+    return false;
+  double speed = 0.0, sigma = 0.0;
+  if (coast_.coasting())
+  {
+    speed = coast_.velocity().norm();
+    sigma = std::sqrt(std::max(0.0, coast_.velocityVariance(coast_.coastTime())));
+  }
+  else if (last_state_ == TrackingState::TRACKING && last_dt_ > 1e-6)
+    speed = last_T_prev_cur_.translation().norm() / last_dt_;  // measured on the last frame (not a lost frame's guess)
+  else
+    return false;
+  const Eigen::Vector3d accel = f_odom - Eigen::Vector3d(0.0, 0.0, coastOptions(p_).gravity);
+  return speed + sigma <= p_.standing_max_speed && accel.norm() <= p_.standing_max_accel_sigma;
 }
 
 double VisualOdometry::imageChange(const cv::Mat& left)
@@ -203,7 +238,9 @@ void VisualOdometry::applyTrust(VoOutput& o, double stamp, bool coast_ok, const 
     else if (!coast_ok)
       why = untrusted_ && !untrusted_why_.empty()
                 ? untrusted_why_
-                : std::string(p_.use_imu ? "lost for longer than coast_max_s" : "lost without a gyro to coast on") +
+                : (coast_why_.empty() ? std::string(p_.use_imu ? "lost for longer than coast_max_s"
+                                                               : "lost without a gyro to coast on")
+                                      : coast_why_) +
                       (o.message.empty() ? "" : " (" + o.message + ")");
   }
   if (why.empty())
@@ -438,6 +475,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
                                  const Eigen::Vector3d* dp_link)
 {
   imu_coasted_ = standing_held_ = false;
+  coast_why_.clear();
   tracker_.beginFrame();
   const auto t_start = Clock::now();
   FrameStats st;
@@ -473,7 +511,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
   markBridgeable(fc);
   levelAfterGap(have_up_hint, fc);
   detectStanding(fc);
-  fc.coast_ok = mayCoast(stamp, fc);
+  fc.coast_ok = mayCoast(stamp, fc, coast_why_);
   if (fc.bridged)
     bridgeGap(fc);
   if (rejectImages(left_raw, right_raw, fc, st, o))
@@ -584,6 +622,7 @@ const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)
       T.translation().setZero();
       coast_.clear();
       fc.coast_ok = false;
+      coast_why_ = "IMU-coasted speed beyond max_speed";
       return T;
     }
     T.translation() = T_odom_opt.linear().transpose() * dpos;
@@ -620,9 +659,24 @@ void VisualOdometry::detectStanding(FrameContext& fc)
     return;
   }
   const Eigen::Matrix3d R_odom_link = linkPose(T_odom_o0_ * T_w_cur_).linear();
-  standing_.add(fc.stamp, fc.imu.dt, R_odom_link * fc.imu.dv / fc.imu.dt);
+  const Eigen::Vector3d f_odom = R_odom_link * fc.imu.dv / fc.imu.dt;
+  standing_.add(fc.stamp, fc.imu.dt, f_odom);
   if (!standing_.quiet())
   {
+    if (p_.standing_on_stop)
+    {
+      // A hold goes on while the samples since it started (within the window) show no gait: one
+      // started at a stop (the window still holds the deceleration) or carried over a bridged gap
+      // (standingOverGap: the window refills). Else a stop seen now starts one (standingMotion).
+      if (standing_now_)
+      {
+        const double since = standing_.statisticSince(standing_t0_);
+        fc.standing = since >= 0 && since <= p_.standing_max_accel_sigma;
+      }
+      else
+        fc.standing = stopSeen(fc, f_odom);
+      return;
+    }
     // a hold carried over a bridged gap (standingOverGap) goes on while the window refills, as long
     // as what it has shows no gait
     const double partial = standing_.partialStatistic();

@@ -35,7 +35,7 @@ namespace assistive_planner
   X(double, steer_lookahead_min, "steer_lookahead_min", 0.3, 0.05, 5.0, "m", "nearest steering point (standing, slow)") \
   X(double, steer_lookahead_max, "steer_lookahead_max", 1.8, steer_lookahead_min, 5.0, "m", "farthest steering point (fast walking)") \
   X(double, path_refine_m, "path_refine_m", 0.5, 0.0, 2.0, "m", "the path's points are moved (on a 5 cm distance field, at most half a cell) towards the middle of a passage until this far from the nearest obstacle cell: the middle of doorways and aisles, finer than the cells (0 = off)") \
-  X(double, passage_width_m, "passage_width_m", 1.1, 0.0, 5.0, "m", "a doorway or gap on the path narrower than this (the middle across the path closer than half of it to an obstacle cell) is a passage: `passage_*` of the state, for the cue logic's stop-and-align (0 = off)") \
+  X(double, passage_width_m, "passage_width_m", 1.3, 0.0, 5.0, "m", "a doorway or gap on the path narrower than this (`findPassage`'s width: the free cells' gap across the path plus one cell; 1.3 m: up to 1.0 m of free cells, doorways and the narrowed aisles of 1.2-1.5 m, as before the width counted the jambs' half cells: at 1.1 m, shops and offices 4001-4020 lost the routine in their aisles, furniture collisions while standing 5 -> 31) is a passage: `passage_*` of the state, for the cue logic's stop-and-align (0 = off)") \
   X(double, passage_range_m, "passage_range_m", 3.0, 0.0, 10.0, "m", "passages are looked for this far along the path ahead") \
   X(double, walk_window_s, "walk_window_s", 0.4, 0.05, 5.0, "s", "the walking direction and speed are the chord of the wearer's positions over this last window") \
   X(double, free_ray_max, "free_ray_max", 5.0, 0.1, 50.0, "m", "longest free-distance ray") \

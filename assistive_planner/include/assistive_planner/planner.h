@@ -79,7 +79,9 @@ struct Passage
   bool found = false;
   double along = 0.0;  ///< m along the path from the search's start to the middle
   Point2 middle;       ///< the middle across the path at the passage's narrowest point
-  double width = 0.0;  ///< twice the middle's distance to the nearest obstacle cell (m)
+  /// Its width (m): twice the middle's distance to the nearest obstacle cell's square plus one
+  /// cell (the jambs' faces lie inside the cells they fill, half a cell in on average).
+  double width = 0.0;
   double axis = 0.0;   ///< the path's direction there (rad)
 };
 
@@ -152,9 +154,10 @@ public:
   static void refinePath(const Grid& grid, std::vector<Point2>& path, double clearance);
   /// The first passage narrower than `max_width` on `path` between `from_along` and
   /// `from_along + range` (m along it): where the middle across the path (the ridge of the 5 cm
-  /// obstacle distance field within half of max_width + 0.15 m either side of the path) lies
-  /// closer than half of max_width to an obstacle cell; its middle is that middle at the
-  /// narrowest point of the passage's first 1.2 m. A wall on one side only is no passage.
+  /// obstacle distance field within half of max_width + 0.15 m either side of the path) is
+  /// narrower than max_width (Passage::width: the free cells' gap plus one cell for the jambs'
+  /// faces inside the cells they fill); its middle is that middle at the narrowest point of the
+  /// passage's first 1.2 m. A wall on one side only is no passage.
   static Passage findPassage(const Grid& grid, const std::vector<Point2>& path, double from_along, double range,
                              double max_width);
   /// String pulling: drops the path's points a straight line can skip without passing closer to

@@ -149,6 +149,9 @@ private:
   /// (a head-mounted camera's only heading scans +-8 deg over a body that stands still: aligned on
   /// the head, a turn on the spot chased the scan).
   double facing(const NavInput& in) const;
+  /// Walking forwards: at walking speed with the walk chord along the head (within 50 deg), not a
+  /// side-step or a step back, whose chord is no facing.
+  bool walksForward(const NavInput& in) const;
   /// A stop-and-turn being carried out: true (and the held cue) while it lasts; its end learns
   /// the turning rate.
   bool holdTurn(const NavInput& in, double now, Cue& out);
@@ -183,7 +186,21 @@ private:
   Cue shapeSteady(const Cue& c, double now);
   /// The wearer's reaction time now: learnt, clamped to [0.3, 1.5] s, or `alert_reaction_s`.
   double reactionEstimate() const;
+  /// How quickly this wearer speeds up from standing and stops from walking (m/s^2): learnt from
+  /// its starts and its stops on all four (clamped to [0.3, 3] and [0.5, 5]), or `start_accel` /
+  /// `stop_decel` until the first.
+  double startAccelEstimate() const;
+  double stopDecelEstimate() const;
+  /// Learns the reaction and the start's acceleration from a standing wearer's start after a go.
   void observeStart(const NavInput& in, double now);
+  /// Learns the stop's deceleration from a walking wearer's stop on all four.
+  void observeStop(const NavInput& in, double now);
+  /// Learns the wearer's pace: its walking speed once steady for a second.
+  void observePace(const NavInput& in, double now);
+  /// How far a wearer walking at `v` goes before it stands when told to stop now: its reaction
+  /// `tau` (still speeding up, at its learnt start, towards its pace, while the last pattern asked
+  /// it to walk), then its stop.
+  double stopReach(double v, double tau) const;
   /// Learns the walk's drift (rad/m) from the walk heading while no cued turn is under way.
   void observeDrift(const NavInput& in, double now, bool walking);
   /// The steering error expected when a veer asked now is carried out: the walk drifts on during
@@ -234,6 +251,18 @@ private:
   double reaction_est_ = 0.0;
   bool have_reaction_ = false;
   double start_tick_ = -1.0;   ///< the "go" tick to a standing wearer being timed (< 0: none)
+  double start_lo_t_ = -1.0;   ///< when its walk's speed rose through the start's low mark (< 0: not yet)
+  double prev_speed_ = 0.0, prev_speed_t_ = -1e300;  ///< the last cycle's walking speed, for crossings
+  /// The wearer's start and stop (m/s^2), learnt (kept across resets: they are the wearer's).
+  double accel_est_ = 0.0, decel_est_ = 0.0;
+  bool have_accel_ = false, have_decel_ = false;
+  double stop_v0_ = -1.0;      ///< the stop on all four being timed: the speed it began at (0: no sample; < 0: none)
+  double stop_hi_t_ = -1.0;    ///< when its speed fell through the stop's high mark (< 0: not yet)
+  /// The wearer's pace (m/s): its walking speed once steady for a second (kept across resets);
+  /// 1.4 m/s, the fast end of preferred speeds, until then.
+  double pace_est_ = 0.0;
+  bool have_pace_ = false;
+  double steady_speed_since_ = -1e300;  ///< the walking speed has changed by under 0.03 m/s a cycle since
   /// The wearer's turning rate on the spot (rad/s), learnt from its turns (kept across resets:
   /// it is the wearer's, not the situation's); 90 deg/s until the first turn.
   double turn_rate_est_ = M_PI / 2.0;

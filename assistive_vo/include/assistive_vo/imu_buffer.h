@@ -14,6 +14,8 @@ public:
   void add(double stamp, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel);
   void clear() { s_.clear(); }
   bool empty() const { return s_.empty(); }
+  /// Stamp of the newest sample (-1: none).
+  double latest() const { return s_.empty() ? -1.0 : s_.back().t; }
   /// Rotation R_t0_t1 of camera_link (maps t1 coords to t0 coords) from the gyro, trapezoidal
   /// per sample interval. False when the samples do not cover [t0, t1] (to within `slack` s).
   bool integrate(double t0, double t1, Eigen::Quaterniond& R, double slack = 0.02) const;

@@ -107,6 +107,7 @@ namespace assistive_vo
   X(double, standing_window_s, "standing_window", 0.8, 0.2, 5.0, "s", "the accelerometer's gait test window (longer than one step)") \
   X(double, standing_max_accel_sigma, "standing_max_accel_sigma", 0.25, 0.01, 5.0, "m/s^2", "standing: rms deviation of the specific force (odom axes, per-frame means) from its window mean at most this ...") \
   X(double, standing_max_speed, "standing_max_speed", 0.25, 0.0, 5.0, "m/s", "... and the speed when the hold starts (last tracked or IMU-coasted) at most this") \
+  X(bool, standing_on_stop, "standing_on_stop", true, {}, {}, "", "a stop seen on the IMU (speed + its 1-sigma within standing_max_speed, no acceleration on the frame) starts the hold before the gait test's window has cleared the deceleration; it goes on while the samples since show no gait") \
   X(double, standing_position_sigma, "standing_position_sigma", 0.03, 0.0, 1.0, "m", "position 1-sigma (per axis) added once when a hold starts") \
   X(double, standing_pivot_forward, "standing_pivot_forward", 0.09, -0.5, 0.5, "m", "the camera sits this far in front of the pivot the head turns about (the neck; camera_link x) ...") \
   X(double, standing_pivot_up, "standing_pivot_up", 0.1, -0.5, 0.5, "m", "... and this far above it (camera_link z): a held frame keeps the pivot still") \
@@ -156,6 +157,7 @@ namespace assistive_vo
 // The nodelet's own parameters (ROS plumbing; vo_benchmark has no use for them).
 #define ASSISTIVE_VO_NODE_PARAMS(X) \
   X(double, imu_wait, "imu_wait", 1.0, 0.0, 30.0, "s", "with `use_imu`, the first frames wait this long (image time) for an IMU sample before the odom frame is fixed; after it: `initial_roll` / `initial_pitch` and a warning") \
+  X(double, imu_sync_wait, "imu_sync_wait", 0.1, 0.0, 1.0, "s", "a frame whose IMU interval has not fully arrived while the IMU is flowing (its samples behind the images, e.g. from another process) waits up to this long (wall clock) for it; 0 = never: the frame goes without the gyro and the accelerometer") \
   X(int, queue_size, "queue_size", 5, 1, 100, "", "synchroniser queue") \
   X(bool, approximate_sync, "approximate_sync", false, {}, {}, "", "ApproximateTime instead of ExactTime") \
   X(std::string, odom_frame, "odom_frame", "odom", {}, {}, "", "frame of the odometry") \

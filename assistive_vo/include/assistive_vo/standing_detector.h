@@ -33,6 +33,10 @@ public:
   /// The same over the samples there are, however short their span (-1: none): what a hold carried
   /// over a gap goes on with while the window refills.
   double partialStatistic() const;
+  /// The same over the samples of the window whose interval starts at or after `t0` (-1: none):
+  /// a hold that started at t0 (a stop) goes on while what came since shows no gait, before the
+  /// window has cleared the deceleration that came before it.
+  double statisticSince(double t0) const;
   /// No gait over a full window: statistic() within max_accel_sigma.
   bool quiet() const
   {

@@ -224,8 +224,13 @@ private:
   /// Decides pose_trusted for an output (README "Fail-safe"); `force_why`: a reason that makes
   /// the frame untrusted whatever the state (gap, frozen camera, gyro contradiction).
   void applyTrust(VoOutput& o, double stamp, bool coast_ok, const std::string& force_why);
-  /// Lost frame: may it still coast (pose predicted and trusted)?
-  bool mayCoast(double stamp, const FrameContext& fc) const;
+  /// Lost frame: may it still coast (pose predicted and trusted)? When not, `why` says which rule
+  /// refused it (the untrusted reason).
+  bool mayCoast(double stamp, const FrameContext& fc, std::string& why) const;
+  /// A stop seen on the IMU (standing_on_stop): the speed (IMU-coasted, or the last frame's) plus its
+  /// 1-sigma within standing_max_speed and no acceleration over this frame (`f_odom`: its specific
+  /// force, odom axes): the hold may start before the gait test's window clears the deceleration.
+  bool stopSeen(const FrameContext& fc, const Eigen::Vector3d& f_odom) const;
   /// Mean absolute difference of the left image to the previous one (every 4th pixel); -1 when
   /// there is no previous image of the same size. Keeps this image for the next frame.
   double imageChange(const cv::Mat& left);
@@ -275,6 +280,7 @@ private:
   double standing_t0_ = 0.0, standing_rot_var_ = 0.0;
   int standing_holds_ = 0, standing_frames_ = 0;
   int gaps_bridged_ = 0;
+  std::string coast_why_;     ///< this frame: why a lost frame may not coast (mayCoast, lostMotion)
   bool imu_coasted_ = false;  ///< this frame's pose was coasted on the IMU (covariance already grown)
   double coast_var_ = 0.0;    ///< position variance the coast has added so far (per axis)
   double coast_rot_var_ = 0.0;  ///< rotation variance the coast has added so far (per axis)

@@ -288,6 +288,7 @@ WearerParams trialWearer(const TrialOptions& opt, uint32_t seed)
   w.intensity_levels = tr.intensity_levels;
   w.min_pulse_s = tr.min_pulse_s;
   w.body_radius = tr.body_radius_m;
+  w.accel = tr.gait_accel_mps2;
   if (std::isfinite(opt.fix_reaction_s)) w.reaction_s = opt.fix_reaction_s;
   if (std::isfinite(opt.fix_turn_gain)) w.turn_gain = opt.fix_turn_gain;
   if (std::isfinite(opt.fix_veer_sigma)) w.veer_sigma_deg = opt.fix_veer_sigma;

@@ -70,6 +70,19 @@ struct Breadth
 constexpr Breadth kMen{420.0, 465.0, 510.0, 28.0}, kWomen{355.0, 395.0, 435.0, 24.0};
 constexpr double kClothingMm = 10.0;
 
+// Gait initiation, the mean acceleration from standing to the preferred speed (m/s^2): uniform
+// 0.5..1.2. DERIVED from Seethapathi & Srinivasan 2015's published per-subject data (healthy
+// adults walking 0.5-89 m at their preferred pace, start to stop; dryad.95115): each subject's
+// average speed over 6-14 m read with this wearer model's own start (a) and stop (2a) against its
+// 89 m speed gives a = 0.43-0.62 m/s^2 (subject 1) and 1.00-1.25 m/s^2 (subject 2) (the two
+// subjects whose 89 m walks were in reach). A lower bound where a subject chose a lower peak speed
+// for a short walk (their paper's finding). Cross-checks: steady speed within three steps
+// (a sloped-gait study in Gait & Posture, authors not in reach: >= 95 % with the 3rd step on the
+// level; 0.5 m/s^2 reaches 1.15 m/s in 1.3 m, about two steps) and at the end of the first step in adults (Breniere & Do);
+// frail adults aged 83 reach only 0.66 m/s after 1.43 m (Lindemann et al. 2008: about
+// 0.15 m/s^2, a slower population than this one's 0.9-1.4 m/s walkers, left out).
+constexpr double kAccelLo = 0.5, kAccelHi = 1.2;
+
 // ---- the generator: splitmix64, one stream per trait (fully specified, platform-independent) ----
 enum Trait : uint64_t
 {
@@ -80,7 +93,8 @@ enum Trait : uint64_t
   VEER_BIAS,
   LEVELS,
   PULSE,
-  BODY
+  BODY,
+  ACCEL
 };
 
 class Stream
@@ -170,6 +184,10 @@ WearerTraits WearerPopulation::draw(uint32_t seed) const
     const Breadth& b = s.uniform() < 0.5 ? kMen : kWomen;
     w.body_radius_m = (truncatedBreadth(s, b) + kClothingMm) / 2000.0;
   }
+  {
+    Stream s(seed, ACCEL);
+    w.gait_accel_mps2 = s.uniform(kAccelLo, kAccelHi);
+  }
   return w;
 }
 
@@ -232,6 +250,8 @@ const std::vector<TraitSpec>& WearerPopulation::specs()
         {"body_radius_m", (kWomen.p5 + kClothingMm) / 2000.0, (kMen.p95 + kClothingMm) / 2000.0, body_mean,
          "half of (bideltoid + 10 mm); 50/50 men/women, normal truncated 5th-95th",
          "Chan, online anthropometry (British adults 19-65)"},
+        {"gait_accel_mps2", kAccelLo, kAccelHi, (kAccelLo + kAccelHi) / 2, "uniform",
+         "derived from Seethapathi & Srinivasan 2015 (per-subject speeds over 6-14 m and 89 m)"},
     };
   }();
   return rows;

@@ -54,11 +54,12 @@ TEST(VestWearer, StandsUntilTheWalkOnTickThenWalksStraight)
   EXPECT_DOUBLE_EQ(w.state().xy.norm(), 0.0);  // silence is never "walk on"
   VestWearer s(exactWearer(), BodyState(), 3);
   drive(s, 4.0, [](double t) { return tickAt(t, 0.0); });
-  // the tick ends at 0.1 s and is felt 0.5 s later: walking from 0.6 s (accelerating 1.2 m/s^2)
+  // the tick ends at 0.1 s and is felt 0.5 s later: walking from 0.6 s (accelerating at a)
   EXPECT_EQ(s.lastPercept(), VestWearer::WALK_ON);
   EXPECT_DOUBLE_EQ(s.state().yaw, 0.0);
   EXPECT_NEAR(s.state().xy.y(), 0.0, 1e-12);
-  EXPECT_NEAR(s.state().xy.x(), 0.5 * 1.1 * 1.1 / 1.2 + 1.1 * (3.4 - 1.1 / 1.2), 0.03);
+  const double a = exactWearer().accel;
+  EXPECT_NEAR(s.state().xy.x(), 0.5 * 1.1 * 1.1 / a + 1.1 * (3.4 - 1.1 / a), 0.03);
 }
 
 TEST(VestWearer, AVeerBurstTurnsTheWalkByItsLevelWithoutStopping)

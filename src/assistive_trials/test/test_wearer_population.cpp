@@ -35,6 +35,7 @@ double traitValue(const WearerTraits& w, const std::string& name)
   if (name == "intensity_levels") return w.intensity_levels;
   if (name == "min_pulse_s") return w.min_pulse_s;
   if (name == "body_radius_m") return w.body_radius_m;
+  if (name == "gait_accel_mps2") return w.gait_accel_mps2;
   ADD_FAILURE() << "a spec names an unknown trait: " << name;
   return std::nan("");
 }
@@ -44,7 +45,7 @@ bool sameTraits(const WearerTraits& a, const WearerTraits& b)
   return a.preferred_speed_mps == b.preferred_speed_mps && a.reaction_s == b.reaction_s &&
          a.turn_gain == b.turn_gain && a.veer_sigma_deg_per_sqrt_m == b.veer_sigma_deg_per_sqrt_m &&
          a.veer_bias_deg_per_m == b.veer_bias_deg_per_m && a.intensity_levels == b.intensity_levels &&
-         a.min_pulse_s == b.min_pulse_s && a.body_radius_m == b.body_radius_m;
+         a.min_pulse_s == b.min_pulse_s && a.body_radius_m == b.body_radius_m && a.gait_accel_mps2 == b.gait_accel_mps2;
 }
 }  // namespace
 
@@ -76,13 +77,14 @@ TEST(WearerPopulation, KnownSeedGivesKnownWearer)
   EXPECT_EQ(w.intensity_levels, 3);
   EXPECT_NEAR(w.min_pulse_s, 0.028541157807835605, 1e-9);
   EXPECT_NEAR(w.body_radius_m, 0.24569633781604344, 1e-9);
+  EXPECT_NEAR(w.gait_accel_mps2, 0.7919053927959058, 1e-9);
 }
 
 TEST(WearerPopulation, EveryDrawInsideItsPublishedRange)
 {
   const auto wearers = populationSample();
   const auto& specs = WearerPopulation::specs();
-  ASSERT_EQ(specs.size(), 8u);
+  ASSERT_EQ(specs.size(), 9u);
   for (const TraitSpec& s : specs)
   {
     ASSERT_NE(s.source, nullptr);

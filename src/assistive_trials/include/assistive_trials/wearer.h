@@ -26,7 +26,7 @@ namespace assistive_trials
 struct WearerParams
 {
   double walk_speed = 1.1;        ///< m/s preferred walking speed; the sighted-guide run uses it too
-  double accel = 1.2;             ///< m/s^2 to start walking (stopping: twice this)
+  double accel = 0.85;            ///< m/s^2 to start walking (stopping: twice this); the population's mean
   double reaction_s = 0.6;        ///< s from a cue's onset to the body's response (walking, torso vibration)
   double turn_gain = 1.0;         ///< this wearer's turns: actual / asked (a lasting bias)
   double turn_gain_sd = 0.15;     ///< and its spread from one turn to the next (lognormal sigma)

@@ -41,6 +41,9 @@ struct WearerTraits
   double min_pulse_s = 0.03;
   /// The body's radius at shoulder level: half the bideltoid breadth with indoor clothing (m).
   double body_radius_m = 0.22;
+  /// Gait initiation: the mean forward acceleration from standing to the preferred speed, from the
+  /// start of the body's response to a 'go' (m/s^2; the wearer model stops at twice this).
+  double gait_accel_mps2 = 0.85;
 };
 
 /// One trait's published range, the population's mean of it and where both come from (the
