@@ -433,7 +433,14 @@ Cue CueLogic::update(const NavInput& in, double now)
         c.mode = CueMode::IDLE;
       }
       if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
+      {
         c = decideGuidance(in, now);
+        Cue stop;
+        if ((c.instruction == Instruction::WALK_ON || c.instruction == Instruction::VEER ||
+             c.instruction == Instruction::TURN) &&
+            sweepStop(in, now, stop))
+          c = stop;
+      }
       else
       {
         busy_ = false;  // an obstacle cue ends a veer or turn being executed
@@ -601,6 +608,87 @@ Cue CueLogic::decideProximity(const NavInput& in, bool /*have_path*/)
   c.intensity[side > 0 ? LEFT_WAIST : RIGHT_WAIST] = level;
   c.reason = fmt(side > 0 ? "obstacle %.2f m ahead: step left" : "obstacle %.2f m ahead: step right", d);
   return c;
+}
+
+WalkModel CueLogic::committedWalk(const NavInput& in, double now, double stop_in_s) const
+{
+  constexpr double kPacePrior = 1.4;  // m/s, as stopReach
+  WalkModel m;
+  m.v0 = std::isfinite(in.walking_speed) ? std::max(0.0, in.walking_speed) : 0.0;
+  m.pace = std::max(m.v0, have_pace_ ? pace_est_ : kPacePrior);
+  const bool told_to_walk = current_.instruction == Instruction::WALK_ON || current_.instruction == Instruction::VEER;
+  m.accel = told_to_walk ? startAccelEstimate() : 0.0;
+  m.decel = stopDecelEstimate();
+  m.turn_rate = params_.veer_rate_deg / kRadToDeg;
+  const double tau = reactionEstimate();
+  m.stop_at_s = stop_in_s + tau;
+  m.horizon_s = m.stop_at_s + m.v0 / std::max(0.1, m.decel) + 3.0;
+  // the veer being carried out: all of it from when its first pulse has been felt, or what is
+  // left of it once it was seen (the head has turned by part of it)
+  if (busy_ && !busy_turn_)
+  {
+    const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
+    const double asked = std::fabs(busy_angle_) * veer_gain_est_;
+    if (!veer_seen_)
+    {
+      m.turn_start_s = std::max(0.0, busy_since_ + 0.15 + tau - now);
+      m.turn = sign * asked;
+    }
+    else
+    {
+      const double turned = wrapAngle(in.head_yaw - busy_head0_) * sign;
+      m.turn = sign * std::max(0.0, asked - turned);
+    }
+  }
+  return m;
+}
+
+SweepResult CueLogic::sweep(const NavInput& in, const WalkModel& m) const
+{
+  // the body's facing: the walk chord lags a veer by its half window; the body's yaw carries the
+  // head's fast turns at once
+  const double yaw = have_body_yaw_ ? body_yaw_ : in.walk_heading;
+  return sweepWalk(*in.grid, in.x, in.y, yaw, m, params_.sweep_radius_m);
+}
+
+bool CueLogic::sweepStop(const NavInput& in, double now, Cue& out)
+{
+  // A stop asked now is felt a reaction time later; one asked on the next cycle a cycle later
+  // still. While the walk the wearer is committed to (its pace, the veer it carries out) would
+  // still stand clear with a stop asked on the next cycle, it walks on; once it would not, the stop
+  // is asked now (the body's disc against the planner's grid: a jamb beside the body, which the
+  // ray ahead does not see, and a veer carried out late).
+  if (!in.grid || in.grid->empty() || !(params_.sweep_radius_m > 0.0))
+    return false;
+  // (once asked, the stop is held until the wearer stands: its slowing walk would sweep clear
+  // again and a tick would send it on)
+  const bool moving = std::isfinite(in.walking_speed) && in.walking_speed >= params_.walking_speed_mps;
+  if (sweep_stop_ && moving && current_.instruction == Instruction::STOP)
+  {
+    busy_ = false;
+    out = holdPattern("stopping: the walk would sweep the body into an obstacle");
+    out.mode = CueMode::ALERT;
+    return true;
+  }
+  sweep_stop_ = false;
+  if (!walksForward(in))
+    return false;
+  // (a stop-and-turn buzz stops a walker too, once told from a veer's pulse: 0.25 s after it began)
+  double stop_in = params_.sweep_cycle_s;
+  if (busy_ && busy_turn_ && current_.instruction == Instruction::TURN)
+    stop_in = std::min(stop_in, std::max(0.0, busy_since_ + kTellApartS - now));
+  const WalkModel m = committedWalk(in, now, stop_in);
+  const SweepResult r = sweep(in, m);
+  if (!r.hit)
+    return false;
+  busy_ = false;
+  waist_side_ = 0;
+  char buf[160];
+  std::snprintf(buf, sizeof(buf), "the walk would sweep the body into an obstacle %.2f m on (%.1f s): stop", r.hit_along,
+                r.hit_t);
+  out = steady(CueMode::ALERT, Instruction::STOP, { { 1.f, 1.f, 1.f, 1.f } }, now, buf);
+  sweep_stop_ = true;
+  return true;
 }
 
 Cue CueLogic::walkOn(std::string reason, double now, bool standing)

@@ -3,10 +3,12 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include <assistive_common/codes.h>
 #include "assistive_tactile/params.h"
+#include "assistive_tactile/sweep.h"
 #include "assistive_tactile/vest_protocol.h"
 
 namespace assistive_tactile
@@ -56,6 +58,11 @@ struct NavInput
   int crossing_id = 0;             ///< mover behind it
   double crossing_time = 0.0;      ///< s until the closest approach
   double crossing_distance = 0.0;  ///< m, predicted closest distance
+  /// The wearer's position on the ground (the state's `wearer`) in the frame of `grid`.
+  double x = 0.0, y = 0.0;
+  /// The grid the planner planned on (its `planner/grid`), for the body's predicted sweep; null:
+  /// none (the cue logic then judges the way ahead on the planner's rays alone, as before).
+  std::shared_ptr<const ObstacleGrid> grid;
   /// Time of the camera image behind the state (source_stamp), on the clock of `now`;
   /// NaN = unknown (zero stamp): such a state is never guided on.
   double source_time = std::numeric_limits<double>::quiet_NaN();
@@ -206,6 +213,16 @@ private:
   /// The steering error expected when a veer asked now is carried out: the walk drifts on during
   /// the wearer's reaction (and the walk chord's lag), and `drift_aim_s` beyond it.
   double predictedError(double err, double v) const;
+  /// The walk the wearer is committed to now (issue 33): its speed (speeding up towards its pace
+  /// while told to walk), the veer it is carrying out (what is left of it, from when it will
+  /// start), its stop beginning `stop_in_s` from now; from its learnt reaction, start, stop, pace
+  /// and veer gain.
+  WalkModel committedWalk(const NavInput& in, double now, double stop_in_s) const;
+  /// The body's disc swept along `m` from where the wearer stands, heading its body's facing.
+  SweepResult sweep(const NavInput& in, const WalkModel& m) const;
+  /// The predictive stop: a walker whose committed walk, stopped by a stop asked one cycle from now,
+  /// sweeps the body into an obstacle of the planner's grid is stopped now (true and the cue).
+  bool sweepStop(const NavInput& in, double now, Cue& out);
   /// "Clear, walk on": a tick when one is due, else the running pattern (it has ended).
   Cue walkOn(std::string reason, double now, bool standing);
   /// The crossing cue over `base` (the obstacle / guidance cue of a fresh OK state).
@@ -274,6 +291,7 @@ private:
   /// towards the walk chord while walking and towards the head's mean while standing.
   double body_yaw_ = 0.0;
   bool have_body_yaw_ = false;
+  bool sweep_stop_ = false;         ///< a predictive stop is held until the wearer stands
   double go_at_ = -1e300;          ///< when a standing wearer was last told to go
   double go_handled_ = -1e300;     ///< the go whose short walk was judged
   double short_stop_at_ = -1.0;    ///< a timed stop after that go is due then (< 0: none)  ///< a walker is being stopped in a doorway into a hall
