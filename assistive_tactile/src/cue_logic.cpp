@@ -401,6 +401,9 @@ Cue CueLogic::update(const NavInput& in, double now)
   observeStart(in, now);
   observeStop(in, now);
   observePace(in, now);
+  // (the walk still speeding up: a walker keeps to the last cue it felt, so it speeds up until a
+  // stop or turn asked meanwhile is felt)
+  speeding_up_ = std::isfinite(in.walking_speed) && in.walking_speed > prev_speed_ + 1e-3;
   prev_speed_ = std::isfinite(in.walking_speed) ? in.walking_speed : 0.0;
   prev_speed_t_ = now;
   switch (in.status)
@@ -617,10 +620,13 @@ WalkModel CueLogic::committedWalk(const NavInput& in, double now, double stop_in
   m.v0 = std::isfinite(in.walking_speed) ? std::max(0.0, in.walking_speed) : 0.0;
   m.pace = std::max(m.v0, have_pace_ ? pace_est_ : kPacePrior);
   const bool told_to_walk = current_.instruction == Instruction::WALK_ON || current_.instruction == Instruction::VEER;
-  m.accel = told_to_walk ? startAccelEstimate() : 0.0;
-  m.decel = stopDecelEstimate();
+  m.accel = told_to_walk || speeding_up_ ? startAccelEstimate() : 0.0;
+  // Until this wearer's own reaction and stop are learnt, the sweep takes the slow ends of the
+  // population (a reaction of 1.2 s; a stop at twice its learnt start, people stop about twice as
+  // fast as they start, else at 1 m/s^2): a stop asked early costs a moment, one asked late a bump.
+  m.decel = have_decel_ ? stopDecelEstimate() : have_accel_ ? std::max(1.0, 2.0 * startAccelEstimate()) : 1.0;
   m.turn_rate = params_.veer_rate_deg / kRadToDeg;
-  const double tau = reactionEstimate();
+  const double tau = have_reaction_ ? reactionEstimate() : 1.2;
   m.stop_at_s = stop_in_s + tau;
   m.horizon_s = m.stop_at_s + m.v0 / std::max(0.1, m.decel) + 3.0;
   // the veer being carried out: all of it from when its first pulse has been felt, or what is
@@ -683,9 +689,11 @@ bool CueLogic::sweepStop(const NavInput& in, double now, Cue& out)
     return false;
   busy_ = false;
   waist_side_ = 0;
-  char buf[160];
-  std::snprintf(buf, sizeof(buf), "the walk would sweep the body into an obstacle %.2f m on (%.1f s): stop", r.hit_along,
-                r.hit_t);
+  char buf[220];
+  std::snprintf(buf, sizeof(buf),
+                "the walk would sweep the body into an obstacle %.2f m on (%.1f s): stop (v %.2f, reaction %.2f s, "
+                "start %.2f, stop %.2f m/s^2, pace %.2f, turn %.0f deg)",
+                r.hit_along, r.hit_t, m.v0, reactionEstimate(), m.accel, m.decel, m.pace, m.turn * kRadToDeg);
   out = steady(CueMode::ALERT, Instruction::STOP, { { 1.f, 1.f, 1.f, 1.f } }, now, buf);
   sweep_stop_ = true;
   return true;
@@ -1033,10 +1041,23 @@ bool CueLogic::shortWalk(const NavInput& in, double now, Cue& out)
   {
     go_handled_ = go_at_;  // (the go of the last cycle: judged on this cycle's free floor)
     short_stop_at_ = -1.0;
-    const double room = in.free_ahead - p.alert_m;
+    double room = in.free_ahead - p.alert_m;
+    // the body's disc swept along its facing (a jamb beside the body, which the ray does not see):
+    // it stops 0.1 m short of where the disc would first meet an obstacle cell
+    if (in.grid && !in.grid->empty() && p.sweep_radius_m > 0.0)
+    {
+      WalkModel m;
+      m.accel = startAccelEstimate();
+      m.pace = have_pace_ ? pace_est_ : 1.4;
+      m.horizon_s = 6.0;
+      const SweepResult r = sweep(in, m);
+      if (r.hit)
+        room = std::min(room, r.hit_along - 0.1);
+    }
     // (a walk shorter than this wearer needs to stop from its pace, when it is known)
     const double reach_at_pace = have_pace_ ? p.alert_m + stopReach(pace_est_, reactionEstimate()) : 0.0;
-    if (std::isfinite(in.free_ahead) && in.free_ahead < std::max(p.short_walk_m, reach_at_pace))
+    if ((std::isfinite(in.free_ahead) && in.free_ahead < std::max(p.short_walk_m, reach_at_pace)) ||
+        room + p.alert_m < std::max(p.short_walk_m, reach_at_pace))
     {
       // walked after accelerating for s: a s^2 / 2, then the stop (a s)^2 / (2 stop_decel)
       const double a = startAccelEstimate();

@@ -269,6 +269,7 @@ private:
   bool have_reaction_ = false;
   double start_tick_ = -1.0;   ///< the "go" tick to a standing wearer being timed (< 0: none)
   double start_lo_t_ = -1.0;   ///< when its walk's speed rose through the start's low mark (< 0: not yet)
+  bool speeding_up_ = false;  ///< the walk's speed rose since the last cycle
   double prev_speed_ = 0.0, prev_speed_t_ = -1e300;  ///< the last cycle's walking speed, for crossings
   /// The wearer's start and stop (m/s^2), learnt (kept across resets: they are the wearer's).
   double accel_est_ = 0.0, decel_est_ = 0.0;
