@@ -631,6 +631,18 @@ WalkModel CueLogic::committedWalk(const NavInput& in, double now, double stop_in
   m.horizon_s = m.stop_at_s + m.v0 / std::max(0.1, m.decel) + 3.0;
   // the veer being carried out: all of it from when its first pulse has been felt, or what is
   // left of it once it was seen (the head has turned by part of it)
+  if (busy_ && busy_turn_)
+  {
+    // a stop-and-turn buzz: told from a veer's pulse 0.25 s after it began, felt a reaction later;
+    // the wearer then slows and turns on the spot at its turning rate while it buzzes
+    const double felt = std::max(0.0, busy_since_ + kTellApartS + tau - now);
+    m.stop_at_s = std::min(m.stop_at_s, felt);
+    m.turn_start_s = felt;
+    m.turn = busy_angle_;
+    m.turn_rate = turn_rate_est_;
+    m.turn_while_stopping = true;
+    m.horizon_s = m.stop_at_s + m.v0 / std::max(0.1, m.decel) + 3.0;
+  }
   if (busy_ && !busy_turn_)
   {
     const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
@@ -679,11 +691,9 @@ bool CueLogic::sweepStop(const NavInput& in, double now, Cue& out)
   sweep_stop_ = false;
   if (!walksForward(in))
     return false;
-  // (a stop-and-turn buzz stops a walker too, once told from a veer's pulse: 0.25 s after it began)
-  double stop_in = params_.sweep_cycle_s;
-  if (busy_ && busy_turn_ && current_.instruction == Instruction::TURN)
-    stop_in = std::min(stop_in, std::max(0.0, busy_since_ + kTellApartS - now));
-  const WalkModel m = committedWalk(in, now, stop_in);
+  // (a stop-and-turn buzz stops a walker too, once told from a veer's pulse, and turns it while
+  // it slows: committedWalk)
+  const WalkModel m = committedWalk(in, now, params_.sweep_cycle_s);
   const SweepResult r = sweep(in, m);
   if (!r.hit)
     return false;

@@ -48,7 +48,7 @@ SweepResult sweepWalk(const ObstacleGrid& g, double x, double y, double yaw, con
       v = std::min(m.pace, v + m.accel * dt);
     // heading: the veer turns the walk from turn_start_s at turn_rate until done (a stop cancels
     // what is left of it)
-    if (t >= m.turn_start_s && t < m.stop_at_s && std::fabs(turned) < std::fabs(m.turn))
+    if (t >= m.turn_start_s && (m.turn_while_stopping || t < m.stop_at_s) && std::fabs(turned) < std::fabs(m.turn))
     {
       const double d = std::min(std::fabs(m.turn) - std::fabs(turned), m.turn_rate * dt);
       const double s = m.turn > 0.0 ? 1.0 : -1.0;

@@ -28,6 +28,9 @@ struct WalkModel
   double turn_start_s = 0;  ///< the veer being carried out (or asked) starts turning the walk then
   double turn = 0.0;        ///< by this much (rad, + = left) in all
   double turn_rate = 1.0;   ///< at this rate (rad/s)
+  /// The turn goes on while it stops (a stop-and-turn buzz: it turns on the spot while it slows);
+  /// false: a stop ends what is left of a veer.
+  bool turn_while_stopping = false;
   double stop_at_s = 1e9;   ///< its stop begins then (the cue that stops it, felt a reaction late)
   double horizon_s = 4.0;   ///< the prediction ends then (or once it stands)
 };
