@@ -218,6 +218,16 @@ private:
   /// start), its stop beginning `stop_in_s` from now; from its learnt reaction, start, stop, pace
   /// and veer gain.
   WalkModel committedWalk(const NavInput& in, double now, double stop_in_s) const;
+  /// The reaction the sweep assumes: the learnt one, else the population's slow end (1.2 s).
+  double sweepReaction() const;
+  /// The planner's grid came with the state and the sweep is on.
+  bool sweepReady(const NavInput& in) const;
+  /// The walk committed to a veer of `turn` (rad, + = left; 0 = walking on) asked now, until it is
+  /// carried out, then stopped by a stop asked then.
+  WalkModel veerWalk(const NavInput& in, double now, double turn) const;
+  /// The body stands between two jambs (obstacle cells close on both sides across the walk) or
+  /// within `passage_inside_m` of a passage's middle.
+  bool inDoorway(const NavInput& in) const;
   /// The body's disc swept along `m` from where the wearer stands, heading its body's facing.
   SweepResult sweep(const NavInput& in, const WalkModel& m) const;
   /// The predictive stop: a walker whose committed walk, stopped by a stop asked one cycle from now,

@@ -18,6 +18,10 @@ using ObstacleGrid = assistive_common::CodeGrid;
 /// counts the same way).
 double obstacleClearance(const ObstacleGrid& g, double x, double y, double reach);
 
+/// Free distance (m) from (x, y) across the walk, to the left (`side` +1) or right (-1) of `yaw`,
+/// until an obstacle cell (its centre's side of the cell, on the ray in steps of 2 cm), up to `max`.
+double sideFree(const ObstacleGrid& g, double x, double y, double yaw, int side, double max);
+
 /// How the wearer is predicted to move (the cue logic fills it from what it learnt of the wearer).
 struct WalkModel
 {
