@@ -436,14 +436,7 @@ Cue CueLogic::update(const NavInput& in, double now)
         c.mode = CueMode::IDLE;
       }
       if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
-      {
-        c = decideGuidance(in, now);
-        Cue stop;
-        if ((c.instruction == Instruction::WALK_ON || c.instruction == Instruction::VEER ||
-             c.instruction == Instruction::TURN) &&
-            sweepStop(in, now, stop))
-          c = stop;
-      }
+        c = guideWithSweep(in, now);
       else
       {
         busy_ = false;  // an obstacle cue ends a veer or turn being executed
@@ -1136,6 +1129,19 @@ bool CueLogic::shortWalk(const NavInput& in, double now, Cue& out)
   out = steady(CueMode::ALERT, Instruction::STOP, { { 1.f, 1.f, 1.f, 1.f } }, now,
                fmt("a short walk: stop (%.2f m free when it went)", in.free_ahead));
   return true;
+}
+
+Cue CueLogic::guideWithSweep(const NavInput& in, double now)
+{
+  // the guidance cue, unless the walk it leaves the wearer committed to sweeps the body into an
+  // obstacle (the predictive stop)
+  const Cue c = decideGuidance(in, now);
+  Cue stop;
+  if ((c.instruction == Instruction::WALK_ON || c.instruction == Instruction::VEER ||
+       c.instruction == Instruction::TURN) &&
+      sweepStop(in, now, stop))
+    return stop;
+  return c;
 }
 
 Cue CueLogic::decideGuidance(const NavInput& in, double now)

@@ -149,6 +149,8 @@ public:
 private:
   Cue decideProximity(const NavInput& in, bool have_path);
   Cue decideGuidance(const NavInput& in, double now);
+  /// decideGuidance, then the predictive stop over it (sweepStop).
+  Cue guideWithSweep(const NavInput& in, double now);
   /// The head's turn rate, the metres walked, how long the head has been steady, the drift, the
   /// body's yaw.
   void observeHead(const NavInput& in, double now);
