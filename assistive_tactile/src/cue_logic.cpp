@@ -848,7 +848,12 @@ bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
   // (the wearer stops turning its reaction time after the buzz ended: judged before that, a
   // slow reactor's turn was still to come and a second turn was asked on top of it: chains of
   // turns back and forth, the slowest decile's wearers timing out)
-  if (now < buzz_end + reactionEstimate() + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
+  // (and until the turn was seen in the head's turn rate, faster than its scan, or the slowest
+  // reaction, 1.2 s, has passed: a reaction learnt short, or not yet, ended the wait before the
+  // wearer began to turn, and the same turn was asked again on top of it)
+  const bool seen = turn_peak_rate_ * kRadToDeg > 12.0;
+  const double wait = seen ? reactionEstimate() : std::max(reactionEstimate(), 1.2);
+  if (now < buzz_end + wait + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
   {
     char why[96];
     std::snprintf(why, sizeof(why), "turning (%.0f deg to go, head %.0f deg/s)", left * kRadToDeg, yaw_rate_ * kRadToDeg);
