@@ -734,7 +734,7 @@ bool CueLogic::sweepStop(const NavInput& in, double now, Cue& out)
   std::snprintf(buf, sizeof(buf),
                 "the walk would sweep the body into an obstacle %.2f m on (%.1f s): stop (v %.2f, reaction %.2f s, "
                 "start %.2f, stop %.2f m/s^2, pace %.2f, turn %.0f deg)",
-                r.hit_along, r.hit_t, m.v0, reactionEstimate(), m.accel, m.decel, m.pace, m.turn * kRadToDeg);
+                r.hit_along, r.hit_t, m.v0, sweepReaction(), m.accel, m.decel, m.pace, m.turn * kRadToDeg);
   out = steady(CueMode::ALERT, Instruction::STOP, { { 1.f, 1.f, 1.f, 1.f } }, now, buf);
   sweep_stop_ = true;
   return true;
