@@ -49,6 +49,8 @@ private:
     path_pub_ = nh.advertise<nav_msgs::Path>("path", 1, true);
     waypoint_pub_ = nh.advertise<geometry_msgs::PointStamped>("waypoint", 1, true);
     markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 1);
+    // the grid each state was planned on (the cue logic sweeps the body's predicted walk over it)
+    planned_grid_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("grid", 1);
     grid_sub_ = nh.subscribe("traversability", 1, &PlannerNodelet::gridCb, this);
     goal_sub_ = nh.subscribe("goal", 1, &PlannerNodelet::goalCb, this);
     movers_sub_ = nh.subscribe("movers", 1, &PlannerNodelet::moversCb, this);
@@ -379,6 +381,13 @@ private:
   void publish(const PlanOutput& out, const std_msgs::Header& header, const ros::Time& source_stamp)
   {
     last_ = out;
+    // the grid first: a cue logic in the same manager has it when the state arrives
+    if (out.grid && planned_grid_pub_.getNumSubscribers() > 0)
+    {
+      std_msgs::Header gh = header;
+      gh.stamp = source_stamp;
+      planned_grid_pub_.publish(boost::make_shared<nav_msgs::OccupancyGrid>(toMsg(*out.grid, gh)));
+    }
     state_pub_.publish(boost::make_shared<assistive_msgs::NavigationState>(toMsg(out, header, source_stamp)));
     if (out.status == PlanStatus::OK)
     {
@@ -427,6 +436,7 @@ private:
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::Publisher state_pub_, path_pub_, waypoint_pub_, markers_pub_;
+  ros::Publisher planned_grid_pub_;
   ros::Subscriber grid_sub_, goal_sub_, odom_sub_, movers_sub_, ranger_sub_;
   sensor_msgs::Range::ConstPtr ranger_msg_;  ///< the newest valid ranger reading
   std::optional<geometry_msgs::PoseStamped> goal_;  ///< as given (its own frame); empty: automatic waypoint

@@ -559,6 +559,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
     return out;
   recordWalkedFloor(input, wearer);
   vouchForBlindZone(wearer, out.head_yaw, t, out);
+  out.grid = std::make_shared<const Grid>(work_);
   const Grid& grid = work_;
   syncCosts(grid, out);
   const bool motion_changed = motion_.update(wearer, head_yaw);

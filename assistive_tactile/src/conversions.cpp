@@ -57,6 +57,8 @@ NavInput fromMsg(const assistive_msgs::NavigationState& msg)
   in.passage_distance = msg.passage_distance;
   in.passage_heading = msg.passage_heading;
   in.passage_width = msg.passage_width;
+  in.x = msg.wearer.x;  // in the state's frame (the planner's grid's)
+  in.y = msg.wearer.y;
   // an advice code this build does not know is no advice (the status still decides the rest)
   in.crossing = msg.crossing <= static_cast<uint8_t>(CrossingAdvice::STOP) ? static_cast<CrossingAdvice>(msg.crossing) :
                                                                             CrossingAdvice::NONE;

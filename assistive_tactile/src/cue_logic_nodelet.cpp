@@ -1,5 +1,6 @@
-// Cue logic nodelet: planner/state -> tactile/cue (+ tactile/markers, /diagnostics). Glue only.
+// Cue logic nodelet: planner/state (+ planner/grid) -> tactile/cue (+ tactile/markers, /diagnostics). Glue only.
 #include <assistive_msgs/NavigationState.h>
+#include <nav_msgs/OccupancyGrid.h>
 #include <assistive_msgs/TactileCue.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <nodelet/nodelet.h>
@@ -8,9 +9,13 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
 #include <mutex>
+#include <string>
 
 #include <assistive_common/callback_guard.h>
+#include <assistive_common/code_grid_msg.h>
 #include <assistive_common/ros_params.h>
 
 #include "assistive_tactile/conversions.h"
@@ -39,6 +44,8 @@ private:
     cue_pub_ = nh.advertise<assistive_msgs::TactileCue>("cue", 1);
     marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 1);
     state_sub_ = nh.subscribe("state", 1, &CueLogicNodelet::stateCb, this);
+    // the grid each state was planned on: the body's predicted sweep (none: the rays alone)
+    grid_sub_ = nh.subscribe("grid", 1, &CueLogicNodelet::gridCb, this);
     updater_.reset(new diagnostic_updater::Updater(nh, pnh, getName()));
     updater_->setHardwareID("cue_logic");
     updater_->add("cue logic", this, &CueLogicNodelet::diagnose);
@@ -52,11 +59,33 @@ private:
     assistive_common::guarded(getName(), "planner state", [&] { handleState(msg); });
   }
 
+  void gridCb(const nav_msgs::OccupancyGrid::ConstPtr& msg)
+  {
+    assistive_common::guarded(getName(), "planner grid", [&] {
+      auto g = std::make_shared<ObstacleGrid>();
+      if (!assistive_common::fromMsg(*msg, *g))
+      {
+        NODELET_WARN_THROTTLE(5.0, "cue_logic: malformed or rotated planner grid ignored");
+        return;
+      }
+      std::lock_guard<std::mutex> lock(mutex_);
+      grid_ = std::move(g);
+      grid_stamp_ = msg->header.stamp;
+      grid_frame_ = msg->header.frame_id;
+    });
+  }
+
   void handleState(const assistive_msgs::NavigationState::ConstPtr& msg)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     const ros::Time now = ros::Time::now();
-    const Cue cue = logic_.update(fromMsg(*msg), now.toSec());
+    NavInput in = fromMsg(*msg);
+    // the grid of the same planning cycle (its stamp is the state's source_stamp; one a cycle older
+    // still serves), in the state's frame
+    if (grid_ && grid_frame_ == msg->header.frame_id && !msg->source_stamp.isZero() &&
+        std::fabs((grid_stamp_ - msg->source_stamp).toSec()) <= 0.2)
+      in.grid = grid_;
+    const Cue cue = logic_.update(in, now.toSec());
     if (cue.reason.find("NaN") != std::string::npos)
       NODELET_WARN_THROTTLE(5.0, "cue_logic: planner state with NaN fields, vest quiet");
     publish(cue, now, msg->source_stamp);
@@ -167,6 +196,10 @@ private:
   uint64_t states_ = 0, cues_ = 0;
   ros::Publisher cue_pub_, marker_pub_;
   ros::Subscriber state_sub_;
+  ros::Subscriber grid_sub_;
+  std::shared_ptr<const ObstacleGrid> grid_;  ///< the planner's latest grid
+  ros::Time grid_stamp_;
+  std::string grid_frame_;
   ros::Timer timer_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
 };

@@ -1045,3 +1045,157 @@ TEST(CueLogic, WrapAngle)
   for (const auto& r : table)
     EXPECT_NEAR(wrapAngle(r.first), r.second, 1e-12) << r.first;
 }
+
+namespace
+{
+/// A wall across x = 1.9 .. 2.1 m (one column of 0.2 m cells, centres at x = 2.0) with a doorway:
+/// three free cells, centres at y = -0.2, 0, +0.2 (0.6 m of free cells: an 0.80 m doorway whose
+/// jambs' faces lie inside the cells next to them; obstacle centres at y = +-0.4), open floor
+/// elsewhere from x = -2.1 to 5.9 m.
+std::shared_ptr<ObstacleGrid> doorwayGrid()
+{
+  auto g = std::make_shared<ObstacleGrid>();
+  g->origin_x = -2.1;
+  g->origin_y = -2.1;
+  g->resolution = 0.2;
+  g->width = g->height = 40;
+  g->data.assign(size_t(40 * 40), 0);
+  const int ix = 20;  // [1.9, 2.1)
+  for (int iy = 0; iy < 40; ++iy)
+    if (std::fabs(g->cellY(iy)) > 0.3)
+      g->data[size_t(g->index(ix, iy))] = 100;
+  return g;
+}
+
+/// A walker at (x, y) heading +x (yaw 0) at `v` m/s, the steering point `dev_deg` off, 5 m free
+/// along the ray ahead and 2 m to either side (the rays of the planner see nothing of the jambs).
+NavInput walkerAt(double x, double y, double v, double dev_deg = 0.0)
+{
+  NavInput in = turn(dev_deg, 0.0);
+  in.x = x;
+  in.y = y;
+  in.walking_speed = v;
+  return in;
+}
+}  // namespace
+
+TEST(Sweep, ClearanceIsToTheObstacleCellsCentres)
+{
+  const auto g = doorwayGrid();
+  EXPECT_NEAR(obstacleClearance(*g, 2.0, 0.0, 1.0), 0.4, 1e-9);   // the middle of the doorway
+  EXPECT_NEAR(obstacleClearance(*g, 1.0, 0.4, 2.0), 1.0, 1e-9);   // 1 m before the jamb's centre
+  EXPECT_NEAR(obstacleClearance(*g, -1.0, 0.0, 0.5), 0.5, 1e-9);  // nothing within reach
+  EXPECT_NEAR(sideFree(*g, 2.0, 0.0, 0.0, +1, 1.0), 0.30, 0.021);  // the jamb's cell begins 0.3 m left
+  EXPECT_NEAR(sideFree(*g, 2.0, 0.0, 0.0, -1, 1.0), 0.30, 0.021);
+  EXPECT_NEAR(sideFree(*g, 0.0, 0.0, 0.0, +1, 1.0), 1.0, 1e-9);
+}
+
+TEST(Sweep, DoorwayJambClippedOffTheMiddleOnly)
+{
+  // A body of radius 0.24 m walking straight at 1 m/s (no stop, no turn): through the middle it
+  // keeps 0.4 m from the jambs' centres; 0.2 m off the middle its disc meets the left jamb's
+  // centre (2.0, 0.4) where (2.0 - x)^2 + 0.2^2 = 0.24^2: x = 1.867 m (within a 5 cm step).
+  const auto g = doorwayGrid();
+  WalkModel m;
+  m.v0 = m.pace = 1.0;
+  m.accel = 0.0;
+  m.horizon_s = 4.0;
+  const SweepResult mid = sweepWalk(*g, 0.0, 0.0, 0.0, m, 0.24);
+  EXPECT_FALSE(mid.hit);
+  EXPECT_NEAR(mid.min_clear, 0.4, 1e-6);
+  const SweepResult off = sweepWalk(*g, 0.0, 0.2, 0.0, m, 0.24);
+  ASSERT_TRUE(off.hit);
+  EXPECT_NEAR(off.hit_along, 1.867, 0.05);
+  EXPECT_NEAR(off.end_x, 1.867, 0.05);
+  // the same walk stopped in time: the stop begins after 0.5 s and lasts v^2 / 2d = 0.25 m
+  m.decel = 2.0;
+  m.stop_at_s = 0.5;
+  const SweepResult stopped = sweepWalk(*g, 0.5, 0.2, 0.0, m, 0.24);
+  EXPECT_FALSE(stopped.hit);
+  EXPECT_NEAR(stopped.walked, 0.75, 0.06);
+  // ... and stopped too late: from 1.3 m (its 0.75 m end past 1.867 m) it meets the jamb
+  EXPECT_TRUE(sweepWalk(*g, 1.3, 0.2, 0.0, m, 0.24).hit);
+  EXPECT_FALSE(sweepWalk(*g, 1.0, 0.2, 0.0, m, 0.24).hit);  // (its end 1.75 m)
+  // a veer of 30 deg to the right, begun after 1 s at 60 deg/s from the middle, carries the body
+  // into the right jamb (2.0, -0.4) just past the jamb line
+  WalkModel v = m;
+  v.stop_at_s = 1e9;
+  v.turn_start_s = 1.0;
+  v.turn = -30.0 * kDeg;
+  v.turn_rate = 60.0 * kDeg;
+  const SweepResult veer = sweepWalk(*g, 0.0, 0.0, 0.0, v, 0.24);
+  ASSERT_TRUE(veer.hit);
+  EXPECT_GT(veer.hit_along, 1.3);
+  EXPECT_LT(veer.hit_along, 2.1);
+  EXPECT_NEAR(veer.end_yaw, -30.0 * kDeg, 1e-6);
+  // a body already closer to a jamb than its radius (squeezing past it) is not hit where it
+  // stands, only when the walk takes it 3 cm closer still
+  WalkModel still;
+  still.horizon_s = 1.0;
+  EXPECT_FALSE(sweepWalk(*g, 2.0, 0.2, 0.0, still, 0.24).hit);
+}
+
+TEST(CueLogic, PredictiveStopSeesTheJambBesideTheBody)
+{
+  // A walker at 1 m/s, 0.2 m off a doorway's middle 1.5 m before the jamb line: the planner's ray
+  // ahead passes through the free cell (5 m free), so the rays give no stop; the body's disc,
+  // swept along the walk with the stop a wearer of unknown reaction (1.2 s) and stop (1 m/s^2)
+  // would make, meets the jamb: stop now. Through the middle it walks on; without the planner's
+  // grid the cue logic judges on the rays as before.
+  const auto g = doorwayGrid();
+  CueLogic with;
+  NavInput off = walkerAt(0.5, 0.2, 1.0);
+  off.grid = g;
+  const Cue k = fresh(with, off, 0.0);
+  EXPECT_EQ(k.instruction, Instruction::STOP);
+  EXPECT_EQ(k.mode, CueMode::ALERT);
+  EXPECT_NE(k.reason.find("sweep the body"), std::string::npos) << k.reason;
+  // held until it stands (its slowing walk sweeps clear again)
+  NavInput slower = off;
+  slower.walking_speed = 0.5;
+  slower.x = 0.9;
+  EXPECT_EQ(fresh(with, slower, 0.3).instruction, Instruction::STOP);
+
+  CueLogic mid;
+  NavInput through = walkerAt(0.5, 0.0, 1.0);
+  through.grid = g;
+  EXPECT_EQ(fresh(mid, through, 0.0).instruction, Instruction::WALK_ON);
+
+  CueLogic rays;
+  EXPECT_EQ(fresh(rays, walkerAt(0.5, 0.2, 1.0), 0.0).instruction, Instruction::WALK_ON);
+
+  CueParams p;
+  p.sweep_radius_m = 0.0;  // the sweep off
+  CueLogic off_param(p);
+  EXPECT_EQ(fresh(off_param, off, 0.0).instruction, Instruction::WALK_ON);
+}
+
+TEST(CueLogic, NoVeerInADoorwayWhileWalkingOnSweepsClear)
+{
+  // In the doorway (x = 1.95, its middle), the steering point 20 deg to the left: on the rays
+  // alone a veer (the traced case: a veer carried out a reaction later, just past the jambs, into
+  // the wall beyond); with the grid, walking on sweeps clear (open floor beyond): straight on.
+  const auto g = doorwayGrid();
+  CueLogic rays;
+  EXPECT_EQ(fresh(rays, walkerAt(1.95, 0.0, 1.0, 20.0), 0.0).instruction, Instruction::VEER);
+  CueLogic with;
+  NavInput in = walkerAt(1.95, 0.0, 1.0, 20.0);
+  in.grid = g;
+  const Cue k = fresh(with, in, 0.0);
+  EXPECT_EQ(k.instruction, Instruction::WALK_ON) << k.reason;
+  EXPECT_NE(k.reason.find("in a doorway"), std::string::npos) << k.reason;
+  // out in the open (2 m past the doorway) the veer is asked as before
+  CueLogic open;
+  NavInput beyond = walkerAt(3.0, 0.0, 1.0, 20.0);
+  beyond.grid = g;
+  EXPECT_EQ(fresh(open, beyond, 0.0).instruction, Instruction::VEER);
+  // a wall 1.2 m beyond the doorway (a home's hall): walking on would meet it, the veer is asked
+  auto hall = std::make_shared<ObstacleGrid>(*g);
+  for (int iy = 0; iy < hall->height; ++iy)
+    hall->data[size_t(hall->index(26, iy))] = 100;  // cells [3.1, 3.3)
+  CueLogic h;
+  NavInput near_wall = walkerAt(1.95, 0.0, 1.0, 20.0);
+  near_wall.grid = hall;
+  EXPECT_NE(fresh(h, near_wall, 0.0).reason.find("in a doorway"), 0u);
+  EXPECT_EQ(fresh(h, near_wall, 0.0).reason.find("in a doorway"), std::string::npos);
+}

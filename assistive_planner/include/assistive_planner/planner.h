@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -68,6 +69,10 @@ struct PlanOutput
   /// were when the ranger could not vouch (empty otherwise).
   int vouched_cells = 0;
   std::string vouch_note;
+  /// The grid this cycle planned on (the input with the walked floor and the vouched blind zone
+  /// marked; null before a usable grid): the cue logic sweeps the body's predicted walk over it
+  /// (the nodelet publishes it as `planner/grid`, nav_msgs/OccupancyGrid).
+  std::shared_ptr<const Grid> grid;
   size_t expansions = 0;           ///< D* Lite expansions in this update
   size_t changed_cells = 0;        ///< cells whose weight changed since the last update
   bool scrolled = false;

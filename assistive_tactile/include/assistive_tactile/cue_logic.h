@@ -3,10 +3,12 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include <assistive_common/codes.h>
 #include "assistive_tactile/params.h"
+#include "assistive_tactile/sweep.h"
 #include "assistive_tactile/vest_protocol.h"
 
 namespace assistive_tactile
@@ -56,6 +58,11 @@ struct NavInput
   int crossing_id = 0;             ///< mover behind it
   double crossing_time = 0.0;      ///< s until the closest approach
   double crossing_distance = 0.0;  ///< m, predicted closest distance
+  /// The wearer's position on the ground (the state's `wearer`) in the frame of `grid`.
+  double x = 0.0, y = 0.0;
+  /// The grid the planner planned on (its `planner/grid`), for the body's predicted sweep; null:
+  /// none (the cue logic then judges the way ahead on the planner's rays alone, as before).
+  std::shared_ptr<const ObstacleGrid> grid;
   /// Time of the camera image behind the state (source_stamp), on the clock of `now`;
   /// NaN = unknown (zero stamp): such a state is never guided on.
   double source_time = std::numeric_limits<double>::quiet_NaN();
@@ -142,6 +149,8 @@ public:
 private:
   Cue decideProximity(const NavInput& in, bool have_path);
   Cue decideGuidance(const NavInput& in, double now);
+  /// decideGuidance, then the predictive stop over it (sweepStop).
+  Cue guideWithSweep(const NavInput& in, double now);
   /// The head's turn rate, the metres walked, how long the head has been steady, the drift, the
   /// body's yaw.
   void observeHead(const NavInput& in, double now);
@@ -206,6 +215,26 @@ private:
   /// The steering error expected when a veer asked now is carried out: the walk drifts on during
   /// the wearer's reaction (and the walk chord's lag), and `drift_aim_s` beyond it.
   double predictedError(double err, double v) const;
+  /// The walk the wearer is committed to now (issue 33): its speed (speeding up towards its pace
+  /// while told to walk), the veer it is carrying out (what is left of it, from when it will
+  /// start), its stop beginning `stop_in_s` from now; from its learnt reaction, start, stop, pace
+  /// and veer gain.
+  WalkModel committedWalk(const NavInput& in, double now, double stop_in_s) const;
+  /// The reaction the sweep assumes: the learnt one, else the population's slow end (1.2 s).
+  double sweepReaction() const;
+  /// The planner's grid came with the state and the sweep is on.
+  bool sweepReady(const NavInput& in) const;
+  /// The walk committed to a veer of `turn` (rad, + = left; 0 = walking on) asked now, until it is
+  /// carried out, then stopped by a stop asked then.
+  WalkModel veerWalk(const NavInput& in, double now, double turn) const;
+  /// The body stands between two jambs (obstacle cells close on both sides across the walk) or
+  /// within `passage_inside_m` of a passage's middle.
+  bool inDoorway(const NavInput& in) const;
+  /// The body's disc swept along `m` from where the wearer stands, heading its body's facing.
+  SweepResult sweep(const NavInput& in, const WalkModel& m) const;
+  /// The predictive stop: a walker whose committed walk, stopped by a stop asked one cycle from now,
+  /// sweeps the body into an obstacle of the planner's grid is stopped now (true and the cue).
+  bool sweepStop(const NavInput& in, double now, Cue& out);
   /// "Clear, walk on": a tick when one is due, else the running pattern (it has ended).
   Cue walkOn(std::string reason, double now, bool standing);
   /// The crossing cue over `base` (the obstacle / guidance cue of a fresh OK state).
@@ -252,6 +281,7 @@ private:
   bool have_reaction_ = false;
   double start_tick_ = -1.0;   ///< the "go" tick to a standing wearer being timed (< 0: none)
   double start_lo_t_ = -1.0;   ///< when its walk's speed rose through the start's low mark (< 0: not yet)
+  bool speeding_up_ = false;  ///< the walk's speed rose since the last cycle
   double prev_speed_ = 0.0, prev_speed_t_ = -1e300;  ///< the last cycle's walking speed, for crossings
   /// The wearer's start and stop (m/s^2), learnt (kept across resets: they are the wearer's).
   double accel_est_ = 0.0, decel_est_ = 0.0;
@@ -274,6 +304,7 @@ private:
   /// towards the walk chord while walking and towards the head's mean while standing.
   double body_yaw_ = 0.0;
   bool have_body_yaw_ = false;
+  bool sweep_stop_ = false;         ///< a predictive stop is held until the wearer stands
   double go_at_ = -1e300;          ///< when a standing wearer was last told to go
   double go_handled_ = -1e300;     ///< the go whose short walk was judged
   double short_stop_at_ = -1.0;    ///< a timed stop after that go is due then (< 0: none)  ///< a walker is being stopped in a doorway into a hall

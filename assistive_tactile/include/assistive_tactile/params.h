@@ -38,6 +38,10 @@ namespace assistive_tactile
   X(double, start_accel, "start_accel", 1.2, 0.3, 5.0, "m/s^2", "a walker told to go speeds up at about this until its starts have shown its own (learnt from the walk's speed after a go), for the stop timed from a go; the fast end of gait initiation (0.5-1.2 m/s^2), so that an unknown wearer is stopped early") \
   X(double, min_intensity, "min_intensity", 0.4, 0.0, 1.0, "", "level 1's drive; levels 2 and 3 lie evenly up to 1 (0.4 / 0.7 / 1.0: steps of 1.4-1.75x, each well above the vibrotactile intensity JND)") \
   X(double, tick_period_s, "tick_period_s", 2.0, 0.5, 10.0, "s", "clear-walk-on: a tick on both shoulders this often while no other cue is due (a vest silent for two periods means stop)") \
+  /* The body's predicted sweep (issue 33; needs the planner's grid) */ \
+  X(double, sweep_radius_m, "sweep_radius_m", 0.24, 0.0, 1.0, "m", "the body's disc for the predicted sweep: its centre must stay this far from every obstacle cell's centre (a jamb's face lies inside the cell it fills, half a cell in on average); the population's shoulder radius is 0.18-0.26 m (0 = the sweep off: the rays alone, as before)") \
+  X(double, sweep_cycle_s, "sweep_cycle_s", 0.1, 0.0, 1.0, "s", "the predictive stop: a walker is stopped when its committed walk, with a stop asked this much later (the next cycle) and felt its reaction later, would sweep the body into an obstacle") \
+  X(double, veer_rate_deg, "veer_rate_deg", 60.0, 10.0, 180.0, "deg/s", "how fast a veer turns the walk, for the predicted sweep (a veer turns the head at 40-90 deg/s)") \
   /* Proximity (waist motors) and alert (all four) */ \
   X(double, alert_m, "alert_m", 0.5, 0.0, 10.0, "m", "free distance ahead under which all four motors fire") \
   X(double, proximity_m, "proximity_m", 1.0, alert_m, 10.0, "m", "free distance ahead under which proximity mode starts") \

@@ -142,6 +142,9 @@ public:
     in.walking_speed = out.walking_speed;
     in.head_yaw = out.head_yaw;
     in.free_steer = out.free_steer;
+    in.x = s.xy.x();
+    in.y = s.xy.y();
+    in.grid = out.grid;  // the planner's grid (planner/grid over ROS)
     const bool passage = out.status == assistive_planner::PlanStatus::OK && out.passage_distance >= 0.0;
     in.passage_distance = passage ? out.passage_distance : -1.0;  // as the state message carries it
     in.passage_heading = passage ? out.passage_heading : 0.0;

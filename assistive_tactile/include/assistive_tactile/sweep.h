@@ -1,0 +1,63 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <assistive_common/code_grid.h>
+
+namespace assistive_tactile
+{
+/// The grid the planner planned on, as the cue logic sees it (issue 33; its `planner/grid`): the
+/// one grid of cell codes (assistive_common/code_grid.h), in the frame of the wearer's position
+/// (`NavInput::x`, `y`; the state's `wearer`). A cell above 50 is an obstacle.
+using ObstacleGrid = assistive_common::CodeGrid;
+
+/// Distance (m) from (x, y) to the nearest obstacle cell's centre in `g`, looked for within `reach`
+/// m (`reach` when none). A jamb fills every cell it touches, so its face lies inside the cell,
+/// half a cell in on average: the centre is the face's best estimate (the planner's passage width
+/// counts the same way).
+double obstacleClearance(const ObstacleGrid& g, double x, double y, double reach);
+
+/// Free distance (m) from (x, y) across the walk, to the left (`side` +1) or right (-1) of `yaw`,
+/// until an obstacle cell (its centre's side of the cell, on the ray in steps of 2 cm), up to `max`.
+double sideFree(const ObstacleGrid& g, double x, double y, double yaw, int side, double max);
+
+/// How the wearer is predicted to move (the cue logic fills it from what it learnt of the wearer).
+struct WalkModel
+{
+  double v0 = 0.0;          ///< m/s now
+  double pace = 1.4;        ///< m/s it speeds up to while told to walk
+  double accel = 1.2;       ///< m/s^2 speeding up (0: it keeps v0)
+  double decel = 2.0;       ///< m/s^2 stopping
+  double turn_start_s = 0;  ///< the veer being carried out (or asked) starts turning the walk then
+  double turn = 0.0;        ///< by this much (rad, + = left) in all
+  double turn_rate = 1.0;   ///< at this rate (rad/s)
+  /// The turn goes on while it stops (a stop-and-turn buzz: it turns on the spot while it slows);
+  /// false: a stop ends what is left of a veer.
+  bool turn_while_stopping = false;
+  double stop_at_s = 1e9;   ///< its stop begins then (the cue that stops it, felt a reaction late)
+  double horizon_s = 4.0;   ///< the prediction ends then (or once it stands)
+};
+
+/// The body's disc swept along a predicted walk (`sweepWalk`).
+struct SweepResult
+{
+  bool hit = false;          ///< the disc comes closer to an obstacle than allowed
+  double hit_t = 1e9;        ///< s from now when it does
+  double hit_along = 1e9;    ///< m walked by then
+  double walked = 0.0;       ///< m walked over the whole prediction (until the hit, if any)
+  double min_clear = 1e9;    ///< the smallest clearance (m) met (centre to the nearest obstacle cell centre)
+  double end_x = 0.0, end_y = 0.0, end_yaw = 0.0;  ///< where the prediction ends (at the hit, if any)
+};
+
+/**
+ * The body's disc (radius `radius`) carried along the walk `m` from (x, y, yaw) in steps of `dt`,
+ * checked against `g`'s obstacle cells: a hit is a point of the walk whose clearance is under
+ * `radius`, and under the clearance where the body stands now less 3 cm (a body that already
+ * stands closer than `radius` to a jamb, in a doorway, is stopped only when the walk takes it
+ * closer still, not at once).
+ */
+SweepResult sweepWalk(const ObstacleGrid& g, double x, double y, double yaw, const WalkModel& m, double radius,
+                      double dt = 0.05);
+
+}  // namespace assistive_tactile
