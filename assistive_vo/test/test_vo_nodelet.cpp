@@ -265,6 +265,47 @@ TEST(VoNodelet, WaitsForTheImuBeforeFixingGravity)
               first - frames.begin()->first, tilt_err, head_pitch);
 }
 
+/// One nodelet instance's inputs under a namespace ("/fs"): both images and camera infos and the IMU.
+struct StereoImuInputs
+{
+  ros::Publisher li, ri, lc, rc, imu;
+  StereoImuInputs(ros::NodeHandle& nh, const std::string& ns)
+    : li(nh.advertise<sensor_msgs::Image>(ns + "/left/image_rect", 5))
+    , ri(nh.advertise<sensor_msgs::Image>(ns + "/right/image_rect", 5))
+    , lc(nh.advertise<sensor_msgs::CameraInfo>(ns + "/left/camera_info", 5))
+    , rc(nh.advertise<sensor_msgs::CameraInfo>(ns + "/right/camera_info", 5))
+    , imu(nh.advertise<sensor_msgs::Imu>(ns + "/imu/data", 2000))
+  {
+  }
+  /// Waits up to 10 s until the nodelet subscribes to all five; true when it has.
+  bool connect() const
+  {
+    for (int i = 0; i < 100 && !connected(); ++i)
+      ros::Duration(0.1).sleep();
+    return connected();
+  }
+  bool connected() const
+  {
+    return li.getNumSubscribers() > 0 && ri.getNumSubscribers() > 0 && lc.getNumSubscribers() > 0 &&
+           rc.getNumSubscribers() > 0 && imu.getNumSubscribers() > 0;
+  }
+};
+
+/// A bag's IMU samples in order, and its camera messages grouped by stamp (one entry per frame).
+void readImuAndFrames(const rosbag::Bag& bag, std::vector<sensor_msgs::ImuConstPtr>& imus,
+                      std::map<double, std::vector<rosbag::MessageInstance>>& frames)
+{
+  for (const rosbag::MessageInstance& m : rosbag::View(bag))
+  {
+    if (auto i = m.instantiate<sensor_msgs::Imu>())
+      imus.push_back(i);
+    else if (auto im = m.instantiate<sensor_msgs::Image>())
+      frames[im->header.stamp.toSec()].push_back(m);
+    else if (auto ci = m.instantiate<sensor_msgs::CameraInfo>())
+      frames[ci->header.stamp.toSec()].push_back(m);
+  }
+}
+
 // Fail-safe (README "Published topics"): a third instance (`failsafe_odometry`, on /fs/..., frames
 // fs_odom -> fs_camera_link) gets 8 frames of a rendered walk, then black frames with the IMU going
 // on. Once lost beyond coast_max, every frame still publishes vo/odom, with the last trusted pose,
@@ -293,34 +334,18 @@ TEST(VoNodelet, UntrustedFramesPublishNullCovarianceAndNoTf)
   const assistive_sim::RenderedBag rendered("course", 60, "vo_rostest");
   const std::string& bag_path = rendered.path();
   ASSERT_FALSE(bag_path.empty()) << "render_bag failed";
-  ros::Publisher li = nh.advertise<sensor_msgs::Image>("/fs/left/image_rect", 5);
-  ros::Publisher ri = nh.advertise<sensor_msgs::Image>("/fs/right/image_rect", 5);
-  ros::Publisher lc = nh.advertise<sensor_msgs::CameraInfo>("/fs/left/camera_info", 5);
-  ros::Publisher rc = nh.advertise<sensor_msgs::CameraInfo>("/fs/right/camera_info", 5);
-  ros::Publisher imu = nh.advertise<sensor_msgs::Imu>("/fs/imu/data", 2000);
+  StereoImuInputs in(nh, "/fs");
+  ros::Publisher &li = in.li, &ri = in.ri, &lc = in.lc, &rc = in.rc, &imu = in.imu;
   ros::Subscriber sub = nh.subscribe("/fs/odom", 100, fsOdomCb);
   ros::Subscriber tsub = nh.subscribe("/tf", 1000, fsTfCb);
-  for (int i = 0; i < 100 && (li.getNumSubscribers() == 0 || ri.getNumSubscribers() == 0 || lc.getNumSubscribers() == 0 ||
-                              rc.getNumSubscribers() == 0 || imu.getNumSubscribers() == 0);
-       ++i)
-    ros::Duration(0.1).sleep();
+  in.connect();
   ASSERT_GT(imu.getNumSubscribers(), 0u);
   ros::Duration(0.5).sleep();
 
   rosbag::Bag bag(bag_path);
   std::vector<sensor_msgs::ImuConstPtr> imus;
   std::map<double, std::vector<rosbag::MessageInstance>> frames;
-  for (const rosbag::MessageInstance& m : rosbag::View(bag))
-  {
-    if (auto i = m.instantiate<sensor_msgs::Imu>())
-      imus.push_back(i);
-    else if (m.instantiate<sensor_msgs::Image>() || m.instantiate<sensor_msgs::CameraInfo>())
-    {
-      const ros::Time t = m.instantiate<sensor_msgs::Image>() ? m.instantiate<sensor_msgs::Image>()->header.stamp
-                                                              : m.instantiate<sensor_msgs::CameraInfo>()->header.stamp;
-      frames[t.toSec()].push_back(m);
-    }
-  }
+  readImuAndFrames(bag, imus, frames);
   ASSERT_GE(frames.size(), 58u);
   const int n_good = 8;
   size_t next_imu = 0, k = 0;
@@ -412,33 +437,17 @@ TEST(VoNodelet, FramesWaitForAnImuBehindThem)
   const assistive_sim::RenderedBag rendered("course", 16, "vo_rostest_ib");
   const std::string& bag_path = rendered.path();
   ASSERT_FALSE(bag_path.empty()) << "render_bag failed";
-  ros::Publisher li = nh.advertise<sensor_msgs::Image>("/ib/left/image_rect", 5);
-  ros::Publisher ri = nh.advertise<sensor_msgs::Image>("/ib/right/image_rect", 5);
-  ros::Publisher lc = nh.advertise<sensor_msgs::CameraInfo>("/ib/left/camera_info", 5);
-  ros::Publisher rc = nh.advertise<sensor_msgs::CameraInfo>("/ib/right/camera_info", 5);
-  ros::Publisher imu = nh.advertise<sensor_msgs::Imu>("/ib/imu/data", 2000);
+  StereoImuInputs in(nh, "/ib");
+  ros::Publisher &li = in.li, &ri = in.ri, &lc = in.lc, &rc = in.rc, &imu = in.imu;
   ros::Subscriber sub = nh.subscribe("/ib/odom", 100, ibOdomCb);
-  for (int i = 0; i < 100 && (li.getNumSubscribers() == 0 || ri.getNumSubscribers() == 0 || lc.getNumSubscribers() == 0 ||
-                              rc.getNumSubscribers() == 0 || imu.getNumSubscribers() == 0);
-       ++i)
-    ros::Duration(0.1).sleep();
+  in.connect();
   ASSERT_GT(imu.getNumSubscribers(), 0u);
   ros::Duration(0.5).sleep();
 
   rosbag::Bag bag(bag_path);
   std::vector<sensor_msgs::ImuConstPtr> imus;
   std::map<double, std::vector<rosbag::MessageInstance>> frames;
-  for (const rosbag::MessageInstance& m : rosbag::View(bag))
-  {
-    if (auto i = m.instantiate<sensor_msgs::Imu>())
-      imus.push_back(i);
-    else if (m.instantiate<sensor_msgs::Image>() || m.instantiate<sensor_msgs::CameraInfo>())
-    {
-      const ros::Time t = m.instantiate<sensor_msgs::Image>() ? m.instantiate<sensor_msgs::Image>()->header.stamp
-                                                              : m.instantiate<sensor_msgs::CameraInfo>()->header.stamp;
-      frames[t.toSec()].push_back(m);
-    }
-  }
+  readImuAndFrames(bag, imus, frames);
   ASSERT_GE(frames.size(), 14u);
   const int n_good = 8;
   size_t next_imu = 0, k = 0;
