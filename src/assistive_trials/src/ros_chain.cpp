@@ -47,6 +47,7 @@ struct RosChain::Impl
   // newest per stamp (sim time, ns) of what came back
   int64_t cue_stamp = -1, state_stamp = -1, image_stamp = -1;
   assistive_msgs::TactileCue last_cue;
+  assistive_msgs::NavigationState last_state;  // for the trace: what the cue logic was given
   std::chrono::steady_clock::time_point cue_wall, image_wall, sent_wall;
   double base = 100.0;  // sim time of this trial's t = 0
   double last_sent = 0.0;
@@ -115,6 +116,7 @@ RosChain::RosChain(ros::NodeHandle& nh, const World& world, const Options& o) : 
           [this](const assistive_msgs::NavigationState::ConstPtr& m) {
             std::lock_guard<std::mutex> l(d_->m);
             d_->state_stamp = std::max(d_->state_stamp, int64_t(m->source_stamp.toNSec()));
+            d_->last_state = *m;
           }));
 }
 
@@ -295,9 +297,18 @@ ChainCue RosChain::frame(double t, const BodyState& s)
       const auto from = d.o.kind == VISION && d.image_stamp == ns ? d.image_wall : sent;
       out.latency_ms = std::chrono::duration<double, std::milli>(d.cue_wall - from).count();
       if (d.trace)
-        std::fprintf(stderr, "t %.2f xy %.2f %.2f yaw %.0f head %.0f | mode %d %.2f %.2f %.2f %.2f | %.0f ms | %s\n", t,
-                     s.xy.x(), s.xy.y(), s.yaw * 180 / M_PI, s.head_yaw * 180 / M_PI, out.mode, out.motors[0],
-                     out.motors[1], out.motors[2], out.motors[3], out.latency_ms, q.reason.c_str());
+      {
+        // the planner's state in its own frame (map): free distances ahead / left / right / along
+        // the steering point, the steering point's and the walk's yaw, the waypoint's distance
+        const assistive_msgs::NavigationState& n = d.last_state;
+        std::fprintf(stderr,
+                     "t %.2f xy %.2f %.2f yaw %.0f head %.0f | mode %d %.2f %.2f %.2f %.2f | %.0f ms | %s"
+                     " | st %d free %.2f l %.2f r %.2f steer %.0f free %.2f walk %.0f v %.2f wp %.2f\n",
+                     t, s.xy.x(), s.xy.y(), s.yaw * 180 / M_PI, s.head_yaw * 180 / M_PI, out.mode, out.motors[0],
+                     out.motors[1], out.motors[2], out.motors[3], out.latency_ms, q.reason.c_str(), int(n.status),
+                     n.free_distance_ahead, n.free_distance_left, n.free_distance_right, n.steer_heading * 180 / M_PI,
+                     n.free_distance_steer, n.walk_heading * 180 / M_PI, n.walking_speed, n.waypoint_distance);
+      }
       return out;
     }
     if (!image_seen && d.o.kind == VISION && d.image_stamp == ns)
