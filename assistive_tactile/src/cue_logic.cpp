@@ -435,7 +435,10 @@ Cue CueLogic::update(const NavInput& in, double now)
         waist_side_ = 0;
         c.mode = CueMode::IDLE;
       }
-      if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
+      Cue turn;
+      if (c.mode == CueMode::ALERT && boxedInTurn(in, now, turn))
+        c = turn;
+      else if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
         c = guideWithSweep(in, now);
       else
       {
@@ -484,6 +487,35 @@ Cue CueLogic::update(const NavInput& in, double now)
   }
   last_mode_ = c.mode;
   return c;
+}
+
+bool CueLogic::boxedInTurn(const NavInput& in, double now, Cue& out)
+{
+  // A standing wearer held by a stop (an obstacle close ahead and no room to step aside) with the
+  // path leading off to a side is turned on the spot towards it: a turn moves no part of the body
+  // (its disc) and so needs no free floor, and facing the way on gives the next decision its
+  // sides anew. Stopping it again and again kept it there for good (vision trials, course and
+  // plaza: standing 0.35 m before a wall, the steering point 56 deg to the right, stopped for the
+  // last 100 s). Walking on is never asked from here: a path straight into the obstacle stays a stop.
+  const CueParams& p = params_;
+  const bool standing = !(in.walking_speed >= p.walking_speed_mps);
+  if (!standing || !(in.waypoint_distance >= p.guidance_min_waypoint_m))
+    return false;
+  observeHead(in, now);  // the head's turn rate (holdTurn) and the body's facing
+  if (busy_ && busy_turn_)
+  {
+    if (holdTurn(in, now, out))
+      return true;
+  }
+  busy_ = false;
+  const double err = wrapAngle(in.steer_heading - facing(in));
+  if (std::fabs(err) * kRadToDeg <= p.stand_turn_near_deg)
+    return false;
+  char buf[120];
+  std::snprintf(buf, sizeof(buf), "obstacle %.2f m ahead, no room to step aside, the way on %.0f deg off: ",
+                std::max(0.0, in.free_ahead), err * kRadToDeg);
+  out = startTurn(in, now, err, buf);
+  return true;
 }
 
 Cue CueLogic::overlayCrossing(const NavInput& in, const Cue& base, double now)
