@@ -90,10 +90,43 @@ int freePort()
   return port;
 }
 
+/// The children's process groups (roscore, roslaunch): each runs in its own group, so a Ctrl-C or
+/// a kill of this CLI would not reach them and left a private roscore and a whole pipeline running.
+/// The handler ends them with it (kill() is async-signal-safe).
+volatile sig_atomic_t g_child_groups[4] = { 0, 0, 0, 0 };
+
+void endChildrenAndExit(int sig)
+{
+  for (volatile sig_atomic_t& g : g_child_groups)
+    if (g > 0)
+      kill(-pid_t(g), SIGINT);  // roslaunch and roscore shut their nodes down on SIGINT
+  signal(sig, SIG_DFL);
+  raise(sig);
+}
+
+void trackChild(pid_t pid, bool add)
+{
+  for (volatile sig_atomic_t& g : g_child_groups)
+    if (add ? g == 0 : g == pid)
+    {
+      g = add ? pid : 0;
+      return;
+    }
+}
+
 /// A child process in its own process group, output to `log`.
 pid_t spawn(const std::vector<std::string>& args, const std::string& log)
 {
+  static const bool handlers = [] {
+    signal(SIGINT, endChildrenAndExit);
+    signal(SIGTERM, endChildrenAndExit);
+    signal(SIGHUP, endChildrenAndExit);
+    return true;
+  }();
+  (void)handlers;
   const pid_t pid = fork();
+  if (pid > 0)
+    trackChild(pid, true);
   if (pid == 0)
   {
     setpgid(0, 0);
@@ -115,6 +148,7 @@ pid_t spawn(const std::vector<std::string>& args, const std::string& log)
 void stopChild(pid_t pid, double timeout_s = 20.0)
 {
   if (pid <= 0) return;
+  trackChild(pid, false);
   kill(-pid, SIGINT);
   const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   int st;
