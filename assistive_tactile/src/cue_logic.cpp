@@ -953,7 +953,12 @@ bool CueLogic::holdVeer(const NavInput& in, double now, double err, bool walking
   // only further the same way: a path that flips to the other side of an obstacle (two ways
   // round it cost the same) must not make the wearer zig-zag; that waits until the veer is done
   const bool same_way = wrapAngle(err - remaining) * busy_angle_ > 0.0;
-  const bool superseded = walking && same_way && residual > 2.0 * p.veer_step_deg;
+  // ... and not while the head still turns the other way: the wearer is finishing the veer before
+  // (a level misread as stronger), so the error grows by its own motion, which the veer asked
+  // nets out once carried out (traced, plaza vision trial: a right veer overtaken three times
+  // in 0.6 s while the head still turned left, then a 64 deg stop-and-turn: a zig-zag)
+  const bool finishing_other_way = yaw_rate_ * sign * kRadToDeg < -p.body_turn_rate_deg;
+  const bool superseded = walking && same_way && residual > 2.0 * p.veer_step_deg && !finishing_other_way;
   if (!done && !superseded)
   {
     out = holdPattern(fmt("veering (%.0f deg to go)", std::max(0.0, std::fabs(busy_angle_) - turned) * kRadToDeg));
