@@ -685,6 +685,36 @@ TEST(CueLogic, VeerDoneWhenSeenDespiteDrift)
 
 // A veer carried out far beyond its amount (a weak burst read as medium) is done at once: the
 // correction is asked while the wearer still turns, not after it steadied.
+// A right veer asked while the wearer is still finishing a left one (its level misread as
+// stronger): the head goes on turning left at 30 deg/s for 1 s and the steering point falls
+// further right by the wearer's own motion. The veer asked is not overtaken meanwhile (three
+// further veers and a stop-and-turn followed in a plaza vision trial); once the head has stopped
+// turning the other way, a veer still needed beyond it may be asked again.
+TEST(CueLogic, VeerNotOvertakenWhileTheWearerFinishesTheLastOne)
+{
+  CueLogic v;
+  const double h0 = 0.3, way_on = h0 - 20 * kDeg;
+  NavInput in = turn(-20, h0);
+  in.walking_speed = 1.2;
+  const Cue veer = fresh(v, in, 0.0);
+  ASSERT_EQ(veer.instruction, Instruction::VEER);
+  ASSERT_LT(veer.intensity[LEFT_SHOULDER], veer.intensity[RIGHT_SHOULDER]);
+  int asked_again_while_turning_left = 0;
+  double t = 1.0 / 15;
+  for (; t < 1.0; t += 1.0 / 15)
+  {
+    in.walk_heading = in.head_yaw = in.heading = h0 + 30.0 * kDeg * t;  // still turning left
+    in.steer_heading = way_on;                                           // 20 .. 50 deg to the right
+    asked_again_while_turning_left += fresh(v, in, t).pattern.id != veer.pattern.id;
+  }
+  EXPECT_EQ(asked_again_while_turning_left, 0);
+  // the head steady 50 deg left of the way on, the veer not yet begun: the rest is asked
+  bool asked = false;
+  for (; t < 2.0 && !asked; t += 1.0 / 15)
+    asked = fresh(v, in, t).pattern.id != veer.pattern.id;
+  EXPECT_TRUE(asked) << "a veer further right once the head no longer turns left";
+}
+
 TEST(CueLogic, OvershotVeerIsDoneAtOnce)
 {
   CueLogic v;
