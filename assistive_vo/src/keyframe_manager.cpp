@@ -94,6 +94,7 @@ void KeyframeManager::start(const cv::Mat& left, const cv::Mat& right, bool from
   kf_.T_kf_prev = Eigen::Isometry3d::Identity();
   kf_.R_gyro.setIdentity();
   kf_.R_prev_vision.setIdentity();
+  kf_.gyro_rate.setZero();
   kf_.gyro_since = true;
   kf_.stamp = stamp;
   kf_.covariance = cov_cur;

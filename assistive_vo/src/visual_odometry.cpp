@@ -907,7 +907,11 @@ void VisualOdometry::predictMotion(const Eigen::Quaterniond* gyro_link, FrameCon
     fc.R_gyro_opt = R_lo.transpose() * Rl * R_lo;
     fc.T_pred.linear() = fc.R_gyro_opt;
     st.gyro_rate_dps = angleOf(Rl) / fc.dt_real * 180.0 / M_PI;
+    const Eigen::AngleAxisd aa(fc.R_gyro_opt);
+    gyro_rate_opt_ = aa.angle() * aa.axis() / fc.dt_real;
   }
+  else
+    gyro_rate_opt_.setZero();
   if (fc.gap)
     fc.T_pred.translation().setZero();
 }
@@ -1047,6 +1051,15 @@ void VisualOdometry::startKeyframe(const cv::Mat& left, const cv::Mat& right, bo
                                    FrameStats& st)
 {
   keyframes_.start(left, right, from_current_tracks, tracker_, T_w_cur_, cov_cur_, last_stamp_pending_, st);
+  keyframes_.setGyroRate(gyro_rate_opt_);
+}
+
+double VisualOdometry::gyroTimingVariance() const
+{
+  // the keyframe's rate in the current axes (R_gyro: keyframe -> current)
+  const VoKeyframe& kf = keyframes_.current();
+  const Eigen::Vector3d dw = gyro_rate_opt_ - kf.R_gyro.transpose() * kf.gyro_rate;
+  return dw.squaredNorm() * p_.gyro_time_sigma_s * p_.gyro_time_sigma_s;
 }
 
 void VisualOdometry::refinePose(const FrameContext& fc, const Eigen::Isometry3d& T_kf_pred, FrameStats& st,
@@ -1061,7 +1074,11 @@ void VisualOdometry::refinePose(const FrameContext& fc, const Eigen::Isometry3d&
   prior.T_kf_prev = kf.T_kf_prev;
   prior.gyro = kf.gyro_since && p_.gyro_rotation_prior && m.dt_kf > 0;
   prior.R_kf_gyro = kf.R_gyro;
-  prior.gyro_variance = prior.gyro ? bias_.rotationVariance(m.dt_kf) : 1.0;
+  // The gyro's noise and bias over the span, and its timing against the images: a gyro a few ms
+  // late (the closed loop's: 60 Hz rates by backward differences, 8 ms) pulled the pose 1-2 deg
+  // and 0.1-0.2 m off at the end of turns on the spot, the points with it (issue 34).
+  m.gyro_timing_var = prior.gyro ? gyroTimingVariance() : 0.0;
+  prior.gyro_variance = prior.gyro ? bias_.rotationVariance(m.dt_kf) + m.gyro_timing_var : 1.0;
   refiner_.refine(tracker_, prior, st, m);
 }
 
@@ -1082,7 +1099,8 @@ void VisualOdometry::updateGyroBias(const MotionEstimate& m)
   // Vision rotation over the keyframe span vs the integrated gyro; only over spans long enough
   // for the bias to show.
   if (keyframes_.current().gyro_since && m.br.ok && m.dt_kf > 0.3)
-    bias_.update(m.R_vision, keyframes_.current().R_gyro, m.dt_kf, m.cov_vision.bottomRightCorner<3, 3>().trace() / 3);
+    bias_.update(m.R_vision, keyframes_.current().R_gyro, m.dt_kf,
+                 m.cov_vision.bottomRightCorner<3, 3>().trace() / 3 + m.gyro_timing_var);
 }
 
 void VisualOdometry::levelWithGravity(double stamp, const Eigen::Vector3d* dv_link)

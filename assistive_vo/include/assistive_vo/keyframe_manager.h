@@ -25,6 +25,7 @@ struct VoKeyframe
   Eigen::Matrix3d R_gyro = Eigen::Matrix3d::Identity();
   bool gyro_since = false;  ///< every frame since the keyframe had the gyro
   Eigen::Matrix3d R_prev_vision = Eigen::Matrix3d::Identity();  ///< vision-only, keyframe -> previous frame
+  Eigen::Vector3d gyro_rate = Eigen::Vector3d::Zero();  ///< the gyro's rate over the keyframe's frame (optical, rad/s)
   int tracks_started = 0;
   int cells_started = 0;  ///< grid cells holding a track when the keyframe started
 };
@@ -59,6 +60,8 @@ public:
   void setPrevious(const Eigen::Isometry3d& T_kf_cur) { kf_.T_kf_prev = T_kf_cur; }
   /// The frame's vision-only rotation keyframe -> frame (the gyro check of the next frame).
   void setPreviousVisionRotation(const Eigen::Matrix3d& R) { kf_.R_prev_vision = R; }
+  /// The gyro's rate over the keyframe's own frame interval (bias-corrected, optical axes, rad/s).
+  void setGyroRate(const Eigen::Vector3d& w) { kf_.gyro_rate = w; }
   /// The gyro's rotation of this frame joins the keyframe's (none: the span has no gyro prior).
   void addGyro(bool have_gyro, const Eigen::Matrix3d& R_gyro_opt);
 

@@ -25,6 +25,9 @@ struct MotionEstimate
   Eigen::Isometry3d T_kf_cur = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_prev_cur = Eigen::Isometry3d::Identity();
   double dt_kf = 0.0;  ///< time since the keyframe
+  /// Variance (rad^2 per axis) of the gyro's rotation since the keyframe from its timing against
+  /// the images (gyro_time_sigma x the rate change since the keyframe)
+  double gyro_timing_var = 0.0;
   bool with_lines = false;  ///< from the point+line RANSAC (refined on points and lines)
   bool lines_only = false;  ///< refined on the lines (and the motion prior) alone: too few points to check
 };
