@@ -435,10 +435,7 @@ Cue CueLogic::update(const NavInput& in, double now)
         waist_side_ = 0;
         c.mode = CueMode::IDLE;
       }
-      Cue turn;
-      if (c.mode == CueMode::ALERT && boxedInTurn(in, now, turn))
-        c = turn;
-      else if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
+      if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
         c = guideWithSweep(in, now);
       else
       {
@@ -487,35 +484,6 @@ Cue CueLogic::update(const NavInput& in, double now)
   }
   last_mode_ = c.mode;
   return c;
-}
-
-bool CueLogic::boxedInTurn(const NavInput& in, double now, Cue& out)
-{
-  // A standing wearer held by a stop (an obstacle close ahead and no room to step aside) with the
-  // path leading off to a side is turned on the spot towards it: a turn moves no part of the body
-  // (its disc) and so needs no free floor, and facing the way on gives the next decision its
-  // sides anew. Stopping it again and again kept it there for good (vision trials, course and
-  // plaza: standing 0.35 m before a wall, the steering point 56 deg to the right, stopped for the
-  // last 100 s). Walking on is never asked from here: a path straight into the obstacle stays a stop.
-  const CueParams& p = params_;
-  const bool standing = !(in.walking_speed >= p.walking_speed_mps);
-  if (!standing || !(in.waypoint_distance >= p.guidance_min_waypoint_m))
-    return false;
-  observeHead(in, now);  // the head's turn rate (holdTurn) and the body's facing
-  if (busy_ && busy_turn_)
-  {
-    if (holdTurn(in, now, out))
-      return true;
-  }
-  busy_ = false;
-  const double err = wrapAngle(in.steer_heading - facing(in));
-  if (std::fabs(err) * kRadToDeg <= p.stand_turn_near_deg)
-    return false;
-  char buf[120];
-  std::snprintf(buf, sizeof(buf), "obstacle %.2f m ahead, no room to step aside, the way on %.0f deg off: ",
-                std::max(0.0, in.free_ahead), err * kRadToDeg);
-  out = startTurn(in, now, err, buf);
-  return true;
 }
 
 Cue CueLogic::overlayCrossing(const NavInput& in, const Cue& base, double now)
@@ -953,12 +921,7 @@ bool CueLogic::holdVeer(const NavInput& in, double now, double err, bool walking
   // only further the same way: a path that flips to the other side of an obstacle (two ways
   // round it cost the same) must not make the wearer zig-zag; that waits until the veer is done
   const bool same_way = wrapAngle(err - remaining) * busy_angle_ > 0.0;
-  // ... and not while the head still turns the other way: the wearer is finishing the veer before
-  // (a level misread as stronger), so the error grows by its own motion, which the veer asked
-  // nets out once carried out (traced, plaza vision trial: a right veer overtaken three times
-  // in 0.6 s while the head still turned left, then a 64 deg stop-and-turn: a zig-zag)
-  const bool finishing_other_way = yaw_rate_ * sign * kRadToDeg < -p.body_turn_rate_deg;
-  const bool superseded = walking && same_way && residual > 2.0 * p.veer_step_deg && !finishing_other_way;
+  const bool superseded = walking && same_way && residual > 2.0 * p.veer_step_deg;
   if (!done && !superseded)
   {
     out = holdPattern(fmt("veering (%.0f deg to go)", std::max(0.0, std::fabs(busy_angle_) - turned) * kRadToDeg));

@@ -174,18 +174,6 @@ TEST(CueLogic, SingleDecisionTable)
     { "standing at 0.3 m with room: step out, not stop again", standing(close(0.3, 2, 0.2)), CueMode::PROXIMITY,
       { 0, 0, f, 0 }, "step left" },
     { "standing at 0.3 m, no room: stop", standing(close(0.3, 0.2, 0.2)), CueMode::ALERT, { f, f, f, f }, nullptr },
-    { "standing at 0.3 m, no room, the way on 56 deg right: turn on the spot",
-      [] { NavInput in = standing(close(0.3, 0.2, 0.1)); in.steer_heading -= 56 * kDeg; in.free_steer = 0.3;
-           return in; }(), CueMode::GUIDANCE, { 0, level(1), 0, 0 }, "turn right 56" },
-    { "standing at 0.8 m, no room, the way on 40 deg left: turn on the spot",
-      [] { NavInput in = standing(close(0.8, 0.3, 0.3)); in.steer_heading += 40 * kDeg; in.free_steer = 0.4;
-           return in; }(), CueMode::GUIDANCE, { level(1), 0, 0, 0 }, "turn left 40" },
-    { "standing at 0.3 m, no room, the way on 10 deg off: stop (never a go into it)",
-      [] { NavInput in = standing(close(0.3, 0.2, 0.2)); in.steer_heading += 10 * kDeg; return in; }(),
-      CueMode::ALERT, { f, f, f, f }, "stop" },
-    { "walking at 0.3 m, no room, the way on 56 deg right: stop first",
-      [] { NavInput in = close(0.3, 0.2, 0.2); in.steer_heading -= 56 * kDeg; in.free_steer = 0.3; return in; }(),
-      CueMode::ALERT, { f, f, f, f }, "stop" },
     { "side-step beats a steering point straight on",
       [] { NavInput in = close(0.8, 1.5, 0.2); in.steer_heading += 8 * kDeg; return in; }(), CueMode::PROXIMITY,
       { 0, 0, proximityLevel(0.8), 0 }, nullptr },
@@ -685,36 +673,6 @@ TEST(CueLogic, VeerDoneWhenSeenDespiteDrift)
 
 // A veer carried out far beyond its amount (a weak burst read as medium) is done at once: the
 // correction is asked while the wearer still turns, not after it steadied.
-// A right veer asked while the wearer is still finishing a left one (its level misread as
-// stronger): the head goes on turning left at 30 deg/s for 1 s and the steering point falls
-// further right by the wearer's own motion. The veer asked is not overtaken meanwhile (three
-// further veers and a stop-and-turn followed in a plaza vision trial); once the head has stopped
-// turning the other way, a veer still needed beyond it may be asked again.
-TEST(CueLogic, VeerNotOvertakenWhileTheWearerFinishesTheLastOne)
-{
-  CueLogic v;
-  const double h0 = 0.3, way_on = h0 - 20 * kDeg;
-  NavInput in = turn(-20, h0);
-  in.walking_speed = 1.2;
-  const Cue veer = fresh(v, in, 0.0);
-  ASSERT_EQ(veer.instruction, Instruction::VEER);
-  ASSERT_LT(veer.intensity[LEFT_SHOULDER], veer.intensity[RIGHT_SHOULDER]);
-  int asked_again_while_turning_left = 0;
-  double t = 1.0 / 15;
-  for (; t < 1.0; t += 1.0 / 15)
-  {
-    in.walk_heading = in.head_yaw = in.heading = h0 + 30.0 * kDeg * t;  // still turning left
-    in.steer_heading = way_on;                                           // 20 .. 50 deg to the right
-    asked_again_while_turning_left += fresh(v, in, t).pattern.id != veer.pattern.id;
-  }
-  EXPECT_EQ(asked_again_while_turning_left, 0);
-  // the head steady 50 deg left of the way on, the veer not yet begun: the rest is asked
-  bool asked = false;
-  for (; t < 2.0 && !asked; t += 1.0 / 15)
-    asked = fresh(v, in, t).pattern.id != veer.pattern.id;
-  EXPECT_TRUE(asked) << "a veer further right once the head no longer turns left";
-}
-
 TEST(CueLogic, OvershotVeerIsDoneAtOnce)
 {
   CueLogic v;
@@ -799,40 +757,6 @@ TEST(CueLogic, TurnRateLearntFromTheAngleTurned)
   // learnt 0.7 x 90 + 0.3 x 60 = 81 deg/s: the 30 deg still to turn take 30 / 81 + 0.25 = 0.62 s
   ASSERT_EQ(next.instruction, Instruction::TURN);
   EXPECT_EQ(next.pattern.on_10ms, 62);
-}
-
-// A standing wearer stopped in a tight spot (a wall 0.35 m ahead, nothing free to the sides) with
-// the way on 60 deg to the right: turned on the spot, the turn held while the head turns (the
-// obstacle stays ahead meanwhile), then stopped facing the way on until it has room again.
-TEST(CueLogic, BoxedInStandingWearerIsTurnedTowardsTheWayOn)
-{
-  CueLogic s;
-  NavInput in = standing(close(0.35, 0.15, 0.1));
-  const double way_on = in.head_yaw - 60 * kDeg;
-  in.steer_heading = way_on;
-  in.free_steer = 0.3;
-  const Cue t0 = fresh(s, in, 0.0);
-  ASSERT_EQ(t0.instruction, Instruction::TURN) << t0.reason;
-  EXPECT_GT(t0.intensity[RIGHT_SHOULDER], 0.f);
-  EXPECT_NE(t0.reason.find("no room"), std::string::npos) << t0.reason;
-  // the wearer turns right at 60 deg/s from 1.0 s to 2.0 s; the obstacle stays 0.35 m ahead
-  Cue c = t0;
-  bool stopped_while_turning = false;
-  for (double t = 1.0 / 15; t < 4.0; t += 1.0 / 15)
-  {
-    const double k = std::clamp(t - 1.0, 0.0, 1.0);
-    in.head_yaw = in.walk_heading = in.heading = 0.3 - 60.0 * kDeg * k;
-    c = fresh(s, in, t);
-    if (t < 2.0)
-      stopped_while_turning |= c.instruction == Instruction::STOP;
-  }
-  EXPECT_FALSE(stopped_while_turning) << "the turn under way is held, not cut by a stop";
-  EXPECT_NEAR(wrapAngle(in.head_yaw - way_on), 0.0, 1e-6);
-  EXPECT_EQ(c.instruction, Instruction::STOP) << "facing the way on, 0.35 m free: it stands; " << c.reason;
-  // room opens to the left (the map fills in): a side-step, not another turn
-  in.free_left = 1.5;
-  c = fresh(s, in, 4.1);
-  EXPECT_EQ(c.instruction, Instruction::SIDESTEP) << c.reason;
 }
 
 // Doorways (the planner's passage_*): a walker whose straight walk passes the middle within the

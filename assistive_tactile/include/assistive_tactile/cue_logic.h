@@ -164,9 +164,6 @@ private:
   /// A stop-and-turn being carried out: true (and the held cue) while it lasts; its end learns
   /// the turning rate.
   bool holdTurn(const NavInput& in, double now, Cue& out);
-  /// A standing wearer stopped with no room to step aside: a turn on the spot towards the way on
-  /// (or the one under way held) in `out`; false when the way on lies ahead (the stop stands).
-  bool boxedInTurn(const NavInput& in, double now, Cue& out);
   /// A veer being carried out: true (and the held cue) until it was seen and steadied, overshot,
   /// or timed out; `superseding` when a corner asks for more at once.
   bool holdVeer(const NavInput& in, double now, double err, bool walking, Cue& out, bool& superseding);
