@@ -884,6 +884,33 @@ struct SyntheticImu
   }
 };
 
+/// A VO fed along `pose` with a synthetic IMU: the first frame (t = 0) rendered and processed, the
+/// IMU's odom frame taken from it; then each frame with the IMU's samples over [t0, t1] (shifted by
+/// `gyro_lag_s`: a late gyro). The set-up the gap, stop and turn runs share.
+struct ImuRig
+{
+  StereoCamera cam = test::makeCamera();
+  VisualOdometry vo;
+  SyntheticImu imu;
+
+  ImuRig(const VoParams& p, const test::PlaneWorld& world, const std::function<Eigen::Isometry3d(double)>& pose)
+    : vo(p, cam)
+  {
+    imu.pose = pose;
+    const VoOutput o = vo.process(world.render(cam, pose(0), false), world.render(cam, pose(0), true), 0.0);
+    imu.T_odom_w = o.T_odom_optical * pose(0).inverse();
+  }
+  VoOutput frame(double t0, double t1, const cv::Mat& left, const cv::Mat& right, double gyro_lag_s = 0.0)
+  {
+    Eigen::Quaterniond gyro;
+    Eigen::Vector3d dv, dp;
+    imu.between(t0 - gyro_lag_s, t1 - gyro_lag_s, gyro, dv, dp);
+    return vo.process(left, right, t1, &gyro, &dv, &dp);
+  }
+  /// The truth at t in the VO's odom axes.
+  Eigen::Isometry3d truth(double t) const { return imu.T_odom_w * imu.pose(t); }
+};
+
 double yawDeg(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)) * 180.0 / M_PI; }
 }  // namespace
 
@@ -1023,14 +1050,10 @@ struct GapRun
                     double t_end, double blind_after_s = 0.0)
   {
     GapRun r;
-    StereoCamera cam = test::makeCamera();
     test::PlaneWorld world;
-    VisualOdometry vo(p, cam);
-    SyntheticImu imu;
-    imu.pose = pose;
-    const cv::Mat black(cam.height, cam.width, CV_8UC1, cv::Scalar(0));
-    VoOutput o = vo.process(world.render(cam, pose(0), false), world.render(cam, pose(0), true), 0.0);
-    imu.T_odom_w = o.T_odom_optical * pose(0).inverse();
+    ImuRig rig(p, world, pose);
+    VisualOdometry& vo = rig.vo;
+    const cv::Mat black(rig.cam.height, rig.cam.width, CV_8UC1, cv::Scalar(0));
     double t_prev = 0.0;
     for (int k = 1;; ++k)
     {
@@ -1039,9 +1062,6 @@ struct GapRun
         t += gap_s - 1 / 15.0;  // frame 31 comes gap_s after frame 30
       if (t > t_end + 1e-9)
         break;
-      Eigen::Quaterniond gyro;
-      Eigen::Vector3d dv, dp;
-      imu.between(t_prev, t, gyro, dv, dp);
       const Eigen::Isometry3d T = pose(t);
       const bool blind = k > 30 && t < 2.0 + gap_s + blind_after_s - 1e-9;
       if (k == 31)
@@ -1049,10 +1069,9 @@ struct GapRun
         r.resets_before = vo.resets();
         r.first_after = r.out.size();
       }
-      o = blind ? vo.process(black, black, t, &gyro, &dv, &dp)
-                : vo.process(world.render(cam, T, false), world.render(cam, T, true), t, &gyro, &dv, &dp);
-      r.out.push_back(o);
-      r.truth.push_back(imu.T_odom_w * T);
+      r.out.push_back(blind ? rig.frame(t_prev, t, black, black)
+                            : rig.frame(t_prev, t, world.render(rig.cam, T, false), world.render(rig.cam, T, true)));
+      r.truth.push_back(rig.truth(t));
       r.t.push_back(t);
       t_prev = t;
     }
@@ -1262,30 +1281,22 @@ struct StopRun
                      double blind_to, double t_end)
   {
     StopRun r;
-    StereoCamera cam = test::makeCamera();
     test::PlaneWorld world;
-    VisualOdometry vo(p, cam);
-    SyntheticImu imu;
-    imu.pose = pose;
-    const cv::Mat flat(cam.height, cam.width, CV_8UC1, cv::Scalar(128));
-    VoOutput o = vo.process(world.render(cam, pose(0), false), world.render(cam, pose(0), true), 0.0);
-    imu.T_odom_w = o.T_odom_optical * pose(0).inverse();
+    ImuRig rig(p, world, pose);
+    const cv::Mat flat(rig.cam.height, rig.cam.width, CV_8UC1, cv::Scalar(128));
     for (int k = 1; k / 15.0 <= t_end + 1e-9; ++k)
     {
       const double t = k / 15.0;
-      Eigen::Quaterniond gyro;
-      Eigen::Vector3d dv, dp;
-      imu.between((k - 1) / 15.0, t, gyro, dv, dp);
       const Eigen::Isometry3d T = pose(t);
       const bool blind = t >= blind_from - 1e-9 && t < blind_to - 1e-9;
-      o = blind ? vo.process(flat, flat, t, &gyro, &dv, &dp)
-                : vo.process(world.render(cam, T, false), world.render(cam, T, true), t, &gyro, &dv, &dp);
-      r.out.push_back(o);
-      r.truth.push_back(imu.T_odom_w * T);
+      r.out.push_back(blind ? rig.frame((k - 1) / 15.0, t, flat, flat)
+                            : rig.frame((k - 1) / 15.0, t, world.render(rig.cam, T, false),
+                                        world.render(rig.cam, T, true)));
+      r.truth.push_back(rig.truth(t));
       r.t.push_back(t);
     }
-    r.resets = vo.resets();
-    r.holds = vo.standingHolds();
+    r.resets = rig.vo.resets();
+    r.holds = rig.vo.standingHolds();
     return r;
   }
 };
@@ -1419,22 +1430,15 @@ struct TurnRun
                      double lag_from = 0.0, double gyro_lag_s = 0.0)
   {
     TurnRun r;
-    StereoCamera cam = test::makeCamera();
-    VisualOdometry vo(p, cam);
-    SyntheticImu imu;
-    imu.pose = pose;
-    VoOutput o = vo.process(world.render(cam, pose(0), false), world.render(cam, pose(0), true), 0.0);
-    imu.T_odom_w = o.T_odom_optical * pose(0).inverse();
+    ImuRig rig(p, world, pose);
     for (int k = 1; k / 15.0 <= t_end + 1e-9; ++k)
     {
       const double t = k / 15.0;
-      Eigen::Quaterniond gyro;
-      Eigen::Vector3d dv, dp;
-      imu.between((k - 1) / 15.0 - gyro_lag_s, t - gyro_lag_s, gyro, dv, dp);
       const double lag = t >= lag_from - 1e-9 ? right_lag_s : 0.0;
-      o = vo.process(world.render(cam, pose(t), false), world.render(cam, pose(t - lag), true), t, &gyro, &dv, &dp);
+      const VoOutput o = rig.frame((k - 1) / 15.0, t, world.render(rig.cam, pose(t), false),
+                                   world.render(rig.cam, pose(t - lag), true), gyro_lag_s);
       r.out.push_back(o);
-      r.truth.push_back(imu.T_odom_w * pose(t));
+      r.truth.push_back(rig.truth(t));
       r.t.push_back(t);
       if (std::getenv("VO_TURN_TRACE"))
       {
@@ -1449,8 +1453,8 @@ struct TurnRun
                     o.message.c_str());
       }
     }
-    r.resets = vo.resets();
-    r.inconsistent = vo.failSafe().stereo_inconsistent;
+    r.resets = rig.vo.resets();
+    r.inconsistent = rig.vo.failSafe().stereo_inconsistent;
     return r;
   }
 };
