@@ -28,6 +28,15 @@ Eigen::Isometry3d linkPose(const Eigen::Isometry3d& T_x_optical)
   T.linear() = T_x_optical.linear() * R_link_optical().transpose();
   return T;
 }
+/// The speed a standing hold may start from: the IMU-coasted velocity while coasting, else the
+/// last frame's motion over its interval (0 before any).
+double knownSpeed(const InertialCoaster& coast, const Eigen::Isometry3d& T_prev_cur, double dt)
+{
+  if (coast.coasting())
+    return coast.velocity().norm();
+  return dt > 1e-6 ? T_prev_cur.translation().norm() / dt : 0.0;
+}
+
 InertialCoaster::Options coastOptions(const VoParams& p)
 {
   InertialCoaster::Options o;
@@ -686,11 +695,7 @@ void VisualOdometry::detectStanding(FrameContext& fc)
   // No gait. A walk at constant speed without a bob would look the same (the accelerometer cannot
   // see a constant velocity), so a hold starts only at a speed known to be low: the IMU-coasted
   // velocity, or the last tracked frame's.
-  double speed = 0.0;
-  if (coast_.coasting())
-    speed = coast_.velocity().norm();
-  else if (last_dt_ > 1e-6)
-    speed = last_T_prev_cur_.translation().norm() / last_dt_;
+  const double speed = knownSpeed(coast_, last_T_prev_cur_, last_dt_);
   fc.standing = standing_now_ || speed <= p_.standing_max_speed;
 }
 
@@ -766,11 +771,7 @@ void VisualOdometry::standingOverGap(FrameContext& fc)
   standing_.clear();
   if (!(p_.standing_detection && (standing_now_ || quiet_before)))
     return;
-  double speed = 0.0;
-  if (coast_.coasting())
-    speed = coast_.velocity().norm();
-  else if (last_dt_ > 1e-6)
-    speed = last_T_prev_cur_.translation().norm() / last_dt_;
+  const double speed = knownSpeed(coast_, last_T_prev_cur_, last_dt_);
   const Eigen::Matrix3d R_odom_link = linkPose(T_odom_o0_ * T_w_cur_).linear();
   const Eigen::Vector3d dv = R_odom_link * fc.imu.dv - Eigen::Vector3d(0, 0, coastOptions(p_).gravity * fc.imu.dt);
   fc.standing = (standing_now_ || speed <= p_.standing_max_speed) && dv.norm() <= p_.standing_max_speed;
