@@ -11,6 +11,10 @@ namespace
 constexpr double kRadToDeg = 180.0 / M_PI;
 /// A veer's pulses last 0.15 s: a one-shoulder buzz is a turn once it lasted longer (README).
 constexpr double kTellApartS = 0.25;
+/// A stop-and-turn buzz lasts at least this much beyond kTellApartS: one barely longer than the
+/// time that tells it from a veer's pulse is read as a veer (issue 33, traced: a 1 deg turn's
+/// 0.26 s buzz asked of a walker before a doorway was carried out as a 15 deg veer, into the jamb).
+constexpr double kTurnMarginS = 0.05;
 
 double clamp01(double v)
 {
@@ -1032,7 +1036,7 @@ Cue CueLogic::startTurn(const NavInput& in, double now, double angle, const char
     level = std::max(1, std::min(3, int(std::lround(a / p.turn_step_deg))));
   const auto drive = beginShoulderCue(in, now, side, level, angle, true);
   turn_peak_rate_ = 0.0;
-  const double dur = std::min(2.5, std::fabs(angle) / turn_rate_est_ + kTellApartS);
+  const double dur = std::min(2.5, std::max(kTellApartS + kTurnMarginS, std::fabs(angle) / turn_rate_est_ + kTellApartS));
   char buf[200];
   std::snprintf(buf, sizeof(buf), "%sstop, turn %s %.0f deg (%.2f s buzz)", why, side > 0 ? "left" : "right", a, dur);
   return startPattern(CueMode::GUIDANCE, Instruction::TURN, level, drive, uint8_t(std::lround(dur * 100.0)), 0, 1, now,

@@ -822,6 +822,29 @@ TEST(CueLogic, PassageStraightOnOrStopAndAlign)
   }
 }
 
+// A stop-and-turn buzz barely longer than the 0.25 s that tells it from a veer's 0.15 s pulse
+// is read as a veer (traced, issue 33: a walker 1.55 m before an 0.80 m doorway, its walk passing
+// 0.08 m off the middle, was asked to stop and turn 1 deg with a 0.26 s buzz, carried it out as a
+// 15 deg veer and walked into the jamb). A turn's buzz lasts at least 0.30 s.
+TEST(CueLogic, SmallTurnBuzzStillReadsAsATurn)
+{
+  NavInput in = turn(0.0);
+  in.walking_speed = 1.0;
+  in.passage_distance = 1.55;
+  in.passage_width = 0.8;  // room 0.4 - 0.35 = 0.05 m
+  in.passage_heading = in.walk_heading + 3.0 * kDeg;  // passes 1.55 sin 3 deg = 0.08 m off
+  CueLogic c;
+  const Cue k = fresh(c, in, 0.0);
+  ASSERT_EQ(k.instruction, Instruction::TURN) << k.reason;
+  EXPECT_EQ(k.pattern.on_10ms, 30);  // 3 / 90 + 0.25 = 0.283 s asked: at least 0.30 s
+  EXPECT_EQ(k.pattern.count, 1);
+  // a large turn's buzz is its angle over the turning rate plus 0.25 s, as before
+  CueLogic s;
+  const Cue big = fresh(s, standing(turn(90.0)), 0.0);
+  ASSERT_EQ(big.instruction, Instruction::TURN);
+  EXPECT_EQ(big.pattern.on_10ms, 125);
+}
+
 // A side-step moves the body at 0.3 m/s (above walking_speed_mps) 90 deg off its facing: its
 // chord is no facing. Traced (gen_home_3004 trial 0): a wearer facing 100 deg side-stepped left
 // (chord -170 deg) 0.65 m before a doorway whose middle lay at 107 deg; judged on the chord it was
