@@ -971,21 +971,6 @@ Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, b
       return walkOn(fmt("%.0f deg off, in a doorway: straight on (walking on sweeps clear)", err * kRadToDeg), now,
                     false);
   }
-  if (veer && sweepReady(in))
-  {
-    // Never ask a veer that would carry the body into something while walking on sweeps clear
-    // (traced, the fault suite's course walk: a 15 deg veer asked 0.8 m before a doorway, the
-    // passage not yet reported, would have carried the body into the jamb; the next cycle's
-    // predictive stop then asked all four of a wearer who was passing the middle). The veer
-    // comes once it is clear (past the jamb, or nearer the way on). The veer as this wearer
-    // carries it out: the level's amount at its learnt gain.
-    const double expected = (ask > 0.0 ? 1.0 : -1.0) * veerLevel(a_ask, p.veer_step_deg, veer_gain_est_) *
-                            p.veer_step_deg / kRadToDeg * veer_gain_est_;
-    if (sweep(in, veerWalk(in, now, expected)).hit && !sweep(in, veerWalk(in, now, 0.0)).hit)
-      return walkOn(fmt("%.0f deg off: straight on (a veer would sweep into an obstacle, walking on sweeps clear)",
-                        err * kRadToDeg),
-                    now, false);
-  }
   if (!turn && !veer)
     return walkOn(fmt("on course (%.0f deg off)", err * kRadToDeg), now, !walking);
   const double step = turn ? p.turn_step_deg : p.veer_step_deg;
