@@ -912,6 +912,22 @@ struct ImuRig
 };
 
 double yawDeg(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)) * 180.0 / M_PI; }
+
+/// The quintic (minimum-jerk) profile from 0 to 1 over x in [0, 1]: its peak rate is 1.875 x the mean.
+double minimumJerk(double x)
+{
+  return x * x * x * (10 - 15 * x + 6 * x * x);
+}
+
+/// The optical frame in w with the head turned `yaw` left about the neck at `neck`, the camera
+/// `r_opt` (optical axes) from the turning axis.
+Eigen::Isometry3d headAboutNeck(double yaw, const Eigen::Vector3d& neck, const Eigen::Vector3d& r_opt)
+{
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();  // optical y is down
+  T.translation() = neck - r_opt + T.linear() * r_opt;
+  return T;
+}
 }  // namespace
 
 TEST(Standing, TurningOnTheSpotWithBlindFramesHoldsThePositionTrusted)
@@ -928,16 +944,10 @@ TEST(Standing, TurningOnTheSpotWithBlindFramesHoldsThePositionTrusted)
                                 Eigen::Vector3d(p.standing_pivot_forward, 0.0, p.standing_pivot_up);
   auto yaw = [](double t) {
     const double a = std::clamp((t - 1.0) / 3.0, 0.0, 1.0), b = std::clamp((t - 4.0) / 3.0, 0.0, 1.0);
-    auto s5 = [](double x) { return x * x * x * (10 - 15 * x + 6 * x * x); };
-    return (40.0 * s5(a) - 20.0 * s5(b)) * M_PI / 180.0;
+    return (40.0 * minimumJerk(a) - 20.0 * minimumJerk(b)) * M_PI / 180.0;
   };
   SyntheticImu imu;
-  imu.pose = [&](double t) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(-yaw(t), Eigen::Vector3d::UnitY()).toRotationMatrix();  // optical y is down
-    T.translation() = (Eigen::Vector3d(0, 0, 0) - r_opt) + T.linear() * r_opt;  // the neck still
-    return T;
-  };
+  imu.pose = [&](double t) { return headAboutNeck(yaw(t), Eigen::Vector3d::Zero(), r_opt); };  // the neck still
   const cv::Mat black(cam.height, cam.width, CV_8UC1, cv::Scalar(0)), flat(cam.height, cam.width, CV_8UC1, cv::Scalar(128));
   VoOutput o = vo.process(world.render(cam, imu.pose(0), false), world.render(cam, imu.pose(0), true), 0.0);
   imu.T_odom_w = o.T_odom_optical;
@@ -1110,11 +1120,7 @@ std::function<Eigen::Isometry3d(double)> turnOnTheSpot(double deg)
       R_link_optical().transpose() * Eigen::Vector3d(p.standing_pivot_forward, 0.0, p.standing_pivot_up);
   return [r_opt, deg](double t) {
     const double a = std::clamp((t - 2.05) / 1.2, 0.0, 1.0);
-    const double yaw = deg * M_PI / 180.0 * a * a * a * (10 - 15 * a + 6 * a * a);
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();  // optical y is down
-    T.translation() = -r_opt + T.linear() * r_opt;  // the neck still
-    return T;
+    return headAboutNeck(deg * M_PI / 180.0 * minimumJerk(a), Eigen::Vector3d::Zero(), r_opt);  // the neck still
   };
 }
 }  // namespace
@@ -1259,12 +1265,8 @@ std::function<Eigen::Isometry3d(double)> walkStopTurn(double v0, double decel, d
     else
       s = v0 * 2.0 + 0.5 * v0 * v0 / decel, v = 0.0;
     const double a = std::clamp((t - 4.0) / 1.2, 0.0, 1.0);
-    const double yaw = turn_deg * M_PI / 180.0 * a * a * a * (10 - 15 * a + 6 * a * a);
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();  // optical y is down
     const Eigen::Vector3d neck(0.0, bob * (v / std::max(v0, 1e-9)) * std::cos(2 * M_PI * s / 0.65), s);
-    T.translation() = neck - r_opt + T.linear() * r_opt;
-    return T;
+    return headAboutNeck(turn_deg * M_PI / 180.0 * minimumJerk(a), neck, r_opt);
   };
 }
 
@@ -1405,12 +1407,10 @@ std::function<Eigen::Isometry3d(double)> standAndTurn(const std::vector<double>&
     {
       const double dur = 1.875 * std::abs(deg) / peak_dps;
       const double a = std::clamp((t - t0) / dur, 0.0, 1.0);
-      yaw += deg * M_PI / 180.0 * a * a * a * (10 - 15 * a + 6 * a * a);
+      yaw += deg * M_PI / 180.0 * minimumJerk(a);
       t0 += dur + pause;
     }
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();  // optical y is down
-    T.translation() = -r_opt + T.linear() * r_opt;  // the neck still
+    Eigen::Isometry3d T = headAboutNeck(yaw, Eigen::Vector3d::Zero(), r_opt);  // the neck still
     T.linear() = T.linear() * R_pitch;
     return T;
   };
