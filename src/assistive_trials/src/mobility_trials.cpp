@@ -20,6 +20,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <iostream>
 #include <numeric>
 #include <string>
@@ -29,6 +30,7 @@
 
 #include <ros/ros.h>
 
+#include <assistive_tactile/cue_logic.h>
 #include <assistive_trials/ros_chain.h>
 #include <assistive_trials/trials.h>
 #include <assistive_sim/world_generator.h>
@@ -337,6 +339,9 @@ struct Summary
   double people_closest = 0;
   double ppws_worst = NAN;  ///< the worst trial's PPWS (0 = not completed)
   double unsure_max = NAN;  ///< metres walked after a scripted UNSURE began, most of any trial
+  std::array<double, 6> action{};  ///< seconds per VestWearer::Action over the trials
+  std::array<double, 7> begun{};   ///< cue patterns begun per Instruction
+  double doorway_turns = 0;
 
   explicit Summary(const std::vector<TrialResult>& res)
   {
@@ -362,6 +367,9 @@ struct Summary
       lat.insert(lat.end(), r.latency_ms.begin(), r.latency_ms.end());
       missed += r.missed_cues;
       people_closest += r.min_person_clearance_m;
+      for (size_t i = 0; i < action.size(); ++i) action[i] += r.action_s[i];
+      for (size_t i = 0; i < begun.size(); ++i) begun[i] += r.cues_begun[i];
+      doorway_turns += r.doorway_turns;
     }
     std::sort(lat.begin(), lat.end());
   }
@@ -372,12 +380,38 @@ struct Summary
   double timeMean() const { return nppws ? tmean / nppws : NAN; }
   double clearance() const { return clear / n; }
   double unsurePct() const { return cycles() > 0 ? 100 * modes[4] / cycles() : NAN; }
+  double actionPct(std::initializer_list<VestWearer::Action> a) const
+  {
+    const double all = std::accumulate(action.begin(), action.end(), 0.0);
+    double t = 0;
+    for (VestWearer::Action x : a) t += action[size_t(x)];
+    return all > 0 ? 100 * t / all : NAN;
+  }
+  double walkingPct() const { return actionPct({ VestWearer::WALK, VestWearer::VEER }); }
+  double begunPerTrial(assistive_tactile::Instruction i) const { return begun[size_t(i)] / n; }
   double latency(double q) const
   {
     if (lat.empty()) return double(NAN);
     return lat[std::min(lat.size() - 1, size_t(std::floor(q * double(lat.size() - 1) + 0.5)))];
   }
 };
+
+/// Where the wearer's time went and what the vest asked of it (issue 33: why a trial was slow).
+void reportTime(const Summary& S)
+{
+  using assistive_tactile::Instruction;
+  if (!(S.walkingPct() >= 0.0)) return;  // the cane walker: no vest
+  std::printf("  wearer's time        walking %.0f %% (veering %.0f %%), turning on the spot %.0f %%, standing %.0f %%, "
+              "side-stepping %.0f %%, feeling around %.0f %%\n",
+              S.walkingPct(), S.actionPct({ VestWearer::VEER }), S.actionPct({ VestWearer::TURN }),
+              S.actionPct({ VestWearer::STOPPED }), S.actionPct({ VestWearer::SIDESTEP }),
+              S.actionPct({ VestWearer::EXPLORE }));
+  std::printf("  cues begun / trial   %.1f stop-and-turn (%.1f by the doorway routine), %.1f stop, %.1f veer, %.1f side-step, "
+              "%.1f walk-on\n",
+              S.begunPerTrial(Instruction::TURN), S.doorway_turns / S.n, S.begunPerTrial(Instruction::STOP),
+              S.begunPerTrial(Instruction::VEER), S.begunPerTrial(Instruction::SIDESTEP),
+              S.begunPerTrial(Instruction::WALK_ON));
+}
 
 /// One world's report: the summary table and the JSON line of SPEC.md (issue 19).
 void reportWorld(const World& world, const std::string& mode, const std::string& label, bool cues, int trials, long seed,
@@ -406,6 +440,7 @@ void reportWorld(const World& world, const std::string& mode, const std::string&
     std::printf("  cues                 idle %.0f %%, guidance %.0f %%, proximity %.0f %%, alert %.0f %%, unsure %.0f %%\n",
                 100 * S.modes[0] / cycles, 100 * S.modes[1] / cycles, 100 * S.modes[2] / cycles, 100 * S.modes[3] / cycles,
                 100 * S.modes[4] / cycles);
+  reportTime(S);
   const double lat_med = S.latency(0.5), lat_p99 = S.latency(0.99);
   if (S.lat.empty())
     std::printf("  latency              n/a in %s mode (no camera pipeline)\n", mode.c_str());
@@ -420,13 +455,15 @@ void reportWorld(const World& world, const std::string& mode, const std::string&
               "\"wall_collisions_per_trial\": %s, \"overhang_collisions_per_trial\": %s, "
               "\"glass_collisions_per_trial\": %s, \"furniture_collisions_per_trial\": %s, \"people_collisions_per_trial\": %s, "
               "\"unsure_cue_pct\": %s, \"frames_without_cue\": %ld, \"ppws_pct_worst\": %s, \"unsure_walked_m_max\": %s, "
-              "\"wearers\": \"%s\"}\n",
+              "\"walking_pct\": %s, \"stop_turns_per_trial\": %s, \"stops_per_trial\": %s, \"wearers\": \"%s\"}\n",
               world.name.c_str(), mode.c_str(), cues ? "true" : "false", trials, num(S.coll / n).c_str(), S.worst,
               num(S.comp / n).c_str(), num(S.timeMean(), 2).c_str(), num(S.ppwsMean(), 1).c_str(), num(S.clear / n).c_str(),
               num(lat_med, 1).c_str(), num(lat_p99, 1).c_str(), num(S.kinds[0] / n).c_str(), num(S.kinds[1] / n).c_str(),
               num(S.kinds[2] / n).c_str(), num(S.kinds[3] / n).c_str(), num(people_coll).c_str(),
               cycles > 0 ? num(100 * S.modes[4] / cycles, 1).c_str() : "null", S.missed, num(S.ppws_worst, 1).c_str(),
-              num(S.unsure_max, 3).c_str(), g_wearers.c_str());
+              num(S.unsure_max, 3).c_str(), num(S.walkingPct(), 1).c_str(),
+              num(S.begunPerTrial(assistive_tactile::Instruction::TURN), 2).c_str(),
+              num(S.begunPerTrial(assistive_tactile::Instruction::STOP), 2).c_str(), g_wearers.c_str());
 }
 
 /// One world of a generated set.
@@ -811,6 +848,7 @@ int main(int argc, char** argv)
     std::printf("  cues                 idle %.0f %%, guidance %.0f %%, proximity %.0f %%, alert %.0f %%, unsure %.0f %%\n",
                 100 * A.modes[0] / cycles, 100 * A.modes[1] / cycles, 100 * A.modes[2] / cycles, 100 * A.modes[3] / cycles,
                 100 * A.modes[4] / cycles);
+  reportTime(A);
   std::printf("  wall time            %.1f s: generation %.1f s, trials %.1f s\n", wall_s, gen_total, trials_total);
   std::printf("  heat maps            %s_<world>.png\n", prefix.c_str());
   reportCauses(all);
@@ -823,7 +861,8 @@ int main(int argc, char** argv)
               "\"mean_clearance_m_worst\": %s, \"latency_ms_median\": %s, \"latency_ms_p99\": %s, "
               "\"wall_collisions_per_trial\": %s, \"overhang_collisions_per_trial\": %s, "
               "\"glass_collisions_per_trial\": %s, \"furniture_collisions_per_trial\": %s, \"people_collisions_per_trial\": %s, "
-              "\"unsure_cue_pct\": %s, \"frames_without_cue\": %ld, \"generate_s\": %s, \"trials_s\": %s}\n",
+              "\"unsure_cue_pct\": %s, \"frames_without_cue\": %ld, \"walking_pct\": %s, \"stop_turns_per_trial\": %s, "
+              "\"stops_per_trial\": %s, \"generate_s\": %s, \"trials_s\": %s}\n",
               jsonStr(kind_label).c_str(), n_worlds, failed, seed_base, mode.c_str(), opt.cues_enabled ? "true" : "false",
               int(A.n), trials, num(f_coll.mean).c_str(), num(f_coll.worst).c_str(), jsonStr(f_coll.worst_world).c_str(),
               A.worst, num(f_comp.mean).c_str(), num(f_comp.worst).c_str(), jsonStr(f_comp.worst_world).c_str(),
@@ -832,6 +871,8 @@ int main(int argc, char** argv)
               num(f_clear.worst).c_str(), num(A.latency(0.5), 1).c_str(), num(A.latency(0.99), 1).c_str(),
               num(kind_mean[0]).c_str(), num(kind_mean[1]).c_str(), num(kind_mean[2]).c_str(), num(kind_mean[3]).c_str(),
               num(kind_mean[size_t(ObstacleKind::PERSON)]).c_str(), num(A.unsurePct(), 1).c_str(), A.missed,
-              num(gen_total, 2).c_str(), num(trials_total, 2).c_str());
+              num(A.walkingPct(), 1).c_str(), num(A.begunPerTrial(assistive_tactile::Instruction::TURN), 2).c_str(),
+              num(A.begunPerTrial(assistive_tactile::Instruction::STOP), 2).c_str(), num(gen_total, 2).c_str(),
+              num(trials_total, 2).c_str());
   return 0;
 }

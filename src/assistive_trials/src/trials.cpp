@@ -415,7 +415,11 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
           // the vest restarts a pattern when any of its bytes changes (vest_protocol.h, version 4)
           if (cue.pattern_id != playing.pattern_id || cue.pulse_on_ms != playing.pulse_on_ms ||
               cue.pulse_off_ms != playing.pulse_off_ms || cue.pulse_count != playing.pulse_count)
+          {
             playing_since = t;
+            ++r.cues_begun[size_t(std::min(6, std::max(0, cue.instruction)))];
+            r.doorway_turns += cue.instruction == int(assistive_tactile::Instruction::TURN) && cue.passage_routine;
+          }
           playing = cue;
         }
         else
@@ -454,6 +458,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
       const int action_before = int(wearer.action()), before = body.totalCollisions();
       const std::array<int, size_t(assistive_sim::ObstacleKind::NUM_KINDS)> kinds_before = body.collisions();
       wearer.step(t, opt.dt, m, &body);
+      r.action_s[size_t(wearer.action())] += opt.dt;
       if (body.totalCollisions() > before)
         for (size_t k = 0; k < kinds_before.size(); ++k)
           for (int j = kinds_before[k]; j < body.collisions()[k]; ++j)

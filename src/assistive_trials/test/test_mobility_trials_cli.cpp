@@ -65,6 +65,7 @@ TEST_F(MobilityTrials, CuesKeepTheWearerClearAndWithoutThemItCollides)
   EXPECT_EQ(key(with, "collisions_per_trial"), 0.0) << with;
   EXPECT_EQ(key(with, "completion_rate"), 1.0) << with;
   EXPECT_GT(key(with, "ppws_pct"), 30.0) << with;
+  EXPECT_GT(key(with, "walking_pct"), 0.0) << with;
   const std::string without = run("--world glass --trials 3 --seed 7 --mode truth --wearer typical --no-cues", "nocues");
   EXPECT_GE(key(without, "collisions_per_trial"), 1.0) << without;
 }
@@ -121,8 +122,12 @@ TEST_F(MobilityTrials, GeneratedSetOneRowAndHeatMapPerWorldMeanAndWorst)
   for (const char* k : {"collisions_per_trial", "completion_rate", "ppws_pct", "mean_clearance_m", "latency_ms_p99",
                         "wall_collisions_per_trial", "glass_collisions_per_trial", "collisions_worst",
                         "collisions_per_trial_worst", "completion_rate_worst", "ppws_pct_worst", "worlds_without_completion",
-                        "generate_s", "trials_s"})
+                        "generate_s", "trials_s", "walking_pct", "stop_turns_per_trial", "stops_per_trial"})
     EXPECT_TRUE(has(json, k)) << k << " missing: " << json;
+  // where the wearers' time went, in the summary and the JSON line
+  EXPECT_NE(text.find("wearer's time        walking "), std::string::npos) << text;
+  EXPECT_GT(key(json, "walking_pct"), 0.0) << json;
+  EXPECT_LT(key(json, "walking_pct"), 100.0) << json;
   EXPECT_GE(key(json, "collisions_per_trial_worst"), key(json, "collisions_per_trial")) << json;
   EXPECT_LE(key(json, "completion_rate_worst"), key(json, "completion_rate")) << json;
   EXPECT_GE(key(json, "collisions_worst"), key(json, "collisions_per_trial_worst")) << json;

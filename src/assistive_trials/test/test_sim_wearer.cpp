@@ -1,9 +1,11 @@
 // The simulated wearer, the cane and the sighted guide against known answers; a closed-loop truth
 // trial in a small world. (The body collider's own tests are assistive_sim's test_body_collider.)
+#include <assistive_tactile/cue_logic.h>
 #include <assistive_trials/trials.h>
 #include <assistive_trials/wearer.h>
 
 #include <cmath>
+#include <numeric>
 
 #include <gtest/gtest.h>
 
@@ -179,6 +181,14 @@ TEST(Trials, TruthModeGoesRoundABoxWithoutCollisionAndWithoutCuesHitsIt)
   EXPECT_EQ(r.totalCollisions(), 0);
   EXPECT_GT(r.ppws_pct, 30.0);
   EXPECT_LE(r.ppws_pct, 100.0 + 1e-6);
+  // where its time went: every body step in one action, the walk the most of it; the vest began
+  // a go (walk-on) and, round the box, a veer or a turn
+  const double accounted = std::accumulate(r.action_s.begin(), r.action_s.end(), 0.0);
+  EXPECT_NEAR(accounted, r.time_s, 2.0 * opt.dt);
+  EXPECT_GT(r.action_s[VestWearer::WALK] + r.action_s[VestWearer::VEER], 0.5 * r.time_s);
+  EXPECT_GE(r.cues_begun[size_t(assistive_tactile::Instruction::WALK_ON)], 1);
+  EXPECT_GE(r.cues_begun[size_t(assistive_tactile::Instruction::VEER)] + r.cues_begun[size_t(assistive_tactile::Instruction::TURN)], 1);
+  EXPECT_EQ(r.doorway_turns, 0);  // no doorway in the room
   opt.cues_enabled = false;
   const TrialResult n = runTrial(w, opt, 11);
   EXPECT_EQ(n.collisions[size_t(ObstacleKind::FURNITURE)], 1);

@@ -180,6 +180,13 @@ struct TrialResult
   double min_clearance_m = 0.0;
   double min_person_clearance_m = 0.0;  ///< body surface to the nearest person's, over the walk (+inf: no people)
   std::array<int, 5> cue_modes{};  ///< planner/cue cycles per CueMode (IDLE .. UNSURE)
+  /// Where the wearer's time went (truth and vision modes): seconds per VestWearer::Action
+  /// (walk, turn on the spot, side-step, feel around, stand, veer), summing to `time_s`.
+  std::array<double, 6> action_s{};
+  /// Cue patterns the vest began, per assistive_tactile::Instruction (NONE .. UNSURE), and the
+  /// stop-and-turn buzzes of them that the doorway routine asked.
+  std::array<int, 7> cues_begun{};
+  int doorway_turns = 0;
   std::vector<double> latency_ms;  ///< per frame, when the chain measures it
   int missed_cues = 0;             ///< frames whose cue never came (ROS chains)
   std::vector<Eigen::Vector2d> path;      ///< body positions, one per body step
