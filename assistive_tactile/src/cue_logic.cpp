@@ -15,6 +15,8 @@ constexpr double kTellApartS = 0.25;
 /// time that tells it from a veer's pulse is read as a veer (issue 33, traced: a 1 deg turn's
 /// 0.26 s buzz asked of a walker before a doorway was carried out as a 15 deg veer, into the jamb).
 constexpr double kTurnMarginS = 0.05;
+/// A turn teaches the wearer's turning rate only when it turned for at least this long (s).
+constexpr double kRateSampleMinS = 0.3;
 
 double clamp01(double v)
 {
@@ -872,10 +874,15 @@ bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
   }
   // its turning rate: the angle turned over the time it turned (the buzz less the moment to
   // tell it from a veer); the smoothed peak rate underestimates short turns (the next buzz
-  // came out too long: turn chains that overshoot)
-  const double turned = wrapAngle(in.head_yaw - busy_head0_) * sign;
+  // came out too long: turn chains that overshoot). The angle is the body's (`facing()`), not the
+  // head's: the head's scan (+-8 deg over 7 s) moves by up to several degrees while a turn is
+  // asked, carried out and judged, and read as part of a 20-40 deg turn it threw the learnt rate
+  // about between 73 and 142 deg/s for wearers who all turn at 90 (held-out homes, traced): a
+  // 168 deg turn asked at 113 deg/s came out 132 deg, and each such miss cost another turn. Only
+  // turns long enough to say something (`kRateSampleMinS` of buzz) teach it.
+  const double turned = wrapAngle(facing(in) - turn_from_) * sign;
   const double turning_s = 0.01 * current_.pattern.on_10ms - kTellApartS;
-  if (turn_peak_rate_ * kRadToDeg > 20.0 && turning_s > 0.15 && turned * kRadToDeg > 10.0)
+  if (turn_peak_rate_ * kRadToDeg > 20.0 && turning_s >= kRateSampleMinS && turned * kRadToDeg > 10.0)
     turn_rate_est_ = std::clamp(0.7 * turn_rate_est_ + 0.3 * turned / turning_s, M_PI / 6.0, M_PI);
   busy_ = false;
   quiet_since_ = now;
@@ -1021,6 +1028,7 @@ Cue CueLogic::startTurn(const NavInput& in, double now, double angle, const char
     level = std::max(1, std::min(3, int(std::lround(a / p.turn_step_deg))));
   const auto drive = beginShoulderCue(in, now, side, level, angle, true);
   turn_peak_rate_ = 0.0;
+  turn_from_ = facing(in);
   const double dur = std::min(2.5, std::max(kTellApartS + kTurnMarginS, std::fabs(angle) / turn_rate_est_ + kTellApartS));
   char buf[200];
   std::snprintf(buf, sizeof(buf), "%sstop, turn %s %.0f deg (%.2f s buzz)", why, side > 0 ? "left" : "right", a, dur);

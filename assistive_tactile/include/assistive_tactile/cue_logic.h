@@ -257,6 +257,7 @@ private:
   double busy_since_ = 0.0;
   double busy_yaw0_ = 0.0;      ///< walk heading when it started (a veer is judged on the walk)
   double busy_head0_ = 0.0;     ///< head yaw when it started (a turn on the spot is judged on the head)
+  double turn_from_ = 0.0;      ///< the body's facing when a stop-and-turn buzz began (its turning rate is learnt from it)
   double busy_angle_ = 0.0;     ///< signed angle asked for (rad, + = left)
   bool busy_turn_ = false;      ///< a stop-and-turn (else a veer)
   double turn_peak_rate_ = 0.0;  ///< rad/s, the fastest head turn seen in this turn
