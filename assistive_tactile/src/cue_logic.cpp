@@ -440,7 +440,8 @@ Cue CueLogic::update(const NavInput& in, double now)
           std::fabs(wrapAngle(in.steer_heading - in.walk_heading)) * kRadToDeg > params_.veer_on_deg &&
           !(in.free_steer < params_.proximity_m);
       // (a turn on the spot under way is not interrupted by a side-step: it turns the wearer away)
-      if (((c.mode == CueMode::PROXIMITY || (c.mode == CueMode::ALERT && in.free_ahead >= must_stop)) && steering_away) ||
+      if (((c.mode == CueMode::PROXIMITY || (c.mode == CueMode::ALERT && in.free_ahead >= must_stop)) &&
+           steering_away) ||
           (c.mode == CueMode::PROXIMITY && busy_ && busy_turn_))
       {
         waist_side_ = 0;
@@ -763,11 +764,12 @@ Cue CueLogic::walkOn(std::string reason, double now, bool standing)
   {
     const float k = static_cast<float>(params_.min_intensity + 0.5 * (1.0 - params_.min_intensity));
     const bool first_go = standing && start_tick_ < 0.0;
-    Cue c = startPattern(CueMode::IDLE, Instruction::WALK_ON, 0, { { k, k, 0.f, 0.f } }, 10, 0, 1, now, std::move(reason));
+    Cue c = startPattern(CueMode::IDLE, Instruction::WALK_ON, 0, { { k, k, 0.f, 0.f } }, 10, 0, 1, now,
+                         std::move(reason));
     if (first_go)
       start_tick_ = now;  // the first "go" to a standing wearer: its start times its reaction
     if (standing && now - go_at_ > 2.5)
-      go_at_ = now;  // (not the repeated ticks while it starts: it may have started on the first)  // a "go" to a standing wearer: how far it may walk is judged in decideGuidance
+      go_at_ = now;  // how far it may walk is judged in shortWalk (not on the repeated ticks while it starts)
     return c;
   }
   Cue c = holdPattern(std::move(reason));
@@ -867,7 +869,8 @@ bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
   if (now < buzz_end + wait + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
   {
     char why[96];
-    std::snprintf(why, sizeof(why), "turning (%.0f deg to go, head %.0f deg/s)", left * kRadToDeg, yaw_rate_ * kRadToDeg);
+    std::snprintf(why, sizeof(why), "turning (%.0f deg to go, head %.0f deg/s)", left * kRadToDeg,
+                  yaw_rate_ * kRadToDeg);
     out = holdPattern(why);
     out.mode = CueMode::GUIDANCE;
     return true;
@@ -993,8 +996,10 @@ Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, b
   const char* dir = side > 0 ? "left" : "right";
   char buf[160];
   // veer while walking: two short pulses (0.15 s on, 0.15 s off)
-  std::snprintf(buf, sizeof(buf), "veer %s %.0f deg (level %d, %.0f deg off, %.0f expected; drift %.1f deg/m, gain %.2f, reaction %.2f s)",
-              dir, level * step, level, a, a_ask, drift_per_m_ * kRadToDeg, veer_gain_est_, reactionEstimate());
+  std::snprintf(buf, sizeof(buf),
+                "veer %s %.0f deg (level %d, %.0f deg off, %.0f expected; "
+                "drift %.1f deg/m, gain %.2f, reaction %.2f s)",
+                dir, level * step, level, a, a_ask, drift_per_m_ * kRadToDeg, veer_gain_est_, reactionEstimate());
   return startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now, buf);
 }
 
@@ -1025,11 +1030,12 @@ Cue CueLogic::startTurn(const NavInput& in, double now, double angle, const char
   const int side = angle > 0.0 ? +1 : -1;
   const double a = std::fabs(angle) * kRadToDeg;
   if (level < 1)
-    level = std::max(1, std::min(3, int(std::lround(a / p.turn_step_deg))));
+    level = veerLevel(a, p.turn_step_deg, 1.0);
   const auto drive = beginShoulderCue(in, now, side, level, angle, true);
   turn_peak_rate_ = 0.0;
   turn_from_ = facing(in);
-  const double dur = std::min(2.5, std::max(kTellApartS + kTurnMarginS, std::fabs(angle) / turn_rate_est_ + kTellApartS));
+  const double dur =
+      std::min(2.5, std::max(kTellApartS + kTurnMarginS, std::fabs(angle) / turn_rate_est_ + kTellApartS));
   char buf[200];
   std::snprintf(buf, sizeof(buf), "%sstop, turn %s %.0f deg (%.2f s buzz)", why, side > 0 ? "left" : "right", a, dur);
   return startPattern(CueMode::GUIDANCE, Instruction::TURN, level, drive, uint8_t(std::lround(dur * 100.0)), 0, 1, now,
@@ -1180,9 +1186,9 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   const double min_wp = p.guidance_min_waypoint_m - (guiding ? p.hysteresis_m : 0.0);
   if (in.waypoint_distance < min_wp)
   {
-  busy_ = false;
-  return walkOn(fmt("waypoint %.2f m away: walk on", in.waypoint_distance), now,
-                in.walking_speed < p.walking_speed_mps);
+    busy_ = false;
+    return walkOn(fmt("waypoint %.2f m away: walk on", in.waypoint_distance), now,
+                  in.walking_speed < p.walking_speed_mps);
   }
   const bool walking = walksForward(in);
   // + = the steering point lies left of the walk (standing: of the body, not the scanning head)
@@ -1190,15 +1196,16 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   bool superseding = false;  // a veer under way is overtaken: ask beyond it
   Cue held;
   if (busy_ && busy_turn_ && holdTurn(in, now, held))
-  return held;
+    return held;
   if (busy_ && holdVeer(in, now, err, walking, held, superseding))
-  return held;
+    return held;
   // after a superseded veer the new one asks for what is left beyond the one being carried out
   double ask = err;
   if (superseding)
-  ask = wrapAngle(err - (busy_angle_ - (busy_angle_ > 0.0 ? 1.0 : -1.0) *
-                                          std::max(0.0, wrapAngle(in.walk_heading - busy_yaw0_) *
-                                                            (busy_angle_ > 0.0 ? 1.0 : -1.0))));
+  {
+    const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
+    ask = wrapAngle(err - (busy_angle_ - sign * std::max(0.0, wrapAngle(in.walk_heading - busy_yaw0_) * sign)));
+  }
   if (!superseding)
   {
     // a doorway or gap ahead: stop short, face its middle, walk straight through

@@ -958,7 +958,9 @@ TEST(CueLogic, TurningRateLearntFromTheBodyNotTheScanningHead)
       ++turns;
       turned_since_go = true;
       if (turns > 4 && asked > 15.0 && buzz < 2.5)
+      {
         EXPECT_NEAR(asked / (buzz - 0.25), kRate, 6.0) << "turn " << turns << ": " << k.reason;
+      }
     }
     if (k.instruction == Instruction::WALK_ON && turned_since_go && t > turn_to + kReaction)
     {

@@ -175,7 +175,8 @@ private:
   /// (its strength, 1..3) from the angle when 0.
   Cue startTurn(const NavInput& in, double now, double angle, const char* why, int level = 0);
   /// One shoulder motor at the level's intensity, and the state that watches the veer or turn asked.
-  std::array<float, NUM_MOTORS> beginShoulderCue(const NavInput& in, double now, int side, int level, double angle, bool turn);
+  std::array<float, NUM_MOTORS> beginShoulderCue(const NavInput& in, double now, int side, int level, double angle,
+                                                 bool turn);
   /// A "go" to a standing wearer with little floor ahead: the stop timed from the go (true and
   /// the stop cue while it is due).
   bool shortWalk(const NavInput& in, double now, Cue& out);
@@ -257,7 +258,7 @@ private:
   double busy_since_ = 0.0;
   double busy_yaw0_ = 0.0;      ///< walk heading when it started (a veer is judged on the walk)
   double busy_head0_ = 0.0;     ///< head yaw when it started (a turn on the spot is judged on the head)
-  double turn_from_ = 0.0;      ///< the body's facing when a stop-and-turn buzz began (its turning rate is learnt from it)
+  double turn_from_ = 0.0;      ///< the body's facing when a stop-and-turn buzz began (its turning rate is learnt)
   double busy_angle_ = 0.0;     ///< signed angle asked for (rad, + = left)
   bool busy_turn_ = false;      ///< a stop-and-turn (else a veer)
   double turn_peak_rate_ = 0.0;  ///< rad/s, the fastest head turn seen in this turn
@@ -308,7 +309,7 @@ private:
   bool sweep_stop_ = false;         ///< a predictive stop is held until the wearer stands
   double go_at_ = -1e300;          ///< when a standing wearer was last told to go
   double go_handled_ = -1e300;     ///< the go whose short walk was judged
-  double short_stop_at_ = -1.0;    ///< a timed stop after that go is due then (< 0: none)  ///< a walker is being stopped in a doorway into a hall
+  double short_stop_at_ = -1.0;    ///< a timed stop after that go is due then (< 0: none)
   double body_turned_at_ = -1e300;  ///< the head last turned fast (a turn or veer of the body)
   double last_state_time_ = -1e300;
   double last_source_time_ = std::numeric_limits<double>::quiet_NaN();
