@@ -204,6 +204,10 @@ private:
   /// predicted rotation (the gyro's) a prior; the P3P pose when the adjustment fails.
   Eigen::Isometry3d refineOnLocalMap(const std::vector<std::pair<const Keyframe*, Eigen::Isometry3d>>& local,
                                      const StereoCheckResult& r, const Keyframe& q, const Eigen::Isometry3d& T_map_pred) const;
+  /// A relocalised pose after a loss is plausible: within `radius` of the anchor, turned at most
+  /// reset_max_rotation_deg from the predicted pose, at most reset_max_backward behind the anchor
+  /// along the wearer's (level) view direction.
+  bool plausibleAfterReset(const Eigen::Isometry3d& T_map_b, const Eigen::Isometry3d& T_map_pred, double radius) const;
   /// A verified match of query `kf` on stored keyframe `a`: held until the next query agrees
   /// (loop_confirm); true (and localised, the next mapped keyframe opening a session) when it does.
   bool confirmRelocalisation(const Keyframe& a, const StereoCheckResult& r, const KeyframePtr& kf, int query);
