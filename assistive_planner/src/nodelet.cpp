@@ -258,7 +258,7 @@ private:
       planner_->setMovers(movers_stamp_, movers_);
     else
       planner_->clearMovers();
-    if (goal_ && !goalInWorld())
+    if (goal_ && !goalInWorld(msg->header.stamp))
     {
       publish(status(PlanStatus::NO_POSE, "explicit goal: " + goal_frame_error_), header, msg->header.stamp);
       return;
@@ -328,14 +328,23 @@ private:
   }
 
   /// The kept goal through the newest tf into world_frame and on to the core; false (with
-  /// goal_frame_error_) while the transform is not known, e.g. before SLAM has placed the wearer.
-  bool goalInWorld()
+  /// goal_frame_error_) while the transform is not known, e.g. before SLAM has placed the wearer,
+  /// or, against the grid's stamp `at`, older than `goal_tf_max_age` (SLAM no longer places the
+  /// wearer after a VO loss: tf2 would hand out its last map -> odom however old). Static frames
+  /// (stamp 0) never age; `at` zero skips the check.
+  bool goalInWorld(const ros::Time& at = ros::Time(0))
   {
     try
     {
-      geometry_msgs::PoseStamped latest = *goal_, g;
-      latest.header.stamp = ros::Time(0);  // the newest correction: the goal is a fixed place in its frame
-      tf_buffer_->transform(latest, g, node_.world_frame);  // no timeout: no wait in a callback
+      // the newest correction: the goal is a fixed place in its frame (no timeout: no wait in a callback)
+      const geometry_msgs::TransformStamped tf =
+          tf_buffer_->lookupTransform(node_.world_frame, goal_->header.frame_id, ros::Time(0));
+      if (!at.isZero() && !tf.header.stamp.isZero() && (at - tf.header.stamp).toSec() > node_.goal_tf_max_age)
+        throw tf2::TransformException("the newest " + goal_->header.frame_id + " -> " + node_.world_frame + " is " +
+                                      std::to_string((at - tf.header.stamp).toSec()) +
+                                      " s old (the wearer is no longer placed in it)");
+      geometry_msgs::PoseStamped g;
+      tf2::doTransform(*goal_, g, tf);
       if (!std::isfinite(g.pose.position.x) || !std::isfinite(g.pose.position.y))
         throw tf2::TransformException("non-finite goal after the transform");
       planner_->setGoal({ g.pose.position.x, g.pose.position.y });

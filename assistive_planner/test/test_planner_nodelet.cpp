@@ -394,6 +394,55 @@ TEST_F(PlannerNodeletTest, GoalInTheMapFrameSurvivesAReset)
   goalIn("", 0.0, 0.0);  // cleared for the other tests
 }
 
+// Issue 34: SLAM stops sending map -> odom while it has lost the wearer (a VO loss, until it finds
+// the wearer again in its map); tf2 would hand out the last one however old. A goal in such a frame
+// gives NO_POSE once its newest transform is older than goal_tf_max_age (1 s) against the grid,
+// and guidance comes back with a fresh one.
+TEST_F(PlannerNodeletTest, GoalInAFrameNoLongerSentGivesNoPose)
+{
+  auto mapToOdom = [&]() {
+    geometry_msgs::TransformStamped t;
+    t.header.stamp = ros::Time::now();
+    // (as odom -> slam_map: odom already has a parent, the earlier test's static test_map)
+    t.header.frame_id = "odom";
+    t.child_frame_id = "slam_map";
+    t.transform.translation.x = 0.5;
+    t.transform.translation.y = -1.0;
+    t.transform.rotation.w = 1.0;
+    tf_.sendTransform(t);
+    ros::WallDuration(0.1).sleep();
+  };
+  geometry_msgs::PoseStamped g;
+  g.header.frame_id = "slam_map";
+  g.pose.position.x = 1.0;
+  g.pose.position.y = 3.0;
+  g.pose.orientation.w = 1.0;
+  mapToOdom();
+  goal_pub_.publish(g);
+  ros::WallDuration(0.2).sleep();
+  mapToOdom();
+  ASSERT_TRUE(step(0.1, 0.1, 0.0, false));
+  ASSERT_EQ(rec_.state->status, assistive_msgs::NavigationState::OK) << rec_.state->message;
+  ASSERT_TRUE(rec_.waypoint);
+  EXPECT_NEAR(rec_.waypoint->point.x, 1.5, 0.15);
+  EXPECT_NEAR(rec_.waypoint->point.y, 2.0, 0.15);
+
+  // no map -> odom for 1.5 s: the goal's place is no longer known
+  ros::WallDuration(1.5).sleep();
+  ASSERT_TRUE(step(0.1, 0.1, 0.0, false));
+  EXPECT_EQ(rec_.state->status, assistive_msgs::NavigationState::NO_POSE) << rec_.state->message;
+  EXPECT_NE(rec_.state->message.find("s old"), std::string::npos) << rec_.state->message;
+
+  // found again: a fresh map -> odom, guidance to the goal (1, 3) in slam_map = (1.5, 2) in odom
+  mapToOdom();
+  ASSERT_TRUE(step(0.1, 0.1, 0.0, false));
+  EXPECT_EQ(rec_.state->status, assistive_msgs::NavigationState::OK) << rec_.state->message;
+
+  geometry_msgs::PoseStamped clear;
+  goal_pub_.publish(clear);  // cleared for the other tests
+  ros::WallDuration(0.2).sleep();
+}
+
 // Issue 34: the blind zone. A standing wearer whose floor within 1 m nobody has mapped (the wall
 // mapped past it): IN_UNKNOWN while no ranger reading came; with a fresh sonar/front reading (no
 // echo, frame camera_link on tf) the planner vouches for the floor ahead: OK; a reading without a

@@ -282,7 +282,7 @@ class SlamNodelet : public nodelet::Nodelet
     std::string err = "no frame processed yet";
     Eigen::Isometry3d T_map_place;
     if (slam_ && !slam_->localised())
-      err = "not localised in the loaded map yet";
+      err = "not localised in the map yet (a loaded map, or the VO lost tracking)";
     res.success = slam_ && slam_->localised() && slam_->placePose(req.name, &T_map_place, &err);
     if (!res.success)
     {
@@ -337,8 +337,9 @@ class SlamNodelet : public nodelet::Nodelet
         return;
       if (!slam_->localised())
       {
-        // After a load: map -> odom is unknown until a stored place is recognised; none is invented.
-        NODELET_WARN_THROTTLE(10.0, "slam: not localised in the loaded map yet: no map -> odom");
+        // After a load, or from a VO loss until the wearer is found again in the map: map -> odom
+        // is unknown; none is invented.
+        NODELET_WARN_THROTTLE(10.0, "slam: not localised (a loaded map, or the VO lost tracking): no map -> odom");
         return;
       }
       // Future-dated by one period (the tf convention for map -> odom): lookups at the latest
@@ -481,7 +482,9 @@ class SlamNodelet : public nodelet::Nodelet
     std::lock_guard<std::mutex> lk(m_);
     s.summary(diagnostic_msgs::DiagnosticStatus::OK, "mapping");
     if (!st.localised)
-      s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "not localised: map loaded, waiting for a stored place in view");
+      s.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                st.vo_losses > 0 ? "not localised: the VO lost tracking; looking for the wearer near the last trusted pose"
+                                 : "not localised: map loaded, waiting for a stored place in view");
     if (st.dropped > dropped_reported_)
       s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "the worker fell behind: keyframes dropped");
     dropped_reported_ = st.dropped;
@@ -495,6 +498,9 @@ class SlamNodelet : public nodelet::Nodelet
     s.add("keyframes dropped", st.dropped);
     s.add("localised", st.localised);
     s.add("relocalisation keyframes tried", st.relocalisation_queries);
+    s.add("VO losses", st.vo_losses);
+    s.add("found again after a VO loss", st.reset_relocalisations);
+    s.add("relocalisations given up", st.reset_gave_up);
     s.add("worker ms (last keyframe)", st.worker_ms_last);
     s.add("loop closer ms (last keyframe)", st.loop_ms_last);
     s.add("ms per frame", ms_frame_);

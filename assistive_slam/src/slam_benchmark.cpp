@@ -4,6 +4,14 @@
 // loop closures (false ones: the verified relative pose disagrees with the truth by > 0.5 m or
 // 5 deg; missed ones: runs of keyframes revisiting an older place with no accepted closure), and
 // plots the trajectories with the closures marked. Last stdout line: one JSON object.
+// --vo-reset-at FRAME [--vo-reset-frames N] [--vo-reset-grey]: a forced VO loss (issue 34) of N
+// frames (default 15) from FRAME. By default SLAM gets what the VO's fail-safe publishes after a
+// loss: untrusted outputs holding the last trusted position (the rotation goes on, as the gyro
+// keeps it), then odom going on from the held position (the walk in between is missing from it);
+// the VO itself runs on the real images. --vo-reset-grey instead replaces the images by a plain
+// grey (a plain wall filling the view), and the VO does what it does (it coasts on the IMU for up
+// to 2.5 s, trusted). Scores how soon and how well SLAM finds the wearer again in its map once the
+// texture returns.
 // By default the frame loop waits for the worker after each keyframe, outside the timed part, so
 // that the accuracy figures do not depend on the machine's load; --realtime lets it run free.
 #include <sys/resource.h>
@@ -154,10 +162,14 @@ int runBoth(int argc, char** argv)
 
 const char* const kUsage =
     "usage: slam_benchmark FILE.bag [--no-imu] [--plot OUT.png] [--frames N] [--skip N] [--realtime] [--map FILE]\n"
-    "                     [--load-map FILE] [--set name=value ...]\n"
+    "                     [--load-map FILE] [--vo-reset-at FRAME [--vo-reset-frames N] [--vo-reset-grey]]\n"
+    "                     [--set name=value ...]\n"
     "  VO alone and VO + SLAM on the same frames of a stereo bag; last stdout line: JSON.\n"
     "  --map: where the map is written at the end; --load-map: start from a saved map (relocalisation);\n"
     "  --skip N: the first N frames are not run (e.g. the first loop, mapped by an earlier run).\n"
+    "  --vo-reset-at FRAME: a forced VO loss of N frames (--vo-reset-frames, default 15) from FRAME: SLAM gets\n"
+    "    the VO fail-safe's output (position held, then odom going on from it); --vo-reset-grey: plain grey\n"
+    "    images instead; reset_relocalisation_* score finding the wearer again in the map after it\n"
     "  --set: the SLAM stage's parameters (README table), e.g. --set loop_closure=false\n"
     "  --backend keyframe_ba|fastslam|both: the metric layer (default: metric_backend); both: one run\n"
     "    each on the same frames, JSON keys prefixed keyframe_ba_ and fastslam_\n";
@@ -167,6 +179,8 @@ struct Options
 {
   std::string bag, plot, map_path, load_path, backend, plot_suffix;
   long skip_frames = 0;
+  long reset_at = -1, reset_frames = 15;  ///< --vo-reset-at FRAME, --vo-reset-frames N
+  bool reset_grey = false;                ///< --vo-reset-grey
   bool imu_on = true, realtime = false;
   long max_frames = -1;
   ev::CommandLine::Sets overrides;
@@ -176,6 +190,7 @@ struct Options
     cl.positional(&bag, "bag", true)
         .flag("--no-imu", &imu_on, false)
         .flag("--realtime", &realtime)
+        .flag("--vo-reset-grey", &reset_grey)
         .text("--plot", &plot)
         .text("--map", &map_path)
         .text("--load-map", &load_path)
@@ -183,6 +198,8 @@ struct Options
         .text("--plot-suffix", &plot_suffix)
         .count("--skip", &skip_frames, 0L)
         .count("--frames", &max_frames, 0L)
+        .count("--vo-reset-at", &reset_at, 0L)
+        .count("--vo-reset-frames", &reset_frames, 1L)
         .sets(&overrides);
   }
 };
@@ -193,6 +210,26 @@ struct FilterFrame
   double t;
   Eigen::Isometry3d gt, filter, vo;
   int segment;
+};
+
+/// --vo-reset-at: the forced loss as SLAM saw it. Errors are relative to the last frame before the
+/// loss (the wearer's pose in map then against the truth then): what a goal known in the map right
+/// before the loss is off by afterwards.
+struct ResetTrack
+{
+  bool have_before = false;
+  Eigen::Isometry3d est_before = Eigen::Isometry3d::Identity(), gt_before = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_map_odom_before = Eigen::Isometry3d::Identity();  ///< map -> odom before the loss
+  bool vo_untrusted = false;  ///< the VO lost trust (else it coasted through on the IMU)
+  int unplaced_frames = 0;    ///< frames SLAM said it did not know the wearer's place (from the loss on)
+  int placed_frame = -1;      ///< the first frame from the texture's return on with the wearer placed
+  double err_m = -1, err_deg = -1;              ///< the wearer in map there, against the truth
+  double stale_err_m = -1, stale_err_deg = -1;  ///< ... on map -> odom from before the loss (the old behaviour)
+  double unseen_m = -1;                         ///< the true motion from the last frame before the loss to there
+  // the emulated fail-safe (no --vo-reset-grey)
+  bool have_trusted = false;
+  Eigen::Vector3d held = Eigen::Vector3d::Zero();            ///< the last trusted camera_link position
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();          ///< odom after the loss = VO's + offset
 };
 
 /// The runner: every stereo frame through the device's VO driving loop, then SLAM as its nodelet
@@ -232,6 +269,15 @@ public:
   size_t stored_keyframes = 0;
   std::vector<Eigen::Isometry3d> loaded_poses;  // the stored keyframes' map poses as loaded
   int reloc_frame = -1;       // session frame at which the wearer was relocalised
+  ResetTrack reset;
+
+  /// --vo-reset-at: the frame is inside the forced loss.
+  bool inLoss(long frame) const
+  {
+    return opt_.reset_at >= 0 && frame >= opt_.reset_at && frame < opt_.reset_at + opt_.reset_frames;
+  }
+  /// --vo-reset-at without --vo-reset-grey: the VO fail-safe's output around a loss, from the VO's.
+  assistive_vo::VoOutput emulateLoss(const assistive_vo::VoOutput& o);
 
 private:
   /// SLAM on the first frame's camera, with --load-map's map; false when the map did not load.
@@ -243,6 +289,8 @@ private:
                         const assistive_vo::VoOutput& o);
   /// Every 100 frames: the filter's map size and the resident memory.
   void sampleMemory();
+  /// --vo-reset-at: the loss and the relocalisation after it, on one frame SLAM has taken.
+  void trackReset(const ev::StereoFrame& f, const assistive_vo::VoOutput& o);
 
   const Options& opt_;
   const SlamParams& sp_;
@@ -296,6 +344,12 @@ bool SlamRun::run(ev::StereoBagReader& reader)
     const assistive_vo::StereoCamera cam = assistive_vo::StereoCamera::from(f.calib);
     if (!slam && !startSlam(cam))
       return false;
+    if (opt_.reset_grey && inLoss(frames))
+    {
+      // the forced loss: a plain wall fills the view
+      f.left = cv::Mat(f.left.size(), f.left.type(), cv::Scalar::all(128));
+      f.right = cv::Mat(f.right.size(), f.right.type(), cv::Scalar::all(128));
+    }
     for (const auto& s : f.imu)
       fe_.addImu(s.stamp, s.gyro, s.accel);
     const ev::Stopwatch vo_timer;
@@ -305,7 +359,7 @@ bool SlamRun::run(ev::StereoBagReader& reader)
       ++frames;
       continue;
     }
-    const assistive_vo::VoOutput& o = step.out;
+    const assistive_vo::VoOutput o = emulateLoss(step.out);
     ms_vo.push_back(vo_timer.cpuMs());
 
     if (!o.pose_valid || !o.T_odom_link.matrix().allFinite())
@@ -381,6 +435,8 @@ void SlamRun::slamFrame(const ev::StereoFrame& f, const assistive_vo::StereoCame
   }
   if (reloc_frame < 0 && !opt_.load_path.empty() && slam->localised())
     reloc_frame = frames;
+  if (opt_.reset_at >= 0)
+    trackReset(f, o);
 
   if (f.has_gt_pose)
     session_truth.push_back({f.stamp, f.gt_pose});
@@ -431,6 +487,63 @@ void SlamRun::scoreFilterFrame(const FastSlam& fs, const ev::StereoFrame& f, con
   filter_frames_seen = fs.stats().frames;
   if (f.has_gt_pose && o.pose_valid && filtered)
     filter_frames.push_back({f.stamp, f.gt_pose, fs.pose(), o.T_odom_optical, fs.stats().resets});
+}
+
+assistive_vo::VoOutput SlamRun::emulateLoss(const assistive_vo::VoOutput& o)
+{
+  if (opt_.reset_at < 0 || opt_.reset_grey || !o.pose_valid)
+    return o;
+  assistive_vo::VoOutput e = o;
+  ResetTrack& r = reset;
+  if (frames < opt_.reset_at)
+  {
+    if (o.pose_trusted)
+      r.held = o.T_odom_link.translation();
+    r.have_trusted = r.have_trusted || o.pose_trusted;
+    return e;
+  }
+  // In the loss: untrusted, the position held (assistive_vo README "Fail-safe"); after it: odom
+  // goes on from the position held at the end of the loss.
+  if (inLoss(frames))
+  {
+    r.offset = r.held - o.T_odom_link.translation();
+    e.pose_trusted = false;
+  }
+  e.T_odom_link.translation() += r.offset;
+  e.T_odom_optical.translation() += r.offset;
+  return e;
+}
+
+void SlamRun::trackReset(const ev::StereoFrame& f, const assistive_vo::VoOutput& o)
+{
+  const Eigen::Isometry3d T_map_odom = slam->mapToOdom();
+  const bool placed = slam->localised();
+  if (frames < opt_.reset_at)
+  {
+    if (f.has_gt_pose && o.pose_trusted && placed)
+    {
+      reset.have_before = true;
+      reset.est_before = T_map_odom * o.T_odom_optical;
+      reset.gt_before = f.gt_pose;
+      reset.T_map_odom_before = T_map_odom;
+    }
+    return;
+  }
+  reset.vo_untrusted = reset.vo_untrusted || !o.pose_trusted;
+  if (reset.placed_frame >= 0)
+    return;
+  reset.unplaced_frames += !placed;
+  if (inLoss(frames) || !placed || !o.pose_trusted || !f.has_gt_pose || !reset.have_before)
+    return;
+  reset.placed_frame = frames;
+  const Eigen::Isometry3d gt = reset.gt_before.inverse() * f.gt_pose;
+  reset.unseen_m = gt.translation().norm();
+  const Eigen::Isometry3d d = gt.inverse() * reset.est_before.inverse() * T_map_odom * o.T_odom_optical;
+  const Eigen::Isometry3d ds = gt.inverse() * reset.est_before.inverse() * reset.T_map_odom_before * o.T_odom_optical;
+  reset.err_m = d.translation().norm();
+  reset.err_deg = angDeg(d.linear());
+  reset.stale_err_m = ds.translation().norm();
+  reset.stale_err_deg = angDeg(ds.linear());
 }
 
 void SlamRun::sampleMemory()
@@ -784,6 +897,48 @@ std::string num(double v, int significant = 4)
   return ev::jsonNumber(v, significant);
 }
 
+/// --vo-reset-at's line of the report.
+void printReset(const Options& opt, const SlamRun& run, const SlamStats& st)
+{
+  const ResetTrack& r = run.reset;
+  const long back = opt.reset_at + opt.reset_frames;
+  std::cout << "forced VO loss: frames " << opt.reset_at << "-" << back - 1
+            << (opt.reset_grey ? " grey (the VO " : " the VO fail-safe's output (")
+            << (r.vo_untrusted ? "untrusted" : "coasted through, trusted") << "); SLAM: " << st.vo_losses
+            << " VO losses, " << st.reset_relocalisations << " found again, " << st.reset_gave_up << " given up, "
+            << st.relocalisation_queries << " queries; unplaced on " << r.unplaced_frames << " frames; ";
+  if (r.placed_frame < 0)
+  {
+    std::cout << "not placed again after the texture returned on frame " << back << "\n";
+    return;
+  }
+  std::cout << "placed on frame " << r.placed_frame << " (" << r.placed_frame - back
+            << " after the texture returned, " << r.unseen_m << " m from the last frame before the loss): " << r.err_m << " m, " << r.err_deg
+            << " deg off the truth since the last frame before the loss (on map -> odom from before the loss: "
+            << r.stale_err_m << " m, " << r.stale_err_deg << " deg)\n";
+}
+
+/// The keys of --vo-reset-at (null without it, or when not placed again) and the loss counters.
+void addResetKeys(const Options& opt, const SlamRun& run, const SlamStats& st, ev::JsonLine& js)
+{
+  const ResetTrack& r = run.reset;
+  const bool on = opt.reset_at >= 0, placed = on && r.placed_frame >= 0;
+  js.add("vo_losses", st.vo_losses)
+      .add("reset_relocalisations", st.reset_relocalisations)
+      .add("reset_gave_up", st.reset_gave_up)
+      .add("reset_at_frame", on ? std::to_string(opt.reset_at) : "null")
+      .add("reset_frames", on ? std::to_string(opt.reset_frames) : "null")
+      .add("reset_mode", on ? (opt.reset_grey ? "\"grey\"" : "\"fail_safe\"") : "null")
+      .add("reset_unseen_m", placed ? num(r.unseen_m) : "null")
+      .add("reset_vo_untrusted", on ? (r.vo_untrusted ? "true" : "false") : "null")
+      .add("reset_unplaced_frames", on ? std::to_string(r.unplaced_frames) : "null")
+      .add("reset_relocalisation_frames", placed ? std::to_string(r.placed_frame - opt.reset_at - opt.reset_frames) : "null")
+      .add("reset_relocalisation_err_m", placed ? num(r.err_m) : "null")
+      .add("reset_relocalisation_err_deg", placed ? num(r.err_deg) : "null")
+      .add("reset_stale_err_m", placed ? num(r.stale_err_m) : "null")
+      .add("reset_stale_err_deg", placed ? num(r.stale_err_deg) : "null");
+}
+
 /// The JSON line's keys from fastslam (the filter, its map, active matching); null / 0 for keyframe_ba.
 void addFilterKeys(const SlamRun& run, const FilterScore& fsc, ev::JsonLine& js)
 {
@@ -812,7 +967,7 @@ struct Resources
 };
 
 /// The last stdout line (docs/design.md: its keys are read by others).
-ev::JsonLine jsonLine(const SlamParams& sp, const SlamRun& run, const SlamEnd& end, const TrajectoryScores& t,
+ev::JsonLine jsonLine(const Options& opt, const SlamParams& sp, const SlamRun& run, const SlamEnd& end, const TrajectoryScores& t,
                       const ClosureScore& cs, const RelocScore& reloc, const Resources& res, const FilterScore& fsc)
 {
   const SlamStats& st = end.st;
@@ -845,6 +1000,7 @@ ev::JsonLine jsonLine(const SlamParams& sp, const SlamRun& run, const SlamEnd& e
       .add("path_length_m", num(t.vrep.path_length_m))
       .add("backend", "\"" + sp.metric_backend + "\"");
   addFilterKeys(run, fsc, js);
+  addResetKeys(opt, run, st, js);
   return js;
 }
 }  // namespace
@@ -896,6 +1052,8 @@ int main(int argc, char** argv)
   res.map_mb = writeMapFile(run, opt.map_path, opt.plot);
   res.rss_slope = memorySlope(run.rss_samples);
   const FilterScore fsc = scoreFilter(run);
-  std::cout << jsonLine(sp, run, end, t, cs, reloc, res, fsc).str() << std::endl;
+  if (opt.reset_at >= 0)
+    printReset(opt, run, end.st);
+  std::cout << jsonLine(opt, sp, run, end, t, cs, reloc, res, fsc).str() << std::endl;
   return 0;
 }

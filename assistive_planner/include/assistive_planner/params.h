@@ -64,6 +64,7 @@ namespace assistive_planner
   X(std::string, world_frame, "world_frame", "odom", {}, {}, "", "frame the planner runs in; the grid must be in it") \
   X(std::string, camera_frame, "camera_frame", "camera_link", {}, {}, "", "the wearer's head") \
   X(double, grid_timeout, "grid_timeout", 2.0, 0.05, 60.0, "s", "wall time without any grid -> `NO_MAP` (the last line of defence)") \
+  X(double, goal_tf_max_age, "goal_tf_max_age", 1.0, 0.05, 60.0, "s", "an explicit goal's frame whose newest transform to `world_frame` is older than this against the grid (SLAM no longer places the wearer) -> `NO_POSE`; static frames never age") \
   X(bool, use_odom, "use_odom", true, {}, {}, "", "judge the VO's trust and the grid's freshness against `vo/odom`; false trusts tf alone (tests that publish tf without a VO)")
 // clang-format on
 

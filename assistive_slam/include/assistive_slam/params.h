@@ -21,6 +21,7 @@ namespace assistive_slam
   X(int, orb_fast_threshold, "orb_fast_threshold", 12, 1, 100, "intensity", "ORB's FAST threshold") \
   X(double, stereo_max_row_diff_px, "stereo_max_row_diff", 1.5, 0.0, 10.0, "px", "left/right match on the same rectified row within this") \
   X(int, stereo_max_hamming, "stereo_max_hamming", 50, 1, 256, "bits", "stereo match descriptor distance at most this") \
+  X(bool, stereo_subpixel, "stereo_subpixel", true, {}, {}, "", "refine each stereo match's disparity along the row (9x9 patch at full resolution: SAD search, then Gauss-Newton to a fraction of a pixel): ORB's coarse levels place far points a pixel or more off") \
   X(double, min_depth_m, "min_depth", 0.3, 0.05, 10.0, "m", "nearest keyframe point") \
   X(double, max_depth_m, "max_depth", 15.0, min_depth_m, 200.0, "m", "farthest keyframe point") \
   /* --- bounded submaps (seed 3.2.3.1) --- */ \
@@ -59,6 +60,20 @@ namespace assistive_slam
   X(int, appearance_features, "appearance_features", 200, 10, 5000, "", "descriptors per keyframe the appearance model learns and queries (its memory grows with them)") \
   X(double, loop_sigma_m, "loop_sigma", 0.03, 1e-4, 10.0, "m", "translation noise of a verified closure") \
   X(double, loop_sigma_deg, "loop_sigma_deg", 0.5, 1e-3, 90.0, "deg", "rotation noise of a verified closure") \
+  /* --- after a VO loss (issue 34): an untrusted VO pose (held while the wearer moved) unplaces the wearer until found again --- */ \
+  X(bool, reset_relocalisation, "reset_relocalisation", true, {}, {}, "", "after a VO loss keyframes are queries until one is verified against the map (and the next agrees); false: the map goes on from the VO's held pose") \
+  X(double, reset_search_radius_m, "reset_search_radius", 2.0, 0.1, 100.0, "m", "keyframes this close to the last trusted pose (+ reset_max_speed x the time since it) are verified first ...") \
+  X(double, reset_max_speed, "reset_max_speed", 1.5, 0.0, 10.0, "m/s", "... the speed the wearer may have walked at unseen") \
+  X(double, reset_max_backward_m, "reset_max_backward", 0.75, 0.0, 100.0, "m", "a relocalised pose farther than this behind the last trusted pose, along the wearer's level view direction, is refused (people walk where they look)") \
+  X(int, reset_candidates, "reset_candidates", 6, 1, 50, "", "keyframes near the last trusted pose verified per query (nearest first; then the appearance model's, with appearance_loop)") \
+  X(int, reset_min_inliers, "reset_min_inliers", 15, 8, 2000, "", "P3P RANSAC inliers (also in the right image) a relocalisation after a loss needs (the prior and the next query's agreement guard it) ...") \
+  X(double, reset_min_inlier_ratio, "reset_min_inlier_ratio", 0.3, 0.0, 1.0, "", "... and this share of the matches") \
+  X(double, reset_max_rotation_deg, "reset_max_rotation_deg", 5.0, 0.5, 180.0, "deg", "a relocalisation after a loss turns the predicted pose (the VO's rotation went on with the gyro) at most this") \
+  X(double, reset_rotation_sigma_deg, "reset_rotation_sigma_deg", 0.5, 0.01, 90.0, "deg", "the predicted rotation (the VO's, kept by the gyro through the loss) as a prior of the relocalised pose: its noise") \
+  X(int, reset_confirm_queries, "reset_confirm_queries", 3, 2, 30, "", "consecutive queries (each frame while looking) agreeing on map -> odom place the wearer, at their mean ...") \
+  X(double, reset_confirm_m, "reset_confirm", 0.15, 0.0, 10.0, "m", "... each within this of the first ...") \
+  X(double, reset_confirm_deg, "reset_confirm_deg", 1.5, 0.0, 90.0, "deg", "... and this") \
+  X(double, reset_relocalisation_timeout_s, "reset_relocalisation_timeout", 10.0, 0.0, 3600.0, "s", "not found again this long after the last trusted frame: mapping resumes, weakly linked, and the wearer stays unplaced until a loop closure reaches the map before the loss (0: never)") \
   /* --- the metric layer of a submap: keyframe_ba (keyframe chain + optional local BA) or fastslam (seed 3.2.1-3.2.2) --- */ \
   X(std::string, metric_backend, "metric_backend", "keyframe_ba", {}, {}, "", "keyframe_ba: keyframes chained by the VO (local BA if ba_iterations > 0); fastslam: the FastSLAM 2.0 filter with active matching runs on every frame and chains the keyframes") \
   X(int, fastslam_particles, "fastslam_particles", 50, 1, 2000, "", "particles of the filter") \

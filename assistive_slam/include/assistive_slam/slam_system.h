@@ -83,9 +83,14 @@ struct SlamStats
   int loop_queue_depth = 0;           ///< mapped keyframes waiting for the loop closer
   double worker_ms_last = 0;          ///< the last keyframe's work (with loop_closing_thread: without loop closing)
   double loop_ms_last = 0;            ///< the last keyframe's loop closing
-  bool localised = true;              ///< false after a load until a stored place is recognised
+  bool localised = true;              ///< false after a load until a stored place is recognised, and
+                                      ///< after a VO loss until the wearer is found again in the map
   double relocalised_stamp = -1;      ///< the keyframe that relocalised the wearer (-1: none)
-  int relocalisation_queries = 0;     ///< keyframes tried against the loaded map
+  int relocalisation_queries = 0;     ///< keyframes tried against the loaded map or after a VO loss
+  int vo_losses = 0;                  ///< untrusted VO stretches after the first keyframe (issue 34)
+  int reset_relocalisations = 0;      ///< ... after which the wearer was found again in the map
+  int reset_gave_up = 0;              ///< ... after which mapping resumed unplaced (reset_relocalisation_timeout)
+  bool relocalising_after_reset = false;  ///< keyframes are queries against the map before the loss
 };
 
 struct MapData;
@@ -120,13 +125,17 @@ public:
   std::vector<SubmapInfo> submaps() const;
   std::vector<SubmapLinkInfo> links() const;
   uint32_t currentSubmap() const;
+  /// The wearer's pose in map is known: false after a load until a stored place is recognised, and
+  /// from a VO loss (an untrusted VO pose after the first keyframe: the VO held its pose while the
+  /// wearer moved) until a keyframe after it is verified against the keyframes near the last
+  /// trusted pose (and the next one agrees). mapToOdom() is then stale: publish none.
+  bool localised() const;
   /// Installs a stored map (map_file.h) before the first frame: keyframes, submaps, loop links,
   /// places; the appearance model is rebuilt from the stored descriptors. The wearer is then not
   /// localised (mapToOdom() is meaningless) until a keyframe and the next one both verify against
   /// stored keyframes proposed by the appearance model with the same map -> odom. False with `err`
   /// after the first frame or on an inconsistent map.
   bool loadMap(const MapData& m, std::string* err);
-  bool localised() const;
   /// Tags the place at the VO pose `T_odom_cam` (the newest frame), anchored to the newest
   /// processed keyframe by the VO's motion since it. An empty name becomes "place<N>"; a name
   /// already tagged is moved. False with `err` before the first keyframe is processed.
@@ -149,7 +158,20 @@ private:
     /// The metric layer's pose of the frame: the keyframes are chained by its motion (the VO pose
     /// for keyframe_ba, the filter's for fastslam).
     Eigen::Isometry3d T_metric_cam = Eigen::Isometry3d::Identity();
+    /// The first trusted frame after an untrusted VO stretch: the last trusted frame before it
+    /// (its VO pose and stamp) anchors the relocalisation.
+    bool reset = false;
+    Eigen::Isometry3d T_odom_last_trusted = Eigen::Isometry3d::Identity();
+    double last_trusted_stamp = 0;
   };
+  /// Frame thread: an untrusted VO frame (a loss once the map exists).
+  void noteUntrusted();
+  /// Frame thread: whether a trusted frame is a keyframe (a relocalisation query while the worker
+  /// looks for the wearer after a loss), and the reset flag of the first frame after a loss.
+  bool takeFrame(const SlamFrame& f, Job& job);
+  /// Queues a job for the worker (the oldest waiting one is dropped beyond queue_size; a dropped
+  /// job's reset flag passes to the next one).
+  void enqueue(Job&& job);
   void workerLoop();
   void processKeyframe(const Job& job);
   /// The keyframe's mapping step (map pose, submap, associations, local BA), under map_update_m_;
@@ -169,6 +191,34 @@ private:
   void localBundleAdjustment();
   void detectLoop(const KeyframePtr& kf, const std::vector<uint32_t>& appearance);
   bool relocalise(const KeyframePtr& kf);
+  /// Worker: a reset job: the wearer is no longer placed; the last trusted pose in map anchors the search.
+  void beginReset(const Job& job);
+  /// Worker, after a VO loss: the keyframes near the last trusted pose (then the appearance model's)
+  /// verified against the query; two consecutive queries must agree on map -> odom.
+  bool relocaliseAfterReset(const KeyframePtr& kf);
+  /// The keyframes to verify after a loss, near the anchor first (within the radius the wearer
+  /// can have walked, looking within 60 deg of the predicted view).
+  std::vector<uint32_t> resetCandidates(const Keyframe& kf, const Eigen::Isometry3d& T_map_pred, double radius) const;
+  /// The query's pose in map from localMapCheck's result, refined with the inliers' points seen in
+  /// both stereo views and by every candidate keyframe that shares them (the keyframes held), the
+  /// predicted rotation (the gyro's) a prior; the P3P pose when the adjustment fails.
+  Eigen::Isometry3d refineOnLocalMap(const std::vector<std::pair<const Keyframe*, Eigen::Isometry3d>>& local,
+                                     const StereoCheckResult& r, const Keyframe& q, const Eigen::Isometry3d& T_map_pred) const;
+  /// A relocalised pose after a loss is plausible: within `radius` of the anchor, turned at most
+  /// reset_max_rotation_deg from the predicted pose, at most reset_max_backward behind the anchor
+  /// along the wearer's (level) view direction.
+  bool plausibleAfterReset(const Eigen::Isometry3d& T_map_b, const Eigen::Isometry3d& T_map_pred, double radius) const;
+  /// A verified match of query `kf` on stored keyframe `a`: held until the next query agrees
+  /// (loop_confirm); true (and localised, the next mapped keyframe opening a session) when it does.
+  bool confirmRelocalisation(const Keyframe& a, const StereoCheckResult& r, const KeyframePtr& kf, int query);
+  /// After reset_relocalisation_timeout: mapping resumes in a new submap (weak link) while the
+  /// wearer stays unplaced until a loop closure reaches a submap from before the loss.
+  void giveUpRelocalisation();
+  /// Loop closer: an accepted closure to `old_submap` ends a search that gave up when that submap
+  /// is from before the loss.
+  void placeAfterGivingUp(uint32_t old_submap);
+  /// Blocks until the loop closer has nothing left (worker only).
+  void waitLoopIdle();
   void optimiseGraph();
   Matrix6d odomInformation(double path_m) const;
   Matrix6d odomCovariance(double path_m) const;
@@ -240,7 +290,35 @@ private:
     LoopLink link{0, 0, Eigen::Isometry3d::Identity()};  ///< stored submap -> (new submap), T_origin_newkf
     LoopEvent ev;
   };
-  Reloc reloc_pending_, reloc_done_;
+  std::vector<Reloc> reloc_run_;  ///< consecutive verified queries agreeing on map -> odom
+  Reloc reloc_done_;
+  /// The mean map -> odom of reloc_run_.
+  Eigen::Isometry3d meanMapToOdom() const;
+  // ---- after a VO loss (issue 34)
+  /// Frame thread: the VO's trust as addFrame sees it.
+  struct FrameLoss
+  {
+    bool mapped = false;        ///< a keyframe was queued: there is a map to be lost from
+    bool untrusted = false;     ///< inside an untrusted stretch
+    bool relocalising = false;  ///< a reset job was queued; the worker has not placed the wearer yet
+    Eigen::Isometry3d last_trusted = Eigen::Isometry3d::Identity();  ///< VO pose of the last trusted frame
+    double last_trusted_stamp = 0;
+  };
+  FrameLoss loss_;
+  bool vo_lost_ = false;  ///< under mm_: set by the frame thread on a loss, cleared when the worker takes it up
+  int resets_queued_ = 0, resets_begun_ = 0;  ///< under mm_: reset jobs queued / taken up by the worker
+  /// Worker: the search after a loss.
+  struct ResetSearch
+  {
+    bool active = false;   ///< keyframes are queries (or, gave_up, mapped but unplaced)
+    bool gave_up = false;  ///< reset_relocalisation_timeout passed: mapping resumed from first_submap
+    uint32_t first_submap = 0;
+    Eigen::Isometry3d T_map_anchor = Eigen::Isometry3d::Identity();  ///< the last trusted pose in map
+    Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();    ///< map -> odom before the loss
+    double stamp = 0;                                                ///< of the last trusted frame
+  };
+  ResetSearch reset_;
+  bool link_session_ = true;  ///< the next session start has a verified link (false: given up)
 };
 
 }  // namespace assistive_slam

@@ -2,6 +2,8 @@
 // Geometric check of a keyframe pair (placeholder for helper "loop"'s loop_verifier.h until it
 // lands): ORB matches (ratio test), P3P RANSAC of the current keyframe's view against the
 // candidate's 3D points, then the inliers' 3D points must agree in both stereo frames.
+#include <utility>
+#include <vector>
 #include <Eigen/Geometry>
 #include "assistive_slam/keyframe.h"
 
@@ -12,6 +14,13 @@ struct StereoCheckResult
   bool accepted = false;
   int matches = 0, inliers = 0;
   Eigen::Isometry3d T_a_b = Eigen::Isometry3d::Identity();  ///< pose of keyframe b's camera in a's
+  /// The inliers that agree in both stereo views: (keyframe: 0, or the index into localMapCheck's
+  /// list; its feature a; b's feature).
+  struct Inlier
+  {
+    int keyframe = 0, a = 0, b = 0;
+  };
+  std::vector<Inlier> inlier_matches;
 };
 
 struct StereoCheckOptions
@@ -25,5 +34,11 @@ struct StereoCheckOptions
 
 StereoCheckResult stereoCheck(const Keyframe& a, const Keyframe& b, const StereoModel& cam,
                               const StereoCheckOptions& o);
+
+/// The same check of query b against a local map: several keyframes, each with its pose in one
+/// reference frame (the map); one match per query feature (its nearest descriptor over them all).
+/// T_a_b: b's camera in the reference frame.
+StereoCheckResult localMapCheck(const std::vector<std::pair<const Keyframe*, Eigen::Isometry3d>>& local, const Keyframe& b,
+                                const StereoModel& cam, const StereoCheckOptions& o);
 
 }  // namespace assistive_slam
