@@ -3,21 +3,13 @@
 #include <random>
 #include <gtest/gtest.h>
 #include "assistive_slam/local_ba.h"
+#include "synthetic_camera.h"
 
 using namespace assistive_slam;
+using slam_test::camera;
 
 namespace
 {
-StereoModel camera()
-{
-  StereoModel c;
-  c.fx = c.fy = 400;
-  c.cx = 320;
-  c.cy = 240;
-  c.baseline = 0.12;
-  return c;
-}
-
 struct Window
 {
   std::vector<Eigen::Isometry3d> poses;

@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 #include "assistive_slam/slam_system.h"
+#include "synthetic_camera.h"
 
 using namespace assistive_slam;
+using slam_test::camera;
 
 namespace reset_test
 {
@@ -18,30 +20,18 @@ constexpr int kLossStart = 30, kLossFrames = 30;  // frames 30..59 untrusted (2 
 constexpr int kReturn = kLossStart + kLossFrames;  // texture back at frame 60
 constexpr int kFrames = kReturn + 30;
 
-StereoModel camera()
-{
-  StereoModel c;
-  c.fx = c.fy = 400;
-  c.cx = 320;
-  c.cy = 240;
-  c.baseline = 0.12;
-  return c;
-}
-
 cv::Mat makeTexture(uint64_t seed)
 {
-  {
-    const int w = static_cast<int>(13.0 / kTexM), h = static_cast<int>(4.0 / kTexM);
-    cv::RNG rng(seed);
-    cv::Mat blocks(h / 16 + 1, w / 16 + 1, CV_8U), noise(h, w, CV_8U);
-    rng.fill(blocks, cv::RNG::UNIFORM, 0, 255);
-    cv::resize(blocks, blocks, cv::Size(blocks.cols * 16, blocks.rows * 16), 0, 0, cv::INTER_NEAREST);
-    rng.fill(noise, cv::RNG::UNIFORM, 0, 255);
-    cv::GaussianBlur(noise, noise, cv::Size(0, 0), 4.0);
-    cv::Mat t = blocks(cv::Rect(0, 0, w, h)) / 2 + noise / 2;
-    cv::GaussianBlur(t, t, cv::Size(0, 0), 2.0);  // no detail finer than the image's pixels at 3 m
-    return t;
-  }
+  const int w = static_cast<int>(13.0 / kTexM), h = static_cast<int>(4.0 / kTexM);
+  cv::RNG rng(seed);
+  cv::Mat blocks(h / 16 + 1, w / 16 + 1, CV_8U), noise(h, w, CV_8U);
+  rng.fill(blocks, cv::RNG::UNIFORM, 0, 255);
+  cv::resize(blocks, blocks, cv::Size(blocks.cols * 16, blocks.rows * 16), 0, 0, cv::INTER_NEAREST);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 255);
+  cv::GaussianBlur(noise, noise, cv::Size(0, 0), 4.0);
+  cv::Mat t = blocks(cv::Rect(0, 0, w, h)) / 2 + noise / 2;
+  cv::GaussianBlur(t, t, cv::Size(0, 0), 2.0);  // no detail finer than the image's pixels at 3 m
+  return t;
 }
 
 /// The wall before the loss; after it either the same wall or (`elsewhere`) one never mapped.
@@ -273,7 +263,7 @@ TEST(SlamReset, NotFoundAgainMappingResumesUnplaced)
   SlamParams p;
   p.loop_closure = false;
   p.reset_relocalisation_timeout_s = 3.0;  // 1 s after the texture returned (the loss lasts 2 s)
-  SlamSystem s(p, reset_test::camera(), false);
+  SlamSystem s(p, camera(), false);
   int keyframes_before = 0, queries_at_return = 0;
   bool ever_placed = false;
   for (int i = 0; i < reset_test::kFrames; ++i)

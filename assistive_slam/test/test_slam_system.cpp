@@ -5,20 +5,13 @@
 #include <opencv2/imgproc.hpp>
 #include "assistive_slam/map_file.h"
 #include "assistive_slam/slam_system.h"
+#include "synthetic_camera.h"
 
 using namespace assistive_slam;
+using slam_test::camera;
 
 namespace
 {
-StereoModel camera()
-{
-  StereoModel c;
-  c.fx = c.fy = 400;
-  c.cx = 320;
-  c.cy = 240;
-  c.baseline = 0.12;
-  return c;
-}
 /// A fronto-parallel textured plane: the right image is the left shifted by `disp` px.
 void texturePair(int disp, cv::Mat& left, cv::Mat& right)
 {
