@@ -103,6 +103,7 @@ void CueLogic::reset()
   door_ = Door();
   prev_door_ = Door();
   stage_walk_ = false;
+  centre_at_ = -1e300;
   clearCrossing();
 }
 
@@ -1257,6 +1258,8 @@ bool CueLogic::throughPassage(const NavInput& in, double now, bool walking, doub
       out = walkOn(fmt("in a passage: straight on through it (%.2f m to clear its jambs)", to_clear), now, false);
       return true;
     }
+    if (std::fabs(past) <= 0.35 && centreInPassage(in, now, axis, lateral, d.width, out))
+      return true;
     if (!turn_after || std::fabs(past) > 0.25)
       return false;  // the way goes on straight, or the body is not between the jambs (before
                      // them the doorway routine squares it up)
@@ -1270,6 +1273,37 @@ bool CueLogic::throughPassage(const NavInput& in, double now, bool walking, doub
     return true;
   }
   return false;
+}
+
+bool CueLogic::centreInPassage(const NavInput& in, double now, double axis, double lateral, double width, Cue& out)
+{
+  // A body standing against a jamb cannot walk on along the axis: each step scrapes the jamb
+  // (the grid's cells put the jamb's face anywhere within 0.2 m: judged on the middle's offset).
+  // Short side-steps towards the middle, each judged once it was carried out (a reaction after
+  // the buzz ended).
+  const CueParams& p = params_;
+  if (now - centre_at_ < kCentreBuzzS + reactionEstimate() + 0.3)
+  {
+    out = holdPattern("in a passage: a side-step towards its middle");
+    return true;
+  }
+  const double room = std::max(0.02, 0.5 * width - p.passage_body_m);
+  if (std::fabs(lateral) <= room + 0.05)
+    return false;
+  // towards the middle (-lateral across the axis), as seen from the body's facing
+  const double mx = lateral * std::sin(axis), my = -lateral * std::cos(axis);
+  const double yaw = facing(in);
+  const int side = std::cos(yaw) * my - std::sin(yaw) * mx > 0.0 ? +1 : -1;
+  std::array<float, NUM_MOTORS> drive{ { 0.f, 0.f, 0.f, 0.f } };
+  drive[side > 0 ? LEFT_WAIST : RIGHT_WAIST] = 1.f;
+  centre_at_ = now;
+  busy_ = false;
+  out = startPattern(CueMode::PROXIMITY, Instruction::SIDESTEP, 0, drive, uint8_t(std::lround(kCentreBuzzS * 100.0)),
+                     0, 1, now,
+                     fmt(side > 0 ? "in a passage %.2f m off its middle: step left" :
+                                    "in a passage %.2f m off its middle: step right",
+                         std::fabs(lateral)));
+  return true;
 }
 
 bool CueLogic::shortWalk(const NavInput& in, double now, Cue& out)

@@ -1403,4 +1403,21 @@ TEST(CueLogic, InADoorwayTheBodyLeavesOnItsAxisBeforeATurn)
   NavInput no_axis = atDoorway(standingAt(2.0, 0.0, 0.0, 90.0), 0.05);
   no_axis.passage_axis = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(fresh(old, no_axis, 0.0).instruction, Instruction::TURN);
+
+  // standing in it 0.2 m left of the middle (room 0.4 - 0.35 = 0.05 m, plus 5 cm): against the
+  // jamb every step along the axis scrapes it; a short side-step right (0.35 s), then a wait
+  // until it was carried out, then the next judgement
+  CueLogic side;
+  const Cue r = fresh(side, atDoorway(standingAt(2.0, 0.2, 0.0, 90.0), 0.05), 0.0);
+  ASSERT_EQ(r.instruction, Instruction::SIDESTEP) << r.reason;
+  EXPECT_GT(r.intensity[RIGHT_WAIST], 0.f);
+  EXPECT_EQ(r.intensity[LEFT_WAIST], 0.f);
+  EXPECT_EQ(r.pattern.on_10ms, 35);
+  const Cue held = fresh(side, atDoorway(standingAt(2.0, 0.2, 0.0, 90.0), 0.05), 0.5);
+  EXPECT_EQ(held.pattern.id, r.pattern.id);  // the same pattern: not played again
+  // facing the other way (the way on is back out, -x), the middle lies to its left
+  CueLogic back;
+  const Cue b = fresh(back, atDoorway(standingAt(2.0, 0.2, 180.0, 90.0), 0.05), 0.0);
+  ASSERT_EQ(b.instruction, Instruction::SIDESTEP) << b.reason;
+  EXPECT_GT(b.intensity[LEFT_WAIST], 0.f);
 }

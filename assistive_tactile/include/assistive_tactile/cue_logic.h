@@ -189,6 +189,10 @@ private:
   /// A walker on the slant towards a passage whose walk crosses the passage's axis 0.35-1.5 m before
   /// its middle: walk on, then a stop timed (its reach `stop_m`) to stand on the axis.
   bool stopOnAxis(const NavInput& in, double now, double stop_m, Cue& out);
+  /// Standing in a passage `lateral` m left of its axis (`axis`, rad), more than its room (half
+  /// `width` less passage_body_m) plus 5 cm: a short side-step towards the middle (true and the
+  /// cue, or the wait while one is carried out).
+  bool centreInPassage(const NavInput& in, double now, double axis, double lateral, double width, Cue& out);
   /// Keeps the passage the planner reports (door_, prev_door_).
   void noteDoor(const NavInput& in);
   /// A go to a standing wearer with a stop timed so that it walks `room` m (it starts and stops a
@@ -335,6 +339,9 @@ private:
   Door door_, prev_door_;  ///< the last one and the one before it (a second doorway just beyond)
   /// A go towards a passage's axis or out of it is being walked (its stop timed from the go).
   bool stage_walk_ = false;
+  /// The last side-step away from a jamb began then; each buzzes this long (about 0.1 m).
+  double centre_at_ = -1e300;
+  static constexpr double kCentreBuzzS = 0.35;
   /// The body's yaw (rad), estimated from the head (bodyYaw): the head's fast turns (a turn on the
   /// spot, a veer) carried at once, its slow motion (the scan, +-8 deg over seconds) filtered out
   /// towards the walk chord while walking and towards the head's mean while standing.
