@@ -67,6 +67,8 @@ assistive_msgs::NavigationState toMsg(const PlanOutput& out, const std_msgs::Hea
   s.passage_distance = passage ? float(out.passage_distance) : -1.0f;
   s.passage_heading = passage ? finiteOr(out.passage_heading) : 0.0f;
   s.passage_width = passage ? finiteOr(out.passage_width) : 0.0f;
+  s.passage_point = passage ? toPoint(out.passage_point) : toPoint(out.wearer);
+  s.passage_axis = passage ? finiteOr(out.passage_axis) : 0.0f;
   const CrossingResult& c = out.crossing;
   const bool warn = c.advice != CrossingAdvice::NONE && std::isfinite(c.time) && std::isfinite(c.distance);
   s.crossing = uint8_t(warn ? c.advice : CrossingAdvice::NONE);

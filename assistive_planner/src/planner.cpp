@@ -403,6 +403,57 @@ std::array<double, 4> boxOf(const std::vector<Point2>& pts, double margin)
   }
   return { { b[0] - margin, b[1] - margin, b[2] + margin, b[3] + margin } };
 }
+
+/// A passage's axis (Passage::axis) at its middle, on the 5 cm obstacle distance field; NaN when
+/// no chord through the middle closes on both sides near twice its clearance (no passage).
+double passageAxis(const FineField& field, const Point2& middle, double clearance, double path_dir, double max_chord)
+{
+  // The door's line is the shortest chord of free floor through its middle (jamb to jamb; any
+  // other direction runs out into the rooms or along the aisle); the axis is across it, the way
+  // the path goes. A path that crosses a doorway on the slant still gets the doorway's own axis.
+  auto chord = [&](double th) {
+    const double ux = std::cos(th), uy = std::sin(th);
+    double len = 0.0;
+    for (int side : { -1, 1 })
+    {
+      double o = 0.0;
+      while (o < 0.5 * max_chord && field(middle.x + side * o * ux, middle.y + side * o * uy) > 1e-6)
+        o += 0.005;
+      if (o >= 0.5 * max_chord)
+        return 1e300;  // open on this side: no chord
+      len += o;
+    }
+    return len;
+  };
+  // every degree; the chords within 2 cm of the shortest are the jamb-to-jamb line give or take
+  // the quantisation (a chord tilted by a few degrees is longer by less than a step): their
+  // middle direction (a mean of the doubled angles: a line has no sign)
+  std::array<double, 180> len{};
+  double best_len = 1e300;
+  for (int k = 0; k < 180; ++k)
+  {
+    len[size_t(k)] = chord(k * M_PI / 180.0);
+    best_len = std::min(best_len, len[size_t(k)]);
+  }
+  double sx = 0.0, sy = 0.0;
+  for (int k = 0; k < 180; ++k)
+    if (len[size_t(k)] <= best_len + 0.02)
+    {
+      sx += std::cos(2.0 * k * M_PI / 180.0);
+      sy += std::sin(2.0 * k * M_PI / 180.0);
+    }
+  const double best = 0.5 * std::atan2(sy, sx);
+  // no chord ends on both sides within reach, or the shortest is no jamb-to-jamb line through the
+  // middle (twice its clearance): no passage (a path along a hall past a doorway's mouth found a
+  // middle in the mouth, whose chords run out into the room and along the hall)
+  if (!(best_len < 2.0 * clearance + 0.15))
+    return std::numeric_limits<double>::quiet_NaN();
+  double axis = best + 0.5 * M_PI;
+  if (std::cos(axis - path_dir) < 0.0)
+    axis += M_PI;
+  return std::atan2(std::sin(axis), std::cos(axis));
+}
+
 }  // namespace
 
 void Planner::refinePath(const Grid& grid, std::vector<Point2>& path, double clearance)
@@ -506,8 +557,15 @@ Passage Planner::findPassage(const Grid& grid, const std::vector<Point2>& path, 
       out.axis = std::atan2(b.y - a.y, b.x - a.x);
     }
   }
+  if (out.found)
+  {
+    out.axis = passageAxis(field, out.middle, best, out.axis, 2.0 * reach);
+    if (!std::isfinite(out.axis))
+      return Passage();
+  }
   return out;
 }
+
 
 void Planner::syncCosts(const Grid& grid, PlanOutput& out)
 {

@@ -93,10 +93,15 @@ TEST(Conversions, NavigationStateFieldsAndNoNaN)
   o.passage_distance = 1.5;
   o.passage_heading = 0.2;
   o.passage_width = 0.8;
+  o.passage_point = { 2.5, -0.5 };
+  o.passage_axis = 1.2;
   const auto d = toMsg(o, h, ros::Time(9.5));
   EXPECT_FLOAT_EQ(d.passage_distance, 1.5f);
   EXPECT_FLOAT_EQ(d.passage_heading, 0.2f);
   EXPECT_FLOAT_EQ(d.passage_width, 0.8f);
+  EXPECT_DOUBLE_EQ(d.passage_point.x, 2.5);
+  EXPECT_DOUBLE_EQ(d.passage_point.y, -0.5);
+  EXPECT_FLOAT_EQ(d.passage_axis, 1.2f);
   o.status = PlanStatus::NO_PATH;
   EXPECT_FLOAT_EQ(toMsg(o, h, ros::Time(9.5)).passage_distance, -1.0f);
   o.status = PlanStatus::OK;

@@ -47,6 +47,39 @@ TEST(Planner, FindPassageFindsADoorwaysMiddle)
   EXPECT_TRUE(Planner::findPassage(wide, path, 0.0, 3.0, 1.5).found);
 }
 
+// The passage's axis is the doorway's own (across its jamb-to-jamb line), not the path's: a path
+// that crosses a doorway in a wall along y on the slant (40 deg) gets the wall's normal, the way
+// the path goes; an aisle between two long shelves gets the aisle's direction. The cue logic
+// squares the wearer up on it.
+TEST(Planner, FindPassageGivesTheDoorwaysOwnAxis)
+{
+  Grid g = makeGrid(-5, -5);
+  fillRect(g, 1.89, -5.0, 2.11, -0.29, CELL_OBSTACLE);
+  fillRect(g, 1.89, 0.69, 2.11, 5.0, CELL_OBSTACLE);
+  for (double slant_deg : { 40.0, -40.0 })
+  {
+    const double a = slant_deg * M_PI / 180.0;
+    const Point2 mid{ 2.0, 0.2 };
+    // through the middle on the slant, both ways
+    const std::vector<Point2> fwd{ { mid.x - 1.5 * std::cos(a), mid.y - 1.5 * std::sin(a) },
+                                   { mid.x + 1.5 * std::cos(a), mid.y + 1.5 * std::sin(a) } };
+    const Passage p = Planner::findPassage(g, fwd, 0.0, 3.0, 1.1);
+    ASSERT_TRUE(p.found) << slant_deg;
+    EXPECT_NEAR(p.axis, 0.0, 3.0 * M_PI / 180.0) << slant_deg;
+    const std::vector<Point2> back{ fwd[1], fwd[0] };
+    const Passage q = Planner::findPassage(g, back, 0.0, 3.0, 1.1);
+    ASSERT_TRUE(q.found) << slant_deg;
+    EXPECT_NEAR(std::fabs(q.axis), M_PI, 3.0 * M_PI / 180.0) << slant_deg;
+  }
+  // an aisle 1.0 m of free cells wide along y, 4 m long: its axis runs along it
+  Grid aisle = makeGrid(-5, -5);
+  fillRect(aisle, -1.11, -2.0, -0.51, 2.0, CELL_OBSTACLE);
+  fillRect(aisle, 0.49, -2.0, 1.11, 2.0, CELL_OBSTACLE);
+  const Passage r = Planner::findPassage(aisle, { { 0.0, -3.0 }, { 0.2, 3.0 } }, 0.0, 3.0, 1.3);
+  ASSERT_TRUE(r.found);
+  EXPECT_NEAR(r.axis, M_PI / 2.0, 3.0 * M_PI / 180.0);
+}
+
 namespace
 {
 /// Marks every cell whose square overlaps [x0, x1] x [y0, y1] an obstacle, as the truth map and

@@ -57,6 +57,9 @@ NavInput fromMsg(const assistive_msgs::NavigationState& msg)
   in.passage_distance = msg.passage_distance;
   in.passage_heading = msg.passage_heading;
   in.passage_width = msg.passage_width;
+  in.passage_x = msg.passage_point.x;
+  in.passage_y = msg.passage_point.y;
+  in.passage_axis = msg.passage_axis;
   in.x = msg.wearer.x;  // in the state's frame (the planner's grid's)
   in.y = msg.wearer.y;
   // an advice code this build does not know is no advice (the status still decides the rest)

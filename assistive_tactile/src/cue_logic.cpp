@@ -100,6 +100,10 @@ void CueLogic::reset()
   busy_ = false;
   last_yaw_time_ = -1e300;
   yaw_rate_ = 0.0;
+  door_ = Door();
+  prev_door_ = Door();
+  stage_walk_ = false;
+  centre_at_ = -1e300;
   clearCrossing();
 }
 
@@ -1069,6 +1073,8 @@ bool CueLogic::passageCue(const NavInput& in, double now, bool walking, Cue& out
       out = walkOn(fmt("facing a passage's middle (%.0f deg off): going", err * kRadToDeg), now, true);
       return true;
     }
+    if (stageForPassage(in, now, out))
+      return true;
     if (std::fabs(err) * kRadToDeg > p.passage_align_deg)
     {
       std::snprintf(why, sizeof(why), "passage %.2f m wide %.2f m ahead, middle %.0f deg off: ", in.passage_width, d,
@@ -1084,12 +1090,16 @@ bool CueLogic::passageCue(const NavInput& in, double now, bool walking, Cue& out
   }
   // walking: the wearer stops its reaction time and its stop later
   const double stop_m = stopReach(v, reactionEstimate());
+  if (stopOnAxis(in, now, stop_m, out))
+    return true;
   if (d > p.passage_align_m + stop_m + 0.3)
     return false;  // not yet: ordinary steering brings it towards the passage
   const double err = wrapAngle(in.passage_heading - in.walk_heading);
   // where the straight walk passes the middle (the learnt drift bends it on the way)
   const double miss = d * std::sin(err) - 0.5 * drift_per_m_ * d * d;
-  if (std::fabs(miss) <= room)
+  const double slant = door_.valid ? std::fabs(wrapAngle(in.walk_heading - door_.axis)) * kRadToDeg : 0.0;
+  const bool square = !(p.passage_square_deg > 0.0) || slant <= p.passage_square_deg;
+  if (std::fabs(miss) <= room && square)
   {
     std::snprintf(why, sizeof(why), "passage %.2f m wide %.2f m ahead: straight on (passes %.2f m off its middle)",
                   in.passage_width, d, miss);
@@ -1098,10 +1108,201 @@ bool CueLogic::passageCue(const NavInput& in, double now, bool walking, Cue& out
   }
   // stop and face the middle as seen from here (where it will stand depends on a reaction and a
   // stop it may not have learnt yet: seen from there the middle lies further off, and the next
-  // turn, standing, asks for the rest)
-  std::snprintf(why, sizeof(why), "passage %.2f m wide %.2f m ahead, would pass %.2f m off its middle: ",
-                in.passage_width, d, miss);
+  // turn, standing, asks for the rest); on the slant, standing, it squares up on the axis first
+  std::snprintf(why, sizeof(why), "passage %.2f m wide %.2f m ahead, would pass %.2f m off its middle, %.0f deg off its axis: ",
+                in.passage_width, d, miss, slant);
   out = startTurn(in, now, err, why);
+  return true;
+}
+
+bool CueLogic::stopOnAxis(const NavInput& in, double now, double stop_m, Cue& out)
+{
+  // A walk along a hall towards a doorway in its side crosses the doorway's axis before it: the
+  // stop timed to land there leaves the wearer standing square to it, a turn on the spot from
+  // walking through (where a stop short of it on the slant needs a walk to the axis first).
+  const CueParams& p = params_;
+  if (!(p.passage_square_deg > 0.0) || !door_.valid)
+    return false;
+  const double ca = std::cos(door_.axis), sa = std::sin(door_.axis);
+  const double ch = std::cos(in.walk_heading), sh = std::sin(in.walk_heading);
+  const double det = std::sin(in.walk_heading - door_.axis);  // the walk against the axis
+  if (std::fabs(det) < std::sin(p.passage_square_deg / kRadToDeg))
+    return false;  // along the axis (or nearly): straight through, the ordinary routine
+  // the walk P + t h meets the axis M + u n
+  const double dx = door_.x - in.x, dy = door_.y - in.y;
+  const double t = (-dx * sa + ca * dy) / det, u = (ch * dy - sh * dx) / det;
+  const double before = -u;
+  if (t < 0.0 || before < 0.35 || before > 1.5)
+    return false;
+  const double xx = in.x + t * ch, xy = in.y + t * sh;
+  if (in.grid && !in.grid->empty() && obstacleClearance(*in.grid, xx, xy, 1.0) < p.sweep_radius_m + 0.05)
+    return false;  // no room to stand there
+  if (t > stop_m + 0.05)
+  {
+    out = walkOn(fmt("the doorway's axis %.2f m ahead: walk on to it", t), now, false);
+    return true;
+  }
+  if (t < stop_m - 0.3)
+    return false;  // too late to stand on it: stop and turn as before
+  busy_ = false;
+  out = steady(CueMode::ALERT, Instruction::STOP, { { 1.f, 1.f, 1.f, 1.f } }, now,
+               fmt("stop on the doorway's axis (%.2f m on)", t));
+  return true;
+}
+
+double CueLogic::stopAfterGo(double room) const
+{
+  // walked after accelerating for s: a s^2 / 2, then the stop (a s)^2 / (2 stop_decel)
+  const double a = startAccelEstimate();
+  const double k = 0.5 * a + a * a / (2.0 * stopDecelEstimate());
+  return 0.1 + std::sqrt(std::max(0.0, room) / k);  // (the tick is felt when it ends, 0.1 s)
+}
+
+Cue CueLogic::timedGo(const NavInput& in, double now, double room, std::string reason)
+{
+  (void)in;
+  Cue c = walkOn(std::move(reason), now, true);
+  go_at_ = now;
+  go_handled_ = now;  // judged here, not on the free floor ahead
+  short_stop_at_ = now + stopAfterGo(room);
+  passage_go_ = now;
+  stage_walk_ = true;
+  return c;
+}
+
+void CueLogic::noteDoor(const NavInput& in)
+{
+  if (!(in.passage_distance >= 0.0) || !(in.passage_width > 0.0) || !std::isfinite(in.passage_x) ||
+      !std::isfinite(in.passage_y) || !std::isfinite(in.passage_axis))
+    return;
+  if (door_.valid && std::hypot(in.passage_x - door_.x, in.passage_y - door_.y) > 0.3)
+    prev_door_ = door_;
+  door_ = { true, in.passage_x, in.passage_y, in.passage_axis, in.passage_width };
+}
+
+bool CueLogic::stageForPassage(const NavInput& in, double now, Cue& out)
+{
+  // Through a doorway on the slant the jambs come closer to the body's line by the cosine and the
+  // wall's depth: square up first, as an instructor would, on the doorway's own axis.
+  const CueParams& p = params_;
+  if (!(p.passage_square_deg > 0.0) || !door_.valid)
+    return false;
+  const double ca = std::cos(door_.axis), sa = std::sin(door_.axis);
+  const double rx = in.x - door_.x, ry = in.y - door_.y;
+  const double before = -(rx * ca + ry * sa), lateral = -rx * sa + ry * ca;
+  if (before < 0.15 || std::atan2(std::fabs(lateral), before) * kRadToDeg <= p.passage_square_deg)
+    return false;  // in it, or near enough its axis: face the middle from here
+  // the point on the axis, nearer the middle when it lies against an obstacle
+  double s = p.passage_stage_m, sx = door_.x - s * ca, sy = door_.y - s * sa;
+  while (s > 0.25 && in.grid && !in.grid->empty() &&
+         obstacleClearance(*in.grid, sx, sy, 1.0) < p.sweep_radius_m + 0.05)
+  {
+    s -= 0.1;
+    sx = door_.x - s * ca;
+    sy = door_.y - s * sa;
+  }
+  const double dist = std::hypot(sx - in.x, sy - in.y);
+  if (dist < 0.1)
+    return false;
+  const double err = wrapAngle(std::atan2(sy - in.y, sx - in.x) - facing(in));
+  char why[200];
+  if (std::fabs(err) * kRadToDeg > std::max(p.passage_align_deg, 8.0))
+  {
+    std::snprintf(why, sizeof(why), "passage %.2f m wide, %.0f deg off its axis: to its axis first (%.2f m), ",
+                  door_.width, std::atan2(std::fabs(lateral), before) * kRadToDeg, dist);
+    out = startTurn(in, now, err, why);
+    return true;
+  }
+  std::snprintf(why, sizeof(why), "passage %.2f m wide: walk %.2f m to its axis (%.2f m before its middle)", door_.width,
+                dist, s);
+  out = timedGo(in, now, dist, why);
+  return true;
+}
+
+bool CueLogic::throughPassage(const NavInput& in, double now, bool walking, double err, Cue& out)
+{
+  // A turn just beyond a doorway, cued while the body is still between the jambs, swings it out on
+  // the slant into one (most homes' collisions were there, the body 45-90 deg off the doorway's
+  // axis): the body leaves on the axis first.
+  const CueParams& p = params_;
+  if (!(p.passage_clear_m > 0.0))
+    return false;
+  for (const Door* dp : { &door_, &prev_door_ })
+  {
+    const Door& d = *dp;
+    if (!d.valid)
+      continue;
+    // the axis the way the wearer goes on (the way may lead back out through it)
+    const double axis = std::cos(in.steer_heading - d.axis) >= 0.0 ? d.axis : wrapAngle(d.axis + M_PI);
+    const double ca = std::cos(axis), sa = std::sin(axis);
+    const double rx = in.x - d.x, ry = in.y - d.y;
+    const double past = rx * ca + ry * sa, lateral = -rx * sa + ry * ca;
+    if (past < -p.passage_inside_m || past > p.passage_clear_m || std::fabs(lateral) > 0.5 * d.width)
+      continue;
+    // (judged on the axis, not on the facing: a standing wearer squared up to it is not turned away
+    // by a steering error its own scan makes)
+    const bool turn_after = std::fabs(wrapAngle(in.steer_heading - axis)) * kRadToDeg > p.stand_turn_deg;
+    const double to_clear = p.passage_clear_m - past;
+    if (walking)
+    {
+      if (std::fabs(wrapAngle(in.walk_heading - axis)) * kRadToDeg > 2.0 * p.passage_square_deg)
+        return false;  // walking across it, not through it (the sweep judges)
+      const double v = std::max(0.0, in.walking_speed);
+      if (turn_after && stopReach(v, reactionEstimate()) >= to_clear)
+      {
+        busy_ = false;
+        out = steady(CueMode::ALERT, Instruction::STOP, { { 1.f, 1.f, 1.f, 1.f } }, now,
+                     fmt("in a passage: stop clear of its jambs (%.2f m on), then turn", to_clear));
+        return true;
+      }
+      out = walkOn(fmt("in a passage: straight on through it (%.2f m to clear its jambs)", to_clear), now, false);
+      return true;
+    }
+    if (std::fabs(past) <= 0.35 && centreInPassage(in, now, axis, lateral, d.width, out))
+      return true;
+    if (!turn_after || std::fabs(past) > 0.25)
+      return false;  // the way goes on straight, or the body is not between the jambs (before
+                     // them the doorway routine squares it up)
+    const double ferr = wrapAngle(axis - facing(in));
+    if (std::fabs(ferr) * kRadToDeg > std::max(p.passage_align_deg, 8.0))
+    {
+      out = startTurn(in, now, ferr, "in a passage: face its axis, ");
+      return true;
+    }
+    out = timedGo(in, now, to_clear + 0.05, fmt("in a passage: step %.2f m out of it", to_clear + 0.05));
+    return true;
+  }
+  return false;
+}
+
+bool CueLogic::centreInPassage(const NavInput& in, double now, double axis, double lateral, double width, Cue& out)
+{
+  // A body standing against a jamb cannot walk on along the axis: each step scrapes the jamb
+  // (the grid's cells put the jamb's face anywhere within 0.2 m: judged on the middle's offset).
+  // Short side-steps towards the middle, each judged once it was carried out (a reaction after
+  // the buzz ended).
+  const CueParams& p = params_;
+  if (now - centre_at_ < kCentreBuzzS + reactionEstimate() + 0.3)
+  {
+    out = holdPattern("in a passage: a side-step towards its middle");
+    return true;
+  }
+  const double room = std::max(0.02, 0.5 * width - p.passage_body_m);
+  if (std::fabs(lateral) <= room + 0.05)
+    return false;
+  // towards the middle (-lateral across the axis), as seen from the body's facing
+  const double mx = lateral * std::sin(axis), my = -lateral * std::cos(axis);
+  const double yaw = facing(in);
+  const int side = std::cos(yaw) * my - std::sin(yaw) * mx > 0.0 ? +1 : -1;
+  std::array<float, NUM_MOTORS> drive{ { 0.f, 0.f, 0.f, 0.f } };
+  drive[side > 0 ? LEFT_WAIST : RIGHT_WAIST] = 1.f;
+  centre_at_ = now;
+  busy_ = false;
+  out = startPattern(CueMode::PROXIMITY, Instruction::SIDESTEP, 0, drive, uint8_t(std::lround(kCentreBuzzS * 100.0)),
+                     0, 1, now,
+                     fmt(side > 0 ? "in a passage %.2f m off its middle: step left" :
+                                    "in a passage %.2f m off its middle: step right",
+                         std::fabs(lateral)));
   return true;
 }
 
@@ -1138,12 +1339,7 @@ bool CueLogic::shortWalk(const NavInput& in, double now, Cue& out)
     const double reach_at_pace = have_pace_ ? p.alert_m + stopReach(pace_est_, reactionEstimate()) : 0.0;
     if ((std::isfinite(in.free_ahead) && in.free_ahead < std::max(p.short_walk_m, reach_at_pace)) ||
         room + p.alert_m < std::max(p.short_walk_m, reach_at_pace))
-    {
-      // walked after accelerating for s: a s^2 / 2, then the stop (a s)^2 / (2 stop_decel)
-      const double a = startAccelEstimate();
-      const double k = 0.5 * a + a * a / (2.0 * stopDecelEstimate());
-      short_stop_at_ = go_at_ + 0.1 + std::sqrt(std::max(0.0, room) / k);  // (the tick is felt when it ends, 0.1 s)
-    }
+      short_stop_at_ = go_at_ + stopAfterGo(room);
   }
   if (short_stop_at_ < 0.0)
     return false;
@@ -1177,6 +1373,7 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
 {
   const CueParams& p = params_;
   observeHead(in, now);
+  noteDoor(in);
   {
     Cue stop;
     if (shortWalk(in, now, stop))
@@ -1199,6 +1396,13 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
     return held;
   if (busy_ && holdVeer(in, now, err, walking, held, superseding))
     return held;
+  if (stage_walk_)
+  {
+    // walking to a passage's axis or out of it: its timed stop ends the walk (shortWalk)
+    if (short_stop_at_ >= 0.0 || now - passage_go_ < reactionEstimate() + 1.0)
+      return walkOn("walking to a passage's axis or out of it", now, !walking);
+    stage_walk_ = false;
+  }
   // after a superseded veer the new one asks for what is left beyond the one being carried out
   double ask = err;
   if (superseding)
@@ -1212,6 +1416,8 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
     if (busy_)
       quiet_since_ = now;
     busy_ = false;
+    if (throughPassage(in, now, walking, err, held))
+      return held;
     if (passageCue(in, now, walking, held))
       return held;
   }

@@ -102,10 +102,16 @@ TEST(Conversions, NavigationState)
   s.passage_distance = 1.5f;
   s.passage_heading = 0.2f;
   s.passage_width = 0.8f;
+  s.passage_point.x = 2.5;
+  s.passage_point.y = -0.5;
+  s.passage_axis = 1.2f;
   NavInput in = fromMsg(s);
   EXPECT_FLOAT_EQ(in.passage_distance, 1.5f);
   EXPECT_FLOAT_EQ(in.passage_heading, 0.2f);
   EXPECT_FLOAT_EQ(in.passage_width, 0.8f);
+  EXPECT_DOUBLE_EQ(in.passage_x, 2.5);
+  EXPECT_DOUBLE_EQ(in.passage_y, -0.5);
+  EXPECT_FLOAT_EQ(float(in.passage_axis), 1.2f);
   EXPECT_EQ(in.status, NavStatus::OK);
   EXPECT_FLOAT_EQ(in.heading, 0.5f);
   EXPECT_FLOAT_EQ(in.path_heading, 1.0f);

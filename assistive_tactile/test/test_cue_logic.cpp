@@ -1276,3 +1276,148 @@ TEST(CueLogic, NoVeerInADoorwayWhileWalkingOnSweepsClear)
   EXPECT_NE(fresh(h, near_wall, 0.0).reason.find("in a doorway"), 0u);
   EXPECT_EQ(fresh(h, near_wall, 0.0).reason.find("in a doorway"), std::string::npos);
 }
+
+namespace
+{
+/// The doorway of doorwayGrid() (middle (2, 0), axis +x) as the planner reports it to a wearer at
+/// (x, y): along the path `dist` m, its middle, its axis and its width (0.8 m: 0.6 m of free cells
+/// plus a cell).
+NavInput atDoorway(NavInput in, double dist)
+{
+  in.grid = doorwayGrid();
+  in.passage_distance = dist;
+  in.passage_width = 0.8;
+  in.passage_x = 2.0;
+  in.passage_y = 0.0;
+  in.passage_axis = 0.0;
+  in.passage_heading = std::atan2(0.0 - in.y, 2.0 - in.x);
+  return in;
+}
+
+/// A standing wearer at (x, y) whose body and head face `yaw_deg`, the steering point `steer_deg`.
+NavInput standingAt(double x, double y, double yaw_deg, double steer_deg)
+{
+  NavInput in = standing(base());
+  in.x = x;
+  in.y = y;
+  in.head_yaw = in.walk_heading = in.heading = yaw_deg * kDeg;
+  in.steer_heading = in.path_heading = steer_deg * kDeg;
+  return in;
+}
+}  // namespace
+
+// A wearer standing 0.8 m before an 0.80 m doorway but 1.0 m to the side of its axis (51 deg off
+// it, seen from the middle): faced to the middle from there it would cross the jamb line on the
+// slant, where the jambs close in on the body. It is turned towards the point passage_stage_m
+// (0.6 m) before the middle on the axis (79 deg right, not the middle's 51), sent there, and
+// stopped by a stop timed from the go. Without the axis (an older planner) it faces the middle.
+TEST(CueLogic, StandingOffADoorwaysAxisWalksToTheAxisFirst)
+{
+  CueLogic c;
+  const Cue k = fresh(c, atDoorway(standingAt(1.2, 1.0, 0.0, -51.0), 1.5), 0.0);
+  ASSERT_EQ(k.instruction, Instruction::TURN) << k.reason;
+  EXPECT_GT(k.intensity[RIGHT_SHOULDER], 0.f);
+  EXPECT_NE(k.reason.find("to its axis first"), std::string::npos) << k.reason;
+  const double stage_deg = std::atan2(-1.0, 0.2) / kDeg;  // -78.7
+  EXPECT_EQ(k.pattern.on_10ms, int(std::lround(100.0 * (-stage_deg / 90.0 + 0.25))));
+
+  // facing the stage point: go, then a stop timed from the go, no turn on the way
+  CueLogic g;
+  NavInput in = atDoorway(standingAt(1.2, 1.0, stage_deg, -51.0), 1.5);
+  const Cue go = fresh(g, in, 0.0);
+  ASSERT_EQ(go.instruction, Instruction::WALK_ON) << go.reason;
+  EXPECT_NE(go.reason.find("to its axis"), std::string::npos) << go.reason;
+  double stop_at = -1.0;
+  for (double t = 1.0 / 15.0; t < 4.0 && stop_at < 0.0; t += 1.0 / 15.0)
+  {
+    NavInput w = in;
+    w.walking_speed = 0.6;  // walking towards it (the position is not what is judged)
+    const Cue q = fresh(g, w, t);
+    EXPECT_NE(q.instruction, Instruction::TURN) << t << " " << q.reason;
+    if (q.instruction == Instruction::STOP)
+      stop_at = t;
+  }
+  // 1.02 m: a^-1 (0.5 + a / (2 d)) s^2 = 1.02 at the unlearnt start (1.2) and stop: about 1 s
+  EXPECT_GT(stop_at, 0.5);
+  EXPECT_LT(stop_at, 2.0);
+
+  CueLogic old;
+  NavInput no_axis = atDoorway(standingAt(1.2, 1.0, 0.0, -51.0), 1.5);
+  no_axis.passage_axis = std::numeric_limits<double>::quiet_NaN();
+  const Cue o = fresh(old, no_axis, 0.0);
+  ASSERT_EQ(o.instruction, Instruction::TURN);
+  EXPECT_EQ(o.pattern.on_10ms, int(std::lround(100.0 * (std::atan2(1.0, 0.8) / kDeg / 90.0 + 0.25))));
+}
+
+// A walker going along a hall past the doorway's side (x = 1.4, heading -y at 1 m/s), the doorway
+// to its left: its walk crosses the doorway's axis 0.6 m before the middle. It walks on (no turn
+// short of it), then a stop lands it on the axis: the stop is asked when the crossing lies about
+// its stop's reach ahead.
+TEST(CueLogic, WalkerOnTheSlantStopsOnTheDoorwaysAxis)
+{
+  CueLogic c;
+  double stop_y = -1.0;
+  for (int i = 0; i < 60 && stop_y < 0.0; ++i)
+  {
+    NavInput in = base();
+    in.x = 1.4;
+    in.y = 3.0 - i * (1.0 / 15.0);
+    in.walking_speed = 1.0;
+    in.head_yaw = in.walk_heading = in.heading = -90.0 * kDeg;
+    in.steer_heading = in.path_heading = std::atan2(-in.y, 0.6);
+    in = atDoorway(in, in.y + 0.6);
+    const Cue q = fresh(c, in, i / 15.0);
+    ASSERT_NE(q.instruction, Instruction::TURN) << in.y << " " << q.reason;
+    if (q.instruction == Instruction::STOP)
+    {
+      stop_y = in.y;
+      EXPECT_NE(q.reason.find("doorway's axis"), std::string::npos) << q.reason;
+    }
+  }
+  // a stop from 1 m/s lands after its reach (reaction 1.2 s unlearnt: about 1.2 + 0.5 m)
+  EXPECT_GT(stop_y, 0.8);
+  EXPECT_LT(stop_y, 2.5);
+}
+
+// Standing in the doorway's middle with the way turning left just beyond it: turned on the spot
+// there, the body would leave on the slant past a jamb; it steps out along the axis first (a go
+// with a timed stop). Walking through, the stop before that turn is asked at once (it lands
+// past passage_clear_m). With the way straight on, ordinary steering; without the axis, a turn.
+TEST(CueLogic, InADoorwayTheBodyLeavesOnItsAxisBeforeATurn)
+{
+  CueLogic c;
+  const Cue k = fresh(c, atDoorway(standingAt(2.0, 0.0, 0.0, 90.0), 0.05), 0.0);
+  EXPECT_EQ(k.instruction, Instruction::WALK_ON) << k.reason;
+  EXPECT_NE(k.reason.find("out of it"), std::string::npos) << k.reason;
+
+  CueLogic w;
+  NavInput walk = atDoorway(walkerAt(1.8, 0.0, 1.0, 90.0), 0.2);
+  const Cue s = fresh(w, walk, 0.0);
+  EXPECT_EQ(s.instruction, Instruction::STOP) << s.reason;
+  EXPECT_NE(s.reason.find("clear of its jambs"), std::string::npos) << s.reason;
+
+  CueLogic straight;
+  EXPECT_EQ(fresh(straight, atDoorway(walkerAt(1.8, 0.0, 1.0, 0.0), 0.2), 0.0).instruction, Instruction::WALK_ON);
+
+  CueLogic old;
+  NavInput no_axis = atDoorway(standingAt(2.0, 0.0, 0.0, 90.0), 0.05);
+  no_axis.passage_axis = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(fresh(old, no_axis, 0.0).instruction, Instruction::TURN);
+
+  // standing in it 0.2 m left of the middle (room 0.4 - 0.35 = 0.05 m, plus 5 cm): against the
+  // jamb every step along the axis scrapes it; a short side-step right (0.35 s), then a wait
+  // until it was carried out, then the next judgement
+  CueLogic side;
+  const Cue r = fresh(side, atDoorway(standingAt(2.0, 0.2, 0.0, 90.0), 0.05), 0.0);
+  ASSERT_EQ(r.instruction, Instruction::SIDESTEP) << r.reason;
+  EXPECT_GT(r.intensity[RIGHT_WAIST], 0.f);
+  EXPECT_EQ(r.intensity[LEFT_WAIST], 0.f);
+  EXPECT_EQ(r.pattern.on_10ms, 35);
+  const Cue held = fresh(side, atDoorway(standingAt(2.0, 0.2, 0.0, 90.0), 0.05), 0.5);
+  EXPECT_EQ(held.pattern.id, r.pattern.id);  // the same pattern: not played again
+  // facing the other way (the way on is back out, -x), the middle lies to its left
+  CueLogic back;
+  const Cue b = fresh(back, atDoorway(standingAt(2.0, 0.2, 180.0, 90.0), 0.05), 0.0);
+  ASSERT_EQ(b.instruction, Instruction::SIDESTEP) << b.reason;
+  EXPECT_GT(b.intensity[LEFT_WAIST], 0.f);
+}

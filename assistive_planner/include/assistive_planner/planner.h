@@ -87,7 +87,10 @@ struct Passage
   /// Its width (m): twice the middle's distance to the nearest obstacle cell's square plus one
   /// cell (the jambs' faces lie inside the cells they fill, half a cell in on average).
   double width = 0.0;
-  double axis = 0.0;   ///< the path's direction there (rad)
+  /// The passage's axis (rad): across its shortest chord of free floor through the middle (a
+  /// doorway's jamb-to-jamb line, an aisle's width), pointing the way the path goes; the path's
+  /// direction there when no chord closes within reach.
+  double axis = 0.0;
 };
 
 /// The floor the wearer has stood on: unknown cells whose centre lies within `radius` of a point

@@ -50,6 +50,12 @@ struct NavInput
   double passage_distance = -1.0;
   double passage_heading = 0.0;
   double passage_width = 0.0;
+  /// That middle (in the frame of `grid`, as x, y) and the passage's axis (rad): across its
+  /// jamb-to-jamb line, the way the path goes through it (NaN: unknown; the doorway is then faced
+  /// from wherever the wearer stands).
+  double passage_x = std::numeric_limits<double>::quiet_NaN();
+  double passage_y = std::numeric_limits<double>::quiet_NaN();
+  double passage_axis = std::numeric_limits<double>::quiet_NaN();
   double free_ahead = 0.0;
   double free_left = 0.0;
   double free_right = 0.0;
@@ -171,6 +177,29 @@ private:
   /// its middle within the room, else stop and face the middle (closed loop on the head's yaw).
   /// False: no passage near, ordinary steering.
   bool passageCue(const NavInput& in, double now, bool walking, Cue& out);
+  /// A standing wearer before a passage but off its axis (more than passage_square_deg, seen from
+  /// the middle): turned towards the point passage_stage_m before the middle on the axis, then
+  /// sent there with a timed stop (true and the cue).
+  bool stageForPassage(const NavInput& in, double now, Cue& out);
+  /// The wearer in the last passage reported (within passage_inside_m before its middle to
+  /// passage_clear_m past it): a walker along its axis walks on (a turn beyond waits; the stop
+  /// before it is timed so that the body stands clear of the jambs), a standing wearer faces the
+  /// axis and steps out first. `err`: the steering error. False: not in a passage.
+  bool throughPassage(const NavInput& in, double now, bool walking, double err, Cue& out);
+  /// A walker on the slant towards a passage whose walk crosses the passage's axis 0.35-1.5 m before
+  /// its middle: walk on, then a stop timed (its reach `stop_m`) to stand on the axis.
+  bool stopOnAxis(const NavInput& in, double now, double stop_m, Cue& out);
+  /// Standing in a passage `lateral` m left of its axis (`axis`, rad), more than its room (half
+  /// `width` less passage_body_m) plus 5 cm: a short side-step towards the middle (true and the
+  /// cue, or the wait while one is carried out).
+  bool centreInPassage(const NavInput& in, double now, double axis, double lateral, double width, Cue& out);
+  /// Keeps the passage the planner reports (door_, prev_door_).
+  void noteDoor(const NavInput& in);
+  /// A go to a standing wearer with a stop timed so that it walks `room` m (it starts and stops a
+  /// reaction late: the walk does not depend on the reaction), for the walks to and out of a passage.
+  Cue timedGo(const NavInput& in, double now, double room, std::string reason);
+  /// When to ask the stop after a go for a walk of `room` m (s after the go).
+  double stopAfterGo(double room) const;
   /// A stop-and-turn buzz for `angle` (rad, + = left) from the wearer's facing now; `level`
   /// (its strength, 1..3) from the angle when 0.
   Cue startTurn(const NavInput& in, double now, double angle, const char* why, int level = 0);
@@ -301,6 +330,18 @@ private:
   double last_yaw_ = 0.0, last_yaw_time_ = -1e300;  ///< for the turn rate
   double yaw_rate_ = 0.0;       ///< rad/s, smoothed
   double passage_go_ = -1e300;   ///< when a standing wearer facing a passage was told to go
+  /// The last passage the planner reported: its middle, axis and width (in the grid's frame).
+  struct Door
+  {
+    bool valid = false;
+    double x = 0.0, y = 0.0, axis = 0.0, width = 0.0;
+  };
+  Door door_, prev_door_;  ///< the last one and the one before it (a second doorway just beyond)
+  /// A go towards a passage's axis or out of it is being walked (its stop timed from the go).
+  bool stage_walk_ = false;
+  /// The last side-step away from a jamb began then; each buzzes this long (about 0.1 m).
+  double centre_at_ = -1e300;
+  static constexpr double kCentreBuzzS = 0.35;
   /// The body's yaw (rad), estimated from the head (bodyYaw): the head's fast turns (a turn on the
   /// spot, a veer) carried at once, its slow motion (the scan, +-8 deg over seconds) filtered out
   /// towards the walk chord while walking and towards the head's mean while standing.

@@ -149,6 +149,9 @@ public:
     in.passage_distance = passage ? out.passage_distance : -1.0;  // as the state message carries it
     in.passage_heading = passage ? out.passage_heading : 0.0;
     in.passage_width = passage ? out.passage_width : 0.0;
+    in.passage_x = passage ? out.passage_point.x : in.x;
+    in.passage_y = passage ? out.passage_point.y : in.y;
+    in.passage_axis = passage ? out.passage_axis : 0.0;
     if (passage)  // the doorways found, for the collision causes
     {
       const Eigen::Vector2d mid = s.xy + std::min(out.passage_distance, 3.0) *
@@ -174,6 +177,9 @@ public:
                    out.waypoint.y, out.waypoint_distance, out.path_heading / DEG, out.steer_heading / DEG,
                    out.walk_heading / DEG, out.walking_speed, out.free_ahead,
                    out.free_left, out.free_right, assistive_tactile::modeName(cue.mode), cue.reason.c_str());
+    if (trace_ && in.passage_distance >= 0.0)
+      std::fprintf(stderr, "PASSAGE t %.2f mid %.3f %.3f axis %.1f width %.2f d %.2f\n", t, in.passage_x, in.passage_y,
+                   in.passage_axis / DEG, in.passage_width, in.passage_distance);
     ChainCue c;
     c.motors = cue.intensity;
     c.mode = int(cue.mode);
