@@ -126,6 +126,35 @@ geometry_msgs::PointStamped toWaypointMsg(const PlanOutput& out, const std_msgs:
   return p;
 }
 
+namespace
+{
+/// The passage ahead (a doorway, a narrowed aisle): an arrow along its axis through its middle,
+/// 0.6 m either side (the cue logic squares the wearer up on it); deleted when there is none.
+visualization_msgs::Marker passageMarker(const PlanOutput& out, const std_msgs::Header& header)
+{
+  const bool shown = out.status == PlanStatus::OK && out.passage_distance >= 0.0 && std::isfinite(out.passage_axis);
+  visualization_msgs::Marker m;
+  m.header = header;
+  m.ns = "passage";
+  m.id = 5;
+  m.type = visualization_msgs::Marker::ARROW;
+  m.action = shown ? visualization_msgs::Marker::ADD : visualization_msgs::Marker::DELETE;
+  m.pose.orientation.w = 1.0;
+  if (shown)
+  {
+    const double cx = std::cos(out.passage_axis), sy = std::sin(out.passage_axis);
+    m.points.push_back(toPoint({ out.passage_point.x - 0.6 * cx, out.passage_point.y - 0.6 * sy }, 0.05));
+    m.points.push_back(toPoint({ out.passage_point.x + 0.6 * cx, out.passage_point.y + 0.6 * sy }, 0.05));
+  }
+  m.scale.x = 0.05;
+  m.scale.y = 0.12;
+  m.scale.z = 0.15;
+  m.color.g = 1.0f;
+  m.color.a = 1.0f;
+  return m;
+}
+}  // namespace
+
 visualization_msgs::MarkerArray toMarkers(const PlanOutput& out, const std_msgs::Header& header)
 {
   visualization_msgs::MarkerArray ma;
@@ -219,6 +248,7 @@ visualization_msgs::MarkerArray toMarkers(const PlanOutput& out, const std_msgs:
   text.color.b = 0.3f;
   text.color.a = 1.0f;
   ma.markers.push_back(text);
+  ma.markers.push_back(passageMarker(out, header));
   return ma;
 }
 }  // namespace assistive_planner

@@ -80,10 +80,12 @@ TEST(Conversions, NavigationStateFieldsAndNoNaN)
   EXPECT_DOUBLE_EQ(p.poses[2].pose.position.x, 4.0);
   // motion vector, search triangle, waypoint, and the crossing warning's arrow and text (deleted: none)
   const auto ma = toMarkers(o, h);
-  ASSERT_EQ(ma.markers.size(), 5u);
+  ASSERT_EQ(ma.markers.size(), 6u);
   EXPECT_EQ(ma.markers[3].ns, "crossing");
   EXPECT_EQ(ma.markers[3].action, visualization_msgs::Marker::DELETE);
   EXPECT_EQ(ma.markers[4].action, visualization_msgs::Marker::DELETE);
+  EXPECT_EQ(ma.markers[5].ns, "passage");
+  EXPECT_EQ(ma.markers[5].action, visualization_msgs::Marker::DELETE);  // no passage ahead
   EXPECT_EQ(s.crossing, assistive_msgs::NavigationState::CROSSING_NONE);
   EXPECT_EQ(s.crossing_id, 0u);
   EXPECT_EQ(s.crossing_time, 0.0f);
@@ -102,6 +104,12 @@ TEST(Conversions, NavigationStateFieldsAndNoNaN)
   EXPECT_DOUBLE_EQ(d.passage_point.x, 2.5);
   EXPECT_DOUBLE_EQ(d.passage_point.y, -0.5);
   EXPECT_FLOAT_EQ(d.passage_axis, 1.2f);
+  // rviz: the axis through the middle, 0.6 m either side
+  const auto pm = toMarkers(o, h).markers[5];
+  EXPECT_EQ(pm.action, visualization_msgs::Marker::ADD);
+  ASSERT_EQ(pm.points.size(), 2u);
+  EXPECT_NEAR(pm.points[0].x, 2.5 - 0.6 * std::cos(1.2), 1e-9);
+  EXPECT_NEAR(pm.points[1].y, -0.5 + 0.6 * std::sin(1.2), 1e-9);
   o.status = PlanStatus::NO_PATH;
   EXPECT_FLOAT_EQ(toMsg(o, h, ros::Time(9.5)).passage_distance, -1.0f);
   o.status = PlanStatus::OK;
@@ -131,7 +139,7 @@ TEST(Conversions, CrossingAndMovers)
   EXPECT_FLOAT_EQ(s.crossing_time, 0.75f);
   EXPECT_FLOAT_EQ(s.crossing_distance, 0.25f);
   const auto ma = toMarkers(o, h);
-  ASSERT_EQ(ma.markers.size(), 5u);
+  ASSERT_EQ(ma.markers.size(), 6u);
   EXPECT_EQ(ma.markers[3].action, visualization_msgs::Marker::ADD);
   ASSERT_EQ(ma.markers[3].points.size(), 2u);
   EXPECT_DOUBLE_EQ(ma.markers[3].points[1].y, 0.0);

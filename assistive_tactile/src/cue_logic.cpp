@@ -1158,9 +1158,8 @@ double CueLogic::stopAfterGo(double room) const
   return 0.1 + std::sqrt(std::max(0.0, room) / k);  // (the tick is felt when it ends, 0.1 s)
 }
 
-Cue CueLogic::timedGo(const NavInput& in, double now, double room, std::string reason)
+Cue CueLogic::timedGo(double now, double room, std::string reason)
 {
-  (void)in;
   Cue c = walkOn(std::move(reason), now, true);
   go_at_ = now;
   go_handled_ = now;  // judged here, not on the free floor ahead
@@ -1215,11 +1214,11 @@ bool CueLogic::stageForPassage(const NavInput& in, double now, Cue& out)
   }
   std::snprintf(why, sizeof(why), "passage %.2f m wide: walk %.2f m to its axis (%.2f m before its middle)", door_.width,
                 dist, s);
-  out = timedGo(in, now, dist, why);
+  out = timedGo(now, dist, why);
   return true;
 }
 
-bool CueLogic::throughPassage(const NavInput& in, double now, bool walking, double err, Cue& out)
+bool CueLogic::throughPassage(const NavInput& in, double now, bool walking, Cue& out)
 {
   // A turn just beyond a doorway, cued while the body is still between the jambs, swings it out on
   // the slant into one (most homes' collisions were there, the body 45-90 deg off the doorway's
@@ -1269,7 +1268,7 @@ bool CueLogic::throughPassage(const NavInput& in, double now, bool walking, doub
       out = startTurn(in, now, ferr, "in a passage: face its axis, ");
       return true;
     }
-    out = timedGo(in, now, to_clear + 0.05, fmt("in a passage: step %.2f m out of it", to_clear + 0.05));
+    out = timedGo(now, to_clear + 0.05, fmt("in a passage: step %.2f m out of it", to_clear + 0.05));
     return true;
   }
   return false;
@@ -1416,7 +1415,7 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
     if (busy_)
       quiet_since_ = now;
     busy_ = false;
-    if (throughPassage(in, now, walking, err, held))
+    if (throughPassage(in, now, walking, held))
       return held;
     if (passageCue(in, now, walking, held))
       return held;

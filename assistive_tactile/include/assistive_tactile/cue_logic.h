@@ -184,8 +184,8 @@ private:
   /// The wearer in the last passage reported (within passage_inside_m before its middle to
   /// passage_clear_m past it): a walker along its axis walks on (a turn beyond waits; the stop
   /// before it is timed so that the body stands clear of the jambs), a standing wearer faces the
-  /// axis and steps out first. `err`: the steering error. False: not in a passage.
-  bool throughPassage(const NavInput& in, double now, bool walking, double err, Cue& out);
+  /// axis and steps out first. False: not in a passage.
+  bool throughPassage(const NavInput& in, double now, bool walking, Cue& out);
   /// A walker on the slant towards a passage whose walk crosses the passage's axis 0.35-1.5 m before
   /// its middle: walk on, then a stop timed (its reach `stop_m`) to stand on the axis.
   bool stopOnAxis(const NavInput& in, double now, double stop_m, Cue& out);
@@ -197,7 +197,7 @@ private:
   void noteDoor(const NavInput& in);
   /// A go to a standing wearer with a stop timed so that it walks `room` m (it starts and stops a
   /// reaction late: the walk does not depend on the reaction), for the walks to and out of a passage.
-  Cue timedGo(const NavInput& in, double now, double room, std::string reason);
+  Cue timedGo(double now, double room, std::string reason);
   /// When to ask the stop after a go for a walk of `room` m (s after the go).
   double stopAfterGo(double room) const;
   /// A stop-and-turn buzz for `angle` (rad, + = left) from the wearer's facing now; `level`
