@@ -129,7 +129,8 @@ geometry_msgs::PointStamped toWaypointMsg(const PlanOutput& out, const std_msgs:
 namespace
 {
 /// The passage ahead (a doorway, a narrowed aisle): an arrow along its axis through its middle,
-/// 0.6 m either side (the cue logic squares the wearer up on it); deleted when there is none.
+/// 0.6 m either side, 0.8 m above the floor (the cue logic squares the wearer up on it); deleted
+/// when there is none.
 visualization_msgs::Marker passageMarker(const PlanOutput& out, const std_msgs::Header& header)
 {
   const bool shown = out.status == PlanStatus::OK && out.passage_distance >= 0.0 && std::isfinite(out.passage_axis);
@@ -143,8 +144,9 @@ visualization_msgs::Marker passageMarker(const PlanOutput& out, const std_msgs::
   if (shown)
   {
     const double cx = std::cos(out.passage_axis), sy = std::sin(out.passage_axis);
-    m.points.push_back(toPoint({ out.passage_point.x - 0.6 * cx, out.passage_point.y - 0.6 * sy }, 0.05));
-    m.points.push_back(toPoint({ out.passage_point.x + 0.6 * cx, out.passage_point.y + 0.6 * sy }, 0.05));
+    // at hip height: drawn on the floor it hides under the map's floor voxels
+    m.points.push_back(toPoint({ out.passage_point.x - 0.6 * cx, out.passage_point.y - 0.6 * sy }, 0.8));
+    m.points.push_back(toPoint({ out.passage_point.x + 0.6 * cx, out.passage_point.y + 0.6 * sy }, 0.8));
   }
   m.scale.x = 0.05;
   m.scale.y = 0.12;
