@@ -566,7 +566,6 @@ Passage Planner::findPassage(const Grid& grid, const std::vector<Point2>& path, 
   return out;
 }
 
-
 void Planner::syncCosts(const Grid& grid, PlanOutput& out)
 {
   obstacle_dist_ = obstacleDistanceCells(grid);  // once a cycle: the costs and the path's smoothing
