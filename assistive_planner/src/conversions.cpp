@@ -128,19 +128,26 @@ geometry_msgs::PointStamped toWaypointMsg(const PlanOutput& out, const std_msgs:
 
 namespace
 {
+/// A marker of `ns` / `id`, added or deleted, its pose the identity (the points carry it).
+visualization_msgs::Marker marker(const std_msgs::Header& header, const char* ns, int id, int type, bool add)
+{
+  visualization_msgs::Marker m;
+  m.header = header;
+  m.ns = ns;
+  m.id = id;
+  m.type = type;
+  m.action = add ? visualization_msgs::Marker::ADD : visualization_msgs::Marker::DELETE;
+  m.pose.orientation.w = 1.0;
+  return m;
+}
+
 /// The passage ahead (a doorway, a narrowed aisle): an arrow along its axis through its middle,
 /// 0.6 m either side, 0.8 m above the floor (the cue logic squares the wearer up on it); deleted
 /// when there is none.
 visualization_msgs::Marker passageMarker(const PlanOutput& out, const std_msgs::Header& header)
 {
   const bool shown = out.status == PlanStatus::OK && out.passage_distance >= 0.0 && std::isfinite(out.passage_axis);
-  visualization_msgs::Marker m;
-  m.header = header;
-  m.ns = "passage";
-  m.id = 5;
-  m.type = visualization_msgs::Marker::ARROW;
-  m.action = shown ? visualization_msgs::Marker::ADD : visualization_msgs::Marker::DELETE;
-  m.pose.orientation.w = 1.0;
+  visualization_msgs::Marker m = marker(header, "passage", 5, visualization_msgs::Marker::ARROW, shown);
   if (shown)
   {
     const double cx = std::cos(out.passage_axis), sy = std::sin(out.passage_axis);
@@ -160,13 +167,7 @@ visualization_msgs::Marker passageMarker(const PlanOutput& out, const std_msgs::
 visualization_msgs::MarkerArray toMarkers(const PlanOutput& out, const std_msgs::Header& header)
 {
   visualization_msgs::MarkerArray ma;
-  visualization_msgs::Marker arrow;
-  arrow.header = header;
-  arrow.ns = "motion_vector";
-  arrow.id = 0;
-  arrow.type = visualization_msgs::Marker::ARROW;
-  arrow.action = visualization_msgs::Marker::ADD;
-  arrow.pose.orientation.w = 1.0;
+  visualization_msgs::Marker arrow = marker(header, "motion_vector", 0, visualization_msgs::Marker::ARROW, true);
   arrow.points.push_back(toPoint(out.wearer, 0.05));
   arrow.points.push_back(toPoint({ out.wearer.x + std::cos(out.heading), out.wearer.y + std::sin(out.heading) }, 0.05));
   arrow.scale.x = 0.06;
@@ -177,13 +178,7 @@ visualization_msgs::MarkerArray toMarkers(const PlanOutput& out, const std_msgs:
   arrow.color.a = 1.0f;
   ma.markers.push_back(arrow);
 
-  visualization_msgs::Marker tri;
-  tri.header = header;
-  tri.ns = "search_triangle";
-  tri.id = 1;
-  tri.type = visualization_msgs::Marker::LINE_STRIP;
-  tri.action = visualization_msgs::Marker::ADD;
-  tri.pose.orientation.w = 1.0;
+  visualization_msgs::Marker tri = marker(header, "search_triangle", 1, visualization_msgs::Marker::LINE_STRIP, true);
   for (int i = 0; i < 4; ++i)
     tri.points.push_back(toPoint(out.triangle[size_t(i % 3)], 0.03));
   tri.scale.x = 0.03;
@@ -192,14 +187,8 @@ visualization_msgs::MarkerArray toMarkers(const PlanOutput& out, const std_msgs:
   tri.color.a = 0.8f;
   ma.markers.push_back(tri);
 
-  visualization_msgs::Marker wp;
-  wp.header = header;
-  wp.ns = "waypoint";
-  wp.id = 2;
-  wp.type = visualization_msgs::Marker::SPHERE;
-  wp.action = out.has_waypoint ? visualization_msgs::Marker::ADD : visualization_msgs::Marker::DELETE;
+  visualization_msgs::Marker wp = marker(header, "waypoint", 2, visualization_msgs::Marker::SPHERE, out.has_waypoint);
   wp.pose.position = toPoint(out.waypoint, 0.1);
-  wp.pose.orientation.w = 1.0;
   wp.scale.x = wp.scale.y = wp.scale.z = 0.25;
   wp.color.r = 1.0f;
   wp.color.b = 0.8f;
@@ -210,13 +199,7 @@ visualization_msgs::MarkerArray toMarkers(const PlanOutput& out, const std_msgs:
   // and the advice in words above the meeting point.
   const CrossingResult& c = out.crossing;
   const bool warn = c.advice != CrossingAdvice::NONE;
-  visualization_msgs::Marker cross;
-  cross.header = header;
-  cross.ns = "crossing";
-  cross.id = 3;
-  cross.type = visualization_msgs::Marker::ARROW;
-  cross.action = warn ? visualization_msgs::Marker::ADD : visualization_msgs::Marker::DELETE;
-  cross.pose.orientation.w = 1.0;
+  visualization_msgs::Marker cross = marker(header, "crossing", 3, visualization_msgs::Marker::ARROW, warn);
   if (warn)
   {
     cross.points.push_back(toPoint(c.mover, 0.1));
@@ -229,14 +212,8 @@ visualization_msgs::MarkerArray toMarkers(const PlanOutput& out, const std_msgs:
   cross.color.a = 1.0f;
   ma.markers.push_back(cross);
 
-  visualization_msgs::Marker text;
-  text.header = header;
-  text.ns = "crossing";
-  text.id = 4;
-  text.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
-  text.action = warn ? visualization_msgs::Marker::ADD : visualization_msgs::Marker::DELETE;
+  visualization_msgs::Marker text = marker(header, "crossing", 4, visualization_msgs::Marker::TEXT_VIEW_FACING, warn);
   text.pose.position = toPoint(c.wearer_at_closest, 1.0);
-  text.pose.orientation.w = 1.0;
   if (warn)
   {
     char buf[64];

@@ -328,6 +328,12 @@ Cue CueLogic::steady(CueMode mode, Instruction ins, const std::array<float, NUM_
   return startPattern(mode, ins, 0, drive, 0, 0, 0, now, std::move(reason));
 }
 
+Cue CueLogic::stopAll(double now, std::string reason)
+{
+  busy_ = false;  // a stop ends any veer or turn being watched
+  return steady(CueMode::ALERT, Instruction::STOP, { { 1.f, 1.f, 1.f, 1.f } }, now, std::move(reason));
+}
+
 Cue CueLogic::unsureCue(std::string reason, double now)
 {
   // Three quick pulses on both waist motors when UNSURE begins, then silence: a silent vest means
@@ -744,14 +750,13 @@ bool CueLogic::sweepStop(const NavInput& in, double now, Cue& out)
   const SweepResult r = sweep(in, m);
   if (!r.hit)
     return false;
-  busy_ = false;
   waist_side_ = 0;
   char buf[220];
   std::snprintf(buf, sizeof(buf),
                 "the walk would sweep the body into an obstacle %.2f m on (%.1f s): stop (v %.2f, reaction %.2f s, "
                 "start %.2f, stop %.2f m/s^2, pace %.2f, turn %.0f deg)",
                 r.hit_along, r.hit_t, m.v0, sweepReaction(), m.accel, m.decel, m.pace, m.turn * kRadToDeg);
-  out = steady(CueMode::ALERT, Instruction::STOP, { { 1.f, 1.f, 1.f, 1.f } }, now, buf);
+  out = stopAll(now, buf);
   sweep_stop_ = true;
   return true;
 }
@@ -1144,9 +1149,7 @@ bool CueLogic::stopOnAxis(const NavInput& in, double now, double stop_m, Cue& ou
   }
   if (t < stop_m - 0.3)
     return false;  // too late to stand on it: stop and turn as before
-  busy_ = false;
-  out = steady(CueMode::ALERT, Instruction::STOP, { { 1.f, 1.f, 1.f, 1.f } }, now,
-               fmt("stop on the doorway's axis (%.2f m on)", t));
+  out = stopAll(now, fmt("stop on the doorway's axis (%.2f m on)", t));
   return true;
 }
 
@@ -1249,9 +1252,7 @@ bool CueLogic::throughPassage(const NavInput& in, double now, bool walking, Cue&
       const double v = std::max(0.0, in.walking_speed);
       if (turn_after && stopReach(v, reactionEstimate()) >= to_clear)
       {
-        busy_ = false;
-        out = steady(CueMode::ALERT, Instruction::STOP, { { 1.f, 1.f, 1.f, 1.f } }, now,
-                     fmt("in a passage: stop clear of its jambs (%.2f m on), then turn", to_clear));
+        out = stopAll(now, fmt("in a passage: stop clear of its jambs (%.2f m on), then turn", to_clear));
         return true;
       }
       out = walkOn(fmt("in a passage: straight on through it (%.2f m to clear its jambs)", to_clear), now, false);
@@ -1349,9 +1350,7 @@ bool CueLogic::shortWalk(const NavInput& in, double now, Cue& out)
     short_stop_at_ = -1.0;  // it stands: the next cue turns it or sends it on
     return false;
   }
-  busy_ = false;
-  out = steady(CueMode::ALERT, Instruction::STOP, { { 1.f, 1.f, 1.f, 1.f } }, now,
-               fmt("a short walk: stop (%.2f m free when it went)", in.free_ahead));
+  out = stopAll(now, fmt("a short walk: stop (%.2f m free when it went)", in.free_ahead));
   return true;
 }
 

@@ -221,6 +221,9 @@ private:
   /// A steady cue (side-step, stop): the running pattern when it drives the same motors, else new.
   Cue steady(CueMode mode, Instruction ins, const std::array<float, NUM_MOTORS>& drive, double now, std::string reason);
   bool steadyHeld(CueMode mode, Instruction ins, const std::array<float, NUM_MOTORS>& drive) const;
+  /// A planned stop on all four (the predictive, timed and doorway stops): steady ALERT, and
+  /// nothing being watched any more.
+  Cue stopAll(double now, std::string reason);
   /// An ALERT / PROXIMITY decision (mode, intensities, reason) as its steady pattern.
   Cue shapeSteady(const Cue& c, double now);
   /// The wearer's reaction time now: learnt, clamped to [0.3, 1.5] s, or `alert_reaction_s`.
