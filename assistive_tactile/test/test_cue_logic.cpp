@@ -1232,6 +1232,16 @@ TEST(CueLogic, PredictiveStopSeesTheJambBesideTheBody)
   slower.walking_speed = 0.5;
   slower.x = 0.9;
   EXPECT_EQ(fresh(with, slower, 0.3).instruction, Instruction::STOP);
+  // ... the same pattern, no tick in between, even where the guidance would send it on (its walk,
+  // back on the middle's line, sweeps clear): before, the guidance's tick replaced the stop after
+  // one cycle; then, standing, the guidance goes on
+  NavInput clear = slower;
+  clear.y = 0.0;
+  const Cue held = fresh(with, clear, 0.4);
+  EXPECT_EQ(held.instruction, Instruction::STOP) << held.reason;
+  EXPECT_EQ(held.pattern.id, k.pattern.id);
+  clear.walking_speed = 0.0;
+  EXPECT_EQ(fresh(with, clear, 1.0).instruction, Instruction::WALK_ON);
 
   CueLogic mid;
   NavInput through = walkerAt(0.5, 0.0, 1.0);

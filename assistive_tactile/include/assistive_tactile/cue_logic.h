@@ -255,6 +255,8 @@ private:
   WalkModel committedWalk(const NavInput& in, double now, double stop_in_s) const;
   /// The reaction the sweep assumes: the learnt one, else the population's slow end (1.2 s).
   double sweepReaction() const;
+  /// A predictive stop asked before is held while the wearer still walks (true and the cue).
+  bool holdSweepStop(const NavInput& in, Cue& out);
   /// The planner's grid came with the state and the sweep is on.
   bool sweepReady(const NavInput& in) const;
   /// The walk committed to a veer of `turn` (rad, + = left; 0 = walking on) asked now, until it is
