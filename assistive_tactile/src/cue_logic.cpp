@@ -449,10 +449,17 @@ Cue CueLogic::update(const NavInput& in, double now)
           in.waypoint_distance >= params_.guidance_min_waypoint_m &&
           std::fabs(wrapAngle(in.steer_heading - in.walk_heading)) * kRadToDeg > params_.veer_on_deg &&
           !(in.free_steer < params_.proximity_m);
+      // A wearer who stands with no obstacle inside its stop distance and no room to step aside
+      // (the approach to a narrow doorway, a jamb 0.6-1.1 m ahead along the facing) is not held by
+      // the stop either: it stood there for good (traced, gen_home_3015 trial 4: 86 s on "no room
+      // left or right: stop", 0.45 m before an 0.80 m doorway's middle). The guidance turns it on
+      // the spot or sends it on with its walk timed and swept (shortWalk, sweepStop).
+      const bool standing = !(in.walking_speed >= params_.walking_speed_mps);
+      const bool boxed_in = standing && c.mode == CueMode::ALERT && in.free_ahead >= must_stop;
       // (a turn on the spot under way is not interrupted by a side-step: it turns the wearer away)
       if (((c.mode == CueMode::PROXIMITY || (c.mode == CueMode::ALERT && in.free_ahead >= must_stop)) &&
            steering_away) ||
-          (c.mode == CueMode::PROXIMITY && busy_ && busy_turn_))
+          boxed_in || (c.mode == CueMode::PROXIMITY && busy_ && busy_turn_))
       {
         waist_side_ = 0;
         c.mode = CueMode::IDLE;

@@ -1431,3 +1431,24 @@ TEST(CueLogic, InADoorwayTheBodyLeavesOnItsAxisBeforeATurn)
   ASSERT_EQ(b.instruction, Instruction::SIDESTEP) << b.reason;
   EXPECT_GT(b.intensity[LEFT_WAIST], 0.f);
 }
+
+// A wearer standing 0.85 m before a jamb on the slant (the approach to a narrow doorway), no room
+// to step aside, the way on 17 deg to the right and blocked within a metre along it: before, "no
+// room left or right: stop" held it there for good. Nothing lies inside its stop distance, so the
+// guidance turns it; walking at 0.6 m/s the same spot lies inside its stop distance: stop.
+TEST(CueLogic, StandingBoxedInIsTurnedNotHeld)
+{
+  NavInput in = standing(turn(-17.0));
+  in.free_ahead = 0.85;
+  in.free_left = in.free_right = 0.55;
+  in.free_steer = 0.7;
+  CueLogic c;
+  const Cue k = fresh(c, in, 0.0);
+  ASSERT_EQ(k.instruction, Instruction::TURN) << k.reason;
+  EXPECT_GT(k.intensity[RIGHT_SHOULDER], 0.f);
+  in.walking_speed = 0.6;
+  CueLogic w;
+  const Cue s = fresh(w, in, 0.0);
+  EXPECT_EQ(s.mode, CueMode::ALERT) << s.reason;
+  EXPECT_EQ(s.instruction, Instruction::STOP);
+}
