@@ -430,50 +430,7 @@ Cue CueLogic::update(const NavInput& in, double now)
   switch (in.status)
   {
     case NavStatus::OK:
-    {
-      c = decideProximity(in, true);
-      // Near an obstacle (not yet at alert distance) with the path turning away from it, steering
-      // is the cue (a veer while walking, a turn on the spot while standing). A side-step there
-      // kept the wearer facing the obstacle and stepping left and right in front of it (mobility
-      // trials: stuck in front of the course's 2 m wall with the way round 50 deg to the left), and
-      // stopped every wearer who approached a doorway at an angle.
-      // The same inside part of the stop distance: an obstacle the wearer would reach only if it
-      // walked on, unreacting, while the steering point lies clear to a side. Only the walk no
-      // reaction can prevent forces a stop: the fastest reaction (0.3 s) or this wearer's learnt
-      // one discounted by half above that (a veer turns the walk away while it still goes on),
-      // and the stop itself.
-      const double v = std::max(0.0, in.walking_speed);
-      const double tau = reactionEstimate();
-      const double must_stop = params_.alert_m + stopReach(v, std::max(0.3, std::min(tau, 0.3 + 0.5 * tau)));
-      const bool steering_away =
-          in.waypoint_distance >= params_.guidance_min_waypoint_m &&
-          std::fabs(wrapAngle(in.steer_heading - in.walk_heading)) * kRadToDeg > params_.veer_on_deg &&
-          !(in.free_steer < params_.proximity_m);
-      // A wearer who stands with no obstacle inside its stop distance and no room to step aside
-      // (the approach to a narrow doorway, a jamb 0.6-1.1 m ahead along the facing) is not held by
-      // the stop either: it stood there for good (traced, gen_home_3015 trial 4: 86 s on "no room
-      // left or right: stop", 0.45 m before an 0.80 m doorway's middle). The guidance turns it on
-      // the spot or sends it on with its walk timed and swept (shortWalk, sweepStop).
-      const bool standing = !(in.walking_speed >= params_.walking_speed_mps);
-      const bool boxed_in = standing && c.mode == CueMode::ALERT && in.free_ahead >= must_stop;
-      // (a turn on the spot under way is not interrupted by a side-step: it turns the wearer away)
-      if (((c.mode == CueMode::PROXIMITY || (c.mode == CueMode::ALERT && in.free_ahead >= must_stop)) &&
-           steering_away) ||
-          boxed_in || (c.mode == CueMode::PROXIMITY && busy_ && busy_turn_))
-      {
-        waist_side_ = 0;
-        c.mode = CueMode::IDLE;
-      }
-      if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
-        c = guideWithSweep(in, now);
-      else
-      {
-        busy_ = false;  // an obstacle cue ends a veer or turn being executed
-        c = shapeSteady(c, now);
-      }
-      last_mode_ = c.mode;  // the obstacle / guidance hysteresis runs under the crossing cue
-      return overlayCrossing(in, c, now);
-    }
+      return decideOk(in, now);
     case NavStatus::NO_PATH:
     case NavStatus::NO_WAYPOINT:
     {
@@ -513,6 +470,53 @@ Cue CueLogic::update(const NavInput& in, double now)
   }
   last_mode_ = c.mode;
   return c;
+}
+
+Cue CueLogic::decideOk(const NavInput& in, double now)
+{
+  // a path and a waypoint: the obstacle cues, or the guidance where steering wins over them
+  Cue c = decideProximity(in, true);
+  // Near an obstacle (not yet at alert distance) with the path turning away from it, steering
+  // is the cue (a veer while walking, a turn on the spot while standing). A side-step there
+  // kept the wearer facing the obstacle and stepping left and right in front of it (mobility
+  // trials: stuck in front of the course's 2 m wall with the way round 50 deg to the left), and
+  // stopped every wearer who approached a doorway at an angle.
+  // The same inside part of the stop distance: an obstacle the wearer would reach only if it
+  // walked on, unreacting, while the steering point lies clear to a side. Only the walk no
+  // reaction can prevent forces a stop: the fastest reaction (0.3 s) or this wearer's learnt
+  // one discounted by half above that (a veer turns the walk away while it still goes on),
+  // and the stop itself.
+  const double v = std::max(0.0, in.walking_speed);
+  const double tau = reactionEstimate();
+  const double must_stop = params_.alert_m + stopReach(v, std::max(0.3, std::min(tau, 0.3 + 0.5 * tau)));
+  const bool steering_away =
+      in.waypoint_distance >= params_.guidance_min_waypoint_m &&
+      std::fabs(wrapAngle(in.steer_heading - in.walk_heading)) * kRadToDeg > params_.veer_on_deg &&
+      !(in.free_steer < params_.proximity_m);
+  // A wearer who stands with no obstacle inside its stop distance and no room to step aside
+  // (the approach to a narrow doorway, a jamb 0.6-1.1 m ahead along the facing) is not held by
+  // the stop either: it stood there for good (traced, gen_home_3015 trial 4: 86 s on "no room
+  // left or right: stop", 0.45 m before an 0.80 m doorway's middle). The guidance turns it on
+  // the spot or sends it on with its walk timed and swept (shortWalk, sweepStop).
+  const bool standing = !(in.walking_speed >= params_.walking_speed_mps);
+  const bool boxed_in = standing && c.mode == CueMode::ALERT && in.free_ahead >= must_stop;
+  // (a turn on the spot under way is not interrupted by a side-step: it turns the wearer away)
+  if (((c.mode == CueMode::PROXIMITY || (c.mode == CueMode::ALERT && in.free_ahead >= must_stop)) &&
+       steering_away) ||
+      boxed_in || (c.mode == CueMode::PROXIMITY && busy_ && busy_turn_))
+  {
+    waist_side_ = 0;
+    c.mode = CueMode::IDLE;
+  }
+  if (c.mode != CueMode::PROXIMITY && c.mode != CueMode::ALERT)
+    c = guideWithSweep(in, now);
+  else
+  {
+    busy_ = false;  // an obstacle cue ends a veer or turn being executed
+    c = shapeSteady(c, now);
+  }
+  last_mode_ = c.mode;  // the obstacle / guidance hysteresis runs under the crossing cue
+  return overlayCrossing(in, c, now);
 }
 
 Cue CueLogic::overlayCrossing(const NavInput& in, const Cue& base, double now)

@@ -255,6 +255,9 @@ private:
   WalkModel committedWalk(const NavInput& in, double now, double stop_in_s) const;
   /// The reaction the sweep assumes: the learnt one, else the population's slow end (1.2 s).
   double sweepReaction() const;
+  /// Status OK: the obstacle cues (stop, side-step), or the guidance where steering away wins over
+  /// them or a standing wearer is boxed in; the crossing cue over either.
+  Cue decideOk(const NavInput& in, double now);
   /// A predictive stop asked before is held while the wearer still walks (true and the cue).
   bool holdSweepStop(const NavInput& in, Cue& out);
   /// The planner's grid came with the state and the sweep is on.
