@@ -775,8 +775,8 @@ uint32_t SlamSystem::currentSubmap() const
 
 bool SlamSystem::relocalise(const KeyframePtr& kf)
 {
-  // The stored keyframes the appearance model proposes (every stored submap is a candidate),
-  // verified like a loop closure; two consecutive keyframes must agree on map -> odom.
+  // The stored submaps relocalisationSubmaps() lists, verified like a loop closure; two
+  // consecutive keyframes must agree on map -> odom.
   // The map is only read here and only the worker writes it: no lock while verifying (readers in
   // the frame loop must never wait for this); the state is written under mm_ below.
   int query;
@@ -790,14 +790,12 @@ bool SlamSystem::relocalise(const KeyframePtr& kf)
   const StereoCheckOptions so = loopCheckOptions();
   // The model ranks submaps; its keyframe within a submap is a weak guess (on a generated parking
   // walk it was the submap's first for 8 queries in a row while another of its keyframes matched),
-  // so every keyframe of a proposed submap is verified and the one with the most inliers is kept.
-  for (const LoopCandidate& c : ar.candidates)
+  // so every keyframe of a listed submap is verified and the one with the most inliers is kept.
+  for (uint32_t s : relocalisationSubmaps(ar, query))
   {
-    if (c.submap_id < 0 || static_cast<size_t>(c.submap_id) >= submaps_.size())
-      continue;
     const Keyframe* best = nullptr;
     StereoCheckResult r;
-    for (uint32_t id : submaps_[c.submap_id].keyframes)
+    for (uint32_t id : submaps_[s].keyframes)
     {
       const StereoCheckResult ri = stereoCheck(*kfs_[id], *kf, cam_, so);
       if (ri.accepted && (!best || ri.inliers > r.inliers))
@@ -814,6 +812,35 @@ bool SlamSystem::relocalise(const KeyframePtr& kf)
     return confirmed;
   }
   return false;
+}
+
+std::vector<uint32_t> SlamSystem::relocalisationSubmaps(const AppearanceResult& ar, int query)
+{
+  // The model's ranking alone is not enough: on the rendered parking walks its words barely match
+  // between two views of one place (1-5 of 800 observations), so the ranking hardly depends on the
+  // query, and the stored place in view was verified only when it happened to be among the
+  // model's best on two queries in a row (83 keyframes on the shipped walk). Hence the submap
+  // verified by the previous query comes first (the confirmation needs this one's agreement), and
+  // every stored submap gets its turn.
+  const auto n = static_cast<uint32_t>(submaps_.size());
+  std::vector<uint32_t> out;
+  auto add = [&](uint32_t s) {
+    if (s < n && std::find(out.begin(), out.end(), s) == out.end())
+      out.push_back(s);
+  };
+  if (!reloc_run_.empty() && reloc_run_.back().query + 1 == query)
+    add(reloc_run_.back().ev.submap_old);
+  for (const LoopCandidate& c : ar.candidates)
+    if (c.submap_id >= 0)
+      add(static_cast<uint32_t>(c.submap_id));
+  const size_t wanted = out.size() + static_cast<size_t>(std::max(0, p_.relocalisation_sweep));
+  for (uint32_t i = 0; i < n && out.size() < wanted; ++i)
+  {
+    const uint32_t s = reloc_sweep_;
+    reloc_sweep_ = (reloc_sweep_ + 1) % n;
+    add(s);
+  }
+  return out;
 }
 
 bool SlamSystem::confirmRelocalisation(const Keyframe& a, const StereoCheckResult& r, const KeyframePtr& kf, int query)

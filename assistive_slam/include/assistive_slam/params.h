@@ -56,6 +56,9 @@ namespace assistive_slam
   X(int, appearance_candidates, "appearance_candidates", 3, 0, 50, "", "keyframes the appearance model (ORB, its binary path) proposes per keyframe: the only candidates when relocalising after a load (0: no relocalisation)") \
   /* Off by default: on the parking walks it added no closure to the proximity search's (24 and 102 either way) */ \
   /* and the model's grids cost about 0.5 MB per keyframe (peak RSS 106 -> 199 MB on the shipped parking walk). */ \
+  /* The model's words barely match between two views of a place on the rendered parking walks (1-5 of 800 */ \
+  /* observations per query): its ranking alone left the stored place unverified for 83 keyframes. */ \
+  X(int, relocalisation_sweep, "relocalisation_sweep", 3, 0, 50, "", "after a load, stored submaps verified per query besides the appearance model's, in turn (each within submaps / this queries whatever the model ranks; 0: the model's only)") \
   X(bool, appearance_loop, "appearance_loop", false, {}, {}, "", "the model also learns every keyframe and its candidates are verified after the proximity ones for loop closure") \
   X(int, appearance_features, "appearance_features", 200, 10, 5000, "", "descriptors per keyframe the appearance model learns and queries (its memory grows with them)") \
   X(double, loop_sigma_m, "loop_sigma", 0.03, 1e-4, 10.0, "m", "translation noise of a verified closure") \

@@ -208,6 +208,10 @@ private:
   /// reset_max_rotation_deg from the predicted pose, at most reset_max_backward behind the anchor
   /// along the wearer's (level) view direction.
   bool plausibleAfterReset(const Eigen::Isometry3d& T_map_b, const Eigen::Isometry3d& T_map_pred, double radius) const;
+  /// The stored submaps a query after a load verifies, in order: the one the previous query
+  /// verified (its match waits for this one's agreement), the appearance model's candidates, then
+  /// the next relocalisation_sweep submaps in turn (reloc_sweep_ moves on).
+  std::vector<uint32_t> relocalisationSubmaps(const AppearanceResult& ar, int query);
   /// A verified match of query `kf` on stored keyframe `a`: held until the next query agrees
   /// (loop_confirm); true (and localised, the next mapped keyframe opening a session) when it does.
   bool confirmRelocalisation(const Keyframe& a, const StereoCheckResult& r, const KeyframePtr& kf, int query);
@@ -291,6 +295,7 @@ private:
     LoopEvent ev;
   };
   std::vector<Reloc> reloc_run_;  ///< consecutive verified queries agreeing on map -> odom
+  uint32_t reloc_sweep_ = 0;      ///< the next stored submap relocalisationSubmaps() sweeps
   Reloc reloc_done_;
   /// The mean map -> odom of reloc_run_.
   Eigen::Isometry3d meanMapToOdom() const;
