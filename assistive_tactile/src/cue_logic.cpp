@@ -111,6 +111,8 @@ Cue CueLogic::startPattern(CueMode mode, Instruction ins, int level, std::array<
                            uint8_t on_10ms, uint8_t off_10ms, uint8_t count, double now, std::string reason)
 {
   Cue c;
+  if (ins == Instruction::SIDESTEP)
+    sidestep_at_ = now;
   c.mode = mode;
   c.instruction = ins;
   c.level = level;
@@ -322,6 +324,8 @@ Cue CueLogic::steady(CueMode mode, Instruction ins, const std::array<float, NUM_
 {
   if (steadyHeld(mode, ins, drive))
   {
+    if (ins == Instruction::SIDESTEP)
+      sidestep_at_ = now;
     current_.intensity = drive;  // the level may follow the distance
     return holdPattern(std::move(reason));
   }
@@ -818,7 +822,12 @@ void CueLogic::observeHead(const NavInput& in, double now)
     }
     // (the walk chord, 0.4 s of positions, lags a turn: it says nothing while a turn is under
     // way or just ended, nor while the walk slows to a stop)
-    const bool chord_ok = walking && std::isfinite(in.walk_heading) && now - body_turned_at_ > 0.6;
+    // (nor while a side-step cued lately may still be in it: carried out a reaction late, 0.4 s of
+    // chord; a side-step while the walk slows makes a diagonal chord within 50 deg of the head,
+    // and it pulled the body's facing 42 deg off: traced, gen_shop_4001 trial 3, t 73.3, a 139 deg
+    // turn asked where 99 were needed, overshot into a shelf)
+    const bool chord_ok = walking && std::isfinite(in.walk_heading) && now - body_turned_at_ > 0.6 &&
+                          now - sidestep_at_ >= sweepReaction() + 0.4;
     if (chord_ok || !walking)
     {
       const double ref = walking ? in.walk_heading : in.head_yaw;

@@ -1023,6 +1023,10 @@ namespace
 /// chord of its positions over the last 0.4 s (the planner's `walk_window_s`).
 struct GaitWalker
 {
+  GaitWalker(double reaction_s, double accel_mps2, double decel_mps2, double pace_mps, double wall_m)
+    : reaction(reaction_s), accel(accel_mps2), decel(decel_mps2), pace(pace_mps), wall(wall_m)
+  {
+  }
   double reaction, accel, decel, pace, wall;
   double x = 0.0, v = 0.0;
   bool go = false;

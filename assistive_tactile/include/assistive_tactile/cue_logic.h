@@ -337,6 +337,7 @@ private:
   double turn_rate_est_ = M_PI / 2.0;
   double last_yaw_ = 0.0, last_yaw_time_ = -1e300;  ///< for the turn rate
   double yaw_rate_ = 0.0;       ///< rad/s, smoothed
+  double sidestep_at_ = -1e300;  ///< a side-step was last cued (started or held) then
   double passage_go_ = -1e300;   ///< when a standing wearer facing a passage was told to go
   /// The last passage the planner reported: its middle, axis and width (in the grid's frame).
   struct Door
