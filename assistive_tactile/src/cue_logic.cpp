@@ -503,11 +503,10 @@ Cue CueLogic::decideOk(const NavInput& in, double now)
   // left or right: stop", 0.45 m before an 0.80 m doorway's middle). The guidance turns it on
   // the spot or sends it on with its walk timed and swept (shortWalk, sweepStop).
   const bool standing = !(in.walking_speed >= params_.walking_speed_mps);
-  const bool boxed_in = standing && c.mode == CueMode::ALERT && in.free_ahead >= must_stop;
+  const bool alert_outside_stop = c.mode == CueMode::ALERT && in.free_ahead >= must_stop;
   // (a turn on the spot under way is not interrupted by a side-step: it turns the wearer away)
-  if (((c.mode == CueMode::PROXIMITY || (c.mode == CueMode::ALERT && in.free_ahead >= must_stop)) &&
-       steering_away) ||
-      boxed_in || (c.mode == CueMode::PROXIMITY && busy_ && busy_turn_))
+  if (((c.mode == CueMode::PROXIMITY || alert_outside_stop) && steering_away) || (standing && alert_outside_stop) ||
+      (c.mode == CueMode::PROXIMITY && busy_ && busy_turn_))
   {
     waist_side_ = 0;
     c.mode = CueMode::IDLE;
@@ -822,12 +821,12 @@ void CueLogic::observeHead(const NavInput& in, double now)
     }
     // (the walk chord, 0.4 s of positions, lags a turn: it says nothing while a turn is under
     // way or just ended, nor while the walk slows to a stop)
-    // (nor while a side-step cued lately may still be in it: carried out a reaction late, 0.4 s of
-    // chord; a side-step while the walk slows makes a diagonal chord within 50 deg of the head,
+    // (nor while a side-step cued lately may still be in it: carried out a reaction late, then the
+    // chord's window; a side-step while the walk slows makes a diagonal chord within 50 deg of the head,
     // and it pulled the body's facing 42 deg off: traced, gen_shop_4001 trial 3, t 73.3, a 139 deg
     // turn asked where 99 were needed, overshot into a shelf)
     const bool chord_ok = walking && std::isfinite(in.walk_heading) && now - body_turned_at_ > 0.6 &&
-                          now - sidestep_at_ >= sweepReaction() + 0.4;
+                          now - sidestep_at_ >= sweepReaction() + 2.0 * kHalfWindowS;
     if (chord_ok || !walking)
     {
       const double ref = walking ? in.walk_heading : in.head_yaw;
