@@ -387,6 +387,9 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   long steps = 0;
   const bool trace = std::getenv("MOBILITY_TRIALS_TRACE") != nullptr;
   int reported = 0;
+  if (trace)
+    std::fprintf(stderr, "TRIAL %d wearer reaction %.2f s accel %.2f stop %.2f m/s^2 speed %.2f radius %.2f turn_gain %.2f\n",
+                 index, wp.reaction_s, wp.accel, 2.0 * wp.accel, wp.walk_speed, wp.body_radius, wp.turn_gain);
   double t = 0.0;
   for (; t < timeout; t += opt.dt)
   {
