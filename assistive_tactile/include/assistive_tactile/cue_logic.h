@@ -346,6 +346,9 @@ private:
     double x = 0.0, y = 0.0, axis = 0.0, width = 0.0;
   };
   Door door_, prev_door_;  ///< the last one and the one before it (a second doorway just beyond)
+  /// The passage `d` is an aisle, not a doorway: 0.8 m on along `axis` from the wearer it is
+  /// still about as narrow (under its width plus 0.3 m, each side counted up to 1 m).
+  bool aisleAhead(const NavInput& in, const Door& d, double axis) const;
   /// A go towards a passage's axis or out of it is being walked (its stop timed from the go).
   bool stage_walk_ = false;
   /// The last side-step away from a jamb began then; each buzzes this long (about 0.1 m).
