@@ -8,10 +8,11 @@
 #     ours does not rebuild a PCH, and no generated message headers of assistive_msgs).
 #   - A PCH is compiled with the target's own flags (Release -O3 -fPIC for libraries, -O1 for the
 #     test_* executables): what is compiled is unchanged, only parsed once.
-#   - The test_* executables of one package share one PCH (REUSE_FROM the largest of them, the
-#     union of their headers): they have the same flags (-O1, no -fPIC) and most are one file each.
-#     GCC refuses a PCH built with other options and then parses the headers as usual (CMake passes
-#     -Winvalid-pch, which says so in the build log): never wrong, at worst slower.
+#   - The test_* executables of one package that have the same include folders, definitions,
+#     options and libraries share one PCH (REUSE_FROM the largest of them, the union of their
+#     headers). Only those: GCC refuses a PCH made with a macro the user does not define (measured:
+#     "not used because `PKG_DIR' not defined", CMake passes -Winvalid-pch), and then parses
+#     cmake_pch.hxx as text, which fails where the user lacks an include folder of the donor.
 #   - Only for ASSISTIVE_PCH_MIN_UNITS translation units or more (a target's, or the package's
 #     test executables' together): compiling the PCH costs more than parsing its headers once (it
 #     holds the union of the units' headers), and measured on assistive_planner_core (2 units) the
@@ -90,16 +91,24 @@ if(NOT COMMAND assistive_pch)
     set(${n_var} ${n} PARENT_SCOPE)
   endfunction()
 
+  # What decides whether one target's PCH is valid for another: the same include folders,
+  # definitions, options and libraries (whose usage requirements add more).
+  function(_assistive_pch_signature target out_var)
+    set(sig "")
+    foreach(p INCLUDE_DIRECTORIES COMPILE_DEFINITIONS COMPILE_OPTIONS LINK_LIBRARIES)
+      get_target_property(v ${target} ${p})
+      string(APPEND sig "${p}=${v};")
+    endforeach()
+    string(MD5 sig "${sig}")
+    set(${out_var} ${sig} PARENT_SCOPE)
+  endfunction()
+
   function(assistive_pch)
     if(NOT ASSISTIVE_PCH)
       return()
     endif()
     get_property(targets DIRECTORY "${CMAKE_CURRENT_SOURCE_DIR}" PROPERTY BUILDSYSTEM_TARGETS)
-    set(test_exes "")
-    set(test_headers "")
-    set(donor "")
-    set(donor_n 0)
-    set(test_n 0)
+    set(groups "")
     foreach(t IN LISTS targets)
       get_target_property(type ${t} TYPE)
       if(NOT type MATCHES "^(EXECUTABLE|SHARED_LIBRARY|STATIC_LIBRARY|MODULE_LIBRARY)$")
@@ -110,26 +119,38 @@ if(NOT COMMAND assistive_pch)
         continue()
       endif()
       if(t MATCHES "^test_" AND type STREQUAL "EXECUTABLE")
-        list(APPEND test_exes ${t})
-        list(APPEND test_headers ${headers})
-        math(EXPR test_n "${test_n} + ${n}")
-        if(n GREATER donor_n)
-          set(donor ${t})
-          set(donor_n ${n})
+        # test executables of the same flags: one group, one PCH
+        _assistive_pch_signature(${t} g)
+        if(NOT g IN_LIST groups)
+          list(APPEND groups ${g})
+          set(exes_${g} "")
+          set(headers_${g} "")
+          set(n_${g} 0)
+          set(donor_${g} "")
+          set(donor_n_${g} 0)
+        endif()
+        list(APPEND exes_${g} ${t})
+        list(APPEND headers_${g} ${headers})
+        math(EXPR n_${g} "${n_${g}} + ${n}")
+        if(n GREATER donor_n_${g})
+          set(donor_${g} ${t})
+          set(donor_n_${g} ${n})
         endif()
       elseif(NOT n LESS ASSISTIVE_PCH_MIN_UNITS)
         target_precompile_headers(${t} PRIVATE ${headers})
       endif()
     endforeach()
-    if(NOT donor OR test_n LESS ASSISTIVE_PCH_MIN_UNITS)
-      return()
-    endif()
-    list(REMOVE_DUPLICATES test_headers)
-    target_precompile_headers(${donor} PRIVATE ${test_headers})
-    foreach(t IN LISTS test_exes)
-      if(NOT t STREQUAL donor)
-        target_precompile_headers(${t} REUSE_FROM ${donor})
+    foreach(g IN LISTS groups)
+      if(n_${g} LESS ASSISTIVE_PCH_MIN_UNITS)
+        continue()
       endif()
+      list(REMOVE_DUPLICATES headers_${g})
+      target_precompile_headers(${donor_${g}} PRIVATE ${headers_${g}})
+      foreach(t IN LISTS exes_${g})
+        if(NOT t STREQUAL donor_${g})
+          target_precompile_headers(${t} REUSE_FROM ${donor_${g}})
+        endif()
+      endforeach()
     endforeach()
   endfunction()
   cmake_policy(POP)
