@@ -19,3 +19,5 @@ if(NOT COMMAND assistive_test_code_opt)
   endfunction()
 endif()
 cmake_language(DEFER CALL assistive_test_code_opt)
+# and the precompiled headers (issue 31), wired the same way
+include("${CMAKE_CURRENT_LIST_DIR}/pch.cmake")
