@@ -21,3 +21,5 @@ endif()
 cmake_language(DEFER CALL assistive_test_code_opt)
 # and the precompiled headers (issue 31), wired the same way
 include("${CMAKE_CURRENT_LIST_DIR}/pch.cmake")
+# and GCC's garbage collection tuned down (issue 31)
+include("${CMAKE_CURRENT_LIST_DIR}/gcc_gc.cmake")
