@@ -17,7 +17,11 @@
 #     test executables' together): compiling the PCH costs more than parsing its headers once (it
 #     holds the union of the units' headers), and measured on assistive_planner_core (2 units) the
 #     PCH alone took 8.7 s of CPU (machine loaded) where the whole target had taken 9.8 s without
-#     one (less loaded).
+#     one (less loaded). GCC 12 spends most of it writing the PCH (-ftime-report: "PCH pointer
+#     sort", "main state save"): test_slam_places's headers (ROS, rosbag, tf2, gtest) take 2.9 s
+#     to parse in a unit, 16-18 s into a 395 MB PCH; shared by test_slam_fastslam it saved the two
+#     4.5 and 5 s (a loss of 8.6 s), so a PCH does not pay for the nodelets, CLIs and rostest
+#     clients of one or two units.
 # ASSISTIVE_PCH=OFF (cache) turns it off.
 option(ASSISTIVE_PCH "precompiled headers for targets with several translation units (.ci/pch.cmake)" ON)
 set(ASSISTIVE_PCH_MIN_UNITS 4 CACHE STRING "fewest translation units that get a PCH (.ci/pch.cmake)")
