@@ -1,13 +1,12 @@
 # Included after every project() of the workspace by .ci/build (CMAKE_PROJECT_INCLUDE), issue 31:
 # the test executables' own code (gtest bodies, fixtures, rostest clients: targets named test_*)
-# is compiled at ASSISTIVE_TEST_CODE_OPT (default -Og) instead of Release's -O3. Most of their
+# is compiled at ASSISTIVE_TEST_CODE_OPT (default -O1) instead of Release's -O3. Most of their
 # compile time is template instantiation and optimisation of code that runs once; the libraries,
 # nodelets, CLIs and benchmarks they exercise stay Release -O3, so what is tested and measured is
 # the shipped build. Measured on test_assistive_vo_core's largest unity file: 21 s CPU at -O3, 16 s
-# at -O1; -Og (fewer passes than -O1, less code than -O0) 8-17 % less than -O1 (test_slam_fastslam.cpp
-# 12.8 -> 11.7 s, test_vo_nodelet.cpp 13.7 -> 11.8, test_assistive_vo_core unity_2 15.9 -> 13.3).
-# A plain `catkin_make` without this file builds the tests at -O3, slower but the same.
-set(ASSISTIVE_TEST_CODE_OPT "-Og" CACHE STRING "optimisation of test_* targets' own code (.ci/test_code_opt.cmake)")
+# at -O1. -Og compiles 8-17 % faster still but runs the test code slower: test_assistive_vo_core
+# took 104 s of CPU instead of 51 (tried, not kept). A plain `catkin_make` without this file builds the tests at -O3, slower but the same.
+set(ASSISTIVE_TEST_CODE_OPT "-O1" CACHE STRING "optimisation of test_* targets' own code (.ci/test_code_opt.cmake)")
 if(NOT COMMAND assistive_test_code_opt)
   function(assistive_test_code_opt)
     get_property(targets DIRECTORY "${CMAKE_CURRENT_SOURCE_DIR}" PROPERTY BUILDSYSTEM_TARGETS)
