@@ -5,7 +5,8 @@
 # nodelets, CLIs and benchmarks they exercise stay Release -O3, so what is tested and measured is
 # the shipped build. Measured on test_assistive_vo_core's largest unity file: 21 s CPU at -O3, 16 s
 # at -O1. -Og compiles 8-17 % faster still but runs the test code slower: test_assistive_vo_core
-# took 104 s of CPU instead of 51 (tried, not kept). A plain `catkin_make` without this file builds the tests at -O3, slower but the same.
+# took 104 s of CPU instead of 51 (tried, not kept). A plain `catkin_make` without this file builds
+# the tests at -O3, slower but the same.
 set(ASSISTIVE_TEST_CODE_OPT "-O1" CACHE STRING "optimisation of test_* targets' own code (.ci/test_code_opt.cmake)")
 if(NOT COMMAND assistive_test_code_opt)
   function(assistive_test_code_opt)
