@@ -158,6 +158,12 @@ double crossingTime(double t0, double v0, double t1, double v1, double mark)
 // inside the ramp, so between two marks it rises at a, and extrapolated back to 0 it is half the
 // window late.
 constexpr double kHalfWindowS = 0.2;
+
+/// Free width (m) across `yaw` at (x, y): both sides' free distance, each counted up to 1 m.
+double freeAcross(const ObstacleGrid& g, double x, double y, double yaw)
+{
+  return sideFree(g, x, y, yaw, +1, 1.0) + sideFree(g, x, y, yaw, -1, 1.0);
+}
 }  // namespace
 
 void CueLogic::observeStart(const NavInput& in, double now)
@@ -722,9 +728,7 @@ bool CueLogic::aisleAhead(const NavInput& in, const Door& d, double axis) const
   // (a doorway's jambs are 0.1-0.3 m deep: past them the room opens)
   if (!in.grid || in.grid->empty())
     return false;
-  const double ax = in.x + 0.8 * std::cos(axis), ay = in.y + 0.8 * std::sin(axis);
-  const double l = sideFree(*in.grid, ax, ay, axis, +1, 1.0), r = sideFree(*in.grid, ax, ay, axis, -1, 1.0);
-  return l + r < d.width + 0.3;
+  return freeAcross(*in.grid, in.x + 0.8 * std::cos(axis), in.y + 0.8 * std::sin(axis), axis) < d.width + 0.3;
 }
 
 bool CueLogic::inDoorway(const NavInput& in) const
@@ -732,10 +736,9 @@ bool CueLogic::inDoorway(const NavInput& in) const
   // the body between two jambs: obstacle cells within 1 m across the walk on both sides, less
   // than a doorway's free cells apart, or within passage_inside_m of a passage's middle
   const double yaw = have_body_yaw_ ? body_yaw_ : in.walk_heading;
-  const double l = sideFree(*in.grid, in.x, in.y, yaw, +1, 1.0), r = sideFree(*in.grid, in.x, in.y, yaw, -1, 1.0);
   const bool near_middle = std::isfinite(in.passage_distance) && in.passage_distance >= 0.0 &&
                            in.passage_distance < params_.passage_inside_m;
-  return l + r < 1.0 || near_middle;
+  return freeAcross(*in.grid, in.x, in.y, yaw) < 1.0 || near_middle;
 }
 
 SweepResult CueLogic::sweep(const NavInput& in, const WalkModel& m) const
