@@ -389,7 +389,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   int reported = 0;
   if (trace)
     std::fprintf(stderr, "TRIAL %d wearer reaction %.2f s accel %.2f stop %.2f m/s^2 speed %.2f radius %.2f turn_gain %.2f\n",
-                 index, wp.reaction_s, wp.accel, 2.0 * wp.accel, wp.walk_speed, wp.body_radius, wp.turn_gain);
+                 index, wp.reaction_s, wp.accel, wp.stopDecel(), wp.walk_speed, wp.body_radius, wp.turn_gain);
   double t = 0.0;
   for (; t < timeout; t += opt.dt)
   {

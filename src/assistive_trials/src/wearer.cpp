@@ -154,7 +154,7 @@ void VestWearer::step(double t, double dt, const std::array<float, 4>& motors, B
   const std::array<float, 4> m = felt(t);
   perceive(t, dt, m);
   auto pickSide = [&]() { return std::bernoulli_distribution(0.5)(rng_) ? +1 : -1; };
-  auto stop = [&]() { s_.speed = std::max(0.0, s_.speed - 2.0 * p_.accel * dt); };
+  auto stop = [&]() { s_.speed = std::max(0.0, s_.speed - p_.stopDecel() * dt); };
   Eigen::Vector2d side_move = Eigen::Vector2d::Zero();
   const bool waist = (m[2] > 0.01f) != (m[3] > 0.01f) && !(m[0] > 0.01f && m[1] > 0.01f);
 

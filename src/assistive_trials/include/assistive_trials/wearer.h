@@ -26,7 +26,7 @@ namespace assistive_trials
 struct WearerParams
 {
   double walk_speed = 1.1;        ///< m/s preferred walking speed; the sighted-guide run uses it too
-  double accel = 0.85;            ///< m/s^2 to start walking (stopping: twice this); the population's mean
+  double accel = 0.85;            ///< m/s^2 to start walking (stopping: stopDecel()); the population's mean
   double reaction_s = 0.6;        ///< s from a cue's onset to the body's response (walking, torso vibration)
   double turn_gain = 1.0;         ///< this wearer's turns: actual / asked (a lasting bias)
   double turn_gain_sd = 0.15;     ///< and its spread from one turn to the next (lognormal sigma)
@@ -46,6 +46,8 @@ struct WearerParams
   /// The protocol's silence rule, as taught: no cue felt for this long (two walk-on ticks missed)
   /// means stop and use the cane.
   double silence_stop_s = 4.5;
+  /// m/s^2 stopping: the model stops at twice its start (`accel`).
+  double stopDecel() const { return 2.0 * accel; }
 };
 
 /// Body state on the floor: position, body yaw, head yaw, walking speed.
