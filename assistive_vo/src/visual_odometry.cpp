@@ -276,8 +276,17 @@ void VisualOdometry::applyTrust(VoOutput& o, double stamp, bool coast_ok, const 
   }
   if (have_trusted_)
   {
+    // The position is the last trusted one; with untrusted_gyro_orientation the orientation is
+    // the current one: lost frames carry it on the gyro (lostMotion), so it never restarts at a
+    // loss, a re-initialisation or a hold. Holding the old one while the head turned on made every
+    // untrusted frame of a turn a rotation error of the whole turn (issue 34: generated home 45,
+    // 96 % of its 0.91 deg/m rotational drift, 41x the gyro's floor).
+    const Eigen::Matrix3d R_now = o.T_odom_optical.linear();
+    const bool keep_rotation = p_.untrusted_gyro_orientation && o.pose_valid && R_now.allFinite();
     o.T_odom_optical = trusted_T_odom_optical_;
-    o.T_odom_link = linkPose(trusted_T_odom_optical_);
+    if (keep_rotation)
+      o.T_odom_optical.linear() = R_now;
+    o.T_odom_link = linkPose(o.T_odom_optical);
     // The held pose is where the wearer was: where they are now is known only to within how far
     // they can have walked (max_speed) and turned (max_angular_speed, up to any heading) since.
     const double since = std::max(0.0, stamp - trusted_stamp_);

@@ -498,8 +498,9 @@ void BagRun::dumpRow(const ev::StereoFrame& f, const FrontEndStep& step)
   const Eigen::Quaterniond g = step.have_gyro ? step.gyro : Eigen::Quaterniond::Identity();
   Eigen::Vector3d acc = Eigen::Vector3d::Zero();
   fe_.imu().meanAccel(f.stamp, 1.0 / 15.0, acc);
+  // and whether the pose is trusted and the frame held standing
   dump_out_ << " " << g.x() << " " << g.y() << " " << g.z() << " " << g.w() << " " << vo.gyroBias().transpose()
-            << " " << acc.transpose() << "\n";
+            << " " << acc.transpose() << " " << o.pose_trusted << " " << vo.holdingStill() << "\n";
 }
 
 /// The report's first part: per-stage times, resets, tracking and recovery.

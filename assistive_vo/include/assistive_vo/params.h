@@ -76,6 +76,7 @@ namespace assistive_vo
   /* --- failure handling and motion limits --- */ \
   X(double, max_speed_mps, "max_speed", 4.0, 0.1, 50.0, "m/s", "larger change of velocity against the constant-velocity prediction = failure (no jumps), unless >= 2 x `min_inliers` and half the tracks support the motion") \
   X(double, max_angular_speed_dps, "max_angular_speed", 400.0, 10.0, 5000.0, "deg/s", "same for rotation") \
+  X(bool, untrusted_gyro_orientation, "untrusted_gyro_orientation", true, {}, {}, "", "an untrusted frame reports the last trusted position with the current orientation, which the gyro carries through losses and re-initialisations (off: the last trusted orientation too)") \
   X(double, max_frame_gap_s, "max_frame_gap", 1.0, 0.05, 10.0, "s", "a larger stamp gap (or time going backwards): pose kept, new keyframe, frame untrusted (a gap the IMU covers: see imu_bridge_gaps)") \
   X(bool, imu_bridge_gaps, "imu_bridge_gaps", true, {}, {}, "", "a forward gap the gyro and the accelerometer cover is bridged like lost frames: the gyro's rotation, the position held standing or IMU-coasted under the imu_coast_* rules, the keyframe tracked on; else as above") \
   /* Auto-exposure steps and a gain different in the two cameras: every image is scaled to one */ \

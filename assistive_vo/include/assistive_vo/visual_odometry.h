@@ -36,8 +36,9 @@ struct VoOutput
   /// The pose may be guided on. False when lost beyond coast_max_s (or lost without a gyro), on a
   /// frozen camera, while image motion contradicts the gyro or the stereo pair is inconsistent
   /// with the motion (right image out of sync), on the frame after a stamp gap or time
-  /// jump and until a new keyframe is tracked again. Untrusted frames carry the last trusted pose
-  /// (not extrapolated) and zero velocities; `untrusted_reason` says why.
+  /// jump and until a new keyframe is tracked again. Untrusted frames carry the last trusted position
+  /// (not extrapolated), the orientation the gyro carried on (untrusted_gyro_orientation) and zero
+  /// velocities; `untrusted_reason` says why.
   bool pose_trusted = false;
   std::string untrusted_reason;
   Eigen::Isometry3d T_odom_link = Eigen::Isometry3d::Identity();
