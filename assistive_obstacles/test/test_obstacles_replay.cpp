@@ -34,6 +34,11 @@
 #include <assistive_obstacles/frame_processor.h>
 #include <assistive_sim/ultrasonic.h>
 
+// One executable with test_obstacles_nodelet.cpp, which holds main() (issue 31: CMakeLists.txt); this
+// file's names in a namespace of their own, apart from that file's.
+namespace obstacles_replay_test
+{
+
 namespace eval = assistive_eval;
 using namespace assistive_obstacles;
 
@@ -297,10 +302,4 @@ TEST(ObstaclesReplay, NodeletGivesTheProcessorsGridsFrameByFrame)
   EXPECT_EQ(r.grids_equal, r.grids);
   EXPECT_GT(r.proc.counters().ranges_echo + r.proc.counters().ranges_no_echo, 0);
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "test_obstacles_replay");
-  return RUN_ALL_TESTS();
-}
+}  // namespace obstacles_replay_test

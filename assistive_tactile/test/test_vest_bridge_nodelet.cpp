@@ -18,6 +18,11 @@
 #include "assistive_tactile/sim_vest.h"
 #include "assistive_tactile/vest_bridge.h"
 
+// One executable with test_tactile_nodelets.cpp, which holds main() (issue 31: CMakeLists.txt); this
+// file's names in a namespace of their own, apart from that file's.
+namespace vest_bridge_test
+{
+
 using assistive_tactile::describeDuty;
 using assistive_tactile::SimVest;
 using Duty = std::array<uint8_t, 4>;
@@ -306,11 +311,4 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
   ASSERT_NO_FATAL_FAILURE(unloadSwitchesOff(h));
   h.vest.close();
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "test_vest_bridge_nodelet");
-  ros::NodeHandle nh;
-  return RUN_ALL_TESTS();
-}
+}  // namespace vest_bridge_test

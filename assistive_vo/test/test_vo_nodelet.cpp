@@ -497,6 +497,15 @@ int main(int argc, char** argv)
 {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_vo_nodelet");
+  // One executable with test_vo_replay.cpp (CMakeLists.txt): vo_replay.test runs its tests alone
+  // (--gtest_filter=VoReplay.*), as their own main() did: one spinner thread, none of these
+  // subscribers.
+  if (GTEST_FLAG_GET(filter) == "VoReplay.*")
+  {
+    ros::AsyncSpinner spinner(1);
+    spinner.start();
+    return RUN_ALL_TESTS();
+  }
   ros::NodeHandle nh;
   ros::Subscriber s1 = nh.subscribe("/vo/odom", 100, odomCb);
   ros::Subscriber s2 = nh.subscribe("/ground_truth/odom", 100, gtCb);

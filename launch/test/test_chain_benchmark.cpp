@@ -1,6 +1,7 @@
-// chain_benchmark on the replay-chain test bag (course, rendered at build time): every stage runs
-// on every frame (the obstacle stage gives a grid from its 5th fresh frame on, the planner a cycle
-// per grid) and the JSON last line carries the total and every stage's figures.
+// chain_benchmark on the first 40 frames of the fault suite's test bag (course, rendered at build
+// time): every stage runs on every frame (the obstacle stage gives a grid from its 5th fresh frame
+// on, the planner a cycle per grid) and the JSON last line carries the total and every stage's
+// figures.
 #include <gtest/gtest.h>
 
 #include <cstdio>

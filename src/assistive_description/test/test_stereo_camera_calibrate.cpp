@@ -11,6 +11,11 @@
 #include <sstream>
 #include <vector>
 
+// One executable with test_stereo_camera_nodelet.cpp, which holds main() (issue 31: CMakeLists.txt); this
+// file's names in a namespace of their own, apart from that file's.
+namespace stereo_camera_calibrate_test
+{
+
 namespace
 {
 template <typename M>
@@ -94,10 +99,4 @@ TEST(StereoCameraCalibrate, SetCameraInfoEnablesRectification)
   std::remove((dir + "/right.yaml").c_str());
   std::remove(dir.c_str());
 }
-
-int main(int argc, char** argv)
-{
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "test_stereo_camera_calibrate");
-  return RUN_ALL_TESTS();
-}
+}  // namespace stereo_camera_calibrate_test

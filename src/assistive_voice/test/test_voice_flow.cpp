@@ -1,6 +1,7 @@
 // The way back by voice (see voice_flow.test): "save place door" at the start of the walk,
 // "take me back to the door" at its end; the planner receives the saved place as its goal and the
 // wearer hears the expected replies.
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -49,6 +50,10 @@ TEST(VoiceFlow, SavePlaceWalkTakeMeBack)
     rosbag::Bag bag(bag_path);
     rosbag::View view(bag);
     bag_end = view.getEndTime().toSec();
+    // the player stops `duration` seconds after the bag's start (a longer walk's first part)
+    double duration = 0;
+    if (pnh.getParam("duration", duration))
+      bag_end = std::min(bag_end, view.getBeginTime().toSec() + duration);
   }
 
   tf2_ros::Buffer tf(ros::Duration(600.0));
