@@ -19,6 +19,11 @@ namespace assistive_voice
   X(int, vad_postspeech_frames, "vad_postspeech_frames", 30, 5, 200, "10 ms", "silence that ends an utterance (pocketsphinx -vad_postspeech)") \
   X(std::string, hmm, "hmm", "/usr/share/pocketsphinx/model/en-us/en-us", {}, {}, "", "acoustic model (Debian pocketsphinx-en-us)") \
   X(std::string, dict, "dict", "/usr/share/pocketsphinx/model/en-us/cmudict-en-us.dict", {}, {}, "", "pronunciation dictionary") \
+  X(std::string, audio_cleanup, "audio_cleanup", "off", {}, {}, "", "noise suppression and automatic gain before recognition: `off`, `speex` (speexdsp's preprocessor) or `webrtc` (WebRTC audio processing)") \
+  /* Rejection (issue 38): the grammar's score against a phone loop's, per 10 ms frame */ \
+  X(std::string, phone_lm, "phone_lm", "/usr/share/pocketsphinx/model/en-us/en-us-phone.lm.bin", {}, {}, "", "the phone loop's model (Debian pocketsphinx-en-us): the open alternative a command is scored against; empty: no rejection, every decoded command is acted on") \
+  X(double, min_confidence, "min_confidence", -1000.0, -1000.0, 1000.0, "score/frame", "a command (push-to-talk, or after the keyphrase alone) scoring below this against the phone loop is not acted on: the wearer hears say again") \
+  X(double, min_confidence_wake, "min_confidence_wake", -1000.0, -1000.0, 1000.0, "score/frame", "keyword mode: a keyphrase (with or without its command) scoring below this against the phone loop is ignored (other talk gets no answer)") \
   /* Audio input */ \
   X(std::string, audio_input, "audio_input", "", {}, {}, "", "empty: no audio (buttons, command_text and script only); `mic`: mic_command's output; a .wav file (16 kHz mono int16 or resampled) or a text file listing .wav files, played at wall-clock rate") \
   X(std::string, mic_command, "mic_command", "sox -q -d -t raw -r 16000 -c 1 -b 16 -e signed-integer -", {}, {}, "", "command whose stdout is raw 16 kHz mono int16 from the default microphone (sox through ALSA/PulseAudio)") \
@@ -37,6 +42,7 @@ namespace assistive_voice
   X(double, alert_hold_s, "alert_hold_s", 1.5, 0.0, 30.0, "s", "quiet time after the last ALERT cue") \
   X(std::string, map_frame, "map_frame", "map", {}, {}, "", "frame of the saved places (SLAM's map)") \
   X(std::string, head_frame, "head_frame", "camera_link", {}, {}, "", "the wearer's head (x forward): where am I is answered from map_frame -> head_frame") \
+  X(double, confirm_s, "confirm_s", 6.0, 0.0, 30.0, "s", "a consequential voice command (take me back) waits this long for yes or a button press; no or silence cancels it (0: acted on at once)") \
   X(double, unsure_warn_s, "unsure_warn_s", 2.0, 0.0, 60.0, "s", "UNSURE cues for this long give a spoken warning (0: never)")
 // clang-format on
 
