@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <sstream>
 #include <algorithm>
 #include <stdexcept>
 
@@ -16,6 +17,20 @@ namespace assistive_voice
 namespace
 {
 constexpr size_t SLICE = 320;  // 20 ms: the decision granularity
+
+/// pocketsphinx's configuration: the model, the detector's hangover, then `extra` ("-name value").
+cmd_ln_t* decoderConfig(const RecognizerConfig& c, const std::string& extra)
+{
+  std::vector<std::string> args = {"recognizer", "-hmm", c.hmm, "-dict", c.dict, "-logfn", "/dev/null",
+                                   "-vad_postspeech", std::to_string(c.vad_postspeech_frames)};
+  std::istringstream in(extra);
+  for (std::string w; in >> w;)
+    args.push_back(w);
+  std::vector<char*> argv;
+  for (std::string& a : args)
+    argv.push_back(a.data());
+  return cmd_ln_parse_r(nullptr, ps_args(), static_cast<int32>(argv.size()), argv.data(), TRUE);
+}
 
 /// A command no word can extend: acted on as soon as its hypothesis is stable.
 bool closed(const Command& c)
@@ -35,6 +50,7 @@ RecognizerConfig recognizerConfig(const VoiceParams& p)
   c.vad_postspeech_frames = p.vad_postspeech_frames;
   c.hmm = p.hmm;
   c.dict = p.dict;
+  c.decoder_args = p.decoder_args;
   c.phone_lm = p.phone_lm;
   c.min_confidence = p.min_confidence;
   c.min_confidence_wake = p.min_confidence_wake;
@@ -43,11 +59,10 @@ RecognizerConfig recognizerConfig(const VoiceParams& p)
 
 Recognizer::Recognizer(const RecognizerConfig& c) : c_(c), keyphrase_(normalizeText(c.keyphrase))
 {
-  const std::string postspeech = std::to_string(c_.vad_postspeech_frames);
-  config_ = cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", c_.hmm.c_str(), "-dict", c_.dict.c_str(), "-logfn", "/dev/null",
-                        "-vad_postspeech", postspeech.c_str(), nullptr);
+  config_ = decoderConfig(c_, c_.decoder_args);
   if (!config_)
-    throw std::runtime_error("pocketsphinx: bad configuration (hmm " + c_.hmm + ", dict " + c_.dict + ")");
+    throw std::runtime_error("pocketsphinx: bad configuration (hmm " + c_.hmm + ", dict " + c_.dict +
+                             ", decoder_args '" + c_.decoder_args + "')");
   ps_ = ps_init(config_);
   if (!ps_)
     throw std::runtime_error("pocketsphinx: cannot load the model " + c_.hmm);
@@ -72,9 +87,7 @@ Recognizer::Recognizer(const RecognizerConfig& c) : c_(c), keyphrase_(normalizeT
   {
     // Same front end (and voice activity detector) as the grammar decoder: same frames.
     // Context-independent phones: the context-dependent loop cost 20 times the grammar's CPU.
-    loop_config_ = cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", c_.hmm.c_str(), "-dict",
-                               c_.dict.c_str(), "-logfn", "/dev/null", "-vad_postspeech",
-                               postspeech.c_str(), "-allphone_ci", "yes", nullptr);
+    loop_config_ = decoderConfig(c_, c_.decoder_args + " -allphone_ci yes");
     loop_ = loop_config_ ? ps_init(loop_config_) : nullptr;
     if (!loop_ || ps_set_allphone_file(loop_, "loop", c_.phone_lm.c_str()) < 0 ||
         ps_set_search(loop_, "loop") < 0)

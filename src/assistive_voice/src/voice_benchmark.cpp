@@ -207,7 +207,8 @@ struct SetResult
   std::map<std::string, Tally> ptt;       ///< "noise@snr" and "all@snr"
   std::map<std::string, Tally> kw;        ///< noise at the main SNR, and "all"
   std::map<std::string, Tally> by_voice;  ///< push-to-talk at the main SNR
-  /// As if every decision was acted on (no rejection): noise at the main SNR, and "all"
+  /// As if every decision was acted on (no rejection): push-to-talk by "noise@snr", keyword
+  /// mode by noise at the main SNR and "all"
   std::map<std::string, Tally> ptt_unrejected, kw_unrejected;
   std::vector<double> ms;
   std::vector<Scored> ptt_scored, kw_scored;
@@ -303,12 +304,12 @@ void runCommands(const SetSpec& s, Listener* kws, Listener& ptt, bool ptt_only, 
         const Outcome o = outcome(rp, want, false);
         r->ptt[snrKey(nk, snr)].add(o);
         r->ptt[snrKey("all", snr)].add(o);
+        r->ptt_unrejected[snrKey(nk, snr)].add(outcomeIfAccepted(rp, want, false));
+        r->ptt_unrejected[snrKey("all", snr)].add(outcomeIfAccepted(rp, want, false));
         if (!main)
           continue;
         r->by_voice[u.voice].add(o);
         r->ptt_scored.emplace_back(rp.confidence, outcomeIfAccepted(rp, want, false));
-        r->ptt_unrejected[nk].add(outcomeIfAccepted(rp, want, false));
-        r->ptt_unrejected["all"].add(outcomeIfAccepted(rp, want, false));
         if (ptt_only && o == Outcome::RIGHT)
           r->ms.push_back(rp.ms_to_action);
       }
@@ -714,9 +715,9 @@ int main(int argc, char** argv)
       .add("ms_to_action_p95_test", ae::jsonNumber(p95_t, 4))
       .add("clips_test", pt.n)
       .add("command_accuracy_push_to_talk_unrejected_test",
-           ae::jsonNumber(tally(t.ptt_unrejected, "all").accuracy(), 4))
+           ae::jsonNumber(tally(t.ptt_unrejected, snrKey("all", snr)).accuracy(), 4))
       .add("wrong_action_rate_push_to_talk_unrejected_test",
-           ae::jsonNumber(tally(t.ptt_unrejected, "all").wrongRate(), 4));
+           ae::jsonNumber(tally(t.ptt_unrejected, snrKey("all", snr)).wrongRate(), 4));
   for (const std::string& nk : test.noises)
     for (double s : test.snrs)
     {

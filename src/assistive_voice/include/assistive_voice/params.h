@@ -20,10 +20,11 @@ namespace assistive_voice
   X(std::string, hmm, "hmm", "/usr/share/pocketsphinx/model/en-us/en-us", {}, {}, "", "acoustic model (Debian pocketsphinx-en-us)") \
   X(std::string, dict, "dict", "/usr/share/pocketsphinx/model/en-us/cmudict-en-us.dict", {}, {}, "", "pronunciation dictionary") \
   X(std::string, audio_cleanup, "audio_cleanup", "off", {}, {}, "", "noise suppression and automatic gain before recognition: `off`, `speex` (speexdsp's preprocessor) or `webrtc` (WebRTC audio processing)") \
+  X(std::string, decoder_args, "decoder_args", "", {}, {}, "", "more pocketsphinx arguments for both decoders, `-name value ...` (e.g. `-beam 1e-60`)") \
   /* Rejection (issue 38): the grammar's score against a phone loop's, per 10 ms frame */ \
   X(std::string, phone_lm, "phone_lm", "/usr/share/pocketsphinx/model/en-us/en-us-phone.lm.bin", {}, {}, "", "the phone loop's model (Debian pocketsphinx-en-us): the open alternative a command is scored against; empty: no rejection, every decoded command is acted on") \
-  X(double, min_confidence, "min_confidence", -1000.0, -1000.0, 1000.0, "score/frame", "a command (push-to-talk, or after the keyphrase alone) scoring below this against the phone loop is not acted on: the wearer hears say again") \
-  X(double, min_confidence_wake, "min_confidence_wake", -1000.0, -1000.0, 1000.0, "score/frame", "keyword mode: a keyphrase (with or without its command) scoring below this against the phone loop is ignored (other talk gets no answer)") \
+  X(double, min_confidence, "min_confidence", 7.5, -1000.0, 1000.0, "score/frame", "a command (push-to-talk, or after the keyphrase alone) scoring below this against the phone loop is not acted on: the wearer hears say again (7.5: no wrong action on voice_benchmark's development set)") \
+  X(double, min_confidence_wake, "min_confidence_wake", 12.0, -1000.0, 1000.0, "score/frame", "keyword mode: a keyphrase (with or without its command) scoring below this against the phone loop is ignored, other talk gets no answer (12: no false command in 10 min of the development set's unrelated speech)") \
   /* Audio input */ \
   X(std::string, audio_input, "audio_input", "", {}, {}, "", "empty: no audio (buttons, command_text and script only); `mic`: mic_command's output; a .wav file (16 kHz mono int16 or resampled) or a text file listing .wav files, played at wall-clock rate") \
   X(std::string, mic_command, "mic_command", "sox -q -d -t raw -r 16000 -c 1 -b 16 -e signed-integer -", {}, {}, "", "command whose stdout is raw 16 kHz mono int16 from the default microphone (sox through ALSA/PulseAudio)") \

@@ -39,6 +39,7 @@ struct RecognizerConfig
   int vad_postspeech_frames = 30;
   std::string hmm = "/usr/share/pocketsphinx/model/en-us/en-us";
   std::string dict = "/usr/share/pocketsphinx/model/en-us/cmudict-en-us.dict";
+  std::string decoder_args;  ///< more pocketsphinx arguments, "-name value ..." (both decoders)
   double max_utterance_s = 4.0;  ///< longer speech is no command (sentences forced onto the grammar)
   /// The phone loop's language model; empty: no rejection (every decision is acted on).
   std::string phone_lm = "/usr/share/pocketsphinx/model/en-us/en-us-phone.lm.bin";
