@@ -21,8 +21,9 @@ constexpr size_t SLICE = 320;  // 20 ms: the decision granularity
 /// pocketsphinx's configuration: the model, the detector's hangover, then `extra` ("-name value").
 cmd_ln_t* decoderConfig(const RecognizerConfig& c, const std::string& extra)
 {
-  std::vector<std::string> args = {"recognizer", "-hmm", c.hmm, "-dict", c.dict, "-logfn", "/dev/null",
-                                   "-vad_postspeech", std::to_string(c.vad_postspeech_frames)};
+  std::vector<std::string> args = {"recognizer", "-hmm", c.hmm, "-dict", c.dict, "-logfn",
+                                   "/dev/null", "-vad_postspeech",
+                                   std::to_string(c.vad_postspeech_frames)};
   std::istringstream in(extra);
   for (std::string w; in >> w;)
     args.push_back(w);
@@ -61,8 +62,8 @@ Recognizer::Recognizer(const RecognizerConfig& c) : c_(c), keyphrase_(normalizeT
 {
   config_ = decoderConfig(c_, c_.decoder_args);
   if (!config_)
-    throw std::runtime_error("pocketsphinx: bad configuration (hmm " + c_.hmm + ", dict " + c_.dict +
-                             ", decoder_args '" + c_.decoder_args + "')");
+    throw std::runtime_error("pocketsphinx: bad configuration (hmm " + c_.hmm + ", dict " +
+                             c_.dict + ", decoder_args '" + c_.decoder_args + "')");
   ps_ = ps_init(config_);
   if (!ps_)
     throw std::runtime_error("pocketsphinx: cannot load the model " + c_.hmm);

@@ -1,11 +1,11 @@
 #pragma once
 // Audio cleanup before recognition (issue 38): noise suppression and automatic gain from a Debian
 // library, on 10 ms frames, in the device's audio thread and in voice_benchmark alike.
-//   off    : samples pass unchanged
-//   speex  : speexdsp's preprocessor (libspeexdsp: spectral noise suppression, AGC)
-//   webrtc : WebRTC's audio processing (libwebrtc-audio-processing 0.3: high-pass filter, noise
-//            suppression, adaptive digital gain)
-// Voice activity detection stays pocketsphinx's (it cuts the utterances). ROS-free.
+//   off   : samples pass unchanged (the default: no cleanup improved recognition, see README)
+//   speex : speexdsp's preprocessor (libspeexdsp: spectral noise suppression, AGC)
+// WebRTC's audio processing (libwebrtc-audio-processing 0.3, high-pass, noise suppression, adaptive
+// digital gain) was measured too and did worse than speex on both sets: not kept. Voice activity
+// detection stays pocketsphinx's (it cuts the utterances). ROS-free.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -16,7 +16,7 @@ namespace assistive_voice
 class AudioCleaner
 {
 public:
-  /// `kind`: off | speex | webrtc; throws std::invalid_argument for another kind or when the
+  /// `kind`: off | speex; throws std::invalid_argument for another kind or when the
   /// library cannot start. 16 kHz mono.
   explicit AudioCleaner(const std::string& kind);
   ~AudioCleaner();

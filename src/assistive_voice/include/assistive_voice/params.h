@@ -19,7 +19,7 @@ namespace assistive_voice
   X(int, vad_postspeech_frames, "vad_postspeech_frames", 30, 5, 200, "10 ms", "silence that ends an utterance (pocketsphinx -vad_postspeech)") \
   X(std::string, hmm, "hmm", "/usr/share/pocketsphinx/model/en-us/en-us", {}, {}, "", "acoustic model (Debian pocketsphinx-en-us)") \
   X(std::string, dict, "dict", "/usr/share/pocketsphinx/model/en-us/cmudict-en-us.dict", {}, {}, "", "pronunciation dictionary") \
-  X(std::string, audio_cleanup, "audio_cleanup", "off", {}, {}, "", "noise suppression and automatic gain before recognition: `off`, `speex` (speexdsp's preprocessor) or `webrtc` (WebRTC audio processing)") \
+  X(std::string, audio_cleanup, "audio_cleanup", "off", {}, {}, "", "noise suppression and automatic gain before recognition: `off` or `speex` (speexdsp's preprocessor; it did not improve voice_benchmark on either set, WebRTC's did worse and is gone)") \
   X(std::string, decoder_args, "decoder_args", "", {}, {}, "", "more pocketsphinx arguments for both decoders, `-name value ...` (e.g. `-beam 1e-60`)") \
   /* Rejection (issue 38): the grammar's score against a phone loop's, per 10 ms frame */ \
   X(std::string, phone_lm, "phone_lm", "/usr/share/pocketsphinx/model/en-us/en-us-phone.lm.bin", {}, {}, "", "the phone loop's model (Debian pocketsphinx-en-us): the open alternative a command is scored against; empty: no rejection, every decoded command is acted on") \
