@@ -16,6 +16,8 @@ const char* actionName(Action a)
     case Action::RESUME: return "resume";
     case Action::WHERE_AM_I: return "where_am_i";
     case Action::WHAT_IS_AHEAD: return "what_is_ahead";
+    case Action::YES: return "yes";
+    case Action::NO: return "no";
     case Action::NONE: break;
   }
   return "none";
@@ -42,6 +44,11 @@ std::string commandGrammar(const std::vector<std::string>& names)
     g << (i ? " | " : "") << names[i];
   g << ";\n";
   return g.str();
+}
+
+std::string confirmGrammar()
+{
+  return "#JSGF V1.0;\ngrammar confirm;\npublic <answer> = yes | no;\n";
 }
 
 std::string normalizeText(const std::string& text)
@@ -89,6 +96,10 @@ Command parseCommand(const std::string& text)
     c.action = Action::WHERE_AM_I;
   else if (s == "what is ahead")
     c.action = Action::WHAT_IS_AHEAD;
+  else if (s == "yes")
+    c.action = Action::YES;
+  else if (s == "no")
+    c.action = Action::NO;
   else if (startsWith(s, "save place"))
   {
     c.action = Action::SAVE_PLACE;

@@ -64,9 +64,64 @@ Effects VoiceController::onCommand(const Command& c, double t)
     case Action::WHAT_IS_AHEAD:
       e.reply = reply(whatIsAhead(), Priority::INFO, t);
       break;
+    case Action::YES:
+    case Action::NO:  // an answer with no question open
     case Action::NONE:
       break;
   }
+  return e;
+}
+
+Effects VoiceController::onVoiceCommand(const Command& c, double t)
+{
+  if (pending_ && c.action == Action::YES)
+  {
+    const Command confirmed = *pending_;
+    pending_.reset();
+    return onCommand(confirmed, t);
+  }
+  if (pending_ && c.action == Action::NO)
+    return cancel("cancelled", t);
+  pending_.reset();  // another command replaces the question
+  if (c.action != Action::GUIDE_BACK || confirm_s_ <= 0)
+    return onCommand(c, t);
+  pending_ = c;
+  pending_since_ = t;
+  Effects e;
+  const std::string what =
+      c.name.empty() ? "take me back to the last place" : "take me back to " + theName(c.name);
+  e.reply = reply(what + "? say yes or press a button", Priority::CONFIRM, t);
+  e.listen = true;
+  return e;
+}
+
+Effects VoiceController::onButton(int button, int press, double t)
+{
+  if (pending_ && press != PRESS_NONE)
+    return onVoiceCommand(Command{Action::YES, ""}, t);
+  return onCommand(Command{buttonAction(button, press), ""}, t);
+}
+
+Effects VoiceController::onTime(double t)
+{
+  if (pending_ && t - pending_since_ >= confirm_s_)
+    return cancel("cancelled", t);
+  return Effects();
+}
+
+Effects VoiceController::cancel(const std::string& why, double t)
+{
+  pending_.reset();
+  Effects e;
+  e.reply = reply(why, Priority::CONFIRM, t);
+  return e;
+}
+
+Effects VoiceController::onRejected(double t)
+{
+  Effects e;
+  e.reply = reply("say again", Priority::CONFIRM, t);
+  e.listen = pending_.has_value();  // the question stays open: listen for the answer again
   return e;
 }
 

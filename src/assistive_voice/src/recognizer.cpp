@@ -4,6 +4,9 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
+#include <sstream>
+#include <algorithm>
 #include <stdexcept>
 
 #include "assistive_voice/audio.h"
@@ -15,6 +18,21 @@ namespace
 {
 constexpr size_t SLICE = 320;  // 20 ms: the decision granularity
 
+/// pocketsphinx's configuration: the model, the detector's hangover, then `extra` ("-name value").
+cmd_ln_t* decoderConfig(const RecognizerConfig& c, const std::string& extra)
+{
+  std::vector<std::string> args = {"recognizer", "-hmm", c.hmm, "-dict", c.dict, "-logfn",
+                                   "/dev/null", "-vad_postspeech",
+                                   std::to_string(c.vad_postspeech_frames)};
+  std::istringstream in(extra);
+  for (std::string w; in >> w;)
+    args.push_back(w);
+  std::vector<char*> argv;
+  for (std::string& a : args)
+    argv.push_back(a.data());
+  return cmd_ln_parse_r(nullptr, ps_args(), static_cast<int32>(argv.size()), argv.data(), TRUE);
+}
+
 /// A command no word can extend: acted on as soon as its hypothesis is stable.
 bool closed(const Command& c)
 {
@@ -22,19 +40,38 @@ bool closed(const Command& c)
 }
 }  // namespace
 
+RecognizerConfig recognizerConfig(const VoiceParams& p)
+{
+  RecognizerConfig c;
+  c.mode = p.listen_mode;
+  c.keyphrase = p.keyphrase;
+  c.max_utterance_s = p.max_utterance_s;
+  c.listen_window_s = p.listen_window_s;
+  c.stable_s = p.stable_s;
+  c.vad_postspeech_frames = p.vad_postspeech_frames;
+  c.hmm = p.hmm;
+  c.dict = p.dict;
+  c.decoder_args = p.decoder_args;
+  c.phone_lm = p.phone_lm;
+  c.min_confidence = p.min_confidence;
+  c.min_confidence_wake = p.min_confidence_wake;
+  return c;
+}
+
 Recognizer::Recognizer(const RecognizerConfig& c) : c_(c), keyphrase_(normalizeText(c.keyphrase))
 {
-  const std::string postspeech = std::to_string(c_.vad_postspeech_frames);
-  config_ = cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", c_.hmm.c_str(), "-dict", c_.dict.c_str(), "-logfn", "/dev/null",
-                        "-vad_postspeech", postspeech.c_str(), nullptr);
+  config_ = decoderConfig(c_, c_.decoder_args);
   if (!config_)
-    throw std::runtime_error("pocketsphinx: bad configuration (hmm " + c_.hmm + ", dict " + c_.dict + ")");
+    throw std::runtime_error("pocketsphinx: bad configuration (hmm " + c_.hmm + ", dict " +
+                             c_.dict + ", decoder_args '" + c_.decoder_args + "')");
   ps_ = ps_init(config_);
   if (!ps_)
     throw std::runtime_error("pocketsphinx: cannot load the model " + c_.hmm);
   const std::string grammar = commandGrammar();
   if (ps_set_jsgf_string(ps_, "command", grammar.c_str()) < 0)
     throw std::runtime_error("pocketsphinx: the command grammar does not load (words missing from the dictionary?)");
+  if (ps_set_jsgf_string(ps_, "confirm", confirmGrammar().c_str()) < 0)
+    throw std::runtime_error("pocketsphinx: the yes / no grammar does not load");
   if (c_.mode == "keyword")
   {
     if (keyphrase_.empty())
@@ -47,6 +84,17 @@ Recognizer::Recognizer(const RecognizerConfig& c) : c_(c), keyphrase_(normalizeT
   }
   else if (c_.mode != "push_to_talk")
     throw std::runtime_error("recognizer mode must be keyword or push_to_talk, not '" + c_.mode + "'");
+  if (!c_.phone_lm.empty())
+  {
+    // Same front end (and voice activity detector) as the grammar decoder: same frames.
+    // Context-independent phones: the context-dependent loop cost 20 times the grammar's CPU.
+    loop_config_ = decoderConfig(c_, c_.decoder_args + " -allphone_ci yes");
+    loop_ = loop_config_ ? ps_init(loop_config_) : nullptr;
+    if (!loop_ || ps_set_allphone_file(loop_, "loop", c_.phone_lm.c_str()) < 0 ||
+        ps_set_search(loop_, "loop") < 0)
+      throw std::runtime_error("pocketsphinx: the phone loop does not load (phone_lm " +
+                               c_.phone_lm + ")");
+  }
   reset();
 }
 
@@ -56,12 +104,48 @@ Recognizer::~Recognizer()
     ps_free(ps_);
   if (config_)
     cmd_ln_free_r(config_);
+  if (loop_)
+    ps_free(loop_);
+  if (loop_config_)
+    cmd_ln_free_r(loop_config_);
+}
+
+void Recognizer::startUtt(const char* search)
+{
+  ps_set_search(ps_, search);
+  ps_start_utt(ps_);
+  if (loop_)
+    ps_start_utt(loop_);
+}
+
+void Recognizer::endUtt()
+{
+  ps_end_utt(ps_);
+  if (loop_)
+    ps_end_utt(loop_);
+}
+
+std::string Recognizer::endWithConfidence(double* confidence)
+{
+  endUtt();
+  int32 score = 0;
+  const char* h = ps_get_hyp(ps_, &score);
+  *confidence = std::numeric_limits<double>::quiet_NaN();
+  if (loop_ && h)
+  {
+    // Whole paths (acoustic and language scores, silence included): on the development set this
+    // separated right from wrong better than the acoustic scores of the words' frames alone.
+    int32 loop_score = 0;
+    ps_get_hyp(loop_, &loop_score);
+    *confidence = (double(score) - double(loop_score)) / std::max(1, ps_get_n_frames(ps_));
+  }
+  return h ? h : "";
 }
 
 void Recognizer::reset()
 {
   if (state_ != State::IDLE)
-    ps_end_utt(ps_);
+    endUtt();
   state_ = State::IDLE;
   if (c_.mode == "keyword")
     startSpotting();
@@ -69,8 +153,7 @@ void Recognizer::reset()
 
 void Recognizer::startSpotting()
 {
-  ps_set_search(ps_, "wake");
-  ps_start_utt(ps_);
+  startUtt("wake");
   state_ = State::SPOTTING;
   window_start_ = fed_;
   speech_start_ = -1;
@@ -78,12 +161,11 @@ void Recognizer::startSpotting()
   hyp_since_ = fed_;
 }
 
-void Recognizer::startCommand()
+void Recognizer::startCommand(const char* search)
 {
   if (state_ != State::IDLE)
-    ps_end_utt(ps_);
-  ps_set_search(ps_, "command");
-  ps_start_utt(ps_);
+    endUtt();
+  startUtt(search);
   state_ = State::COMMAND;
   window_start_ = fed_;
   speech_start_ = -1;
@@ -91,9 +173,9 @@ void Recognizer::startCommand()
   hyp_since_ = fed_;
 }
 
-void Recognizer::listen()
+void Recognizer::listen(bool answer)
 {
-  startCommand();
+  startCommand(answer ? "confirm" : "command");
 }
 
 std::vector<Recognition> Recognizer::feed(const int16_t* s, size_t n)
@@ -122,6 +204,8 @@ void Recognizer::feedSlice(const int16_t* s, size_t n, std::vector<Recognition>*
   if (state_ == State::IDLE)
     return;  // push-to-talk, no window: nothing is decoded
   ps_process_raw(ps_, s, n, FALSE, FALSE);
+  if (loop_)
+    ps_process_raw(loop_, s, n, FALSE, FALSE);
   const bool in_speech = ps_get_in_speech(ps_);
   if (in_speech && speech_start_ < 0)
     speech_start_ = fed_;
@@ -145,7 +229,7 @@ void Recognizer::feedSlice(const int16_t* s, size_t n, std::vector<Recognition>*
     finish(false, out);
   else if (state_ == State::SPOTTING && speech_start_ < 0 && fed_ - window_start_ > 10 * RECOGNIZER_RATE)
   {
-    ps_end_utt(ps_);  // silence or steady noise only: restart to bound the utterance
+    endUtt();  // silence or steady noise only: restart to bound the utterance
     startSpotting();
   }
 }
@@ -153,22 +237,26 @@ void Recognizer::feedSlice(const int16_t* s, size_t n, std::vector<Recognition>*
 void Recognizer::finish(bool reject, std::vector<Recognition>* out)
 {
   const State was = state_;
-  ps_end_utt(ps_);
-  int32 score = 0;
-  const char* h = ps_get_hyp(ps_, &score);
-  const std::string text = reject ? "" : command(h ? h : "");
+  double conf = 0;
+  const std::string h = endWithConfidence(&conf);
+  const std::string text = reject ? "" : command(h);
+  const double threshold = was == State::SPOTTING ? c_.min_confidence_wake : c_.min_confidence;
+  // NaN (no phone loop) never rejects
+  const bool low = conf < threshold;
   if (was == State::SPOTTING)
   {
-    if (!text.empty())
+    if (low)
+      startSpotting();  // not the keyphrase: other talk stays unanswered
+    else if (!text.empty())
     {
-      out->push_back(Recognition{keyphrase_, fed_, true});
-      out->push_back(Recognition{text, fed_, false});
+      out->push_back(Recognition{keyphrase_, fed_, true, conf, false});
+      out->push_back(Recognition{text, fed_, false, conf, false});
       startSpotting();
     }
-    else if (!reject && normalizeText(h ? h : hyp_).rfind(keyphrase_, 0) == 0)
+    else if (!reject && normalizeText(h.empty() ? hyp_ : h).rfind(keyphrase_, 0) == 0)
     {
       // the keyphrase alone (the wearer paused after it): the command follows in a window
-      out->push_back(Recognition{keyphrase_, fed_, true});
+      out->push_back(Recognition{keyphrase_, fed_, true, conf, false});
       state_ = State::IDLE;
       startCommand();
     }
@@ -176,7 +264,7 @@ void Recognizer::finish(bool reject, std::vector<Recognition>* out)
       startSpotting();
     return;
   }
-  out->push_back(Recognition{text, fed_, false});
+  out->push_back(Recognition{text, fed_, false, conf, !text.empty() && low});
   state_ = State::IDLE;
   if (c_.mode == "keyword")
     startSpotting();

@@ -31,6 +31,7 @@
 #include "assistive_voice/commands.h"
 #include "assistive_voice/controller.h"
 #include "assistive_voice/params.h"
+#include "assistive_voice/audio_cleaner.h"
 #include "assistive_voice/recognizer.h"
 #include "assistive_voice/reply_policy.h"
 #include "assistive_voice/speaker.h"
@@ -90,7 +91,7 @@ private:
     rc.silence_on_alert = p_.silence_on_alert;
     rc.alert_hold_s = p_.alert_hold_s;
     policy_ = ReplyPolicy(rc);
-    controller_ = VoiceController(p_.unsure_warn_s);
+    controller_ = VoiceController(p_.unsure_warn_s, p_.confirm_s);
     script_ = parseScript(p_.script);
 
     reply_pub_ = nh.advertise<std_msgs::String>("reply", 10);
@@ -121,17 +122,10 @@ private:
     }
     if (p_.listen_mode != "off" && !p_.audio_input.empty())
     {
-      RecognizerConfig c;
-      c.mode = p_.listen_mode;
-      c.keyphrase = p_.keyphrase;
-      c.max_utterance_s = p_.max_utterance_s;
-      c.listen_window_s = p_.listen_window_s;
-      c.stable_s = p_.stable_s;
-      c.vad_postspeech_frames = p_.vad_postspeech_frames;
-      c.hmm = p_.hmm;
-      c.dict = p_.dict;
+      const RecognizerConfig c = recognizerConfig(p_);
       try
       {
+        cleaner_ = std::make_unique<AudioCleaner>(p_.audio_cleanup);
         recognizer_ = std::make_unique<Recognizer>(c);
         audio_ = std::thread(&VoiceNodelet::audioLoop, this);
       }
@@ -162,7 +156,13 @@ private:
       const int press = m->buttons[i];
       if (press == PRESS_NONE)
         continue;
-      if (p_.listen_mode == "push_to_talk" && i == BUTTON_B && press == PRESS_LONG && recognizer_)
+      bool answering = false;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        answering = controller_.awaitingConfirmation();  // any press confirms
+      }
+      if (!answering && p_.listen_mode == "push_to_talk" && i == BUTTON_B && press == PRESS_LONG &&
+          recognizer_)
       {
         std::lock_guard<std::mutex> lock(rec_mutex_);
         recognizer_->listen();
@@ -185,6 +185,8 @@ private:
 
   void textCb(const std_msgs::String::ConstPtr& m) { command(m->data, "text"); }
 
+  /// A command as text; `source` "voice": recognised speech (consequential ones are confirmed
+  /// first), else typed or scripted (acted on at once).
   void command(const std::string& text, const char* source)
   {
     const Command c = parseCommand(text);
@@ -194,7 +196,8 @@ private:
       return;
     }
     std::lock_guard<std::mutex> lock(mutex_);
-    apply(controller_.onCommand(c, now()), source);
+    const bool voice = std::string(source) == "voice";
+    apply(voice ? controller_.onVoiceCommand(c, now()) : controller_.onCommand(c, now()), source);
   }
 
   /// Feeds the recognizer from the microphone command or the WAV list, in 20 ms chunks.
@@ -205,12 +208,20 @@ private:
       std::vector<Recognition> rs;
       {
         std::lock_guard<std::mutex> lock(rec_mutex_);
-        rs = recognizer_->feed(s, n);
+        const std::vector<int16_t> clean = cleaner_->process(s, n);  // the benchmark's chain
+        rs = recognizer_->feed(clean.data(), clean.size());
       }
       for (const Recognition& r : rs)
       {
         if (r.keyword)
           NODELET_INFO("voice: keyphrase heard");
+        else if (r.rejected)
+        {
+          NODELET_INFO("voice: '%s' rejected (confidence %.1f): say again", r.text.c_str(),
+                       r.confidence);
+          std::lock_guard<std::mutex> lock(mutex_);
+          apply(controller_.onRejected(now()), "voice");
+        }
         else if (!r.text.empty())
           command(r.text, "voice");
         else
@@ -303,6 +314,11 @@ private:
     }
     if (e.pause)
       pause_pub_.publish(makeBool(*e.pause));
+    if (e.listen && recognizer_)
+    {
+      std::lock_guard<std::mutex> lock(rec_mutex_);
+      recognizer_->listen(true);  // the answer: yes / no
+    }
     if (e.reply)
       policy_.offer(e.reply->text, e.reply->priority, t);
     if (e.tag)
@@ -372,6 +388,7 @@ private:
     {
       std::lock_guard<std::mutex> lock(mutex_);
       controller_.setPose(pose());
+      apply(controller_.onTime(t), "timer");
       if (p_.speech && wav_dir_.empty() && Speaker::speaking())
         return;  // one reply at a time
       r = policy_.next(t);
@@ -401,6 +418,7 @@ private:
   std::mutex mutex_;      // policy_, controller_
   std::mutex rec_mutex_;  // recognizer_
   std::unique_ptr<Recognizer> recognizer_;
+  std::unique_ptr<AudioCleaner> cleaner_;  // audio thread only
   std::vector<std::pair<double, std::string>> script_;
   size_t script_next_ = 0;
   double script_t0_ = -1;

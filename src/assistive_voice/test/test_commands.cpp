@@ -22,6 +22,10 @@ TEST(Commands, EverySentenceOfTheGrammarMapsToItsAction)
   EXPECT_EQ(parseCommand("pause"), cmd(Action::PAUSE));
   EXPECT_EQ(parseCommand("resume"), cmd(Action::RESUME));
   EXPECT_EQ(parseCommand("where am i"), cmd(Action::WHERE_AM_I));
+  EXPECT_EQ(parseCommand("yes"), cmd(Action::YES));  // answers (confirmGrammar), not commands
+  EXPECT_EQ(parseCommand("no"), cmd(Action::NO));
+  EXPECT_EQ(confirmGrammar(), "#JSGF V1.0;\ngrammar confirm;\npublic <answer> = yes | no;\n");
+  EXPECT_EQ(commandGrammar().find("yes"), std::string::npos);
   EXPECT_EQ(parseCommand("what is ahead"), cmd(Action::WHAT_IS_AHEAD));
 }
 

@@ -104,3 +104,65 @@ TEST(Controller, WhatIsAheadAndWarnings)
   EXPECT_FALSE(c.onCue(CUE_UNSURE, "vo lost", 9.2).reply);
   EXPECT_TRUE(c.onCue(CUE_UNSURE, "vo lost", 11.2).reply);
 }
+
+TEST(Controller, GuideBackByVoiceWaitsForYes)
+{
+  VoiceController c(2.0, 6.0);
+  Effects e = c.onVoiceCommand(parseCommand("take me back to the door"), 10.0);
+  EXPECT_FALSE(e.guide) << "nothing is done before the answer";
+  EXPECT_EQ(e.command.action, Action::NONE);
+  EXPECT_TRUE(e.listen);
+  EXPECT_EQ(e.reply->text, "take me back to the door? say yes or press a button");
+  EXPECT_EQ(e.reply->priority, Priority::CONFIRM);
+  EXPECT_TRUE(c.awaitingConfirmation());
+  e = c.onVoiceCommand(parseCommand("yes"), 12.0);
+  ASSERT_TRUE(e.guide);
+  EXPECT_EQ(*e.guide, "door");
+  EXPECT_EQ(e.command, (Command{Action::GUIDE_BACK, "door"}));
+  EXPECT_FALSE(c.awaitingConfirmation());
+  EXPECT_FALSE(c.onVoiceCommand(parseCommand("yes"), 13.0).guide) << "a yes, no question: nothing";
+}
+
+TEST(Controller, AnyButtonConfirmsNoOrSilenceCancels)
+{
+  VoiceController c(2.0, 6.0);
+  EXPECT_EQ(c.onVoiceCommand(parseCommand("take me back"), 0.0).reply->text,
+            "take me back to the last place? say yes or press a button");
+  Effects e = c.onButton(BUTTON_B, PRESS_SHORT, 1.0);  // short B would toggle the pause otherwise
+  ASSERT_TRUE(e.guide);
+  EXPECT_EQ(*e.guide, "");
+  EXPECT_FALSE(e.pause);
+
+  c.onVoiceCommand(parseCommand("take me back to car"), 20.0);
+  e = c.onVoiceCommand(parseCommand("no"), 21.0);
+  EXPECT_FALSE(e.guide);
+  EXPECT_EQ(e.reply->text, "cancelled");
+  EXPECT_FALSE(c.awaitingConfirmation());
+
+  c.onVoiceCommand(parseCommand("take me back to car"), 30.0);
+  EXPECT_FALSE(c.onTime(35.9).reply) << "still waiting";
+  e = c.onTime(36.0);
+  EXPECT_EQ(e.reply->text, "cancelled");
+  EXPECT_FALSE(e.guide);
+  EXPECT_FALSE(c.onVoiceCommand(parseCommand("yes"), 36.5).guide) << "too late";
+}
+
+TEST(Controller, OtherCommandsActAtOnceAndReplaceAQuestion)
+{
+  VoiceController c(2.0, 6.0);
+  EXPECT_EQ(*c.onVoiceCommand(parseCommand("save place kitchen"), 0.0).tag, "kitchen");
+  EXPECT_TRUE(*c.onVoiceCommand(parseCommand("pause"), 1.0).pause);
+  c.onVoiceCommand(parseCommand("take me back"), 2.0);
+  const Effects e = c.onVoiceCommand(parseCommand("where am i"), 3.0);
+  EXPECT_EQ(e.command.action, Action::WHERE_AM_I);
+  EXPECT_FALSE(c.awaitingConfirmation());
+  EXPECT_FALSE(c.onVoiceCommand(parseCommand("yes"), 4.0).guide);
+  EXPECT_TRUE(c.onRejected(5.0).reply);
+  EXPECT_FALSE(c.onRejected(5.0).listen);
+  c.onVoiceCommand(parseCommand("take me back"), 6.0);
+  const Effects r = c.onRejected(7.0);
+  EXPECT_EQ(r.reply->text, "say again");
+  EXPECT_TRUE(r.listen) << "the question stays open";
+  VoiceController now(2.0, 0.0);  // confirm_s 0: at once
+  EXPECT_EQ(*now.onVoiceCommand(parseCommand("take me back to the door"), 0.0).guide, "door");
+}

@@ -90,3 +90,48 @@ TEST_F(RecognizerTest, KeywordThenCommand)
   EXPECT_FALSE(got[1].keyword);
   EXPECT_EQ(parseCommand(got[1].text), (Command{Action::GUIDE_BACK, ""})) << got[1].text;
 }
+
+TEST_F(RecognizerTest, AnswerWindowHearsYesAndNo)
+{
+  RecognizerConfig c;
+  c.mode = "push_to_talk";
+  Recognizer r(c);
+  for (const char* s : {"yes", "no"})
+  {
+    std::vector<int16_t> clip = silence(0.3);
+    append(clip, say(s));
+    append(clip, silence(1.5));
+    r.listen(true);
+    const std::vector<Recognition> got = run(r, clip);
+    ASSERT_EQ(got.size(), 1u) << s;
+    EXPECT_EQ(got[0].text, s);
+    EXPECT_FALSE(got[0].rejected);
+  }
+}
+
+TEST_F(RecognizerTest, OtherSpeechIsRejectedAgainstThePhoneLoop)
+{
+  RecognizerConfig c;  // the phone loop and the default thresholds of VoiceParams
+  c.mode = "push_to_talk";
+  const VoiceParams p;
+  c.min_confidence = p.min_confidence;
+  Recognizer r(c);
+  std::vector<int16_t> clip = silence(0.3);
+  append(clip, say("where am i"));
+  append(clip, silence(1.5));
+  r.listen();
+  std::vector<Recognition> got = run(r, clip);
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_EQ(got[0].text, "where am i");
+  EXPECT_FALSE(got[0].rejected) << got[0].confidence;
+  EXPECT_GE(got[0].confidence, p.min_confidence);
+
+  clip = silence(0.3);
+  append(clip, say("the weather was lovely at the seaside"));
+  append(clip, silence(1.5));
+  r.listen();
+  got = run(r, clip);
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_TRUE(got[0].text.empty() || got[0].rejected)
+      << "'" << got[0].text << "' at " << got[0].confidence;
+}

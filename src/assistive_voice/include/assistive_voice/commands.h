@@ -18,6 +18,8 @@ enum class Action
   RESUME,         ///< resume the cues
   WHERE_AM_I,     ///< the nearest saved place, its distance and side
   WHAT_IS_AHEAD,  ///< what the cue logic sees ahead (its last cue's reason)
+  YES,            ///< the answer to a confirmation question (confirmGrammar())
+  NO,             ///< the answer to a confirmation question: cancel
 };
 
 /// A command: an action and, for SAVE_PLACE / GUIDE_BACK, an optional place name.
@@ -37,6 +39,10 @@ const std::vector<std::string>& defaultPlaceNames();
 /// The command grammar as a JSGF string (grammar `vest`, public rule `command`):
 ///   save place [<name>] | take me back [to [the] <name>] | pause | resume | where am i | what is ahead
 std::string commandGrammar(const std::vector<std::string>& names = defaultPlaceNames());
+
+/// The answer to a confirmation question as a JSGF string (grammar `confirm`): yes | no. A search
+/// of its own: "no" in the command grammar would swallow noise and short words.
+std::string confirmGrammar();
 
 /// Lower-cases, drops punctuation and pocketsphinx's alternates ("the(2)") and fillers
 /// ("<sil>", "[noise]"), and collapses spaces.

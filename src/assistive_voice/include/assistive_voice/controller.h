@@ -32,17 +32,34 @@ struct Effects
   std::optional<std::string> guide;    ///< call slam/guide_to_place with this name ("" = the last tagged)
   std::optional<bool> pause;           ///< publish the cue pause (true = paused)
   std::optional<Reply> reply;          ///< offer to the ReplyPolicy
+  bool listen = false;                 ///< open a listening window for a yes / no answer
 };
 
 class VoiceController
 {
 public:
-  explicit VoiceController(double unsure_warn_s = 2.0) : unsure_warn_s_(unsure_warn_s) {}
+  /// confirm_s: how long a consequential voice command waits for its confirmation (0: none).
+  explicit VoiceController(double unsure_warn_s = 2.0, double confirm_s = 6.0)
+    : unsure_warn_s_(unsure_warn_s), confirm_s_(confirm_s)
+  {
+  }
 
-  /// A command (voice, script or button) at time t.
+  /// A command acted on at once at time t (button, script, typed text).
   Effects onCommand(const Command& c, double t);
-  /// A button press (sensor_msgs/Joy value: 1 short, 2 long) through the action table.
-  Effects onButton(int button, int press, double t) { return onCommand(Command{buttonAction(button, press), ""}, t); }
+  /// A recognised voice command. A consequential one (guide back) is not acted on yet: the reply
+  /// names what was understood and asks for a yes or a button press within confirm_s. While a
+  /// question is open: yes confirms, no cancels, another command replaces the question.
+  Effects onVoiceCommand(const Command& c, double t);
+  /// A button press (sensor_msgs/Joy value: 1 short, 2 long) through the action table; while a
+  /// question is open any press confirms instead.
+  Effects onButton(int button, int press, double t);
+  /// Time passing: an unanswered question is cancelled after confirm_s (silence cancels).
+  Effects onTime(double t);
+  /// True while a consequential command waits for its confirmation.
+  bool awaitingConfirmation() const { return pending_.has_value(); }
+  /// A command heard without enough confidence (Recognition::rejected): nothing is done but the
+  /// wearer is asked to say it again.
+  Effects onRejected(double t);
   /// slam/tag_place answered: `name` as stored, `where` the head's pose when known.
   Effects onTagResult(bool ok, const std::string& name, const std::optional<Pose2>& where, double t);
   /// slam/guide_to_place answered for the requested name ("" = the last tagged).
@@ -61,7 +78,12 @@ public:
   std::string whatIsAhead() const;
 
 private:
+  Effects cancel(const std::string& why, double t);
+
   double unsure_warn_s_;
+  double confirm_s_;
+  std::optional<Command> pending_;  ///< waits for yes / a button press
+  double pending_since_ = 0;
   bool paused_ = false;
   std::optional<Pose2> pose_;
   std::map<std::string, Pose2> places_;
