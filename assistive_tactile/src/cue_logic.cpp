@@ -981,6 +981,30 @@ bool CueLogic::holdVeer(const NavInput& in, double now, double err, bool walking
   return false;
   }
 
+bool CueLogic::goMeetsEdge(const NavInput& in) const
+{
+  // A standing wearer told to go walks along its facing, a reaction late, and a stop acts another
+  // reaction later: beside a shelf's corner or a jamb, a walk a few degrees off the steering point
+  // sweeps the body into it within half a metre, whatever stop is timed from the go (traced,
+  // gen_shop_4001 trial 0, t 57.1: 15 deg off with a shelf corner 0.15 m beside the walk's line,
+  // the stop asked before it moved; it walked 0.35 m into the corner). It turns to face the
+  // steering point first when that way sweeps clear for longer.
+  const CueParams& p = params_;
+  const double err = wrapAngle(in.steer_heading - facing(in));
+  if (!(p.go_clear_m > 0.0) || !in.grid || in.grid->empty() || !(p.sweep_radius_m > 0.0) ||
+      std::fabs(err) * kRadToDeg < 3.0)
+    return false;
+  WalkModel m;
+  m.accel = startAccelEstimate();
+  m.pace = have_pace_ ? pace_est_ : 1.4;
+  m.horizon_s = 4.0;
+  const SweepResult ahead = sweepWalk(*in.grid, in.x, in.y, facing(in), m, p.sweep_radius_m);
+  if (!ahead.hit || ahead.hit_along >= p.go_clear_m)
+    return false;
+  const SweepResult turned = sweepWalk(*in.grid, in.x, in.y, in.steer_heading, m, p.sweep_radius_m);
+  return !turned.hit || turned.hit_along > ahead.hit_along + 0.3;
+}
+
 Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, bool walking)
 {
   const CueParams& p = params_;
@@ -1011,6 +1035,8 @@ Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, b
       return walkOn(fmt("%.0f deg off, in a doorway: straight on (walking on sweeps clear)", err * kRadToDeg), now,
                     false);
   }
+  if (!walking && !turn && goMeetsEdge(in))
+    return startTurn(in, now, wrapAngle(in.steer_heading - facing(in)), "its walk on would meet an edge: ");
   if (!turn && !veer)
     return walkOn(fmt("on course (%.0f deg off)", err * kRadToDeg), now, !walking);
   const double step = turn ? p.turn_step_deg : p.veer_step_deg;

@@ -210,6 +210,9 @@ private:
   /// the stop cue while it is due).
   bool shortWalk(const NavInput& in, double now, Cue& out);
   /// A new steering decision: walk on, a veer (walking) or a stop-and-turn.
+  /// A standing wearer's walk along its facing would sweep the body into an edge within
+  /// `go_clear_m`, and facing the steering point sweeps clear for longer.
+  bool goMeetsEdge(const NavInput& in) const;
   Cue askSteer(const NavInput& in, double now, double err, double ask, bool walking);
   /// A new pattern on the given motors (a new pattern id).
   Cue startPattern(CueMode mode, Instruction ins, int level, std::array<float, NUM_MOTORS> drive, uint8_t on_10ms,
