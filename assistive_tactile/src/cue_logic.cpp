@@ -104,6 +104,8 @@ void CueLogic::reset()
   prev_door_ = Door();
   stage_walk_ = false;
   centre_at_ = -1e300;
+  edge_step_at_ = -1e300;
+  edge_steps_ = 0;
   clearCrossing();
 }
 
@@ -1005,6 +1007,35 @@ bool CueLogic::goMeetsEdge(const NavInput& in) const
   return !turned.hit || turned.hit_along > ahead.hit_along + 0.3;
 }
 
+bool CueLogic::stepClearOfEdge(const NavInput& in, double now, Cue& out)
+{
+  // A wearer standing a hand's breadth beside a shelf or a jamb (a side under go_side_m, the other
+  // side much freer) walks off along a line that its veering and a turn landed a few degrees off
+  // bend into it within a metre or two, before a correction can act. It side-steps away first:
+  // short steps, each judged once carried out (a reaction after its buzz), three at most.
+  const CueParams& p = params_;
+  if (now - edge_step_at_ < kCentreBuzzS + reactionEstimate() + 0.3)
+  {
+    out = holdPattern("standing beside an edge: a side-step away from it");
+    return true;
+  }
+  const double near = std::min(in.free_left, in.free_right), far = std::max(in.free_left, in.free_right);
+  if (!(p.go_side_m > 0.0) || !(near < p.go_side_m) || !(far >= near + 0.3) || edge_steps_ >= 3)
+    return false;
+  const int side = in.free_left > in.free_right ? +1 : -1;
+  std::array<float, NUM_MOTORS> drive{ { 0.f, 0.f, 0.f, 0.f } };
+  drive[side > 0 ? LEFT_WAIST : RIGHT_WAIST] = 1.f;
+  edge_step_at_ = now;
+  ++edge_steps_;
+  busy_ = false;
+  out = startPattern(CueMode::PROXIMITY, Instruction::SIDESTEP, 0, drive, uint8_t(std::lround(kCentreBuzzS * 100.0)),
+                     0, 1, now,
+                     fmt(side > 0 ? "standing %.2f m beside an edge: step left" :
+                                    "standing %.2f m beside an edge: step right",
+                         near));
+  return true;
+}
+
 Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, bool walking)
 {
   const CueParams& p = params_;
@@ -1037,8 +1068,14 @@ Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, b
   }
   if (!walking && !turn && goMeetsEdge(in))
     return startTurn(in, now, wrapAngle(in.steer_heading - facing(in)), "its walk on would meet an edge: ");
+  Cue edge_step;
+  if (!walking && !turn && stepClearOfEdge(in, now, edge_step))
+    return edge_step;
   if (!turn && !veer)
+  {
+    edge_steps_ = 0;
     return walkOn(fmt("on course (%.0f deg off)", err * kRadToDeg), now, !walking);
+  }
   const double step = turn ? p.turn_step_deg : p.veer_step_deg;
   // what is asked beyond a veer still being carried out (the wearer completes it, then turns)
   // the level whose veer comes closest at this wearer's learnt gain (a turn's buzz sets its

@@ -1535,3 +1535,29 @@ TEST(CueLogic, StandingBesideAnEdgeIsTurnedBeforeTheGo)
   in.grid = shelf;
   EXPECT_EQ(fresh(before, in, 0.0).instruction, Instruction::WALK_ON);
 }
+
+// A wearer standing on course 0.2 m beside a shelf on its left (1 m free on its right): its walk
+// off along the shelf, bent by its veering and a reaction-late correction, meets the shelf within
+// a metre or two. It side-steps right first (a short waist buzz), is left to carry it out (the
+// buzz and a reaction), and once 0.45 m clear is told to go. With go_side_m 0 it goes at once.
+TEST(CueLogic, StandingAgainstAnEdgeStepsAwayBeforeTheGo)
+{
+  NavInput in = standing(turn(0.0));
+  in.free_left = 0.2;
+  in.free_right = 1.0;
+  CueLogic c;
+  const Cue k = fresh(c, in, 0.0);
+  ASSERT_EQ(k.instruction, Instruction::SIDESTEP) << k.reason;
+  EXPECT_GT(k.intensity[RIGHT_WAIST], 0.f) << k.reason;
+  EXPECT_EQ(k.intensity[LEFT_WAIST], 0.f) << k.reason;
+  in.free_left = 0.45;
+  in.free_right = 0.75;
+  EXPECT_EQ(fresh(c, in, 0.5).instruction, Instruction::SIDESTEP);  // still carrying it out
+  EXPECT_EQ(fresh(c, in, 2.0).instruction, Instruction::WALK_ON);
+  CueParams off;
+  off.go_side_m = 0.0;
+  CueLogic before(off);
+  in.free_left = 0.2;
+  in.free_right = 1.0;
+  EXPECT_EQ(fresh(before, in, 0.0).instruction, Instruction::WALK_ON);
+}
