@@ -104,6 +104,8 @@ void CueLogic::reset()
   prev_door_ = Door();
   stage_walk_ = false;
   centre_at_ = -1e300;
+  edge_step_at_ = -1e300;
+  edge_steps_ = 0;
   clearCrossing();
 }
 
@@ -981,6 +983,59 @@ bool CueLogic::holdVeer(const NavInput& in, double now, double err, bool walking
   return false;
   }
 
+bool CueLogic::goMeetsEdge(const NavInput& in) const
+{
+  // A standing wearer told to go walks along its facing, a reaction late, and a stop acts another
+  // reaction later: beside a shelf's corner or a jamb, a walk a few degrees off the steering point
+  // sweeps the body into it within half a metre, whatever stop is timed from the go (traced,
+  // gen_shop_4001 trial 0, t 57.1: 15 deg off with a shelf corner 0.15 m beside the walk's line,
+  // the stop asked before it moved; it walked 0.35 m into the corner). It turns to face the
+  // steering point first when that way sweeps clear for longer.
+  const CueParams& p = params_;
+  const double err = wrapAngle(in.steer_heading - facing(in));
+  if (!(p.go_clear_m > 0.0) || !in.grid || in.grid->empty() || !(p.sweep_radius_m > 0.0) ||
+      std::fabs(err) * kRadToDeg < 3.0)
+    return false;
+  WalkModel m;
+  m.accel = startAccelEstimate();
+  m.pace = have_pace_ ? pace_est_ : 1.4;
+  m.horizon_s = 4.0;
+  const SweepResult ahead = sweepWalk(*in.grid, in.x, in.y, facing(in), m, p.sweep_radius_m);
+  if (!ahead.hit || ahead.hit_along >= p.go_clear_m)
+    return false;
+  const SweepResult turned = sweepWalk(*in.grid, in.x, in.y, in.steer_heading, m, p.sweep_radius_m);
+  return !turned.hit || turned.hit_along > ahead.hit_along + 0.3;
+}
+
+bool CueLogic::stepClearOfEdge(const NavInput& in, double now, Cue& out)
+{
+  // A wearer standing a hand's breadth beside a shelf or a jamb (a side under go_side_m, the other
+  // side much freer) walks off along a line that its veering and a turn landed a few degrees off
+  // bend into it within a metre or two, before a correction can act. It side-steps away first:
+  // short steps, each judged once carried out (a reaction after its buzz), three at most.
+  const CueParams& p = params_;
+  if (now - edge_step_at_ < kCentreBuzzS + reactionEstimate() + 0.3)
+  {
+    out = holdPattern("standing beside an edge: a side-step away from it");
+    return true;
+  }
+  const double near = std::min(in.free_left, in.free_right), far = std::max(in.free_left, in.free_right);
+  if (!(p.go_side_m > 0.0) || !(near < p.go_side_m) || !(far >= near + 0.3) || edge_steps_ >= 3)
+    return false;
+  const int side = in.free_left > in.free_right ? +1 : -1;
+  std::array<float, NUM_MOTORS> drive{ { 0.f, 0.f, 0.f, 0.f } };
+  drive[side > 0 ? LEFT_WAIST : RIGHT_WAIST] = 1.f;
+  edge_step_at_ = now;
+  ++edge_steps_;
+  busy_ = false;
+  out = startPattern(CueMode::PROXIMITY, Instruction::SIDESTEP, 0, drive, uint8_t(std::lround(kCentreBuzzS * 100.0)),
+                     0, 1, now,
+                     fmt(side > 0 ? "standing %.2f m beside an edge: step left" :
+                                    "standing %.2f m beside an edge: step right",
+                         near));
+  return true;
+}
+
 Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, bool walking)
 {
   const CueParams& p = params_;
@@ -1011,8 +1066,16 @@ Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, b
       return walkOn(fmt("%.0f deg off, in a doorway: straight on (walking on sweeps clear)", err * kRadToDeg), now,
                     false);
   }
+  if (!walking && !turn && goMeetsEdge(in))
+    return startTurn(in, now, wrapAngle(in.steer_heading - facing(in)), "its walk on would meet an edge: ");
+  Cue edge_step;
+  if (!walking && !turn && stepClearOfEdge(in, now, edge_step))
+    return edge_step;
   if (!turn && !veer)
+  {
+    edge_steps_ = 0;
     return walkOn(fmt("on course (%.0f deg off)", err * kRadToDeg), now, !walking);
+  }
   const double step = turn ? p.turn_step_deg : p.veer_step_deg;
   // what is asked beyond a veer still being carried out (the wearer completes it, then turns)
   // the level whose veer comes closest at this wearer's learnt gain (a turn's buzz sets its

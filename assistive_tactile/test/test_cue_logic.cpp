@@ -1498,3 +1498,66 @@ TEST(CueLogic, StandingBoxedInIsTurnedNotHeld)
   EXPECT_EQ(s.mode, CueMode::ALERT) << s.reason;
   EXPECT_EQ(s.instruction, Instruction::STOP);
 }
+
+// A wearer standing 12 deg off the steering point (within stand_turn_deg: told to go before) with
+// a shelf's corner beside the line of its walk: walking along its facing, a reaction late, the
+// body's disc meets the corner 0.8 m on, before any stop can act (traced, gen_shop_4001 trial 0,
+// t 57.1: 15 deg off, the corner 0.15 m beside the walk's line). It is turned to face the steering
+// point, whose way sweeps clear. The same wearer without the shelf, or facing the steering point,
+// is told to go.
+TEST(CueLogic, StandingBesideAnEdgeIsTurnedBeforeTheGo)
+{
+  auto shelf = std::make_shared<ObstacleGrid>(*doorwayGrid());
+  std::fill(shelf->data.begin(), shelf->data.end(), 0);
+  for (int iy = 0; iy < shelf->height; ++iy)
+    for (int ix = 0; ix < shelf->width; ++ix)
+      if (shelf->cellX(ix) > 0.5 && shelf->cellX(ix) < 1.5 && shelf->cellY(iy) > 0.3 && shelf->cellY(iy) < 0.9)
+        shelf->data[size_t(shelf->index(ix, iy))] = 100;
+  auto open = std::make_shared<ObstacleGrid>(*shelf);
+  std::fill(open->data.begin(), open->data.end(), 0);
+  NavInput in = standingAt(0.0, 0.0, 12.0, 0.0);
+  in.grid = shelf;
+  CueLogic c;
+  const Cue k = fresh(c, in, 0.0);
+  ASSERT_EQ(k.instruction, Instruction::TURN) << k.reason;
+  EXPECT_GT(k.intensity[RIGHT_SHOULDER], 0.f) << k.reason;
+  EXPECT_NE(k.reason.find("edge"), std::string::npos) << k.reason;
+  in.grid = open;
+  CueLogic o;
+  EXPECT_EQ(fresh(o, in, 0.0).instruction, Instruction::WALK_ON);
+  NavInput facing = standingAt(0.0, 0.0, 12.0, 12.0);
+  facing.grid = shelf;
+  CueLogic f;
+  EXPECT_EQ(fresh(f, facing, 0.0).instruction, Instruction::WALK_ON);
+  CueParams off;
+  off.go_clear_m = 0.0;
+  CueLogic before(off);
+  in.grid = shelf;
+  EXPECT_EQ(fresh(before, in, 0.0).instruction, Instruction::WALK_ON);
+}
+
+// A wearer standing on course 0.2 m beside a shelf on its left (1 m free on its right): its walk
+// off along the shelf, bent by its veering and a reaction-late correction, meets the shelf within
+// a metre or two. It side-steps right first (a short waist buzz), is left to carry it out (the
+// buzz and a reaction), and once 0.45 m clear is told to go. With go_side_m 0 it goes at once.
+TEST(CueLogic, StandingAgainstAnEdgeStepsAwayBeforeTheGo)
+{
+  NavInput in = standing(turn(0.0));
+  in.free_left = 0.2;
+  in.free_right = 1.0;
+  CueLogic c;
+  const Cue k = fresh(c, in, 0.0);
+  ASSERT_EQ(k.instruction, Instruction::SIDESTEP) << k.reason;
+  EXPECT_GT(k.intensity[RIGHT_WAIST], 0.f) << k.reason;
+  EXPECT_EQ(k.intensity[LEFT_WAIST], 0.f) << k.reason;
+  in.free_left = 0.45;
+  in.free_right = 0.75;
+  EXPECT_EQ(fresh(c, in, 0.5).instruction, Instruction::SIDESTEP);  // still carrying it out
+  EXPECT_EQ(fresh(c, in, 2.0).instruction, Instruction::WALK_ON);
+  CueParams off;
+  off.go_side_m = 0.0;
+  CueLogic before(off);
+  in.free_left = 0.2;
+  in.free_right = 1.0;
+  EXPECT_EQ(fresh(before, in, 0.0).instruction, Instruction::WALK_ON);
+}

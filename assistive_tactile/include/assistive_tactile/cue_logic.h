@@ -210,6 +210,11 @@ private:
   /// the stop cue while it is due).
   bool shortWalk(const NavInput& in, double now, Cue& out);
   /// A new steering decision: walk on, a veer (walking) or a stop-and-turn.
+  /// A standing wearer's walk along its facing would sweep the body into an edge within
+  /// `go_clear_m`, and facing the steering point sweeps clear for longer.
+  bool goMeetsEdge(const NavInput& in) const;
+  /// A standing wearer a hand's breadth beside an edge side-steps away before the go (`go_side_m`).
+  bool stepClearOfEdge(const NavInput& in, double now, Cue& out);
   Cue askSteer(const NavInput& in, double now, double err, double ask, bool walking);
   /// A new pattern on the given motors (a new pattern id).
   Cue startPattern(CueMode mode, Instruction ins, int level, std::array<float, NUM_MOTORS> drive, uint8_t on_10ms,
@@ -353,6 +358,8 @@ private:
   bool stage_walk_ = false;
   /// The last side-step away from a jamb began then; each buzzes this long (about 0.1 m).
   double centre_at_ = -1e300;
+  double edge_step_at_ = -1e300;  ///< a side-step away from an edge before a go began then
+  int edge_steps_ = 0;            ///< such side-steps since the last go
   static constexpr double kCentreBuzzS = 0.35;
   /// The body's yaw (rad), estimated from the head (bodyYaw): the head's fast turns (a turn on the
   /// spot, a veer) carried at once, its slow motion (the scan, +-8 deg over seconds) filtered out
