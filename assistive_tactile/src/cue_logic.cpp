@@ -983,6 +983,32 @@ bool CueLogic::holdVeer(const NavInput& in, double now, double err, bool walking
   return false;
   }
 
+WalkModel CueLogic::goWalk(double horizon_s) const
+{
+  // a standing wearer's walk once told to go: speeding up at its start to its pace (the fast end
+  // of preferred speeds until its own is learnt)
+  WalkModel m;
+  m.accel = startAccelEstimate();
+  m.pace = have_pace_ ? pace_est_ : 1.4;
+  m.horizon_s = horizon_s;
+  return m;
+}
+
+bool CueLogic::sideStepUnderWay(double since, double now) const
+{
+  // a short side-step is judged once carried out: its buzz, then a reaction and 0.3 s
+  return now - since < kCentreBuzzS + reactionEstimate() + 0.3;
+}
+
+Cue CueLogic::shortSideStep(int side, double now, std::string reason)
+{
+  std::array<float, NUM_MOTORS> drive{ { 0.f, 0.f, 0.f, 0.f } };
+  drive[side > 0 ? LEFT_WAIST : RIGHT_WAIST] = 1.f;
+  busy_ = false;
+  return startPattern(CueMode::PROXIMITY, Instruction::SIDESTEP, 0, drive, uint8_t(std::lround(kCentreBuzzS * 100.0)),
+                      0, 1, now, std::move(reason));
+}
+
 bool CueLogic::goMeetsEdge(const NavInput& in) const
 {
   // A standing wearer told to go walks along its facing, a reaction late, and a stop acts another
@@ -996,10 +1022,7 @@ bool CueLogic::goMeetsEdge(const NavInput& in) const
   if (!(p.go_clear_m > 0.0) || !in.grid || in.grid->empty() || !(p.sweep_radius_m > 0.0) ||
       std::fabs(err) * kRadToDeg < 3.0)
     return false;
-  WalkModel m;
-  m.accel = startAccelEstimate();
-  m.pace = have_pace_ ? pace_est_ : 1.4;
-  m.horizon_s = 4.0;
+  const WalkModel m = goWalk(4.0);
   const SweepResult ahead = sweepWalk(*in.grid, in.x, in.y, facing(in), m, p.sweep_radius_m);
   if (!ahead.hit || ahead.hit_along >= p.go_clear_m)
     return false;
@@ -1014,7 +1037,7 @@ bool CueLogic::stepClearOfEdge(const NavInput& in, double now, Cue& out)
   // bend into it within a metre or two, before a correction can act. It side-steps away first:
   // short steps, each judged once carried out (a reaction after its buzz), three at most.
   const CueParams& p = params_;
-  if (now - edge_step_at_ < kCentreBuzzS + reactionEstimate() + 0.3)
+  if (sideStepUnderWay(edge_step_at_, now))
   {
     out = holdPattern("standing beside an edge: a side-step away from it");
     return true;
@@ -1023,16 +1046,12 @@ bool CueLogic::stepClearOfEdge(const NavInput& in, double now, Cue& out)
   if (!(p.go_side_m > 0.0) || !(near < p.go_side_m) || !(far >= near + 0.3) || edge_steps_ >= 3)
     return false;
   const int side = in.free_left > in.free_right ? +1 : -1;
-  std::array<float, NUM_MOTORS> drive{ { 0.f, 0.f, 0.f, 0.f } };
-  drive[side > 0 ? LEFT_WAIST : RIGHT_WAIST] = 1.f;
   edge_step_at_ = now;
   ++edge_steps_;
-  busy_ = false;
-  out = startPattern(CueMode::PROXIMITY, Instruction::SIDESTEP, 0, drive, uint8_t(std::lround(kCentreBuzzS * 100.0)),
-                     0, 1, now,
-                     fmt(side > 0 ? "standing %.2f m beside an edge: step left" :
-                                    "standing %.2f m beside an edge: step right",
-                         near));
+  out = shortSideStep(side, now,
+                      fmt(side > 0 ? "standing %.2f m beside an edge: step left" :
+                                     "standing %.2f m beside an edge: step right",
+                          near));
   return true;
 }
 
@@ -1375,7 +1394,7 @@ bool CueLogic::centreInPassage(const NavInput& in, double now, double axis, doub
   // Short side-steps towards the middle, each judged once it was carried out (a reaction after
   // the buzz ended).
   const CueParams& p = params_;
-  if (now - centre_at_ < kCentreBuzzS + reactionEstimate() + 0.3)
+  if (sideStepUnderWay(centre_at_, now))
   {
     out = holdPattern("in a passage: a side-step towards its middle");
     return true;
@@ -1387,15 +1406,11 @@ bool CueLogic::centreInPassage(const NavInput& in, double now, double axis, doub
   const double mx = lateral * std::sin(axis), my = -lateral * std::cos(axis);
   const double yaw = facing(in);
   const int side = std::cos(yaw) * my - std::sin(yaw) * mx > 0.0 ? +1 : -1;
-  std::array<float, NUM_MOTORS> drive{ { 0.f, 0.f, 0.f, 0.f } };
-  drive[side > 0 ? LEFT_WAIST : RIGHT_WAIST] = 1.f;
   centre_at_ = now;
-  busy_ = false;
-  out = startPattern(CueMode::PROXIMITY, Instruction::SIDESTEP, 0, drive, uint8_t(std::lround(kCentreBuzzS * 100.0)),
-                     0, 1, now,
-                     fmt(side > 0 ? "in a passage %.2f m off its middle: step left" :
-                                    "in a passage %.2f m off its middle: step right",
-                         std::fabs(lateral)));
+  out = shortSideStep(side, now,
+                      fmt(side > 0 ? "in a passage %.2f m off its middle: step left" :
+                                     "in a passage %.2f m off its middle: step right",
+                          std::fabs(lateral)));
   return true;
 }
 
@@ -1420,11 +1435,7 @@ bool CueLogic::shortWalk(const NavInput& in, double now, Cue& out)
     // it stops 0.1 m short of where the disc would first meet an obstacle cell
     if (in.grid && !in.grid->empty() && p.sweep_radius_m > 0.0)
     {
-      WalkModel m;
-      m.accel = startAccelEstimate();
-      m.pace = have_pace_ ? pace_est_ : 1.4;
-      m.horizon_s = 6.0;
-      const SweepResult r = sweep(in, m);
+      const SweepResult r = sweep(in, goWalk(6.0));
       if (r.hit)
         room = std::min(room, r.hit_along - 0.1);
     }

@@ -213,6 +213,12 @@ private:
   /// A standing wearer's walk along its facing would sweep the body into an edge within
   /// `go_clear_m`, and facing the steering point sweeps clear for longer.
   bool goMeetsEdge(const NavInput& in) const;
+  /// A standing wearer's walk once told to go, for the sweep (its start, its pace).
+  WalkModel goWalk(double horizon_s) const;
+  /// A short side-step begun at `since` is still being carried out (its buzz and a reaction).
+  bool sideStepUnderWay(double since, double now) const;
+  /// A short side-step (kCentreBuzzS on one waist motor; + = left).
+  Cue shortSideStep(int side, double now, std::string reason);
   /// A standing wearer a hand's breadth beside an edge side-steps away before the go (`go_side_m`).
   bool stepClearOfEdge(const NavInput& in, double now, Cue& out);
   Cue askSteer(const NavInput& in, double now, double err, double ask, bool walking);
