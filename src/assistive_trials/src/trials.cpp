@@ -401,6 +401,8 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
     while (next < route.size() && (s.xy - route[next]).norm() < opt.goal_radius_m)
     {
       ++next;
+      if (trace)
+        std::fprintf(stderr, "PLACE t %.2f reached %zu at %.2f %.2f\n", t, next - 1, s.xy.x(), s.xy.y());
       if (next < route.size() && vest)
       {
         chain->setGoal(route[next]);
