@@ -171,6 +171,8 @@ TEST(ObstaclesNodelet, ReplayGeneratedBagAndScoreMap)
   std::ifstream bt(srv.response.message, std::ios::binary | std::ios::ate);
   ASSERT_TRUE(bt.good()) << srv.response.message;
   EXPECT_GT(static_cast<long>(bt.tellg()), 100L);
+  bt.close();
+  std::remove(srv.response.message.c_str());  // (the default path is in /tmp: leave nothing there)
 }
 
 int main(int argc, char** argv)

@@ -25,7 +25,7 @@ TEST(SeenOctree, WallIsOccupiedRayIsFreeAndSavedAsBt)
   ASSERT_FALSE(c.empty());
   for (const auto& v : c) EXPECT_NEAR(v.x(), 3.0f, 0.1f);
 
-  const std::string path = "/tmp/test_seen_octree_" + std::to_string(::getpid()) + ".bt";
+  const std::string path = testing::TempDir() + "/test_seen_octree_" + std::to_string(::getpid()) + ".bt";
   ASSERT_TRUE(tree.save(path));
   octomap::OcTree back(path);
   std::remove(path.c_str());

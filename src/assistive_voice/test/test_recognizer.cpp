@@ -1,6 +1,7 @@
 // espeak-ng speaks, pocketsphinx hears: the recognizer on real (synthesised) audio, both modes,
 // and the WAV round trip. Deterministic: the same library versions give the same samples.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 
@@ -42,7 +43,7 @@ TEST_F(RecognizerTest, WavRoundTrip)
   Audio a;
   a.rate = 22050;
   a.samples = {0, 1, -1, 32767, -32768, 1234};
-  const std::string path = "/tmp/assistive_voice_test_roundtrip.wav";
+  const std::string path = testing::TempDir() + "/assistive_voice_test_roundtrip_" + std::to_string(::getpid()) + ".wav";
   ASSERT_TRUE(writeWav(path, a));
   Audio b;
   std::string err;
