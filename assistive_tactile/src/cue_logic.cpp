@@ -663,6 +663,7 @@ WalkModel CueLogic::committedWalk(const NavInput& in, double now, double stop_in
   // fast as they start, else at 1 m/s^2): a stop asked early costs a moment, one asked late a bump.
   m.decel = have_decel_ ? stopDecelEstimate() : have_accel_ ? std::max(1.0, 2.0 * startAccelEstimate()) : 1.0;
   m.turn_rate = params_.veer_rate_deg / kRadToDeg;
+  m.spread_per_m = params_.sweep_spread_m;
   const double tau = sweepReaction();
   m.stop_at_s = stop_in_s + tau;
   m.horizon_s = m.stop_at_s + m.v0 / std::max(0.1, m.decel) + 3.0;
@@ -991,6 +992,7 @@ WalkModel CueLogic::goWalk(double horizon_s) const
   m.accel = startAccelEstimate();
   m.pace = have_pace_ ? pace_est_ : 1.4;
   m.horizon_s = horizon_s;
+  m.spread_per_m = params_.sweep_spread_m;
   return m;
 }
 

@@ -72,7 +72,10 @@ SweepResult sweepWalk(const ObstacleGrid& g, double x, double y, double yaw, con
     r.walked += v * dt;
     const double c = obstacleClearance(g, x, y, reach);
     r.min_clear = std::min(r.min_clear, c);
-    if (c < limit)
+    // (the further the walk, the less sure where it is: the clearance it needs grows, up to
+    // what the body has now less 3 cm, so that a walk along an aisle's shelf stays allowed)
+    const double need = std::max(limit, std::min(radius + m.spread_per_m * r.walked, c0 - 0.03));
+    if (c < need)
     {
       r.hit = true;
       r.hit_t = t + dt;

@@ -37,6 +37,9 @@ struct WalkModel
   bool turn_while_stopping = false;
   double stop_at_s = 1e9;   ///< its stop begins then (the cue that stops it, felt a reaction late)
   double horizon_s = 4.0;   ///< the prediction ends then (or once it stands)
+  /// The prediction's spread: the clearance a point needs grows by this per metre walked to it
+  /// (never beyond the clearance the body has now less 3 cm); 0 = the radius alone.
+  double spread_per_m = 0.0;
 };
 
 /// The body's disc swept along a predicted walk (`sweepWalk`).
@@ -53,9 +56,9 @@ struct SweepResult
 /**
  * The body's disc (radius `radius`) carried along the walk `m` from (x, y, yaw) in steps of `dt`,
  * checked against `g`'s obstacle cells: a hit is a point of the walk whose clearance is under
- * `radius`, and under the clearance where the body stands now less 3 cm (a body that already
- * stands closer than `radius` to a jamb, in a doorway, is stopped only when the walk takes it
- * closer still, not at once).
+ * `radius` (plus `m.spread_per_m` per metre walked to it), and under the clearance where the body
+ * stands now less 3 cm (a body that already stands closer than `radius` to a jamb, in a doorway,
+ * is stopped only when the walk takes it closer still, not at once).
  */
 SweepResult sweepWalk(const ObstacleGrid& g, double x, double y, double yaw, const WalkModel& m, double radius,
                       double dt = 0.05);
