@@ -1217,10 +1217,12 @@ TEST(Sweep, DoorwayJambClippedOffTheMiddleOnly)
   EXPECT_FALSE(sweepWalk(*g, 2.0, 0.2, 0.0, still, 0.24).hit);
 }
 
-TEST(Sweep, SpreadAsksForMoreRoomFurtherOnButNotMoreThanTheBodyHasNow)
+namespace
 {
-  // A shelf along y = 0.6 (a row of obstacle cells, centres at y = 0.6, from x = -2 to 5.8 m); a
-  // body of radius 0.24 m at (0, 0) walking at 1 m/s for 4 s (no stop, no turn).
+/// A shelf along y = 0.6 (a row of obstacle cells, centres at y = 0.6, from x = -2 to 5.8 m),
+/// open floor elsewhere from -2.1 to 5.9 m.
+std::shared_ptr<ObstacleGrid> shelfGrid()
+{
   auto g = std::make_shared<ObstacleGrid>();
   g->origin_x = g->origin_y = -2.1;
   g->resolution = 0.2;
@@ -1228,6 +1230,14 @@ TEST(Sweep, SpreadAsksForMoreRoomFurtherOnButNotMoreThanTheBodyHasNow)
   g->data.assign(size_t(40 * 40), 0);
   for (int ix = 0; ix < 40; ++ix)
     g->data[size_t(g->index(ix, 13))] = 100;  // cellY(13) = 0.6
+  return g;
+}
+}  // namespace
+
+TEST(Sweep, SpreadAsksForMoreRoomFurtherOnButNotMoreThanTheBodyHasNow)
+{
+  // The shelf; a body of radius 0.24 m at (0, 0) walking at 1 m/s for 4 s (no stop, no turn).
+  const auto g = shelfGrid();
   ASSERT_NEAR(g->cellY(13), 0.6, 1e-9);
   WalkModel m;
   m.v0 = m.pace = 1.0;
@@ -1248,6 +1258,26 @@ TEST(Sweep, SpreadAsksForMoreRoomFurtherOnButNotMoreThanTheBodyHasNow)
   EXPECT_NEAR(r.hit_along, 2.36, 0.1);  // (the cells' centres lie every 0.2 m along the shelf)
   // 3 deg away from it: clear
   EXPECT_FALSE(sweepWalk(*g, 0.0, 0.0, -yaw, spread, 0.24).hit);
+}
+
+// The cue logic's sweep carries the spread (sweep_spread_m): a walker at 1 m/s converging on a
+// shelf at 6 deg, 0.6 m beside it, on course (the rays see nothing ahead or beside). With the
+// radius alone its committed walk (an unlearnt wearer: 1.2 s to react, a stop at 1 m/s^2) ends
+// clear of the shelf; with the default spread the walk's end needs more room than it keeps: stop.
+TEST(CueLogic, PredictiveStopAsksForMoreRoomFurtherAlongTheWalk)
+{
+  NavInput in = turn(0.0, 6.0 * kDeg);
+  in.walking_speed = 1.0;
+  in.grid = shelfGrid();
+  CueLogic spread;
+  const Cue k = fresh(spread, in, 0.0);
+  EXPECT_EQ(k.instruction, Instruction::STOP) << k.reason;
+  EXPECT_NE(k.reason.find("sweep the body"), std::string::npos) << k.reason;
+  CueParams p;
+  p.sweep_spread_m = 0.0;
+  CueLogic radius_only(p);
+  const Cue w = fresh(radius_only, in, 0.0);
+  EXPECT_EQ(w.instruction, Instruction::WALK_ON) << w.reason;
 }
 
 TEST(CueLogic, PredictiveStopSeesTheJambBesideTheBody)
