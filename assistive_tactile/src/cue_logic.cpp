@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 
 namespace assistive_tactile
@@ -17,6 +18,11 @@ constexpr double kTellApartS = 0.25;
 constexpr double kTurnMarginS = 0.05;
 /// A turn teaches the wearer's turning rate only when it turned for at least this long (s).
 constexpr double kRateSampleMinS = 0.3;
+/// The walk-on that follows a turn at once comes this long after its buzz ended: a tick that
+/// begins as the buzz ends would be felt as part of it.
+constexpr double kTurnGoGapS = 0.2;
+/// After such a turn is judged, the wearer is starting to walk for this long (s): no stand turn.
+constexpr double kTurnGoStartS = 1.0;
 
 double clamp01(double v)
 {
@@ -106,6 +112,8 @@ void CueLogic::reset()
   centre_at_ = -1e300;
   edge_step_at_ = -1e300;
   edge_steps_ = 0;
+  turn_go_ = false;
+  turn_go_start_until_ = -1e300;
   clearCrossing();
 }
 
@@ -899,6 +907,30 @@ bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
   // wearer began to turn, and the same turn was asked again on top of it)
   const bool seen = turn_peak_rate_ * kRadToDeg > 12.0;
   const double wait = seen ? reactionEstimate() : std::max(reactionEstimate(), 1.2);
+  if (turn_go_ && now >= buzz_end + kTurnGoGapS && now < buzz_end + wait + 0.3)
+  {
+    // its new way sweeps clear: the walk-on follows the buzz (felt a reaction later, as the turn
+    // ends), and the turn is judged while it walks off; the go was judged here, not by shortWalk
+    if (!turn_go_sent_)
+    {
+      turn_go_sent_ = true;
+      out = walkOn(fmt("turned %.0f deg: walk on", busy_angle_ * kRadToDeg), now, true);
+      // a short walk's stop, timed from this go as shortWalk times it, on the room the new way has
+      go_handled_ = go_at_;
+      short_stop_at_ = -1.0;
+      const double room = turn_go_room_ - 0.1;
+      const double reach_at_pace = have_pace_ ? p.alert_m + stopReach(pace_est_, reactionEstimate()) : 0.0;
+      if (p.short_walk_m > 0.0 && room + p.alert_m < std::max(p.short_walk_m, reach_at_pace))
+        short_stop_at_ = go_at_ + stopAfterGo(room);
+      return true;
+    }
+    char why[96];
+    std::snprintf(why, sizeof(why), "turned %.0f deg: walking on (%.0f deg to go)", busy_angle_ * kRadToDeg,
+                  left * kRadToDeg);
+    out = holdPattern(why);
+    out.mode = CueMode::IDLE;
+    return true;
+  }
   if (now < buzz_end + wait + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
   {
     char why[96];
@@ -916,6 +948,8 @@ bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
   // about between 73 and 142 deg/s for wearers who all turn at 90 (held-out homes, traced): a
   // 168 deg turn asked at 113 deg/s came out 132 deg, and each such miss cost another turn. Only
   // turns long enough to say something (`kRateSampleMinS` of buzz) teach it.
+  if (turn_go_)
+    turn_go_start_until_ = now + kTurnGoStartS;  // it starts walking: steered once it walks
   const double turned = wrapAngle(facing(in) - turn_from_) * sign;
   const double turning_s = 0.01 * current_.pattern.on_10ms - kTellApartS;
   if (turn_peak_rate_ * kRadToDeg > 20.0 && turning_s >= kRateSampleMinS && turned * kRadToDeg > 10.0)
@@ -994,6 +1028,27 @@ WalkModel CueLogic::goWalk(double horizon_s) const
   m.horizon_s = horizon_s;
   m.spread_per_m = params_.sweep_spread_m;
   return m;
+}
+
+double CueLogic::turnGoRoom(const NavInput& in, double angle) const
+{
+  // A turn comes out a part of what was asked off (the wearer's rate, learnt, and its spread from
+  // turn to turn): the room is the shortest walk, along the new way and that much off either side,
+  // that sweeps the body clear.
+  const CueParams& p = params_;
+  if (!in.grid || in.grid->empty() || !(p.sweep_radius_m > 0.0))
+    return 0.0;
+  const double off = std::max(8.0 / kRadToDeg, p.turn_go_spread * std::fabs(angle));
+  const double yaw = facing(in) + angle;
+  const WalkModel m = goWalk(5.0);
+  double room = std::numeric_limits<double>::infinity();
+  for (const double d : { 0.0, -off, off })
+  {
+    const SweepResult r = sweepWalk(*in.grid, in.x, in.y, yaw + d, m, p.sweep_radius_m);
+    if (r.hit)
+      room = std::min(room, r.hit_along);
+  }
+  return room;
 }
 
 bool CueLogic::sideStepUnderWay(double since, double now) const
@@ -1087,6 +1142,12 @@ Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, b
       return walkOn(fmt("%.0f deg off, in a doorway: straight on (walking on sweeps clear)", err * kRadToDeg), now,
                     false);
   }
+  if (!walking && now < turn_go_start_until_ && a <= p.turn_on_deg)
+  {
+    // told to walk on after its turn and starting: what the turn left over is veered once it
+    // walks (a stop-and-turn asked as it starts stops it again, a reaction late)
+    return walkOn(fmt("turned, starting to walk (%.0f deg off)", err * kRadToDeg), now, false);
+  }
   if (!walking && !turn && goMeetsEdge(in))
     return startTurn(in, now, wrapAngle(in.steer_heading - facing(in)), "its walk on would meet an edge: ");
   Cue edge_step;
@@ -1104,7 +1165,15 @@ Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, b
   const double gain = turn ? 1.0 : veer_gain_est_;
   const int level = veerLevel(a_ask, step, gain);
   if (turn)
-    return startTurn(in, now, wrapAngle(in.steer_heading - facing(in)), "", level);
+  {
+    const double angle = wrapAngle(in.steer_heading - facing(in));
+    const double room = walking ? 0.0 : turnGoRoom(in, angle);
+    const bool go_after = params_.turn_go_clear_m > 0.0 && room >= params_.turn_go_clear_m;
+    Cue c = startTurn(in, now, angle, go_after ? "then walk on: " : "", level);
+    turn_go_ = go_after;
+    turn_go_room_ = room;
+    return c;
+  }
   const int side = ask > 0.0 ? +1 : -1;
   const auto drive = beginShoulderCue(in, now, side, level, side * level * step / kRadToDeg, false);
   const char* dir = side > 0 ? "left" : "right";
@@ -1133,6 +1202,8 @@ std::array<float, NUM_MOTORS> CueLogic::beginShoulderCue(const NavInput& in, dou
   busy_head0_ = in.head_yaw;
   busy_angle_ = angle;
   busy_turn_ = turn;
+  turn_go_ = false;
+  turn_go_sent_ = false;
   return drive;
 }
 

@@ -1629,3 +1629,63 @@ TEST(CueLogic, StandingAgainstAnEdgeStepsAwayBeforeTheGo)
   in.free_right = 1.0;
   EXPECT_EQ(fresh(before, in, 0.0).instruction, Instruction::WALK_ON);
 }
+
+// A standing wearer turned 90 deg onto open floor is told to walk on 0.2 s after the turn's buzz
+// ended (felt a reaction later, as its turn ends), not left standing while the turn is judged
+// (a reaction and 0.3 s after the buzz). The same turn towards a wall 0.6 m along the new way,
+// and every turn with turn_go_clear_m 0, waits to be judged. The wearer (reaction 0.6 s) turns
+// at 90 deg/s from when the buzz has been felt and told from a veer until it has felt its end.
+TEST(CueLogic, TurnOntoAClearWayIsFollowedByTheGoAtOnce)
+{
+  auto open = std::make_shared<ObstacleGrid>(*doorwayGrid());
+  std::fill(open->data.begin(), open->data.end(), 0);
+  auto walled = std::make_shared<ObstacleGrid>(*open);
+  for (int iy = 0; iy < walled->height; ++iy)
+    for (int ix = 0; ix < walled->width; ++ix)
+      if (walled->cellY(iy) > 0.5 && walled->cellY(iy) < 0.7)
+        walled->data[size_t(walled->index(ix, iy))] = 100;
+  struct Outcome
+  {
+    double buzz_end = 0.0, go_at = -1.0;
+    bool turn_again = false;
+    std::string first_reason;
+  };
+  auto run = [](const std::shared_ptr<ObstacleGrid>& g, const CueParams& p) {
+    Outcome o;
+    CueLogic c(p);
+    NavInput in = standingAt(0.0, 0.0, 0.0, 90.0);
+    in.grid = g;
+    const Cue t0 = fresh(c, in, 0.0);
+    EXPECT_EQ(t0.instruction, Instruction::TURN) << t0.reason;
+    o.first_reason = t0.reason;
+    o.buzz_end = 0.01 * t0.pattern.on_10ms;
+    for (double t = 1.0 / 15; t < 5.0; t += 1.0 / 15)
+    {
+      const double yaw = std::clamp((t - 0.85) * 90.0, 0.0, (o.buzz_end + 0.6 - 0.85) * 90.0);
+      in.head_yaw = in.walk_heading = in.heading = yaw * kDeg;
+      const Cue k = fresh(c, in, t);
+      if (k.instruction == Instruction::TURN && k.pattern.id != t0.pattern.id)
+        o.turn_again = true;
+      if (k.instruction == Instruction::WALK_ON)
+      {
+        o.go_at = t;
+        break;
+      }
+    }
+    return o;
+  };
+  const double judged = 0.6 + 0.3;  // the default reaction (alert_reaction_s) and 0.3 s
+  const Outcome clear = run(open, CueParams());
+  EXPECT_NE(clear.first_reason.find("then walk on"), std::string::npos) << clear.first_reason;
+  EXPECT_FALSE(clear.turn_again);
+  EXPECT_GE(clear.go_at, clear.buzz_end + 0.2 - 1e-9);
+  EXPECT_LT(clear.go_at, clear.buzz_end + 0.2 + 0.07);
+  const Outcome wall = run(walled, CueParams());
+  EXPECT_EQ(wall.first_reason.find("then walk on"), std::string::npos) << wall.first_reason;
+  EXPECT_GE(wall.go_at, wall.buzz_end + judged - 1e-9);
+  CueParams off;
+  off.turn_go_clear_m = 0.0;
+  const Outcome judged_first = run(open, off);
+  EXPECT_GE(judged_first.go_at, judged_first.buzz_end + judged - 1e-9);
+  EXPECT_FALSE(judged_first.turn_again);
+}

@@ -276,6 +276,10 @@ private:
   /// The walk committed to a veer of `turn` (rad, + = left; 0 = walking on) asked now, until it is
   /// carried out, then stopped by a stop asked then.
   WalkModel veerWalk(const NavInput& in, double now, double turn) const;
+  /// The walk (m) that sweeps the body clear after a turn of `angle` (rad) asked now, with the turn
+  /// off by `turn_go_spread` either side (+inf: clear; 0: no grid). At least `turn_go_clear_m`: the
+  /// walk-on follows the turn at once.
+  double turnGoRoom(const NavInput& in, double angle) const;
   /// The body stands between two jambs (obstacle cells close on both sides across the walk) or
   /// within `passage_inside_m` of a passage's middle.
   bool inDoorway(const NavInput& in) const;
@@ -309,6 +313,12 @@ private:
   double turn_from_ = 0.0;      ///< the body's facing when a stop-and-turn buzz began (its turning rate is learnt)
   double busy_angle_ = 0.0;     ///< signed angle asked for (rad, + = left)
   bool busy_turn_ = false;      ///< a stop-and-turn (else a veer)
+  /// The stop-and-turn is followed by the walk-on at once (its new way sweeps clear, `turnGoClear`),
+  /// and whether that tick has been given.
+  bool turn_go_ = false;
+  bool turn_go_sent_ = false;
+  double turn_go_room_ = 0.0;  ///< m, turnGoRoom when it was asked
+  double turn_go_start_until_ = -1e300;  ///< the wearer walking on after such a turn is starting until then
   double turn_peak_rate_ = 0.0;  ///< rad/s, the fastest head turn seen in this turn
   /// The veer being carried out was seen in the head's turn rate (the wearer's response), and when.
   bool veer_seen_ = false;
