@@ -598,7 +598,7 @@ int main(int argc, char** argv)
         else if (k == "levels") opt.fix_levels = int(x);
         else throw std::invalid_argument("--fix");
       }
-      else if (a == "--cue")  // analysis: name=value of a cue parameter (veer_step, veer_on, alert_reaction, turn_on, settle, passage, passage_align, body_stand_tau, short_walk, passage_body, stop_decel, start_accel, sweep_radius, sweep_cycle, veer_rate)
+      else if (a == "--cue")  // analysis: name=value of a cue parameter (veer_step, veer_on, alert_reaction, turn_on, settle, passage, passage_align, body_stand_tau, short_walk, passage_body, stop_decel, start_accel, sweep_radius, sweep_cycle, veer_rate, turn_go_clear)
       {
         const auto [k, x] = keyValue(val());
         if (k == "veer_step") opt.cues.veer_step_deg = x;
@@ -616,6 +616,7 @@ int main(int argc, char** argv)
         else if (k == "sweep_radius") opt.cues.sweep_radius_m = x;  // 0: no predicted sweep (the rays alone, before)
         else if (k == "sweep_cycle") opt.cues.sweep_cycle_s = x;
         else if (k == "veer_rate") opt.cues.veer_rate_deg = x;
+        else if (k == "turn_go_clear") opt.cues.turn_go_clear_m = x;  // 0: every turn judged before the go (before)
         else throw std::invalid_argument("--cue");
       }
       else if (a == "--unsure-at") opt.unsure_at_s = std::stod(val());
