@@ -103,7 +103,7 @@ TEST(VisualOdometry, TracksRenderedSequence)
   const Eigen::Isometry3d est = r.rel(o), gt = truePose(N);
   const double dist = 0.06 * N;
   EXPECT_LT((est.translation() - gt.translation()).norm(), 0.01 * dist);
-  EXPECT_LT(Eigen::AngleAxisd(est.linear().transpose() * gt.linear()).angle() * 180 / M_PI, 0.2);
+  EXPECT_LT(angleDeg(est.linear().transpose() * gt.linear()), 0.2);
   // forward in the optical frame is +x in odom; no vertical drift
   EXPECT_NEAR(o.T_odom_link.translation().x(), 0.06 * N, 0.03);
   EXPECT_NEAR(o.T_odom_link.translation().y(), -0.004 * N, 0.03);
@@ -247,7 +247,7 @@ TEST(VisualOdometry, GyroPriorWithBiasKeepsRotationAndEstimatesBias)
   const Eigen::Isometry3d est = r.rel(o), gt = truePose(N);
   EXPECT_LT((est.translation() - gt.translation()).norm(), 0.01 * 0.06 * N);
   // a raw-gyro chain would be off by |bias| * 4 s = 1.0 degree
-  EXPECT_LT(Eigen::AngleAxisd(est.linear().transpose() * gt.linear()).angle() * 180 / M_PI, 0.5);
+  EXPECT_LT(angleDeg(est.linear().transpose() * gt.linear()), 0.5);
   // the bias estimate moved from 0 towards the true bias (keyframe changes every ~15-25 frames)
   EXPECT_LT((r.vo.gyroBias() - bias_link).norm(), 0.6 * bias_link.norm());
 }
@@ -783,7 +783,7 @@ TEST(InMotionStart, NoImuStartsAndReinitialisesInATurn)
   }
   const Eigen::Isometry3d est = T0.inverse() * o.T_odom_optical, tru = turningPose(0).inverse() * turningPose(8);
   EXPECT_LT((est.translation() - tru.translation()).norm(), 0.02);  // of 0.66 m
-  EXPECT_LT(Eigen::AngleAxisd(est.linear().transpose() * tru.linear()).angle() * 180 / M_PI, 0.3);  // of 15 deg
+  EXPECT_LT(angleDeg(est.linear().transpose() * tru.linear()), 0.3);  // of 15 deg
   // a flat frame mid-turn: lost (untrusted without a gyro), then re-initialised while turning;
   // tracking again on the next usable frame and the motion from there is right
   const cv::Mat flat(480, 640, CV_8UC1, cv::Scalar(128));
@@ -805,7 +805,7 @@ TEST(InMotionStart, NoImuStartsAndReinitialisesInATurn)
   EXPECT_TRUE(o.pose_trusted) << o.untrusted_reason;
   const Eigen::Isometry3d e2 = T10.inverse() * o.T_odom_optical, t2 = turningPose(10).inverse() * turningPose(16);
   EXPECT_LT((e2.translation() - t2.translation()).norm(), 0.02);
-  EXPECT_LT(Eigen::AngleAxisd(e2.linear().transpose() * t2.linear()).angle() * 180 / M_PI, 0.3);
+  EXPECT_LT(angleDeg(e2.linear().transpose() * t2.linear()), 0.3);
 }
 
 TEST(VisualOdometry, InvalidCameraIsReported)
@@ -867,7 +867,7 @@ TEST(PointLine, RecoversTheMotionFromLinesWhereCornersAreFew)
     }
     const Eigen::Isometry3d est = r.rel(o), gt = truePose(N);
     res.error_m = (est.translation() - gt.translation()).norm();
-    res.error_deg = Eigen::AngleAxisd(est.linear().transpose() * gt.linear()).angle() * 180 / M_PI;
+    res.error_deg = angleDeg(est.linear().transpose() * gt.linear());
     return res;
   };
   const Run points = run("points"), pointline = run("pointline");
@@ -1169,8 +1169,7 @@ struct GapRun
   double err(size_t i) const { return (out[i].T_odom_optical.translation() - truth[i].translation()).norm(); }
   double yawErrDeg(size_t i) const
   {
-    return std::abs(Eigen::AngleAxisd(out[i].T_odom_optical.linear().transpose() * truth[i].linear()).angle()) * 180 /
-           M_PI;
+    return angleDeg(out[i].T_odom_optical.linear().transpose() * truth[i].linear());
   }
 };
 
@@ -1516,13 +1515,12 @@ struct TurnRun
       if (std::getenv("VO_TURN_TRACE"))
       {
         const Eigen::Isometry3d& T = r.truth.back();
-        const double rate = Eigen::AngleAxisd(pose(t - 1 / 15.0).linear().transpose() * pose(t).linear()).angle() *
-                            15.0 * 180 / M_PI;
+        const double rate = angleDeg(pose(t - 1 / 15.0).linear().transpose() * pose(t).linear()) * 15.0;
         std::printf("turn t %.3f rate %5.1f state %-14s trusted %d kf %d in %3d err %.2f match %.2f pos %.1f mm rot %.2f deg %s\n",
                     t, rate, toString(o.state), o.pose_trusted, o.stats.keyframe, o.stats.inliers,
                     o.stats.stereo_error_px, o.stats.stereo_matched_ratio,
                     1000 * (o.T_odom_optical.translation() - T.translation()).norm(),
-                    Eigen::AngleAxisd(o.T_odom_optical.linear().transpose() * T.linear()).angle() * 180 / M_PI,
+                    angleDeg(o.T_odom_optical.linear().transpose() * T.linear()),
                     o.message.c_str());
       }
     }
@@ -1545,8 +1543,7 @@ struct TurnSummary
       const VoOutput& o = r.out[i];
       max_stereo_px = std::max(max_stereo_px, o.stats.stereo_error_px);
       max_pos_m = std::max(max_pos_m, (o.T_odom_optical.translation() - r.truth[i].translation()).norm());
-      max_rot_deg = std::max(max_rot_deg, Eigen::AngleAxisd(o.T_odom_optical.linear().transpose() * r.truth[i].linear())
-                                                  .angle() * 180 / M_PI);
+      max_rot_deg = std::max(max_rot_deg, angleDeg(o.T_odom_optical.linear().transpose() * r.truth[i].linear()));
       untrusted += !o.pose_trusted;
       lost += o.state != TrackingState::TRACKING;
     }
