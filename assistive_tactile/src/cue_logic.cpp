@@ -917,11 +917,7 @@ bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
       out = walkOn(fmt("turned %.0f deg: walk on", busy_angle_ * kRadToDeg), now, true);
       // a short walk's stop, timed from this go as shortWalk times it, on the room the new way has
       go_handled_ = go_at_;
-      short_stop_at_ = -1.0;
-      const double room = turn_go_room_ - 0.1;
-      const double reach_at_pace = have_pace_ ? p.alert_m + stopReach(pace_est_, reactionEstimate()) : 0.0;
-      if (p.short_walk_m > 0.0 && room + p.alert_m < std::max(p.short_walk_m, reach_at_pace))
-        short_stop_at_ = go_at_ + stopAfterGo(room);
+      short_stop_at_ = p.short_walk_m > 0.0 ? shortWalkStopAt(std::numeric_limits<double>::infinity(), turn_go_room_ - 0.1) : -1.0;
       return true;
     }
     char why[96];
@@ -1512,11 +1508,7 @@ bool CueLogic::shortWalk(const NavInput& in, double now, Cue& out)
       if (r.hit)
         room = std::min(room, r.hit_along - 0.1);
     }
-    // (a walk shorter than this wearer needs to stop from its pace, when it is known)
-    const double reach_at_pace = have_pace_ ? p.alert_m + stopReach(pace_est_, reactionEstimate()) : 0.0;
-    if ((std::isfinite(in.free_ahead) && in.free_ahead < std::max(p.short_walk_m, reach_at_pace)) ||
-        room + p.alert_m < std::max(p.short_walk_m, reach_at_pace))
-      short_stop_at_ = go_at_ + stopAfterGo(room);
+    short_stop_at_ = shortWalkStopAt(in.free_ahead, room);
   }
   if (short_stop_at_ < 0.0)
     return false;
@@ -1529,6 +1521,18 @@ bool CueLogic::shortWalk(const NavInput& in, double now, Cue& out)
   }
   out = stopAll(now, fmt("a short walk: stop (%.2f m free when it went)", in.free_ahead));
   return true;
+}
+
+double CueLogic::shortWalkStopAt(double free_ahead, double room) const
+{
+  // a walk shorter than short_walk_m, or than this wearer needs to stop from its pace when that
+  // is known, gets a stop timed from the go
+  const CueParams& p = params_;
+  const double reach_at_pace = have_pace_ ? p.alert_m + stopReach(pace_est_, reactionEstimate()) : 0.0;
+  const double need = std::max(p.short_walk_m, reach_at_pace);
+  if ((std::isfinite(free_ahead) && free_ahead < need) || room + p.alert_m < need)
+    return go_at_ + stopAfterGo(room);
+  return -1.0;
 }
 
 bool CueLogic::holdSweepStop(const NavInput& in, Cue& out)

@@ -280,6 +280,9 @@ private:
   /// off by `turn_go_spread` either side (+inf: clear; 0: no grid). At least `turn_go_clear_m`: the
   /// walk-on follows the turn at once.
   double turnGoRoom(const NavInput& in, double angle) const;
+  /// When the stop after the last go is due (s), given the free distance ahead (the ray) and the
+  /// room its walk sweeps clear (m): a short walk gets a stop timed from the go; -1: none.
+  double shortWalkStopAt(double free_ahead, double room) const;
   /// The body stands between two jambs (obstacle cells close on both sides across the walk) or
   /// within `passage_inside_m` of a passage's middle.
   bool inDoorway(const NavInput& in) const;
