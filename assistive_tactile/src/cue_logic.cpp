@@ -907,35 +907,30 @@ bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
   // wearer began to turn, and the same turn was asked again on top of it)
   const bool seen = turn_peak_rate_ * kRadToDeg > 12.0;
   const double wait = seen ? reactionEstimate() : std::max(reactionEstimate(), 1.2);
+  auto hold = [&](CueMode mode, const char* f, double a, double b) {
+    char why[96];
+    std::snprintf(why, sizeof(why), f, a * kRadToDeg, b * kRadToDeg);
+    out = holdPattern(why);
+    out.mode = mode;
+    return true;
+  };
   if (turn_go_ && now >= buzz_end + kTurnGoGapS && now < buzz_end + wait + 0.3)
   {
     // its new way sweeps clear: the walk-on follows the buzz (felt a reaction later, as the turn
     // ends), and the turn is judged while it walks off; the go was judged here, not by shortWalk
-    if (!turn_go_sent_)
-    {
-      turn_go_sent_ = true;
-      out = walkOn(fmt("turned %.0f deg: walk on", busy_angle_ * kRadToDeg), now, true);
-      // a short walk's stop, timed from this go as shortWalk times it, on the room the new way has
-      go_handled_ = go_at_;
-      short_stop_at_ = p.short_walk_m > 0.0 ? shortWalkStopAt(std::numeric_limits<double>::infinity(), turn_go_room_ - 0.1) : -1.0;
-      return true;
-    }
-    char why[96];
-    std::snprintf(why, sizeof(why), "turned %.0f deg: walking on (%.0f deg to go)", busy_angle_ * kRadToDeg,
-                  left * kRadToDeg);
-    out = holdPattern(why);
-    out.mode = CueMode::IDLE;
+    if (turn_go_sent_)
+      return hold(CueMode::IDLE, "turned %.0f deg: walking on (%.0f deg to go)", busy_angle_, left);
+    turn_go_sent_ = true;
+    out = walkOn(fmt("turned %.0f deg: walk on", busy_angle_ * kRadToDeg), now, true);
+    // a short walk's stop, timed from this go as shortWalk times it, on the room the new way has
+    go_handled_ = go_at_;
+    short_stop_at_ = -1.0;
+    if (p.short_walk_m > 0.0)
+      short_stop_at_ = shortWalkStopAt(std::numeric_limits<double>::infinity(), turn_go_room_ - 0.1);
     return true;
   }
   if (now < buzz_end + wait + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
-  {
-    char why[96];
-    std::snprintf(why, sizeof(why), "turning (%.0f deg to go, head %.0f deg/s)", left * kRadToDeg,
-                  yaw_rate_ * kRadToDeg);
-    out = holdPattern(why);
-    out.mode = CueMode::GUIDANCE;
-    return true;
-  }
+    return hold(CueMode::GUIDANCE, "turning (%.0f deg to go, head %.0f deg/s)", left, yaw_rate_);
   // its turning rate: the angle turned over the time it turned (the buzz less the moment to
   // tell it from a veer); the smoothed peak rate underestimates short turns (the next buzz
   // came out too long: turn chains that overshoot). The angle is the body's (`facing()`), not the
