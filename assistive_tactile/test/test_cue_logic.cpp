@@ -1633,21 +1633,27 @@ TEST(CueLogic, StandingAgainstAnEdgeStepsAwayBeforeTheGo)
 // A standing wearer turned 90 deg onto open floor is told to walk on 0.2 s after the turn's buzz
 // ended (felt a reaction later, as its turn ends), not left standing while the turn is judged
 // (a reaction and 0.3 s after the buzz). The same turn towards a wall 0.6 m along the new way,
-// and every turn with turn_go_clear_m 0, waits to be judged. The wearer (reaction 0.6 s) turns
-// at 90 deg/s from when the buzz has been felt and told from a veer until it has felt its end.
+// towards floor nobody has seen 0.6 m on (unknown cells: the camera has not looked that way), and
+// every turn with turn_go_clear_m 0, waits to be judged. The wearer (reaction 0.6 s) turns at
+// 90 deg/s from when the buzz has been felt and told from a veer until it has felt its end.
 TEST(CueLogic, TurnOntoAClearWayIsFollowedByTheGoAtOnce)
 {
   auto open = std::make_shared<ObstacleGrid>(*doorwayGrid());
   std::fill(open->data.begin(), open->data.end(), 0);
   auto walled = std::make_shared<ObstacleGrid>(*open);
+  auto unseen = std::make_shared<ObstacleGrid>(*open);
   for (int iy = 0; iy < walled->height; ++iy)
     for (int ix = 0; ix < walled->width; ++ix)
       if (walled->cellY(iy) > 0.5 && walled->cellY(iy) < 0.7)
+      {
         walled->data[size_t(walled->index(ix, iy))] = 100;
+        unseen->data[size_t(unseen->index(ix, iy))] = -1;
+      }
   struct Outcome
   {
     double buzz_end = 0.0, go_at = -1.0;
     bool turn_again = false;
+    bool walk_held = true;  // from the go until the turn is judged: the walk-on held, no "turning"
     std::string first_reason;
   };
   auto run = [](const std::shared_ptr<ObstacleGrid>& g, const CueParams& p) {
@@ -1666,11 +1672,11 @@ TEST(CueLogic, TurnOntoAClearWayIsFollowedByTheGoAtOnce)
       const Cue k = fresh(c, in, t);
       if (k.instruction == Instruction::TURN && k.pattern.id != t0.pattern.id)
         o.turn_again = true;
-      if (k.instruction == Instruction::WALK_ON)
-      {
+      if (o.go_at >= 0.0 && t < o.buzz_end + 0.6 + 0.3 - 0.05 &&
+          (k.mode != CueMode::IDLE || k.instruction != Instruction::WALK_ON))
+        o.walk_held = false;
+      if (k.instruction == Instruction::WALK_ON && o.go_at < 0.0)
         o.go_at = t;
-        break;
-      }
     }
     return o;
   };
@@ -1678,11 +1684,15 @@ TEST(CueLogic, TurnOntoAClearWayIsFollowedByTheGoAtOnce)
   const Outcome clear = run(open, CueParams());
   EXPECT_NE(clear.first_reason.find("then walk on"), std::string::npos) << clear.first_reason;
   EXPECT_FALSE(clear.turn_again);
+  EXPECT_TRUE(clear.walk_held);
   EXPECT_GE(clear.go_at, clear.buzz_end + 0.2 - 1e-9);
   EXPECT_LT(clear.go_at, clear.buzz_end + 0.2 + 0.07);
   const Outcome wall = run(walled, CueParams());
   EXPECT_EQ(wall.first_reason.find("then walk on"), std::string::npos) << wall.first_reason;
   EXPECT_GE(wall.go_at, wall.buzz_end + judged - 1e-9);
+  const Outcome unknown = run(unseen, CueParams());
+  EXPECT_EQ(unknown.first_reason.find("then walk on"), std::string::npos) << unknown.first_reason;
+  EXPECT_TRUE(unknown.go_at < 0.0 || unknown.go_at >= unknown.buzz_end + judged - 1e-9) << unknown.go_at;
   CueParams off;
   off.turn_go_clear_m = 0.0;
   const Outcome judged_first = run(open, off);

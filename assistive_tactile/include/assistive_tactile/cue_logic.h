@@ -316,6 +316,7 @@ private:
   double turn_from_ = 0.0;      ///< the body's facing when a stop-and-turn buzz began (its turning rate is learnt)
   double busy_angle_ = 0.0;     ///< signed angle asked for (rad, + = left)
   bool busy_turn_ = false;      ///< a stop-and-turn (else a veer)
+  double turn_buzz_s_ = 0.0;    ///< its buzz's length (s)
   /// The stop-and-turn is followed by the walk-on at once (its new way sweeps clear, `turnGoClear`),
   /// and whether that tick has been given.
   bool turn_go_ = false;
