@@ -317,7 +317,7 @@ private:
   double busy_angle_ = 0.0;     ///< signed angle asked for (rad, + = left)
   bool busy_turn_ = false;      ///< a stop-and-turn (else a veer)
   double turn_buzz_s_ = 0.0;    ///< its buzz's length (s)
-  /// The stop-and-turn is followed by the walk-on at once (its new way sweeps clear, `turnGoClear`),
+  /// The stop-and-turn is followed by the walk-on at once (its new way sweeps clear, `turnGoRoom`),
   /// and whether that tick has been given.
   bool turn_go_ = false;
   bool turn_go_sent_ = false;
