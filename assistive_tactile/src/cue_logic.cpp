@@ -927,9 +927,7 @@ bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
     out = walkOn(fmt("turned %.0f deg: walk on", busy_angle_ * kRadToDeg), now, true);
     // a short walk's stop, timed from this go as shortWalk times it, on the room the new way has
     go_handled_ = go_at_;
-    short_stop_at_ = -1.0;
-    if (p.short_walk_m > 0.0)
-      short_stop_at_ = shortWalkStopAt(std::numeric_limits<double>::infinity(), turn_go_room_ - 0.1);
+    short_stop_at_ = shortWalkStopAt(std::numeric_limits<double>::infinity(), turn_go_room_ - 0.1);
     return true;
   }
   if (now < buzz_end + wait + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
@@ -1038,20 +1036,17 @@ double CueLogic::turnGoRoom(const NavInput& in, double angle) const
   const double off = std::max(8.0 / kRadToDeg, p.turn_go_spread * std::fabs(angle));
   const double yaw = facing(in) + angle;
   const WalkModel m = goWalk(5.0);
-  const double step = 0.5 * in.grid->resolution;
   double room = std::numeric_limits<double>::infinity();
   for (const double d : { 0.0, -off, off })
   {
     const SweepResult r = sweepWalk(*in.grid, in.x, in.y, yaw + d, m, p.sweep_radius_m);
     if (r.hit)
       room = std::min(room, r.hit_along);
-    for (double along = 0.0; along < std::min(room, p.turn_go_clear_m) + p.sweep_radius_m; along += step)
-      if (assistive_common::isUnknownCode(
-              in.grid->atWorld(in.x + along * std::cos(yaw + d), in.y + along * std::sin(yaw + d))))
-      {
-        room = std::min(room, std::max(0.0, along - p.sweep_radius_m));
-        break;
-      }
+    const double look = std::min(room, p.turn_go_clear_m) + p.sweep_radius_m;
+    const double unseen = alongRayUntil(*in.grid, in.x, in.y, yaw + d, look, 0.5 * in.grid->resolution,
+                                        assistive_common::isUnknownCode);
+    if (unseen < look)
+      room = std::min(room, std::max(0.0, unseen - p.sweep_radius_m));
   }
   return room;
 }
@@ -1536,8 +1531,10 @@ bool CueLogic::shortWalk(const NavInput& in, double now, Cue& out)
 double CueLogic::shortWalkStopAt(double free_ahead, double room) const
 {
   // a walk shorter than short_walk_m, or than this wearer needs to stop from its pace when that
-  // is known, gets a stop timed from the go
+  // is known, gets a stop timed from the go (short_walk_m 0: no timed stop at all)
   const CueParams& p = params_;
+  if (!(p.short_walk_m > 0.0))
+    return -1.0;
   const double reach_at_pace = have_pace_ ? p.alert_m + stopReach(pace_est_, reactionEstimate()) : 0.0;
   const double need = std::max(p.short_walk_m, reach_at_pace);
   if ((std::isfinite(free_ahead) && free_ahead < need) || room + p.alert_m < need)

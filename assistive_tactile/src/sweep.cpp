@@ -25,16 +25,18 @@ double obstacleClearance(const ObstacleGrid& g, double x, double y, double reach
   return std::sqrt(best2);
 }
 
+double alongRayUntil(const ObstacleGrid& g, double x, double y, double yaw, double max, double step,
+                     bool (*stop)(int8_t))
+{
+  for (double d = 0.0; d <= max; d += step)
+    if (stop(g.atWorld(x + d * std::cos(yaw), y + d * std::sin(yaw))))
+      return d;
+  return max;
+}
+
 double sideFree(const ObstacleGrid& g, double x, double y, double yaw, int side, double max)
 {
-  const double a = yaw + (side > 0 ? 0.5 : -0.5) * M_PI;
-  for (double d = 0.0; d <= max; d += 0.02)
-  {
-    int ix, iy;
-    if (g.cellOf(x + d * std::cos(a), y + d * std::sin(a), ix, iy) && g.data[size_t(g.index(ix, iy))] > 50)
-      return d;
-  }
-  return max;
+  return alongRayUntil(g, x, y, yaw + (side > 0 ? 0.5 : -0.5) * M_PI, max, 0.02, [](int8_t c) { return c > 50; });
 }
 
 SweepResult sweepWalk(const ObstacleGrid& g, double x, double y, double yaw, const WalkModel& m, double radius,

@@ -18,6 +18,11 @@ using ObstacleGrid = assistive_common::CodeGrid;
 /// counts the same way).
 double obstacleClearance(const ObstacleGrid& g, double x, double y, double reach);
 
+/// The first distance (m) along the ray from (x, y) at `yaw`, in steps of `step` up to `max`, whose
+/// cell's code satisfies `stop` (a point outside the grid reads CELL_UNKNOWN); `max` when none.
+double alongRayUntil(const ObstacleGrid& g, double x, double y, double yaw, double max, double step,
+                     bool (*stop)(int8_t));
+
 /// Free distance (m) from (x, y) across the walk, to the left (`side` +1) or right (-1) of `yaw`,
 /// until an obstacle cell (its centre's side of the cell, on the ray in steps of 2 cm), up to `max`.
 double sideFree(const ObstacleGrid& g, double x, double y, double yaw, int side, double max);
