@@ -1028,6 +1028,8 @@ bool SlamSystem::relocaliseAfterReset(const KeyframePtr& kf)
   StereoCheckOptions so = loopCheckOptions();
   so.min_inliers = p_.reset_min_inliers;
   so.min_inlier_ratio = p_.reset_min_inlier_ratio;
+  if (p_.reset_fixed_rotation)
+    so.R_ref_b = T_map_pred.linear();  // the gyro kept it through the loss
   std::vector<std::pair<const Keyframe*, Eigen::Isometry3d>> local;
   for (uint32_t id : cand)
     local.emplace_back(kfs_[id].get(), kfs_[id]->T_map_cam);

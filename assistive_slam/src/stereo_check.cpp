@@ -1,6 +1,7 @@
 #include "assistive_slam/stereo_check.h"
 #include "pnp_pose.h"
 #include <map>
+#include <random>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
@@ -43,14 +44,113 @@ void matchInto(const Keyframe& a, const Eigen::Isometry3d& T_ref_a, int owner, c
   }
 }
 
-/// P3P RANSAC of b's view against the reference points, LM on the inliers, then the inliers must
-/// also reproject into b's right image; T_a_b: b's camera in the reference frame.
+/// The inliers of b's pose `T_b_a` that also reproject into b's right image: the result (into `r`).
+StereoCheckResult agreeInRightImage(const Correspondences& c, const Keyframe& b, const StereoModel& cam,
+                                    const StereoCheckOptions& o, const Eigen::Isometry3d& T_b_a, const std::vector<int>& inl,
+                                    StereoCheckResult r);
+
+/// b's camera centre in the reference frame, its rotation `R` known: each match gives two linear
+/// equations (its pixel's ray through the point), least squares over `idx`. False: degenerate.
+bool positionGivenRotation(const Correspondences& c, const std::vector<int>& idx, const Eigen::Matrix3d& R,
+                           const StereoModel& cam, Eigen::Vector3d& centre)
+{
+  // p = R^T X - w (w = R^T centre); x = p.x / p.z: w.x - x w.z = q.x - x q.z (and y alike)
+  Eigen::MatrixXd A(2 * idx.size(), 3);
+  Eigen::VectorXd y(2 * idx.size());
+  for (size_t k = 0; k < idx.size(); ++k)
+  {
+    const Eigen::Vector3d q = R.transpose() * c.X[idx[k]];
+    const double x = (c.img[idx[k]].x - cam.cx) / cam.fx, yy = (c.img[idx[k]].y - cam.cy) / cam.fy;
+    A.row(2 * k) << 1.0, 0.0, -x;
+    A.row(2 * k + 1) << 0.0, 1.0, -yy;
+    y(2 * k) = q.x() - x * q.z();
+    y(2 * k + 1) = q.y() - yy * q.z();
+  }
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+  if (qr.rank() < 3)
+    return false;
+  centre = R * qr.solve(y);
+  return centre.allFinite();
+}
+
+/// The matches whose point reprojects within inlier_px into b's left image at (R, centre).
+std::vector<int> reprojectionInliers(const Correspondences& c, const Eigen::Matrix3d& R, const Eigen::Vector3d& centre,
+                                     const StereoModel& cam, double inlier_px)
+{
+  std::vector<int> inl;
+  for (size_t k = 0; k < c.X.size(); ++k)
+  {
+    const Eigen::Vector3d p = R.transpose() * (c.X[k] - centre);
+    if (p.z() <= 1e-3)
+      continue;
+    const double du = cam.fx * p.x() / p.z() + cam.cx - c.img[k].x, dv = cam.fy * p.y() / p.z() + cam.cy - c.img[k].y;
+    if (std::max(std::fabs(du), std::fabs(dv)) <= inlier_px)
+      inl.push_back(static_cast<int>(k));
+  }
+  return inl;
+}
+
+/// RANSAC over pairs of matches for b's position at the known rotation, least squares on the
+/// inliers (twice); seeded, so a replay gives the same answer. False: too few inliers.
+bool poseGivenRotation(const Correspondences& c, const StereoModel& cam, const StereoCheckOptions& o, Eigen::Isometry3d& T_b_a,
+                       std::vector<int>& inl)
+{
+  const Eigen::Matrix3d& R = *o.R_ref_b;
+  const int n = static_cast<int>(c.X.size());
+  std::mt19937 rng(12345);
+  std::uniform_int_distribution<int> pick(0, n - 1);
+  Eigen::Vector3d best_centre = Eigen::Vector3d::Zero();
+  inl.clear();
+  for (int it = 0; it < 300; ++it)
+  {
+    const int i = pick(rng), j = pick(rng);
+    Eigen::Vector3d centre;
+    if (i == j || !positionGivenRotation(c, { i, j }, R, cam, centre))
+      continue;
+    std::vector<int> cand = reprojectionInliers(c, R, centre, cam, o.inlier_px);
+    if (cand.size() > inl.size())
+    {
+      inl = std::move(cand);
+      best_centre = centre;
+    }
+  }
+  for (int k = 0; k < 2 && static_cast<int>(inl.size()) >= 2; ++k)
+  {
+    Eigen::Vector3d centre;
+    if (!positionGivenRotation(c, inl, R, cam, centre))
+      break;
+    std::vector<int> again = reprojectionInliers(c, R, centre, cam, o.inlier_px);
+    if (again.size() < inl.size())
+      break;
+    inl = std::move(again);
+    best_centre = centre;
+  }
+  if (static_cast<int>(inl.size()) < o.min_inliers)
+    return false;
+  Eigen::Isometry3d T_a_b = Eigen::Isometry3d::Identity();
+  T_a_b.linear() = R;
+  T_a_b.translation() = best_centre;
+  T_b_a = T_a_b.inverse();
+  return true;
+}
+
+/// P3P RANSAC of b's view against the reference points, LM on the inliers (or b's position alone at
+/// a known rotation), then the inliers must also reproject into b's right image; T_a_b: b's camera
+/// in the reference frame.
 StereoCheckResult verify(const Correspondences& c, const Keyframe& b, const StereoModel& cam, const StereoCheckOptions& o)
 {
   StereoCheckResult r;
   r.matches = static_cast<int>(c.obj.size());
   if (r.matches < std::max(6, o.min_inliers))
     return r;
+  if (o.R_ref_b)
+  {
+    Eigen::Isometry3d T_b_a;
+    std::vector<int> inl;
+    if (!poseGivenRotation(c, cam, o, T_b_a, inl))
+      return r;
+    return agreeInRightImage(c, b, cam, o, T_b_a, inl, r);
+  }
   const cv::Mat K = (cv::Mat_<double>(3, 3) << cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
   cv::Mat rvec, tvec;
   std::vector<int> inl;
@@ -67,7 +167,13 @@ StereoCheckResult verify(const Correspondences& c, const Keyframe& b, const Ster
     i_in.push_back(c.img[k]);
   }
   cv::solvePnPRefineLM(o_in, i_in, K, cv::noArray(), rvec, tvec);
-  const Eigen::Isometry3d T_b_a = isometryFromRvecTvec(rvec, tvec);
+  return agreeInRightImage(c, b, cam, o, isometryFromRvecTvec(rvec, tvec), inl, r);
+}
+
+StereoCheckResult agreeInRightImage(const Correspondences& c, const Keyframe& b, const StereoModel& cam,
+                                    const StereoCheckOptions& o, const Eigen::Isometry3d& T_b_a, const std::vector<int>& inl,
+                                    StereoCheckResult r)
+{
   // The inliers must also agree with b's own stereo depth (a wrong pose fits the left view of a
   // look-alike scene more easily than both views): reprojection of a's point in b's right image.
   int agree = 0;

@@ -73,6 +73,7 @@ namespace assistive_slam
   X(double, reset_min_inlier_ratio, "reset_min_inlier_ratio", 0.3, 0.0, 1.0, "", "... and this share of the matches") \
   X(double, reset_max_rotation_deg, "reset_max_rotation_deg", 5.0, 0.5, 180.0, "deg", "a relocalisation after a loss turns the predicted pose (the VO's rotation went on with the gyro) at most this") \
   X(double, reset_rotation_sigma_deg, "reset_rotation_sigma_deg", 0.5, 0.01, 90.0, "deg", "the predicted rotation (the VO's, kept by the gyro through the loss) as a prior of the relocalised pose: its noise") \
+  X(bool, reset_fixed_rotation, "reset_fixed_rotation", true, {}, {}, "", "a relocalisation after a loss solves the position alone at the predicted rotation (two matches a hypothesis), not P3P's free pose: on a corridor's far points P3P traded 5 deg of yaw for 0.7 m of position") \
   X(int, reset_confirm_queries, "reset_confirm_queries", 3, 2, 30, "", "consecutive queries (each frame while looking) agreeing on map -> odom place the wearer, at their mean ...") \
   X(double, reset_confirm_m, "reset_confirm", 0.15, 0.0, 10.0, "m", "... each within this of the first ...") \
   X(double, reset_confirm_deg, "reset_confirm_deg", 1.5, 0.0, 90.0, "deg", "... and this") \

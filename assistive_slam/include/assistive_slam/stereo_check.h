@@ -2,6 +2,7 @@
 // Geometric check of a keyframe pair (placeholder for helper "loop"'s loop_verifier.h until it
 // lands): ORB matches (ratio test), P3P RANSAC of the current keyframe's view against the
 // candidate's 3D points, then the inliers' 3D points must agree in both stereo frames.
+#include <optional>
 #include <utility>
 #include <vector>
 #include <Eigen/Geometry>
@@ -30,6 +31,11 @@ struct StereoCheckOptions
   double inlier_px = 2.0;
   double ratio = 0.8;            ///< Lowe's ratio test on the Hamming distances
   int max_hamming = 64;
+  /// b's rotation in the reference frame when it is known (after a VO loss the gyro carried it:
+  /// 0.1 deg off in the vision corridor trial): b's position alone is solved, two matches a
+  /// hypothesis. P3P's free rotation traded 5 deg of yaw for 0.7 m of position on a corridor's
+  /// far points, where 15-20 matches fit either.
+  std::optional<Eigen::Matrix3d> R_ref_b;
 };
 
 StereoCheckResult stereoCheck(const Keyframe& a, const Keyframe& b, const StereoModel& cam,
