@@ -25,6 +25,9 @@ constexpr double kRateSampleMinS = 0.3;
 constexpr double kTurnGoGapS = 0.2;
 /// After such a turn is judged, the wearer is starting to walk for this long (s): no stand turn.
 constexpr double kTurnGoStartS = 1.0;
+/// A stop-and-turn this shortly (s) before a loss of the pose is undone by the first look-elsewhere
+/// turn: the VO's coast (at most 2.5 s) and the walk it began.
+constexpr double kLostTurnBackS = 8.0;
 
 double clamp01(double v)
 {
@@ -401,6 +404,7 @@ bool CueLogic::stale(double now) const
 Cue CueLogic::staleCue(double now)
 {
   reset();
+  no_pose_since_ = -1.0;  // no camera, no turning: only fresh images can show the turn worked
   std::string why;
   if (!have_state_)
     why = "no planner state yet";
@@ -438,8 +442,11 @@ Cue CueLogic::update(const NavInput& in, double now)
   if (!old.empty())
   {
     reset();
+    no_pose_since_ = -1.0;
     return unsureCue(old, now);
   }
+  if (in.status != NavStatus::NO_POSE)
+    no_pose_since_ = -1.0;
 
   observeStart(in, now);
   observeStop(in, now);
@@ -486,7 +493,8 @@ Cue CueLogic::update(const NavInput& in, double now)
                          in.status == NavStatus::NO_MAP   ? "no map" :
                          in.status == NavStatus::IN_UNKNOWN ? "in unknown space" :
                                                               "unknown planner status";
-      c = unsureCue(what + suffix, now);
+      if (!(in.status == NavStatus::NO_POSE && lookElsewhere(now, what + suffix, c)))
+        c = unsureCue(what + suffix, now);
       break;
     }
   }
@@ -494,8 +502,54 @@ Cue CueLogic::update(const NavInput& in, double now)
   return c;
 }
 
+bool CueLogic::lookElsewhere(double now, const std::string& why, Cue& out)
+{
+  // A head-mounted camera lost at a plain wall stays lost while the wearer, told UNSURE, stands
+  // facing it (vision corridor trial: 27 s nose to a bare wall until the timeout). Turning on the
+  // spot is safe for a standing wearer and gives the VO texture again, the way back first.
+  const CueParams& p = params_;
+  if (!(p.lost_turn_after_s > 0.0))
+    return false;
+  if (no_pose_since_ < 0.0)
+  {
+    no_pose_since_ = now;
+    lost_turns_ = 0;
+    lost_turn_end_ = -1e300;
+  }
+  if (now < lost_turn_end_ && current_.instruction == Instruction::TURN)
+  {
+    out = holdPattern(why + ": turning to look elsewhere");
+    return true;
+  }
+  const double due = lost_turns_ == 0 ? no_pose_since_ + p.lost_turn_after_s : lost_turn_end_ + p.lost_turn_wait_s;
+  if (now < due || lost_turns_ >= p.lost_turns_max)
+    return false;
+  // First back to where the body faced before its last stop-and-turn, when that came shortly
+  // before the loss: the camera tracked there, and SLAM's keyframes near the last trusted pose
+  // look that way (a view it never had cannot be found again in the map). Else the way back.
+  // Open loop: a lost pose has no heading, and the wearer has stood since the loss began.
+  double angle = (lost_turns_ == 0 ? p.lost_turn_deg : 90.0) / kRadToDeg;
+  const double back = wrapAngle(turn_from_ - ok_facing_);
+  if (lost_turns_ == 0 && no_pose_since_ - last_turn_at_ <= kLostTurnBackS && std::fabs(back) * kRadToDeg >= 30.0)
+    angle = back;
+  lost_turn_side_ = lost_turns_ == 0 ? (angle > 0.0 ? 1 : -1) : lost_turn_side_;
+  angle = lost_turn_side_ * std::fabs(angle);
+  const double dur = std::min(2.5, std::fabs(angle) / turn_rate_est_ + kTellApartS);
+  const uint8_t on_10ms = uint8_t(std::lround(dur * 100.0));
+  ++lost_turns_;
+  lost_turn_end_ = now + 0.01 * on_10ms;
+  char buf[240];
+  std::snprintf(buf, sizeof(buf), "%s for %.1f s: turn %s %.0f deg on the spot to look elsewhere (%.2f s buzz, %d of %d)",
+                why.c_str(), now - no_pose_since_, angle > 0.0 ? "left" : "right", std::fabs(angle) * kRadToDeg,
+                0.01 * on_10ms, lost_turns_, p.lost_turns_max);
+  const float l = angle > 0.0 ? 1.f : 0.f;
+  out = startPattern(CueMode::GUIDANCE, Instruction::TURN, 3, { { l, 1.f - l, 0.f, 0.f } }, on_10ms, 0, 1, now, buf);
+  return true;
+}
+
 Cue CueLogic::decideOk(const NavInput& in, double now)
 {
+  ok_facing_ = facing(in);
   // a path and a waypoint: the obstacle cues, or the guidance where steering wins over them
   Cue c = decideProximity(in, true);
   // Near an obstacle (not yet at alert distance) with the path turning away from it, steering
@@ -1219,6 +1273,7 @@ Cue CueLogic::startTurn(const NavInput& in, double now, double angle, const char
   const auto drive = beginShoulderCue(in, now, side, level, angle, true);
   turn_peak_rate_ = 0.0;
   turn_from_ = facing(in);
+  last_turn_at_ = now;
   const double dur =
       std::min(2.5, std::max(kTellApartS + kTurnMarginS, std::fabs(angle) / turn_rate_est_ + kTellApartS));
   char buf[200];

@@ -1699,3 +1699,95 @@ TEST(CueLogic, TurnOntoAClearWayIsFollowedByTheGoAtOnce)
   EXPECT_GE(judged_first.go_at, judged_first.buzz_end + judged - 1e-9);
   EXPECT_FALSE(judged_first.turn_again);
 }
+
+// Issue 34: lost at a plain wall (vision corridor trial: the VO untrusted, the wearer standing nose
+// to a bare wall, UNSURE for 27 s until the timeout). After lost_turn_after_s of NO_POSE on fresh
+// images the vest asks a turn on the spot (a stop-and-turn buzz, open loop: a lost pose has no
+// heading), then waits lost_turn_wait_s after each buzz for another, at most lost_turns_max. A
+// stop-and-turn shortly before the loss is undone first; stale input never turns anyone.
+TEST(CueLogic, LostAtABlankViewTheWearerIsTurnedToLookElsewhere)
+{
+  const CueParams p;
+  struct Turn
+  {
+    double at, buzz;
+    int side;  // + left shoulder
+    uint8_t id;
+  };
+  auto lostFor = [&](CueLogic& c, double t0, double t1, bool fresh_input) {
+    std::vector<Turn> turns;
+    NavInput lost = status(NavStatus::NO_POSE);
+    lost.message = "the visual odometry cannot trust its pose";
+    for (double t = t0; t < t1; t += 1.0 / 15)
+    {
+      if (!fresh_input)
+        lost.source_time = t - 1.0;  // the camera is dead: stale states
+      const Cue k = fresh(c, lost, t);
+      const bool playing = !turns.empty() && t < turns.back().at + turns.back().buzz - 1e-6;
+      if (k.instruction == Instruction::TURN && (turns.empty() || turns.back().id != k.pattern.id))
+      {
+        EXPECT_EQ(k.mode, CueMode::GUIDANCE);
+        EXPECT_EQ(k.level, 3);
+        EXPECT_EQ(k.pattern.count, 1);
+        EXPECT_EQ(k.intensity[LEFT_WAIST] + k.intensity[RIGHT_WAIST], 0.f);
+        turns.push_back({ t, 0.01 * k.pattern.on_10ms, k.intensity[LEFT_SHOULDER] > 0.f ? 1 : -1, k.pattern.id });
+      }
+      else if (playing)
+      {
+        EXPECT_EQ(k.pattern.id, turns.back().id) << "the buzz is held while it plays, at " << t;
+      }
+      else
+      {
+        EXPECT_EQ(k.mode, CueMode::UNSURE) << k.reason;
+      }
+    }
+    return turns;
+  };
+  {
+    CueLogic c;
+    const std::vector<Turn> turns = lostFor(c, 0.0, 30.0, true);
+    ASSERT_EQ(turns.size(), size_t(p.lost_turns_max));
+    EXPECT_NEAR(turns[0].at, p.lost_turn_after_s, 0.07);
+    EXPECT_EQ(turns[0].side, 1);
+    EXPECT_NEAR(turns[0].buzz, std::min(2.5, 180.0 / 90.0 + 0.25), 0.011);  // 90 deg/s before any turn is learnt
+    EXPECT_NEAR(turns[1].at, turns[0].at + turns[0].buzz + p.lost_turn_wait_s, 0.07);
+    EXPECT_NEAR(turns[1].buzz, 90.0 / 90.0 + 0.25, 0.011);
+    EXPECT_EQ(turns[1].side, 1);
+  }
+  {
+    // The pose back (OK) and lost again: a new loss, its turns counted afresh.
+    CueLogic c;
+    lostFor(c, 0.0, 4.0, true);
+    fresh(c, standing(base()), 4.1);
+    const std::vector<Turn> again = lostFor(c, 4.2, 8.0, true);
+    ASSERT_EQ(again.size(), 1u);
+    EXPECT_NEAR(again[0].at, 4.2 + p.lost_turn_after_s, 0.07);
+  }
+  {
+    // Stale input (no camera): never a turn.
+    CueLogic c;
+    EXPECT_TRUE(lostFor(c, 0.0, 20.0, false).empty());
+  }
+  {
+    CueParams off;
+    off.lost_turn_after_s = 0.0;
+    CueLogic c(off);
+    EXPECT_TRUE(lostFor(c, 0.0, 20.0, true).empty());
+  }
+  {
+    // A standing wearer turned left 75 deg (towards the wall), then lost: turned back right first.
+    CueLogic c;
+    NavInput in = standingAt(0.0, 0.0, -20.0, 55.0);
+    const Cue t0 = fresh(c, in, 0.0);
+    ASSERT_EQ(t0.instruction, Instruction::TURN) << t0.reason;
+    for (double t = 1.0 / 15; t < 3.0; t += 1.0 / 15)
+    {
+      in.head_yaw = in.walk_heading = in.heading = std::clamp(-20.0 + (t - 0.6) * 90.0, -20.0, 55.0) * kDeg;
+      fresh(c, in, t);
+    }
+    const std::vector<Turn> turns = lostFor(c, 3.0, 8.0, true);
+    ASSERT_EQ(turns.size(), 1u);
+    EXPECT_EQ(turns[0].side, -1);
+    EXPECT_NEAR(turns[0].buzz, 75.0 / 90.0 + 0.25, 0.15);
+  }
+}

@@ -227,6 +227,10 @@ private:
                    uint8_t off_10ms, uint8_t count, double now, std::string reason);
   /// The pattern being played again (same id: the vest continues it).
   Cue holdPattern(std::string reason) const;
+  /// A `NO_POSE` that has lasted `lost_turn_after_s` on fresh input: a turn on the spot (open loop:
+  /// a lost pose carries no heading) so that the camera looks away from the blank view it lost
+  /// itself on (true and the cue, also while its buzz plays).
+  bool lookElsewhere(double now, const std::string& why, Cue& out);
   /// UNSURE with its opening pattern when it starts, silence after.
   Cue unsureCue(std::string reason, double now);
   /// A steady cue (side-step, stop): the running pattern when it drives the same motors, else new.
@@ -391,6 +395,14 @@ private:
   double go_handled_ = -1e300;     ///< the go whose short walk was judged
   double short_stop_at_ = -1.0;    ///< a timed stop after that go is due then (< 0: none)
   double body_turned_at_ = -1e300;  ///< the head last turned fast (a turn or veer of the body)
+  /// The current run of fresh `NO_POSE` states began then (< 0: none), the look-elsewhere turns
+  /// asked in it, and when the last one's buzz ends.
+  double no_pose_since_ = -1.0;
+  int lost_turns_ = 0;
+  double lost_turn_end_ = -1e300;
+  int lost_turn_side_ = 1;         ///< + left: the way the look-elsewhere turns go
+  double ok_facing_ = 0.0;          ///< the body's facing at the last OK state
+  double last_turn_at_ = -1e300;    ///< the last stop-and-turn began then (turn_from_ its facing)
   double last_state_time_ = -1e300;
   double last_source_time_ = std::numeric_limits<double>::quiet_NaN();
   bool have_state_ = false;
