@@ -445,7 +445,9 @@ Cue CueLogic::update(const NavInput& in, double now)
     no_pose_since_ = -1.0;
     return unsureCue(old, now);
   }
-  if (in.status != NavStatus::NO_POSE)
+  // A loss lasts until the planner guides again: the map rebuilt after the pose's return (NO_MAP)
+  // and unmapped floor around (IN_UNKNOWN) are part of it, not a new loss to turn afresh for.
+  if (in.status == NavStatus::OK || in.status == NavStatus::NO_PATH || in.status == NavStatus::NO_WAYPOINT)
     no_pose_since_ = -1.0;
 
   observeStart(in, now);
@@ -459,7 +461,17 @@ Cue CueLogic::update(const NavInput& in, double now)
   switch (in.status)
   {
     case NavStatus::OK:
-      return decideOk(in, now);
+    {
+      c = decideOk(in, now);
+      if (c.instruction == Instruction::TURN && c.pattern.id != sent_turn_id_)
+      {
+        // a stop-and-turn the wearer feels (one the predictive stop replaced never was)
+        sent_turn_id_ = c.pattern.id;
+        last_turn_at_ = now;
+        last_turn_from_ = turn_from_;
+      }
+      return c;
+    }
     case NavStatus::NO_PATH:
     case NavStatus::NO_WAYPOINT:
     {
@@ -529,7 +541,7 @@ bool CueLogic::lookElsewhere(double now, const std::string& why, Cue& out)
   // look that way (a view it never had cannot be found again in the map). Else the way back.
   // Open loop: a lost pose has no heading, and the wearer has stood since the loss began.
   double angle = (lost_turns_ == 0 ? p.lost_turn_deg : 90.0) / kRadToDeg;
-  const double back = wrapAngle(turn_from_ - ok_facing_);
+  const double back = wrapAngle(last_turn_from_ - ok_facing_);
   if (lost_turns_ == 0 && no_pose_since_ - last_turn_at_ <= kLostTurnBackS && std::fabs(back) * kRadToDeg >= 30.0)
     angle = back;
   lost_turn_side_ = lost_turns_ == 0 ? (angle > 0.0 ? 1 : -1) : lost_turn_side_;
@@ -1273,7 +1285,6 @@ Cue CueLogic::startTurn(const NavInput& in, double now, double angle, const char
   const auto drive = beginShoulderCue(in, now, side, level, angle, true);
   turn_peak_rate_ = 0.0;
   turn_from_ = facing(in);
-  last_turn_at_ = now;
   const double dur =
       std::min(2.5, std::max(kTellApartS + kTurnMarginS, std::fabs(angle) / turn_rate_est_ + kTellApartS));
   char buf[200];

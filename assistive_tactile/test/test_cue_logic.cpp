@@ -1764,6 +1764,19 @@ TEST(CueLogic, LostAtABlankViewTheWearerIsTurnedToLookElsewhere)
     EXPECT_NEAR(again[0].at, 4.2 + p.lost_turn_after_s, 0.07);
   }
   {
+    // The pose back and the map being rebuilt (NO_MAP), then SLAM not yet placing the goal (NO_POSE):
+    // the same loss, its next turn lost_turn_wait_s after the first buzz, not a fresh 180.
+    CueLogic c;
+    const std::vector<Turn> first = lostFor(c, 0.0, 4.5, true);
+    ASSERT_EQ(first.size(), 1u);
+    for (double t = 4.5; t < 5.0; t += 1.0 / 15)
+      EXPECT_EQ(fresh(c, status(NavStatus::NO_MAP), t).mode, CueMode::UNSURE);
+    const std::vector<Turn> next = lostFor(c, 5.0, 14.0, true);
+    ASSERT_EQ(next.size(), 1u);
+    EXPECT_NEAR(next[0].at, first[0].at + first[0].buzz + p.lost_turn_wait_s, 0.07);
+    EXPECT_NEAR(next[0].buzz, 90.0 / 90.0 + 0.25, 0.011);
+  }
+  {
     // Stale input (no camera): never a turn.
     CueLogic c;
     EXPECT_TRUE(lostFor(c, 0.0, 20.0, false).empty());

@@ -402,7 +402,9 @@ private:
   double lost_turn_end_ = -1e300;
   int lost_turn_side_ = 1;         ///< + left: the way the look-elsewhere turns go
   double ok_facing_ = 0.0;          ///< the body's facing at the last OK state
-  double last_turn_at_ = -1e300;    ///< the last stop-and-turn began then (turn_from_ its facing)
+  /// The last stop-and-turn the wearer was sent began then, from this facing (the pattern's id).
+  double last_turn_at_ = -1e300, last_turn_from_ = 0.0;
+  uint8_t sent_turn_id_ = 0;
   double last_state_time_ = -1e300;
   double last_source_time_ = std::numeric_limits<double>::quiet_NaN();
   bool have_state_ = false;
