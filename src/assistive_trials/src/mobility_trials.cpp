@@ -50,6 +50,8 @@ void usage(std::ostream& os = std::cerr)
         "                       [--wearer population|typical] [--slowest-decile] [--unsure-at S [--unsure-for S]]\n"
         "                       [--timelines PREFIX] (one cue timeline PNG per trial: PREFIX<k>.png)\n"
         "                       [--causes] (a line per collision and per unfinished trial: what the wearer did, where)\n"
+        "                       [--ros-params FILE.yaml] (vision: loaded at the root before each trial's pipeline,\n"
+        "                       e.g. {cue_logic: {lost_turn_after_s: 0}, slam: {reset_fixed_rotation: false}})\n"
         "                       [--lead-from-reaction oracle] (analysis: steer_lead_s = the wearer's true\n"
         "                       reaction + 0.15 s, never to make the guidance look good)\n"
         "  --wearer: each trial's wearer drawn from the population (default; docs/wearer_population.md) or the\n"
@@ -185,6 +187,7 @@ struct VisionContext
 {
   pid_t core = -1;
   std::string log_dir;
+  std::string ros_params;  ///< a YAML loaded at the root before each trial's pipeline (--ros-params)
 };
 
 bool startVision(VisionContext& vc)
@@ -264,9 +267,11 @@ bool runWorld(const World& world, const std::string& world_arg, const TrialOptio
       ro.eye_height = world.trajectory.eye_height;
       // A fresh chain per trial: its t = 0 is at start_time + warmup_s of simulated time; the
       // renderer puts the people where they are on the trial's clock.
-      const pid_t launch = spawn({ "roslaunch", "assistive_trials", "mobility_vision.launch", "world:=" + world_arg,
-                                   "people_time_origin:=" + num(ro.start_time + ro.warmup_s, 6) },
-                                 log);
+      std::vector<std::string> args{ "roslaunch", "assistive_trials", "mobility_vision.launch", "world:=" + world_arg,
+                                     "people_time_origin:=" + num(ro.start_time + ro.warmup_s, 6) };
+      if (!vc.ros_params.empty())
+        args.push_back("params:=" + vc.ros_params);
+      const pid_t launch = spawn(args, log);
       ros::NodeHandle nh;
       RosChain chain(nh, world, ro);
       // the pipeline is up when the cue logic publishes and the renderer listens for poses
@@ -533,7 +538,7 @@ std::vector<std::string> splitComma(const std::string& s)
 
 int main(int argc, char** argv)
 {
-  std::string world_arg, mode = "truth", plot, kind_arg, keep_dir;
+  std::string world_arg, mode = "truth", plot, kind_arg, keep_dir, ros_params;
   int trials = 20, generated = 0;
   long seed = 1, seed_base = 1001;
   TrialOptions opt;
@@ -567,6 +572,14 @@ int main(int argc, char** argv)
       else if (a == "--body-half-width") opt.planner.body_half_width = std::stod(val());
       else if (a == "--chord-min") opt.planner.heading_chord_min = std::stod(val());
       else if (a == "--timeout-factor") opt.timeout_factor = std::stod(val());
+      else if (a == "--ros-params")
+      {
+        char* full = realpath(val().c_str(), nullptr);
+        if (!full)
+          throw std::invalid_argument("--ros-params: no such file");
+        ros_params = full;
+        std::free(full);
+      }
       else if (a == "--wearer")
       {
         const std::string w = val();
@@ -691,6 +704,7 @@ int main(int argc, char** argv)
                 "guide_s", "ppws", "coll", "wall/ovh", "glass", "furn", "people", "clear_m");
     // vision: a private roscore for the run, a fresh pipeline (roslaunch) for each trial
     VisionContext vc;
+    vc.ros_params = ros_params;
     if (opt.mode == TrialMode::VISION && !startVision(vc)) return 1;
     const bool ok = runWorld(world, world_arg, opt, trials, seed, vc, true, "", res);
     stopVision(vc);
@@ -731,6 +745,7 @@ int main(int argc, char** argv)
   else
     mkdir(dir.c_str(), 0755);
   VisionContext vc;
+  vc.ros_params = ros_params;
   if (opt.mode == TrialMode::VISION && !startVision(vc)) return 1;
   std::printf("%-22s %-8s %-6s %-7s %-5s %-9s %-6s %-5s %-6s %-7s %-7s %-7s\n", "world", "kind", "walk_m", "trials",
               "done", "coll/tr", "worst", "wall", "furn", "ppws", "clear_m", "time_s");
