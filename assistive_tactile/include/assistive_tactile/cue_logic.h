@@ -117,7 +117,8 @@ double wrapAngle(double a);
  *
  * The order, first wins:
  *   1. input not usable (NaN, camera image too old or unstamped), or status not OK: UNSURE (three
- *      pulses on both waists, then silence), or the obstacle stop of NO_PATH / NO_WAYPOINT;
+ *      pulses on both waists, then silence), or the obstacle stop of NO_PATH / NO_WAYPOINT; a
+ *      NO_POSE lasting lost_turn_after_s on fresh images: a turn on the spot to look elsewhere;
  *   2. the obstacle stop: free ahead inside the stop distance (alert_m plus the walk during the
  *      wearer's reaction, learnt from its starts, and its stop), unless the steering point lies
  *      clear to a side and the obstacle lies beyond what no reaction can prevent;
@@ -395,8 +396,8 @@ private:
   double go_handled_ = -1e300;     ///< the go whose short walk was judged
   double short_stop_at_ = -1.0;    ///< a timed stop after that go is due then (< 0: none)
   double body_turned_at_ = -1e300;  ///< the head last turned fast (a turn or veer of the body)
-  /// The current run of fresh `NO_POSE` states began then (< 0: none), the look-elsewhere turns
-  /// asked in it, and when the last one's buzz ends.
+  /// The current loss began then (the first fresh `NO_POSE`; it lasts until the planner guides
+  /// again; < 0: none), the look-elsewhere turns asked in it, and when the last one's buzz ends.
   double no_pose_since_ = -1.0;
   int lost_turns_ = 0;
   double lost_turn_end_ = -1e300;
