@@ -546,7 +546,7 @@ bool CueLogic::lookElsewhere(double now, const std::string& why, Cue& out)
     angle = back;
   lost_turn_side_ = lost_turns_ == 0 ? (angle > 0.0 ? 1 : -1) : lost_turn_side_;
   angle = lost_turn_side_ * std::fabs(angle);
-  const double dur = std::min(2.5, std::fabs(angle) / turn_rate_est_ + kTellApartS);
+  const double dur = turnBuzzS(angle);
   const uint8_t on_10ms = uint8_t(std::lround(dur * 100.0));
   ++lost_turns_;
   lost_turn_end_ = now + 0.01 * on_10ms;
@@ -1273,6 +1273,11 @@ std::array<float, NUM_MOTORS> CueLogic::beginShoulderCue(const NavInput& in, dou
   return drive;
 }
 
+double CueLogic::turnBuzzS(double angle) const
+{
+  return std::min(2.5, std::max(kTellApartS + kTurnMarginS, std::fabs(angle) / turn_rate_est_ + kTellApartS));
+}
+
 Cue CueLogic::startTurn(const NavInput& in, double now, double angle, const char* why, int level)
 {
   // stop and turn: a buzz that lasts while the wearer should turn (the level tells how far:
@@ -1285,8 +1290,7 @@ Cue CueLogic::startTurn(const NavInput& in, double now, double angle, const char
   const auto drive = beginShoulderCue(in, now, side, level, angle, true);
   turn_peak_rate_ = 0.0;
   turn_from_ = facing(in);
-  const double dur =
-      std::min(2.5, std::max(kTellApartS + kTurnMarginS, std::fabs(angle) / turn_rate_est_ + kTellApartS));
+  const double dur = turnBuzzS(angle);
   char buf[200];
   std::snprintf(buf, sizeof(buf), "%sstop, turn %s %.0f deg (%.2f s buzz)", why, side > 0 ? "left" : "right", a, dur);
   const uint8_t on_10ms = uint8_t(std::lround(dur * 100.0));

@@ -201,6 +201,9 @@ private:
   Cue timedGo(double now, double room, std::string reason);
   /// When to ask the stop after a go for a walk of `room` m (s after the go).
   double stopAfterGo(double room) const;
+  /// How long a stop-and-turn buzz for `angle` (rad) lasts: the turn at the learnt rate after the
+  /// moment it takes to tell it from a veer's pulse, at least a little longer than that, at most 2.5 s.
+  double turnBuzzS(double angle) const;
   /// A stop-and-turn buzz for `angle` (rad, + = left) from the wearer's facing now; `level`
   /// (its strength, 1..3) from the angle when 0.
   Cue startTurn(const NavInput& in, double now, double angle, const char* why, int level = 0);
