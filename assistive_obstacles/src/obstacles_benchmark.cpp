@@ -233,11 +233,12 @@ bool worldMasks(const std::string& path, const eval::OccupancyGrid& truth, doubl
 }
 
 const char* const kUsage =
-    "usage: obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N] [--gt-depth] [--set PARAM=VALUE ...]\n"
+    "usage: obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N] [--gt-depth] [--passive] [--set PARAM=VALUE ...]\n"
     "                           [--no-sonar] [--world auto|none|W.yaml] [--partial-depth M] [--mover-poses FILE]\n"
     "       obstacles_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect]\n"
     "                           [--keep DIR] [--png DIR] [other options as above]\n"
     "  Runs the obstacle stage on a stereo bag with ground truth; last stdout line: JSON.\n"
+    "  A bag with an active camera's emitter-on pairs (/stereo/projected) is mapped from those, unless --passive.\n"
     "  A set (several bags, or worlds seeds 1..N made by generate_world and render_bag): per-bag rows,\n"
     "  mean and worst of each figure (worst bag named); JSON keys <key>_mean, <key>_worst, <key>_worst_bag.\n";
 
@@ -247,6 +248,10 @@ struct Options
   std::string bag;
   int max_frames = -1, skip = 0;
   bool gt_depth = false;  // --gt-depth: feed the bag's true depth instead of SGBM (isolates stereo noise)
+  // --passive: the emitter-off pairs even when the bag has the projector's emitter-on pairs (issue
+  // 35: a passive vs active comparison on one bag); without it those are what the map is built from
+  bool passive = false;
+  bool projected = false;  // (set from the bag: the emitter-on pairs are read)
   eval::CommandLine::Sets overrides;  // --set name=value (tuning; the figures of record use the defaults)
   std::string png;
   bool no_sonar = false;           // --no-sonar: leave the bag's /sonar/front out
@@ -261,6 +266,7 @@ struct Options
   {
     cl
         .flag("--gt-depth", &gt_depth)
+        .flag("--passive", &passive)
         .flag("--no-sonar", &no_sonar)
         .count("--frames", &max_frames, 0)
         .count("--skip", &skip, 0)
@@ -639,6 +645,9 @@ bool ObstaclesRun::run()
     ++frames;
     if (frames <= opt_.skip) continue;
     if (opt_.max_frames > 0 && used >= opt_.max_frames) break;
+    // (an active camera's emitter-on pairs lie half a frame after the truth's samples: interpolated)
+    if (!f.has_gt_pose && opt_.projected)
+      f.has_gt_pose = poseAt(reader_.groundTruth(), f.stamp, f.gt_pose);
     if (!f.has_gt_pose)
     {
       ++no_pose;
@@ -1127,7 +1136,7 @@ eval::JsonLine ObstaclesRun::jsonLine() const
       .add("ms_median_disparity", num(percentile(ms_disp, 0.5), 3))
       .add("misclassified_5m", num(s5.misclassified())).add("coverage_3m", num(s3.coverage()))
       .add("coverage_5m", num(s5.coverage())).add("fp_adjacent_3m", fp_adjacent)
-      .add("fp_isolated_3m", fp_isolated).add("fp_step_3m", fp_step).add("gt_depth", opt_.gt_depth)
+      .add("fp_isolated_3m", fp_isolated).add("fp_step_3m", fp_step).add("gt_depth", opt_.gt_depth).add("projected", opt_.projected)
       .add("movers", params.movers)
       .add("ms_p95_movers", num(p95_movers, 3)).add("ms_p95_tracking", num(p95_tracking, 3))
       .add("movers_confirmed_per_frame", params.movers ? num(confirmed_sum / used, 3) : "null")
@@ -1162,7 +1171,11 @@ int main(int argc, char** argv)
     opt.png = bag.size() > 4 && bag.substr(bag.size() - 4) == ".bag" ? bag.substr(0, bag.size() - 4) + "_obstacles_map.png"
                                                                      : bag + "_obstacles_map.png";
 
-  const std::unique_ptr<eval::StereoBagReader> reader = eval::openStereoBag("obstacles_benchmark", bag);
+  // An active camera's bag: the map from the emitter-on pairs (the true depth goes with the others)
+  const eval::StereoBagTopics topics;
+  opt.projected = !opt.passive && !opt.gt_depth && eval::bagHasTopic(bag, topics.projected_left_image);
+  const std::unique_ptr<eval::StereoBagReader> reader =
+      eval::openStereoBag("obstacles_benchmark", bag, opt.projected ? topics.projected() : topics);
   if (!reader)
     return 1;
   const Truth truth = readTruth(opt, *reader);

@@ -150,6 +150,35 @@ void StereoBagWriter::writeFrame(const StereoFrame& f)
   if (f.has_gt_pose) writeGroundTruth(f.stamp, f.gt_pose, f.gt_velocity);
 }
 
+void StereoBagWriter::writeProjectedFrame(const StereoFrame& f)
+{
+  const ros::Time t = toRos(f.stamp);
+  if (f.left.type() != CV_8UC1 || f.right.type() != CV_8UC1)
+    throw std::runtime_error("StereoBagWriter: images must be CV_8UC1");
+  auto li = toCameraInfo(f.calib, false, topics_.left_frame, t);
+  auto ri = toCameraInfo(f.calib, true, topics_.right_frame, t);
+  auto lm = toImageMsg(f.left, topics_.left_frame, t);
+  auto rm = toImageMsg(f.right, topics_.right_frame, t);
+  li.header.seq = ri.header.seq = lm.header.seq = rm.header.seq = projected_seq_++;
+  bag_->write(topics_.projected_left_image, t, lm);
+  bag_->write(topics_.projected_left_info, t, li);
+  bag_->write(topics_.projected_right_image, t, rm);
+  bag_->write(topics_.projected_right_info, t, ri);
+}
+
+bool bagHasTopic(const std::string& path, const std::string& topic)
+{
+  try
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Read);
+    return rosbag::View(bag, rosbag::TopicQuery(topic)).size() > 0;
+  }
+  catch (const rosbag::BagException&)
+  {
+    return false;
+  }
+}
+
 void StereoBagWriter::writeGroundTruth(double stamp, const Eigen::Isometry3d& T_wl,
                                        const Eigen::Vector3d& velocity)
 {
@@ -424,11 +453,12 @@ bool StereoBagReader::readRanges(std::vector<RangeSample>& out) const
   return !out.empty();
 }
 
-std::unique_ptr<StereoBagReader> openStereoBag(const std::string& program, const std::string& path)
+std::unique_ptr<StereoBagReader> openStereoBag(const std::string& program, const std::string& path,
+                                               const StereoBagTopics& topics)
 {
   try
   {
-    return std::make_unique<StereoBagReader>(path);
+    return std::make_unique<StereoBagReader>(path, topics);
   }
   catch (const std::exception& e)
   {

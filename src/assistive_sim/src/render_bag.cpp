@@ -39,6 +39,10 @@ void usage(std::ostream& os = std::cerr)
                "                  [--rate HZ] [--noise SIGMA] [--exposure-time S] [--exposure-variation X] [--imu-rate HZ]\n"
                "                  [--depth]  (also write the left ground-truth depth, /ground_truth/left/depth)\n"
                "                  [--no-sonar]  (no /sonar/front: the vest's forward ultrasonic ranger, 20 Hz)\n"
+               "                  [--passive]  a passive pair only; default: the reference camera, an active pair whose\n"
+               "                    pattern projector's emitter is on for a second pair half a frame after each\n"
+               "                    (/stereo/projected/{left,right}/{image_rect,camera_info}; /stereo/* keep the emitter-off pairs)\n"
+               "                  [--lux L]  the scene's ambient light (default: the world's; 300 indoors, 10000 outdoors)\n"
                "                  [--imperfect]  random camera errors inside the published ranges, drawn from the seed\n"
                "                  [--errors-seed N]  draw them from N instead (the walk and noise keep --seed)\n"
                "                  [--baseline-error X] [--focal-error X]  true = nominal * (1 + X); camera_info stays nominal\n"
@@ -91,7 +95,8 @@ int main(int argc, char** argv)
   UltrasonicParams sonar_p;
   bool with_sonar = true;
   double rate = 15.0;
-  bool write_depth = false, imperfect = false, exposure_given = false;
+  bool write_depth = false, imperfect = false, exposure_given = false, passive = false;
+  double lux = -1.0;
   long errors_seed = -1;  // --errors-seed: the imperfections' draw (default: --seed)
   // Explicit imperfections (applied over the --imperfect draw): name -> value(s)
   std::vector<std::pair<std::string, std::vector<double>>> explicit_errors;
@@ -148,6 +153,12 @@ int main(int argc, char** argv)
       else if (a == "--imu-rate") imu_p.rate = std::stod(val());
       else if (a == "--depth") write_depth = true;
       else if (a == "--no-sonar") with_sonar = false;
+      else if (a == "--passive") passive = true;
+      else if (a == "--lux")
+      {
+        lux = std::stod(val());
+        if (!(lux > 0.0)) throw std::invalid_argument(a);
+      }
       else if (a == "-h" || a == "--help")
       {
         usage(std::cout);
@@ -212,11 +223,13 @@ int main(int argc, char** argv)
     }
   }
   const std::string errors_json = cam.errors.json(cam.exposure_time);
+  cam.projector.enabled = !passive;
 
   try
   {
     const std::string path = resolveWorldPath(world_name, worldsDir());
-    const World world = World::load(path);
+    World world = World::load(path);
+    if (lux > 0.0) world.illuminance_lux = lux;
     const WearerMotion motion(world.trajectory, seed);
     StereoRenderer renderer(world, cam);
     ImuSimulator imu(imu_p, seed);
@@ -232,6 +245,7 @@ int main(int argc, char** argv)
     RenderOutput ro;
     std::vector<assistive_msgs::MoverArray> people_truth;  // /ground_truth/people, one per frame
     double render_s = 0.0, render_cpu_s = 0.0;
+    int projected = 0;
     const auto wall0 = std::chrono::steady_clock::now();
     const Eigen::Matrix3d R_lo = linkToLeftOptical().linear();
     for (int k = 0; k < n; ++k)
@@ -261,6 +275,27 @@ int main(int argc, char** argv)
       f.gt_velocity = motion.velocity(t);
       if (write_depth) f.gt_depth = ro.depth_left;
       writer.writeFrame(f);
+      if (cam.projector.enabled)
+      {
+        // The emitter-on pair half a frame later (the pair runs at twice the rate, the emitter on
+        // every other frame); its noise is its own (a frame index no emitter-off pair uses).
+        const double tp = t + 0.5 / rate;
+        const double c1 = threadCpuSeconds();
+        const auto w1 = std::chrono::steady_clock::now();
+        renderer.setEmitter(true);
+        renderer.render(motion.leftOpticalPose(tp), tp, static_cast<uint64_t>(k) + (1ull << 32), ro,
+                        R_lo.transpose() * motion.angularVelocity(tp), motion.velocity(tp));
+        renderer.setEmitter(false);
+        render_cpu_s += threadCpuSeconds() - c1;
+        render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - w1).count();
+        StereoFrame fp;
+        fp.stamp = t0 + tp;
+        fp.left = ro.left;
+        fp.right = ro.right;
+        fp.calib = cam.calib;
+        writer.writeProjectedFrame(fp);
+        ++projected;
+      }
       if (!world.people.empty()) people_truth.push_back(peopleMessage(world, t, ros::Time(t0 + t), "gt_world"));
       if (k % 5 == 0 || k + 1 == n) progress(k + 1, n, (k + 1) / std::max(render_cpu_s, 1e-9));
     }
@@ -274,8 +309,8 @@ int main(int argc, char** argv)
     }
     std::fprintf(stderr, "\n");
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    const double render_fps = n / std::max(render_cpu_s, 1e-9);
-    const double render_fps_wall = n / std::max(render_s, 1e-9);
+    const double render_fps = (n + projected) / std::max(render_cpu_s, 1e-9);
+    const double render_fps_wall = (n + projected) / std::max(render_s, 1e-9);
     const double t_last = (n - 1) / rate;
     std::printf("world            %s (%s)\n", world.name.c_str(), path.c_str());
     std::printf("output           %s\n", out.c_str());
@@ -283,6 +318,11 @@ int main(int argc, char** argv)
                 motion.duration(), motion.pathLength());
     std::printf("image            %dx%d at %.1f Hz, seed %u, %zu triangles\n", cam.calib.width, cam.calib.height,
                 rate, seed, renderer.triangleCount());
+    if (cam.projector.enabled)
+      std::printf("projector        %zu dots, emitter on for %d pairs half a frame after each (/stereo/projected), %.0f lux\n",
+                  renderer.dotCount(), projected, world.ambientLux());
+    else
+      std::printf("projector        none (--passive)\n");
     std::printf("render_fps       %.1f stereo frames/s (rendering only, per second of this thread's CPU time)\n",
                 render_fps);
     std::printf("render_fps_wall  %.1f stereo frames/s (rendering only, wall clock; lower when the machine is shared)\n",
@@ -292,9 +332,9 @@ int main(int argc, char** argv)
     std::printf("camera_errors    %s%s\n", errors_json.c_str(), cam.errors.any() ? "" : " (ideal rig)");
     std::printf("{\"frames\": %d, \"render_fps\": %.2f, \"render_fps_wall\": %.2f, \"total_fps\": %.2f, \"world\": \"%s\", \"seed\": %u, "
                 "\"width\": %d, \"height\": %d, \"rate_hz\": %.3f, \"duration_s\": %.3f, \"path_length_m\": %.3f, "
-                "\"camera_errors\": %s}\n",
+                "\"projected_frames\": %d, \"lux\": %.1f, \"camera_errors\": %s}\n",
                 n, render_fps, render_fps_wall, n / wall, world.name.c_str(), seed, cam.calib.width, cam.calib.height, rate, t_last,
-                motion.pathLength(), errors_json.c_str());
+                motion.pathLength(), projected, world.ambientLux(), errors_json.c_str());
   }
   catch (const std::exception& e)
   {

@@ -108,6 +108,66 @@ struct StereoRenderer::Impl
   std::vector<GlassRay> pending;  // primary rays that hit glass (capacity kept across frames)
   double texture_offset = 0.0;
 
+  // The pattern projector (issue 35): the dots' directions in its frame (z forward, x right), the
+  // scene's ambient light, and this frame's lit dots (world point, peak radiance).
+  std::vector<Eigen::Vector3f> dot_dirs;
+  double ambient_lux = 300.0;
+  struct LitDot
+  {
+    Eigen::Vector3f p;
+    float peak;
+  };
+  std::vector<LitDot> lit_dots;
+
+  /// Casts every dot from the projector at `origin` (world) with rotation `R` (its frame to the
+  /// world): the first opaque surface takes it (glass lets the infrared through), shadowing what
+  /// lies behind. Keeps the dots bright enough to matter.
+  void castDots(const Eigen::Vector3f& origin, const Eigen::Matrix3f& R, const ProjectorParams& pp)
+  {
+    lit_dots.clear();
+    const float scale = static_cast<float>(pp.power * pp.reference_lux / ambient_lux);
+    const float max_r = static_cast<float>(pp.max_range);
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (const Eigen::Vector3f& d0 : dot_dirs)
+    {
+      const Eigen::Vector3f dir = R * d0;
+      float tnear = 0.f;
+      for (int pass = 0; pass < 4; ++pass)
+      {
+        RTCRayHit rh;
+        rh.ray.org_x = origin.x();
+        rh.ray.org_y = origin.y();
+        rh.ray.org_z = origin.z();
+        rh.ray.dir_x = dir.x();
+        rh.ray.dir_y = dir.y();
+        rh.ray.dir_z = dir.z();
+        rh.ray.tnear = tnear;
+        rh.ray.tfar = max_r;
+        rh.ray.mask = 0xFFFFFFFF;
+        rh.ray.flags = 0;
+        rh.ray.time = 0;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        intersect1(&ctx, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+        const Prim& p = prim(rh.hit.geomID, rh.hit.primID);
+        const float t = rh.ray.tfar;
+        if (p.mat < 0)
+        {
+          tnear = t * 1.0001f + 1e-4f;  // through the glass
+          continue;
+        }
+        const Eigen::Vector3f h = origin + t * dir;
+        const float dist = t * dir.norm();
+        const float cosi = std::abs(dir.x() * p.n[0] + dir.y() * p.n[1] + dir.z() * p.n[2]) / dir.norm();
+        const float albedo = shadeHit(p, h.x(), h.y(), h.z(), 1e-3f) / std::max(p.shade, 1e-3f);
+        const float peak = scale * albedo * cosi / (dist * dist);
+        if (peak > 1e-3f) lit_dots.push_back({h, peak});
+        break;
+      }
+    }
+  }
+
   // People (issue 22): a second scene whose one mesh (geometry id PEOPLE_GEOM) is moved to the
   // frame's time before rendering; rays meet the static scene first, then the people scene up to
   // the static hit. Worlds without people never create it (their images are unchanged).
@@ -482,6 +542,21 @@ StereoRenderer::StereoRenderer(const World& world, const CameraParams& params)
   Impl& d = *impl_;
   d.light = world.light_dir.cast<float>().normalized();
   d.sky = static_cast<float>(world.sky_brightness);
+  d.ambient_lux = world.ambientLux();
+  if (params_.projector.enabled)
+  {
+    // A jittered grid on the projector's image plane (semi-random: unique locally, even density),
+    // fixed by the device's pattern seed.
+    const ProjectorParams& pp = params_.projector;
+    const double f = params_.calib.fx > 0 ? params_.calib.fx : 500.0;
+    const double step = pp.spacing_px / f;
+    const double tx = std::tan(0.5 * pp.fov_h_deg * M_PI / 180.0), ty = std::tan(0.5 * pp.fov_v_deg * M_PI / 180.0);
+    std::mt19937 rng(pp.pattern_seed);
+    std::uniform_real_distribution<double> J(-0.45, 0.45);
+    for (double y = -ty; y <= ty; y += step)
+      for (double x = -tx; x <= tx; x += step)
+        d.dot_dirs.emplace_back(static_cast<float>(x + J(rng) * step), static_cast<float>(y + J(rng) * step), 1.f);
+  }
   for (const Material& m : world.materials) d.textures.emplace_back(m);
 
   const Eigen::Vector3d X(1, 0, 0), Y(0, 1, 0), Z(0, 0, 1);
@@ -583,6 +658,8 @@ StereoRenderer::~StereoRenderer()
 }
 
 size_t StereoRenderer::triangleCount() const { return impl_->prims.size(); }
+
+size_t StereoRenderer::dotCount() const { return impl_->dot_dirs.size(); }
 
 void StereoRenderer::setPeopleTime(double t) { impl_->people_time = t; }
 
@@ -776,6 +853,11 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
   std::vector<Eigen::Matrix3f> row_R(rolling ? H : 1);
   std::vector<Eigen::Vector3f> row_org(rolling ? H : 1);
 
+  // The projector's dots land where they land whichever camera looks (the stamp's pose).
+  const bool dots = emitter_on_ && params_.projector.enabled && !d.dot_dirs.empty();
+  if (dots)
+    d.castDots((T_wl * params_.projector.offset).cast<float>(), T_wl.linear().cast<float>(), params_.projector);
+
   for (int cam = 0; cam < 2; ++cam)
   {
     cv::Mat& img = cam == 0 ? out.left : out.right;
@@ -916,6 +998,39 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
 
     if (!d.pending.empty()) d.resolveGlass(row_org, inv_f, rad, depth.ptr<float>(), W, &ctx);
     d.pending.clear();
+
+    if (dots)
+    {
+      // Each lit dot as this camera sees it: a small Gaussian where its point projects, when the
+      // surface the pixel shows is the dot's own (not hidden from this camera by something nearer).
+      // (the middle row's pose under a rolling shutter; residual distortion is left out: the dots
+      // land within a fraction of a pixel of where the distorted image would put them)
+      const Eigen::Matrix3f& R = row_R[row_R.size() / 2];
+      const Eigen::Vector3f& org = row_org[row_org.size() / 2];
+      const float fx = static_cast<float>(fx_true), fy = static_cast<float>(fy_true);
+      const float sig = static_cast<float>(params_.projector.dot_sigma_px);
+      const float inv2s2 = 1.f / (2.f * sig * sig);
+      const int rad_px = std::max(1, static_cast<int>(std::ceil(2.5f * sig)));
+      const float* dep = depth.ptr<float>();
+      for (const Impl::LitDot& ld : d.lit_dots)
+      {
+        const Eigen::Vector3f pc = R.transpose() * (ld.p - org);
+        if (pc.z() < 0.05f) continue;
+        const float u = fx * pc.x() / pc.z() + cx, v = fy * pc.y() / pc.z() + cy;
+        const int ui = static_cast<int>(std::lround(u)), vi = static_cast<int>(std::lround(v));
+        if (ui < 0 || vi < 0 || ui >= W || vi >= H) continue;
+        const float z_seen = dep[static_cast<size_t>(vi) * W + ui];
+        if (!(z_seen > 0.f) || pc.z() > z_seen * 1.03f + 0.02f) continue;
+        for (int dv = -rad_px; dv <= rad_px; ++dv)
+          for (int du = -rad_px; du <= rad_px; ++du)
+          {
+            const int x = ui + du, y = vi + dv;
+            if (x < 0 || y < 0 || x >= W || y >= H) continue;
+            const float ex = static_cast<float>(x) - u, ey = static_cast<float>(y) - v;
+            rad[static_cast<size_t>(y) * W + x] += ld.peak * std::exp(-(ex * ex + ey * ey) * inv2s2);
+          }
+      }
+    }
 
     // Motion blur: a line kernel along the image motion of the principal point during the exposure.
     if (params_.exposure_time > 0.0)

@@ -400,8 +400,9 @@ World parseRoot(const YAML::Node& root, const Ctx& c)
   if (root["sky"])
   {
     const YAML::Node n = root["sky"];
-    c.checkKeys(n, "sky", {"brightness"});
+    c.checkKeys(n, "sky", {"brightness", "illuminance"});
     w.sky_brightness = c.num(n, "brightness", "sky", 0.75, false, 0.0, 1.0);
+    w.illuminance_lux = c.num(n, "illuminance", "sky", -1.0, false, 0.01, 200000.0);
   }
   if (root["light"])
   {

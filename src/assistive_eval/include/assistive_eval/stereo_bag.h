@@ -42,7 +42,26 @@ struct StereoBagTopics
   std::string gt_world_frame = "gt_world";
   std::string gt_link_frame = "gt_camera_link";
   std::string gt_left_frame = "gt_camera_left_optical_frame";
+  /// An active camera's emitter-on pairs (issue 35: the pattern projector's dots, for disparity);
+  /// the topics above carry its emitter-off pairs (for tracking), as a passive camera's.
+  std::string projected_left_image = "/stereo/projected/left/image_rect";
+  std::string projected_right_image = "/stereo/projected/right/image_rect";
+  std::string projected_left_info = "/stereo/projected/left/camera_info";
+  std::string projected_right_info = "/stereo/projected/right/camera_info";
+  /// The same names with the emitter-on pairs as the stereo images (a reader of those frames).
+  StereoBagTopics projected() const
+  {
+    StereoBagTopics t = *this;
+    t.left_image = projected_left_image;
+    t.right_image = projected_right_image;
+    t.left_info = projected_left_info;
+    t.right_info = projected_right_info;
+    return t;
+  }
 };
+
+/// Does the bag at `path` hold any message on `topic`? (false when it cannot be opened)
+bool bagHasTopic(const std::string& path, const std::string& topic);
 
 /// One ranger reading of `/sonar/front` (sensor_msgs/Range): range in m, +Inf = no echo.
 struct RangeSample
@@ -68,6 +87,9 @@ public:
   /// When frame.has_gt_pose, also writes /ground_truth/odom and the gt tf chain
   /// (gt_world -> gt_camera_link -> gt_camera_left_optical_frame). frame.imu is written too.
   void writeFrame(const StereoFrame& frame);
+  /// An emitter-on pair: its images and camera_infos on the `projected_*` topics (nothing else:
+  /// the IMU and the truth run on the emitter-off frames' clock).
+  void writeProjectedFrame(const StereoFrame& frame);
   /// Ground truth only (odom + tf) for a stamp; pose of the left optical frame in gt_world.
   void writeGroundTruth(double stamp, const Eigen::Isometry3d& T_world_left_optical,
                         const Eigen::Vector3d& velocity = Eigen::Vector3d::Zero());
@@ -89,6 +111,7 @@ private:
   StereoBagTopics topics_;
   Eigen::Isometry3d link_to_left_;
   uint32_t seq_ = 0;
+  uint32_t projected_seq_ = 0;
 };
 
 /// Iterates the stereo frames of a bag in stamp order. Left and right images are paired by
@@ -144,7 +167,8 @@ private:
 
 /// For the benchmark CLIs: the reader of `path`, or null after "<program>: cannot read <path>:
 /// <why>" on stderr (the CLI then exits with status 1).
-std::unique_ptr<StereoBagReader> openStereoBag(const std::string& program, const std::string& path);
+std::unique_ptr<StereoBagReader> openStereoBag(const std::string& program, const std::string& path,
+                                               const StereoBagTopics& topics = {});
 /// reader.next(frame) for the benchmark CLIs: a malformed image (encoding, size) prints
 /// "<program>: <path>: <why>" on stderr and exits with status 1 (a clear error, not an abort).
 bool nextFrameOrExit(StereoBagReader& reader, StereoFrame& frame, const std::string& program,

@@ -46,6 +46,35 @@ struct CameraErrors
   std::string json(double exposure_time_s) const;
 };
 
+/// An infrared dot-pattern projector beside the left camera, as active stereo cameras have (the
+/// RealSense D4xx class, issue 35; README "Pattern projector"). A fixed pattern of dots is cast from
+/// the projector's pose: each dot lands on the first surface its ray meets (so what stands in front
+/// shadows what lies behind), moves with the head, not with the world, and adds to that surface's
+/// radiance in proportion to its albedo and incidence cosine, falling off with distance squared.
+/// The scene's own light scales it down (a camera's exposure follows the ambient light): indoors
+/// (about 300 lux) the dots stand out to a few metres, in daylight (10,000 lux and more) they are
+/// washed out. Only frames rendered with the emitter on (StereoRenderer::setEmitter) show them.
+struct ProjectorParams
+{
+  bool enabled = false;
+  /// The projector's centre in the left optical frame (m; x right): between the two imagers, as on
+  /// the D4xx, beside the left one. Its axes are the left camera's.
+  Eigen::Vector3d offset = Eigen::Vector3d(0.035, 0.0, 0.0);
+  double fov_h_deg = 86.0, fov_v_deg = 57.0;  ///< the pattern's field (wider than the cameras' 65 x 51 deg)
+  /// Mean spacing of the dots on the projector's image plane at the cameras' focal length (px): a
+  /// semi-random (jittered grid) pattern, a few dots in every matching block at half resolution.
+  double spacing_px = 5.0;
+  double dot_sigma_px = 0.7;  ///< a dot's Gaussian radius in the images (px)
+  /// A dot's peak radiance on a white surface facing the projector 1 m away, with the scene lit at
+  /// `reference_lux` (the shading's units: a lit white surface is about 1; brighter saturates). A
+  /// model choice: a pale wall (albedo 0.75) 3 m away shows its dots about 40 grey levels over it,
+  /// 6 m away about 10 (5x the pixel noise).
+  double power = 1.8;
+  double reference_lux = 300.0;
+  double max_range = 8.0;  ///< m; dots further than this are not drawn (well below the noise by then)
+  uint32_t pattern_seed = 435;  ///< the pattern is a property of the device: fixed
+};
+
 /// Camera / sensor model options (render_bag and the nodelet read these).
 struct CameraParams
 {
@@ -57,6 +86,7 @@ struct CameraParams
   double exposure_time = 0.0;        ///< s, motion blur when > 0 (e.g. 0.01)
   uint32_t seed = 1;
   CameraErrors errors;               ///< the rig's imperfections (default: none)
+  ProjectorParams projector;         ///< the pattern projector (default: none, a passive pair)
 };
 
 /// One rendered stereo pair with per-pixel truth.
@@ -89,6 +119,12 @@ public:
   /// where the last render() put them (at construction: t = 0).
   void setPeopleTime(double t);
 
+  /// The projector's emitter for the following frames (ignored without CameraParams::projector).
+  void setEmitter(bool on) { emitter_on_ = on; }
+  bool emitter() const { return emitter_on_; }
+  /// Number of dots in the projector's pattern (0 without a projector).
+  size_t dotCount() const;
+
   /// The auto-exposure gain factor of camera `cam` (0 left, 1 right) at `stamp` (1 without steps).
   double autoExposureGain(int cam, double stamp) const;
 
@@ -102,6 +138,7 @@ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   CameraParams params_;
+  bool emitter_on_ = false;
 };
 
 }  // namespace assistive_sim

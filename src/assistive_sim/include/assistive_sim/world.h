@@ -142,6 +142,11 @@ struct World
   double ceiling_height = 2.7;
   int ceiling_material = 0;
   double sky_brightness = 0.75;  ///< radiance of rays that hit nothing
+  /// Ambient light on the scene (lux): `sky: {illuminance}`; < 0 (unset): 300 under a ceiling
+  /// (an office's lighting), 10,000 in the open (daylight). A camera's exposure follows it, so it
+  /// sets how strongly a pattern projector's dots show (ambientLux()).
+  double illuminance_lux = -1.0;
+  double ambientLux() const { return illuminance_lux > 0.0 ? illuminance_lux : has_ceiling ? 300.0 : 10000.0; }
   Eigen::Vector3d light_dir = Eigen::Vector3d(0.3, 0.2, 1.0).normalized();  ///< towards the light
   TrajectoryScript trajectory;
   std::vector<Person> people;  ///< movers (issue 22); empty in static worlds
