@@ -38,8 +38,9 @@ bool FrameStamper::stamp(double source_stamp, double& out)
   return true;
 }
 
-StereoCamera::StereoCamera(std::unique_ptr<FrameSource> source, const StereoCameraParams& params)
-  : source_(std::move(source)), params_(params), stamper_(params.time_offset)
+StereoCamera::StereoCamera(std::unique_ptr<FrameSource> source, const StereoCameraParams& params,
+                           std::unique_ptr<EmitterControl> emitter)
+  : source_(std::move(source)), params_(params), emitter_(std::move(emitter)), stamper_(params.time_offset)
 {
 }
 
@@ -91,6 +92,7 @@ GrabStatus StereoCamera::grab(double now, StereoOutput& out)
       return GrabStatus::OPEN_FAILED;
     }
     stamper_.reset();
+    phase_.reset();
   }
   double stamp = 0.0;
   if (!source_->read(frame_, stamp))
@@ -101,11 +103,22 @@ GrabStatus StereoCamera::grab(double now, StereoOutput& out)
     return GrabStatus::READ_FAILED;
   }
   std::string err;
-  if (!splitSideBySide(frame_, params_.swap_halves, out.left_raw, out.right_raw, &err) ||
-      !toMono8(out.left_raw, out.left_mono, &err) || !toMono8(out.right_raw, out.right_mono, &err))
+  const bool split = params_.layout == "interleaved"
+                         ? splitInterleaved(frame_, params_.width, params_.height, out.left_raw, out.right_raw, &err)
+                         : splitSideBySide(frame_, params_.swap_halves, out.left_raw, out.right_raw, &err);
+  if (!split || !toMono8(out.left_raw, out.left_mono, &err) || !toMono8(out.right_raw, out.right_mono, &err))
   {
     last_error_ = err;
     return GrabStatus::BAD_FRAME;
+  }
+  out.emitter_on = false;
+  if (params_.emitter == "alternate")
+  {
+    // which exposure this was, by its dots; then the emitter for a later one (the switch reaches
+    // the sensor some frames on: the judge, not the command, says which frame had it)
+    out.emitter_on = phase_.classify(dotEnergy(out.left_mono));
+    emitter_commanded_ = !emitter_commanded_;
+    emitter_error_ = emitter_ && !emitter_->set(emitter_commanded_) ? emitter_->lastError() : std::string();
   }
   if (!stamper_.stamp(stamp, out.stamp))
   {

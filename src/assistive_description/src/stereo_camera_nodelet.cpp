@@ -53,13 +53,21 @@ private:
     right_info_ = std::make_unique<camera_info_manager::CameraInfoManager>(
         ros::NodeHandle(nh, "right"), p.right_camera_name, p.right_camera_info_url);
 
-    camera_ = std::make_unique<StereoCamera>(makeFrameSource(p), p);
+    std::unique_ptr<FrameSource> source = makeFrameSource(p);
+    std::unique_ptr<EmitterControl> emitter = makeEmitterControl(p, *source);
+    camera_ = std::make_unique<StereoCamera>(std::move(source), p, std::move(emitter));
 
     image_transport::ImageTransport it(nh);
     left_rect_pub_ = it.advertiseCamera("left/image_rect", 1);
     right_rect_pub_ = it.advertiseCamera("right/image_rect", 1);
     left_raw_pub_ = it.advertise("left/image_raw", 1);
     right_raw_pub_ = it.advertise("right/image_raw", 1);
+    if (p.emitter == "alternate")
+    {
+      // an active camera: its emitter-on pairs (the projector's dots: for disparity, never tracking)
+      left_projected_pub_ = it.advertiseCamera("projected/left/image_rect", 1);
+      right_projected_pub_ = it.advertiseCamera("projected/right/image_rect", 1);
+    }
 
     updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
     updater_->setHardwareID(p.device);
@@ -175,6 +183,14 @@ private:
         toMsg(camera_->rightRectifier().rectifiedCalibration()));
     linfo->header = lh;
     rinfo->header = rh;
+    if (!camera_->emitterError().empty())
+      NODELET_WARN_THROTTLE(10.0, "stereo_camera: %s", camera_->emitterError().c_str());
+    if (out.emitter_on)
+    {
+      left_projected_pub_.publish(cv_bridge::CvImage(lh, enc::MONO8, out.left_rect).toImageMsg(), linfo);
+      right_projected_pub_.publish(cv_bridge::CvImage(rh, enc::MONO8, out.right_rect).toImageMsg(), rinfo);
+      return;
+    }
     left_rect_pub_.publish(cv_bridge::CvImage(lh, enc::MONO8, out.left_rect).toImageMsg(), linfo);
     right_rect_pub_.publish(cv_bridge::CvImage(rh, enc::MONO8, out.right_rect).toImageMsg(), rinfo);
     rate_diag_->tick(lh.stamp);
@@ -206,6 +222,12 @@ private:
     stat.add("frames", frames_);
     stat.add("measured rate (Hz)", rate_);
     stat.add("requested rate (Hz)", params_.fps);
+    if (params_.emitter == "alternate")
+    {
+      stat.add("emitter", camera_->emitterError().empty() ? "alternating" : camera_->emitterError());
+      stat.add("emitter phase locked", camera_->emitterPhase().locked());
+      stat.add("emitter resyncs", camera_->emitterPhase().resyncs());
+    }
   }
 
   StereoCameraParams params_;
@@ -214,6 +236,7 @@ private:
   CameraCalibration left_calib_, right_calib_;
   bool have_calib_ = false;
   image_transport::CameraPublisher left_rect_pub_, right_rect_pub_;
+  image_transport::CameraPublisher left_projected_pub_, right_projected_pub_;
   image_transport::Publisher left_raw_pub_, right_raw_pub_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   std::unique_ptr<diagnostic_updater::TopicDiagnostic> rate_diag_;

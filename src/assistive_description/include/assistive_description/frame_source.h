@@ -1,5 +1,6 @@
 #pragma once
 // Where side-by-side frames come from: a V4L2 device or a synthetic pattern (tests, demos).
+#include <assistive_description/active_stereo.h>
 #include <assistive_description/params.h>
 #include <opencv2/core.hpp>
 #include <memory>
@@ -84,8 +85,47 @@ private:
   cv::Mat frame_;
 };
 
-/// The factory the nodelet uses: "synthetic" gives a paced SyntheticFrameSource.
+/// An active camera's infrared pair (Y8I, CV_8UC2: channel 0 the left eye) looking at a plain
+/// plane at a constant disparity: faint texture only, and the projector's dots (a fixed random
+/// pattern, where the projector beside the left eye puts them: `disparity` px apart between the
+/// eyes, as the plane's) on the exposures made with the emitter on. The emitter is what control()
+/// last set `latency` frames before the exposure; with `drop_every` > 0 every n-th exposure is lost
+/// on the way (a USB hiccup), so the delivered frames' phase shifts. Stamps: start + k / fps.
+class SyntheticActiveSource : public FrameSource
+{
+public:
+  SyntheticActiveSource(int width, int height, double fps, int disparity, bool pace, int latency = 1,
+                        int drop_every = 0, double start_stamp = -1.0);
+  bool open() override;
+  bool read(cv::Mat& frame, double& stamp) override;
+  void close() override { open_ = false; }
+  bool isOpen() const override { return open_; }
+  std::string describe() const override;
+  /// The emitter switch of this camera.
+  std::unique_ptr<EmitterControl> control();
+  /// Was the emitter on for the last frame read() delivered (the truth, for tests)?
+  bool lastEmitterOn() const { return last_on_; }
+
+private:
+  struct Switch;
+  int width_, height_;
+  double fps_;
+  int disparity_;
+  bool pace_;
+  int latency_, drop_every_;
+  double start_param_, start_ = 0.0;
+  long long exposure_ = 0;
+  bool open_ = false, last_on_ = false;
+  std::shared_ptr<Switch> switch_;
+  cv::Mat plain_, dots_left_, dots_right_;
+};
+
+/// The factory the nodelet uses: "synthetic" gives a paced SyntheticFrameSource (with
+/// `layout: interleaved`, a SyntheticActiveSource, latency 1).
 std::unique_ptr<FrameSource> makeFrameSource(const StereoCameraParams& p);
+/// The emitter switch for `emitter: alternate` (null otherwise): the synthetic active camera's own,
+/// else the UVC extension unit control of `device`.
+std::unique_ptr<EmitterControl> makeEmitterControl(const StereoCameraParams& p, FrameSource& source);
 
 /// Convert a capture stamp on the monotonic clock to the wall clock. Falls back to wall_now
 /// when the monotonic stamp is implausible (missing, in the future, or older than max_age s).

@@ -13,11 +13,16 @@ namespace assistive_description
 // X(type, field, ROS name, default, lo, hi, unit, text)
 #define ASSISTIVE_STEREO_CAMERA_PARAMS(X) \
   X(std::string, device, "device", "/dev/video0", {}, {}, "", "V4L2 path, a bare index (`0`), or `synthetic` (a built-in textured plane at `synthetic_disparity`, paced at `fps`; for demos and tests); empty: /dev/video0") \
-  X(int, width, "width", 1280, 2, 8192, "px", "full side-by-side frame width (both eyes); an odd width is made even") \
+  X(int, width, "width", 1280, 2, 8192, "px", "full side-by-side frame width (both eyes; an odd width is made even); `interleaved`: each eye's") \
   X(int, height, "height", 480, 1, 8192, "px", "frame height") \
   X(double, fps, "fps", 30.0, 0.5, 240.0, "Hz", "requested rate; also the expected rate in diagnostics") \
   X(std::string, fourcc, "fourcc", "MJPG", {}, {}, "", "pixel format asked from the camera, 4 characters (MJPG gives the full rate on USB 2; another length: MJPG)") \
   X(bool, swap_halves, "swap_halves", false, {}, {}, "", "true when the camera puts the left eye in the right half (a positive right `P[3]` in the calibration is reported as a hint)") \
+  /* An active camera (issue 35, the D4xx class): its infrared pair interleaved, its emitter per frame */ \
+  X(std::string, layout, "layout", "side_by_side", {}, {}, "", "`side_by_side` (both eyes in one wide frame) or `interleaved` (Y8I: each pixel's low byte the left eye, its high byte the right; use `fourcc` `Y8I `); another: side_by_side") \
+  X(std::string, emitter, "emitter", "none", {}, {}, "", "`none` (a passive pair, or the emitter left as the camera has it) or `alternate` (the driver switches the projector's emitter every frame; the frames judged emitter-on by their dots go to `projected/{left,right}/image_rect`, the others to `{left,right}/image_rect`); another: none") \
+  X(int, emitter_xu_unit, "emitter_xu_unit", 3, 0, 255, "", "`alternate`: the UVC extension unit that switches the emitter (the D4xx's depth unit)") \
+  X(int, emitter_xu_selector, "emitter_xu_selector", 2, 0, 255, "", "`alternate`: its control (one byte: 1 on, 0 off; the D4xx's emitter enabled)") \
   /* Stamps are the driver's V4L2 buffer time (monotonic clock) moved to the wall clock, or the */ \
   /* wall clock at capture when the driver gives none. Frames whose stamp is not after the */ \
   /* previous one are dropped. */ \

@@ -29,6 +29,9 @@ struct StereoOutput
   cv::Mat left_mono, right_mono;   ///< mono8, unrectified
   cv::Mat left_rect, right_rect;   ///< mono8, rectified (empty when !rectified)
   bool rectified = false;
+  /// `emitter: alternate`: this pair was exposed with the projector's emitter on (judged by its
+  /// dots, EmitterPhase); always false otherwise.
+  bool emitter_on = false;
 };
 
 /// Stamps: source stamp + offset, strictly increasing; measures the frame rate.
@@ -51,7 +54,10 @@ private:
 class StereoCamera
 {
 public:
-  StereoCamera(std::unique_ptr<FrameSource> source, const StereoCameraParams& params);
+  /// `emitter`: the switch `emitter: alternate` toggles after every frame (null: the frames are
+  /// still told apart by their dots, the emitter left as the camera alternates it).
+  StereoCamera(std::unique_ptr<FrameSource> source, const StereoCameraParams& params,
+               std::unique_ptr<EmitterControl> emitter = nullptr);
 
   /// Build both rectifiers (once per calibration). Hard errors (uncalibrated, unknown model,
   /// left/right sizes differ) return false; doubtful pairs (right P(0,3) >= 0, different fx)
@@ -69,6 +75,11 @@ public:
 
   bool isOpen() const { return source_->isOpen(); }
   const FrameSource& source() const { return *source_; }
+  FrameSource& source() { return *source_; }
+  /// `emitter: alternate`: the judge of which frames had the emitter on.
+  const EmitterPhase& emitterPhase() const { return phase_; }
+  /// Why the last emitter switch failed (empty: it worked, or there is none).
+  const std::string& emitterError() const { return emitter_error_; }
   const std::string& lastError() const { return last_error_; }
   const std::string& lastWarning() const { return last_warning_; }
   double frameRate() const { return stamper_.rate(); }
@@ -78,6 +89,10 @@ public:
 private:
   std::unique_ptr<FrameSource> source_;
   StereoCameraParams params_;
+  std::unique_ptr<EmitterControl> emitter_;
+  bool emitter_commanded_ = false;
+  std::string emitter_error_;
+  EmitterPhase phase_;
   Rectifier left_, right_;
   FrameStamper stamper_;
   double next_retry_ = -1e300;
