@@ -164,6 +164,12 @@ void ObstacleFrameProcessor::runMovers(const ObstacleFrame& f, const Eigen::Isom
     map_.setMovers({});  // no pose for the movers (the VO lost it): no flow, as in the chain
     return;
   }
+  if (f.track_left && f.track_right)
+  {
+    map_.setMovers(movers_->process(f.track_stamp, *f.track_left, disp_, f.model,
+                                    f.own_mover_pose ? *f.mover_pose : f.track_pose, f.track_right));
+    return;
+  }
   const Eigen::Isometry3d ego = f.own_mover_pose ? *f.mover_pose : T_world_cam.cast<double>();
   map_.setMovers(movers_->process(f.stamp, f.left, disp_, f.model, ego, &f.right));
 }

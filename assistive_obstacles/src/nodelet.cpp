@@ -8,6 +8,7 @@
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <diagnostic_updater/publisher.h>
 #include <message_filters/subscriber.h>
+#include <message_filters/time_synchronizer.h>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/sync_policies/exact_time.h>
 #include <message_filters/synchronizer.h>
@@ -73,6 +74,15 @@ public:
       assistive_common::guarded(getName(), "diagnostics", [&] { diag_->update(); });
     });
 
+    if (node_.projected && params_.movers)
+    {
+      // the emitter-off pairs, for the movers' scene flow only (latest pair kept)
+      sub_track_l_.subscribe(nh, "track/left/image_rect", 1);
+      sub_track_r_.subscribe(nh, "track/right/image_rect", 1);
+      track_sync_ = std::make_shared<message_filters::TimeSynchronizer<Image, Image>>(sub_track_l_, sub_track_r_,
+                                                                                       node_.queue_size);
+      track_sync_->registerCallback(&ObstaclesNodelet::trackCb, this);
+    }
     sub_l_.subscribe(nh, "left/image_rect", 1);
     sub_r_.subscribe(nh, "right/image_rect", 1);
     sub_li_.subscribe(nh, "left/camera_info", 1);
@@ -120,6 +130,14 @@ private:
     for (const std::string& w : clampParams(p)) NODELET_WARN("obstacles: %s", w.c_str());
     NODELET_INFO("obstacles: %s", assistive_common::describe(p).c_str());
     NODELET_INFO("obstacles: %s", assistive_common::describe(node_).c_str());
+  }
+
+  /// An active camera's emitter-off pair (`projected`): kept for the next emitter-on frame's movers.
+  void trackCb(const sensor_msgs::ImageConstPtr& l, const sensor_msgs::ImageConstPtr& r)
+  {
+    std::lock_guard<std::mutex> lock(track_mutex_);
+    track_l_ = l;
+    track_r_ = r;
   }
 
   /// Every left image, before it waits for its pose: the diagnostics tell "input stopped" from
@@ -193,6 +211,36 @@ private:
     f.left = cl->image;
     f.right = cr->image;
     f.pose_trusted = !pose_untrusted_.exchange(false);
+    cv_bridge::CvImageConstPtr tl, tr;
+    if (node_.projected && params_.movers)
+    {
+      // the movers track the emitter-off pair just before (its pose on tf: the VO tracked it)
+      sensor_msgs::ImageConstPtr ml, mr;
+      {
+        std::lock_guard<std::mutex> lock(track_mutex_);
+        ml = track_l_;
+        mr = track_r_;
+      }
+      const double age = ml ? f.stamp - ml->header.stamp.toSec() : 1e9;
+      try
+      {
+        if (ml && mr && age >= 0.0 && age < 0.1)
+        {
+          tl = cv_bridge::toCvShare(ml, sensor_msgs::image_encodings::MONO8);
+          tr = cv_bridge::toCvShare(mr, sensor_msgs::image_encodings::MONO8);
+          f.track_pose = tf2::transformToEigen(
+              tf_buffer_->lookupTransform(node_.world_frame, ml->header.frame_id, ml->header.stamp));
+          f.track_left = &tl->image;
+          f.track_right = &tr->image;
+          f.track_stamp = ml->header.stamp.toSec();
+        }
+      }
+      catch (const std::exception& e)
+      {
+        f.track_left = f.track_right = nullptr;
+        NODELET_WARN_THROTTLE(5.0, "obstacles: the emitter-off pair for the movers: %s", e.what());
+      }
+    }
     try
     {
       // Available: the tf filter let the left image through (no timeout, no wait).
@@ -394,6 +442,10 @@ private:
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   message_filters::Subscriber<Image> sub_l_, sub_r_;
+  message_filters::Subscriber<Image> sub_track_l_, sub_track_r_;
+  std::shared_ptr<message_filters::TimeSynchronizer<Image, Image>> track_sync_;
+  std::mutex track_mutex_;
+  sensor_msgs::ImageConstPtr track_l_, track_r_;
   std::unique_ptr<tf2_ros::MessageFilter<Image>> tf_filter_;
   message_filters::Subscriber<CameraInfo> sub_li_, sub_ri_;
   std::shared_ptr<message_filters::Synchronizer<ExactPolicy>> exact_;

@@ -540,6 +540,8 @@ public:
                std::map<long, Eigen::Isometry3d> mover_poses, eval::StereoBagReader& reader);
   /// Every frame of the bag; false (with the message) when none was usable.
   bool run();
+  /// The movers track the emitter-off pairs of an active camera's bag (opt_.projected).
+  void setTrackReader(std::unique_ptr<eval::StereoBagReader> reader);
   /// The PNG of the scored map at the last frame.
   void plotMap();
   /// The report on stdout (and OBST_FPMAP's cells on stderr).
@@ -550,6 +552,8 @@ public:
 private:
   /// One frame with a truth pose through the stage; true when the map took it (scored).
   bool processFrame();
+  /// The next emitter-off pair of the track reader at or before the frame.
+  void advanceTrack();
   /// The frame's diagnostics asked for in the environment (stderr).
   void printDiagnostics(const ObstacleFrameResult& res, const StereoModel& model, const Eigen::Isometry3d* ego);
   /// The wearer now (truth): position, speed over 0.5 s, heading.
@@ -613,6 +617,11 @@ private:
   Sum s3_strict;  // the truth's own codes, every partly covered cell an obstacle
   std::set<size_t> ranger_hit_glass, freed_after_hit;  // indices into glass_cells
   eval::StereoFrame f;
+  // An active camera's bag (opt_.projected): its emitter-off pairs, which the movers track; the
+  // latest at or before the emitter-on frame `f`, and the one after it.
+  std::unique_ptr<eval::StereoBagReader> track_reader_;
+  eval::StereoFrame track_f, track_next;
+  bool have_track = false, have_track_next = false;
   int frames = 0, used = 0, no_pose = 0;
   GridData grid;
   Eigen::Vector2d wearer{0, 0};
@@ -665,6 +674,22 @@ bool ObstaclesRun::run()
   return true;
 }
 
+void ObstaclesRun::setTrackReader(std::unique_ptr<eval::StereoBagReader> reader)
+{
+  track_reader_ = std::move(reader);
+  have_track_next = track_reader_ && track_reader_->next(track_next);
+}
+
+void ObstaclesRun::advanceTrack()
+{
+  while (have_track_next && track_next.stamp <= f.stamp + 1e-6)
+  {
+    std::swap(track_f, track_next);
+    have_track = true;
+    have_track_next = track_reader_->next(track_next);
+  }
+}
+
 bool ObstaclesRun::processFrame()
 {
   const eval::StereoCalib& c = f.calib;
@@ -676,6 +701,14 @@ bool ObstaclesRun::processFrame()
   in.right = f.right;
   in.model = model;
   in.T_world_cam = f.gt_pose;
+  advanceTrack();
+  if (have_track && track_f.has_gt_pose && f.stamp - track_f.stamp < 0.1)
+  {
+    in.track_left = &track_f.left;
+    in.track_right = &track_f.right;
+    in.track_stamp = track_f.stamp;
+    in.track_pose = track_f.gt_pose;
+  }
   cv::Mat true_disp;
   if (opt_.gt_depth)
   {
@@ -1195,6 +1228,8 @@ int main(int argc, char** argv)
     if (mover_poses.empty()) return cl.usageError("no pose rows in " + opt.mover_poses_path);
   }
   ObstaclesRun run(opt, params, truth, ranger, std::move(mover_poses), *reader);
+  if (opt.projected && params.movers)
+    run.setTrackReader(eval::openStereoBag("obstacles_benchmark", bag, topics));
   if (!run.run())
     return 1;
   run.plotMap();

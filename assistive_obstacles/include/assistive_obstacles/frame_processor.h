@@ -52,6 +52,14 @@ struct ObstacleFrame
   /// `own_mover_pose` with `mover_pose` null = no pose for the movers this frame (no scene flow).
   bool own_mover_pose = false;
   const Eigen::Isometry3d* mover_pose = nullptr;
+  /// An active camera (issue 35): `left`/`right` are its emitter-on pair (the projector's dots give
+  /// the disparity), and this is the emitter-off pair just before it, which the movers' scene flow
+  /// tracks instead (the dots move with the head, not with the world: tracked, they are movers).
+  /// Its stamp and pose; the disparity of `left` is its features' stereo prior. Null: `left`.
+  const cv::Mat* track_left = nullptr;
+  const cv::Mat* track_right = nullptr;
+  double track_stamp = 0.0;
+  Eigen::Isometry3d track_pose = Eigen::Isometry3d::Identity();
 };
 
 /// A ranger reading the frame applied (after the frame gate's epoch check and the pose lookup).

@@ -134,6 +134,7 @@ namespace assistive_obstacles
   X(int, queue_size, "queue_size", 5, 1, 100, "", "synchroniser and tf-filter queue") \
   X(bool, approximate_sync, "approximate_sync", false, {}, {}, "", "ApproximateTime instead of ExactTime") \
   X(bool, use_odom, "use_odom", true, {}, {}, "", "clear the map when `odom` marks a pose untrusted") \
+  X(bool, projected, "projected", false, {}, {}, "", "an active camera (issue 35): `left/image_rect`... are its emitter-on pairs (the projector's dots), and the movers track its emitter-off pairs on `track/{left,right}/image_rect` (the dots move with the head)") \
   X(int, octomap_insert_every, "octomap_insert_every", 5, 1, 1000, "frames", "OctoMap insertion period")
 // clang-format on
 
