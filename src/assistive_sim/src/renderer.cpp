@@ -42,6 +42,25 @@ uint64_t mix64(uint64_t x)
   x ^= x >> 33;
   return x;
 }
+
+/// A single ray from `org` along `dir` between tnear and tfar, not yet hit.
+RTCRayHit singleRay(const Eigen::Vector3f& org, const Eigen::Vector3f& dir, float tnear, float tfar)
+{
+  RTCRayHit rh;
+  rh.ray.org_x = org.x();
+  rh.ray.org_y = org.y();
+  rh.ray.org_z = org.z();
+  rh.ray.dir_x = dir.x();
+  rh.ray.dir_y = dir.y();
+  rh.ray.dir_z = dir.z();
+  rh.ray.tnear = tnear;
+  rh.ray.tfar = tfar;
+  rh.ray.mask = 0xFFFFFFFF;
+  rh.ray.flags = 0;
+  rh.ray.time = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  return rh;
+}
 }  // namespace
 
 bool CameraErrors::any() const
@@ -135,19 +154,7 @@ struct StereoRenderer::Impl
       float tnear = 0.f;
       for (int pass = 0; pass < 4; ++pass)
       {
-        RTCRayHit rh;
-        rh.ray.org_x = origin.x();
-        rh.ray.org_y = origin.y();
-        rh.ray.org_z = origin.z();
-        rh.ray.dir_x = dir.x();
-        rh.ray.dir_y = dir.y();
-        rh.ray.dir_z = dir.z();
-        rh.ray.tnear = tnear;
-        rh.ray.tfar = max_r;
-        rh.ray.mask = 0xFFFFFFFF;
-        rh.ray.flags = 0;
-        rh.ray.time = 0;
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        RTCRayHit rh = singleRay(origin, dir, tnear, max_r);
         intersect1(&ctx, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
         const Prim& p = prim(rh.hit.geomID, rh.hit.primID);
@@ -489,19 +496,7 @@ struct StereoRenderer::Impl
   {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    RTCRayHit rh;
-    rh.ray.org_x = org.x();
-    rh.ray.org_y = org.y();
-    rh.ray.org_z = org.z();
-    rh.ray.dir_x = dir.x();
-    rh.ray.dir_y = dir.y();
-    rh.ray.dir_z = dir.z();
-    rh.ray.tnear = tnear;
-    rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.mask = 0xFFFFFFFF;
-    rh.ray.flags = 0;
-    rh.ray.time = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = singleRay(org, dir, tnear, std::numeric_limits<float>::infinity());
     intersect1(&ctx, &rh);
     const float dn = dir.norm();
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
@@ -667,19 +662,7 @@ double StereoRenderer::castRay(const Eigen::Vector3d& origin, const Eigen::Vecto
 {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
-  RTCRayHit rh;
-  rh.ray.org_x = origin.x();
-  rh.ray.org_y = origin.y();
-  rh.ray.org_z = origin.z();
-  rh.ray.dir_x = dir.x();
-  rh.ray.dir_y = dir.y();
-  rh.ray.dir_z = dir.z();
-  rh.ray.tnear = 0;
-  rh.ray.tfar = std::numeric_limits<float>::infinity();
-  rh.ray.mask = 0xFFFFFFFF;
-  rh.ray.flags = 0;
-  rh.ray.time = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  RTCRayHit rh = singleRay(origin.cast<float>(), dir.cast<float>(), 0.f, std::numeric_limits<float>::infinity());
   impl_->intersect1(&ctx, &rh);
   return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1.0 : rh.ray.tfar;
 }
