@@ -13,11 +13,12 @@ namespace
 {
 void usage(std::ostream& os = std::cerr)
 {
-  os << "usage: generate_world --seed N [--kind office|lobby|corridor|hall|street|home|shop] [--people N] --out W.yaml\n"
+  os << "usage: generate_world --seed N [--kind office|lobby|corridor|hall|street|home|shop] [--people N] [--pale] --out W.yaml\n"
         "  writes a world file (README \"World files\") with a random layout of that kind (default: chosen\n"
         "  by the seed among the first five), furniture, materials and a collision-free walk; the same seed\n"
         "  gives the same file. Doorways the walk uses are 0.80-0.90 m clear, halls and aisles 1.2-1.5 m.\n"
-        "  --people N (0 .. 100, default 0): N people whose walks cross the generated walk in time\n";
+        "  --people N (0 .. 100, default 0): N people whose walks cross the generated walk in time\n"
+        "  --pale: the kind's texture richness cut to a fifth (below 0.2: bare paint; issue 35), another layout\n";
 }
 
 std::string jsonEscape(const std::string& s)
@@ -37,6 +38,7 @@ int main(int argc, char** argv)
   std::string kind, out;
   long seed = -1;
   int people = 0;
+  bool pale = false;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -54,6 +56,7 @@ int main(int argc, char** argv)
       if (a == "--seed") seed = std::stol(val());
       else if (a == "--kind") kind = val();
       else if (a == "--out") out = val();
+      else if (a == "--pale") pale = true;
       else if (a == "--people")
       {
         people = std::stoi(val());
@@ -87,7 +90,9 @@ int main(int argc, char** argv)
   GeneratedWorld g;
   try
   {
-    g = WorldGenerator(static_cast<uint32_t>(seed), kind, people).generate();
+    WorldGenerator gen(static_cast<uint32_t>(seed), kind, people);
+    gen.setPale(pale);
+    g = gen.generate();
   }
   catch (const std::invalid_argument& e)
   {

@@ -864,8 +864,12 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
       row_R[r] = (R_l * R_cam).cast<float>();
       row_org[r] = (o_l + R_l * offset).cast<float>();
     }
-    const float scale =
-        static_cast<float>(255.0 * gain * (err.ae_step > 0.0 ? autoExposureGain(cam, stamp) : 1.0));
+    // In little light the gain is capped and the image darkens (LowLightParams)
+    const LowLightParams& ll = params_.low_light;
+    const double ll_gain = ll.gainAt(d.ambient_lux);
+    const double ll_dim = ll_gain > ll.max_gain ? ll.max_gain / ll_gain : 1.0;
+    const float scale = static_cast<float>(255.0 * gain * (err.ae_step > 0.0 ? autoExposureGain(cam, stamp) : 1.0) *
+                                           ll_dim);
     float* rad = d.radiance.data();
     d.pending.clear();
 
@@ -1045,11 +1049,29 @@ void StereoRenderer::render(const Eigen::Isometry3d& T_wl, double stamp, uint64_
     const uint32_t off = static_cast<uint32_t>(mix64(params_.seed * 1000003ULL + frame_index * 2 + cam));
     const float* nz = d.noise.data();
     const bool noisy = params_.noise_sigma > 0.0;
+    // gain's extra noise: its variance a + b S, drawn from the same table at another offset
+    const double g = std::min(ll_gain, ll.max_gain), e_per_grey = ll.full_well_e / 255.0;
+    const bool low_light = noisy && g > 1.0;
+    const float var_a = static_cast<float>(ll.read_noise_e * ll.read_noise_e * (g * g - 1.0) / (e_per_grey * e_per_grey));
+    const float var_b = static_cast<float>((g - 1.0) / e_per_grey);
+    const float inv_sigma = noisy ? static_cast<float>(1.0 / params_.noise_sigma) : 0.f;
+    const uint32_t off2 = off ^ 0x5bd1e995u;
     for (int v = 0; v < H; ++v)
     {
       uint8_t* row = img.ptr<uint8_t>(v);
       const float* rr = rad + static_cast<size_t>(v) * W;
       const uint32_t base = off + static_cast<uint32_t>(v) * W;
+      if (low_light)
+      {
+        const uint32_t base2 = off2 + static_cast<uint32_t>(v) * W;
+        for (int u = 0; u < W; ++u)
+        {
+          const float sgl = rr[u] * scale;
+          const float extra = std::sqrt(var_a + var_b * std::max(sgl, 0.f)) * inv_sigma * nz[(base2 + u) & NOISE_MASK];
+          row[u] = static_cast<uint8_t>(std::clamp(sgl + nz[(base + u) & NOISE_MASK] + extra + 0.5f, 0.f, 255.f));
+        }
+        continue;
+      }
       for (int u = 0; u < W; ++u)
       {
         float val = rr[u] * scale + (noisy ? nz[(base + u) & NOISE_MASK] : 0.f) + 0.5f;

@@ -219,3 +219,41 @@ TEST(Projector, DaylightWashesTheDotsOut)
   EXPECT_LT(mo, 0.1 * mi);
   EXPECT_NEAR(md / mi, 0.1, 0.03);
 }
+
+TEST(LowLight, GainRaisesTheNoiseThenTheImageDarkens)
+{
+  // A plain wall filling rows 10-50 (no texture: what varies there is the noise).
+  auto wallStats = [](double lux, double& mean, double& sd) {
+    const std::string sky = lux > 0 ? "sky: {brightness: 0.75, illuminance: " + std::to_string(lux) + "}\n" : "";
+    const World w = World::parse(plainRoom(3.0, true, sky), "plain");
+    CameraParams p = camera(false);
+    p.noise_sigma = 2.0;
+    StereoRenderer r(w, p);
+    RenderOutput out;
+    r.render(levelPose(), 0.0, 3, out);
+    cv::Mat roi;
+    out.left(cv::Rect(5, 10, 60, 40)).convertTo(roi, CV_32F);
+    cv::Scalar m, s;
+    cv::meanStdDev(roi, m, s);
+    mean = m[0];
+    sd = s[0];
+    return out.left.clone();
+  };
+  double m300, s300, m1000, s1000, m10, s10, m1, s1;
+  const cv::Mat a = wallStats(300.0, m300, s300), b = wallStats(1000.0, m1000, s1000), c = wallStats(-1.0, m1000, s1000);
+  // in good light nothing changes: 300 and 1000 lux and the default give the same image
+  EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(a, c, cv::NORM_INF), 0.0);
+  EXPECT_NEAR(s300, 2.0, 0.3);
+  // 10 lux: gain 10, the level kept; the noise as the model says at that level
+  wallStats(10.0, m10, s10);
+  const LowLightParams ll;
+  const double g = 10.0, epg = ll.full_well_e / 255.0;
+  const double want = std::sqrt(4.0 + ll.read_noise_e * ll.read_noise_e * (g * g - 1) / (epg * epg) + (g - 1) * m10 / epg);
+  EXPECT_NEAR(m10, m300, 1.0);
+  EXPECT_NEAR(s10, want, 0.15 * want);
+  EXPECT_GT(s10, 2.5 * s300);
+  // 1 lux: the gain capped at 16 of the 100 needed: the image at 16 %
+  wallStats(1.0, m1, s1);
+  EXPECT_NEAR(m1 / m300, 0.16, 0.02);
+}

@@ -154,6 +154,34 @@ TEST(WorldGenerator, KindsAndErrors)
   EXPECT_NE(WorldGenerator(1, "office").generate().yaml, WorldGenerator(2, "office").generate().yaml);
 }
 
+TEST(WorldGenerator, PaleWorldsAreBarePaintWithAClearWalk)
+{
+  // issue 35: each kind's pale variant has a texture richness below 0.2 (most walls plain paint),
+  // its own name, and still a clear walk that parses; the ordinary world of the seed is untouched
+  for (const std::string& kind : WorldGenerator::kinds())
+    for (uint32_t seed : { 5u, 6u })
+    {
+      const GeneratedWorld plain = WorldGenerator(seed, kind).generate();
+      WorldGenerator gen(seed, kind);
+      gen.setPale(true);
+      const GeneratedWorld pale = gen.generate();
+      EXPECT_EQ(plain.yaml, WorldGenerator(seed, kind).generate().yaml);
+      EXPECT_EQ(pale.world.name, "gen_" + kind + "_pale_" + std::to_string(seed));
+      const size_t at = pale.yaml.find("texture richness ");
+      ASSERT_NE(at, std::string::npos);
+      EXPECT_LT(std::stod(pale.yaml.substr(at + 17)), 0.2) << kind << " " << seed;
+      EXPECT_GE(pale.world.trajectory.waypoints.size(), 2u);
+      int walls = 0, bare = 0;
+      for (const Material& m : pale.world.materials)
+        if (m.name.rfind("wall", 0) == 0)
+        {
+          ++walls;
+          bare += m.pattern == Pattern::PLAIN;
+        }
+      EXPECT_GE(bare, walls / 2) << kind << " " << seed << ": " << bare << " of " << walls << " walls plain";
+    }
+}
+
 TEST_P(Generated, PeopleCrossTheWalkClearOfObstacles)
 {
   // --people 5: the same world (solids, walk) plus people; each keeps its radius + 0.05 m from every

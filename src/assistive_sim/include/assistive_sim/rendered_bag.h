@@ -18,8 +18,10 @@ class RenderedBag
 {
 public:
   /// Renders `frames` of `world` (a shipped world's name or a world file) into a folder named
-  /// `<tmp>/<tag>_XXXXXX`; path() is empty when render_bag failed, and log() says why.
-  RenderedBag(const std::string& world, int frames, const std::string& tag = "rendered_bag")
+  /// `<tmp>/<tag>_XXXXXX`; path() is empty when render_bag failed, and log() says why. A passive
+  /// camera unless `active` (render_bag's default, the reference camera: issue 35's emitter-on
+  /// pairs on /stereo/projected too, twice the rendering).
+  RenderedBag(const std::string& world, int frames, const std::string& tag = "rendered_bag", bool active = false)
   {
     std::string tmpl = (std::filesystem::temp_directory_path() / (tag + "_XXXXXX")).string();
     if (!mkdtemp(tmpl.data()))
@@ -28,7 +30,8 @@ public:
     std::string name = std::filesystem::path(world).stem().string();
     const std::string bag = dir_ + "/" + name + ".bag";
     const std::string render = "rosrun assistive_sim render_bag --world " + world + " --frames " +
-                               std::to_string(frames) + " --out " + bag + " > " + dir_ + "/render.log 2>&1";
+                               std::to_string(frames) + (active ? "" : " --passive") + " --out " + bag + " > " + dir_ +
+                               "/render.log 2>&1";
     if (std::system(render.c_str()) == 0)
       path_ = bag;
   }

@@ -1,6 +1,7 @@
 #pragma once
 // Embree 3 ray-casting stereo renderer. ROS-free. Single-threaded by design (the bag generator
 // is measured on one core); one instance per thread.
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -75,6 +76,23 @@ struct ProjectorParams
   uint32_t pattern_seed = 435;  ///< the pattern is a property of the device: fixed
 };
 
+/// The sensor in little light (issue 35): the auto exposure keeps an image's level down to
+/// `full_exposure_lux` by exposing longer; below it the exposure is at its longest (a frame's
+/// time) and the gain rises as full_exposure_lux / lux, up to `max_gain`; darker still, the image
+/// darkens. Gain amplifies the shot noise (a grey level of the base gain is full_well_e / 255
+/// electrons) and the read noise: the noise added over the base `noise_sigma` is
+/// sqrt((g - 1) S 255 / full_well_e + read_noise_e^2 (g^2 - 1) (255 / full_well_e)^2) grey levels
+/// at signal S and gain g. At the shipped worlds' light (300 lux and more) nothing changes.
+struct LowLightParams
+{
+  double full_exposure_lux = 100.0;
+  double max_gain = 16.0;      ///< 24 dB
+  double full_well_e = 6000.0; ///< a small global-shutter pixel's (3 um class)
+  double read_noise_e = 3.0;
+  /// The gain (>= 1, before the cap) at an ambient light of `lux`.
+  double gainAt(double lux) const { return lux > 0.0 ? std::max(1.0, full_exposure_lux / lux) : max_gain; }
+};
+
 /// Camera / sensor model options (render_bag and the nodelet read these).
 struct CameraParams
 {
@@ -87,6 +105,7 @@ struct CameraParams
   uint32_t seed = 1;
   CameraErrors errors;               ///< the rig's imperfections (default: none)
   ProjectorParams projector;         ///< the pattern projector (default: none, a passive pair)
+  LowLightParams low_light;          ///< gain and noise in little light (the world's `sky.illuminance`)
 };
 
 /// One rendered stereo pair with per-pixel truth.

@@ -54,10 +54,16 @@ public:
 
   const std::string& kind() const { return kind_; }
 
+  /// Pale (issue 35): the kind's texture richness cut to a fifth (below 0.2: bare paint, plain
+  /// floors and furniture: what passive stereo cannot see). The layout differs from the same
+  /// seed's ordinary one (the materials draw from the same generator); named gen_<kind>_pale_<seed>.
+  void setPale(bool pale) { pale_ = pale; }
+
 private:
   uint32_t seed_;
   std::string kind_;
   int people_ = 0;
+  bool pale_ = false;
 };
 
 }  // namespace assistive_sim
