@@ -1,6 +1,7 @@
 // Rostest: the stereo_camera nodelet on the synthetic source publishes mono8 rectified pairs with
 // one stamp per pair, rectified camera_info (D = 0, R = I, right P[3] = -fx * baseline), raw
 // halves on demand that hold the right halves of the frame, and diagnostics.
+#include <assistive_description/active_stereo.h>
 #include <assistive_description/frame_source.h>
 
 #include <cv_bridge/cv_bridge.h>
@@ -132,4 +133,40 @@ int main(int argc, char** argv)
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_stereo_camera_nodelet");
   return RUN_ALL_TESTS();
+}
+
+// stereo_camera_active.test (issue 35): the synthetic active camera; each emitter-on pair (the
+// projector's dots) on /stereo/projected, each other pair on /stereo, never both, alternating.
+TEST(StereoCameraActive, EmitterOnPairsGoToProjectedTheOthersToTheStereoTopics)
+{
+  ros::NodeHandle nh;
+  Collector<sensor_msgs::Image> off, on;
+  Collector<sensor_msgs::CameraInfo> on_info;
+  auto s1 = nh.subscribe("/stereo/left/image_rect", 20, &Collector<sensor_msgs::Image>::cb, &off);
+  auto s2 = nh.subscribe("/stereo/projected/left/image_rect", 20, &Collector<sensor_msgs::Image>::cb, &on);
+  auto s3 = nh.subscribe("/stereo/projected/left/camera_info", 20, &Collector<sensor_msgs::CameraInfo>::cb, &on_info);
+  ASSERT_TRUE(spinUntil([&] { return off.msgs.size() >= 10 && on.msgs.size() >= 10 && on_info.msgs.size() >= 5; }))
+      << off.msgs.size() << " " << on.msgs.size() << " " << on_info.msgs.size();
+  auto energy = [](const sensor_msgs::ImageConstPtr& m) {
+    return assistive_description::dotEnergy(cv_bridge::toCvShare(m, "mono8")->image);
+  };
+  double max_off = 0.0, min_on = 1e9;
+  std::map<double, char> kind;
+  // (the first frames come before the switch first reaches the synthetic sensor: judged from the
+  // fifth of each on)
+  for (size_t i = 4; i < off.msgs.size(); ++i) max_off = std::max(max_off, energy(off.msgs[i])), kind[off.msgs[i]->header.stamp.toSec()] = 'f';
+  for (size_t i = 4; i < on.msgs.size(); ++i) min_on = std::min(min_on, energy(on.msgs[i])), kind[on.msgs[i]->header.stamp.toSec()] = 'n';
+  EXPECT_GT(min_on, 1.5 * max_off) << "the projected pairs carry the dots";
+  for (const auto& m : off.msgs)
+    for (const auto& n : on.msgs) ASSERT_NE(m->header.stamp, n->header.stamp);
+  // alternating: no two pairs of the same kind in a row among the later frames
+  int repeats = 0;
+  char last = 0;
+  for (const auto& k : kind)
+  {
+    repeats += k.second == last;
+    last = k.second;
+  }
+  EXPECT_LE(repeats, 1);
+  EXPECT_EQ(on_info.msgs.back()->width, 640u);
 }
