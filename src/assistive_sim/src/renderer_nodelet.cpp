@@ -72,6 +72,7 @@ private:
     pnh.param("loop", p.loop, p.loop);
     pnh.param("render_on_pose", p.render_on_pose, p.render_on_pose);
     pnh.param("people_time_origin", p.people_time_origin, p.people_time_origin);
+    pnh.param("projector", p.projector, p.projector);
     const RendererNodeParams def;
     auto clamp = [&](auto& v, auto lo, auto hi, const char* name, auto d) {
       if (v < lo || v > hi)
@@ -106,6 +107,7 @@ private:
     cam.noise_sigma = p.noise_sigma;
     cam.exposure_time = p.exposure_time;
     cam.seed = static_cast<uint32_t>(p.seed);
+    cam.projector.enabled = p.projector;
     try
     {
       std::string dir = ASSISTIVE_SIM_SHARE_WORLDS;
@@ -129,6 +131,14 @@ private:
     pub_left_info_ = nh.advertise<sensor_msgs::CameraInfo>("left/camera_info", 2);
     pub_right_info_ = nh.advertise<sensor_msgs::CameraInfo>("right/camera_info", 2);
     pub_depth_ = nh.advertise<sensor_msgs::Image>("ground_truth/depth", 2);
+    if (p.projector)
+    {
+      // the reference camera's emitter-on pairs (issue 35)
+      pub_proj_left_ = nh.advertise<sensor_msgs::Image>("projected/left/image_rect", 2);
+      pub_proj_right_ = nh.advertise<sensor_msgs::Image>("projected/right/image_rect", 2);
+      pub_proj_left_info_ = nh.advertise<sensor_msgs::CameraInfo>("projected/left/camera_info", 2);
+      pub_proj_right_info_ = nh.advertise<sensor_msgs::CameraInfo>("projected/right/camera_info", 2);
+    }
     pub_occ_ = nh.advertise<nav_msgs::OccupancyGrid>("ground_truth/occupancy", 1, true);
     if (!world_.people.empty()) pub_people_ = nh.advertise<assistive_msgs::MoverArray>("ground_truth/people", 5);
     pub_occ_.publish(toMsg(computeOccupancy(world_), p.world_frame, ros::Time::now()));
@@ -326,6 +336,18 @@ private:
     pub_left_info_.publish(toCameraInfo(c, false, p_.left_frame, now));
     pub_right_info_.publish(toCameraInfo(c, true, p_.right_frame, now));
     if (pub_depth_.getNumSubscribers() > 0) pub_depth_.publish(toDepthMsg(out_.depth_left, p_.left_frame, now));
+    if (p_.projector)
+    {
+      // The emitter-on pair of the same pose, with the same stamp (the device's comes half a frame
+      // later; here the pose is all there is, and the map's tf is the VO's at this stamp)
+      renderer_->setEmitter(true);
+      renderer_->render(T, (now - start_).toSec(), (frame_ - 1) + (1ull << 32), out_, omega_opt);
+      renderer_->setEmitter(false);
+      pub_proj_left_.publish(toImageMsg(out_.left, p_.left_frame, now));
+      pub_proj_right_.publish(toImageMsg(out_.right, p_.right_frame, now));
+      pub_proj_left_info_.publish(toCameraInfo(c, false, p_.left_frame, now));
+      pub_proj_right_info_.publish(toCameraInfo(c, true, p_.right_frame, now));
+    }
     freq_->tick();
     updater_->update();
   }
@@ -350,6 +372,7 @@ private:
   std::unique_ptr<ImuSimulator> imu_;
   std::unique_ptr<UltrasonicRanger> sonar_;
   RenderOutput out_;
+  ros::Publisher pub_proj_left_, pub_proj_right_, pub_proj_left_info_, pub_proj_right_info_;
   ros::Publisher pub_left_, pub_right_, pub_left_info_, pub_right_info_, pub_depth_, pub_occ_, pub_imu_, pub_odom_,
       pub_sonar_, pub_people_;
   ros::Subscriber sub_pose_;

@@ -3,6 +3,7 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <ros/master.h>
@@ -73,6 +74,37 @@ TEST(RendererNodelet, ScriptModePublishesStereoBagTopics)
   ASSERT_TRUE(occ);
   EXPECT_NEAR(occ->info.resolution, 0.2, 1e-6);
   EXPECT_NE(std::count(occ->data.begin(), occ->data.end(), 100), 0);
+}
+
+TEST(RendererNodelet, ProjectorAddsEachPosesEmitterOnPairWithItsStamp)
+{
+  // issue 35 (projector:=true): each pose's emitter-on pair on /stereo/projected, stamped as the pair
+  ros::NodeHandle nh;
+  std::vector<sensor_msgs::ImageConstPtr> off, on;
+  auto s1 = nh.subscribe<sensor_msgs::Image>("/stereo/left/image_rect", 50,
+                                             [&](const sensor_msgs::ImageConstPtr& m) { off.push_back(m); });
+  auto s2 = nh.subscribe<sensor_msgs::Image>("/stereo/projected/left/image_rect", 50,
+                                             [&](const sensor_msgs::ImageConstPtr& m) { on.push_back(m); });
+  auto info = waitFor<sensor_msgs::CameraInfo>("/stereo/projected/right/camera_info", 40.0);
+  ASSERT_TRUE(info);
+  EXPECT_NEAR(info->P[3], -info->P[0] * 0.12, 1e-9);
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(30.0);
+  while (ros::ok() && on.size() < 5 && ros::WallTime::now() < end)
+  {
+    ros::spinOnce();
+    ros::WallDuration(0.01).sleep();
+  }
+  ros::WallDuration(0.3).sleep();
+  ros::spinOnce();
+  ASSERT_GE(on.size(), 5u);
+  int same = 0;
+  for (const auto& n : on)
+  {
+    EXPECT_EQ(n->encoding, "mono8");
+    EXPECT_EQ(n->header.frame_id, "camera_left_optical_frame");
+    for (const auto& f : off) same += f->header.stamp == n->header.stamp;
+  }
+  EXPECT_GE(same, 3);
 }
 
 TEST(RendererNodelet, TopicModeRendersForTheGivenPose)

@@ -52,6 +52,8 @@ void usage(std::ostream& os = std::cerr)
         "                       [--causes] (a line per collision and per unfinished trial: what the wearer did, where)\n"
         "                       [--ros-params FILE.yaml] (vision: loaded at the root before each trial's pipeline,\n"
         "                       e.g. {cue_logic: {lost_turn_after_s: 0}, slam: {reset_fixed_rotation: false}})\n"
+        "                       [--active] (vision: the reference camera, the pattern projector's emitter-on pairs\n"
+        "                       mapped; issue 35)\n"
         "                       [--lead-from-reaction oracle] (analysis: steer_lead_s = the wearer's true\n"
         "                       reaction + 0.15 s, never to make the guidance look good)\n"
         "  --wearer: each trial's wearer drawn from the population (default; docs/wearer_population.md) or the\n"
@@ -188,6 +190,7 @@ struct VisionContext
   pid_t core = -1;
   std::string log_dir;
   std::string ros_params;  ///< a YAML loaded at the root before each trial's pipeline (--ros-params)
+  bool active = false;     ///< the reference camera with its pattern projector (--active)
 };
 
 bool startVision(VisionContext& vc)
@@ -271,6 +274,8 @@ bool runWorld(const World& world, const std::string& world_arg, const TrialOptio
                                      "people_time_origin:=" + num(ro.start_time + ro.warmup_s, 6) };
       if (!vc.ros_params.empty())
         args.push_back("params:=" + vc.ros_params);
+      if (vc.active)
+        args.push_back("active:=true");
       const pid_t launch = spawn(args, log);
       ros::NodeHandle nh;
       RosChain chain(nh, world, ro);
@@ -539,6 +544,7 @@ std::vector<std::string> splitComma(const std::string& s)
 int main(int argc, char** argv)
 {
   std::string world_arg, mode = "truth", plot, kind_arg, keep_dir, ros_params;
+  bool active = false;
   int trials = 20, generated = 0;
   long seed = 1, seed_base = 1001;
   TrialOptions opt;
@@ -572,6 +578,7 @@ int main(int argc, char** argv)
       else if (a == "--body-half-width") opt.planner.body_half_width = std::stod(val());
       else if (a == "--chord-min") opt.planner.heading_chord_min = std::stod(val());
       else if (a == "--timeout-factor") opt.timeout_factor = std::stod(val());
+      else if (a == "--active") active = true;
       else if (a == "--ros-params")
       {
         char* full = realpath(val().c_str(), nullptr);
@@ -705,6 +712,7 @@ int main(int argc, char** argv)
     // vision: a private roscore for the run, a fresh pipeline (roslaunch) for each trial
     VisionContext vc;
     vc.ros_params = ros_params;
+    vc.active = active;
     if (opt.mode == TrialMode::VISION && !startVision(vc)) return 1;
     const bool ok = runWorld(world, world_arg, opt, trials, seed, vc, true, "", res);
     stopVision(vc);
@@ -746,6 +754,7 @@ int main(int argc, char** argv)
     mkdir(dir.c_str(), 0755);
   VisionContext vc;
   vc.ros_params = ros_params;
+  vc.active = active;
   if (opt.mode == TrialMode::VISION && !startVision(vc)) return 1;
   std::printf("%-22s %-8s %-6s %-7s %-5s %-9s %-6s %-5s %-6s %-7s %-7s %-7s\n", "world", "kind", "walk_m", "trials",
               "done", "coll/tr", "worst", "wall", "furn", "ppws", "clear_m", "time_s");

@@ -36,6 +36,9 @@ struct RendererNodeParams
   /// (script mode) or the time since the nodelet started; >= 0, the frame's stamp (sim s) minus
   /// this (the mobility trials: the simulated time of a trial's t = 0).
   double people_time_origin = -1.0;
+  /// The reference camera (issue 35): after each pair, the same pose's emitter-on pair (the
+  /// pattern projector's dots) with the same stamp on `projected/{left,right}/{image_rect,camera_info}`.
+  bool projector = false;
 };
 
 }  // namespace assistive_sim
