@@ -717,10 +717,11 @@ bool ObstaclesRun::processFrame()
     in.disparity = &true_disp;
   }
   const double ms_true_disp = eval::wallMs() - t0;
-  const Eigen::Isometry3d* ego = &f.gt_pose;
+  const Eigen::Isometry3d* ego = in.track_left ? &in.track_pose : &f.gt_pose;  // the movers' frame
   if (!mover_poses.empty())
   {
-    const auto it = mover_poses.find(std::lround(f.stamp * 1e6));
+    // (an active bag's movers track the emitter-off pair: the VO's pose of that frame)
+    const auto it = mover_poses.find(std::lround((in.track_left ? in.track_stamp : f.stamp) * 1e6));
     ego = it != mover_poses.end() ? &it->second : nullptr;  // no pose (the VO lost it): no flow, as in the chain
     in.own_mover_pose = true;
     in.mover_pose = ego;

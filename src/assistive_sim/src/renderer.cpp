@@ -151,10 +151,11 @@ struct StereoRenderer::Impl
     for (const Eigen::Vector3f& d0 : dot_dirs)
     {
       const Eigen::Vector3f dir = R * d0;
+      const float tfar = max_r / dir.norm();  // (the ray's parameter runs along the unnormalised dir)
       float tnear = 0.f;
       for (int pass = 0; pass < 4; ++pass)
       {
-        RTCRayHit rh = singleRay(origin, dir, tnear, max_r);
+        RTCRayHit rh = singleRay(origin, dir, tnear, tfar);
         intersect1(&ctx, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
         const Prim& p = prim(rh.hit.geomID, rh.hit.primID);
