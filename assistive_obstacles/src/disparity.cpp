@@ -88,6 +88,20 @@ bool DisparityEstimator::compute(const cv::Mat& left, const cv::Mat& right, cv::
     cv::multiply(gx, gx, gx);
     const int bs = params_.block_size | 1;
     cv::boxFilter(gx, texture_, CV_32F, cv::Size(bs, bs), cv::Point(-1, -1), false);
+    // The pixel noise has gradient energy of its own, different in the two images: in an active
+    // camera's images a patch the dots do not reach (a dark doorway, a wall too far) passed as
+    // textured, and the matcher's guess there (the nearest edge's disparity) became obstacles.
+    // There only the energy above the noise's expected one constrains a match (the Sobel's
+    // squared weights sum to 12/64; area averaging to scale s leaves the noise sigma * s), and
+    // only when it stands out of the noise. A passive camera's weak natural textures sit at the
+    // noise's level, and SGBM's paths match them better than one block's bound says: raw energy.
+    if (params_.projected && params_.texture_min_snr > 0.0)
+    {
+      const double sigma_s = params_.image_noise_sigma * std::min(s, 1.0);
+      const double noise_energy = bs * bs * 12.0 / 64.0 * sigma_s * sigma_s;
+      texture_.setTo(0.0f, texture_ < params_.texture_min_snr * noise_energy);
+      cv::subtract(texture_, cv::Scalar(noise_energy), texture_);
+    }
   }
   else
     texture_.release();

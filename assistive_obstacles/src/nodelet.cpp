@@ -74,7 +74,7 @@ public:
       assistive_common::guarded(getName(), "diagnostics", [&] { diag_->update(); });
     });
 
-    if (node_.projected && params_.movers)
+    if (params_.projected && params_.movers)
     {
       // the emitter-off pairs, for the movers' scene flow only (latest pair kept)
       sub_track_l_.subscribe(nh, "track/left/image_rect", 1);
@@ -212,7 +212,7 @@ private:
     f.right = cr->image;
     f.pose_trusted = !pose_untrusted_.exchange(false);
     cv_bridge::CvImageConstPtr tl, tr;
-    if (node_.projected && params_.movers)
+    if (params_.projected && params_.movers)
     {
       // the movers track the emitter-off pair just before (its pose on tf: the VO tracked it)
       sensor_msgs::ImageConstPtr ml, mr;

@@ -1219,6 +1219,7 @@ int main(int argc, char** argv)
   // The wearer's camera height: the nodelet takes it from the URDF; here from the world's walk
   // (generated walks have eye heights of 1.55-1.75 m), unless --set gives it.
   if (std::isfinite(truth.eye_height)) params.camera_height = truth.eye_height;
+  params.projected = opt.projected;  // the emitter-on pairs are read
   if (!eval::applySets(cl, opt.overrides, params))  // --set: the node's parameter names (params.h table)
     return 2;
   for (const std::string& w : clampParams(params)) std::cerr << "obstacles_benchmark: " << w << "\n";

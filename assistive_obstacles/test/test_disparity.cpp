@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
 
 #include <opencv2/imgproc.hpp>
@@ -113,6 +114,66 @@ TEST(Disparity, TexturelessPixelsGiveNoPoint)
   count(p, textured_off, flat_off);
   EXPECT_GT(flat_off, 1000);
   EXPECT_NEAR(textured_off, textured, 0.02 * textured);  // textured pixels pass the bound
+}
+
+// The same plane, with the camera's pixel noise (sigma 2, independent in the two images) on
+// both halves, seen by an active camera (the flat half: beyond the dots' reach): the noise's own
+// gradient energy would pass the bound as texture, and the matcher's guesses on the flat half (the
+// textured half's disparity, smoothed in) became points there. A passive camera keeps the raw
+// energy.
+TEST(Disparity, PixelNoiseIsNoTexture)
+{
+  cv::Mat l, r;
+  makePair(40, l, r);
+  l.colRange(330, 640).setTo(120);
+  r.colRange(290, 640).setTo(120);
+  cv::Mat nl(l.size(), CV_16S), nr(r.size(), CV_16S);
+  cv::RNG rng(11);
+  rng.fill(nl, cv::RNG::NORMAL, 0, 2.0);
+  rng.fill(nr, cv::RNG::NORMAL, 0, 2.0);
+  l.convertTo(l, CV_16S);
+  r.convertTo(r, CV_16S);
+  cv::add(l, nl, l);
+  cv::add(r, nr, r);
+  l.convertTo(l, CV_8U);
+  r.convertTo(r, CV_8U);
+  StereoModel m;
+  ObstaclesParams p;
+  ASSERT_DOUBLE_EQ(p.image_noise_sigma, 2.0);
+  ASSERT_GT(p.texture_min_snr, 0.0);
+  p.projected = true;
+  std::vector<Eigen::Vector3f> pts;
+  auto count = [&](const ObstaclesParams& q, int& textured, int& flat) {
+    DisparityEstimator est(q);
+    cv::Mat d;
+    ASSERT_TRUE(est.compute(l, r, d));
+    est.toPoints(d, m, pts);
+    textured = flat = 0;
+    for (const auto& x : pts)
+    {
+      const double u = x.x() / x.z() * m.fx + m.cx;
+      textured += u < 300;
+      flat += u > 360;
+    }
+  };
+  int textured = 0, flat = 0;
+  count(p, textured, flat);
+  EXPECT_GT(textured, 20000);
+  // 1 % of the noise's blocks pass the test, and few of those give a point: at most 0.1 % of the
+  // flat half's 140 x 240 pixels at the matcher's scale
+  EXPECT_LT(flat, 34);
+  p.texture_min_snr = 0.0;  // the raw energy, noise and all
+  int textured_raw = 0, flat_raw = 0;
+  count(p, textured_raw, flat_raw);
+  std::printf("points on the flat half: %d, with the raw energy %d\n", flat, flat_raw);
+  EXPECT_GT(flat_raw, 10 * flat);
+  EXPECT_NEAR(textured_raw, textured, 0.02 * textured);  // real texture stands far above the noise
+  p.texture_min_snr = 3.0;
+  p.projected = false;  // a passive camera: the raw energy
+  int textured_passive = 0, flat_passive = 0;
+  count(p, textured_passive, flat_passive);
+  EXPECT_EQ(flat_passive, flat_raw);
+  EXPECT_EQ(textured_passive, textured_raw);
 }
 
 TEST(Disparity, BadInputIsRejected)

@@ -47,7 +47,8 @@ public:
   /// ray reversed where the gradient is not available.
   /// With texture_max_depth_sigma > 0 and `disp` from the last compute(), pixels whose depth error
   /// by the Cramer-Rao bound of their block's texture, Z^2 sigma_d / (fx B) with
-  /// sigma_d = sqrt(2 image_noise_sigma^2 / sum(g_x^2)), exceeds it give no point.
+  /// sigma_d = sqrt(2 image_noise_sigma^2 / sum(g_x^2)), exceeds it give no point; sum(g_x^2) is
+  /// taken less the pixel noise's expected share, and as none below texture_min_snr times that.
   void toPoints(const cv::Mat& disp, const StereoModel& model, std::vector<Eigen::Vector3f>& points,
                 std::vector<Eigen::Vector3f>* normals = nullptr) const;
 

@@ -34,6 +34,10 @@ namespace assistive_obstacles
   /* a near-textureless wall matches at +-1-2 px and scatters points in front of it */ \
   X(double, texture_max_depth_sigma, "texture_max_depth_sigma", 0.15, 0.0, 100.0, "m", "pixels whose depth is less precise than this (Cramer-Rao bound of the block's texture) give no point (0 disables)") \
   X(double, image_noise_sigma, "image_noise_sigma", 2.0, 0.01, 100.0, "grey levels", "the camera's pixel noise, for that bound") \
+  /* the noise's own energy passes 1 % of flat blocks at 3 (a chi-square of about 8 degrees of freedom); a passive */ \
+  /* camera keeps the raw energy: its weak textures sit at the noise's level (recall 0.962 -> 0.925 at 1.5) */ \
+  X(double, texture_min_snr, "texture_min_snr", 3.0, 0.0, 100.0, "", "with an active camera's images (`projected`) a block's texture for that bound is its horizontal gradient energy less the pixel noise's expected energy, and none unless the energy is at least this many times the noise's (0: the raw energy, noise and all, as for a passive camera)") \
+  X(bool, projected, "projected", false, {}, {}, "", "an active camera (issue 35): `left/image_rect`... are its emitter-on pairs (the projector's dots; the texture bound then takes the pixel noise off, `texture_min_snr`), and the movers track its emitter-off pairs on `track/{left,right}/image_rect` (the dots move with the head)") \
   /* --- elevation map / MLS (wearer-tied, not scene-tied) --- */ \
   X(double, cell_size, "cell_size", 0.2, 0.02, 2.0, "m", "elevation cell edge") \
   X(double, window_radius, "window_radius", 5.0, 2 * cell_size, 50.0, "m", "processed circle around the wearer (scrolls)") \
@@ -134,7 +138,6 @@ namespace assistive_obstacles
   X(int, queue_size, "queue_size", 5, 1, 100, "", "synchroniser and tf-filter queue") \
   X(bool, approximate_sync, "approximate_sync", false, {}, {}, "", "ApproximateTime instead of ExactTime") \
   X(bool, use_odom, "use_odom", true, {}, {}, "", "clear the map when `odom` marks a pose untrusted") \
-  X(bool, projected, "projected", false, {}, {}, "", "an active camera (issue 35): `left/image_rect`... are its emitter-on pairs (the projector's dots), and the movers track its emitter-off pairs on `track/{left,right}/image_rect` (the dots move with the head)") \
   X(int, octomap_insert_every, "octomap_insert_every", 5, 1, 1000, "frames", "OctoMap insertion period")
 // clang-format on
 
