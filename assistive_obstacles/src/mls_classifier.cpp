@@ -7,6 +7,21 @@
 
 namespace assistive_obstacles
 {
+namespace
+{
+/// The standard error of the q-quantile h[j] of the sorted heights h[a, b): sqrt(q (1 - q) / n) over
+/// the heights' density there, read off the sqrt(n) heights either side (Siddiqui-Bloch-Gastwirth).
+/// Local, so a cell holding a curb's edge (two levels) is judged by the level its quantile is on.
+float quantileSe(const float* h, int a, int b, int j, double q)
+{
+  const int n = b - a;
+  const int m = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(n)))));
+  const int lo = std::max(a, j - m), hi = std::min(b - 1, j + m);
+  if (hi <= lo) return 0.f;
+  return static_cast<float>(std::sqrt(q * (1.0 - q) * n) * (h[hi] - h[lo]) / (hi - lo));
+}
+}  // namespace
+
 void MlsClassifier::intervals(const float* h, int n, std::vector<HeightInterval>& out) const
 {
   out.clear();
@@ -22,8 +37,11 @@ void MlsClassifier::intervals(const float* h, int n, std::vector<HeightInterval>
     HeightInterval iv;
     iv.bottom = h[cur_a + k];
     iv.top = h[cur_b - 1 - k];
-    iv.median = h[cur_a + cnt / 2];
-    iv.ground = h[cur_a + static_cast<int>(std::lround(gq * (cnt - 1)))];
+    const int jm = cur_a + cnt / 2, jg = cur_a + static_cast<int>(std::lround(gq * (cnt - 1)));
+    iv.median = h[jm];
+    iv.ground = h[jg];
+    iv.median_se = quantileSe(h, cur_a, cur_b, jm, 0.5);
+    iv.ground_se = quantileSe(h, cur_a, cur_b, jg, gq);
     iv.points = cnt;
     out.push_back(iv);
     cur_a = cur_b = -1;
@@ -45,7 +63,7 @@ void MlsClassifier::intervals(const float* h, int n, std::vector<HeightInterval>
   flush();
 }
 
-CellKind MlsClassifier::analyse(const float* h, int n, float& ground, bool median) const
+CellKind MlsClassifier::analyse(const float* h, int n, float& ground, bool median, float* ground_se) const
 {
   if (n < params_.min_points_per_cell) return CellKind::EMPTY;
   intervals(h, n, scratch_);
@@ -53,6 +71,7 @@ CellKind MlsClassifier::analyse(const float* h, int n, float& ground, bool media
   // Only the lowest interval can touch the wearer: every other one starts more than G above it.
   const HeightInterval& low = scratch_.front();
   ground = median ? low.median : low.ground;
+  if (ground_se) *ground_se = median ? low.median_se : low.ground_se;
   if (low.top - low.bottom > static_cast<float>(params_.step_height)) return CellKind::VERTICAL;
   return CellKind::HORIZONTAL;
 }
@@ -62,6 +81,7 @@ void MlsClassifier::classify(const ElevationMap& map, float feet_z, std::vector<
   const int cells = map.window().n * map.window().n;
   kind_.assign(cells, CellKind::EMPTY);
   ground_.assign(cells, 0.f);
+  ground_se_.assign(cells, 0.f);
   labels.assign(cells, FrameLabel::NONE);
   filled_.assign(cells, 0);
   spill_.assign(cells, 0);
@@ -82,13 +102,14 @@ void MlsClassifier::analyseCells(const ElevationMap& map, float feet_z)
   {
     const int cnt = map.count(c);
     if (cnt == 0) continue;
-    float g = 0.f;
-    CellKind k = analyse(map.heights(c), cnt, g);
+    float g = 0.f, se = 0.f;
+    CellKind k = analyse(map.heights(c), cnt, g, false, &se);
     // A surface far above the feet (table top, sign seen without the floor under it) or far
     // below them (drop-off) is not walkable.
     if (k == CellKind::HORIZONTAL && (g > feet_z + rise || g < feet_z - drop)) k = CellKind::VERTICAL;
     kind_[c] = k;
     ground_[c] = g;
+    ground_se_[c] = se;
   }
 }
 
@@ -128,11 +149,12 @@ void MlsClassifier::dropSpill(const ElevationMap& map, float feet_z)
       int cnt = map.count(c);
       const float elev = feet_z + static_cast<float>(params_.step_height);
       while (cnt > 0 && h[cnt - 1] > elev) --cnt;
-      float g = 0.f;
+      float g = 0.f, se = 0.f;
       // Median: the foot of the obstacle (up to T high) is still in the cell and would lift a higher quantile.
-      const CellKind k = cnt >= params_.min_points_per_cell ? analyse(h, cnt, g, true) : CellKind::EMPTY;
+      const CellKind k = cnt >= params_.min_points_per_cell ? analyse(h, cnt, g, true, &se) : CellKind::EMPTY;
       kind_[c] = (k == CellKind::HORIZONTAL && g <= feet_z + rise && g >= feet_z - drop) ? k : CellKind::EMPTY;
       ground_[c] = g;
+      ground_se_[c] = se;
       spill_[c] = 1;
     }
 }
@@ -143,8 +165,9 @@ FrameLabel MlsClassifier::edgeLabel(const Window& w, int lx, int ly) const
   const float T = static_cast<float>(params_.step_height);
   const float smin = static_cast<float>(params_.min_step);
   const int need = params_.min_traversable_edges;
+  const float sigmas = static_cast<float>(params_.step_sigmas);
   int compat = 0, unobserved = 0;
-  bool step = false;
+  bool step = false, unsure_step = false;
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx)
     {
@@ -164,11 +187,17 @@ FrameLabel MlsClassifier::edgeLabel(const Window& w, int lx, int ly) const
         if (d <= T)
         {
           ++compat;
-          if (d > smin) step = true;
+          // A step only where the heights say so beyond their noise (a far floor's heights spread
+          // by centimetres); a difference within it is neither a step nor proof of none.
+          const float margin = sigmas * std::sqrt(ground_se_[c] * ground_se_[c] + ground_se_[o] * ground_se_[o]);
+          if (d > smin + margin)
+            step = true;
+          else if (d > smin)
+            unsure_step = true;
         }
       }
     }
-  if (compat >= need) return step ? FrameLabel::STEP : FrameLabel::FREE;
+  if (compat >= need) return step ? FrameLabel::STEP : unsure_step ? FrameLabel::NONE : FrameLabel::FREE;
   if (compat + unobserved >= need) return FrameLabel::NONE;  // short of edges only because neighbours were not seen
   return FrameLabel::OBSTACLE;
 }

@@ -1,4 +1,5 @@
 // Full-pipeline scenarios on hand-built point sets: the wearer's camera at 1.6 m, looking along +x.
+#include <cstdio>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -320,6 +321,49 @@ TEST(ObstacleMap, CellHoldingTheCurbEdgeTakesTheCurbHeight)
   ObstacleMap m2(p);
   run(m2, w);
   EXPECT_EQ(codeAt(m2, 2.3, 0.1), CELL_STEP);  // the median's extra false step
+}
+
+// Floor heights spread by centimetres (a far floor, a dark one) give neighbouring cells grounds
+// several centimetres apart: no step unless the difference stands out of the heights' noise. A
+// curb does, in the same noise.
+TEST(ObstacleMap, FloorNoiseIsNoStepACurbInItIs)
+{
+  auto steps = [](const ObstaclesParams& p, const Points& w, int& n) {
+    ObstacleMap m(p);
+    run(m, w);
+    n = 0;
+    for (double x = 0.7; x < 3.0; x += 0.2)
+      for (double y = -0.9; y < 1.0; y += 0.2) n += codeAt(m, x, y) == CELL_STEP;
+  };
+  // 12 points a cell, heights uniform within +-7 cm (sigma 4 cm; thinner than T, so floor)
+  Points noisy;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (double cx = 0.6; cx < 2.99; cx += 0.2)
+    for (double cy = -1.0; cy < 0.99; cy += 0.2)
+      for (int i = 0; i < 12; ++i)
+        noisy.emplace_back(static_cast<float>(cx + 0.2 * U(rng)), static_cast<float>(cy + 0.2 * U(rng)),
+                           static_cast<float>(0.14 * U(rng) - 0.07));
+  ObstaclesParams p;
+  ASSERT_GT(p.step_sigmas, 0.0);
+  int n = 0, n_old = 0;
+  steps(p, noisy, n);
+  ObstaclesParams old = p;
+  old.step_sigmas = 0.0;  // any difference over min_step
+  steps(old, noisy, n_old);
+  std::printf("step cells on a noisy flat floor: %d, without the noise test %d\n", n, n_old);
+  EXPECT_EQ(n, 0);
+  EXPECT_GE(n_old, 3);  // 5 of the 120 cells
+
+  Points curb;
+  synthetic::patch(curb, 0.6, 2.1, -1.0, 1.0, 0.0, 4, 0.01, 8);  // sigma 1 cm
+  synthetic::patch(curb, 2.1, 3.6, -1.0, 1.0, 0.12, 4, 0.01, 9);  // a 12 cm curb at x = 2.1
+  synthetic::wallX(curb, 2.1, -1.0, 1.0, 0.0, 0.12);
+  ObstacleMap m(p);
+  run(m, curb);
+  EXPECT_EQ(codeAt(m, 2.1, 0.1), CELL_STEP);
+  EXPECT_EQ(codeAt(m, 1.9, 0.1), CELL_STEP);
+  EXPECT_EQ(codeAt(m, 1.1, 0.1), CELL_FREE);
 }
 
 // Obstacle votes only within the range where sigma_Z = Z^2 sigma_d / (f B) <= obstacle_max_sigma

@@ -17,6 +17,8 @@ struct HeightInterval
   float bottom = 0.f, top = 0.f;  ///< m (trimmed extent)
   float median = 0.f;             ///< m
   float ground = 0.f;             ///< m, the ground_quantile of the heights
+  /// m, the standard errors of `median` and `ground` (from the heights' density about each)
+  float median_se = 0.f, ground_se = 0.f;
   int points = 0;
 };
 
@@ -40,7 +42,8 @@ public:
   /// Kind of a cell from its sorted heights; `ground` = the ground_quantile (or, with `median`,
   /// the median) of the lowest interval. Intervals more than G above the lowest one's top are
   /// overhead (the wearer fits under).
-  CellKind analyse(const float* h, int n, float& ground, bool median = false) const;
+  /// `ground_se` (optional): its standard error (HeightInterval).
+  CellKind analyse(const float* h, int n, float& ground, bool median = false, float* ground_se = nullptr) const;
 
   /// Labels every cell of `map` (index = window-local); `feet_z` is the wearer's feet level.
   void classify(const ElevationMap& map, float feet_z, std::vector<FrameLabel>& labels);
@@ -65,6 +68,7 @@ private:
   ObstaclesParams params_;
   std::vector<CellKind> kind_;
   std::vector<float> ground_;
+  std::vector<float> ground_se_;
   mutable std::vector<HeightInterval> scratch_;
   std::vector<uint8_t> mask_;
   std::vector<uint8_t> filled_;
