@@ -21,6 +21,25 @@ void makePair(int d, cv::Mat& l, cv::Mat& r)
   l = big(cv::Rect(0, 0, 640, 480)).clone();
   r = big(cv::Rect(d, 0, 640, 480)).clone();  // right(x - d) = left(x)
 }
+
+// The points of the pair (l, r) left of column 300 (textured) and right of 360 (flat), in the
+// default rig's full-resolution columns.
+void countHalves(const cv::Mat& l, const cv::Mat& r, const ObstaclesParams& q, int& textured, int& flat)
+{
+  const StereoModel m;
+  DisparityEstimator est(q);
+  cv::Mat d;
+  ASSERT_TRUE(est.compute(l, r, d));
+  std::vector<Eigen::Vector3f> pts;
+  est.toPoints(d, m, pts);
+  textured = flat = 0;
+  for (const auto& x : pts)
+  {
+    const double u = x.x() / x.z() * m.fx + m.cx;
+    textured += u < 300;
+    flat += u > 360;
+  }
+}
 }  // namespace
 
 TEST(Disparity, PlaneAtKnownDisparityAndDepth)
@@ -88,30 +107,15 @@ TEST(Disparity, TexturelessPixelsGiveNoPoint)
   makePair(40, l, r);
   l.colRange(330, 640).setTo(120);
   r.colRange(290, 640).setTo(120);  // right(x - 40) = left(x): the flat part, shifted
-  StereoModel m;
   ObstaclesParams p;
   ASSERT_GT(p.texture_max_depth_sigma, 0.0);
-  std::vector<Eigen::Vector3f> pts;
-  auto count = [&](const ObstaclesParams& q, int& textured, int& flat) {
-    DisparityEstimator est(q);
-    cv::Mat d;
-    ASSERT_TRUE(est.compute(l, r, d));
-    est.toPoints(d, m, pts);
-    textured = flat = 0;
-    for (const auto& x : pts)
-    {
-      const double u = x.x() / x.z() * m.fx + m.cx;  // full-resolution column
-      textured += u < 300;
-      flat += u > 360;
-    }
-  };
   int textured = 0, flat = 0;
-  count(p, textured, flat);
+  countHalves(l, r, p, textured, flat);
   EXPECT_GT(textured, 20000);
   EXPECT_EQ(flat, 0);
   p.texture_max_depth_sigma = 0.0;  // off: the matcher's guesses on the flat half come through
   int textured_off = 0, flat_off = 0;
-  count(p, textured_off, flat_off);
+  countHalves(l, r, p, textured_off, flat_off);
   EXPECT_GT(flat_off, 1000);
   EXPECT_NEAR(textured_off, textured, 0.02 * textured);  // textured pixels pass the bound
 }
@@ -137,41 +141,26 @@ TEST(Disparity, PixelNoiseIsNoTexture)
   cv::add(r, nr, r);
   l.convertTo(l, CV_8U);
   r.convertTo(r, CV_8U);
-  StereoModel m;
   ObstaclesParams p;
   ASSERT_DOUBLE_EQ(p.image_noise_sigma, 2.0);
   ASSERT_GT(p.texture_min_snr, 0.0);
   p.projected = true;
-  std::vector<Eigen::Vector3f> pts;
-  auto count = [&](const ObstaclesParams& q, int& textured, int& flat) {
-    DisparityEstimator est(q);
-    cv::Mat d;
-    ASSERT_TRUE(est.compute(l, r, d));
-    est.toPoints(d, m, pts);
-    textured = flat = 0;
-    for (const auto& x : pts)
-    {
-      const double u = x.x() / x.z() * m.fx + m.cx;
-      textured += u < 300;
-      flat += u > 360;
-    }
-  };
   int textured = 0, flat = 0;
-  count(p, textured, flat);
+  countHalves(l, r, p, textured, flat);
   EXPECT_GT(textured, 20000);
   // 1 % of the noise's blocks pass the test, and few of those give a point: at most 0.1 % of the
   // flat half's 140 x 240 pixels at the matcher's scale
   EXPECT_LT(flat, 34);
   p.texture_min_snr = 0.0;  // the raw energy, noise and all
   int textured_raw = 0, flat_raw = 0;
-  count(p, textured_raw, flat_raw);
+  countHalves(l, r, p, textured_raw, flat_raw);
   std::printf("points on the flat half: %d, with the raw energy %d\n", flat, flat_raw);
   EXPECT_GT(flat_raw, 10 * flat);
   EXPECT_NEAR(textured_raw, textured, 0.02 * textured);  // real texture stands far above the noise
   p.texture_min_snr = 3.0;
   p.projected = false;  // a passive camera: the raw energy
   int textured_passive = 0, flat_passive = 0;
-  count(p, textured_passive, flat_passive);
+  countHalves(l, r, p, textured_passive, flat_passive);
   EXPECT_EQ(flat_passive, flat_raw);
   EXPECT_EQ(textured_passive, textured_raw);
 }
