@@ -441,6 +441,48 @@ void printMovers(const MoverPipeline& movers, double stamp)
   std::fprintf(stderr, "\n");
 }
 
+/// OBST_UNMATCHED: reported tracks within the scoring radius matched to no one, with the nearest truth person.
+void printUnmatched(const std::vector<PersonState>& truth, const std::vector<PersonState>& est, const PeopleFrameScore& ps,
+                    const Eigen::Vector2d& wearer, double stamp, double radius)
+{
+  for (const PersonState& q : est)
+  {
+    if (ps.track_to_truth.count(q.id) || (q.position - wearer).norm() > radius) continue;
+    double best = 1e9;
+    int who = 0;
+    for (const PersonState& p : truth)
+      if ((p.position - q.position).norm() < best)
+      {
+        best = (p.position - q.position).norm();
+        who = p.id;
+      }
+    std::fprintf(stderr, "unmatched t %.2f track %d at %.2f %.2f v %.2f %.2f age %.2f; nearest person %d at %.2f m\n", stamp,
+                 q.id, q.position.x(), q.position.y(), q.velocity.x(), q.velocity.y(), q.age, who, best);
+  }
+}
+
+/// OBST_PEOPLE_PTS: per frame, the stage's depth points on each walking person (within its radius
+/// + 0.1 m, 0.5-2.0 m above the feet): whether stereo saw them at all.
+void printPeoplePoints(const std::vector<PersonState>& truth, const std::vector<Eigen::Vector3f>& world_points,
+                       const Eigen::Vector2d& wearer, double stamp, double feet, const Eigen::Isometry3d& T_world_cam,
+                       const StereoModel& model, const std::map<int, int>& track_to_truth)
+{
+  std::set<int> matched;
+  for (const auto& kv : track_to_truth) matched.insert(kv.second);
+  std::fprintf(stderr, "ppts t %.2f", stamp);
+  for (const PersonState& q : truth)
+  {
+    if (q.velocity.norm() < 0.3) continue;
+    int n = 0;
+    for (const Eigen::Vector3f& p : world_points)
+      n += (p.head<2>().cast<double>() - q.position).norm() < q.radius + 0.1 && p.z() > feet + 0.5 && p.z() < feet + 2.0;
+    const Eigen::Vector3d c = T_world_cam.inverse() * Eigen::Vector3d(q.position.x(), q.position.y(), q.age);
+    const double u = c.z() > 0.3 ? model.fx * c.x() / c.z() + model.cx : -1.0;
+    std::fprintf(stderr, " p%d d%.1f n%d u%.0f %s", q.id, (q.position - wearer).norm(), n, u, matched.count(q.id) ? "M" : "-");
+  }
+  std::fprintf(stderr, "\n");
+}
+
 /// OBST_FLOWDUMP=T0:T1: per frame in [T0, T1], every clustered moving point: pixels then and now,
 /// depths, the pixel a static point would have now, residual along / across the ray (m),
 /// the 3x3 / 5x5 / 7x7 disparity ranges (matcher px) around each end.
@@ -826,6 +868,10 @@ void ObstaclesRun::scorePeople(const std::vector<ReportedMover>& reported, const
   ms_track += eval::wallMs() - tp0;
   const PeopleFrameScore ps = scorePeopleFrame(*truth_people, est, w.position, pscore);
   scoreMovingPeople(*truth_people, est, w.position, model);
+  if (std::getenv("OBST_UNMATCHED")) printUnmatched(*truth_people, est, ps, w.position, f.stamp, pscore.radius);
+  if (std::getenv("OBST_PEOPLE_PTS"))
+    printPeoplePoints(*truth_people, map.worldPoints(), w.position, f.stamp,
+                      f.gt_pose.translation().z() - params.camera_height, f.gt_pose, model, ps.track_to_truth);
   people_truth += ps.truth_in_range;
   people_truth_matched += ps.truth_matched;
   people_tracks += ps.tracks_in_range;
@@ -840,6 +886,7 @@ void ObstaclesRun::scoreMovingPeople(const std::vector<PersonState>& truth_peopl
                                      const Eigen::Vector2d& wearer_pos, const StereoModel& model)
 {
   std::vector<PersonState> moving, in_view;
+  std::set<int> visible;  // walking where the camera can see and match them (the crossings' floor)
   const Eigen::Isometry3d cam_world = f.gt_pose.inverse();
   for (const PersonState& q : truth_people)
   {
@@ -849,7 +896,11 @@ void ObstaclesRun::scoreMovingPeople(const std::vector<PersonState>& truth_peopl
     if (c.z() < 0.3) continue;
     const double u = model.fx * c.x() / c.z() + model.cx, v = model.fy * c.y() / c.z() + model.cy;
     if (u >= 0 && v >= 0 && u < model.width && v < model.height) in_view.push_back(q);
+    // The matcher gives no disparity in the left image's first max_disparity columns.
+    if (u >= params.max_disparity && u < model.width && v >= 0 && v < model.height && c.z() <= params.max_depth)
+      visible.insert(q.id);
   }
+  crossing.addVisible(f.stamp, visible);
   const PeopleFrameScore pm = scorePeopleFrame(moving, est, wearer_pos, pscore);
   const PeopleFrameScore pv = scorePeopleFrame(in_view, est, wearer_pos, pscore);
   moving_truth += pm.truth_in_range;
@@ -1125,9 +1176,15 @@ void ObstaclesRun::printPeople() const
     std::printf("crossings (closest truth approach < 0.5 m): %d, warned >= 1.5 s ahead: %d; false warnings (people never "
                 "within 1 m, or no one): %d in %.2f min\n",
                 crossing.crossings(), crossing.crossingsWarned(), crossing.falseWarnings(), crossing.minutes());
+    std::printf("  the camera's floor: %d of them walked where the camera could see and match them (right of the left "
+                "image's first max_disparity columns, within max_depth) in >= %d frames before the 1.5 s; of those, "
+                "warned in time: %d\n",
+                crossing.crossingsVisible(), CrossingScoreParams().min_visible_frames, crossing.crossingsWarnedVisible());
     for (const CrossingScore::CrossingDetail& d : crossing.details())
-      std::printf("  crossing: person %d closest %.2f m at t %.2f; tracked from %.2f s before, warned from %.2f s before\n",
-                  d.id, d.d_closest, d.t_closest, d.t_closest - d.first_tracked, d.t_closest - d.first_warned);
+      std::printf("  crossing: person %d closest %.2f m at t %.2f; %s; walking in view from %.2f s before, tracked from "
+                  "%.2f s before, warned from %.2f s before\n",
+                  d.id, d.d_closest, d.t_closest, d.visible ? "visible in time" : "NOT visible in time",
+                  d.t_closest - d.first_visible, d.t_closest - d.first_tracked, d.t_closest - d.first_warned);
     std::printf("ghosts: %ld of %ld truth-free known cells within 5 m (not under a person) marked obstacle; "
                 "cells on people's paths marked obstacle after they left: %zu; truth-free cells locked: %zu "
                 "(on people's paths: %zu)\n",
@@ -1185,6 +1242,11 @@ eval::JsonLine ObstaclesRun::jsonLine() const
       .add("people_velocity_err_mps", scored_people && vel_n ? num(vel_sum / vel_n) : "null")
       .add("crossing_warned_pct", scored_people ? num(crossing.warnedPct(), 1) : "null")
       .add("crossings", scored_people ? std::to_string(crossing.crossings()) : "null")
+      .add("crossings_visible", scored_people ? std::to_string(crossing.crossingsVisible()) : "null")
+      .add("crossing_warned_pct_visible",
+           scored_people && crossing.crossingsVisible() > 0
+               ? num(100.0 * crossing.crossingsWarnedVisible() / crossing.crossingsVisible(), 1)
+               : "null")
       .add("false_crossing_warnings_per_min", params.movers ? num(crossing.falseWarningsPerMin(), 2) : "null");
   return js;
 }

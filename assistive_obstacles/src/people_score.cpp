@@ -107,13 +107,36 @@ void CrossingScore::addFrame(double t, const Eigen::Vector2d& wearer, const std:
   warned_prev_ = warned_tracks;
 }
 
+void CrossingScore::addVisible(double t, const std::set<int>& truth_ids)
+{
+  for (const int id : truth_ids) visible_at_[id].push_back(t);
+}
+
+bool CrossingScore::visibleInTime(int id, double tc) const
+{
+  const auto it = visible_at_.find(id);
+  if (it == visible_at_.end()) return false;
+  int n = 0;
+  for (const double t : it->second) n += t >= tc - params_.lookback && t <= tc - params_.lead;
+  return n >= params_.min_visible_frames;
+}
+
+bool CrossingScore::warnedInTime(int id, double tc) const
+{
+  const auto w = warned_at_.find(id);
+  if (w == warned_at_.end()) return false;
+  for (const double t : w->second)
+    if (t >= tc - params_.lookback && t <= tc - params_.lead) return true;
+  return false;
+}
+
 std::vector<CrossingScore::CrossingDetail> CrossingScore::details() const
 {
   std::vector<CrossingDetail> out;
   for (const auto& kv : closest_)
   {
-    if (kv.second.d >= params_.cross_distance || kv.second.speed < params_.min_speed) continue;
-    CrossingDetail d{kv.first, kv.second.t, kv.second.d, NAN, NAN};
+    if (!isCrossing(kv.second)) continue;
+    CrossingDetail d{kv.first, kv.second.t, kv.second.d, NAN, NAN, NAN, visibleInTime(kv.first, kv.second.t)};
     auto first = [&](const std::map<int, std::vector<double>>& m) {
       const auto it = m.find(kv.first);
       if (it != m.end())
@@ -123,6 +146,7 @@ std::vector<CrossingScore::CrossingDetail> CrossingScore::details() const
     };
     d.first_tracked = first(matched_at_);
     d.first_warned = first(warned_at_);
+    d.first_visible = first(visible_at_);
     out.push_back(d);
   }
   return out;
@@ -131,27 +155,29 @@ std::vector<CrossingScore::CrossingDetail> CrossingScore::details() const
 int CrossingScore::crossings() const
 {
   int n = 0;
-  for (const auto& kv : closest_)
-    if (kv.second.d < params_.cross_distance && kv.second.speed >= params_.min_speed) ++n;
+  for (const auto& kv : closest_) n += isCrossing(kv.second);
   return n;
 }
 
 int CrossingScore::crossingsWarned() const
 {
   int n = 0;
+  for (const auto& kv : closest_) n += isCrossing(kv.second) && warnedInTime(kv.first, kv.second.t);
+  return n;
+}
+
+int CrossingScore::crossingsVisible() const
+{
+  int n = 0;
+  for (const auto& kv : closest_) n += isCrossing(kv.second) && visibleInTime(kv.first, kv.second.t);
+  return n;
+}
+
+int CrossingScore::crossingsWarnedVisible() const
+{
+  int n = 0;
   for (const auto& kv : closest_)
-  {
-    if (kv.second.d >= params_.cross_distance || kv.second.speed < params_.min_speed) continue;
-    const double tc = kv.second.t;
-    const auto w = warned_at_.find(kv.first);
-    if (w == warned_at_.end()) continue;
-    for (const double t : w->second)
-      if (t >= tc - params_.lookback && t <= tc - params_.lead)
-      {
-        ++n;
-        break;
-      }
-  }
+    n += isCrossing(kv.second) && visibleInTime(kv.first, kv.second.t) && warnedInTime(kv.first, kv.second.t);
   return n;
 }
 

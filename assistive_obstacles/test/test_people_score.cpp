@@ -111,3 +111,33 @@ TEST(PeopleScore, CrossingWarnedInTimeAndFalseWarnings)
   empty.addFrame(0.0, Eigen::Vector2d::Zero(), {person(5, 3.0, 0.0)}, {}, {});
   EXPECT_TRUE(std::isnan(empty.warnedPct()));
 }
+
+TEST(PeopleScore, CrossingVisibleInTimeIsTheCamerasFloor)
+{
+  // A standing wearer at the origin, t = 0..10 s every 0.5 s; two crossings at t = 6 (closest 0.2 m):
+  //   person 1 in the camera's view at t = 1.5, 2, 2.5 (3 frames between lookback 1 s and lead 4.5 s)
+  //     and warned at t = 2: visible in time, warned;
+  //   person 2 in view only at t = 4, 4.5 (2 frames before the lead) and 5, 5.5 (after it): not
+  //     visible in time (no camera could have warned it), and not warned.
+  CrossingScore cs;
+  for (int k = 0; k <= 20; ++k)
+  {
+    const double t = 0.5 * k;
+    const std::vector<PersonState> truth{person(1, std::abs(t - 6) + 0.2, 0.0, 1.0),
+                                         person(2, 0.0, std::abs(t - 6) + 0.2, 0.0, 1.0)};
+    std::set<int> visible;
+    if (t >= 1.5 && t <= 2.5) visible.insert(1);
+    if (t >= 4.0 && t <= 5.5) visible.insert(2);
+    cs.addVisible(t, visible);
+    cs.addFrame(t, Eigen::Vector2d::Zero(), truth, k == 4 ? std::set<int>{7} : std::set<int>{}, {{7, 1}});
+  }
+  EXPECT_EQ(cs.crossings(), 2);
+  EXPECT_EQ(cs.crossingsWarned(), 1);
+  EXPECT_EQ(cs.crossingsVisible(), 1);
+  EXPECT_EQ(cs.crossingsWarnedVisible(), 1);
+  for (const CrossingScore::CrossingDetail& d : cs.details())
+  {
+    EXPECT_EQ(d.visible, d.id == 1);
+    EXPECT_DOUBLE_EQ(d.first_visible, d.id == 1 ? 1.5 : 4.0);
+  }
+}

@@ -19,6 +19,11 @@
 //   `lookback` (5 s) and `lead` (1.5 s) before that moment. False warnings: warning onsets (a track
 //   warned this frame and not in the previous one) for tracks matched to people whose closest
 //   approach stays at or above `far_distance` (1 m), or matched to nobody, per minute of run.
+//   The camera's floor (issue 37): a crossing is visible in time when the person was where the
+//   camera can see and match them (addVisible(): the caller's test, e.g. the centre inside the
+//   image's matchable part) in at least `min_visible_frames` frames between `lookback` and `lead`
+//   before the closest approach; one coming from outside the 65 deg view on a constant bearing
+//   (a collision course) is not, whatever the pipeline does.
 #include <map>
 #include <set>
 #include <vector>
@@ -75,6 +80,7 @@ struct CrossingScoreParams
   double lead = 1.5;            ///< s, a warning must come at least this long before the closest approach
   double lookback = 5.0;        ///< s, ... and at most this long
   double min_speed = 0.3;       ///< m/s, a person slower than this at the closest approach is standing, not crossing
+  int min_visible_frames = 3;   ///< frames in view before `lead` that make a crossing visible in time (the tracker's birth hits)
 };
 
 class CrossingScore
@@ -86,7 +92,12 @@ public:
   void addFrame(double t, const Eigen::Vector2d& wearer, const std::vector<PersonState>& truth,
                 const std::set<int>& warned_tracks, const std::map<int, int>& track_to_truth);
 
+  /// The truth people the camera could see this frame (see above).
+  void addVisible(double t, const std::set<int>& truth_ids);
+
   int crossings() const;          ///< truth people whose closest approach < cross_distance
+  int crossingsVisible() const;   ///< of them, visible in time
+  int crossingsWarnedVisible() const;  ///< of those, warned in time
   int crossingsWarned() const;    ///< of them, warned in time
   double warnedPct() const;       ///< NaN when there is no crossing
   int falseWarnings() const;      ///< warning onsets for people never within far_distance, or for no one
@@ -98,6 +109,8 @@ public:
   {
     int id;
     double t_closest, d_closest, first_tracked, first_warned;
+    double first_visible;  ///< the first frame in view within the lookback (NaN: none)
+    bool visible;          ///< visible in time
   };
   std::vector<CrossingDetail> details() const;
 
@@ -115,6 +128,10 @@ private:
   std::map<int, Closest> closest_;  ///< truth id -> distance, time and truth speed at the closest approach
   std::map<int, std::vector<double>> warned_at_;      ///< truth id -> times a matched track was warned
   std::map<int, std::vector<double>> matched_at_;     ///< truth id -> times a track was matched to them
+  std::map<int, std::vector<double>> visible_at_;     ///< truth id -> times the camera could see them
+  bool isCrossing(const Closest& c) const { return c.d < params_.cross_distance && c.speed >= params_.min_speed; }
+  bool visibleInTime(int id, double tc) const;
+  bool warnedInTime(int id, double tc) const;
   std::vector<Onset> onsets_;
   std::set<int> warned_prev_;
   double t_first_ = 0.0, t_last_ = 0.0;
