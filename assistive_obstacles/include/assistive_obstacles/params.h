@@ -106,6 +106,7 @@ namespace assistive_obstacles
   /* movers take no vote in the static map (no ghosts, no locked cells) --- */ \
   X(bool, movers, "movers", true, {}, {}, "", "detect and track movers (scene flow of the left image) and keep their cells out of the map's votes; publishes `movers`") \
   X(int, mover_max_features, "mover_max_features", 600, 10, 5000, "", "corners tracked per frame for the scene flow") \
+  X(int, mover_fast_threshold, "mover_fast_threshold", 8, 1, 255, "grey levels", "FAST corner threshold of the scene flow's corners (12 found only silhouettes on the smooth clothes and walls of generated busy worlds)") \
   X(int, mover_frames_apart, "mover_frames_apart", 1, 1, 10, "frames", "the scene flow pairs each frame with the one this many frames back (walking along the viewing ray moves a point farther than the depth noise only over several frames)") \
   X(int, mover_edge_window, "mover_edge_window", 0, 0, 101, "px", "no scene-flow point where valid disparities within this window (full resolution, e.g. 11: the Lucas-Kanade window) span a depth edge, at either end of its track (0: the 3x3 check alone; 11 removed the silhouettes but also most points of distant people)") \
   X(bool, mover_fair_backward, "mover_fair_backward", true, {}, {}, "", "the forward-backward check's way back starts where the way forward left the ego-motion's prediction (false: at the corner itself)") \

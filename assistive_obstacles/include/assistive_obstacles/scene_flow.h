@@ -29,7 +29,7 @@ namespace assistive_obstacles
 struct SceneFlowParams
 {
   int max_features = 600;            ///< corners detected per frame
-  int fast_threshold = 12;           ///< FAST corner threshold (grey levels)
+  int fast_threshold = 8;            ///< FAST corner threshold (grey levels)
   double min_distance = 8.0;         ///< px, bucket size: at most one corner (the strongest) per bucket
   int lk_window = 11;                ///< px, Lucas-Kanade window
   int lk_levels = 3;                 ///< pyramid levels above the base (11 px window: ~40 px motion per frame)
