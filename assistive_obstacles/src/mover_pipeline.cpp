@@ -19,6 +19,7 @@ MoverPipelineParams moverPipelineParams(const ObstaclesParams& p, const StereoMo
   MoverPipelineParams m;
   m.flow.max_features = p.mover_max_features;
   m.flow.fast_threshold = p.mover_fast_threshold;
+  m.flow.spread_blocks = p.mover_spread_blocks;
   m.flow.max_fb_error = p.mover_max_fb_error;
   m.flow.edge_window = p.mover_edge_window;
   m.flow.fair_backward = p.mover_fair_backward;

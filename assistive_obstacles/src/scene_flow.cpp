@@ -219,10 +219,28 @@ void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv
     if (b >= 0) kept.push_back(b);
   if (static_cast<int>(kept.size()) > p.max_features)
   {
-    std::nth_element(kept.begin(), kept.begin() + p.max_features, kept.end(), [&](int a, int b) {
+    const auto stronger = [&](int a, int b) {
       return scratch[a].response > scratch[b].response || (scratch[a].response == scratch[b].response && a < b);
-    });
-    kept.resize(static_cast<size_t>(p.max_features));
+    };
+    std::sort(kept.begin(), kept.end(), stronger);
+    // The budget spread first: the strongest corner of each block of spread_blocks x spread_blocks
+    // buckets, then the strongest of the rest. Ranked over the whole image, a textured wall's
+    // strong corners took the whole budget from a person's weak ones.
+    const int sb = std::max(1, p.spread_blocks);
+    const int bw = (gw + sb - 1) / sb;
+    std::vector<char> block_used(static_cast<size_t>(bw) * ((gh + sb - 1) / sb), 0);
+    std::vector<int> first, rest;
+    for (const int i : kept)
+    {
+      const cv::KeyPoint& k = scratch[static_cast<size_t>(i)];
+      const int gx = std::min(gw - 1, static_cast<int>(k.pt.x) / cell), gy = std::min(gh - 1, static_cast<int>(k.pt.y) / cell);
+      char& used = block_used[static_cast<size_t>(gy / sb) * bw + gx / sb];
+      (used ? rest : first).push_back(i);
+      used = 1;
+    }
+    first.insert(first.end(), rest.begin(), rest.end());
+    first.resize(static_cast<size_t>(p.max_features));
+    kept.swap(first);
   }
   std::sort(kept.begin(), kept.end());
   for (const int i : kept) out.push_back(scratch[static_cast<size_t>(i)].pt);

@@ -31,6 +31,8 @@ struct SceneFlowParams
   int max_features = 600;            ///< corners detected per frame
   int fast_threshold = 8;            ///< FAST corner threshold (grey levels)
   double min_distance = 8.0;         ///< px, bucket size: at most one corner (the strongest) per bucket
+  /// the budget goes first to the strongest corner of each block of this many x this many buckets (1: by strength alone)
+  int spread_blocks = 3;
   int lk_window = 11;                ///< px, Lucas-Kanade window
   int lk_levels = 3;                 ///< pyramid levels above the base (11 px window: ~40 px motion per frame)
   double max_fb_error = 0.5;         ///< px, forward-backward tracking error beyond which a track is dropped
