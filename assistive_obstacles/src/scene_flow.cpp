@@ -193,6 +193,20 @@ void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv
   out.clear();
   scratch.clear();
   cv::FAST(grey, scratch, p.fast_threshold, true);
+  if (p.half_resolution_corners)
+  {
+    // Close up, a smooth texture is magnified past FAST's 3 px circle (the renderer's and a
+    // lens's blur): its corners show at half the resolution.
+    cv::Mat half;
+    cv::pyrDown(grey, half);
+    std::vector<cv::KeyPoint> coarse;
+    cv::FAST(half, coarse, p.fast_threshold, true);
+    for (cv::KeyPoint& k : coarse)
+    {
+      k.pt = cv::Point2f(2.f * k.pt.x + 0.5f, 2.f * k.pt.y + 0.5f);  // (x + 0.5) 2 - 0.5
+      scratch.push_back(k);
+    }
+  }
   if (disp && model)
   {
     // Only corners that can be lifted (depth in range, not on a depth edge) compete for the budget.

@@ -251,16 +251,40 @@ TEST(MoverPipelineImages, PersonInSmoothClothesIsTracked)
   // Issue 37: in generated busy worlds FAST at 12 grey levels found corners only on people's
   // silhouettes (which have no depth) and missed people in plain view: the default finds the
   // corners of smooth clothes before a smooth wall too.
+  // (Full resolution only: the half resolution's corners would find this person at 12 too.)
   const cv::Mat body = smooth(122, 268, 12), wall = smooth(640, 480, 11);
-  const CrossingOutcome o = crossing(true, &body, &wall);
+  ObstaclesParams full_only;
+  full_only.mover_half_resolution_corners = false;
+  const CrossingOutcome o = crossing(true, &body, &wall, full_only);
   EXPECT_GE(o.tracked_frames, o.frames - 5);
   EXPECT_EQ(o.false_tracks, 0);
   EXPECT_LT(o.max_vel_err, 0.3);
   EXPECT_TRUE(o.ghost_cells.empty()) << o.ghost_cells.size() << " ghost cells";
-  ObstaclesParams coarse_fast;
+  ObstaclesParams coarse_fast = full_only;
   coarse_fast.mover_fast_threshold = 12;
   const CrossingOutcome coarse = crossing(true, &body, &wall, coarse_fast);
   EXPECT_LT(coarse.tracked_frames, o.frames / 2) << "the old threshold finds this person too: the test shows nothing";
+}
+
+TEST(MoverPipelineImages, PersonSeenCloseUpGetsCornersAtHalfResolution)
+{
+  // Close up (within 2 m) the clothes' smooth pattern is magnified past FAST's 3 px circle: a
+  // person with thousands of depth points had no corner (generated street 6104). Here the pattern
+  // and the wall are blurred at 3 px: corners show only at half the resolution.
+  cv::Mat body = texture(122, 268, 12), wall = texture(640, 480, 11);
+  for (cv::Mat* m : {&body, &wall})
+  {
+    cv::GaussianBlur(*m, *m, cv::Size(0, 0), 3.0);
+    cv::normalize(*m, *m, 96, 160, cv::NORM_MINMAX);
+  }
+  const CrossingOutcome o = crossing(true, &body, &wall);
+  EXPECT_GE(o.tracked_frames, o.frames - 5);
+  EXPECT_EQ(o.false_tracks, 0);
+  EXPECT_LT(o.max_vel_err, 0.3);
+  ObstaclesParams full_only;
+  full_only.mover_half_resolution_corners = false;
+  const CrossingOutcome fine = crossing(true, &body, &wall, full_only);
+  EXPECT_LT(fine.tracked_frames, o.frames / 2) << "full resolution alone finds this person too: the test shows nothing";
 }
 
 TEST(MoverPipelineImages, PersonInSmoothClothesBeforeATexturedWallGetsCorners)
@@ -269,10 +293,12 @@ TEST(MoverPipelineImages, PersonInSmoothClothesBeforeATexturedWallGetsCorners)
   // alone, the textured wall's strong corners took all 600 and the person in smooth clothes
   // walking before it had none.
   const cv::Mat body = smooth(122, 268, 12);
-  const CrossingOutcome o = crossing(true, &body);
+  ObstaclesParams spread;
+  spread.mover_half_resolution_corners = false;
+  const CrossingOutcome o = crossing(true, &body, nullptr, spread);
   EXPECT_GE(o.tracked_frames, o.frames - 5);
   EXPECT_EQ(o.false_tracks, 0);
-  ObstaclesParams by_strength;
+  ObstaclesParams by_strength = spread;
   by_strength.mover_spread_blocks = 1;
   const CrossingOutcome ranked = crossing(true, &body, nullptr, by_strength);
   EXPECT_LT(ranked.tracked_frames, o.frames / 2) << "ranked by strength the person gets corners too: the test shows nothing";

@@ -33,6 +33,7 @@ struct SceneFlowParams
   double min_distance = 8.0;         ///< px, bucket size: at most one corner (the strongest) per bucket
   /// the budget goes first to the strongest corner of each block of this many x this many buckets (1: by strength alone)
   int spread_blocks = 3;
+  bool half_resolution_corners = true;  ///< FAST also on the half-resolution image (a smooth texture seen close up)
   int lk_window = 11;                ///< px, Lucas-Kanade window
   int lk_levels = 3;                 ///< pyramid levels above the base (11 px window: ~40 px motion per frame)
   double max_fb_error = 0.5;         ///< px, forward-backward tracking error beyond which a track is dropped
