@@ -646,6 +646,9 @@ private:
   // Recall of the people who walk (truth speed >= 0.3 m/s: a person standing still has no scene flow
   // and is mapped as an obstacle), and of those also in the camera's view (body centre in the image).
   long moving_truth = 0, moving_matched = 0, view_truth = 0, view_matched = 0;
+  long standing_truth = 0, standing_held = 0;  // standing people in view within 5 m, held by the map
+  long standing_near_truth = 0, standing_near_held = 0;  // ... within the map's obstacle evidence range
+  double evidence_range_m = 0.0;                         // (obstacleEvidenceRange of the bag's rig)
   double vel_sum = 0.0;
   GhostCount ghosts;
   std::set<std::pair<int, int>> locked_free, people_path, ghost_people_path;  // global cells
@@ -888,14 +891,33 @@ void ObstaclesRun::scoreMovingPeople(const std::vector<PersonState>& truth_peopl
   std::vector<PersonState> moving, in_view;
   std::set<int> visible;  // walking where the camera can see and match them (the crossings' floor)
   const Eigen::Isometry3d cam_world = f.gt_pose.inverse();
+  bool have_grid = false;
   for (const PersonState& q : truth_people)
   {
-    if (q.velocity.norm() < 0.3) continue;
-    moving.push_back(q);
     const Eigen::Vector3d c = cam_world * Eigen::Vector3d(q.position.x(), q.position.y(), q.age);
-    if (c.z() < 0.3) continue;
-    const double u = model.fx * c.x() / c.z() + model.cx, v = model.fy * c.y() / c.z() + model.cy;
-    if (u >= 0 && v >= 0 && u < model.width && v < model.height) in_view.push_back(q);
+    const bool ahead = c.z() >= 0.3;
+    const double u = ahead ? model.fx * c.x() / c.z() + model.cx : -1.0, v = ahead ? model.fy * c.y() / c.z() + model.cy : -1.0;
+    const bool in_image = ahead && u >= 0 && v >= 0 && u < model.width && v < model.height;
+    if (q.velocity.norm() < 0.3)
+    {
+      // Standing: no flow, an ordinary obstacle of the map (issue 37: found when the map holds them).
+      if (!in_image || (q.position - wearer_pos).norm() > pscore.radius) continue;
+      if (!have_grid) map.grid(grid);
+      have_grid = true;
+      const bool held = heldByMap(grid, q);
+      ++standing_truth;
+      standing_held += held;
+      evidence_range_m = obstacleEvidenceRange(params, model);
+      if ((q.position - wearer_pos).norm() <= evidence_range_m)
+      {
+        ++standing_near_truth;
+        standing_near_held += held;
+      }
+      continue;
+    }
+    moving.push_back(q);
+    if (!ahead) continue;
+    if (in_image) in_view.push_back(q);
     // The matcher gives no disparity in the left image's first max_disparity columns.
     if (u >= params.max_disparity && u < model.width && v >= 0 && v < model.height && c.z() <= params.max_depth)
       visible.insert(q.id);
@@ -1173,6 +1195,10 @@ void ObstaclesRun::printPeople() const
                 "(%ld/%ld)\n",
                 ratio(moving_matched, moving_truth), moving_matched, moving_truth, ratio(view_matched, view_truth),
                 view_matched, view_truth);
+    std::printf("people standing (truth < 0.3 m/s) in the camera's view within 5 m: held by the map %.3f (%ld/%ld); "
+                "within its obstacle evidence range (%.2f m): %.3f (%ld/%ld)\n",
+                ratio(standing_held, standing_truth), standing_held, standing_truth, evidence_range_m,
+                ratio(standing_near_held, standing_near_truth), standing_near_held, standing_near_truth);
     std::printf("crossings (closest truth approach < 0.5 m): %d, warned >= 1.5 s ahead: %d; false warnings (people never "
                 "within 1 m, or no one): %d in %.2f min\n",
                 crossing.crossings(), crossing.crossingsWarned(), crossing.falseWarnings(), crossing.minutes());
@@ -1239,6 +1265,9 @@ eval::JsonLine ObstaclesRun::jsonLine() const
       .add("people_precision_5m", scored_people ? num(ratio(people_tracks_matched, people_tracks)) : "null")
       .add("people_recall_5m_walking", scored_people ? num(ratio(moving_matched, moving_truth)) : "null")
       .add("people_recall_5m_walking_in_view", scored_people ? num(ratio(view_matched, view_truth)) : "null")
+      .add("people_recall_5m_standing_in_view", scored_people ? num(ratio(standing_held, standing_truth)) : "null")
+      .add("people_recall_standing_in_evidence_range",
+           scored_people ? num(ratio(standing_near_held, standing_near_truth)) : "null")
       .add("people_velocity_err_mps", scored_people && vel_n ? num(vel_sum / vel_n) : "null")
       .add("crossing_warned_pct", scored_people ? num(crossing.warnedPct(), 1) : "null")
       .add("crossings", scored_people ? std::to_string(crossing.crossings()) : "null")

@@ -56,6 +56,24 @@ PeopleFrameScore scorePeopleFrame(const std::vector<PersonState>& truth, const s
   return s;
 }
 
+bool heldByMap(const GridData& est, const PersonState& person)
+{
+  if (!(est.resolution > 0.0)) return false;
+  const double reach = person.radius + est.resolution * std::sqrt(0.5);
+  const int x0 = static_cast<int>(std::floor((person.position.x() - reach - est.origin_x) / est.resolution));
+  const int y0 = static_cast<int>(std::floor((person.position.y() - reach - est.origin_y) / est.resolution));
+  const int x1 = static_cast<int>(std::floor((person.position.x() + reach - est.origin_x) / est.resolution));
+  const int y1 = static_cast<int>(std::floor((person.position.y() + reach - est.origin_y) / est.resolution));
+  for (int ey = std::max(0, y0); ey <= std::min(est.height - 1, y1); ++ey)
+    for (int ex = std::max(0, x0); ex <= std::min(est.width - 1, x1); ++ex)
+    {
+      const Eigen::Vector2d c(est.origin_x + (ex + 0.5) * est.resolution, est.origin_y + (ey + 0.5) * est.resolution);
+      if ((c - person.position).norm() < reach && est.data[static_cast<size_t>(ey) * est.width + ex] == CELL_OBSTACLE)
+        return true;
+    }
+  return false;
+}
+
 GhostCount countGhostCells(const GridData& truth, const GridData& est, const Eigen::Vector2d& wearer, double radius,
                            const std::vector<PersonState>& people)
 {

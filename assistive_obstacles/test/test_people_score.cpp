@@ -141,3 +141,23 @@ TEST(PeopleScore, CrossingVisibleInTimeIsTheCamerasFloor)
     EXPECT_DOUBLE_EQ(d.first_visible, d.id == 1 ? 1.5 : 4.0);
   }
 }
+
+TEST(PeopleScore, StandingPersonHeldWhenAnObstacleCellLiesUnderThem)
+{
+  // 0.2 m cells from the origin, 10 x 10, one obstacle cell (5, 5) (centre 1.1, 1.1). A person of
+  // radius 0.25 m holds it when the cell's centre lies within 0.25 + 0.141 m of theirs.
+  GridData est;
+  est.resolution = 0.2;
+  est.width = est.height = 10;
+  est.data.assign(100, CELL_FREE);
+  est.data[5 * 10 + 5] = CELL_OBSTACLE;
+  EXPECT_TRUE(heldByMap(est, person(1, 1.1 + 0.30, 1.1, 0, 0, 0, 0.25)));
+  EXPECT_TRUE(heldByMap(est, person(1, 1.1, 1.1 - 0.38, 0, 0, 0, 0.25)));
+  EXPECT_FALSE(heldByMap(est, person(1, 1.1 + 0.40, 1.1, 0, 0, 0, 0.25)));
+  // An unknown or free cell under them is not holding them.
+  est.data[5 * 10 + 5] = CELL_UNKNOWN;
+  EXPECT_FALSE(heldByMap(est, person(1, 1.1, 1.1, 0, 0, 0, 0.25)));
+  // Off the grid: nothing holds them.
+  est.data[5 * 10 + 5] = CELL_OBSTACLE;
+  EXPECT_FALSE(heldByMap(est, person(1, -3.0, -3.0, 0, 0, 0, 0.25)));
+}

@@ -12,6 +12,7 @@
 //   estimate is known (in view, once observed), those the map marks obstacle (100). Cells under a
 //   truth person's footprint this frame are left out (a person standing there is rightly an
 //   obstacle).
+// - Standing people (heldByMap): found when the map marks an obstacle cell under them.
 // - Crossings (CrossingScore): per truth person, the closest approach to the wearer over the run
 //   (truth positions at the frame times). People whose closest approach is below `cross_distance`
 //   (0.5 m) while walking (truth speed at that moment >= `min_speed`, 0.3 m/s: a person standing
@@ -72,6 +73,11 @@ struct GhostCount
 /// the frame (their footprints are left out).
 GhostCount countGhostCells(const GridData& truth, const GridData& est, const Eigen::Vector2d& wearer, double radius,
                            const std::vector<PersonState>& people);
+
+/// Whether the map holds a standing person (issue 37: a person standing still has no flow and is
+/// mapped as an ordinary obstacle, which is finding them): a cell of `est` marked obstacle whose
+/// centre lies within the person's radius plus half a cell's diagonal.
+bool heldByMap(const GridData& est, const PersonState& person);
 
 struct CrossingScoreParams
 {
