@@ -20,6 +20,7 @@ MoverPipelineParams moverPipelineParams(const ObstaclesParams& p, const StereoMo
   m.flow.max_features = p.mover_max_features;
   m.flow.fast_threshold = p.mover_fast_threshold;
   m.flow.spread_blocks = p.mover_spread_blocks;
+  m.tracker.death_misses = p.mover_death_misses;
   m.flow.half_resolution_corners = p.mover_half_resolution_corners;
   m.flow.max_fb_error = p.mover_max_fb_error;
   m.flow.edge_window = p.mover_edge_window;

@@ -124,7 +124,9 @@ TEST(MoverTracker, TwoCrossingPeopleKeepTheirIdentities)
 
 TEST(MoverTracker, MissedDetectionsAreBridgedThenTheTrackEnds)
 {
-  MoverTracker trk;  // death after 5 consecutive misses
+  MoverTrackerParams five;
+  five.death_misses = 5;  // death after 5 consecutive misses
+  MoverTracker trk(five);
   const Eigen::Vector2d p0(0.0, 0.0), v(1.0, 0.5);
   for (int k = 0; k < 10; ++k) trk.update(k * DT, {at(p0, v, k * DT)});
   ASSERT_EQ(trk.confirmed().size(), 1u);
@@ -148,6 +150,30 @@ TEST(MoverTracker, MissedDetectionsAreBridgedThenTheTrackEnds)
   const std::vector<int> ids2 = trk.update(19 * DT, {at(p0, v, 19 * DT)});
   EXPECT_NE(ids2[0], id);
   EXPECT_TRUE(trk.confirmed().empty());
+}
+
+TEST(MoverTracker, AWalkerOutOfViewForTheHeadsScanKeepsItsTrack)
+{
+  // Issue 37: the head scans +-8-12 deg every 6-8 s and a walker near the view's edge drops out of
+  // it for a few frames; at 15 Hz the default bridges 0.6 s (9 frames) on the constant-velocity
+  // path, and the walker seen again is the same track (the crossing watch's side stays with it).
+  const double dt = 1.0 / 15.0;
+  MoverTracker trk;
+  const Eigen::Vector2d p0(2.0, -1.5), v(0.0, 1.3);
+  for (int k = 0; k < 8; ++k) trk.update(k * dt, {at(p0, v, k * dt)});
+  ASSERT_EQ(trk.confirmed().size(), 1u);
+  const int id = trk.confirmed()[0].id;
+  for (int k = 8; k < 17; ++k) trk.update(k * dt, {});
+  ASSERT_NE(trk.find(id), nullptr);
+  EXPECT_EQ(trk.update(17 * dt, {at(p0, v, 17 * dt)})[0], id);
+  // With the old 5 misses (0.33 s) it was a new, unconfirmed track.
+  MoverTrackerParams five;
+  five.death_misses = 5;
+  MoverTracker old(five);
+  for (int k = 0; k < 8; ++k) old.update(k * dt, {at(p0, v, k * dt)});
+  for (int k = 8; k < 17; ++k) old.update(k * dt, {});
+  old.update(17 * dt, {at(p0, v, 17 * dt)});
+  EXPECT_TRUE(old.confirmed().empty());
 }
 
 TEST(MoverTracker, ClutterIsNeverConfirmed)
