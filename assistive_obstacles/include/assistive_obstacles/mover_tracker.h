@@ -20,7 +20,7 @@ struct MoverTrackerParams
   double init_speed_sigma = 1.5;  ///< m/s, velocity sigma of a track born from one detection (walking speeds)
   double gate = 4.0;            ///< Mahalanobis distance beyond which a detection is not the track's (2 dof: 0.03 % of true detections fall outside)
   int birth_hits = 3;           ///< hits before a track is confirmed (reported)
-  int death_misses = 10;        ///< consecutive misses that end a track (bridges short occlusions and the head's scan: 0.67 s at 15 Hz)
+  int death_misses = 8;         ///< consecutive misses that end a track (bridges short occlusions and the head's scan: 0.53 s at 15 Hz)
 };
 
 struct MoverTrack

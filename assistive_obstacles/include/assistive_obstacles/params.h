@@ -119,7 +119,7 @@ namespace assistive_obstacles
   X(double, mover_sigma_scale, "mover_sigma_scale", 3.0, 0.5, 100.0, "", "a point moves when its residual against the ego-motion exceeds this many sigmas ...") \
   X(double, mover_min_residual, "mover_min_residual", 0.05, 0.0, 5.0, "m", "... and this") \
   X(int, mover_min_cluster_points, "mover_min_cluster_points", 5, 1, 10000, "", "moving points (8-connected 0.2 m ground cells) that make a mover") \
-  X(int, mover_death_misses, "mover_death_misses", 10, 1, 1000, "frames", "a confirmed mover track coasts (constant velocity) through this many frames without a detection before it ends (5 dropped walkers at the view's edge during the head's scan)") \
+  X(int, mover_death_misses, "mover_death_misses", 8, 1, 1000, "frames", "a confirmed mover track coasts (constant velocity) through this many frames without a detection before it ends (5 dropped walkers the detector missed for a few frames and at the view's edge during the head's scan; 10 coasted past people who turned)") \
   X(double, mover_min_speed, "mover_min_speed", 0.3, 0.0, 5.0, "m/s", "a track at least 0.5 s old that moved less than this since its birth is a static surface (not reported, its cells vote again)") \
   X(double, mover_confirm_sigmas, "mover_confirm_sigmas", 3.0, 0.0, 100.0, "", "a confirmed track is reported only while its points' mean motion against the ego-motion is at least mover_min_speed and this many standard errors, and its centres move the same way (mover_pipeline.h); 0 reports every confirmed track") \
   X(double, mover_flow_sigma, "mover_flow_sigma", 0.3, 0.01, 10.0, "m/s", "floor of the scatter of one detection's flow velocity, for that test") \
