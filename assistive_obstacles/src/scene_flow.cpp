@@ -188,7 +188,7 @@ bool lift(const cv::Mat& disp, const StereoModel& m, const SceneFlowParams& p, c
 }  // namespace
 
 void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv::KeyPoint>& scratch,
-                   std::vector<cv::Point2f>& out, const cv::Mat* disp, const StereoModel* model)
+                   std::vector<cv::Point2f>& out, const cv::Mat* disp, const StereoModel* model, const cv::Mat* half)
 {
   out.clear();
   scratch.clear();
@@ -197,10 +197,10 @@ void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv
   {
     // Close up, a smooth texture is magnified past FAST's 3 px circle (the renderer's and a
     // lens's blur): its corners show at half the resolution.
-    cv::Mat half;
-    cv::pyrDown(grey, half);
+    cv::Mat own_half;
+    if (!half) cv::pyrDown(grey, own_half);
     std::vector<cv::KeyPoint> coarse;
-    cv::FAST(half, coarse, p.fast_threshold, true);
+    cv::FAST(half ? *half : own_half, coarse, p.fast_threshold, true);
     for (cv::KeyPoint& k : coarse)
     {
       k.pt = cv::Point2f(2.f * k.pt.x + 0.5f, 2.f * k.pt.y + 0.5f);  // (x + 0.5) 2 - 0.5
@@ -218,24 +218,26 @@ void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv
   // The strongest corner per min_distance bucket, then the strongest buckets: spread over the image.
   const int cell = std::max(1, static_cast<int>(std::lround(p.min_distance)));
   const int gw = (grey.cols + cell - 1) / cell, gh = (grey.rows + cell - 1) / cell;
+  const auto bucketOf = [&](int i) {
+    const cv::Point2f& pt = scratch[static_cast<size_t>(i)].pt;
+    return cv::Point(std::min(gw - 1, static_cast<int>(pt.x) / cell), std::min(gh - 1, static_cast<int>(pt.y) / cell));
+  };
+  // Stronger response first, the earlier detection on a tie.
+  const auto stronger = [&](int a, int b) {
+    return scratch[a].response > scratch[b].response || (scratch[a].response == scratch[b].response && a < b);
+  };
   std::vector<int> best(static_cast<size_t>(gw) * gh, -1);
-  for (size_t i = 0; i < scratch.size(); ++i)
+  for (int i = 0; i < static_cast<int>(scratch.size()); ++i)
   {
-    const cv::KeyPoint& k = scratch[i];
-    const int gx = std::min(gw - 1, static_cast<int>(k.pt.x) / cell), gy = std::min(gh - 1, static_cast<int>(k.pt.y) / cell);
-    int& b = best[static_cast<size_t>(gy) * gw + gx];
-    if (b < 0 || k.response > scratch[static_cast<size_t>(b)].response ||
-        (k.response == scratch[static_cast<size_t>(b)].response && i < static_cast<size_t>(b)))
-      b = static_cast<int>(i);
+    const cv::Point g = bucketOf(i);
+    int& b = best[static_cast<size_t>(g.y) * gw + g.x];
+    if (b < 0 || stronger(i, b)) b = i;
   }
   std::vector<int> kept;
   for (const int b : best)
     if (b >= 0) kept.push_back(b);
   if (static_cast<int>(kept.size()) > p.max_features)
   {
-    const auto stronger = [&](int a, int b) {
-      return scratch[a].response > scratch[b].response || (scratch[a].response == scratch[b].response && a < b);
-    };
     std::sort(kept.begin(), kept.end(), stronger);
     // The budget spread first: the strongest corner of each block of spread_blocks x spread_blocks
     // buckets, then the strongest of the rest. Ranked over the whole image, a textured wall's
@@ -246,9 +248,8 @@ void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv
     std::vector<int> first, rest;
     for (const int i : kept)
     {
-      const cv::KeyPoint& k = scratch[static_cast<size_t>(i)];
-      const int gx = std::min(gw - 1, static_cast<int>(k.pt.x) / cell), gy = std::min(gh - 1, static_cast<int>(k.pt.y) / cell);
-      char& used = block_used[static_cast<size_t>(gy / sb) * bw + gx / sb];
+      const cv::Point g = bucketOf(i);
+      char& used = block_used[static_cast<size_t>(g.y / sb) * bw + g.x / sb];
       (used ? rest : first).push_back(i);
       used = 1;
     }
@@ -298,7 +299,9 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
     const std::vector<cv::Mat>& prev_pyr_ = old.pyr;
     const cv::Mat& prev_disp_ = old.disp;
     const StereoModel& prev_model_ = old.model;
-    detectCorners(prev_grey_, params_, keypoints_, p0_, &prev_disp_, &prev_model_);
+    // The pyramid holds the half-resolution image already (levels at even indices, derivatives between).
+    detectCorners(prev_grey_, params_, keypoints_, p0_, &prev_disp_, &prev_model_,
+                  prev_pyr_.size() > 2 ? &prev_pyr_[2] : nullptr);
     detected_ = static_cast<int>(p0_.size());
     if (!p0_.empty())
     {

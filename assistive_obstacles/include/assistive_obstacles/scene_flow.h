@@ -82,9 +82,11 @@ double matchDisparity(const cv::Mat& left, const cv::Mat& right, double u, doubl
 /// FAST corners of `grey`, the strongest per min_distance bucket, at most max_features (the
 /// strongest), in raster order of detection. With `disp` and `model` (the image's disparity at the
 /// matcher's scale) only corners with a usable depth (in [min_depth, max_depth], off depth edges)
-/// compete: the far background and the sky would otherwise take half the budget.
+/// compete: the far background and the sky would otherwise take half the budget. `half`: `grey`
+/// at half resolution when the caller has it (its pyramid), for half_resolution_corners.
 void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv::KeyPoint>& scratch,
-                   std::vector<cv::Point2f>& out, const cv::Mat* disp = nullptr, const StereoModel* model = nullptr);
+                   std::vector<cv::Point2f>& out, const cv::Mat* disp = nullptr, const StereoModel* model = nullptr,
+                   const cv::Mat* half = nullptr);
 
 class SceneFlowExtractor
 {
