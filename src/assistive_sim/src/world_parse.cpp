@@ -659,7 +659,49 @@ World parseRoot(const YAML::Node& root, const Ctx& c)
 }
 }  // namespace
 
+Eigen::Vector2d GiveWayTrack::at(double tt, Eigen::Vector2d* rate, double* delay_at, double* delay_rate) const
+{
+  if (rate) rate->setZero();
+  if (delay_at) *delay_at = 0.0;
+  if (delay_rate) *delay_rate = 0.0;
+  if (t.empty()) return Eigen::Vector2d::Zero();
+  size_t k = 0;
+  double a = 0.0;
+  if (tt >= t.back())
+    k = t.size() - 1;
+  else if (tt > t.front())
+  {
+    k = static_cast<size_t>(std::upper_bound(t.begin(), t.end(), tt) - t.begin()) - 1;
+    const double dt = t[k + 1] - t[k];
+    if (dt > 0.0)
+    {
+      a = (tt - t[k]) / dt;
+      if (rate) *rate = (offset[k + 1] - offset[k]) / dt;
+      if (delay_rate) *delay_rate = (delay[k + 1] - delay[k]) / dt;
+    }
+  }
+  if (a == 0.0)
+  {
+    if (delay_at) *delay_at = delay[k];
+    return offset[k];
+  }
+  if (delay_at) *delay_at = delay[k] + a * (delay[k + 1] - delay[k]);
+  return offset[k] + a * (offset[k + 1] - offset[k]);
+}
+
 PersonState personAt(const Person& p, double t)
+{
+  if (!p.give_way) return personScriptAt(p, t);
+  Eigen::Vector2d rate;
+  double delay = 0.0, delay_rate = 0.0;
+  const Eigen::Vector2d offset = p.give_way->at(t, &rate, &delay, &delay_rate);
+  PersonState s = personScriptAt(p, t - delay);
+  s.position += offset;
+  s.velocity = s.velocity * (1.0 - delay_rate) + rate;
+  return s;
+}
+
+PersonState personScriptAt(const Person& p, double t)
 {
   PersonState s;
   const size_t n = p.knot_t.size();

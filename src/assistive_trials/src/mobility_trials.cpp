@@ -45,6 +45,8 @@ void usage(std::ostream& os = std::cerr)
   os << "usage: mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S] [--plot FILE.png]\n"
         "       mobility_trials --generated N [--kind K[,K...]] [--seed-base B] [--keep DIR] [the same options]\n"
         "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--turn-on DEG]\n"
+        "                       [--people-scripted] (people walk their scripts through the wearer; default: they\n"
+        "                       step aside as walkers do, truth and cane modes; assistive_sim/people_give_way.h)\n"
         "                       [--body-half-width M] [--chord-min M] (planner: free_ahead strip, heading chord; truth)\n"
         "                       [--timeout-factor X] (a trial ends unfinished after X x the guide's time + 20 s; 4)\n"
         "                       [--wearer population|typical] [--slowest-decile] [--unsure-at S [--unsure-for S]]\n"
@@ -347,6 +349,8 @@ struct Summary
   std::vector<double> lat;
   long missed = 0;
   double people_closest = 0;
+  double give_way = 0;      ///< times people began to step aside for the wearer
+  bool giving_way = false;  ///< and they did (truth and cane modes)
   double ppws_worst = NAN;  ///< the worst trial's PPWS (0 = not completed)
   double unsure_max = NAN;  ///< metres walked after a scripted UNSURE began, most of any trial
   std::array<double, 6> action{};  ///< seconds per VestWearer::Action over the trials
@@ -377,6 +381,8 @@ struct Summary
       lat.insert(lat.end(), r.latency_ms.begin(), r.latency_ms.end());
       missed += r.missed_cues;
       people_closest += r.min_person_clearance_m;
+      give_way += r.give_way_episodes;
+      giving_way = giving_way || r.people_give_way;
       for (size_t i = 0; i < action.size(); ++i) action[i] += r.action_s[i];
       for (size_t i = 0; i < begun.size(); ++i) begun[i] += r.cues_begun[i];
       doorway_turns += r.doorway_turns;
@@ -434,7 +440,11 @@ void reportWorld(const World& world, const std::string& mode, const std::string&
   std::printf("  collisions / trial   %.2f (worst trial %.0f): wall %.2f, overhang %.2f, glass %.2f, furniture %.2f, "
               "people %.2f\n",
               S.coll / n, S.worst, S.kinds[0] / n, S.kinds[1] / n, S.kinds[2] / n, S.kinds[3] / n, people_coll);
-  if (!world.people.empty())
+  if (!world.people.empty() && S.giving_way)
+    std::printf("  people               %zu scripted, stepping aside for the wearer (%.1f times a trial); closest "
+                "approach %.2f m (body surfaces, mean over trials)\n",
+                world.people.size(), S.give_way / n, S.people_closest / n);
+  else if (!world.people.empty())
     std::printf("  people               %zu scripted (they do not react to the wearer); closest approach %.2f m "
                 "(body surfaces, mean over trials)\n",
                 world.people.size(), S.people_closest / n);
@@ -572,6 +582,7 @@ int main(int argc, char** argv)
       else if (a == "--seed") seed = std::stol(val());
       else if (a == "--plot") plot = val();
       else if (a == "--no-cues") opt.cues_enabled = false;
+      else if (a == "--people-scripted") opt.people_give_way = false;  // people walk through the wearer (before)
       else if (a == "--reaction") opt.wearer.reaction_s = std::stod(val());
       else if (a == "--turn-rate") opt.wearer.turn_rate_deg = std::stod(val());
       else if (a == "--turn-on") opt.cues.turn_on_deg = std::stod(val());

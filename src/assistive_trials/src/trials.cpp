@@ -322,7 +322,19 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   const WearerParams wp = trialWearer(opt, seed);
   r.wearer = wp;
   const double body_height = wp.eye_height + 0.12;
-  BodyCollider body(world, wp.body_radius, body_height);
+  // People who give way (issue 37) on the trial's own copy of the world: the collider, the cane
+  // and the truth chain then meet the same people aside. Vision mode keeps the scripts, which the
+  // renderer draws.
+  const bool giving_way = opt.people_give_way && !world.people.empty() && opt.mode != TrialMode::VISION;
+  World moved;
+  std::unique_ptr<assistive_sim::PeopleGiveWay> give_way;
+  if (giving_way)
+  {
+    moved = world;
+    give_way = std::make_unique<assistive_sim::PeopleGiveWay>(moved, opt.give_way);
+  }
+  const World& trial_world = giving_way ? moved : world;
+  BodyCollider body(trial_world, wp.body_radius, body_height);
   r.start = randomStart(world, opt, body, rng);
   std::vector<Eigen::Vector2d> route = courseOf(world);
   route.erase(route.begin());
@@ -344,7 +356,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
     // when its first 0.15 s pulse ends, then felt one reaction time late)
     constexpr double kVeerPulseS = 0.15;
     if (opt.lead_from_true_reaction) chain_opt.planner.steer_lead_s = wp.reaction_s + kVeerPulseS;
-    truth = std::make_unique<TruthChain>(world, chain_opt);
+    truth = std::make_unique<TruthChain>(trial_world, chain_opt);
     chain = truth.get();
   }
   VestWearer wearer(wp, r.start, seed ^ 0x9e3779b9u);
@@ -395,7 +407,10 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   {
     const BodyState& s = vest ? wearer.state() : cane.state();
     // The people (issue 22) where they are at the end of this step: the collider counts contacts
-    // with them and the cane feels them; they follow their scripts on the trial's clock.
+    // with them and the cane feels them; they follow their scripts on the trial's clock, stepping
+    // aside for the wearer as it walks now.
+    if (give_way)
+      give_way->step(t, opt.dt, s.xy, s.speed * Eigen::Vector2d(std::cos(s.yaw), std::sin(s.yaw)));
     body.setTime(t + opt.dt);
     // progress along the course: the experimenter's route (the system's explicit goal)
     while (next < route.size() && (s.xy - route[next]).norm() < opt.goal_radius_m)
@@ -506,7 +521,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
       double gap = std::numeric_limits<double>::infinity();
       for (size_t i = 0; i < world.people.size(); ++i)
       {
-        const PersonState p = personAt(world, i, t + opt.dt);
+        const PersonState p = personAt(trial_world, i, t + opt.dt);
         const double g = (p.position - now.xy).norm() - world.people[i].radius - opt.wearer.body_radius;
         if (g < gap)
         {
@@ -525,6 +540,8 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
     ++steps;
   }
   r.time_s = t;
+  r.people_give_way = giving_way;
+  r.give_way_episodes = give_way ? give_way->episodes() : 0;
   r.ppws_pct = r.completed && r.time_s > 0.0 ? 100.0 * r.guide_time_s / r.time_s : 0.0;
   r.collisions = body.collisions();
   r.collision_places = body.collisionPlaces();

@@ -1,6 +1,7 @@
 #pragma once
 // Simulated worlds: materials, solids (boxes, cylinders, glass), the wearer's script, parsed from
 // a world YAML file (format in README.md "World files"). ROS-free.
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -93,6 +94,21 @@ struct TrajectoryScript
   bool auto_head_turns = true;    ///< add seeded slow/medium/fast turns and jerks
 };
 
+/// Where a person walks beside its script while giving way to the wearer (issue 37; people_give_way.h):
+/// an offset on the floor (m) at each time, linear between the knots, the first before them and the
+/// last after them. Filled in as a trial runs; shared by every copy of the Person, so the collider
+/// and the planner's truth see the same person.
+struct GiveWayTrack
+{
+  std::vector<double> t;
+  std::vector<Eigen::Vector2d> offset;
+  std::vector<double> delay;  ///< s its script runs behind the clock (it stood waiting that long)
+  /// The offset at time `t`, and its rate (m/s) when `rate` is given; the delay and its rate (0:
+  /// walking, 1: standing) when `delay` / `delay_rate` are given.
+  Eigen::Vector2d at(double t, Eigen::Vector2d* rate = nullptr, double* delay = nullptr,
+                     double* delay_rate = nullptr) const;
+};
+
 /// A walking (or standing) person (issue 22, README "World files": `people:`). Every kind of
 /// script is expanded at parse time into a timed polyline (knots), so personAt() is a pure
 /// function of the time. People are movers, not solids: they are rendered and heard by the ranger
@@ -114,6 +130,8 @@ struct Person
   double stand_yaw = 0.0;  ///< rad, facing while standing before the first move (and of STAND)
   std::vector<double> seg_yaw;  ///< rad, facing from knot k to k + 1 (the last walking direction while standing)
   std::string source;      ///< "people[2]", for messages
+  /// Giving way to the wearer (none: the script alone, as in every bag and world file).
+  std::shared_ptr<GiveWayTrack> give_way;
 };
 
 /// A person's body as rendered: a cylinder of `radius` from the floor to the shoulders
@@ -161,9 +179,12 @@ struct World
 };
 
 /// Person `i` of `world` at time `t` (s): exact, deterministic in t (constant velocity between
-/// the script's knots; a random walk's knots are drawn from its seed at parse time).
+/// the script's knots; a random walk's knots are drawn from its seed at parse time), moved by its
+/// give-way track when it has one.
 PersonState personAt(const World& world, size_t i, double t);
 PersonState personAt(const Person& p, double t);
+/// The script alone (where the person means to walk), without giving way.
+PersonState personScriptAt(const Person& p, double t);
 
 /// Ground-truth occupancy options.
 struct OccupancyParams

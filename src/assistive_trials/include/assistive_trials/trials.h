@@ -13,6 +13,7 @@
 #include <opencv2/core.hpp>
 
 #include <assistive_planner/params.h>
+#include <assistive_sim/people_give_way.h>
 #include <assistive_trials/wearer.h>
 #include <assistive_tactile/params.h>
 
@@ -163,6 +164,11 @@ struct TrialOptions
   /// for `unsure_for_s` seconds: truth mode only.
   double unsure_at_s = std::numeric_limits<double>::quiet_NaN();
   double unsure_for_s = 3.0;
+  /// People step aside for the wearer as walkers do (assistive_sim/people_give_way.h, issue 37), in
+  /// truth and cane modes; false: they walk their scripts through the wearer (before). Vision mode
+  /// always runs the scripts: the renderer's people do not give way.
+  bool people_give_way = true;
+  assistive_sim::GiveWayParams give_way;
 };
 
 struct TrialResult
@@ -173,6 +179,8 @@ struct TrialResult
   bool completed = false;
   double time_s = 0.0;        ///< to completion (or the timeout)
   double guide_time_s = 0.0;  ///< sighted guide from the same start
+  bool people_give_way = false;  ///< the world's people stepped aside for the wearer (not vision mode)
+  int give_way_episodes = 0;  ///< times a person began to step aside for the wearer
   double ppws_pct = 0.0;      ///< guide time / time x 100 (0 when not completed)
   std::array<int, size_t(assistive_sim::ObstacleKind::NUM_KINDS)> collisions{};
   int totalCollisions() const;
