@@ -11,7 +11,6 @@ PeopleGiveWay::PeopleGiveWay(World& world, const GiveWayParams& p) : world_(worl
 {
   for (Person& person : world_.people)
     person.give_way = std::make_shared<GiveWayTrack>();
-  aside_.assign(world_.people.size(), false);
 }
 
 double PeopleGiveWay::minimalPredictedDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& v,
@@ -61,8 +60,7 @@ void PeopleGiveWay::step(double t, double dt, const Eigen::Vector2d& xy, const E
       // (never a step towards the wearer once close: aside means away)
       const bool nearer = (script.position + next - xy).norm() < (pos - xy).norm();
       if (next.norm() > p_.max_offset_m || (nearer && gap < p_.stop_gap_m)) next = offset;
-      if (!aside_[i]) ++episodes_;
-      aside_[i] = true;
+      if (offset.norm() < 1e-9) ++episodes_;  // it leaves its path (not each time it judges again)
       // about to walk into the wearer: it stands (its script waits) while it steps aside
       // (its own walk towards the wearer: one walked into from behind or the side walks on out of the way)
       const bool closing = script.velocity.dot(xy - pos) > 0.0;
@@ -70,7 +68,6 @@ void PeopleGiveWay::step(double t, double dt, const Eigen::Vector2d& xy, const E
     }
     else if (offset.norm() > 1e-9)
     {
-      aside_[i] = false;
       // back to its path once that keeps the passing distance (the wearer behind it, or far off)
       const double back = std::min(step, offset.norm());
       const Eigen::Vector2d cand = offset - back * offset.normalized();
@@ -78,8 +75,6 @@ void PeopleGiveWay::step(double t, double dt, const Eigen::Vector2d& xy, const E
       const double mpd2 = minimalPredictedDistance(script.position + cand, script.velocity, xy, velocity, &tau2);
       if (mpd2 >= p_.mpd_m || tau2 > p_.horizon_s) next = cand;
     }
-    else
-      aside_[i] = false;
     if ((next - offset).squaredNorm() > 0.0 || next_delay != delay)
     {
       // a knot now, where it was, and one a step on, where it goes

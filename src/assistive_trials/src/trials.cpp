@@ -66,7 +66,8 @@ BodyState randomStart(const World& world, const TrialOptions& opt, const BodyCol
     s.xy = a + r * Eigen::Vector2d(std::cos(th), std::sin(th));
     s.yaw = yaw0 + opt.start_yaw_deg * DEG * u(rng);
     if (tries > 100) s.xy = a;  // the script's start is collision-free by construction
-    if (body.clearance(s.xy) >= 0.05) break;
+    // (nor inside a person standing there when the trial starts)
+    if (body.clearance(s.xy) >= 0.05 && body.personClearance(s.xy) >= 0.05) break;
   }
   s.head_yaw = s.yaw;
   return s;
@@ -310,6 +311,7 @@ BodyState trialStart(const World& world, const TrialOptions& opt, uint32_t seed)
 {
   std::mt19937 rng(seed);
   BodyCollider body(world, trialWearer(opt, seed).body_radius, opt.wearer.eye_height + 0.12);
+  body.setTime(0.0);
   return randomStart(world, opt, body, rng);
 }
 
@@ -335,6 +337,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   }
   const World& trial_world = giving_way ? moved : world;
   BodyCollider body(trial_world, wp.body_radius, body_height);
+  body.setTime(0.0);  // (the people where they stand when the trial starts)
   r.start = randomStart(world, opt, body, rng);
   std::vector<Eigen::Vector2d> route = courseOf(world);
   route.erase(route.begin());

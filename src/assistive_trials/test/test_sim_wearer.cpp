@@ -230,7 +230,9 @@ TEST(People, TrialCountsAHeadOnWalkerAsAPeopleCollision)
   opt.population = false;
   opt.wearer.veer_sigma_deg = 0.0;
   opt.fixed_start_yaw_deg = 0.0;
+  opt.people_give_way = false;  // the script alone: it walks through the wearer
   const TrialResult r = runTrial(w, opt, 5);
+  EXPECT_EQ(r.give_way_episodes, 0);
   EXPECT_EQ(r.collisions[size_t(ObstacleKind::PERSON)], 1);
   EXPECT_EQ(r.totalCollisions(), 1);
   ASSERT_EQ(r.collision_places.size(), 1u);
@@ -239,6 +241,45 @@ TEST(People, TrialCountsAHeadOnWalkerAsAPeopleCollision)
   EXPECT_NEAR(r.collision_places[0].x(), 4.3, 0.3);
   EXPECT_LT(r.min_person_clearance_m, 0.0);
   for (int8_t c : computeOccupancy(w).data) EXPECT_NE(c, 100);
+}
+
+TEST(People, AHeadOnWalkerGivesWayToTheWearer)
+{
+  // The same encounter with people who give way (issue 37, the default): the walker steps aside
+  // (its minimal predicted distance under 1 m) and passes the wearer, which walks straight on.
+  const World w = withPeople("  - {radius: 0.22, walk: {waypoints: [[10, 0], [3, 0], [3, 5]], speed: 1.0}}\n");
+  TrialOptions opt;
+  opt.mode = TrialMode::TRUTH;
+  opt.cues_enabled = false;
+  opt.population = false;
+  opt.wearer.veer_sigma_deg = 0.0;
+  opt.fixed_start_yaw_deg = 0.0;
+  const TrialResult r = runTrial(w, opt, 5);
+  EXPECT_TRUE(r.people_give_way);
+  EXPECT_EQ(r.give_way_episodes, 1);
+  EXPECT_EQ(r.totalCollisions(), 0);
+  EXPECT_GT(r.min_person_clearance_m, 0.2);  // about the metre centre to centre, less the bodies
+  // and the cane's walker (its sense of the route's direction exact: it meets the person) meets
+  // the same person aside
+  opt.mode = TrialMode::CANE;
+  opt.cane.heading_noise_deg = 0.0;
+  const TrialResult c = runTrial(w, opt, 5);
+  EXPECT_EQ(c.collisions[size_t(ObstacleKind::PERSON)], 0);
+  EXPECT_EQ(c.give_way_episodes, 1);
+}
+
+TEST(People, TheStartIsClearOfAPersonStandingThere)
+{
+  // a person standing 0.45 m ahead of the course's start: a start within 0.3 m of it that
+  // overlaps the person is redrawn, as one inside a solid is
+  const World w = withPeople("  - {radius: 0.22, stand: {at: [0.45, 0.0]}}\n");
+  TrialOptions opt;
+  opt.population = false;
+  for (uint32_t seed = 1; seed <= 40; ++seed)
+  {
+    const BodyState s = trialStart(w, opt, seed);
+    EXPECT_GE((s.xy - Eigen::Vector2d(0.45, 0.0)).norm() - 0.22 - opt.wearer.body_radius, 0.05) << "seed " << seed;
+  }
 }
 
 TEST(CollisionCause, TableOfWhatTheWearerDidAndWhere)

@@ -6,7 +6,7 @@
 // minimal predicted distance (MPD: how close the two would pass if both kept their velocities) is
 // under about 1 m, and then raise it before the crossing (Olivier, Marin, Cretual & Pettre 2012,
 // Gait & Posture 36:399-404). A walker avoiding a non-reactive one (the blind wearer is one, as is
-// a wearer standing still) adjusts its path (Huber et al. 2014, PLoS ONE 9:e89589). Here the
+// a wearer standing still) adjusts its path (Huber et al. 2014, PLoS ONE 9(2):e89589). Here the
 // person leaves its path sideways, towards the side it would already pass on, at its walking speed
 // times sin(`deviation_deg`), until the MPD is back over `mpd_m`, and returns to its path once the
 // wearer is behind it (and the return does not bring the MPD under it again). One about to walk
@@ -43,7 +43,7 @@ public:
   /// The wearer at `xy` moving at `velocity` (m/s) at time `t`: each person's offset from `t` to
   /// `t + dt`. Call once per step, in time order.
   void step(double t, double dt, const Eigen::Vector2d& xy, const Eigen::Vector2d& velocity);
-  /// Times a person began to step aside (for the trial's summary).
+  /// Times a person left its path to step aside (for the trial's summary).
   int episodes() const { return episodes_; }
   /// The minimal predicted distance between a person at `p` moving at `v` and the wearer at `w`
   /// moving at `u`, and the time to it (s, >= 0) in `tau`.
@@ -53,7 +53,6 @@ public:
 private:
   World& world_;
   GiveWayParams p_;
-  std::vector<bool> aside_;  ///< stepping aside now (per person)
   int episodes_ = 0;
 };
 
