@@ -15,6 +15,7 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
+#include <std_msgs/Float64MultiArray.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -113,6 +114,10 @@ private:
       std::string dir = ASSISTIVE_SIM_SHARE_WORLDS;
       if (!std::ifstream(dir + "/course.yaml").good()) dir = ASSISTIVE_SIM_SOURCE_WORLDS;
       world_ = World::load(resolveWorldPath(p.world, dir));
+      // every person's give-way track (empty: its script), shared by the renderer's and the
+      // ranger's copies; filled from `people_give_way` (the mobility trials, issue 37)
+      for (Person& person : world_.people)
+        person.give_way = std::make_shared<GiveWayTrack>();
       renderer_.reset(new StereoRenderer(world_, cam));
       motion_.reset(new WearerMotion(world_.trajectory, static_cast<uint32_t>(p.seed)));
     }
@@ -160,6 +165,8 @@ private:
     else
     {
       sub_pose_ = nh.subscribe("pose", 1, &RendererNodelet::poseCb, this);
+      if (!world_.people.empty())
+        sub_give_way_ = nh.subscribe("people_give_way", 10, &RendererNodelet::giveWayCb, this);
     }
 
     if (p.sonar_rate > 0)
@@ -229,11 +236,38 @@ private:
       if (!have_rendered_) return;  // no pose yet: no range rather than a guess
       link = last_rendered_ * linkToLeftOptical().inverse();
     }
-    const std::optional<double> r = sonar_->ping(link * linkToSonar(), peopleTime(now));
+    std::optional<double> r;
+    {
+      std::lock_guard<std::mutex> lock(people_mutex_);  // (the people's tracks grow meanwhile)
+      r = sonar_->ping(link * linkToSonar(), peopleTime(now));
+    }
     const UltrasonicParams& up = sonar_->params();
     const double range = r ? *r : std::numeric_limits<double>::infinity();  // REP-117: no echo
     const sensor_msgs::Range m = toRangeMsg(range, up.beam_width, up.min_range, up.max_range, p_.sonar_frame, now);
     pub_sonar_.publish(m);
+  }
+
+  /// The people's give-way offsets at a time (issue 37; the mobility trials' RosChain): [t, then
+  /// per person x, y (m) and the script's delay (s)], appended to their tracks in time order.
+  void giveWayCb(const std_msgs::Float64MultiArrayConstPtr& msg)
+  {
+    const std::vector<double>& d = msg->data;
+    if (d.size() != 1 + 3 * world_.people.size())
+    {
+      NODELET_ERROR_THROTTLE(5.0, "renderer: people_give_way has %zu values, expected 1 + 3 x %zu people; ignored",
+                             d.size(), world_.people.size());
+      return;
+    }
+    std::lock_guard<std::mutex> lock(people_mutex_);
+    for (size_t i = 0; i < world_.people.size(); ++i)
+    {
+      GiveWayTrack& track = *world_.people[i].give_way;
+      if (!track.t.empty() && d[0] <= track.t.back())
+        continue;  // (old or repeated: the tracks only grow)
+      track.t.push_back(d[0]);
+      track.offset.emplace_back(d[1 + 3 * i], d[2 + 3 * i]);
+      track.delay.push_back(d[3 + 3 * i]);
+    }
   }
 
   void poseCb(const geometry_msgs::PoseStampedConstPtr& msg)
@@ -322,9 +356,12 @@ private:
   void renderAndPublish(const Eigen::Isometry3d& T, const ros::Time& now, const Eigen::Vector3d& omega_opt)
   {
     const double people_t = peopleTime(now);
-    renderer_->setPeopleTime(people_t);
-    renderer_->render(T, (now - start_).toSec(), frame_++, out_, omega_opt);
-    if (!world_.people.empty()) pub_people_.publish(peopleMessage(world_, people_t, now, p_.world_frame));
+    {
+      std::lock_guard<std::mutex> lock(people_mutex_);  // (the people's tracks grow meanwhile)
+      renderer_->setPeopleTime(people_t);
+      renderer_->render(T, (now - start_).toSec(), frame_++, out_, omega_opt);
+      if (!world_.people.empty()) pub_people_.publish(peopleMessage(world_, people_t, now, p_.world_frame));
+    }
     {
       std::lock_guard<std::mutex> lock(mutex_);
       last_rendered_ = T;
@@ -375,7 +412,8 @@ private:
   ros::Publisher pub_proj_left_, pub_proj_right_, pub_proj_left_info_, pub_proj_right_info_;
   ros::Publisher pub_left_, pub_right_, pub_left_info_, pub_right_info_, pub_depth_, pub_occ_, pub_imu_, pub_odom_,
       pub_sonar_, pub_people_;
-  ros::Subscriber sub_pose_;
+  ros::Subscriber sub_pose_, sub_give_way_;
+  std::mutex people_mutex_;  ///< the people's give-way tracks (giveWayCb) against rendering and pings
   ros::Timer timer_, imu_timer_, sonar_timer_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;

@@ -21,6 +21,7 @@
 #include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
+#include <std_msgs/Float64MultiArray.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/transform_broadcaster.h>
 
@@ -34,8 +35,9 @@ using assistive_sim::peopleMessage;
 struct RosChain::Impl
 {
   Options o;
-  ros::Publisher clock, odom, grid, goal, pose, imu, movers;
+  ros::Publisher clock, odom, grid, goal, pose, imu, movers, give_way;
   const World* world = nullptr;
+  const World* people = nullptr;  ///< the trial's people (setPeople; giving way: the trial's copy)
   // IMU by finite differences of the wearer's states (VISION)
   bool have_prev = false, have_prev2 = false;
   double prev_t = 0.0, prev_yaw = 0.0, prev_rate = 0.0;
@@ -78,6 +80,7 @@ RosChain::RosChain(ros::NodeHandle& nh, const World& world, const Options& o) : 
   d_->base = o.start_time;
   d_->clock = nh.advertise<rosgraph_msgs::Clock>("/clock", 1);
   d_->goal = nh.advertise<geometry_msgs::PoseStamped>("/planner/goal", 1, true);
+  d_->people = &world;
   if (o.kind == TRUTH_GRID)
   {
     d_->odom = nh.advertise<nav_msgs::Odometry>("/vo/odom", 5);
@@ -93,6 +96,8 @@ RosChain::RosChain(ros::NodeHandle& nh, const World& world, const Options& o) : 
   else
   {
     d_->pose = nh.advertise<geometry_msgs::PoseStamped>("/sim/camera_pose", 1);
+    // people who give way (issue 37): their tracks for the renderer, which draws and hears them
+    if (!world.people.empty()) d_->give_way = nh.advertise<std_msgs::Float64MultiArray>("/sim/people_give_way", 10);
     d_->imu = nh.advertise<sensor_msgs::Imu>("/imu/data", 200);
     d_->image_sub = nh.subscribe<sensor_msgs::Image>("/stereo/left/image_rect", 2,
                                                      boost::function<void(const sensor_msgs::Image::ConstPtr&)>([this](const sensor_msgs::Image::ConstPtr& m) {
@@ -123,6 +128,27 @@ RosChain::RosChain(ros::NodeHandle& nh, const World& world, const Options& o) : 
 RosChain::~RosChain() = default;
 
 bool RosChain::cueStageConnected() const { return d_->cue_sub.getNumPublishers() > 0; }
+
+void RosChain::setPeople(const World& world) { d_->people = &world; }
+
+void RosChain::publishGiveWay(double t)
+{
+  // [t, then per person its offset x, y (m) and its script's delay (s)]: the renderer adds them to
+  // its own people's tracks (assistive_sim renderer nodelet, `people_give_way`)
+  Impl& d = *d_;
+  if (!d.give_way || !d.people || d.people->people.empty() || !d.people->people.front().give_way)
+    return;
+  std_msgs::Float64MultiArray m;
+  m.data.reserve(1 + 3 * d.people->people.size());
+  m.data.push_back(t);
+  for (const assistive_sim::Person& p : d.people->people)
+  {
+    double delay = 0.0;
+    const Eigen::Vector2d o = p.give_way ? p.give_way->at(t, nullptr, &delay) : Eigen::Vector2d::Zero();
+    m.data.insert(m.data.end(), { o.x(), o.y(), delay });
+  }
+  d.give_way.publish(m);
+}
 
 void RosChain::reset(const BodyState& start)
 {
@@ -261,13 +287,14 @@ ChainCue RosChain::frame(double t, const BodyState& s)
   {
     // tf and the goal before the grid: the planner looks the pose up at the grid's stamp
     std::this_thread::sleep_for(std::chrono::milliseconds(d.first_frame ? 30 : 3));
-    if (!d.world->people.empty()) d.movers.publish(peopleMessage(*d.world, t, stamp, d.o.frame));
+    if (!d.people->people.empty()) d.movers.publish(peopleMessage(*d.people, t, stamp, d.o.frame));
     d.grid_msg.header.stamp = stamp;
     d.grid_msg.info.map_load_time = stamp;
     d.grid.publish(d.grid_msg);
   }
   else
   {
+    publishGiveWay(t);  // (before the pose: the renderer draws the people aside in this frame)
     // the left optical frame for the renderer; the head pitched 15 deg down (the worlds' 10-30)
     const Eigen::Isometry3d opt =
         headLink(s, d.o.eye_height, d.o.pitch_down_deg * M_PI / 180.0) * assistive_eval::linkToLeftOptical();

@@ -325,9 +325,8 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   r.wearer = wp;
   const double body_height = wp.eye_height + 0.12;
   // People who give way (issue 37) on the trial's own copy of the world: the collider, the cane
-  // and the truth chain then meet the same people aside. Vision mode keeps the scripts, which the
-  // renderer draws.
-  const bool giving_way = opt.people_give_way && !world.people.empty() && opt.mode != TrialMode::VISION;
+  // and the chain (the truth planner, or the renderer sent their tracks) meet the same people aside.
+  const bool giving_way = opt.people_give_way && !world.people.empty();
   World moved;
   std::unique_ptr<assistive_sim::PeopleGiveWay> give_way;
   if (giving_way)
@@ -368,6 +367,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   size_t next = 0;
   if (vest)
   {
+    if (!truth) chain->setPeople(trial_world);
     chain->reset(r.start);
     chain->setGoal(route[0]);
     chain->setNextGoal(route.size() > 1 ? &route[1] : nullptr);

@@ -55,6 +55,7 @@ public:
 
   void reset(const BodyState& start) override;
   void setGoal(const Eigen::Vector2d& goal) override;
+  void setPeople(const assistive_sim::World& world) override;
   ChainCue frame(double t, const BodyState& s) override;
   void observe(double t, const BodyState& s) override;
 
@@ -66,6 +67,8 @@ private:
   struct Impl;
   std::unique_ptr<Impl> d_;
   void publishImu(double t, const BodyState& s);
+  /// VISION: the people's give-way offsets and delays at trial time `t` for the renderer.
+  void publishGiveWay(double t);
   long frames_ = 0;
 };
 }  // namespace assistive_trials

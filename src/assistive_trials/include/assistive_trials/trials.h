@@ -109,6 +109,10 @@ public:
   virtual void setGoal(const Eigen::Vector2d& goal) = 0;
   /// The place after it on the route (none: the goal is the last). The ROS chains ignore it.
   virtual void setNextGoal(const Eigen::Vector2d* next) { (void)next; }
+  /// The trial's people: `world`'s (the trial's own copy when people give way: their tracks grow as
+  /// the trial runs), valid until the trial ends. The ROS chains publish them (the truth grid's
+  /// movers, the renderer's give-way topic).
+  virtual void setPeople(const assistive_sim::World& world) { (void)world; }
   /// The camera frame at trial time `t` (s) with the wearer in state `s`.
   virtual ChainCue frame(double t, const BodyState& s) = 0;
   /// The wearer's state after every body step (t = the step's end): the vision chain's IMU.
@@ -165,8 +169,8 @@ struct TrialOptions
   double unsure_at_s = std::numeric_limits<double>::quiet_NaN();
   double unsure_for_s = 3.0;
   /// People step aside for the wearer as walkers do (assistive_sim/people_give_way.h, issue 37), in
-  /// truth and cane modes; false: they walk their scripts through the wearer (before). Vision mode
-  /// always runs the scripts: the renderer's people do not give way.
+  /// every mode (vision: the renderer is sent their tracks); false: they walk their scripts through
+  /// the wearer (before).
   bool people_give_way = true;
   assistive_sim::GiveWayParams give_way;
 };
@@ -179,7 +183,7 @@ struct TrialResult
   bool completed = false;
   double time_s = 0.0;        ///< to completion (or the timeout)
   double guide_time_s = 0.0;  ///< sighted guide from the same start
-  bool people_give_way = false;  ///< the world's people stepped aside for the wearer (not vision mode)
+  bool people_give_way = false;  ///< the world's people stepped aside for the wearer
   int give_way_episodes = 0;  ///< times a person began to step aside for the wearer
   double ppws_pct = 0.0;      ///< guide time / time x 100 (0 when not completed)
   std::array<int, size_t(assistive_sim::ObstacleKind::NUM_KINDS)> collisions{};
