@@ -1,6 +1,7 @@
 #include "assistive_planner/crossing_watch.h"
 
 #include <cmath>
+#include <iterator>
 
 namespace assistive_planner
 {
@@ -59,8 +60,28 @@ double CrossingWatch::speed() const
   return 0.0;
 }
 
+CrossingAdvice CrossingWatch::keepSide(double t, int id, CrossingAdvice side, bool left_blocked, bool right_blocked)
+{
+  // A head-on walker straight ahead, or a track's velocity jittering, can tip the predictor from
+  // one side to the other between cycles: the wearer, a reaction time into stepping one way, would
+  // be sent back the other. The side once advised for a person stays while the warning goes on.
+  for (auto it = sides_.begin(); it != sides_.end();)
+    it = t - it->second.second > p_.crossing_sticky_s || t < it->second.second ? sides_.erase(it) : std::next(it);
+  if (side != CrossingAdvice::LEFT && side != CrossingAdvice::RIGHT)
+    return side;  // (STOP: the side is kept for when it ends)
+  const auto it = sides_.find(id);
+  if (p_.crossing_sticky_s > 0.0 && it != sides_.end() && it->second.first != side)
+  {
+    const bool kept_blocked = it->second.first == CrossingAdvice::LEFT ? left_blocked : right_blocked;
+    if (!kept_blocked)
+      side = it->second.first;
+  }
+  sides_[id] = { side, t };
+  return side;
+}
+
 CrossingResult CrossingWatch::check(double t, const Point2& wearer, double heading, double free_left,
-                                    double free_right) const
+                                    double free_right)
 {
   CrossingResult r;
   if (!have_movers_ || !std::isfinite(t) || std::abs(t - movers_stamp_) > p_.crossing_max_age_s ||
@@ -94,7 +115,7 @@ CrossingResult CrossingWatch::check(double t, const Point2& wearer, double headi
   const MoverState& m = now[size_t(best - pred.data())];
   if (best->side == CrossingAdvice::NONE)
     return r;
-  r.advice = best->side;
+  r.advice = keepSide(t, best->track_id, best->side, w.left_blocked, w.right_blocked);
   r.id = best->track_id;
   r.time = best->t_closest;
   r.distance = best->d_closest;

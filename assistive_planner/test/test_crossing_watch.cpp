@@ -108,6 +108,41 @@ TEST(CrossingWatch, HeadOnPassesOnTheLeftStepRight)
   EXPECT_NEAR(r.distance, 0.3, 1e-12);
 }
 
+TEST(CrossingWatch, APersonKeepsTheSideItWasGiven)
+{
+  // Head-on 0.1 m to the left: step right. A cycle later its track jitters to 0.1 m to the right,
+  // which alone says step left: the person keeps "right" while the warning goes on, unless the
+  // right is blocked, and a new encounter after crossing_sticky_s is judged afresh.
+  CrossingWatch w = walking();
+  w.setMovers(1.0, { mover(3, 4.0, 0.1, -1.0, 0.0) });
+  EXPECT_EQ(w.check(1.0, { 0.0, 0.0 }, 0.0, 2.0, 2.0).advice, CrossingAdvice::RIGHT);
+  w.setMovers(1.1, { mover(3, 3.9, -0.1, -1.0, 0.0) });
+  const CrossingResult kept = w.check(1.1, { 0.0, 0.0 }, 0.0, 2.0, 2.0);
+  EXPECT_EQ(kept.advice, CrossingAdvice::RIGHT);
+  EXPECT_EQ(kept.id, 3);
+  // another person there is judged on its own
+  w.setMovers(1.2, { mover(4, 3.8, -0.1, -1.0, 0.0) });
+  EXPECT_EQ(w.check(1.2, { 0.0, 0.0 }, 0.0, 2.0, 2.0).advice, CrossingAdvice::LEFT);
+  // person 3 within crossing_sticky_s (3 s) of its last warning: still right
+  w.setMovers(4.0, { mover(3, 3.9, -0.1, -1.0, 0.0) });
+  EXPECT_EQ(w.check(4.0, { 0.0, 0.0 }, 0.0, 2.0, 2.0).advice, CrossingAdvice::RIGHT);
+  // ... unless the right is blocked
+  EXPECT_EQ(w.check(4.0, { 0.0, 0.0 }, 0.0, 2.0, 0.4).advice, CrossingAdvice::LEFT);
+  // after more than 3 s without a warning: judged afresh
+  w.setMovers(1.0, { mover(5, 4.0, 0.1, -1.0, 0.0) });
+  EXPECT_EQ(w.check(1.0, { 0.0, 0.0 }, 0.0, 2.0, 2.0).advice, CrossingAdvice::RIGHT);  // (time went back: forgotten)
+  w.setMovers(4.5, { mover(5, 3.9, -0.1, -1.0, 0.0) });
+  EXPECT_EQ(w.check(4.5, { 0.0, 0.0 }, 0.0, 2.0, 2.0).advice, CrossingAdvice::LEFT);
+  // and with crossing_sticky_s 0 every cycle is judged afresh
+  PlannerParams p;
+  p.crossing_sticky_s = 0.0;
+  CrossingWatch fresh = walking(p);
+  fresh.setMovers(1.0, { mover(3, 4.0, 0.1, -1.0, 0.0) });
+  EXPECT_EQ(fresh.check(1.0, { 0.0, 0.0 }, 0.0, 2.0, 2.0).advice, CrossingAdvice::RIGHT);
+  fresh.setMovers(1.1, { mover(3, 3.9, -0.1, -1.0, 0.0) });
+  EXPECT_EQ(fresh.check(1.1, { 0.0, 0.0 }, 0.0, 2.0, 2.0).advice, CrossingAdvice::LEFT);
+}
+
 // People walking alongside, ahead and faster, away, or standing well aside: no advice.
 TEST(CrossingWatch, AlongsideOrAwayGivesNone)
 {

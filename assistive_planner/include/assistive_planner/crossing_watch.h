@@ -9,6 +9,7 @@
 // under `crossing_side_free_m`. Movers older than `crossing_max_age_s` against the cycle's camera
 // time (or none ever received) give no advice: never a stale warning. ROS-free.
 #include <deque>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -66,8 +67,9 @@ public:
 
   /// The advice at camera time `t` for a wearer at `wearer` walking along `heading` (rad) with
   /// `free_left` / `free_right` (m) of free floor to its sides. The movers are carried at constant
-  /// velocity from their stamp to `t` first.
-  CrossingResult check(double t, const Point2& wearer, double heading, double free_left, double free_right) const;
+  /// velocity from their stamp to `t` first. A person advised a side keeps it while advised again
+  /// within `crossing_sticky_s`, unless that side is blocked (the side per person id is kept).
+  CrossingResult check(double t, const Point2& wearer, double heading, double free_left, double free_right);
 
   const CrossingPredictor& predictor() const { return predictor_; }
 
@@ -78,5 +80,10 @@ private:
   double movers_stamp_ = 0.0;
   std::vector<MoverState> movers_;
   std::deque<std::pair<double, Point2>> poses_;
+  /// The predictor's side for person `id` at time `t`, or the side it was advised before (within
+  /// `crossing_sticky_s`, that side not blocked); remembered.
+  CrossingAdvice keepSide(double t, int id, CrossingAdvice side, bool left_blocked, bool right_blocked);
+  /// The side last advised per person id (LEFT / RIGHT) and when (s, camera time).
+  std::map<int, std::pair<CrossingAdvice, double>> sides_;
 };
 }  // namespace assistive_planner

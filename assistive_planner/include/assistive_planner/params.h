@@ -54,6 +54,7 @@ namespace assistive_planner
   /* People crossing (CrossingWatch, issue 22): obstacles/movers + assistive_obstacles' CrossingPredictor */ \
   X(double, crossing_max_age_s, "crossing_max_age_s", 0.5, 0.05, 10.0, "s", "movers whose stamp lies further than this from the planning cycle's camera time, or none received: `CROSSING_NONE` (never a stale warning)") \
   X(double, crossing_side_free_m, "crossing_side_free_m", 0.6, 0.0, 10.0, "m", "a side whose free distance is below this is blocked: a crossing whose avoiding side it is gives `CROSSING_STOP`") \
+  X(double, crossing_sticky_s, "crossing_sticky_s", 3.0, 0.0, 30.0, "s", "a person advised a side (`CROSSING_LEFT` / `RIGHT`) keeps it while advised again within this, unless that side is blocked: a track's jitter never flips the side-step under way (issue 37); 0 = each cycle judged afresh") \
   X(double, crossing_speed_window_s, "crossing_speed_window_s", 1.0, 0.1, 10.0, "s", "the wearer's walking speed is the distance walked over the poses of this last window (0 while they span less than half of it)") \
   /* Trust in the inputs (InputMonitor) */ \
   X(double, max_input_age_s, "max_input_age_s", 0.5, 0.05, 10.0, "s", "grid or pose lagging the newest camera frame by more -> `NO_MAP` / `NO_POSE`") \

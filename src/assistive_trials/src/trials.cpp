@@ -544,6 +544,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   }
   r.time_s = t;
   r.people_give_way = giving_way;
+  if (giving_way) r.people = moved.people;
   r.give_way_episodes = give_way ? give_way->episodes() : 0;
   r.ppws_pct = r.completed && r.time_s > 0.0 ? 100.0 * r.guide_time_s / r.time_s : 0.0;
   r.collisions = body.collisions();

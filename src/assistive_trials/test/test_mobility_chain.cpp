@@ -94,6 +94,11 @@ TEST(MobilityChain, WearerOnTheCuesOfTheChain)
                 movers.size(), frames, r.collisions[size_t(ObstacleKind::PERSON)]);
     EXPECT_GE(int(movers.size()), frames - 1);
     EXPECT_LE(int(movers.size()), frames);
+    // the trial's people, who gave way to the wearer (issue 37): where the collider had them
+    ASSERT_TRUE(r.people_give_way);
+    ASSERT_EQ(r.people.size(), world.people.size());
+    EXPECT_GE(r.give_way_episodes, 1);
+    int aside = 0;  // published positions off the scripts: the chain sends the trial's people
     for (const auto& m : movers)
     {
       EXPECT_EQ(m.header.frame_id, ro.frame);
@@ -101,17 +106,19 @@ TEST(MobilityChain, WearerOnTheCuesOfTheChain)
       const double t = m.header.stamp.toSec() - ro.start_time;
       for (size_t i = 0; i < world.people.size(); ++i)
       {
-        const PersonState s = personAt(world, i, t);
+        const PersonState s = personAt(r.people[i], t);
+        aside += (personScriptAt(world.people[i], t).position - s.position).norm() > 0.05;
         EXPECT_EQ(m.movers[i].id, i + 1);
         EXPECT_NEAR(m.movers[i].position.x, s.position.x(), 1e-6);
         EXPECT_NEAR(m.movers[i].position.y, s.position.y(), 1e-6);
         // The velocity jumps at a script's corner: the stamp (ns) may put t on either side of it.
         const Eigen::Vector2d v(m.movers[i].velocity.x, m.movers[i].velocity.y);
         bool v_ok = false;
-        for (double dt : {0.0, -1e-6, 1e-6}) v_ok |= (v - personAt(world, i, t + dt).velocity).norm() < 1e-6;
+        for (double dt : {0.0, -1e-6, 1e-6}) v_ok |= (v - personAt(r.people[i], t + dt).velocity).norm() < 1e-6;
         EXPECT_TRUE(v_ok) << "person " << i << " at t " << t;
       }
     }
+    EXPECT_GT(aside, 0);
   }
   else if (expect == "collision")
   {

@@ -185,6 +185,8 @@ struct TrialResult
   double guide_time_s = 0.0;  ///< sighted guide from the same start
   bool people_give_way = false;  ///< the world's people stepped aside for the wearer
   int give_way_episodes = 0;  ///< times a person began to step aside for the wearer
+  /// The trial's people as they walked (their give-way tracks; empty when they kept their scripts).
+  std::vector<assistive_sim::Person> people;
   double ppws_pct = 0.0;      ///< guide time / time x 100 (0 when not completed)
   std::array<int, size_t(assistive_sim::ObstacleKind::NUM_KINDS)> collisions{};
   int totalCollisions() const;
