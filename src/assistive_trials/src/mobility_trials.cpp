@@ -45,6 +45,8 @@ void usage(std::ostream& os = std::cerr)
   os << "usage: mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S] [--plot FILE.png]\n"
         "       mobility_trials --generated N [--kind K[,K...]] [--seed-base B] [--keep DIR] [the same options]\n"
         "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--turn-on DEG]\n"
+        "                       [--people N] (--generated: N people in each world whose walks cross the wearer's,\n"
+        "                       as generate_world --people N)\n"
         "                       [--people-scripted] (people walk their scripts through the wearer; default: they\n"
         "                       step aside as walkers do, truth and cane modes; assistive_sim/people_give_way.h)\n"
         "                       [--body-half-width M] [--chord-min M] (planner: free_ahead strip, heading chord; truth)\n"
@@ -557,6 +559,7 @@ int main(int argc, char** argv)
   bool active = false;
   int trials = 20, generated = 0;
   long seed = 1, seed_base = 1001;
+  int people = 0;  // --generated: people in each generated world (generate_world --people)
   TrialOptions opt;
   for (int i = 1; i < argc; ++i)
   {
@@ -576,6 +579,7 @@ int main(int argc, char** argv)
       else if (a == "--generated") generated = std::stoi(val());
       else if (a == "--kind") kind_arg = val();
       else if (a == "--seed-base") seed_base = std::stol(val());
+      else if (a == "--people") people = std::stoi(val());
       else if (a == "--keep") keep_dir = val();
       else if (a == "--trials") trials = std::stoi(val());
       else if (a == "--mode") mode = val();
@@ -680,9 +684,14 @@ int main(int argc, char** argv)
     usage();
     return 2;
   }
-  if (!set_mode && (!kind_arg.empty() || !keep_dir.empty()))
+  if (!set_mode && (!kind_arg.empty() || !keep_dir.empty() || people != 0))
   {
-    std::cerr << "mobility_trials: --kind and --keep go with --generated\n";
+    std::cerr << "mobility_trials: --kind, --keep and --people go with --generated\n";
+    return 2;
+  }
+  if (people < 0 || people > 100)
+  {
+    std::cerr << "mobility_trials: --people takes 0 .. 100\n";
     return 2;
   }
   const std::vector<std::string> kinds = splitComma(kind_arg);
@@ -782,7 +791,7 @@ int main(int argc, char** argv)
     GeneratedWorld g;
     try
     {
-      g = WorldGenerator(sw.seed, kind).generate();
+      g = WorldGenerator(sw.seed, kind, people).generate();
     }
     catch (const std::exception& e)
     {
@@ -862,9 +871,10 @@ int main(int argc, char** argv)
   std::vector<double> kind_mean(size_t(ObstacleKind::NUM_KINDS));
   for (size_t k = 0; k < kind_mean.size(); ++k) kind_mean[k] = overWorlds(set, kinds_pw[k], true).mean;
   const int n_worlds = int(set.size());
-  std::printf("\nmobility_trials over %d generated worlds (kind %s, seeds %ld-%ld%s), mode %s, %d trials per world "
+  std::printf("\nmobility_trials over %d generated worlds (kind %s, seeds %ld-%ld%s%s), mode %s, %d trials per world "
               "(trial seeds %ld000 + k)\n",
               n_worlds, kind_label.c_str(), seed_base, seed_base + generated - 1,
+              people ? (", " + std::to_string(people) + " people each").c_str() : "",
               failed ? (", " + std::to_string(failed) + " not generated").c_str() : "", label.c_str(), trials, seed);
   std::printf("                       mean over worlds   worst world\n");
   std::printf("  completion           %6.0f %%           %5.0f %% (%s)\n", 100 * f_comp.mean, 100 * f_comp.worst,

@@ -336,15 +336,17 @@ ChainCue RosChain::frame(double t, const BodyState& s)
       if (d.trace)
       {
         // the planner's state in its own frame (map): free distances ahead / left / right / along
-        // the steering point, the steering point's and the walk's yaw, the waypoint's distance
+        // the steering point, the steering point's and the walk's yaw, the waypoint's distance, the
+        // crossing advice (NavigationState.crossing) and its person
         const assistive_msgs::NavigationState& n = d.last_state;
         std::fprintf(stderr,
                      "t %.2f xy %.2f %.2f yaw %.0f head %.0f | mode %d %.2f %.2f %.2f %.2f | %.0f ms | %s"
-                     " | st %d free %.2f l %.2f r %.2f steer %.0f free %.2f walk %.0f v %.2f wp %.2f\n",
+                     " | st %d free %.2f l %.2f r %.2f steer %.0f free %.2f walk %.0f v %.2f wp %.2f cross %d id %u\n",
                      t, s.xy.x(), s.xy.y(), s.yaw * 180 / M_PI, s.head_yaw * 180 / M_PI, out.mode, out.motors[0],
                      out.motors[1], out.motors[2], out.motors[3], out.latency_ms, q.reason.c_str(), int(n.status),
                      n.free_distance_ahead, n.free_distance_left, n.free_distance_right, n.steer_heading * 180 / M_PI,
-                     n.free_distance_steer, n.walk_heading * 180 / M_PI, n.walking_speed, n.waypoint_distance);
+                     n.free_distance_steer, n.walk_heading * 180 / M_PI, n.walking_speed, n.waypoint_distance,
+                     int(n.crossing), n.crossing_id);
       }
       return out;
     }

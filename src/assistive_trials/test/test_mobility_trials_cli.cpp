@@ -154,6 +154,24 @@ TEST_F(MobilityTrials, GeneratedSetUsageErrors)
   EXPECT_EQ(code("--generated 2 --kind castle"), 2);
   EXPECT_EQ(code("--generated -1"), 2);
   EXPECT_EQ(code("--world glass --kind home"), 2);
+  EXPECT_EQ(code("--world glass --people 4"), 2);
+  EXPECT_EQ(code("--generated 1 --people 101"), 2);
+}
+
+TEST_F(MobilityTrials, GeneratedBusySetHasItsPeople)
+{
+  // --people N: each generated world gets N people (generate_world --people), who give way
+  const std::string dir = ::testing::TempDir() + "mobility_busy_set", out = dir + ".txt", err = dir + ".err";
+  const std::string cmd = std::string(MOBILITY_TRIALS_EXE) + " --generated 1 --seed-base 6111 --people 4 --trials 1 " +
+                          "--mode truth --keep " + dir + " --plot " + dir + ".png > " + out + " 2> " + err;
+  const int rc = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 0) << cmd << "\n" << slurp(err);
+  const std::string text = slurp(out);
+  EXPECT_NE(text.find("4 people each"), std::string::npos) << text;
+  EXPECT_NE(text.find("people "), std::string::npos) << text;
+  EXPECT_TRUE(has(lastLine(out), "people_collisions_per_trial")) << lastLine(out);
+  const std::string yaml = slurp(dir + "/gen_lobby_6111.yaml");
+  EXPECT_NE(yaml.find("people:"), std::string::npos) << "gen_lobby_6111.yaml:\n" << yaml.substr(0, 300);
 }
 
 // CI's homes (issue 33): truth trials on three small generated homes with 0.80-0.90 m doorways,
