@@ -36,6 +36,22 @@ bool waitForPublisher(const std::string& topic, double timeout)
   return false;
 }
 
+/// The left optical frame at (x, 0, 1.6) in gt_world looking along +x: rotation with columns
+/// (0,-1,0), (0,0,-1), (1,0,0).
+geometry_msgs::PoseStamped lookingAlongX(double x, const ros::Time& stamp)
+{
+  geometry_msgs::PoseStamped p;
+  p.header.frame_id = "gt_world";
+  p.header.stamp = stamp;
+  p.pose.position.x = x;
+  p.pose.position.z = 1.6;
+  p.pose.orientation.w = 0.5;
+  p.pose.orientation.x = -0.5;
+  p.pose.orientation.y = 0.5;
+  p.pose.orientation.z = -0.5;
+  return p;
+}
+
 template <class M>
 boost::shared_ptr<const M> waitFor(const std::string& topic, double timeout)
 {
@@ -117,17 +133,7 @@ TEST(RendererNodelet, TopicModeRendersForTheGivenPose)
   // Before any pose: nothing is rendered.
   ASSERT_TRUE(waitForPublisher("/topic_mode/left/image_rect", 40.0));
   EXPECT_FALSE(ros::topic::waitForMessage<sensor_msgs::Image>("/topic_mode/left/image_rect", ros::Duration(1.5)));
-  geometry_msgs::PoseStamped p;
-  p.header.frame_id = "gt_world";
-  p.header.stamp = ros::Time::now();
-  // Left optical frame at (1, 0, 1.6) looking along +x: rotation with columns (0,-1,0), (0,0,-1), (1,0,0).
-  p.pose.position.x = 1.0;
-  p.pose.position.z = 1.6;
-  p.pose.orientation.w = 0.5;
-  p.pose.orientation.x = -0.5;
-  p.pose.orientation.y = 0.5;
-  p.pose.orientation.z = -0.5;
-  pub.publish(p);
+  pub.publish(lookingAlongX(1.0, ros::Time::now()));
   auto img = waitFor<sensor_msgs::Image>("/topic_mode/left/image_rect", 20.0);
   ASSERT_TRUE(img);
   EXPECT_EQ(img->width, 96u);
@@ -160,15 +166,7 @@ TEST(RendererNodelet, PeopleGiveWayTracksMoveThePeopleItDraws)
   while ((sub.getNumPublishers() == 0 || give_way.getNumSubscribers() == 0) && ros::WallTime::now() < connect_by)
     ros::WallDuration(0.05).sleep();
   ros::WallDuration(1.0).sleep();  // (the tracks delivered before the pose: the trials publish them first)
-  geometry_msgs::PoseStamped p;
-  p.header.frame_id = "gt_world";
-  p.header.stamp = ros::Time(1000.0 + t);
-  p.pose.position.z = 1.6;
-  p.pose.orientation.w = 0.5;
-  p.pose.orientation.x = -0.5;
-  p.pose.orientation.y = 0.5;
-  p.pose.orientation.z = -0.5;
-  pose.publish(p);
+  pose.publish(lookingAlongX(0.0, ros::Time(1000.0 + t)));
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(20.0);
   while (!people && ros::WallTime::now() < end) ros::WallDuration(0.05).sleep();
   ASSERT_TRUE(people);
