@@ -31,8 +31,9 @@ const char* kindName(ObstacleKind k);  ///< "wall", "overhang", "glass", "furnit
 /// and, once setTime() was called, its people where they are at that time (issue 22): a person
 /// collides when the body's cylinder and the person's touch (centre distance < the sum of the
 /// radii); it counts once per encounter (the bodies must part by more than 5 cm before it counts
-/// again) and makes the walker bump (stop and feel around) at its start, but never blocks a move: the people follow their
-/// scripts through the wearer (they do not react to it), so blocking would trap the body.
+/// again) and makes the walker bump (stop and feel around) at its start, but never blocks a move:
+/// a person may walk on through the wearer (its script, or giving way too late:
+/// people_give_way.h), so blocking would trap the body.
 class BodyCollider
 {
 public:

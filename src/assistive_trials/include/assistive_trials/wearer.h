@@ -131,8 +131,8 @@ struct CaneParams
   double heading_noise_deg = 10.0; ///< sigma of the walker's sense of the route's direction
   double follow_m = 1.0;      ///< m walked along what was touched before heading back to the route
   /// s a walker whose cane touches only a person (nothing static) stands and lets them pass
-  /// before treating them as an obstacle (a standing group); people step out of the way of a
-  /// cane in reality, the simulated ones walk on through
+  /// before treating them as an obstacle (a standing group); walking people step aside for it
+  /// (assistive_sim/people_give_way.h), standing ones stay
   double person_wait_s = 3.0;
 };
 
