@@ -32,12 +32,6 @@ void PeopleGiveWay::step(double t, double dt, const Eigen::Vector2d& xy, const E
     GiveWayTrack& track = *person.give_way;
     double delay = 0.0;
     const Eigen::Vector2d offset = track.at(t, nullptr, &delay);
-    if (track.t.empty())
-    {
-      track.t.push_back(t);
-      track.offset.push_back(offset);
-      track.delay.push_back(delay);
-    }
     // where it means to walk: its script, as far as it has got
     const PersonState script = personScriptAt(person, t - delay);
     const double speed = script.velocity.norm();
@@ -77,16 +71,9 @@ void PeopleGiveWay::step(double t, double dt, const Eigen::Vector2d& xy, const E
     }
     if ((next - offset).squaredNorm() > 0.0 || next_delay != delay)
     {
-      // a knot now, where it was, and one a step on, where it goes
-      if (track.t.back() < t)
-      {
-        track.t.push_back(t);
-        track.offset.push_back(offset);
-        track.delay.push_back(delay);
-      }
-      track.t.push_back(t + dt);
-      track.offset.push_back(next);
-      track.delay.push_back(next_delay);
+      // a knot now, where it was (unless the last step left one here), and one a step on
+      track.append(t, offset, delay);
+      track.append(t + dt, next, next_delay);
     }
   }
 }

@@ -259,15 +259,8 @@ private:
       return;
     }
     std::lock_guard<std::mutex> lock(people_mutex_);
-    for (size_t i = 0; i < world_.people.size(); ++i)
-    {
-      GiveWayTrack& track = *world_.people[i].give_way;
-      if (!track.t.empty() && d[0] <= track.t.back())
-        continue;  // (old or repeated: the tracks only grow)
-      track.t.push_back(d[0]);
-      track.offset.emplace_back(d[1 + 3 * i], d[2 + 3 * i]);
-      track.delay.push_back(d[3 + 3 * i]);
-    }
+    for (size_t i = 0; i < world_.people.size(); ++i)  // (an old or repeated t adds nothing)
+      world_.people[i].give_way->append(d[0], { d[1 + 3 * i], d[2 + 3 * i] }, d[3 + 3 * i]);
   }
 
   void poseCb(const geometry_msgs::PoseStampedConstPtr& msg)

@@ -669,7 +669,7 @@ Eigen::Vector2d GiveWayTrack::at(double tt, Eigen::Vector2d* rate, double* delay
   double a = 0.0;
   if (tt >= t.back())
     k = t.size() - 1;
-  else if (tt > t.front())
+  else if (tt >= t.front())  // (at a knot: the rate on from it, the first knot too)
   {
     k = static_cast<size_t>(std::upper_bound(t.begin(), t.end(), tt) - t.begin()) - 1;
     const double dt = t[k + 1] - t[k];
@@ -687,6 +687,16 @@ Eigen::Vector2d GiveWayTrack::at(double tt, Eigen::Vector2d* rate, double* delay
   }
   if (delay_at) *delay_at = delay[k] + a * (delay[k + 1] - delay[k]);
   return offset[k] + a * (offset[k + 1] - offset[k]);
+}
+
+bool GiveWayTrack::append(double tt, const Eigen::Vector2d& o, double d)
+{
+  if (!t.empty() && tt <= t.back())
+    return false;
+  t.push_back(tt);
+  offset.push_back(o);
+  delay.push_back(d);
+  return true;
 }
 
 PersonState personAt(const Person& p, double t)
