@@ -25,6 +25,8 @@ MoverPipelineParams moverPipelineParams(const ObstaclesParams& p, const StereoMo
   m.flow.max_fb_error = p.mover_max_fb_error;
   m.flow.edge_window = p.mover_edge_window;
   m.flow.fair_backward = p.mover_fair_backward;
+  m.flow.keep_tracks = p.mover_keep_tracks;
+  m.flow.backward_base_px = p.mover_backward_base_px;
   m.flow.stereo_search = p.mover_stereo_search;
   m.flow.stereo_min_ncc = p.mover_stereo_min_ncc;
   m.flow.frames_apart = p.mover_frames_apart;

@@ -90,8 +90,11 @@ double matchDisparity(const cv::Mat& left, const cv::Mat& right, double u, doubl
       u - d0 + n + h + 3 > right.cols - 1)
     return -1.0;
   const int N = w * w;
+  // One strip of the right image holds every integer offset o = -n..n (disparity d0 + o): the
+  // window centred at u - d0 - o starts at strip column 1 + n - o. One column more each side for the gradient.
+  const int sw = w + 2 * n + 2;
   float a[64 * 64], strip[64 * 96];
-  if (w > 64 || w + 2 * n + 2 > 96) return -1.0;
+  if (w > 64 || sw > 96) return -1.0;
   sampleGrid(left, u - h, v - h, w, w, a);
   double ma = 0.0;
   for (int i = 0; i < N; ++i) ma += a[i];
@@ -105,57 +108,90 @@ double matchDisparity(const cv::Mat& left, const cv::Mat& right, double u, doubl
   na = std::sqrt(na);
   // Texture: at least a grey level of RMS contrast across the window.
   if (!(na > w)) return -1.0;
-  // One strip of the right image holds every integer offset o = -n..n (disparity d0 + o): the
-  // window centred at u - d0 - o starts at strip column n - o. One column more each side for the gradient.
-  const int sw = w + 2 * n + 2;
   sampleGrid(right, u - d0 - n - h - 1, v - h, sw, w, strip);
+  // Per strip column its sum and sum of squares (double: the variance is their difference).
+  double col_sum[96], col_sq[96];
+  for (int c = 0; c < sw; ++c) col_sum[c] = col_sq[c] = 0.0;
+  for (int r = 0; r < w; ++r)
+    for (int c = 0; c < sw; ++c)
+    {
+      const double b = strip[r * sw + c];
+      col_sum[c] += b;
+      col_sq[c] += b * b;
+    }
   auto ncc = [&](int col0) {
-    double sb = 0.0, sbb = 0.0, sab = 0.0;
+    double sb = 0.0, sbb = 0.0;
+    for (int c = 0; c < w; ++c)
+    {
+      sb += col_sum[col0 + c];
+      sbb += col_sq[col0 + c];
+    }
+    // The cross term per column, accumulated over the rows (independent lanes: vectorised).
+    float acc[64] = {0.f};
     for (int r = 0; r < w; ++r)
-      for (int c = 0; c < w; ++c)
-      {
-        const double b = strip[r * sw + col0 + c];
-        sb += b;
-        sbb += b * b;
-        sab += a[r * w + c] * b;
-      }
+    {
+      const float* ar = a + r * w;
+      const float* br = strip + r * sw + col0;
+      for (int c = 0; c < w; ++c) acc[c] += ar[c] * br[c];
+    }
+    double sab = 0.0;
+    for (int c = 0; c < w; ++c) sab += acc[c];
     const double vb = sbb - sb * sb / N;
     return vb > 0.0 ? sab / (na * std::sqrt(vb)) : -1.0;
   };
   int best = 0;
   double best_score = -2.0;
-  std::vector<double> score(static_cast<size_t>(2 * n + 1));
   for (int o = -n; o <= n; ++o)
   {
-    score[static_cast<size_t>(o + n)] = ncc(1 + n - o);
-    if (score[static_cast<size_t>(o + n)] > best_score)
+    const double score = ncc(1 + n - o);
+    if (score > best_score)
     {
-      best_score = score[static_cast<size_t>(o + n)];
+      best_score = score;
       best = o;
     }
   }
   if (best_score < min_ncc || best == -n || best == n) return -1.0;
   // Sub-pixel: Gauss-Newton on the disparity (one-dimensional Lucas-Kanade on zero-mean windows)
   // from the best integer offset; a parabola through the NCC scores is biased by up to a quarter
-  // pixel on an edge.
+  // pixel on an edge. The first step's samples are the strip's own columns n - best .. n - best + w + 1.
   const double d_int = d0 + best;
   double d = d_int;
   float wide[64 * 66];
+  const int ww = w + 2;
   for (int it = 0; it < 5; ++it)
   {
-    sampleGrid(right, u - d - h - 1, v - h, w + 2, w, wide);
+    if (it == 0)
+    {
+      for (int r = 0; r < w; ++r)
+        for (int c = 0; c < ww; ++c) wide[r * ww + c] = strip[r * sw + n - best + c];
+    }
+    else
+      sampleGrid(right, u - d - h - 1, v - h, ww, w, wide);
+    // Per-column accumulators (independent lanes: vectorised); float holds 121 terms of grey levels.
+    float col_b[66] = {0.f};
+    for (int r = 0; r < w; ++r)
+      for (int c = 0; c < w; ++c) col_b[c] += wide[r * ww + c + 1];
     double mb = 0.0;
+    for (int c = 0; c < w; ++c) mb += col_b[c];
+    const float mbf = static_cast<float>(mb / N);
+    float col_gb[64] = {0.f}, col_gg[64] = {0.f};
     for (int r = 0; r < w; ++r)
-      for (int c = 1; c <= w; ++c) mb += wide[r * (w + 2) + c];
-    mb /= N;
-    double gb = 0.0, gg = 0.0;
-    for (int r = 0; r < w; ++r)
-      for (int c = 1; c <= w; ++c)
+    {
+      const float* wr = wide + r * ww;
+      const float* ar = a + r * w;
+      for (int c = 0; c < w; ++c)
       {
-        const double gx = 0.5 * (wide[r * (w + 2) + c + 1] - wide[r * (w + 2) + c - 1]);
-        gb += gx * (wide[r * (w + 2) + c] - mb - a[r * w + c - 1]);
-        gg += gx * gx;
+        const float gx = 0.5f * (wr[c + 2] - wr[c]);
+        col_gb[c] += gx * (wr[c + 1] - mbf - ar[c]);
+        col_gg[c] += gx * gx;
       }
+    }
+    double gb = 0.0, gg = 0.0;
+    for (int c = 0; c < w; ++c)
+    {
+      gb += col_gb[c];
+      gg += col_gg[c];
+    }
     if (!(gg > 0.0)) break;
     // b(x) = R(u - d + x): raising d by D moves it to b - D gx.
     const double step = std::clamp(gb / gg, -0.5, 0.5);
@@ -188,10 +224,13 @@ bool lift(const cv::Mat& disp, const StereoModel& m, const SceneFlowParams& p, c
 }  // namespace
 
 void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv::KeyPoint>& scratch,
-                   std::vector<cv::Point2f>& out, const cv::Mat* disp, const StereoModel* model, const cv::Mat* half)
+                   std::vector<cv::Point2f>& out, const cv::Mat* disp, const StereoModel* model, const cv::Mat* half,
+                   const std::vector<cv::Point2f>* taken)
 {
   out.clear();
   scratch.clear();
+  const int budget = p.max_features - (taken ? static_cast<int>(taken->size()) : 0);
+  if (budget <= 0) return;
   cv::FAST(grey, scratch, p.fast_threshold, true);
   if (p.half_resolution_corners)
   {
@@ -226,17 +265,29 @@ void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv
   const auto stronger = [&](int a, int b) {
     return scratch[a].response > scratch[b].response || (scratch[a].response == scratch[b].response && a < b);
   };
+  const auto bucketAt = [&](const cv::Point2f& pt) {
+    return cv::Point(std::clamp(static_cast<int>(pt.x) / cell, 0, gw - 1), std::clamp(static_cast<int>(pt.y) / cell, 0, gh - 1));
+  };
+  std::vector<char> bucket_taken(static_cast<size_t>(gw) * gh, 0);
+  if (taken)
+    for (const cv::Point2f& pt : *taken)
+    {
+      const cv::Point g = bucketAt(pt);
+      bucket_taken[static_cast<size_t>(g.y) * gw + g.x] = 1;
+    }
   std::vector<int> best(static_cast<size_t>(gw) * gh, -1);
   for (int i = 0; i < static_cast<int>(scratch.size()); ++i)
   {
     const cv::Point g = bucketOf(i);
-    int& b = best[static_cast<size_t>(g.y) * gw + g.x];
+    const size_t bi = static_cast<size_t>(g.y) * gw + g.x;
+    if (bucket_taken[bi]) continue;
+    int& b = best[bi];
     if (b < 0 || stronger(i, b)) b = i;
   }
   std::vector<int> kept;
   for (const int b : best)
     if (b >= 0) kept.push_back(b);
-  if (static_cast<int>(kept.size()) > p.max_features)
+  if (static_cast<int>(kept.size()) > budget)
   {
     std::sort(kept.begin(), kept.end(), stronger);
     // The budget spread first: the strongest corner of each block of spread_blocks x spread_blocks
@@ -245,6 +296,12 @@ void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv
     const int sb = std::max(1, p.spread_blocks);
     const int bw = (gw + sb - 1) / sb;
     std::vector<char> block_used(static_cast<size_t>(bw) * ((gh + sb - 1) / sb), 0);
+    if (taken)
+      for (const cv::Point2f& pt : *taken)
+      {
+        const cv::Point g = bucketAt(pt);
+        block_used[static_cast<size_t>(g.y / sb) * bw + g.x / sb] = 1;
+      }
     std::vector<int> first, rest;
     for (const int i : kept)
     {
@@ -254,16 +311,55 @@ void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv
       used = 1;
     }
     first.insert(first.end(), rest.begin(), rest.end());
-    first.resize(static_cast<size_t>(p.max_features));
+    first.resize(static_cast<size_t>(budget));
     kept.swap(first);
   }
   std::sort(kept.begin(), kept.end());
   for (const int i : kept) out.push_back(scratch[static_cast<size_t>(i)].pt);
 }
 
+void SceneFlowExtractor::trackBack(const std::vector<cv::Mat>& prev_pyr, const cv::Size& win, const cv::TermCriteria& tc)
+{
+  stb_.assign(p1_.size(), 0);
+  // A track that ended within backward_base_px of the prediction starts its way back as near to
+  // where it should end (p0): the pyramid's base suffices, and most tracks are on static surfaces.
+  // The others (movers, or a way forward that slid) go back through every level.
+  for (const bool near : {true, false})
+  {
+    back_idx_.clear();
+    for (size_t i = 0; i < p1_.size(); ++i)
+    {
+      const cv::Point2f d = p1_[i] - pred_[i];
+      const bool base_only = params_.backward_base_px > 0.0 &&
+                             d.x * d.x + d.y * d.y <= params_.backward_base_px * params_.backward_base_px;
+      if (base_only == near)
+        back_idx_.push_back(static_cast<int>(i));
+    }
+    if (back_idx_.empty()) continue;
+    back_from_.clear();
+    back_to_.clear();
+    for (const int i : back_idx_)
+    {
+      back_from_.push_back(p1_[static_cast<size_t>(i)]);
+      back_to_.push_back(pb_[static_cast<size_t>(i)]);
+    }
+    cv::calcOpticalFlowPyrLK(pyr_, prev_pyr, back_from_, back_to_, back_st_, err_, win, near ? 0 : params_.lk_levels,
+                             tc, cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (size_t k = 0; k < back_idx_.size(); ++k)
+    {
+      const size_t i = static_cast<size_t>(back_idx_[k]);
+      pb_[i] = back_to_[k];
+      stb_[i] = back_st_[k];
+    }
+  }
+}
+
 void SceneFlowExtractor::reset()
 {
   history_.clear();
+  kept_px_.clear();
+  kept_X_.clear();
+  kept_ = 0;
   paired_back_ = 0;
   flow_.clear();
   pixels_.clear();
@@ -278,7 +374,9 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
   if (right && (right->empty() || right->size() != grey.size() || right->type() != CV_8UC1)) right = nullptr;
   flow_.clear();
   pixels_.clear();
-  detected_ = tracked_ = 0;
+  detected_ = tracked_ = kept_ = 0;
+  next_px_.clear();
+  next_X_.clear();
   if (grey.empty() || grey.type() != CV_8UC1 || disp.empty() || disp.type() != CV_32F)
   {
     reset();
@@ -290,6 +388,13 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
   if (!history_.empty() && (history_.front().grey.size() != grey.size() || history_.front().model.width != model.width ||
                             history_.front().model.height != model.height))
     history_.clear();
+  // Tracks kept from the newest frame go on only when it is the one paired with.
+  const bool keep = params_.keep_tracks && params_.frames_apart <= 1;
+  if (!keep || history_.size() != 1)
+  {
+    kept_px_.clear();
+    kept_X_.clear();
+  }
   const bool paired = !history_.empty();
   if (paired)
   {
@@ -300,8 +405,12 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
     const cv::Mat& prev_disp_ = old.disp;
     const StereoModel& prev_model_ = old.model;
     // The pyramid holds the half-resolution image already (levels at even indices, derivatives between).
-    detectCorners(prev_grey_, params_, keypoints_, p0_, &prev_disp_, &prev_model_,
-                  prev_pyr_.size() > 2 ? &prev_pyr_[2] : nullptr);
+    // The kept tracks first (their depth there is known), new corners where they left room.
+    detectCorners(prev_grey_, params_, keypoints_, fresh_, &prev_disp_, &prev_model_,
+                  prev_pyr_.size() > 2 ? &prev_pyr_[2] : nullptr, &kept_px_);
+    kept_ = static_cast<int>(kept_px_.size());
+    p0_ = kept_px_;
+    p0_.insert(p0_.end(), fresh_.begin(), fresh_.end());
     detected_ = static_cast<int>(p0_.size());
     if (!p0_.empty())
     {
@@ -319,7 +428,10 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
         {
           Eigen::Vector3d X;
           p1_[i] = p0_[i];
-          if (!lift(prev_disp_, prev_model_, params_, p0_[i], X)) continue;
+          if (static_cast<int>(i) < kept_)
+            X = kept_X_[i];
+          else if (!lift(prev_disp_, prev_model_, params_, p0_[i], X))
+            continue;
           const Eigen::Vector3d Y = T_cur_prev * X;
           if (!(Y.z() > 1e-3)) continue;
           p1_[i] = cv::Point2f(static_cast<float>(model.fx * Y.x() / Y.z() + model.cx),
@@ -337,8 +449,7 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
       pb_ = p0_;
       if (params_.fair_backward)
         for (size_t i = 0; i < p0_.size(); ++i) pb_[i] = p0_[i] + (p1_[i] - pred_[i]);
-      cv::calcOpticalFlowPyrLK(pyr_, prev_pyr_, p1_, pb_, stb_, err_, win, params_.lk_levels, tc,
-                               cv::OPTFLOW_USE_INITIAL_FLOW);
+      trackBack(prev_pyr_, win, tc);
       const double max_fb2 = params_.max_fb_error * params_.max_fb_error;
       for (size_t i = 0; i < p0_.size(); ++i)
       {
@@ -350,12 +461,36 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
         SceneFlowPoint f;
         // Each end's depth: the feature's own stereo match when both right images are there.
         const bool own = right && !old.right.empty();
-        if (!lift(prev_disp_, prev_model_, params_, p0_[i], f.prev, own ? &prev_grey_ : nullptr, own ? &old.right : nullptr) ||
-            !lift(disp, model, params_, p1_[i], f.cur, own ? &grey : nullptr, right))
+        if (static_cast<int>(i) < kept_)
+          f.prev = kept_X_[i];
+        else if (!lift(prev_disp_, prev_model_, params_, p0_[i], f.prev, own ? &prev_grey_ : nullptr,
+                       own ? &old.right : nullptr))
           continue;
+        if (!lift(disp, model, params_, p1_[i], f.cur, own ? &grey : nullptr, right)) continue;
         flow_.push_back(f);
         pixels_.push_back(p1_[i]);
+        next_px_.push_back(p1_[i]);
+        next_X_.push_back(f.cur);
       }
+    }
+  }
+  kept_px_.clear();
+  kept_X_.clear();
+  if (keep)
+  {
+    // At most one kept track per bucket (tracks converge where the view recedes), the older first.
+    const int cell = std::max(1, static_cast<int>(std::lround(params_.min_distance)));
+    const int gw = (grey.cols + cell - 1) / cell, gh = (grey.rows + cell - 1) / cell;
+    std::vector<char> used(static_cast<size_t>(gw) * gh, 0);
+    for (size_t i = 0; i < next_px_.size(); ++i)
+    {
+      const int gx = std::clamp(static_cast<int>(next_px_[i].x) / cell, 0, gw - 1);
+      const int gy = std::clamp(static_cast<int>(next_px_[i].y) / cell, 0, gh - 1);
+      char& u = used[static_cast<size_t>(gy) * gw + gx];
+      if (u) continue;
+      u = 1;
+      kept_px_.push_back(next_px_[i]);
+      kept_X_.push_back(next_X_[i]);
     }
   }
   Frame f;

@@ -112,6 +112,86 @@ TEST(SceneFlow, EgoMotionPredictionStartsTheTracks)
   EXPECT_LT(worst, 0.01) << "every point static: its residual within 1 mm per 0.1 px at 5 m";
 }
 
+// Kept tracks (issue 37, the movers' cost): a feature tracked with depth goes on from its new
+// pixel, where its depth was matched as the current end; new corners only fill the buckets left
+// empty. A wall at 5 m, the content moving 4 px a frame: most features are kept, each kept one's
+// previous end is exactly the last frame's current end, and the flow stays exact.
+TEST(SceneFlow, KeptTracksGoOnFromTheirNewPixelWithTheDepthFoundThere)
+{
+  const StereoModel m;
+  const cv::Mat big = texture(760, 540, 13);
+  const cv::Mat disp(240, 320, CV_32F, cv::Scalar(6.0));  // Z = 5 m
+  SceneFlowExtractor sf;
+  std::vector<Eigen::Vector3d> last_cur;
+  for (int k = 0; k < 5; ++k)
+  {
+    const cv::Mat img = big(cv::Rect(30 + 4 * k, 30, 640, 480)).clone();  // content moves -4 px in u
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation().x() = 0.04 * k;  // 4 px * 5 m / 500 px
+    const std::vector<SceneFlowPoint>& flow = sf.process(img, disp, m, &T);
+    if (k == 0)
+    {
+      EXPECT_TRUE(flow.empty());
+      continue;
+    }
+    ASSERT_GT(flow.size(), 250u);
+    if (k == 1) EXPECT_EQ(sf.kept(), 0);
+    int from_last = 0;
+    for (const SceneFlowPoint& f : flow)
+    {
+      EXPECT_LT((f.cur - f.prev - Eigen::Vector3d(-0.04, 0.0, 0.0)).norm(), 0.01);
+      for (const Eigen::Vector3d& c : last_cur)
+        if (c == f.prev)
+        {
+          ++from_last;
+          break;
+        }
+    }
+    if (k >= 2)
+    {
+      EXPECT_GT(sf.kept(), sf.detected() / 2) << "frame " << k;
+      EXPECT_GE(from_last, sf.kept() * 9 / 10) << "a kept track's previous end is the last frame's current end";
+    }
+    last_cur.clear();
+    for (const SceneFlowPoint& f : flow) last_cur.push_back(f.cur);
+  }
+  // Without: every feature is a new corner.
+  SceneFlowParams fresh;
+  fresh.keep_tracks = false;
+  SceneFlowExtractor sf2(fresh);
+  for (int k = 0; k < 3; ++k)
+  {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation().x() = 0.04 * k;
+    sf2.process(big(cv::Rect(30 + 4 * k, 30, 640, 480)).clone(), disp, m, &T);
+  }
+  EXPECT_EQ(sf2.kept(), 0);
+  EXPECT_GT(sf2.detected(), 300);
+}
+
+// New corners fill only the buckets the kept tracks leave, within what is left of the budget.
+TEST(SceneFlow, DetectCornersLeavesTheTakenBucketsAndBudget)
+{
+  const cv::Mat img = texture(640, 480, 17);
+  SceneFlowParams p;
+  p.half_resolution_corners = false;
+  p.max_features = 400;
+  std::vector<cv::KeyPoint> scratch;
+  std::vector<cv::Point2f> all, fresh;
+  detectCorners(img, p, scratch, all);
+  ASSERT_EQ(all.size(), 400u);
+  const std::vector<cv::Point2f> taken(all.begin(), all.begin() + 150);
+  detectCorners(img, p, scratch, fresh, nullptr, nullptr, nullptr, &taken);
+  EXPECT_EQ(fresh.size(), 250u);
+  std::set<std::pair<int, int>> taken_buckets;
+  for (const cv::Point2f& t : taken) taken_buckets.insert({static_cast<int>(t.x) / 8, static_cast<int>(t.y) / 8});
+  for (const cv::Point2f& f : fresh)
+    EXPECT_EQ(taken_buckets.count({static_cast<int>(f.x) / 8, static_cast<int>(f.y) / 8}), 0u) << f;
+  const std::vector<cv::Point2f> full(all.begin(), all.end());
+  detectCorners(img, p, scratch, fresh, nullptr, nullptr, nullptr, &full);
+  EXPECT_TRUE(fresh.empty()) << "the budget is used up";
+}
+
 namespace
 {
 /// The crossing scene: a standing wearer (camera 1.6 m above the floor at the origin, looking
@@ -277,11 +357,15 @@ TEST(MoverPipelineImages, PersonSeenCloseUpGetsCornersAtHalfResolution)
     cv::GaussianBlur(*m, *m, cv::Size(0, 0), 3.0);
     cv::normalize(*m, *m, 96, 160, cv::NORM_MINMAX);
   }
-  const CrossingOutcome o = crossing(true, &body, &wall);
+  // Without kept tracks: each frame's corners are the detector's alone (a track kept from the
+  // odd full-resolution corner would carry the person through the frames without one).
+  ObstaclesParams detected_each_frame;
+  detected_each_frame.mover_keep_tracks = false;
+  const CrossingOutcome o = crossing(true, &body, &wall, detected_each_frame);
   EXPECT_GE(o.tracked_frames, o.frames - 5);
   EXPECT_EQ(o.false_tracks, 0);
   EXPECT_LT(o.max_vel_err, 0.3);
-  ObstaclesParams full_only;
+  ObstaclesParams full_only = detected_each_frame;
   full_only.mover_half_resolution_corners = false;
   const CrossingOutcome fine = crossing(true, &body, &wall, full_only);
   EXPECT_LT(fine.tracked_frames, o.frames / 2) << "full resolution alone finds this person too: the test shows nothing";

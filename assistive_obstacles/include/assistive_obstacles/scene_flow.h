@@ -60,6 +60,14 @@ struct SceneFlowParams
   /// at 15 Hz, within the stereo depth noise of two frames; k frames move it k times as far
   /// with the same noise.
   int frames_apart = 1;
+  /// With frames_apart 1: each feature tracked with depth at its new end is tracked on from there
+  /// at the next frame, where that end's depth is already known; new corners only fill the
+  /// buckets the kept tracks leave empty (issue 37: each stereo match once, not at both ends).
+  bool keep_tracks = true;
+  /// px: a track that ended within this of the ego-motion's prediction is tracked back on the
+  /// pyramid's base alone (its way back starts that near its corner); 0: every track through
+  /// every level.
+  double backward_base_px = 2.0;
 };
 
 /// Disparity (full-resolution px) at full-resolution pixel (u, v) from a disparity image at the
@@ -84,9 +92,11 @@ double matchDisparity(const cv::Mat& left, const cv::Mat& right, double u, doubl
 /// matcher's scale) only corners with a usable depth (in [min_depth, max_depth], off depth edges)
 /// compete: the far background and the sky would otherwise take half the budget. `half`: `grey`
 /// at half resolution when the caller has it (its pyramid), for half_resolution_corners.
+/// `taken`: features the caller already has (tracks kept from the frame before): their buckets
+/// get no corner, their blocks count as served in the spread, and they use up the budget.
 void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv::KeyPoint>& scratch,
                    std::vector<cv::Point2f>& out, const cv::Mat* disp = nullptr, const StereoModel* model = nullptr,
-                   const cv::Mat* half = nullptr);
+                   const cv::Mat* half = nullptr, const std::vector<cv::Point2f>* taken = nullptr);
 
 class SceneFlowExtractor
 {
@@ -109,8 +119,11 @@ public:
   const std::vector<SceneFlowPoint>& flow() const { return flow_; }
   /// Per flow point: its pixel in the current image.
   const std::vector<cv::Point2f>& pixels() const { return pixels_; }
-  /// Corners detected in the previous image / tracked both ways / with depth at both ends.
+  /// Features tracked from the previous image (kept tracks and new corners) / tracked both ways /
+  /// with depth at both ends.
   int detected() const { return detected_; }
+  /// Of detected(), the tracks kept from the frame before (keep_tracks).
+  int kept() const { return kept_; }
   int tracked() const { return tracked_; }
   /// How many frames back the last process() paired with (0: none).
   int pairedBack() const { return paired_back_; }
@@ -128,15 +141,24 @@ private:
     Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
   };
   std::deque<Frame> history_;  ///< the last frames_apart frames, oldest first
+  /// keep_tracks: the newest frame's tracked features and their points (its left optical frame)
+  std::vector<cv::Point2f> kept_px_;
+  std::vector<Eigen::Vector3d> kept_X_;
   int paired_back_ = 0;
   std::vector<SceneFlowPoint> flow_;
   std::vector<cv::Point2f> pixels_;
   std::vector<cv::Mat> pyr_;
   std::vector<cv::KeyPoint> keypoints_;
-  std::vector<cv::Point2f> p0_, p1_, pb_, pred_;
+  std::vector<cv::Point2f> p0_, p1_, pb_, pred_, fresh_, next_px_;
+  std::vector<Eigen::Vector3d> next_X_;
+  std::vector<int> back_idx_;
+  std::vector<cv::Point2f> back_from_, back_to_;
+  std::vector<uint8_t> back_st_;
+  /// The forward-backward check's way back (pb_ from p1_), into stb_.
+  void trackBack(const std::vector<cv::Mat>& prev_pyr, const cv::Size& win, const cv::TermCriteria& tc);
   std::vector<uint8_t> st_, stb_;
   std::vector<float> err_;
-  int detected_ = 0, tracked_ = 0;
+  int detected_ = 0, tracked_ = 0, kept_ = 0;
 };
 
 }  // namespace assistive_obstacles
