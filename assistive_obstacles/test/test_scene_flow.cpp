@@ -135,7 +135,10 @@ TEST(SceneFlow, KeptTracksGoOnFromTheirNewPixelWithTheDepthFoundThere)
       continue;
     }
     ASSERT_GT(flow.size(), 250u);
-    if (k == 1) EXPECT_EQ(sf.kept(), 0);
+    if (k == 1)
+    {
+      EXPECT_EQ(sf.kept(), 0);
+    }
     int from_last = 0;
     for (const SceneFlowPoint& f : flow)
     {
