@@ -246,25 +246,9 @@ void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv
       scratch.push_back(k);
     }
   }
-  if (disp && model)
-  {
-    // Only corners that can be lifted (depth in range, not on a depth edge) compete for the budget.
-    Eigen::Vector3d X;
-    scratch.erase(std::remove_if(scratch.begin(), scratch.end(),
-                                 [&](const cv::KeyPoint& k) { return !lift(*disp, *model, p, k.pt, X); }),
-                  scratch.end());
-  }
   // The strongest corner per min_distance bucket, then the strongest buckets: spread over the image.
   const int cell = std::max(1, static_cast<int>(std::lround(p.min_distance)));
   const int gw = (grey.cols + cell - 1) / cell, gh = (grey.rows + cell - 1) / cell;
-  const auto bucketOf = [&](int i) {
-    const cv::Point2f& pt = scratch[static_cast<size_t>(i)].pt;
-    return cv::Point(std::min(gw - 1, static_cast<int>(pt.x) / cell), std::min(gh - 1, static_cast<int>(pt.y) / cell));
-  };
-  // Stronger response first, the earlier detection on a tie.
-  const auto stronger = [&](int a, int b) {
-    return scratch[a].response > scratch[b].response || (scratch[a].response == scratch[b].response && a < b);
-  };
   const auto bucketAt = [&](const cv::Point2f& pt) {
     return cv::Point(std::clamp(static_cast<int>(pt.x) / cell, 0, gw - 1), std::clamp(static_cast<int>(pt.y) / cell, 0, gh - 1));
   };
@@ -275,13 +259,29 @@ void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv
       const cv::Point g = bucketAt(pt);
       bucket_taken[static_cast<size_t>(g.y) * gw + g.x] = 1;
     }
+  // Corners in a taken bucket go first (cheap; a textured outdoor scene has thousands); then only
+  // corners that can be lifted (depth in range, not on a depth edge) compete for the budget.
+  Eigen::Vector3d X;
+  scratch.erase(std::remove_if(scratch.begin(), scratch.end(),
+                               [&](const cv::KeyPoint& k) {
+                                 const cv::Point g = bucketAt(k.pt);
+                                 return bucket_taken[static_cast<size_t>(g.y) * gw + g.x] ||
+                                        (disp && model && !lift(*disp, *model, p, k.pt, X));
+                               }),
+                scratch.end());
+  const auto bucketOf = [&](int i) {
+    const cv::Point2f& pt = scratch[static_cast<size_t>(i)].pt;
+    return cv::Point(std::min(gw - 1, static_cast<int>(pt.x) / cell), std::min(gh - 1, static_cast<int>(pt.y) / cell));
+  };
+  // Stronger response first, the earlier detection on a tie.
+  const auto stronger = [&](int a, int b) {
+    return scratch[a].response > scratch[b].response || (scratch[a].response == scratch[b].response && a < b);
+  };
   std::vector<int> best(static_cast<size_t>(gw) * gh, -1);
   for (int i = 0; i < static_cast<int>(scratch.size()); ++i)
   {
     const cv::Point g = bucketOf(i);
-    const size_t bi = static_cast<size_t>(g.y) * gw + g.x;
-    if (bucket_taken[bi]) continue;
-    int& b = best[bi];
+    int& b = best[static_cast<size_t>(g.y) * gw + g.x];
     if (b < 0 || stronger(i, b)) b = i;
   }
   std::vector<int> kept;
