@@ -78,6 +78,66 @@ void sampleGrid(const cv::Mat& img, double x0, double y0, int cols, int rows, fl
 }
 }  // namespace
 
+namespace
+{
+/// matchDisparity's sub-pixel step from the best integer disparity `d_int`: `a` the zero-mean left
+/// window (2h+1 square), `first` the right image's samples at d_int (w + 2 columns, a pixel more
+/// each side for the gradient; row stride `stride`): the strip's own columns for the first step.
+double refineDisparity(const cv::Mat& right, double u, double v, double d_int, int h, const float* a, const float* first,
+                       int stride)
+{
+  // Sub-pixel: Gauss-Newton on the disparity (one-dimensional Lucas-Kanade on zero-mean windows)
+  // from the best integer offset; a parabola through the NCC scores is biased by up to a quarter
+  // pixel on an edge.
+  const int w = 2 * h + 1, N = w * w;
+  double d = d_int;
+  float wide[64 * 66];
+  const int ww = w + 2;
+  for (int it = 0; it < 5; ++it)
+  {
+    if (it == 0)
+    {
+      for (int r = 0; r < w; ++r)
+        for (int c = 0; c < ww; ++c) wide[r * ww + c] = first[r * stride + c];
+    }
+    else
+      sampleGrid(right, u - d - h - 1, v - h, ww, w, wide);
+    // Per-column accumulators (independent lanes: vectorised); float holds 121 terms of grey levels.
+    float col_b[66] = {0.f};
+    for (int r = 0; r < w; ++r)
+      for (int c = 0; c < w; ++c) col_b[c] += wide[r * ww + c + 1];
+    double mb = 0.0;
+    for (int c = 0; c < w; ++c) mb += col_b[c];
+    const float mbf = static_cast<float>(mb / N);
+    float col_gb[64] = {0.f}, col_gg[64] = {0.f};
+    for (int r = 0; r < w; ++r)
+    {
+      const float* wr = wide + r * ww;
+      const float* ar = a + r * w;
+      for (int c = 0; c < w; ++c)
+      {
+        const float gx = 0.5f * (wr[c + 2] - wr[c]);
+        col_gb[c] += gx * (wr[c + 1] - mbf - ar[c]);
+        col_gg[c] += gx * gx;
+      }
+    }
+    double gb = 0.0, gg = 0.0;
+    for (int c = 0; c < w; ++c)
+    {
+      gb += col_gb[c];
+      gg += col_gg[c];
+    }
+    if (!(gg > 0.0)) break;
+    // b(x) = R(u - d + x): raising d by D moves it to b - D gx.
+    const double step = std::clamp(gb / gg, -0.5, 0.5);
+    d += step;
+    if (std::abs(d - d_int) > 1.0) return -1.0;
+    if (std::abs(step) < 0.005) break;
+  }
+  return d;
+}
+}  // namespace
+
 double matchDisparity(const cv::Mat& left, const cv::Mat& right, double u, double v, double d0, int window,
                       double search, double min_ncc)
 {
@@ -151,55 +211,7 @@ double matchDisparity(const cv::Mat& left, const cv::Mat& right, double u, doubl
     }
   }
   if (best_score < min_ncc || best == -n || best == n) return -1.0;
-  // Sub-pixel: Gauss-Newton on the disparity (one-dimensional Lucas-Kanade on zero-mean windows)
-  // from the best integer offset; a parabola through the NCC scores is biased by up to a quarter
-  // pixel on an edge. The first step's samples are the strip's own columns n - best .. n - best + w + 1.
-  const double d_int = d0 + best;
-  double d = d_int;
-  float wide[64 * 66];
-  const int ww = w + 2;
-  for (int it = 0; it < 5; ++it)
-  {
-    if (it == 0)
-    {
-      for (int r = 0; r < w; ++r)
-        for (int c = 0; c < ww; ++c) wide[r * ww + c] = strip[r * sw + n - best + c];
-    }
-    else
-      sampleGrid(right, u - d - h - 1, v - h, ww, w, wide);
-    // Per-column accumulators (independent lanes: vectorised); float holds 121 terms of grey levels.
-    float col_b[66] = {0.f};
-    for (int r = 0; r < w; ++r)
-      for (int c = 0; c < w; ++c) col_b[c] += wide[r * ww + c + 1];
-    double mb = 0.0;
-    for (int c = 0; c < w; ++c) mb += col_b[c];
-    const float mbf = static_cast<float>(mb / N);
-    float col_gb[64] = {0.f}, col_gg[64] = {0.f};
-    for (int r = 0; r < w; ++r)
-    {
-      const float* wr = wide + r * ww;
-      const float* ar = a + r * w;
-      for (int c = 0; c < w; ++c)
-      {
-        const float gx = 0.5f * (wr[c + 2] - wr[c]);
-        col_gb[c] += gx * (wr[c + 1] - mbf - ar[c]);
-        col_gg[c] += gx * gx;
-      }
-    }
-    double gb = 0.0, gg = 0.0;
-    for (int c = 0; c < w; ++c)
-    {
-      gb += col_gb[c];
-      gg += col_gg[c];
-    }
-    if (!(gg > 0.0)) break;
-    // b(x) = R(u - d + x): raising d by D moves it to b - D gx.
-    const double step = std::clamp(gb / gg, -0.5, 0.5);
-    d += step;
-    if (std::abs(d - d_int) > 1.0) return -1.0;
-    if (std::abs(step) < 0.005) break;
-  }
-  return d;
+  return refineDisparity(right, u, v, d0 + best, h, a, strip + n - best, sw);
 }
 
 namespace
@@ -366,6 +378,48 @@ void SceneFlowExtractor::reset()
   detected_ = tracked_ = 0;
 }
 
+bool SceneFlowExtractor::predictStarts(const Frame& old, const StereoModel& model, const Eigen::Isometry3d* T_world_cam)
+{
+  if (!T_world_cam || !old.has_pose) return false;
+  const Eigen::Isometry3d T_cur_prev = T_world_cam->inverse() * old.T_world_cam;
+  p1_.resize(p0_.size());
+  for (size_t i = 0; i < p0_.size(); ++i)
+  {
+    Eigen::Vector3d X;
+    p1_[i] = p0_[i];
+    if (static_cast<int>(i) < kept_)
+      X = kept_X_[i];
+    else if (!lift(old.disp, old.model, params_, p0_[i], X))
+      continue;
+    const Eigen::Vector3d Y = T_cur_prev * X;
+    if (!(Y.z() > 1e-3)) continue;
+    p1_[i] = cv::Point2f(static_cast<float>(model.fx * Y.x() / Y.z() + model.cx),
+                         static_cast<float>(model.fy * Y.y() / Y.z() + model.cy));
+  }
+  return true;
+}
+
+void SceneFlowExtractor::keepTracked(bool keep, int cols, int rows)
+{
+  kept_px_.clear();
+  kept_X_.clear();
+  if (!keep) return;
+  // At most one kept track per bucket (tracks converge where the view recedes), the older first.
+  const int cell = std::max(1, static_cast<int>(std::lround(params_.min_distance)));
+  const int gw = (cols + cell - 1) / cell, gh = (rows + cell - 1) / cell;
+  std::vector<char> used(static_cast<size_t>(gw) * gh, 0);
+  for (size_t i = 0; i < next_px_.size(); ++i)
+  {
+    const int gx = std::clamp(static_cast<int>(next_px_[i].x) / cell, 0, gw - 1);
+    const int gy = std::clamp(static_cast<int>(next_px_[i].y) / cell, 0, gh - 1);
+    char& u = used[static_cast<size_t>(gy) * gw + gx];
+    if (u) continue;
+    u = 1;
+    kept_px_.push_back(next_px_[i]);
+    kept_X_.push_back(next_X_[i]);
+  }
+}
+
 const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& grey, const cv::Mat& disp,
                                                                const StereoModel& model,
                                                                const Eigen::Isometry3d* T_world_cam,
@@ -419,26 +473,7 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
       // With both poses, each corner starts where the ego-motion puts a static point: on a
       // repeated texture (tiles seen at a grazing angle) Lucas-Kanade from the old pixel can lock
       // onto the next period, the same way at every corner, and a static wall reads as a walker.
-      int flags = 0;
-      if (T_world_cam && old.has_pose)
-      {
-        const Eigen::Isometry3d T_cur_prev = T_world_cam->inverse() * old.T_world_cam;
-        p1_.resize(p0_.size());
-        for (size_t i = 0; i < p0_.size(); ++i)
-        {
-          Eigen::Vector3d X;
-          p1_[i] = p0_[i];
-          if (static_cast<int>(i) < kept_)
-            X = kept_X_[i];
-          else if (!lift(prev_disp_, prev_model_, params_, p0_[i], X))
-            continue;
-          const Eigen::Vector3d Y = T_cur_prev * X;
-          if (!(Y.z() > 1e-3)) continue;
-          p1_[i] = cv::Point2f(static_cast<float>(model.fx * Y.x() / Y.z() + model.cx),
-                               static_cast<float>(model.fy * Y.y() / Y.z() + model.cy));
-        }
-        flags = cv::OPTFLOW_USE_INITIAL_FLOW;
-      }
+      const int flags = predictStarts(old, model, T_world_cam) ? cv::OPTFLOW_USE_INITIAL_FLOW : 0;
       if (flags == 0) p1_ = p0_;  // no poses: no prediction, each track starts at its corner
       pred_ = p1_;               // where the ego-motion puts each corner
       cv::calcOpticalFlowPyrLK(prev_pyr_, pyr_, p0_, p1_, st_, err_, win, params_.lk_levels, tc, flags);
@@ -474,25 +509,7 @@ const std::vector<SceneFlowPoint>& SceneFlowExtractor::process(const cv::Mat& gr
       }
     }
   }
-  kept_px_.clear();
-  kept_X_.clear();
-  if (keep)
-  {
-    // At most one kept track per bucket (tracks converge where the view recedes), the older first.
-    const int cell = std::max(1, static_cast<int>(std::lround(params_.min_distance)));
-    const int gw = (grey.cols + cell - 1) / cell, gh = (grey.rows + cell - 1) / cell;
-    std::vector<char> used(static_cast<size_t>(gw) * gh, 0);
-    for (size_t i = 0; i < next_px_.size(); ++i)
-    {
-      const int gx = std::clamp(static_cast<int>(next_px_[i].x) / cell, 0, gw - 1);
-      const int gy = std::clamp(static_cast<int>(next_px_[i].y) / cell, 0, gh - 1);
-      char& u = used[static_cast<size_t>(gy) * gw + gx];
-      if (u) continue;
-      u = 1;
-      kept_px_.push_back(next_px_[i]);
-      kept_X_.push_back(next_X_[i]);
-    }
-  }
+  keepTracked(keep, grey.cols, grey.rows);
   Frame f;
   grey.copyTo(f.grey);
   std::swap(f.pyr, pyr_);

@@ -154,6 +154,11 @@ private:
   std::vector<int> back_idx_;
   std::vector<cv::Point2f> back_from_, back_to_;
   std::vector<uint8_t> back_st_;
+  /// Each feature's start in the current image where the ego-motion puts a static point (into
+  /// p1_); false without both poses.
+  bool predictStarts(const Frame& old, const StereoModel& model, const Eigen::Isometry3d* T_world_cam);
+  /// The tracked features with depth (next_px_, next_X_) kept for the next frame, one per bucket.
+  void keepTracked(bool keep, int cols, int rows);
   /// The forward-backward check's way back (pb_ from p1_), into stb_.
   void trackBack(const std::vector<cv::Mat>& prev_pyr, const cv::Size& win, const cv::TermCriteria& tc);
   std::vector<uint8_t> st_, stb_;
