@@ -235,6 +235,29 @@ bool lift(const cv::Mat& disp, const StereoModel& m, const SceneFlowParams& p, c
 }
 }  // namespace
 
+namespace
+{
+/// The min_distance buckets of a cols x rows image: at most one corner, or one kept track, each.
+struct BucketGrid
+{
+  int cell, gw, gh;
+  BucketGrid(int cols, int rows, double min_distance)
+    : cell(std::max(1, static_cast<int>(std::lround(min_distance)))), gw((cols + cell - 1) / cell), gh((rows + cell - 1) / cell)
+  {
+  }
+  size_t size() const { return static_cast<size_t>(gw) * gh; }
+  cv::Point at(const cv::Point2f& pt) const
+  {
+    return cv::Point(std::clamp(static_cast<int>(pt.x) / cell, 0, gw - 1), std::clamp(static_cast<int>(pt.y) / cell, 0, gh - 1));
+  }
+  size_t index(const cv::Point2f& pt) const
+  {
+    const cv::Point g = at(pt);
+    return static_cast<size_t>(g.y) * gw + g.x;
+  }
+};
+}  // namespace
+
 void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv::KeyPoint>& scratch,
                    std::vector<cv::Point2f>& out, const cv::Mat* disp, const StereoModel* model, const cv::Mat* half,
                    const std::vector<cv::Point2f>* taken)
@@ -259,41 +282,27 @@ void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv
     }
   }
   // The strongest corner per min_distance bucket, then the strongest buckets: spread over the image.
-  const int cell = std::max(1, static_cast<int>(std::lround(p.min_distance)));
-  const int gw = (grey.cols + cell - 1) / cell, gh = (grey.rows + cell - 1) / cell;
-  const auto bucketAt = [&](const cv::Point2f& pt) {
-    return cv::Point(std::clamp(static_cast<int>(pt.x) / cell, 0, gw - 1), std::clamp(static_cast<int>(pt.y) / cell, 0, gh - 1));
-  };
-  std::vector<char> bucket_taken(static_cast<size_t>(gw) * gh, 0);
+  const BucketGrid grid(grey.cols, grey.rows, p.min_distance);
+  std::vector<char> bucket_taken(grid.size(), 0);
   if (taken)
-    for (const cv::Point2f& pt : *taken)
-    {
-      const cv::Point g = bucketAt(pt);
-      bucket_taken[static_cast<size_t>(g.y) * gw + g.x] = 1;
-    }
+    for (const cv::Point2f& pt : *taken) bucket_taken[grid.index(pt)] = 1;
   // Corners in a taken bucket go first (cheap; a textured outdoor scene has thousands); then only
   // corners that can be lifted (depth in range, not on a depth edge) compete for the budget.
   Eigen::Vector3d X;
   scratch.erase(std::remove_if(scratch.begin(), scratch.end(),
                                [&](const cv::KeyPoint& k) {
-                                 const cv::Point g = bucketAt(k.pt);
-                                 return bucket_taken[static_cast<size_t>(g.y) * gw + g.x] ||
+                                 return bucket_taken[grid.index(k.pt)] ||
                                         (disp && model && !lift(*disp, *model, p, k.pt, X));
                                }),
                 scratch.end());
-  const auto bucketOf = [&](int i) {
-    const cv::Point2f& pt = scratch[static_cast<size_t>(i)].pt;
-    return cv::Point(std::min(gw - 1, static_cast<int>(pt.x) / cell), std::min(gh - 1, static_cast<int>(pt.y) / cell));
-  };
   // Stronger response first, the earlier detection on a tie.
   const auto stronger = [&](int a, int b) {
     return scratch[a].response > scratch[b].response || (scratch[a].response == scratch[b].response && a < b);
   };
-  std::vector<int> best(static_cast<size_t>(gw) * gh, -1);
+  std::vector<int> best(grid.size(), -1);
   for (int i = 0; i < static_cast<int>(scratch.size()); ++i)
   {
-    const cv::Point g = bucketOf(i);
-    int& b = best[static_cast<size_t>(g.y) * gw + g.x];
+    int& b = best[grid.index(scratch[static_cast<size_t>(i)].pt)];
     if (b < 0 || stronger(i, b)) b = i;
   }
   std::vector<int> kept;
@@ -306,19 +315,18 @@ void detectCorners(const cv::Mat& grey, const SceneFlowParams& p, std::vector<cv
     // buckets, then the strongest of the rest. Ranked over the whole image, a textured wall's
     // strong corners took the whole budget from a person's weak ones.
     const int sb = std::max(1, p.spread_blocks);
-    const int bw = (gw + sb - 1) / sb;
-    std::vector<char> block_used(static_cast<size_t>(bw) * ((gh + sb - 1) / sb), 0);
+    const int bw = (grid.gw + sb - 1) / sb;
+    std::vector<char> block_used(static_cast<size_t>(bw) * ((grid.gh + sb - 1) / sb), 0);
+    const auto blockOf = [&](const cv::Point2f& pt) {
+      const cv::Point g = grid.at(pt);
+      return static_cast<size_t>(g.y / sb) * bw + g.x / sb;
+    };
     if (taken)
-      for (const cv::Point2f& pt : *taken)
-      {
-        const cv::Point g = bucketAt(pt);
-        block_used[static_cast<size_t>(g.y / sb) * bw + g.x / sb] = 1;
-      }
+      for (const cv::Point2f& pt : *taken) block_used[blockOf(pt)] = 1;
     std::vector<int> first, rest;
     for (const int i : kept)
     {
-      const cv::Point g = bucketOf(i);
-      char& used = block_used[static_cast<size_t>(g.y / sb) * bw + g.x / sb];
+      char& used = block_used[blockOf(scratch[static_cast<size_t>(i)].pt)];
       (used ? rest : first).push_back(i);
       used = 1;
     }
@@ -405,14 +413,11 @@ void SceneFlowExtractor::keepTracked(bool keep, int cols, int rows)
   kept_X_.clear();
   if (!keep) return;
   // At most one kept track per bucket (tracks converge where the view recedes), the older first.
-  const int cell = std::max(1, static_cast<int>(std::lround(params_.min_distance)));
-  const int gw = (cols + cell - 1) / cell, gh = (rows + cell - 1) / cell;
-  std::vector<char> used(static_cast<size_t>(gw) * gh, 0);
+  const BucketGrid grid(cols, rows, params_.min_distance);
+  std::vector<char> used(grid.size(), 0);
   for (size_t i = 0; i < next_px_.size(); ++i)
   {
-    const int gx = std::clamp(static_cast<int>(next_px_[i].x) / cell, 0, gw - 1);
-    const int gy = std::clamp(static_cast<int>(next_px_[i].y) / cell, 0, gh - 1);
-    char& u = used[static_cast<size_t>(gy) * gw + gx];
+    char& u = used[grid.index(next_px_[i])];
     if (u) continue;
     u = 1;
     kept_px_.push_back(next_px_[i]);
