@@ -7,8 +7,15 @@ namespace assistive_vo
 {
 void GyroBiasEstimator::reset()
 {
-  bias_link_.setZero();
-  var_ = -1.0;
+  bias_link_ = fixed_ ? fixed_bias_ : Eigen::Vector3d::Zero();
+  var_ = fixed_ ? fixed_var_ : -1.0;
+}
+
+void GyroBiasEstimator::fix(const Eigen::Vector3d& bias_link, double sigma)
+{
+  fixed_ = true;
+  fixed_bias_ = bias_link_ = bias_link;
+  fixed_var_ = var_ = sigma * sigma;
 }
 
 void GyroBiasEstimator::initialise()
@@ -37,6 +44,8 @@ void GyroBiasEstimator::update(const Eigen::Matrix3d& R_vision_opt, const Eigen:
   const Eigen::Vector3d b_err = R_link_optical() * (aa.angle() * aa.axis()) / span_s;
   const double s_vo = std::max(p_.vo_rotation_sigma, std::sqrt(std::max(0.0, vision_rot_var)));
   const double var_m = s_vo * s_vo / (span_s * span_s);
+  if (fixed_)
+    return;
   const double K = var_ / (var_ + var_m);
   if (b_err.allFinite() && b_err.norm() < 0.1)
   {

@@ -60,3 +60,28 @@ TEST(GyroBiasEstimator, IgnoresAnErrorTooLargeToBeABias)
   e.reset();
   EXPECT_LT(e.variance(), 0);
 }
+
+TEST(GyroBiasEstimator, AFixedBiasIsHeldThroughUpdatesAndResets)
+{
+  GyroBiasEstimator e;
+  const Eigen::Vector3d b(0.003, -0.001, 0.002), other(-0.004, 0.0, 0.001);  // rad/s, camera_link
+  e.fix(b, 1e-4);
+  EXPECT_TRUE(e.fixed());
+  e.initialise();  // a running variance is kept
+  EXPECT_DOUBLE_EQ(e.variance(), 1e-8);
+  // vision says the bias is `other`: a free estimator would move, a fixed one does not
+  for (int k = 0; k < 5; ++k)
+    e.update(Eigen::Matrix3d::Identity(), gyroAtRest(e, other, 1.0), 1.0, 1e-8);
+  EXPECT_EQ(e.bias(), b);
+  EXPECT_DOUBLE_EQ(e.variance(), 1e-8);
+  e.reset();
+  EXPECT_EQ(e.bias(), b);
+  EXPECT_DOUBLE_EQ(e.variance(), 1e-8);
+  // the control: the same updates move an estimator that is not fixed
+  GyroBiasEstimator f;
+  f.initialise();
+  for (int k = 0; k < 5; ++k)
+    f.update(Eigen::Matrix3d::Identity(), gyroAtRest(f, other, 1.0), 1.0, 1e-8);
+  EXPECT_LT((f.bias() - other).norm(), 1e-3 * other.norm());
+  EXPECT_FALSE(f.fixed());
+}

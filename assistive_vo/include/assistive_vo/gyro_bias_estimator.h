@@ -15,6 +15,11 @@ public:
   void reset();
   /// Starts the variance at gyro_bias_sigma^2 unless it runs already.
   void initialise();
+  /// A bias known beforehand (camera_link, rad/s; `sigma` its uncertainty): held from now on, no
+  /// update changes it, reset() keeps it. An analysis of what the online estimate costs
+  /// (`vo_benchmark --bias-known`, issue 34), or a bias calibrated elsewhere.
+  void fix(const Eigen::Vector3d& bias_link, double sigma);
+  bool fixed() const { return fixed_; }
 
   /// The gyro's rotation of camera_link over `dt` s (R_prev_cur, as integrated) with the bias
   /// taken out: R_meas * exp(-b dt) (body frame).
@@ -37,5 +42,8 @@ private:
   VoParams p_;
   Eigen::Vector3d bias_link_ = Eigen::Vector3d::Zero();
   double var_ = -1.0;
+  bool fixed_ = false;
+  Eigen::Vector3d fixed_bias_ = Eigen::Vector3d::Zero();
+  double fixed_var_ = 0.0;
 };
 }  // namespace assistive_vo

@@ -116,6 +116,9 @@ public:
   const FailSafeCounters& failSafe() const { return checks_.counters(); }
   /// Current gyro bias estimate (camera_link axes, rad/s).
   const Eigen::Vector3d& gyroBias() const { return bias_.bias(); }
+  /// Holds the gyro bias at a known value (camera_link, rad/s) instead of estimating it online
+  /// (GyroBiasEstimator::fix).
+  void setKnownGyroBias(const Eigen::Vector3d& bias_link, double sigma) { bias_.fix(bias_link, sigma); }
   bool started() const { return have_pose_; }
   /// Gravity alignment: tilt of the odom frame measured in the last window (deg) and the windows
   /// accepted / rejected so far.

@@ -66,6 +66,8 @@ public:
   FrontEndStep process(const StereoCamera& cam, const cv::Mat& left, const cv::Mat& right, double stamp);
 
   const VisualOdometry& vo() const { return vo_; }
+  /// VisualOdometry::setKnownGyroBias.
+  void setKnownGyroBias(const Eigen::Vector3d& bias_link, double sigma) { vo_.setKnownGyroBias(bias_link, sigma); }
   const ImuBuffer& imu() const { return imu_; }
   const StartupRule& startup() const { return startup_; }
   const Options& options() const { return o_; }
