@@ -1,6 +1,7 @@
 // assistive_sim/renderer: renders the simulated stereo pair online, for the world's scripted walk
 // (publishing IMU and ground truth too), for a pose on tf, or for a pose topic. Glue only: the
 // rendering is StereoRenderer (assistive_sim_core).
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -256,6 +257,12 @@ private:
     {
       NODELET_ERROR_THROTTLE(5.0, "renderer: people_give_way has %zu values, expected 1 + 3 x %zu people; ignored",
                              d.size(), world_.people.size());
+      return;
+    }
+    if (!std::all_of(d.begin(), d.end(), [](double v) { return std::isfinite(v); }))
+    {
+      NODELET_ERROR_THROTTLE(5.0, "renderer: people_give_way has values that are not finite; ignored (the people "
+                                  "keep their last offsets)");
       return;
     }
     std::lock_guard<std::mutex> lock(people_mutex_);

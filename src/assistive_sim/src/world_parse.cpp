@@ -691,7 +691,7 @@ Eigen::Vector2d GiveWayTrack::at(double tt, Eigen::Vector2d* rate, double* delay
 
 bool GiveWayTrack::append(double tt, const Eigen::Vector2d& o, double d)
 {
-  if (!t.empty() && tt <= t.back())
+  if (!std::isfinite(tt) || !o.allFinite() || !std::isfinite(d) || (!t.empty() && tt <= t.back()))
     return false;
   t.push_back(tt);
   offset.push_back(o);

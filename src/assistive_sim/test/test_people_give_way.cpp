@@ -5,6 +5,7 @@
 #include <assistive_sim/world.h>
 
 #include <cmath>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -118,4 +119,24 @@ TEST(PeopleGiveWay, PeoplePassingWideAndStandingPeopleDoNotMove)
   EXPECT_DOUBLE_EQ(end.position.x(), 10.5);
   EXPECT_DOUBLE_EQ(end.position.y(), 5.0);
   EXPECT_DOUBLE_EQ(end.velocity.norm(), 0.0);
+}
+
+TEST(PeopleGiveWay, ATrackRefusesKnotsThatAreNotFiniteAndKeepsItsLastOffset)
+{
+  GiveWayTrack track;
+  EXPECT_TRUE(track.append(1.0, {0.2, -0.1}, 0.5));
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(track.append(2.0, {nan, 0.0}, 0.0));
+  EXPECT_FALSE(track.append(2.0, {0.0, inf}, 0.0));
+  EXPECT_FALSE(track.append(2.0, {0.0, 0.0}, nan));
+  EXPECT_FALSE(track.append(nan, {0.0, 0.0}, 0.0));
+  EXPECT_FALSE(track.append(1.0, {0.0, 0.0}, 0.0));  // not after the last knot
+  EXPECT_EQ(track.t.size(), 1u);
+  double delay = -1.0;
+  const Eigen::Vector2d o = track.at(3.0, nullptr, &delay);
+  EXPECT_TRUE(o.isApprox(Eigen::Vector2d(0.2, -0.1)));
+  EXPECT_DOUBLE_EQ(delay, 0.5);
+  // a finite knot after it is taken
+  EXPECT_TRUE(track.append(2.0, {0.0, 0.0}, 0.5));
+  EXPECT_EQ(track.t.size(), 2u);
 }

@@ -107,7 +107,8 @@ struct GiveWayTrack
   /// walking, 1: standing) when `delay` / `delay_rate` are given.
   Eigen::Vector2d at(double t, Eigen::Vector2d* rate = nullptr, double* delay = nullptr,
                      double* delay_rate = nullptr) const;
-  /// A knot at time `t` after the last one (false, nothing added: `t` not after it; the track only grows).
+  /// A knot at time `t` after the last one (false, nothing added: `t` not after it, or a value not
+  /// finite: a NaN knot would put the person nowhere from then on; the track only grows).
   bool append(double t, const Eigen::Vector2d& offset, double delay);
 };
 
