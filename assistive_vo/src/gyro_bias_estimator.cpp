@@ -40,12 +40,12 @@ double GyroBiasEstimator::rotationVariance(double span_s) const
 void GyroBiasEstimator::update(const Eigen::Matrix3d& R_vision_opt, const Eigen::Matrix3d& R_gyro_opt, double span_s,
                                double vision_rot_var)
 {
+  if (fixed_)
+    return;
   const Eigen::AngleAxisd aa(R_vision_opt.transpose() * R_gyro_opt);
   const Eigen::Vector3d b_err = R_link_optical() * (aa.angle() * aa.axis()) / span_s;
   const double s_vo = std::max(p_.vo_rotation_sigma, std::sqrt(std::max(0.0, vision_rot_var)));
   const double var_m = s_vo * s_vo / (span_s * span_s);
-  if (fixed_)
-    return;
   const double K = var_ / (var_ + var_m);
   if (b_err.allFinite() && b_err.norm() < 0.1)
   {
