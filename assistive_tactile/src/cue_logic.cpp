@@ -109,6 +109,8 @@ void CueLogic::reset()
   last_mode_ = CueMode::UNSURE;
   waist_side_ = 0;
   busy_ = false;
+  burst_at_ = -1e300;
+  chain_next_ = false;
   last_yaw_time_ = -1e300;
   yaw_rate_ = 0.0;
   door_ = Door();
@@ -561,6 +563,10 @@ bool CueLogic::lookElsewhere(double now, const std::string& why, Cue& out)
 
 Cue CueLogic::decideOk(const NavInput& in, double now)
 {
+  // The head is watched on every cycle, the obstacle cues' too: watched only while guiding, a veer
+  // carried out during a stop was never seen, and the body's facing stayed 20 deg off for good
+  // (traced, plaza trial 13 of seed 11: facing 179 deg, the body 160, boxed in at the curb).
+  observeHead(in, now);
   ok_facing_ = facing(in);
   // a path and a waypoint: the obstacle cues, or the guidance where steering wins over them
   Cue c = decideProximity(in, true);
@@ -588,8 +594,16 @@ Cue CueLogic::decideOk(const NavInput& in, double now)
   // the spot or sends it on with its walk timed and swept (shortWalk, sweepStop).
   const bool standing = !(in.walking_speed >= params_.walking_speed_mps);
   const bool alert_outside_stop = c.mode == CueMode::ALERT && in.free_ahead >= must_stop;
+  // A wearer standing boxed in (an obstacle inside the alert distance, no room to step aside)
+  // with the way on well to a side is turned towards it on the spot, which sweeps a round body
+  // into nothing; the stop alone held it there for good (traced, plaza trial 13 of seed 11:
+  // 0.15 m before a planter, 0.05 m free to either side, 150 s on "obstacle ahead: stop").
+  const bool boxed_turn = standing && c.mode == CueMode::ALERT && !alert_outside_stop &&
+                          in.waypoint_distance >= params_.guidance_min_waypoint_m &&
+                          std::fabs(wrapAngle(in.steer_heading - facing(in))) * kRadToDeg > params_.stand_turn_deg;
   // (a turn on the spot under way is not interrupted by a side-step: it turns the wearer away)
   if (((c.mode == CueMode::PROXIMITY || alert_outside_stop) && steering_away) || (standing && alert_outside_stop) ||
+      boxed_turn ||
       (c.mode == CueMode::PROXIMITY && busy_ && busy_turn_))
   {
     waist_side_ = 0;
@@ -1048,7 +1062,7 @@ bool CueLogic::holdVeer(const NavInput& in, double now, double err, bool walking
   // and waiting for it to steady left no time to bring it back)
   const double head_turned = wrapAngle(in.head_yaw - busy_head0_) * sign;
   const bool overshot = veer_seen_ && head_turned > 1.3 * std::fabs(busy_angle_) + 5.0 / kRadToDeg;
-  const bool done = now - busy_since_ >= p.settle_timeout_s || overshot ||
+  const bool done = now - std::max(busy_since_, burst_at_) >= p.settle_timeout_s || overshot ||
                     (veer_seen_ && steadied && now - veer_seen_at_ >= 0.3 && now - steady_since_ >= 0.3);
   if (done && veer_seen_)
   {
@@ -1065,7 +1079,10 @@ bool CueLogic::holdVeer(const NavInput& in, double now, double err, bool walking
   // only further the same way: a path that flips to the other side of an obstacle (two ways
   // round it cost the same) must not make the wearer zig-zag; that waits until the veer is done
   const bool same_way = wrapAngle(err - remaining) * busy_angle_ > 0.0;
-  const bool superseded = walking && same_way && residual > 2.0 * p.veer_step_deg;
+  // (and only once the last burst can be felt as a new pair: asked each cycle, the bursts ran
+  // together into one long buzz, which the wearer took for a stop-and-turn)
+  const bool superseded = walking && same_way && residual > 2.0 * p.veer_step_deg &&
+                          now - burst_at_ >= kVeerChainGapS;
   if (!done && !superseded)
   {
     out = holdPattern(fmt("veering (%.0f deg to go)", std::max(0.0, std::fabs(busy_angle_) - turned) * kRadToDeg));
@@ -1261,6 +1278,16 @@ std::array<float, NUM_MOTORS> CueLogic::beginShoulderCue(const NavInput& in, dou
   drive[side > 0 ? LEFT_SHOULDER : RIGHT_SHOULDER] =
       static_cast<float>(p.min_intensity + (1.0 - p.min_intensity) * 0.5 * (level - 1));
   busy_ = true;
+  burst_at_ = now;
+  const bool chain = chain_next_ && !turn && !busy_turn_;
+  chain_next_ = false;
+  turn_go_ = false;
+  turn_go_sent_ = false;
+  if (chain)
+  {
+    busy_angle_ += angle;  // the chain's origin stays: the walk is judged on all it asked
+    return drive;
+  }
   veer_seen_ = false;
   busy_walked0_ = walked_m_;
   busy_since_ = now;
@@ -1268,8 +1295,6 @@ std::array<float, NUM_MOTORS> CueLogic::beginShoulderCue(const NavInput& in, dou
   busy_head0_ = in.head_yaw;
   busy_angle_ = angle;
   busy_turn_ = turn;
-  turn_go_ = false;
-  turn_go_sent_ = false;
   return drive;
 }
 
@@ -1638,8 +1663,7 @@ Cue CueLogic::guideWithSweep(const NavInput& in, double now)
   Cue stop;
   if (holdSweepStop(in, stop))
   {
-    observeHead(in, now);  // (what the guidance watches goes on while the stop is held)
-    noteDoor(in);
+    noteDoor(in);  // (what the guidance watches goes on while the stop is held)
     return stop;
   }
   const Cue c = decideGuidance(in, now);
@@ -1653,7 +1677,6 @@ Cue CueLogic::guideWithSweep(const NavInput& in, double now)
 Cue CueLogic::decideGuidance(const NavInput& in, double now)
 {
   const CueParams& p = params_;
-  observeHead(in, now);
   noteDoor(in);
   {
     Cue stop;
@@ -1672,6 +1695,7 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   // + = the steering point lies left of the walk (standing: of the body, not the scanning head)
   const double err = wrapAngle(in.steer_heading - (walking ? in.walk_heading : facing(in)));
   bool superseding = false;  // a veer under way is overtaken: ask beyond it
+  chain_next_ = false;
   Cue held;
   if (busy_ && busy_turn_ && holdTurn(in, now, held))
     return held;
@@ -1690,6 +1714,7 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   {
     const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
     ask = wrapAngle(err - (busy_angle_ - sign * std::max(0.0, wrapAngle(in.walk_heading - busy_yaw0_) * sign)));
+    chain_next_ = true;
   }
   if (!superseding)
   {

@@ -338,6 +338,17 @@ private:
   double steady_since_ = -1e300;  ///< the head's turn rate has been under 10 deg/s since
   double walked_m_ = 0.0;        ///< metres walked (the planner's speed integrated), for the drift
   double busy_walked0_ = 0.0;    ///< walked_m_ when the veer began
+  /// A veer chain (issue 33): a burst asked beyond a veer still being carried out adds to it (the
+  /// protocol's "a second pair before you are done adds to the first"). The chain keeps its
+  /// origin (busy_yaw0_, busy_head0_, busy_since_) and sums the bursts in busy_angle_; the last
+  /// burst began at burst_at_, and the next may only begin once the wearer can feel it as a new
+  /// pair (kVeerChainGapS after it).
+  double burst_at_ = -1e300;
+  bool chain_next_ = false;     ///< the next veer burst of this cycle adds to the chain
+  /// A veer's two pulses last 0.45 s; a pulse beginning within 0.4 s of the last one's end on the
+  /// same shoulder is felt as part of the same pair, so the next burst begins 0.85 s after the
+  /// last began at the earliest (0.95: two 20 Hz cycles' margin).
+  static constexpr double kVeerChainGapS = 0.95;
   /// The wearer's veers: turned / asked (learnt from the veers it carried out, the drift taken
   /// out; kept across resets: it is the wearer's). Each ask picks the level whose veer, at this
   /// gain, comes closest to the error.
