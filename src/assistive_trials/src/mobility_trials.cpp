@@ -317,10 +317,10 @@ bool runWorld(const World& world, const std::string& world_arg, const TrialOptio
     {
       static const char* actions[] = { "walk", "turn", "sidestep", "explore", "stopped", "veer" };
       for (const CollisionEvent& e : r.collision_events)
-        std::printf("CAUSE %s trial %d t %.1f at %.2f %.2f %s: %s while %s, cue %d, %.2f m from a passage middle\n",
+        std::printf("CAUSE %s trial %d t %.1f at %.2f %.2f %s: %s while %s at %.2f m/s, cue %d, %.2f m from a passage middle\n",
                     world.name.c_str(), k, e.t, e.xy.x(), e.xy.y(), collisionCauseName(e.cause),
                     assistive_sim::kindName(ObstacleKind(e.kind)), e.action >= 0 && e.action < 6 ? actions[e.action] : "?",
-                    e.instruction, e.door_m);
+                    e.speed, e.instruction, e.door_m);
       if (!r.end_cause.empty())
         std::printf("UNFINISHED %s trial %d (reaction %.2f s, speed %.2f) at %.2f %.2f %s: %s\n", world.name.c_str(), k,
                     r.wearer.reaction_s, r.wearer.walk_speed, r.path.back().x(), r.path.back().y(), r.end_cause.c_str(),

@@ -242,15 +242,17 @@ private:
 
 const char* collisionCauseName(CollisionCause c)
 {
-  static const char* names[] = { "door_walk", "door_turn", "turn_spot", "walk_wall", "walk_object", "sidestep", "explore", "people" };
+  static const char* names[] = { "door_walk", "door_turn", "turn_spot", "walk_wall", "walk_object", "sidestep", "explore", "people", "stop_late" };
   const size_t i = size_t(c);
   return i < sizeof(names) / sizeof(names[0]) ? names[i] : "?";
 }
 
-CollisionCause classifyCollision(int action, int kind, double door_m)
+CollisionCause classifyCollision(int action, int kind, double door_m, double speed)
 {
   if (kind == int(assistive_sim::ObstacleKind::PERSON)) return CollisionCause::PEOPLE;
   const bool moving = action == VestWearer::WALK || action == VestWearer::VEER;
+  if ((action == VestWearer::STOPPED || action == VestWearer::TURN) && speed >= kBrakingMps)
+    return CollisionCause::STOP_LATE;
   if (door_m < kDoorNearM) return moving ? CollisionCause::DOOR_WALK : CollisionCause::DOOR_TURN;
   if (action == VestWearer::SIDESTEP) return CollisionCause::SIDESTEP;
   if (action == VestWearer::EXPLORE) return CollisionCause::EXPLORE;
@@ -485,6 +487,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
         }
       }
       const int action_before = int(wearer.action()), before = body.totalCollisions();
+      const double speed_before = wearer.state().speed;
       const std::array<int, size_t(assistive_sim::ObstacleKind::NUM_KINDS)> kinds_before = body.collisions();
       wearer.step(t, opt.dt, m, &body);
       r.action_s[size_t(wearer.action())] += opt.dt;
@@ -499,7 +502,8 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
             e.action = action_before;
             e.instruction = playing.instruction;
             e.door_m = chain->passageDistance(e.xy);
-            e.cause = classifyCollision(e.action, e.kind, e.door_m);
+            e.speed = speed_before;
+            e.cause = classifyCollision(e.action, e.kind, e.door_m, e.speed);
             r.collision_events.push_back(e);
           }
       if (trace && (wearer.lastPercept() != last_percept || wearer.action() != last_action))

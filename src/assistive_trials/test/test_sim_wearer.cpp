@@ -287,19 +287,31 @@ TEST(CollisionCause, TableOfWhatTheWearerDidAndWhere)
   using K = assistive_sim::ObstacleKind;
   const double inf = std::numeric_limits<double>::infinity();
   // at a doorway (within kDoorNearM of a passage middle): walking or veering vs anything else
-  EXPECT_EQ(classifyCollision(VestWearer::WALK, int(K::WALL), 0.3), CollisionCause::DOOR_WALK);
-  EXPECT_EQ(classifyCollision(VestWearer::VEER, int(K::FURNITURE), 0.99), CollisionCause::DOOR_WALK);
-  EXPECT_EQ(classifyCollision(VestWearer::TURN, int(K::WALL), 0.2), CollisionCause::DOOR_TURN);
-  EXPECT_EQ(classifyCollision(VestWearer::STOPPED, int(K::WALL), 0.2), CollisionCause::DOOR_TURN);
+  EXPECT_EQ(classifyCollision(VestWearer::WALK, int(K::WALL), 0.3, 0.0), CollisionCause::DOOR_WALK);
+  EXPECT_EQ(classifyCollision(VestWearer::VEER, int(K::FURNITURE), 0.99, 0.0), CollisionCause::DOOR_WALK);
+  EXPECT_EQ(classifyCollision(VestWearer::TURN, int(K::WALL), 0.2, 0.0), CollisionCause::DOOR_TURN);
+  EXPECT_EQ(classifyCollision(VestWearer::STOPPED, int(K::WALL), 0.2, 0.0), CollisionCause::DOOR_TURN);
   // elsewhere
-  EXPECT_EQ(classifyCollision(VestWearer::WALK, int(K::WALL), 1.0), CollisionCause::WALK_WALL);
-  EXPECT_EQ(classifyCollision(VestWearer::VEER, int(K::GLASS), inf), CollisionCause::WALK_WALL);
-  EXPECT_EQ(classifyCollision(VestWearer::WALK, int(K::FURNITURE), inf), CollisionCause::WALK_OBJECT);
-  EXPECT_EQ(classifyCollision(VestWearer::TURN, int(K::WALL), inf), CollisionCause::TURN_SPOT);
-  EXPECT_EQ(classifyCollision(VestWearer::STOPPED, int(K::FURNITURE), inf), CollisionCause::TURN_SPOT);
-  EXPECT_EQ(classifyCollision(VestWearer::SIDESTEP, int(K::WALL), inf), CollisionCause::SIDESTEP);
-  EXPECT_EQ(classifyCollision(VestWearer::EXPLORE, int(K::WALL), inf), CollisionCause::EXPLORE);
-  EXPECT_EQ(classifyCollision(VestWearer::WALK, int(K::PERSON), 0.1), CollisionCause::PEOPLE);
+  EXPECT_EQ(classifyCollision(VestWearer::WALK, int(K::WALL), 1.0, 0.0), CollisionCause::WALK_WALL);
+  EXPECT_EQ(classifyCollision(VestWearer::VEER, int(K::GLASS), inf, 0.0), CollisionCause::WALK_WALL);
+  EXPECT_EQ(classifyCollision(VestWearer::WALK, int(K::FURNITURE), inf, 0.0), CollisionCause::WALK_OBJECT);
+  EXPECT_EQ(classifyCollision(VestWearer::TURN, int(K::WALL), inf, 0.0), CollisionCause::TURN_SPOT);
+  EXPECT_EQ(classifyCollision(VestWearer::STOPPED, int(K::FURNITURE), inf, 0.0), CollisionCause::TURN_SPOT);
+  EXPECT_EQ(classifyCollision(VestWearer::SIDESTEP, int(K::WALL), inf, 0.0), CollisionCause::SIDESTEP);
+  EXPECT_EQ(classifyCollision(VestWearer::EXPLORE, int(K::WALL), inf, 0.0), CollisionCause::EXPLORE);
+  EXPECT_EQ(classifyCollision(VestWearer::WALK, int(K::PERSON), 0.1, 0.0), CollisionCause::PEOPLE);
+  // stopping or turning while still braking, anywhere: the stop came too late; walking at speed,
+  // or stopped below kBrakingMps, stays what it was
+  EXPECT_EQ(classifyCollision(VestWearer::STOPPED, int(K::FURNITURE), inf, 0.89), CollisionCause::STOP_LATE);
+  EXPECT_EQ(classifyCollision(VestWearer::STOPPED, int(K::WALL), 0.2, kBrakingMps), CollisionCause::STOP_LATE);
+  EXPECT_EQ(classifyCollision(VestWearer::TURN, int(K::WALL), inf, 0.5), CollisionCause::STOP_LATE);
+  EXPECT_EQ(classifyCollision(VestWearer::STOPPED, int(K::WALL), 0.2, 0.19), CollisionCause::DOOR_TURN);
+  EXPECT_EQ(classifyCollision(VestWearer::STOPPED, int(K::FURNITURE), inf, 0.1), CollisionCause::TURN_SPOT);
+  EXPECT_EQ(classifyCollision(VestWearer::WALK, int(K::WALL), 0.3, 1.2), CollisionCause::DOOR_WALK);
+  EXPECT_EQ(classifyCollision(VestWearer::VEER, int(K::FURNITURE), inf, 1.0), CollisionCause::WALK_OBJECT);
+  EXPECT_EQ(classifyCollision(VestWearer::SIDESTEP, int(K::WALL), inf, 0.5), CollisionCause::SIDESTEP);
+  EXPECT_EQ(classifyCollision(VestWearer::STOPPED, int(K::PERSON), inf, 0.8), CollisionCause::PEOPLE);
+  EXPECT_STREQ(collisionCauseName(CollisionCause::STOP_LATE), "stop_late");
   EXPECT_STREQ(collisionCauseName(CollisionCause::DOOR_WALK), "door_walk");
   EXPECT_STREQ(collisionCauseName(CollisionCause::PEOPLE), "people");
 }

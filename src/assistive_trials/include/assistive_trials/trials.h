@@ -63,7 +63,10 @@ struct TimelineSample
 /// found (a jamb while passing), `door_turn` turning, standing or feeling around there,
 /// `turn_spot` turning on the spot or standing elsewhere, `walk_wall` walking or veering into a
 /// wall or glass elsewhere (a veer not corrected in time), `walk_object` walking or veering into
-/// furniture or an object elsewhere, `sidestep`, `explore` feeling around after a bump, `people`.
+/// furniture or an object elsewhere, `sidestep`, `explore` feeling around after a bump, `people`,
+/// `stop_late` stopping or turning anywhere while still moving at `kBrakingMps` or more: the stop
+/// came too late for this wearer (counted as turning or standing before, which hid that most
+/// collisions "while stopped" happen at 0.4-0.9 m/s).
 enum class CollisionCause
 {
   DOOR_WALK,
@@ -74,14 +77,18 @@ enum class CollisionCause
   SIDESTEP,
   EXPLORE,
   PEOPLE,
+  STOP_LATE,
   NUM_CAUSES
 };
 const char* collisionCauseName(CollisionCause c);
 /// A collision this close (m) to a passage middle counts as at the doorway.
 constexpr double kDoorNearM = 1.0;
+/// Stopping or turning at this speed (m/s) or more, the wearer is still braking (`stop_late`).
+constexpr double kBrakingMps = 0.2;
 /// `action`: VestWearer::Action before the step that collided; `kind`: ObstacleKind;
-/// `door_m`: distance to the nearest passage middle seen (+inf: none).
-CollisionCause classifyCollision(int action, int kind, double door_m);
+/// `door_m`: distance to the nearest passage middle seen (+inf: none); `speed`: the wearer's
+/// walking speed before the step (m/s).
+CollisionCause classifyCollision(int action, int kind, double door_m, double speed);
 
 /// One collision of a trial, for `--causes`.
 struct CollisionEvent
@@ -92,6 +99,7 @@ struct CollisionEvent
   int action = 0;       ///< VestWearer::Action before the step
   int instruction = 0;  ///< the cue playing (assistive_tactile::Instruction)
   double door_m = std::numeric_limits<double>::infinity();
+  double speed = 0.0;   ///< the wearer's speed before the step (m/s)
   CollisionCause cause = CollisionCause::WALK_WALL;
 };
 
