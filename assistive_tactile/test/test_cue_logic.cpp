@@ -1282,6 +1282,42 @@ TEST(CueLogic, PredictiveStopAsksForMoreRoomFurtherAlongTheWalk)
   EXPECT_EQ(w.instruction, Instruction::WALK_ON) << w.reason;
 }
 
+// A body turning now goes on turning until it feels a stop: a walker at 1 m/s, 1.2 m from a shelf,
+// whose head turns towards it at 50 deg/s (a veer carried out beyond its amount) is stopped while
+// it still faces along the shelf; the same facing with a steady head walks on (its straight walk
+// and stop keep clear of the shelf).
+TEST(CueLogic, PredictiveStopCountsTheTurnUnderWay)
+{
+  const double dt = 1.0 / 15;
+  CueLogic turning;
+  NavInput in = walkerAt(0.0, -0.6, 1.0);
+  in.grid = shelfGrid();
+  Cue c = fresh(turning, in, 0.0);
+  ASSERT_EQ(c.instruction, Instruction::WALK_ON) << c.reason;
+  double t = dt, head_deg = 0.0;
+  for (; t < 0.5 && c.instruction != Instruction::STOP; t += dt)
+  {
+    head_deg = 50.0 * t;
+    in.x = t;
+    in.head_yaw = in.heading = head_deg * kDeg;
+    c = fresh(turning, in, t);
+  }
+  EXPECT_EQ(c.instruction, Instruction::STOP) << c.reason;
+  EXPECT_NE(c.reason.find("sweep the body"), std::string::npos) << c.reason;
+  EXPECT_LE(head_deg, 10.0);  // (without the turn under way: at 17 deg, where a steady walk meets the shelf too)
+
+  CueLogic steady;
+  NavInput still = walkerAt(0.0, -0.6, 1.0);
+  still.grid = shelfGrid();
+  for (double u = 0.0; u < 0.5; u += dt)
+  {
+    still.x = u;
+    still.head_yaw = still.heading = still.walk_heading = head_deg * kDeg;
+    const Cue k = fresh(steady, still, u);
+    EXPECT_EQ(k.reason.find("sweep the body"), std::string::npos) << u << " " << k.reason;
+  }
+}
+
 TEST(CueLogic, PredictiveStopSeesTheJambBesideTheBody)
 {
   // A walker at 1 m/s, 0.2 m off a doorway's middle 1.5 m before the jamb line: the planner's ray
