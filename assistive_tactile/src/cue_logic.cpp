@@ -1055,18 +1055,6 @@ bool CueLogic::holdVeer(const NavInput& in, double now, double err, bool walking
   const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
   const double turned = wrapAngle(in.walk_heading - busy_yaw0_) * sign;
   const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
-  // the walk's own drift meanwhile (learnt), which is no veer
-  const double drifted = drift_per_m_ * (walked_m_ - busy_walked0_) * sign;
-  // (or in the walk chord, a third of it beyond the drift: a head scanning the other way at up to
-  // 7 deg/s hid a 9 deg veer from the head's rate, and the wait ran its 2.5 s while the drift carried
-  // the walker into a shelf; traced, gen_shop_4005 seed 11 trial 1, on a build that left the scan
-  // out of turns)
-  if (!veer_seen_ && walking && turned - drifted > std::fabs(busy_angle_) / 3.0 &&
-      yaw_rate_ * sign * kRadToDeg <= 20.0)
-  {
-    veer_seen_ = true;
-    veer_seen_at_ = now;
-  }
   if (!veer_seen_ && yaw_rate_ * sign * kRadToDeg > 20.0)
   {
     veer_seen_ = true;
@@ -1092,6 +1080,7 @@ bool CueLogic::holdVeer(const NavInput& in, double now, double err, bool walking
   if (done && veer_seen_)
   {
     // its gain: the walk's turn, less its drift meanwhile, over the veer asked
+    const double drifted = drift_per_m_ * (walked_m_ - busy_walked0_) * sign;
     const double g = (turned - drifted) / std::max(1e-6, std::fabs(busy_angle_));
     if (g > 0.4 && g < 2.0)
       veer_gain_est_ = std::clamp(0.7 * veer_gain_est_ + 0.3 * g, 0.6, 1.6);
