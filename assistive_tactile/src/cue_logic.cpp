@@ -928,12 +928,21 @@ void CueLogic::observeHead(const NavInput& in, double now)
   {
     body_yaw_ = walking && std::isfinite(in.walk_heading) ? in.walk_heading : in.head_yaw;
     have_body_yaw_ = true;
+    body_yaw_since_ = now;
   }
   else
   {
     const double dt = now - last_yaw_time_;
     const double dh = wrapAngle(in.head_yaw - last_yaw_);
-    if (std::fabs(dh) / dt * kRadToDeg > params_.body_turn_rate_deg)
+    const bool vest_gyro = std::isfinite(in.body_yaw_rate);
+    if (vest_gyro)
+    {
+      // the vest's gyro turns with the torso alone: every turn, none of the head's scan
+      body_yaw_ = wrapAngle(body_yaw_ + in.body_yaw_rate * dt);
+      if (std::fabs(in.body_yaw_rate) * kRadToDeg > params_.body_turn_rate_deg)
+        body_turned_at_ = now;
+    }
+    else if (std::fabs(dh) / dt * kRadToDeg > params_.body_turn_rate_deg)
     {
       body_yaw_ = wrapAngle(body_yaw_ + dh);
       body_turned_at_ = now;
@@ -949,7 +958,17 @@ void CueLogic::observeHead(const NavInput& in, double now)
     if (chord_ok || !walking)
     {
       const double ref = walking ? in.walk_heading : in.head_yaw;
-      const double tau = walking ? params_.body_walk_tau_s : params_.body_stand_tau_s;
+      double tau = walking ? params_.body_walk_tau_s : params_.body_stand_tau_s;
+      if (vest_gyro)
+      {
+        // the gyro holds the facing; the walk chord takes out its bias, and standing, the head's
+        // mean over a long window takes out the offset the facing began with (the head's scan
+        // then; the window grows from the head-only one, so the start is never judged worse)
+        if (walking)
+          tau = params_.body_gyro_tau_s;
+        else
+          tau = std::max(params_.body_stand_tau_s, std::min(params_.body_gyro_stand_tau_s, now - body_yaw_since_));
+      }
       body_yaw_ = wrapAngle(body_yaw_ + std::min(1.0, dt / std::max(1e-3, tau)) * wrapAngle(ref - body_yaw_));
     }
   }
@@ -977,6 +996,8 @@ bool CueLogic::walksForward(const NavInput& in) const
 
 double CueLogic::facing(const NavInput& in) const
 {
+  if (std::isfinite(in.body_yaw_rate) && have_body_yaw_)
+    return body_yaw_;  // the vest's gyro: the torso's own facing, walking or standing
   if (walksForward(in))
     return in.walk_heading;
   return have_body_yaw_ && params_.body_stand_tau_s > 0.0 ? body_yaw_ : in.head_yaw;

@@ -6,6 +6,7 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <algorithm>
@@ -20,6 +21,7 @@
 
 #include "assistive_tactile/conversions.h"
 #include "assistive_tactile/cue_logic.h"
+#include "assistive_tactile/vest_gyro.h"
 
 namespace assistive_tactile
 {
@@ -46,6 +48,9 @@ private:
     state_sub_ = nh.subscribe("state", 1, &CueLogicNodelet::stateCb, this);
     // the grid each state was planned on: the body's predicted sweep (none: the rays alone)
     grid_sub_ = nh.subscribe("grid", 1, &CueLogicNodelet::gridCb, this);
+    // the vest's own IMU, when it has one: the torso's turns without the head's scan (none: the
+    // body's facing is estimated from the head, as before)
+    imu_sub_ = nh.subscribe("vest_imu", 50, &CueLogicNodelet::imuCb, this);
     updater_.reset(new diagnostic_updater::Updater(nh, pnh, getName()));
     updater_->setHardwareID("cue_logic");
     updater_->add("cue logic", this, &CueLogicNodelet::diagnose);
@@ -75,11 +80,24 @@ private:
     });
   }
 
+  void imuCb(const sensor_msgs::Imu::ConstPtr& msg)
+  {
+    assistive_common::guarded(getName(), "vest imu", [&] {
+      const auto& w = msg->angular_velocity;
+      const auto& a = msg->linear_acceleration;
+      std::lock_guard<std::mutex> lock(mutex_);
+      vest_gyro_.add(msg->header.stamp.toSec(), Eigen::Vector3d(w.x, w.y, w.z), Eigen::Vector3d(a.x, a.y, a.z));
+      ++imu_samples_;
+    });
+  }
+
   void handleState(const assistive_msgs::NavigationState::ConstPtr& msg)
   {
     std::lock_guard<std::mutex> lock(mutex_);
     const ros::Time now = ros::Time::now();
     NavInput in = fromMsg(*msg);
+    in.body_yaw_rate = vest_gyro_.take(now.toSec());
+    vest_gyro_used_ = std::isfinite(in.body_yaw_rate);
     // the grid of the same planning cycle (its stamp is the state's source_stamp; one a cycle older
     // still serves), in the state's frame
     if (grid_ && grid_frame_ == msg->header.frame_id && !msg->source_stamp.isZero() &&
@@ -183,6 +201,7 @@ private:
     stat.add("intensity", std::to_string(last_cue_.intensity[0]) + " " + std::to_string(last_cue_.intensity[1]) +
                               " " + std::to_string(last_cue_.intensity[2]) + " " +
                               std::to_string(last_cue_.intensity[3]));
+    stat.add("vest gyro", imu_samples_ == 0 ? "none (facing from the head)" : vest_gyro_used_ ? "in use" : "stale (facing from the head)");
     stat.add("planner states", states_);
     stat.add("cues published", cues_);
     if (!last_source_stamp_.isZero())
@@ -197,6 +216,10 @@ private:
   ros::Publisher cue_pub_, marker_pub_;
   ros::Subscriber state_sub_;
   ros::Subscriber grid_sub_;
+  ros::Subscriber imu_sub_;
+  VestGyro vest_gyro_;
+  uint64_t imu_samples_ = 0;
+  bool vest_gyro_used_ = false;
   std::shared_ptr<const ObstacleGrid> grid_;  ///< the planner's latest grid
   ros::Time grid_stamp_;
   std::string grid_frame_;

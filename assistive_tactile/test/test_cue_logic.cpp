@@ -923,6 +923,40 @@ TEST(CueLogic, StandingFacingLeavesTheHeadScanOut)
   EXPECT_NEAR(k.pattern.on_10ms, 47, 2);
 }
 
+// A vest with its own gyro (`body_yaw_rate`): the torso's turns without the head's scan. A
+// standing wearer faces the steering point (0.3 rad, 5 m free ahead, 2 m to either side) while
+// its head scans +-8 deg over 7 s; from t = 7 s its body turns slowly left, 6 deg/s for 5 s (a
+// shuffle on the spot: with the scan's rate on top, under `body_turn_rate_deg`, so from the head
+// alone it is the scan's kind of motion). With the gyro, the facing follows the body, and once it
+// is about 15 deg off (`stand_turn_deg`, t = 9.5 s) a turn back to the right is asked. From the head
+// alone the slow turn is filtered out as the scan (about 10 deg of the 30 by t = 12 s): no turn
+// is asked while it lasts.
+TEST(CueLogic, TheVestGyroCarriesASlowTurnTheHeadsFilterLeavesOut)
+{
+  auto body = [](double t) { return t < 7.0 ? 0.0 : std::min(30.0, 6.0 * (t - 7.0)) * kDeg; };
+  auto head = [&](double t) { return 0.3 + body(t) + 8.0 * kDeg * std::sin(2.0 * M_PI * t / 7.0); };
+  auto firstRightTurn = [&](bool gyro) {
+    CueLogic c;
+    double prev = 0.0;
+    for (double t = 0.0; t < 12.0; t += 1.0 / 15.0)
+    {
+      NavInput in = standing(turn(0.0));
+      in.head_yaw = in.walk_heading = head(t);  // (the planner: the head's yaw while standing)
+      if (gyro)
+        in.body_yaw_rate = t > 0.0 ? (body(t) - prev) / (1.0 / 15.0) : 0.0;
+      prev = body(t);
+      const Cue k = fresh(c, in, t);
+      if (k.instruction == Instruction::TURN)
+        return k.intensity[RIGHT_SHOULDER] > 0.f ? t : -t;
+    }
+    return 0.0;
+  };
+  const double with_gyro = firstRightTurn(true);
+  EXPECT_GT(with_gyro, 9.2);
+  EXPECT_LT(with_gyro, 9.8);
+  EXPECT_EQ(firstRightTurn(false), 0.0);
+}
+
 // The wearer's turning rate sets every later buzz's length, so it is learnt from the body's turn,
 // not the head's: a standing wearer's head scans +-8 deg over 7 s, by up to several degrees while a
 // turn is asked, carried out and judged. Traced in the held-out homes (trial seed 11), the rate

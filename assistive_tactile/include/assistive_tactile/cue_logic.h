@@ -42,6 +42,9 @@ struct NavInput
   double walk_heading = 0.0;
   double walking_speed = 0.0;    ///< m/s
   double head_yaw = 0.0;         ///< the head's yaw now (its rate tells a turn being carried out)
+  /// The torso's yaw rate (rad/s, about the vertical) from the vest's own gyro; NaN: the vest has
+  /// none (the body's facing is then estimated from the head, whose scan it must filter out).
+  double body_yaw_rate = std::numeric_limits<double>::quiet_NaN();
   /// Free distance along `steer_heading` (NaN or +inf: unknown / not limited).
   double free_steer = std::numeric_limits<double>::infinity();
   double waypoint_distance = 0.0;
@@ -405,6 +408,7 @@ private:
   /// towards the walk chord while walking and towards the head's mean while standing.
   double body_yaw_ = 0.0;
   bool have_body_yaw_ = false;
+  double body_yaw_since_ = 0.0;  ///< the body's yaw was (re)started from the head or chord then
   bool sweep_stop_ = false;         ///< a predictive stop is held until the wearer stands
   double go_at_ = -1e300;          ///< when a standing wearer was last told to go
   double go_handled_ = -1e300;     ///< the go whose short walk was judged

@@ -658,6 +658,12 @@ int main(int argc, char** argv)
       else if (a == "--unsure-for") opt.unsure_for_s = std::stod(val());
       else if (a == "--timelines") g_timelines = val();
       else if (a == "--causes") g_causes = true;
+      else if (a == "--vest-gyro") opt.vest_gyro = true;
+      else if (a == "--vest-gyro-perfect")  // analysis: the torso's yaw rate without noise or bias
+      {
+        opt.vest_gyro = true;
+        opt.vest_gyro_noise_density = opt.vest_gyro_bias_initial = opt.vest_gyro_bias_walk = 0.0;
+      }
       else if (a == "-h" || a == "--help")
       {
         usage(std::cout);

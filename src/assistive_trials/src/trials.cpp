@@ -142,6 +142,8 @@ public:
     in.walk_heading = out.walk_heading;
     in.walking_speed = out.walking_speed;
     in.head_yaw = out.head_yaw;
+    if (opt_.vest_gyro)
+      in.body_yaw_rate = vestGyro(t, s.yaw);
     in.free_steer = out.free_steer;
     in.x = s.xy.x();
     in.y = s.xy.y();
@@ -235,7 +237,29 @@ private:
   assistive_planner::Grid grid_;
   assistive_planner::Planner planner_;
   assistive_tactile::CueLogic cues_;
+  /// The vest gyro's mean yaw rate over the cycle since the last (the body's turn over its time,
+  /// the gyro integrated between the cycles), with its bias and white noise.
+  double vestGyro(double t, double yaw)
+  {
+    std::normal_distribution<double> n01(0.0, 1.0);
+    if (!std::isfinite(gyro_yaw_))
+      gyro_bias_ = opt_.vest_gyro_bias_initial * n01(gyro_rng_);
+    double rate = 0.0;
+    if (std::isfinite(gyro_yaw_) && t > gyro_t_)
+    {
+      const double dt = t - gyro_t_;
+      gyro_bias_ += opt_.vest_gyro_bias_walk * std::sqrt(dt) * n01(gyro_rng_);
+      rate = std::atan2(std::sin(yaw - gyro_yaw_), std::cos(yaw - gyro_yaw_)) / dt + gyro_bias_ +
+             opt_.vest_gyro_noise_density / std::sqrt(dt) * n01(gyro_rng_);
+    }
+    gyro_yaw_ = yaw;
+    gyro_t_ = t;
+    return rate;
+  }
   bool trace_ = false;
+  double gyro_yaw_ = std::numeric_limits<double>::quiet_NaN(), gyro_t_ = -1e300;  ///< the vest gyro's last cycle
+  double gyro_bias_ = 0.0;
+  std::mt19937 gyro_rng_{ opt_.vest_gyro_seed };
   std::vector<Eigen::Vector2d> passages_;  ///< passage middles the planner found (world frame)
 };
 }  // namespace
@@ -360,6 +384,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
     // when its first 0.15 s pulse ends, then felt one reaction time late)
     constexpr double kVeerPulseS = 0.15;
     if (opt.lead_from_true_reaction) chain_opt.planner.steer_lead_s = wp.reaction_s + kVeerPulseS;
+    chain_opt.vest_gyro_seed = seed ^ 0x5bd1e995u;
     truth = std::make_unique<TruthChain>(trial_world, chain_opt);
     chain = truth.get();
   }

@@ -1,0 +1,52 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "assistive_tactile/vest_gyro.h"
+
+using assistive_tactile::VestGyro;
+
+// A vest worn leaning 20 deg forward (the IMU's z axis is not the vertical) on a torso turning
+// left at 1 rad/s about the vertical, sampled at 100 Hz: the yaw rate is the rate along the
+// measured up, 1 rad/s (the z axis alone would read cos 20 = 0.94).
+TEST(VestGyro, YawRateIsTheTurnAboutTheMeasuredUp)
+{
+  const Eigen::Matrix3d tilt = Eigen::AngleAxisd(20.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  // vectors of the world (z up) seen in the vest's frame
+  const Eigen::Vector3d up_in_vest = tilt.transpose() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d rate = 1.0 * up_in_vest, accel = 9.81 * up_in_vest;
+  VestGyro g;
+  for (int i = 0; i <= 100; ++i) g.add(0.01 * i, rate, accel);
+  EXPECT_TRUE(std::isnan(g.take(1.0)));  // the first take: no interval to divide by
+  for (int i = 101; i <= 150; ++i) g.add(0.01 * i, rate, accel);
+  EXPECT_NEAR(g.take(1.5), 1.0, 0.01);
+  EXPECT_NEAR(rate.z(), std::cos(20.0 * M_PI / 180.0), 1e-9);
+  // still: zero
+  for (int i = 151; i <= 200; ++i) g.add(0.01 * i, Eigen::Vector3d::Zero(), accel);
+  EXPECT_NEAR(g.take(2.0), 0.0, 1e-9);
+}
+
+// A vest whose IMU stops (link lost, unplugged) gives no rate: the cue logic then estimates the
+// facing from the head again. The same after a gap in the samples, once: the turn in the gap is
+// unknown.
+TEST(VestGyro, NoSamplesNoRate)
+{
+  VestGyro g;
+  const Eigen::Vector3d up(0.0, 0.0, 9.81), rate(0.0, 0.0, 0.5);
+  for (int i = 0; i <= 50; ++i) g.add(0.02 * i, rate, up);
+  g.take(1.0);
+  for (int i = 51; i <= 75; ++i) g.add(0.02 * i, rate, up);
+  EXPECT_NEAR(g.take(1.5), 0.5, 1e-9);
+  EXPECT_TRUE(std::isnan(g.take(2.5)));  // nothing for a second
+  for (int i = 0; i <= 25; ++i) g.add(3.0 + 0.02 * i, rate, up);  // back after a 2 s gap
+  EXPECT_TRUE(std::isnan(g.take(3.5)));
+  for (int i = 26; i <= 50; ++i) g.add(3.0 + 0.02 * i, rate, up);
+  EXPECT_NEAR(g.take(4.0), 0.5, 1e-9);
+  // broken samples are ignored
+  g.add(4.02, Eigen::Vector3d(NAN, 0.0, 0.0), up);
+  g.add(4.04, rate, Eigen::Vector3d::Zero());
+  for (int i = 1; i <= 25; ++i) g.add(4.0 + 0.02 * i, rate, up);
+  EXPECT_NEAR(g.take(4.5), 0.5, 0.03);
+}
