@@ -937,9 +937,15 @@ void CueLogic::observeHead(const NavInput& in, double now)
     const bool vest_gyro = std::isfinite(in.body_yaw_rate);
     if (vest_gyro)
     {
-      // the vest's gyro turns with the torso alone: every turn, none of the head's scan
-      body_yaw_ = wrapAngle(body_yaw_ + in.body_yaw_rate * dt);
-      if (std::fabs(in.body_yaw_rate) * kRadToDeg > params_.body_turn_rate_deg)
+      // the vest's gyro turns with the torso alone: every turn, none of the head's scan. Its bias
+      // (a MEMS gyro's drifts by tenths of a deg/s) is learnt while the wearer stands still: not
+      // walking, the head steady, no turn felt for a second and the gyro near its bias
+      const double rate = in.body_yaw_rate - gyro_bias_;
+      if (!walking && params_.body_gyro_bias_tau_s > 0.0 && std::fabs(yaw_rate_) * kRadToDeg < 10.0 &&
+          std::fabs(rate) * kRadToDeg < 2.0 && now - body_turned_at_ > 1.0)
+        gyro_bias_ += std::min(1.0, dt / params_.body_gyro_bias_tau_s) * rate;
+      body_yaw_ = wrapAngle(body_yaw_ + (in.body_yaw_rate - gyro_bias_) * dt);
+      if (std::fabs(rate) * kRadToDeg > params_.body_turn_rate_deg)
         body_turned_at_ = now;
     }
     else if (std::fabs(dh) / dt * kRadToDeg > params_.body_turn_rate_deg)
@@ -955,7 +961,8 @@ void CueLogic::observeHead(const NavInput& in, double now)
     // turn asked where 99 were needed, overshot into a shelf)
     const bool chord_ok = walking && std::isfinite(in.walk_heading) && now - body_turned_at_ > 0.6 &&
                           now - sidestep_at_ >= sweepReaction() + 2.0 * kHalfWindowS;
-    if (chord_ok || !walking)
+    const bool gyro_stand = vest_gyro && !walking && !(params_.body_gyro_stand_tau_s > 0.0);
+    if ((chord_ok || !walking) && !gyro_stand)
     {
       const double ref = walking ? in.walk_heading : in.head_yaw;
       double tau = walking ? params_.body_walk_tau_s : params_.body_stand_tau_s;
