@@ -113,6 +113,7 @@ void CueLogic::reset()
   chain_next_ = false;
   last_yaw_time_ = -1e300;
   yaw_rate_ = 0.0;
+  body_rate_ = 0.0;
   door_ = Door();
   prev_door_ = Door();
   stage_walk_ = false;
@@ -782,7 +783,7 @@ WalkModel CueLogic::committedWalk(const NavInput& in, double now, double stop_in
     }
     else
     {
-      const double turned = wrapAngle(in.head_yaw - busy_head0_) * sign;
+      const double turned = veerTurned(in, true) * sign;
       m.turn = sign * std::max(0.0, asked - turned);
     }
   }
@@ -791,13 +792,13 @@ WalkModel CueLogic::committedWalk(const NavInput& in, double now, double stop_in
   // predicted straight on, and the stop came once the turn had already aimed it at a shelf
   // (issue 33, traced: gen_shop_4011 seed 11 trial 1, 93 deg turned for about 60, stopped 1.1 m
   // before it while still turning at 50 deg/s).
-  const double going = yaw_rate_ * m.stop_at_s;
-  if (!(busy_ && busy_turn_) && std::fabs(yaw_rate_) * kRadToDeg > params_.body_turn_rate_deg &&
+  const double going = turnRate() * m.stop_at_s;
+  if (!(busy_ && busy_turn_) && std::fabs(turnRate()) * kRadToDeg > params_.body_turn_rate_deg &&
       (std::fabs(going) > std::fabs(m.turn) || going * m.turn < 0.0))
   {
     m.turn = going;
     m.turn_start_s = 0.0;
-    m.turn_rate = std::fabs(yaw_rate_);
+    m.turn_rate = std::fabs(turnRate());
   }
   return m;
 }
@@ -911,7 +912,11 @@ Cue CueLogic::walkOn(std::string reason, double now, bool standing)
 void CueLogic::observeHead(const NavInput& in, double now)
 {
   // the head's turn rate (smoothed), to tell when a veer or turn has been carried out (the head
-  // scans by a few deg/s at most while the body keeps its direction)
+  // scans by a few deg/s at most while the body keeps its direction); with the vest's gyro, the
+  // body's own (turnRate)
+  gyro_ = std::isfinite(in.body_yaw_rate);
+  if (!gyro_)
+    body_rate_ = 0.0;
   if (now > last_yaw_time_ && now - last_yaw_time_ < 1.0)
   {
     const double r = wrapAngle(in.head_yaw - last_yaw_) / (now - last_yaw_time_);
@@ -945,6 +950,7 @@ void CueLogic::observeHead(const NavInput& in, double now)
           std::fabs(rate) * kRadToDeg < 2.0 && now - body_turned_at_ > 1.0)
         gyro_bias_ += std::min(1.0, dt / params_.body_gyro_bias_tau_s) * rate;
       body_yaw_ = wrapAngle(body_yaw_ + (in.body_yaw_rate - gyro_bias_) * dt);
+      body_rate_ += std::min(1.0, dt / 0.25) * (rate - body_rate_);  // smoothed as the head's
       if (std::fabs(rate) * kRadToDeg > params_.body_turn_rate_deg)
         body_turned_at_ = now;
     }
@@ -981,7 +987,7 @@ void CueLogic::observeHead(const NavInput& in, double now)
   }
   last_yaw_ = in.head_yaw;
   last_yaw_time_ = now;
-  if (std::fabs(yaw_rate_) * kRadToDeg >= 10.0)
+  if (std::fabs(turnRate()) * kRadToDeg >= 10.0)
     steady_since_ = now;
   else if (steady_since_ < -1e299)
     steady_since_ = now;
@@ -999,6 +1005,20 @@ bool CueLogic::walksForward(const NavInput& in) const
   return std::isfinite(in.walking_speed) && in.walking_speed >= params_.walking_speed_mps &&
          std::isfinite(in.walk_heading) && std::isfinite(in.head_yaw) &&
          std::fabs(wrapAngle(in.walk_heading - in.head_yaw)) * kRadToDeg <= kForwardDeg;
+}
+
+double CueLogic::turnRate() const
+{
+  return gyro_ ? body_rate_ : yaw_rate_;
+}
+
+double CueLogic::veerTurned(const NavInput& in, bool head) const
+{
+  // the vest's gyro: the body's own turn since the veer began (the walk chord lags it by its half
+  // window, the head adds its scan); without one the chord's, or for an overshoot the head's
+  if (gyro_)
+    return wrapAngle(body_yaw_ - busy_body0_);
+  return head ? wrapAngle(in.head_yaw - busy_head0_) : wrapAngle(in.walk_heading - busy_yaw0_);
 }
 
 double CueLogic::facing(const NavInput& in) const
@@ -1019,10 +1039,10 @@ bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
   // at the wearer's own turning rate (learnt from its turns). Wait until the turn is over.
   const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
   const double left = wrapAngle(in.steer_heading - in.head_yaw) * sign;  // still to turn
-  turn_peak_rate_ = std::max(turn_peak_rate_, yaw_rate_ * sign);
+  turn_peak_rate_ = std::max(turn_peak_rate_, turnRate() * sign);
   // (the buzz's own length: the pattern now playing is the tick once a go followed the turn)
   const double buzz_end = busy_since_ + turn_buzz_s_;
-  const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
+  const bool steadied = std::fabs(turnRate()) * kRadToDeg < 10.0;
   // (the wearer stops turning its reaction time after the buzz ended: judged before that, a
   // slow reactor's turn was still to come and a second turn was asked on top of it: chains of
   // turns back and forth, the slowest decile's wearers timing out)
@@ -1052,7 +1072,7 @@ bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
     return true;
   }
   if (now < buzz_end + wait + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
-    return hold(CueMode::GUIDANCE, "turning (%.0f deg to go, head %.0f deg/s)", left, yaw_rate_);
+    return hold(CueMode::GUIDANCE, "turning (%.0f deg to go, head %.0f deg/s)", left, turnRate());
   // its turning rate: the angle turned over the time it turned (the buzz less the moment to
   // tell it from a veer); the smoothed peak rate underestimates short turns (the next buzz
   // came out too long: turn chains that overshoot). The angle is the body's (`facing()`), not the
@@ -1081,9 +1101,9 @@ bool CueLogic::holdVeer(const NavInput& in, double now, double err, bool walking
   // deg/s, the walk's own drift by a few), steadied, and the walk chord has caught up. Whether
   // the walk has turned by the amount is no test: the drift during the reaction eats into it.
   const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
-  const double turned = wrapAngle(in.walk_heading - busy_yaw0_) * sign;
-  const bool steadied = std::fabs(yaw_rate_) * kRadToDeg < 10.0;
-  if (!veer_seen_ && yaw_rate_ * sign * kRadToDeg > 20.0)
+  const double turned = veerTurned(in, false) * sign;
+  const bool steadied = std::fabs(turnRate()) * kRadToDeg < 10.0;
+  if (!veer_seen_ && turnRate() * sign * kRadToDeg > 20.0)
   {
     veer_seen_ = true;
     veer_seen_at_ = now;
@@ -1101,7 +1121,7 @@ bool CueLogic::holdVeer(const NavInput& in, double now, double err, bool walking
   // ... or at once when the head has already turned well beyond the amount (the wearer misread
   // the level: a weak burst read as medium turned a typical wearer 34 deg for 15 towards a wall,
   // and waiting for it to steady left no time to bring it back)
-  const double head_turned = wrapAngle(in.head_yaw - busy_head0_) * sign;
+  const double head_turned = veerTurned(in, true) * sign;
   const bool overshot = veer_seen_ && head_turned > 1.3 * std::fabs(busy_angle_) + 5.0 / kRadToDeg;
   const bool done = now - std::max(busy_since_, burst_at_) >= p.settle_timeout_s || overshot ||
                     (veer_seen_ && steadied && now - veer_seen_at_ >= 0.3 && now - steady_since_ >= 0.3);
@@ -1334,6 +1354,7 @@ std::array<float, NUM_MOTORS> CueLogic::beginShoulderCue(const NavInput& in, dou
   busy_since_ = now;
   busy_yaw0_ = in.walk_heading;
   busy_head0_ = in.head_yaw;
+  busy_body0_ = body_yaw_;
   busy_angle_ = angle;
   busy_turn_ = turn;
   return drive;
@@ -1754,7 +1775,7 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   if (superseding)
   {
     const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
-    ask = wrapAngle(err - (busy_angle_ - sign * std::max(0.0, wrapAngle(in.walk_heading - busy_yaw0_) * sign)));
+    ask = wrapAngle(err - (busy_angle_ - sign * std::max(0.0, veerTurned(in, false) * sign)));
     chain_next_ = true;
   }
   if (!superseding)

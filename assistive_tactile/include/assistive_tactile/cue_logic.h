@@ -168,6 +168,12 @@ private:
   /// (a head-mounted camera's only heading scans +-8 deg over a body that stands still: aligned on
   /// the head, a turn on the spot chased the scan).
   double facing(const NavInput& in) const;
+  /// The body's turn rate (rad/s, smoothed over 0.25 s): the vest gyro's, else the head's (with
+  /// its scan).
+  double turnRate() const;
+  /// How far the body has turned since the veer being carried out began (rad, + = left): the
+  /// vest gyro's facing; else the walk chord's, or with `head` the head's.
+  double veerTurned(const NavInput& in, bool head) const;
   /// Walking forwards: at walking speed with the walk chord along the head (within 50 deg), not a
   /// side-step or a step back, whose chord is no facing.
   bool walksForward(const NavInput& in) const;
@@ -408,7 +414,10 @@ private:
   /// towards the walk chord while walking and towards the head's mean while standing.
   double body_yaw_ = 0.0;
   bool have_body_yaw_ = false;
-  double gyro_bias_ = 0.0;        ///< the vest gyro's bias (rad/s), learnt while standing still
+  double gyro_bias_ = 0.0;
+  bool gyro_ = false;             ///< the last state came with the vest gyro's rate
+  double body_rate_ = 0.0;        ///< the vest gyro's rate less its bias, smoothed (rad/s)
+  double busy_body0_ = 0.0;       ///< the body's facing when the current veer or turn began        ///< the vest gyro's bias (rad/s), learnt while standing still
   double body_yaw_since_ = 0.0;  ///< the body's yaw was (re)started from the head or chord then
   bool sweep_stop_ = false;         ///< a predictive stop is held until the wearer stands
   double go_at_ = -1e300;          ///< when a standing wearer was last told to go

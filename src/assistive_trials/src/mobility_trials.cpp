@@ -54,7 +54,7 @@ void usage(std::ostream& os = std::cerr)
         "                       [--wearer population|typical] [--slowest-decile] [--unsure-at S [--unsure-for S]]\n"
         "                       [--timelines PREFIX] (one cue timeline PNG per trial: PREFIX<k>.png)\n"
         "                       [--causes] (a line per collision and per unfinished trial: what the wearer did, where)\n"
-        "                       [--vest-gyro] (truth: the vest has its own gyro, the head IMU's noise and bias;\n"
+        "                       [--vest-gyro] (truth, vision: the vest has its own gyro, the head IMU's noise and bias;\n"
         "                       --vest-gyro-perfect: without either, analysis)\n"
         "                       [--ros-params FILE.yaml] (vision: loaded at the root before each trial's pipeline,\n"
         "                       e.g. {cue_logic: {lost_turn_after_s: 0}, slam: {reset_fixed_rotation: false}})\n"
@@ -274,6 +274,8 @@ bool runWorld(const World& world, const std::string& world_arg, const TrialOptio
       RosChain::Options ro;
       ro.kind = RosChain::VISION;
       ro.eye_height = world.trajectory.eye_height;
+      if (opt.vest_gyro)
+        ro.vest_gyro = std::make_shared<VestGyroSim>(opt, s ^ 0x5bd1e995u);
       // A fresh chain per trial: its t = 0 is at start_time + warmup_s of simulated time; the
       // renderer puts the people where they are on the trial's clock.
       std::vector<std::string> args{ "roslaunch", "assistive_trials", "mobility_vision.launch", "world:=" + world_arg,
@@ -718,10 +720,9 @@ int main(int argc, char** argv)
     std::cerr << "mobility_trials: --mode must be truth, cane or vision\n";
     return 2;
   }
-  if (opt.vest_gyro && opt.mode != TrialMode::TRUTH)
+  if (opt.vest_gyro && opt.mode == TrialMode::CANE)
   {
-    // (the vision chain's vest_imu topic is not published by the trials yet)
-    std::cerr << "mobility_trials: --vest-gyro goes with --mode truth\n";
+    std::cerr << "mobility_trials: --vest-gyro goes with --mode truth or vision\n";
     return 2;
   }
   const std::string label = mode + (opt.cues_enabled ? "" : " (no cues)");

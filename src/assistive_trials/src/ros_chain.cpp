@@ -35,7 +35,7 @@ using assistive_sim::peopleMessage;
 struct RosChain::Impl
 {
   Options o;
-  ros::Publisher clock, odom, grid, goal, pose, imu, movers, give_way;
+  ros::Publisher clock, odom, grid, goal, pose, imu, vest_imu, movers, give_way;
   const World* world = nullptr;
   const World* people = nullptr;  ///< the trial's people (setPeople; giving way: the trial's copy)
   // IMU by finite differences of the wearer's states (VISION)
@@ -99,6 +99,7 @@ RosChain::RosChain(ros::NodeHandle& nh, const World& world, const Options& o) : 
     // people who give way (issue 37): their tracks for the renderer, which draws and hears them
     if (!world.people.empty()) d_->give_way = nh.advertise<std_msgs::Float64MultiArray>("/sim/people_give_way", 10);
     d_->imu = nh.advertise<sensor_msgs::Imu>("/imu/data", 200);
+    if (o.vest_gyro) d_->vest_imu = nh.advertise<sensor_msgs::Imu>("/vest/imu", 200);
     d_->image_sub = nh.subscribe<sensor_msgs::Image>("/stereo/left/image_rect", 2,
                                                      boost::function<void(const sensor_msgs::Image::ConstPtr&)>([this](const sensor_msgs::Image::ConstPtr& m) {
                                                        std::lock_guard<std::mutex> l(d_->m);
@@ -184,6 +185,17 @@ void RosChain::reset(const BodyState& start)
 void RosChain::observe(double t, const BodyState& s)
 {
   if (d_->o.kind == VISION) publishImu(t, s);
+  if (d_->o.kind == VISION && d_->o.vest_gyro)
+  {
+    // an upright vest: its z axis is the vertical, its rate the torso's turn
+    sensor_msgs::Imu m;
+    m.header.stamp = ros::Time(d_->base + t);
+    m.header.frame_id = "vest_link";
+    m.orientation_covariance[0] = -1.0;
+    m.angular_velocity.z = d_->o.vest_gyro->rate(t, s.yaw);
+    m.linear_acceleration.z = 9.81;
+    d_->vest_imu.publish(m);
+  }
 }
 
 void RosChain::publishImu(double t, const BodyState& s)

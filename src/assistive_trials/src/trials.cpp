@@ -88,6 +88,28 @@ std::vector<Eigen::Vector2d> courseOf(const World& world)
   return c;
 }
 
+VestGyroSim::VestGyroSim(const TrialOptions& opt, uint32_t seed)
+  : noise_density_(opt.vest_gyro_noise_density), bias_walk_(opt.vest_gyro_bias_walk), rng_(seed)
+{
+  bias_ = opt.vest_gyro_bias_initial * std::normal_distribution<double>(0.0, 1.0)(rng_);
+}
+
+double VestGyroSim::rate(double t, double body_yaw)
+{
+  std::normal_distribution<double> n01(0.0, 1.0);
+  double r = 0.0;
+  if (std::isfinite(last_yaw_) && t > last_t_)
+  {
+    const double dt = t - last_t_;
+    bias_ += bias_walk_ * std::sqrt(dt) * n01(rng_);
+    r = std::atan2(std::sin(body_yaw - last_yaw_), std::cos(body_yaw - last_yaw_)) / dt + bias_ +
+        noise_density_ / std::sqrt(dt) * n01(rng_);
+  }
+  last_yaw_ = body_yaw;
+  last_t_ = t;
+  return r;
+}
+
 namespace
 {
 /// Truth mode's chain: the world's occupancy (what a perfect obstacle stage would report) to the
@@ -143,7 +165,7 @@ public:
     in.walking_speed = out.walking_speed;
     in.head_yaw = out.head_yaw;
     if (opt_.vest_gyro)
-      in.body_yaw_rate = vestGyro(t, s.yaw);
+      in.body_yaw_rate = vest_gyro_.rate(t, s.yaw);
     in.free_steer = out.free_steer;
     in.x = s.xy.x();
     in.y = s.xy.y();
@@ -237,29 +259,8 @@ private:
   assistive_planner::Grid grid_;
   assistive_planner::Planner planner_;
   assistive_tactile::CueLogic cues_;
-  /// The vest gyro's mean yaw rate over the cycle since the last (the body's turn over its time,
-  /// the gyro integrated between the cycles), with its bias and white noise.
-  double vestGyro(double t, double yaw)
-  {
-    std::normal_distribution<double> n01(0.0, 1.0);
-    if (!std::isfinite(gyro_yaw_))
-      gyro_bias_ = opt_.vest_gyro_bias_initial * n01(gyro_rng_);
-    double rate = 0.0;
-    if (std::isfinite(gyro_yaw_) && t > gyro_t_)
-    {
-      const double dt = t - gyro_t_;
-      gyro_bias_ += opt_.vest_gyro_bias_walk * std::sqrt(dt) * n01(gyro_rng_);
-      rate = std::atan2(std::sin(yaw - gyro_yaw_), std::cos(yaw - gyro_yaw_)) / dt + gyro_bias_ +
-             opt_.vest_gyro_noise_density / std::sqrt(dt) * n01(gyro_rng_);
-    }
-    gyro_yaw_ = yaw;
-    gyro_t_ = t;
-    return rate;
-  }
   bool trace_ = false;
-  double gyro_yaw_ = std::numeric_limits<double>::quiet_NaN(), gyro_t_ = -1e300;  ///< the vest gyro's last cycle
-  double gyro_bias_ = 0.0;
-  std::mt19937 gyro_rng_{ opt_.vest_gyro_seed };
+  VestGyroSim vest_gyro_{ opt_, opt_.vest_gyro_seed };
   std::vector<Eigen::Vector2d> passages_;  ///< passage middles the planner found (world frame)
 };
 }  // namespace

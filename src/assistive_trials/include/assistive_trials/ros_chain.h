@@ -49,6 +49,9 @@ public:
     double pitch_down_deg = 15.0;  ///< VISION: the head's pitch (the worlds' scripts: 10-30 deg)
     double warmup_s = 1.0;         ///< VISION: the wearer stands this long before each trial (the VO
                                    ///< takes gravity from 0.5 s of IMU at rest)
+    /// VISION: the vest's own gyro, published on /vest/imu (sensor_msgs/Imu, an upright vest) at
+    /// every body step; null: the vest has none
+    std::shared_ptr<VestGyroSim> vest_gyro;
   };
   RosChain(ros::NodeHandle& nh, const assistive_sim::World& world, const Options& o);
   ~RosChain() override;

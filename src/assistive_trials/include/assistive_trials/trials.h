@@ -7,6 +7,7 @@
 // ROS-free.
 #include <array>
 #include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -191,6 +192,23 @@ struct TrialOptions
   /// the wearer (before).
   bool people_give_way = true;
   assistive_sim::GiveWayParams give_way;
+};
+
+/// The vest's own gyro as the trials simulate it (`TrialOptions::vest_gyro`): the mean yaw rate
+/// over the interval since the last call (the body's turn over its time, the gyro integrated
+/// between the calls), plus a bias drawn per trial that walks, plus white noise.
+class VestGyroSim
+{
+public:
+  VestGyroSim(const TrialOptions& opt, uint32_t seed);
+  /// rad/s; 0 at the first call (no interval yet)
+  double rate(double t, double body_yaw);
+
+private:
+  double noise_density_, bias_walk_;
+  std::mt19937 rng_;
+  double bias_ = 0.0;
+  double last_yaw_ = std::numeric_limits<double>::quiet_NaN(), last_t_ = -1e300;
 };
 
 struct TrialResult
