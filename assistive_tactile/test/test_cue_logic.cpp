@@ -982,6 +982,52 @@ TEST(CueLogic, TheVestGyrosBiasIsLearntStandingStill)
   EXPECT_GT(turns(0.0), 0);
 }
 
+// A veer's progress, with the vest's gyro, is the body's turn, not the walk chord's: a walker at
+// 1 m/s is asked to veer left; 0.6 s after the burst its body turns 15 deg left at 60 deg/s, and
+// the walk chord (0.4 s of positions) follows 0.2 s behind. In the first cycle after the body's
+// turn ended, what is left to go is the amount asked less 15 deg with the gyro; judged on the
+// chord, up to 12 deg of the turn (0.2 s at 60 deg/s) have not arrived yet.
+TEST(CueLogic, WithTheVestGyroAVeersProgressIsTheBodysTurn)
+{
+  auto body = [](double t, double t0) { return std::clamp(60.0 * (t - t0), 0.0, 15.0) * kDeg; };
+  auto toGo = [&](bool gyro, int& asked) {
+    CueLogic c;
+    double t0 = -1.0, prev = 0.0;
+    for (double t = 0.0; t < 4.0; t += 1.0 / 15.0)
+    {
+      NavInput in = turn(35.0);
+      in.walking_speed = 1.0;
+      const double b = t0 < 0.0 ? 0.0 : body(t, t0);
+      in.walk_heading = 0.3 + (t0 < 0.0 ? 0.0 : body(t - 0.2, t0));
+      in.head_yaw = 0.3 + b + 3.0 * kDeg * std::sin(2.0 * M_PI * t / 7.0);
+      in.steer_heading = in.path_heading = 0.3 + 35.0 * kDeg;  // the way on stays put
+      if (gyro)
+        in.body_yaw_rate = t > 0.0 ? (b - prev) * 15.0 : 0.0;
+      prev = b;
+      const Cue k = fresh(c, in, t);
+      if (t0 < 0.0 && k.instruction == Instruction::VEER)
+      {
+        EXPECT_EQ(std::sscanf(k.reason.c_str(), "veer left %d deg", &asked), 1) << k.reason;
+        t0 = t + 0.6;
+      }
+      if (t0 > 0.0 && t >= t0 + 0.25 - 1e-9)
+      {
+        int go = -1;
+        const size_t at = k.reason.find("veering (");
+        if (at == std::string::npos || std::sscanf(k.reason.c_str() + at, "veering (%d deg to go)", &go) != 1)
+          ADD_FAILURE() << k.reason;
+        return go;
+      }
+    }
+    return -1;
+  };
+  int asked_gyro = 0, asked_chord = 0;
+  const int gyro = toGo(true, asked_gyro), chord = toGo(false, asked_chord);
+  ASSERT_GT(asked_gyro, 15);
+  EXPECT_NEAR(gyro, asked_gyro - 15, 1);
+  EXPECT_GE(chord, asked_chord - 15 + 6);
+}
+
 // The wearer's turning rate sets every later buzz's length, so it is learnt from the body's turn,
 // not the head's: a standing wearer's head scans +-8 deg over 7 s, by up to several degrees while a
 // turn is asked, carried out and judged. Traced in the held-out homes (trial seed 11), the rate
