@@ -6,6 +6,7 @@
 #include <assistive_msgs/TactileCue.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <cstdlib>
@@ -27,8 +28,14 @@ void markerCb(const visualization_msgs::MarkerArray::ConstPtr& m)
 {
   g_markers = m;
 }
+std::string g_vest_gyro;  ///< the cue logic's "vest gyro" diagnostics value
 void diagCb(const diagnostic_msgs::DiagnosticArray::ConstPtr& m)
 {
+  for (const auto& s : m->status)
+    if (s.name.find("cue logic") != std::string::npos)
+      for (const auto& kv : s.values)
+        if (kv.key == "vest gyro")
+          g_vest_gyro = kv.value;
   for (const auto& s : m->status)
     if (s.name.find("vest link") != std::string::npos)
     {
@@ -177,6 +184,48 @@ TEST(TactileNodelets, EndToEndOnTheSimulatedVest)
   {
     EXPECT_EQ(g_markers->markers[0].header.frame_id, "motor_left_shoulder");
   }
+}
+
+// The vest's own IMU on /vest/imu (issue 33): a standing wearer faces the steering point by the
+// head's yaw in every state; the vest's gyro says the torso has turned 40 deg left. The cue logic
+// takes the gyro's facing (diagnostics "vest gyro: in use") and asks a turn back to the right;
+// the head alone would have said "go". Once the IMU stops, the facing is the head's again.
+TEST(TactileNodelets, TheVestsGyroTurnsTheFacing)
+{
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<assistive_msgs::NavigationState>("/planner/state", 1);
+  ros::Publisher imu = nh.advertise<sensor_msgs::Imu>("/vest/imu", 50);
+  ros::Subscriber cs = nh.subscribe("/tactile/cue", 10, cueCb);
+  ros::Subscriber ds = nh.subscribe("/diagnostics", 50, diagCb);
+  double rate = 0.0;
+  auto standing = [&] {
+    sensor_msgs::Imu m;
+    m.header.stamp = ros::Time::now();
+    m.angular_velocity.z = rate;
+    m.linear_acceleration.z = 9.81;
+    imu.publish(m);
+    return state(assistive_msgs::NavigationState::OK, 0.f, 4.f, 2.f, 2.f, 0.f);
+  };
+  ASSERT_TRUE(publishUntil(pub, standing, [] {
+    return g_vest_gyro == "in use" && g_cue && g_cue->instruction == assistive_msgs::TactileCue::WALK_ON;
+  }, 20.0)) << "vest gyro: " << g_vest_gyro << ", cue: " << (g_cue ? g_cue->reason : "none");
+  // 40 deg/s for 1 s (one sample a state, 10 Hz)
+  int samples = 0;
+  rate = 40.0 * M_PI / 180.0;
+  auto turning = [&] {
+    if (++samples > 10)
+      rate = 0.0;
+    return standing();
+  };
+  ASSERT_TRUE(publishUntil(pub, turning, [] {
+    return g_cue && g_cue->instruction == assistive_msgs::TactileCue::TURN &&
+           g_cue->intensity[assistive_msgs::TactileCue::RIGHT_SHOULDER] > 0.f;
+  }, 10.0)) << "cue: " << (g_cue ? g_cue->reason : "none");
+  EXPECT_EQ(g_cue->intensity[assistive_msgs::TactileCue::LEFT_SHOULDER], 0.f);
+  // the IMU stops: stale within a diagnostics period or two
+  ASSERT_TRUE(publishUntil(pub, [] { return state(assistive_msgs::NavigationState::OK, 0.f, 4.f, 2.f, 2.f, 0.f); },
+                           [] { return g_vest_gyro.rfind("stale", 0) == 0; }, 10.0))
+      << "vest gyro: " << g_vest_gyro;
 }
 
 int main(int argc, char** argv)
