@@ -933,14 +933,12 @@ void CueLogic::observeHead(const NavInput& in, double now)
   {
     body_yaw_ = walking && std::isfinite(in.walk_heading) ? in.walk_heading : in.head_yaw;
     have_body_yaw_ = true;
-    body_yaw_since_ = now;
   }
   else
   {
     const double dt = now - last_yaw_time_;
     const double dh = wrapAngle(in.head_yaw - last_yaw_);
-    const bool vest_gyro = std::isfinite(in.body_yaw_rate);
-    if (vest_gyro)
+    if (gyro_)
     {
       // the vest's gyro turns with the torso alone: every turn, none of the head's scan. Its bias
       // (a MEMS gyro's drifts by tenths of a deg/s) is learnt while the wearer stands still: not
@@ -967,21 +965,11 @@ void CueLogic::observeHead(const NavInput& in, double now)
     // turn asked where 99 were needed, overshot into a shelf)
     const bool chord_ok = walking && std::isfinite(in.walk_heading) && now - body_turned_at_ > 0.6 &&
                           now - sidestep_at_ >= sweepReaction() + 2.0 * kHalfWindowS;
-    const bool gyro_stand = vest_gyro && !walking && !(params_.body_gyro_stand_tau_s > 0.0);
-    if ((chord_ok || !walking) && !gyro_stand)
+    // (with the gyro: the walk chord takes out what is left of its bias; standing, the gyro alone)
+    if (chord_ok || (!walking && !gyro_))
     {
       const double ref = walking ? in.walk_heading : in.head_yaw;
-      double tau = walking ? params_.body_walk_tau_s : params_.body_stand_tau_s;
-      if (vest_gyro)
-      {
-        // the gyro holds the facing; the walk chord takes out its bias, and standing, the head's
-        // mean over a long window takes out the offset the facing began with (the head's scan
-        // then; the window grows from the head-only one, so the start is never judged worse)
-        if (walking)
-          tau = params_.body_gyro_tau_s;
-        else
-          tau = std::max(params_.body_stand_tau_s, std::min(params_.body_gyro_stand_tau_s, now - body_yaw_since_));
-      }
+      const double tau = gyro_ ? params_.body_gyro_tau_s : walking ? params_.body_walk_tau_s : params_.body_stand_tau_s;
       body_yaw_ = wrapAngle(body_yaw_ + std::min(1.0, dt / std::max(1e-3, tau)) * wrapAngle(ref - body_yaw_));
     }
   }

@@ -11,16 +11,13 @@ void VestGyro::add(double t, const Eigen::Vector3d& rate, const Eigen::Vector3d&
     return;  // (a free fall or a broken sample says nothing about up)
   const double dt = t - last_sample_;
   if (!(dt > 0.0))
-  {
-    if (last_sample_ > -1e299)
-      return;  // out of order or repeated: ignored
-  }
+    return;  // out of order, repeated or no time: ignored
   if (!have_up_)
   {
     up_ = accel.normalized();
     have_up_ = true;
   }
-  else if (dt > 0.0 && dt <= max_gap_s_)
+  else if (dt <= max_gap_s_)
   {
     up_ = (up_ + std::min(1.0, dt / up_tau_s_) * (accel.normalized() - up_)).normalized();
     turn_ += rate.dot(up_) * dt;  // the rate held over the interval since the last sample

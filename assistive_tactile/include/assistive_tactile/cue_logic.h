@@ -418,7 +418,6 @@ private:
   bool gyro_ = false;             ///< the last state came with the vest gyro's rate
   double body_rate_ = 0.0;        ///< the vest gyro's rate less its bias, smoothed (rad/s)
   double busy_body0_ = 0.0;       ///< the body's facing when the current veer or turn began
-  double body_yaw_since_ = 0.0;  ///< the body's yaw was (re)started from the head or chord then
   bool sweep_stop_ = false;         ///< a predictive stop is held until the wearer stands
   double go_at_ = -1e300;          ///< when a standing wearer was last told to go
   double go_handled_ = -1e300;     ///< the go whose short walk was judged

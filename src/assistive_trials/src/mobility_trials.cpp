@@ -275,7 +275,7 @@ bool runWorld(const World& world, const std::string& world_arg, const TrialOptio
       ro.kind = RosChain::VISION;
       ro.eye_height = world.trajectory.eye_height;
       if (opt.vest_gyro)
-        ro.vest_gyro = std::make_shared<VestGyroSim>(opt, s ^ 0x5bd1e995u);
+        ro.vest_gyro = std::make_shared<VestGyroSim>(opt.vest_gyro_errors, s);
       // A fresh chain per trial: its t = 0 is at start_time + warmup_s of simulated time; the
       // renderer puts the people where they are on the trial's clock.
       std::vector<std::string> args{ "roslaunch", "assistive_trials", "mobility_vision.launch", "world:=" + world_arg,
@@ -666,7 +666,8 @@ int main(int argc, char** argv)
       else if (a == "--vest-gyro-perfect")  // analysis: the torso's yaw rate without noise or bias
       {
         opt.vest_gyro = true;
-        opt.vest_gyro_noise_density = opt.vest_gyro_bias_initial = opt.vest_gyro_bias_walk = 0.0;
+        opt.vest_gyro_errors.gyro_noise_density = opt.vest_gyro_errors.gyro_bias_initial =
+            opt.vest_gyro_errors.gyro_bias_walk = 0.0;
       }
       else if (a == "-h" || a == "--help")
       {

@@ -88,10 +88,10 @@ std::vector<Eigen::Vector2d> courseOf(const World& world)
   return c;
 }
 
-VestGyroSim::VestGyroSim(const TrialOptions& opt, uint32_t seed)
-  : noise_density_(opt.vest_gyro_noise_density), bias_walk_(opt.vest_gyro_bias_walk), rng_(seed)
+VestGyroSim::VestGyroSim(const assistive_sim::ImuParams& errors, uint32_t trial_seed)
+  : noise_density_(errors.gyro_noise_density), bias_walk_(errors.gyro_bias_walk), rng_(trial_seed ^ 0x5bd1e995u)
 {
-  bias_ = opt.vest_gyro_bias_initial * std::normal_distribution<double>(0.0, 1.0)(rng_);
+  bias_ = errors.gyro_bias_initial * std::normal_distribution<double>(0.0, 1.0)(rng_);
 }
 
 double VestGyroSim::rate(double t, double body_yaw)
@@ -117,8 +117,8 @@ namespace
 class TruthChain : public CueChain
 {
 public:
-  TruthChain(const World& world, const TrialOptions& opt)
-    : world_(world), opt_(opt), planner_(opt.planner), cues_(opt.cues)
+  TruthChain(const World& world, const TrialOptions& opt, uint32_t trial_seed)
+    : world_(world), opt_(opt), planner_(opt.planner), cues_(opt.cues), vest_gyro_(opt.vest_gyro_errors, trial_seed)
   {
     OccupancyParams op;
     op.head_above_eye = 0.12;
@@ -260,7 +260,7 @@ private:
   assistive_planner::Planner planner_;
   assistive_tactile::CueLogic cues_;
   bool trace_ = false;
-  VestGyroSim vest_gyro_{ opt_, opt_.vest_gyro_seed };
+  VestGyroSim vest_gyro_;
   std::vector<Eigen::Vector2d> passages_;  ///< passage middles the planner found (world frame)
 };
 }  // namespace
@@ -385,8 +385,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
     // when its first 0.15 s pulse ends, then felt one reaction time late)
     constexpr double kVeerPulseS = 0.15;
     if (opt.lead_from_true_reaction) chain_opt.planner.steer_lead_s = wp.reaction_s + kVeerPulseS;
-    chain_opt.vest_gyro_seed = seed ^ 0x5bd1e995u;
-    truth = std::make_unique<TruthChain>(trial_world, chain_opt);
+    truth = std::make_unique<TruthChain>(trial_world, chain_opt, seed);
     chain = truth.get();
   }
   VestWearer wearer(wp, r.start, seed ^ 0x9e3779b9u);

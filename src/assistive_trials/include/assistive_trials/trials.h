@@ -14,6 +14,7 @@
 #include <opencv2/core.hpp>
 
 #include <assistive_planner/params.h>
+#include <assistive_sim/motion.h>
 #include <assistive_sim/people_give_way.h>
 #include <assistive_trials/wearer.h>
 #include <assistive_tactile/params.h>
@@ -173,16 +174,12 @@ struct TrialOptions
   /// Analysis only: the planner's `steer_lead_s` set per trial from the drawn wearer's TRUE
   /// reaction plus a veer's first pulse (`kVeerPulseS`), not from anything the system measured.
   bool lead_from_true_reaction = false;
-  /// The vest carries a gyro (truth mode): the cue logic is given the torso's yaw rate (the body's
-  /// turn over each cycle), so its facing needs no filtering of the head's scan. Its errors are
-  /// the head IMU's (assistive_sim::ImuParams, EuRoC's ADIS16448 figures): white noise
-  /// `gyro_noise_density` rad/s/sqrt(Hz), a bias drawn per trial with sigma `gyro_bias_initial`
-  /// rad/s, walking by `gyro_bias_walk` rad/s^2/sqrt(Hz); all zero: a perfect gyro (analysis).
+  /// The vest carries a gyro (truth and vision mode): the cue logic is given the torso's yaw rate
+  /// (the body's turn over each cycle), so its facing needs no filtering of the head's scan. Its
+  /// errors are the head IMU's (the gyro's of assistive_sim::ImuParams: white noise, a bias drawn
+  /// per trial that walks); all zero: a perfect gyro (analysis).
   bool vest_gyro = false;
-  double vest_gyro_noise_density = 1.7e-4;
-  double vest_gyro_bias_initial = 3.0e-3;
-  double vest_gyro_bias_walk = 1.9e-5;
-  uint32_t vest_gyro_seed = 0;  ///< set per trial by runTrial
+  assistive_sim::ImuParams vest_gyro_errors;
   /// A scripted UNSURE episode (the chain reports no pose) from this trial time on (NaN: none),
   /// for `unsure_for_s` seconds: truth mode only.
   double unsure_at_s = std::numeric_limits<double>::quiet_NaN();
@@ -200,7 +197,8 @@ struct TrialOptions
 class VestGyroSim
 {
 public:
-  VestGyroSim(const TrialOptions& opt, uint32_t seed);
+  /// `trial_seed`: the trial's (its own stream is drawn from it)
+  VestGyroSim(const assistive_sim::ImuParams& errors, uint32_t trial_seed);
   /// rad/s; 0 at the first call (no interval yet)
   double rate(double t, double body_yaw);
 
