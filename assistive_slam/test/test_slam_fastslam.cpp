@@ -56,7 +56,7 @@ TEST(SlamFastSlam, FilterRunsAndKeyframesFollowTheTruth)
   ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(75.0);
   while (ros::ok() && ros::WallTime::now() < deadline && ros::Time::now().toSec() < end - 0.2)
     spinFor(0.05);
-  ASSERT_GE(ros::Time::now().toSec(), end - 0.2) << "the bag did not play to " << duration << " s";
+  ASSERT_GE(ros::Time::now().toSec(), end - 0.2) << "the bag did not play to " << duration << " s: the clock stopped at " << ros::Time::now();
   spinFor(2.5);  // the worker's last keyframes, the newest slam/path and diagnostics
 
   EXPECT_GT(particles, 0) << "no fastslam figures on /diagnostics";

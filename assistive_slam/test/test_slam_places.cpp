@@ -78,7 +78,8 @@ TEST(SlamPlaces, TagTheStartWalkTheLoopAndComeBack)
   deadline = ros::WallTime::now() + ros::WallDuration(200.0);
   while (ros::ok() && ros::WallTime::now() < deadline && ros::Time::now().toSec() < bag_end - 0.1)
     spinFor(0.05);
-  ASSERT_GE(ros::Time::now().toSec(), bag_end - 0.1) << "the bag did not finish playing";
+  ASSERT_GE(ros::Time::now().toSec(), bag_end - 0.1)
+      << "the bag did not finish playing: the clock stopped at " << ros::Time::now() << " of " << bag_end;
   spinFor(3.0);
 
   // 3. The way back.

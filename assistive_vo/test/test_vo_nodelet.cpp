@@ -82,7 +82,8 @@ TEST(VoNodelet, ReplayMatchesGroundTruth)
       break;
   }
   ros::Duration(1.0).sleep();
-  const std::string play = "rosbag play -q -r " + std::to_string(rate) + " " + bag;
+  // stdin from /dev/null: rosbag play reads keys from its stdin, and a space pauses it for good
+  const std::string play = "rosbag play -q -r " + std::to_string(rate) + " " + bag + " < /dev/null";
   ASSERT_EQ(std::system(play.c_str()), 0);
   ros::Duration(2.0).sleep();
 
