@@ -18,6 +18,10 @@ constexpr double kTellApartS = 0.25;
 /// time that tells it from a veer's pulse is read as a veer (issue 33, traced: a 1 deg turn's
 /// 0.26 s buzz asked of a walker before a doorway was carried out as a 15 deg veer, into the jamb).
 constexpr double kTurnMarginS = 0.05;
+/// Standing before a passage, the share of its room a straight walk may pass its middle off by
+/// (the rest is left for the walk's own drift); session 31: 0.5 (152 vs 155 collisions on the
+/// twelve tuning rows; 1.0 gave 168).
+constexpr double kAlignRoomShare = 0.5;
 /// A turn teaches the wearer's turning rate only when it turned for at least this long (s).
 constexpr double kRateSampleMinS = 0.3;
 /// The walk-on that follows a turn at once comes this long after its buzz ended: a tick that
@@ -1402,7 +1406,10 @@ bool CueLogic::passageCue(const NavInput& in, double now, bool walking, Cue& out
     }
     if (stageForPassage(in, now, out))
       return true;
-    if (std::fabs(err) * kRadToDeg > p.passage_align_deg)
+    // faced within passage_align_deg, or within what passes the middle inside half the room (a wide
+    // passage is not squared up to the degree: the walk straight on passes it, with room to drift)
+    const double align = std::max(p.passage_align_deg, std::atan2(kAlignRoomShare * room, d) * kRadToDeg);
+    if (std::fabs(err) * kRadToDeg > align)
     {
       std::snprintf(why, sizeof(why), "passage %.2f m wide %.2f m ahead, middle %.0f deg off: ", in.passage_width, d,
                     err * kRadToDeg);

@@ -825,6 +825,38 @@ TEST(CueLogic, PassageStraightOnOrStopAndAlign)
   }
 }
 
+// Standing before a passage, the middle is faced within passage_align_deg (4), or within what
+// passes the middle inside half the passage's room: a wide gap is not squared up to the degree.
+TEST(CueLogic, StandingBeforeAWideGapNoTurnForWhatTheRoomTakes)
+{
+  auto before = [](double width, double middle_deg) {
+    NavInput in = standing(turn(0.0));
+    in.passage_distance = 1.0;
+    in.passage_width = width;
+    in.passage_heading = in.walk_heading + middle_deg * kDeg;
+    return in;
+  };
+  // 1.45 m wide: room 0.725 - 0.35 = 0.375 m, half of it 1 m on: atan(0.1875) = 10.6 deg
+  {
+    CueLogic c;
+    const Cue k = fresh(c, before(1.45, 8.0), 0.0);
+    EXPECT_EQ(k.instruction, Instruction::WALK_ON) << k.reason;
+    CueLogic t;
+    const Cue k2 = fresh(t, before(1.45, 12.0), 0.0);
+    ASSERT_EQ(k2.instruction, Instruction::TURN) << k2.reason;
+    EXPECT_GT(k2.intensity[LEFT_SHOULDER], 0.f);
+  }
+  // an 0.80 m doorway: room 0.05 m, half of it 1 m on: 1.4 deg, so passage_align_deg (4) holds
+  {
+    CueLogic c;
+    const Cue k = fresh(c, before(0.80, -6.0), 0.0);
+    ASSERT_EQ(k.instruction, Instruction::TURN) << k.reason;
+    EXPECT_GT(k.intensity[RIGHT_SHOULDER], 0.f);
+    CueLogic g;
+    EXPECT_EQ(fresh(g, before(0.80, 3.0), 0.0).instruction, Instruction::WALK_ON);
+  }
+}
+
 // A stop-and-turn buzz barely longer than the 0.25 s that tells it from a veer's 0.15 s pulse
 // is read as a veer (traced, issue 33: a walker 1.55 m before an 0.80 m doorway, its walk passing
 // 0.08 m off the middle, was asked to stop and turn 1 deg with a 0.26 s buzz, carried it out as a
