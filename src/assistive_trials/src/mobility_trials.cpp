@@ -360,6 +360,7 @@ struct Summary
   double ppws_worst = NAN;  ///< the worst trial's PPWS (0 = not completed)
   double unsure_max = NAN;  ///< metres walked after a scripted UNSURE began, most of any trial
   std::array<double, 6> action{};  ///< seconds per VestWearer::Action over the trials
+  std::array<double, 3> standing{};  ///< the standing part of it, per TrialResult::Standing
   std::array<double, 7> begun{};   ///< cue patterns begun per Instruction
   double doorway_turns = 0;
 
@@ -390,6 +391,7 @@ struct Summary
       give_way += r.give_way_episodes;
       giving_way = giving_way || r.people_give_way;
       for (size_t i = 0; i < action.size(); ++i) action[i] += r.action_s[i];
+      for (size_t i = 0; i < standing.size(); ++i) standing[i] += r.standing_s[i];
       for (size_t i = 0; i < begun.size(); ++i) begun[i] += r.cues_begun[i];
       doorway_turns += r.doorway_turns;
     }
@@ -428,6 +430,11 @@ void reportTime(const Summary& S)
               S.walkingPct(), S.actionPct({ VestWearer::VEER }), S.actionPct({ VestWearer::TURN }),
               S.actionPct({ VestWearer::STOPPED }), S.actionPct({ VestWearer::SIDESTEP }),
               S.actionPct({ VestWearer::EXPLORE }));
+  const double all = std::accumulate(S.action.begin(), S.action.end(), 0.0);
+  if (all > 0)
+    std::printf("  standing for         a turn to begin %.0f %%, the go after a turn %.0f %%, other stops %.0f %%\n",
+                100 * S.standing[TrialResult::BEFORE_TURN] / all, 100 * S.standing[TrialResult::AFTER_TURN] / all,
+                100 * S.standing[TrialResult::OTHER_STAND] / all);
   std::printf("  cues begun / trial   %.1f stop-and-turn (%.1f by the doorway routine), %.1f stop, %.1f veer, %.1f side-step, "
               "%.1f walk-on\n",
               S.begunPerTrial(Instruction::TURN), S.doorway_turns / S.n, S.begunPerTrial(Instruction::STOP),

@@ -422,6 +422,7 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   bool unsure_started = false, unsure_done = false;
   VestWearer::Percept last_percept = VestWearer::NOTHING;
   VestWearer::Action last_action = VestWearer::STOPPED;
+  double last_turn_end = -1.0;  // when its last turn on the spot ended (-1: it walked since, or never turned)
   Eigen::Vector2d unsure_from = Eigen::Vector2d::Zero();
   double next_plan = 0.0, clear_sum = 0.0;
   r.min_clearance_m = 1e9;
@@ -516,6 +517,20 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
       const std::array<int, size_t(assistive_sim::ObstacleKind::NUM_KINDS)> kinds_before = body.collisions();
       wearer.step(t, opt.dt, m, &body);
       r.action_s[size_t(wearer.action())] += opt.dt;
+      if (wearer.action() == VestWearer::TURN)
+        last_turn_end = t + opt.dt;
+      else if (wearer.action() != VestWearer::STOPPED)
+        last_turn_end = -1.0;  // it moved on since
+      if (wearer.action() == VestWearer::STOPPED)
+      {
+        // a turn cue begun since its last turn ended waits for the turn; else a turn just done waits for the go
+        const bool turn_asked =
+            playing.instruction == int(assistive_tactile::Instruction::TURN) && playing_since >= last_turn_end;
+        const TrialResult::Standing why = turn_asked ? TrialResult::BEFORE_TURN :
+                                          last_turn_end >= 0.0 ? TrialResult::AFTER_TURN :
+                                                                 TrialResult::OTHER_STAND;
+        r.standing_s[size_t(why)] += opt.dt;
+      }
       if (body.totalCollisions() > before)
         for (size_t k = 0; k < kinds_before.size(); ++k)
           for (int j = kinds_before[k]; j < body.collisions()[k]; ++j)

@@ -186,6 +186,8 @@ TEST(Trials, TruthModeGoesRoundABoxWithoutCollisionAndWithoutCuesHitsIt)
   const double accounted = std::accumulate(r.action_s.begin(), r.action_s.end(), 0.0);
   EXPECT_NEAR(accounted, r.time_s, 2.0 * opt.dt);
   EXPECT_GT(r.action_s[VestWearer::WALK] + r.action_s[VestWearer::VEER], 0.5 * r.time_s);
+  // its standing, by what it stood for, is all of its standing
+  EXPECT_NEAR(std::accumulate(r.standing_s.begin(), r.standing_s.end(), 0.0), r.action_s[VestWearer::STOPPED], 1e-9);
   EXPECT_GE(r.cues_begun[size_t(assistive_tactile::Instruction::WALK_ON)], 1);
   EXPECT_GE(r.cues_begun[size_t(assistive_tactile::Instruction::VEER)] + r.cues_begun[size_t(assistive_tactile::Instruction::TURN)], 1);
   EXPECT_EQ(r.doorway_turns, 0);  // no doorway in the room

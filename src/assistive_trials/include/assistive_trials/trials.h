@@ -231,6 +231,11 @@ struct TrialResult
   /// Where the wearer's time went (truth and vision modes): seconds per VestWearer::Action
   /// (walk, turn on the spot, side-step, feel around, stand, veer), summing to `time_s`.
   std::array<double, 6> action_s{};
+  /// The standing part of it (action_s[STOPPED]) by what the wearer stands for: a turn on the spot
+  /// asked and not yet begun (the buzz felt a reaction late, the walk stopped first), the go after
+  /// a turn on the spot, any other stand (a stop, the start, a side-step's end).
+  enum Standing { BEFORE_TURN, AFTER_TURN, OTHER_STAND };
+  std::array<double, 3> standing_s{};
   /// Cue patterns the vest began, per assistive_tactile::Instruction (NONE .. UNSURE), and the
   /// stop-and-turn buzzes of them that the doorway routine asked.
   std::array<int, 7> cues_begun{};
