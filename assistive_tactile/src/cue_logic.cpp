@@ -1015,7 +1015,7 @@ double CueLogic::veerTurned(const NavInput& in, bool head) const
 
 double CueLogic::facing(const NavInput& in) const
 {
-  if (std::isfinite(in.body_yaw_rate) && have_body_yaw_)
+  if (gyro_ && have_body_yaw_)
     return body_yaw_;  // the vest's gyro: the torso's own facing, walking or standing
   if (walksForward(in))
     return in.walk_heading;

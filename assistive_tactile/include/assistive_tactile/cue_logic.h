@@ -166,7 +166,8 @@ private:
   void observeHead(const NavInput& in, double now);
   /// The body's facing: the walk chord while walking; standing, the head's yaw without its scan
   /// (a head-mounted camera's only heading scans +-8 deg over a body that stands still: aligned on
-  /// the head, a turn on the spot chased the scan).
+  /// the head, a turn on the spot chased the scan). With the vest's gyro (as observeHead last saw
+  /// it): the gyro's facing, walking or standing.
   double facing(const NavInput& in) const;
   /// The body's turn rate (rad/s, smoothed over 0.25 s): the vest gyro's, else the head's (with
   /// its scan).
