@@ -404,12 +404,19 @@ struct Summary
   double timeMean() const { return nppws ? tmean / nppws : NAN; }
   double clearance() const { return clear / n; }
   double unsurePct() const { return cycles() > 0 ? 100 * modes[4] / cycles() : NAN; }
+  double actionTotal() const { return std::accumulate(action.begin(), action.end(), 0.0); }
   double actionPct(std::initializer_list<VestWearer::Action> a) const
   {
-    const double all = std::accumulate(action.begin(), action.end(), 0.0);
+    const double all = actionTotal();
     double t = 0;
     for (VestWearer::Action x : a) t += action[size_t(x)];
     return all > 0 ? 100 * t / all : NAN;
+  }
+  /// The standing part of the wearer's time, per TrialResult::Standing (% of all of it)
+  double standingPct(TrialResult::Standing w) const
+  {
+    const double all = actionTotal();
+    return all > 0 ? 100 * standing[size_t(w)] / all : NAN;
   }
   double walkingPct() const { return actionPct({ VestWearer::WALK, VestWearer::VEER }); }
   double begunPerTrial(assistive_tactile::Instruction i) const { return begun[size_t(i)] / n; }
@@ -430,11 +437,9 @@ void reportTime(const Summary& S)
               S.walkingPct(), S.actionPct({ VestWearer::VEER }), S.actionPct({ VestWearer::TURN }),
               S.actionPct({ VestWearer::STOPPED }), S.actionPct({ VestWearer::SIDESTEP }),
               S.actionPct({ VestWearer::EXPLORE }));
-  const double all = std::accumulate(S.action.begin(), S.action.end(), 0.0);
-  if (all > 0)
-    std::printf("  standing for         a turn to begin %.0f %%, the go after a turn %.0f %%, other stops %.0f %%\n",
-                100 * S.standing[TrialResult::BEFORE_TURN] / all, 100 * S.standing[TrialResult::AFTER_TURN] / all,
-                100 * S.standing[TrialResult::OTHER_STAND] / all);
+  std::printf("  standing for         a turn to begin %.0f %%, the go after a turn %.0f %%, other stops %.0f %%\n",
+              S.standingPct(TrialResult::BEFORE_TURN), S.standingPct(TrialResult::AFTER_TURN),
+              S.standingPct(TrialResult::OTHER_STAND));
   std::printf("  cues begun / trial   %.1f stop-and-turn (%.1f by the doorway routine), %.1f stop, %.1f veer, %.1f side-step, "
               "%.1f walk-on\n",
               S.begunPerTrial(Instruction::TURN), S.doorway_turns / S.n, S.begunPerTrial(Instruction::STOP),
