@@ -45,17 +45,6 @@ TEST(VoiceFlow, SavePlaceWalkTakeMeBack)
   ASSERT_TRUE(pnh.getParam("bag", bag_path));
   ASSERT_TRUE(pnh.getParam("replies", replies_dir));
   const double goal_tol = pnh.param("goal_tolerance_m", 0.5);
-  double bag_end = 0;
-  {
-    rosbag::Bag bag(bag_path);
-    rosbag::View view(bag);
-    bag_end = view.getEndTime().toSec();
-    // the player stops `duration` seconds after the bag's start (a longer walk's first part)
-    double duration = 0;
-    if (pnh.getParam("duration", duration))
-      bag_end = std::min(bag_end, view.getBeginTime().toSec() + duration);
-  }
-
   tf2_ros::Buffer tf(ros::Duration(600.0));
   tf2_ros::TransformListener listener(tf);
   std::vector<std::string> replies, commands;
@@ -70,6 +59,19 @@ TEST(VoiceFlow, SavePlaceWalkTakeMeBack)
     goals.push_back(*m);
   });
   ros::Publisher say = nh.advertise<std_msgs::String>("/voice/command_text", 1);
+
+  // The bag is opened only now that the replies are heard: it plays on the wall clock from launch
+  // and the scripted "save place" comes 3 s into it (slam_places once lost 7 s to reading its bag first).
+  double bag_end = 0;
+  {
+    rosbag::Bag bag(bag_path);
+    rosbag::View view(bag);
+    bag_end = view.getEndTime().toSec();
+    // the player stops `duration` seconds after the bag's start (a longer walk's first part)
+    double duration = 0;
+    if (pnh.getParam("duration", duration))
+      bag_end = std::min(bag_end, view.getBeginTime().toSec() + duration);
+  }
 
   // 1. The script's "save place door" (3 s into the walk): the wearer hears "door saved".
   ASSERT_TRUE(waitFor([&] { return !replies.empty(); }, 90.0)) << "no reply to the scripted save place";
