@@ -28,6 +28,34 @@ using replay_test::spinFor;
 using replay_test::toEigen;
 using replay_test::truthAt;
 
+namespace
+{
+/// The keyframes of slam/path with a truth at their stamps (est, gt), and the VO's poses of the
+/// same frames (vo_est, vo_gt; the VO's camera_link moved to the optical frame by T_link_opt).
+void keyframesAgainstTruth(const nav_msgs::Path& path, const std::vector<nav_msgs::Odometry>& vo,
+                           const std::map<double, Eigen::Isometry3d>& truth, const Eigen::Isometry3d& T_link_opt,
+                           std::vector<Eigen::Vector3d>* est, std::vector<Eigen::Vector3d>* gt,
+                           std::vector<Eigen::Vector3d>* vo_est, std::vector<Eigen::Vector3d>* vo_gt)
+{
+  std::map<double, Eigen::Isometry3d> vo_at;
+  for (const auto& o : vo)
+    vo_at[o.header.stamp.toSec()] = toEigen(o.pose.pose) * T_link_opt;
+  for (const auto& ps : path.poses)
+  {
+    Eigen::Isometry3d T, V;
+    if (!truthAt(truth, ps.header.stamp.toSec(), &T))
+      continue;
+    est->push_back(toEigen(ps.pose).translation());
+    gt->push_back(T.translation());
+    if (truthAt(vo_at, ps.header.stamp.toSec(), &V))
+    {
+      vo_est->push_back(V.translation());
+      vo_gt->push_back(T.translation());
+    }
+  }
+}
+}  // namespace
+
 TEST(SlamPlaces, TagTheStartWalkTheLoopAndComeBack)
 {
   ros::NodeHandle nh, pnh("~");
@@ -105,27 +133,7 @@ TEST(SlamPlaces, TagTheStartWalkTheLoopAndComeBack)
 
   // ATE of the corrected keyframes, and of the VO on the same frames.
   std::vector<Eigen::Vector3d> est, gt, vo_est, vo_gt;
-  for (const auto& ps : path.poses)
-  {
-    Eigen::Isometry3d T;
-    if (truthAt(truth, ps.header.stamp.toSec(), &T))
-    {
-      est.push_back(toEigen(ps.pose).translation());
-      gt.push_back(T.translation());
-    }
-  }
-  std::map<double, Eigen::Isometry3d> vo_at;
-  for (const auto& o : vo)
-    vo_at[o.header.stamp.toSec()] = toEigen(o.pose.pose) * T_link_opt;
-  for (const auto& ps : path.poses)
-  {
-    Eigen::Isometry3d T, V;
-    if (truthAt(truth, ps.header.stamp.toSec(), &T) && truthAt(vo_at, ps.header.stamp.toSec(), &V))
-    {
-      vo_est.push_back(V.translation());
-      vo_gt.push_back(T.translation());
-    }
-  }
+  keyframesAgainstTruth(path, vo, truth, T_link_opt, &est, &gt, &vo_est, &vo_gt);
   ASSERT_GT(est.size(), 50u) << "slam/path has " << path.poses.size() << " keyframes";
   Eigen::Isometry3d A, A_vo;
   const double slam_ate = ate(est, gt, &A);
