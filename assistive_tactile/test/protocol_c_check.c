@@ -1,5 +1,5 @@
 /* Compiled as C99: vest_protocol.h must stay C-compatible for the Arduino side. Round trips of
- * every packet type (COMMAND with its pulse pattern, RANGE, BUTTONS), run by test_vest_protocol
+ * every packet type (COMMAND with its pulse pattern, RANGE, BUTTONS, IMU), run by test_vest_protocol
  * (CRoundTrip). */
 #include "assistive_tactile/vest_protocol.h"
 
@@ -39,4 +39,24 @@ int assistive_tactile_protocol_c_check_v3(void)
       got_b = m.type == VEST_TYPE_BUTTONS && m.buttons.seq == 9 && m.buttons.held == 2 && m.buttons.short_a == 1 &&
               m.buttons.long_a == 2 && m.buttons.short_b == 3 && m.buttons.long_b == 4;
   return got_r && got_b;
+}
+
+/* IMU (version 5) through the streaming parser; returns 1 when it comes back field for field. */
+int assistive_tactile_protocol_c_check_v5(void);
+int assistive_tactile_protocol_c_check_v5(void)
+{
+  vest_imu_t u = { 3, VEST_IMU_OK, 4, 65535u, { -1, 2, -32767 }, { 32767, -9, 9807 } };
+  uint8_t buf[VEST_MAX_PACKET_SIZE];
+  vest_parser_t ps;
+  vest_message_t m;
+  uint8_t i;
+  int got = 0;
+  vest_parser_init(&ps);
+  vest_encode_imu(&u, buf);
+  for (i = 0; i < VEST_IMU_PACKET_SIZE; ++i)
+    if (vest_parser_feed_message(&ps, buf[i], &m))
+      got = m.version == VEST_IMU_VERSION && m.type == VEST_TYPE_IMU && m.imu.seq == 3 && m.imu.samples == 4 &&
+            m.imu.t_ms == 65535u && m.imu.gyro[0] == -1 && m.imu.gyro[2] == -32767 && m.imu.accel[0] == 32767 &&
+            m.imu.accel[2] == 9807;
+  return got;
 }

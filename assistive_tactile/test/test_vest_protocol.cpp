@@ -33,6 +33,14 @@ std::vector<uint8_t> bytes(const vest_packet_t& p)
   return b;
 }
 
+/// A COMMAND / STATUS as a version-4 peer writes it (the same bytes as ours but VERSION).
+std::vector<uint8_t> bytesV4(const vest_packet_t& p)
+{
+  std::vector<uint8_t> b(VEST_PACKET_SIZE);
+  b.resize(vest_encode_version(&p, 4, b.data()));
+  return b;
+}
+
 /// The frame of a packet with hand-made raw bytes (VERSION .. before the CRC): CRC appended,
 /// COBS-encoded, between delimiters.
 std::vector<uint8_t> frameOf(const std::vector<uint8_t>& raw)
@@ -111,7 +119,7 @@ TEST(VestProtocol, KnownEncodingVersion4)
   const uint8_t raw[] = { 4, 1, 7, 5, 200, 0, 100, 0, 0x2C, 1, 9, 15, 15, 2 };
   EXPECT_EQ(vest_crc32c(raw, sizeof(raw)), 0x7D506305u);
   const vest_packet_t p = command(7, 0x5, 200, 0, 100, 0, 300, vest_pattern_t{ 9, 15, 15, 2 });
-  EXPECT_EQ(bytes(p), want);
+  EXPECT_EQ(bytesV4(p), want);
   ASSERT_EQ(want.size(), VEST_PACKET_SIZE);
   EXPECT_EQ(VEST_PACKET_SIZE, 21u);
   EXPECT_EQ(VEST_RAW_SIZE, 18u);
@@ -140,9 +148,101 @@ TEST(VestProtocol, KnownEncodingVersion4)
   st.type = VEST_TYPE_STATUS;
   const std::vector<uint8_t> want_st = { 0x00, 0x06, 0x04, 0x02, 0x07, 0x01, 0xB3, 0x01, 0x01, 0x01, 0x01,
                                          0x09, 0x09, 0x0F, 0x0F, 0x02, 0x94, 0xCB, 0xC3, 0x93, 0x00 };
-  EXPECT_EQ(bytes(st), want_st);
+  EXPECT_EQ(bytesV4(st), want_st);
   ASSERT_TRUE(vest_decode(want_st.data(), &q));
   EXPECT_TRUE(same(q, st));
+  // Version 5 writes the same bytes with VERSION 5 (and so another CRC).
+  const std::vector<uint8_t> v5 = bytes(p);
+  ASSERT_EQ(v5.size(), want.size());
+  EXPECT_EQ(v5[2], 5);
+  EXPECT_TRUE(std::equal(v5.begin() + 3, v5.begin() + 16, want.begin() + 3));
+  uint8_t version = 0;
+  ASSERT_EQ(vest_decode_frame(v5.data() + 1, static_cast<uint8_t>(v5.size() - 2), &q, &version), VEST_FRAME_OK);
+  EXPECT_EQ(version, 5);
+  EXPECT_TRUE(same(q, p));
+}
+
+TEST(VestProtocol, KnownEncodingImu)
+{
+  // IMU seq 7, OK, 4 samples, T_MS 0x1234, gyro (10, -2, 1571) mrad/s, accel (120, -35, 9807)
+  // mm/s^2. Raw 05 05 07 00 04 34 12 0A 00 FE FF 23 06 78 00 DD FF 4F 26, CRC-32C 0x0F711F56
+  // (computed independently, low byte first).
+  const std::vector<uint8_t> want = { 0x00, 0x04, 0x05, 0x05, 0x07, 0x05, 0x04, 0x34, 0x12, 0x0A, 0x06, 0xFE, 0xFF,
+                                      0x23, 0x06, 0x78, 0x09, 0xDD, 0xFF, 0x4F, 0x26, 0x56, 0x1F, 0x71, 0x0F, 0x00 };
+  ASSERT_EQ(want.size(), VEST_IMU_PACKET_SIZE);
+  vest_imu_t u{};
+  u.seq = 7;
+  u.status = VEST_IMU_OK;
+  u.samples = 4;
+  u.t_ms = 0x1234;
+  u.gyro[0] = 10; u.gyro[1] = -2; u.gyro[2] = 1571;
+  u.accel[0] = 120; u.accel[1] = -35; u.accel[2] = 9807;
+  std::vector<uint8_t> got(VEST_IMU_PACKET_SIZE);
+  vest_encode_imu(&u, got.data());
+  EXPECT_EQ(got, want);
+  // ... back through the streaming parser, field for field.
+  vest_parser_t ps;
+  vest_parser_init(&ps);
+  vest_message_t m{};
+  int n = 0;
+  for (uint8_t b : want)
+    n += vest_parser_feed_message(&ps, b, &m);
+  ASSERT_EQ(n, 1);
+  EXPECT_EQ(m.version, 5);
+  EXPECT_EQ(m.type, VEST_TYPE_IMU);
+  EXPECT_EQ(m.imu.seq, 7);
+  EXPECT_EQ(m.imu.status, VEST_IMU_OK);
+  EXPECT_EQ(m.imu.samples, 4);
+  EXPECT_EQ(m.imu.t_ms, 0x1234);
+  for (int i = 0; i < 3; ++i)
+  {
+    EXPECT_EQ(m.imu.gyro[i], u.gyro[i]);
+    EXPECT_EQ(m.imu.accel[i], u.accel[i]);
+  }
+  // A missing sensor: twelve zeros in a row are twelve COBS codes 01. CRC 0x858A0CF2.
+  const std::vector<uint8_t> want_missing = { 0x00, 0x05, 0x05, 0x05, 0x08, 0x01, 0x02, 0x10, 0x01, 0x01, 0x01, 0x01, 0x01,
+                                              0x01, 0x01, 0x01, 0x01, 0x01, 0x01, 0x01, 0x05, 0xF2, 0x0C, 0x8A, 0x85, 0x00 };
+  vest_imu_t missing{};
+  missing.seq = 8;
+  missing.status = VEST_IMU_SENSOR_MISSING;
+  missing.t_ms = 0x10;
+  vest_encode_imu(&missing, got.data());
+  EXPECT_EQ(got, want_missing);
+  // Not a COMMAND / STATUS.
+  vest_packet_t q;
+  EXPECT_EQ(vest_decode_frame(want.data() + 1, static_cast<uint8_t>(want.size() - 2), &q, nullptr), VEST_FRAME_OTHER_TYPE);
+}
+
+TEST(VestProtocol, ImuBadFieldsRejected)
+{
+  vest_message_t m;
+  auto decode = [&](const std::vector<uint8_t>& raw) {
+    const std::vector<uint8_t> f = frameOf(raw);
+    return vest_decode_message(f.data() + 1, static_cast<uint8_t>(f.size() - 2), &m, nullptr);
+  };
+  const std::vector<uint8_t> ok = { 5, 5, 1, 0, 4, 0, 1, 10, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x4F, 0x26 };
+  EXPECT_EQ(decode(ok), VEST_FRAME_OK);
+  std::vector<uint8_t> r = ok;
+  r[3] = 2;  // unknown STATUS
+  EXPECT_EQ(decode(r), VEST_FRAME_FIELD);
+  r = ok;
+  r[4] = 0;  // OK with no sample
+  EXPECT_EQ(decode(r), VEST_FRAME_FIELD);
+  r = ok;
+  r[3] = VEST_IMU_SENSOR_MISSING;  // missing, yet measured something
+  EXPECT_EQ(decode(r), VEST_FRAME_FIELD);
+  r[4] = 0;
+  EXPECT_EQ(decode(r), VEST_FRAME_FIELD);  // (the gyro and accel still say something)
+  std::fill(r.begin() + 7, r.end(), 0);
+  EXPECT_EQ(decode(r), VEST_FRAME_OK);
+  r = ok;
+  r.push_back(0);  // a byte long, a byte short
+  EXPECT_EQ(decode(r), VEST_FRAME_LENGTH);
+  r.resize(ok.size() - 1);
+  EXPECT_EQ(decode(r), VEST_FRAME_LENGTH);
+  r = ok;
+  r[0] = 4;  // no IMU in version 4
+  EXPECT_EQ(decode(r), VEST_FRAME_FIELD);
 }
 
 TEST(VestProtocol, KnownEncodingVersions2And3)
@@ -851,12 +951,14 @@ TEST(VestFirmware, Version3BridgeDrivenSteady)
 
 extern "C" int assistive_tactile_protocol_c_check(void);
 extern "C" int assistive_tactile_protocol_c_check_v3(void);
+extern "C" int assistive_tactile_protocol_c_check_v5(void);
 
 TEST(VestProtocol, CRoundTrip)
 {
-  // protocol_c_check.c, compiled as C99: COMMAND, RANGE and BUTTONS round trips.
+  // protocol_c_check.c, compiled as C99: COMMAND, RANGE, BUTTONS and IMU round trips.
   EXPECT_EQ(assistive_tactile_protocol_c_check(), 1);
   EXPECT_EQ(assistive_tactile_protocol_c_check_v3(), 1);
+  EXPECT_EQ(assistive_tactile_protocol_c_check_v5(), 1);
 }
 
 TEST(VestProtocol, RangeAndButtonsRoundTrip)
@@ -1012,6 +1114,62 @@ TEST(VestProtocol, ButtonsDebouncedShortAndLong)
   for (uint32_t t = 4510; t <= 4600; t += 10) shorts += vest_button_update(&b, 0, t) == VEST_PRESS_SHORT;
   EXPECT_EQ(longs, 1);
   EXPECT_EQ(shorts, 0);
+}
+
+// The IMU's windows: the mean of the readings of each 20 ms (rounded half away from zero,
+// saturated), SENSOR_MISSING when none could be read, and packets only to a version-5 bridge.
+TEST(VestFirmware, ImuWindowMeansOnlyToVersion5)
+{
+  vest_firmware_t fw;
+  vest_firmware_init(&fw, 1000);
+  vest_imu_t out{};
+  vest_packet_t status;
+  const int16_t g[3] = { 100, -3, 20 }, a[3] = { 0, 0, 9807 };
+  const int16_t g2[3] = { 101, -4, 32767 }, a2[3] = { 1, -1, 32767 };
+  // Nobody spoke yet (and then a version-4 bridge): the windows run, nothing goes out.
+  for (uint32_t t = 1005; t <= 1040; t += 5)
+    EXPECT_EQ(vest_firmware_imu(&fw, 1, g, a, t, &out), 0) << t;
+  for (uint8_t byte : bytesV4(command(1, 0x1, 9, 0, 0, 0, 300)))
+    vest_firmware_feed(&fw, byte, 1041, &status);
+  EXPECT_EQ(fw.peer_version, 4);
+  for (uint32_t t = 1045; t <= 1060; t += 5)
+    EXPECT_EQ(vest_firmware_imu(&fw, 1, g, a, t, &out), 0) << t;
+  // A version-5 bridge: a packet every 20 ms.
+  for (uint8_t byte : bytes(command(2, 0x1, 9, 0, 0, 0, 300)))
+    vest_firmware_feed(&fw, byte, 1061, &status);
+  EXPECT_EQ(fw.peer_version, 5);
+  EXPECT_EQ(vest_firmware_imu(&fw, 1, g, a, 1065, &out), 0);
+  EXPECT_EQ(vest_firmware_imu(&fw, 1, g2, a2, 1070, &out), 0);
+  EXPECT_EQ(vest_firmware_imu(&fw, 1, g2, a2, 1075, &out), 0);
+  ASSERT_EQ(vest_firmware_imu(&fw, 1, g2, a2, 1080, &out), 1);
+  EXPECT_EQ(out.status, VEST_IMU_OK);
+  EXPECT_EQ(out.samples, 4);
+  EXPECT_EQ(out.t_ms, 1080);
+  EXPECT_EQ(out.gyro[0], 101);     // 403 / 4 = 100.75
+  EXPECT_EQ(out.gyro[1], -4);      // -15 / 4 = -3.75
+  EXPECT_EQ(out.gyro[2], 24580);   // (20 + 3 * 32767) / 4 = 24580.25
+  EXPECT_EQ(out.accel[0], 1);      // 3 / 4 = 0.75
+  EXPECT_EQ(out.accel[1], -1);     // -3 / 4
+  EXPECT_EQ(out.accel[2], 27027);  // (9807 + 3 * 32767) / 4
+  const uint8_t seq = out.seq;
+  // A window with no reading: SENSOR_MISSING, zeros.
+  for (uint32_t t = 1085; t < 1100; t += 5)
+    EXPECT_EQ(vest_firmware_imu(&fw, 0, g, a, t, &out), 0);
+  ASSERT_EQ(vest_firmware_imu(&fw, 0, g, a, 1100, &out), 1);
+  EXPECT_EQ(out.status, VEST_IMU_SENSOR_MISSING);
+  EXPECT_EQ(out.samples, 0);
+  EXPECT_EQ(out.gyro[0], 0);
+  EXPECT_EQ(out.accel[2], 0);
+  EXPECT_EQ(out.seq, static_cast<uint8_t>(seq + 1));
+  // Encoded, it decodes (the encoder writes only legal packets).
+  std::vector<uint8_t> b(VEST_IMU_PACKET_SIZE);
+  vest_encode_imu_version(&out, vest_firmware_sensor_version(&fw), b.data());
+  vest_message_t m;
+  EXPECT_EQ(vest_decode_message(b.data() + 1, static_cast<uint8_t>(b.size() - 2), &m, nullptr), VEST_FRAME_OK);
+  // Saturation at the int16 range's ends.
+  EXPECT_EQ(vest_mean16(-40000, 1), -32767);
+  EXPECT_EQ(vest_mean16(40000, 1), 32767);
+  EXPECT_EQ(vest_mean16(-5, 2), -3);  // -2.5: half away from zero
 }
 
 TEST(VestProtocol, FirmwareSpeaksVersion2ToAnOldBridgeAndSensorsOnlyToVersion3)

@@ -10,15 +10,27 @@
  *   2  COBS framing + CRC-32C; COMMAND / STATUS (14 bytes) with TTL_MS.
  *   3  + RANGE (forward ultrasonic ranger, issue 20) and BUTTONS (the wearer's push buttons,
  *      issue 24), vest -> PC. COMMAND / STATUS as in version 2.
- *   4  (this one; issue 33, cues for walking) COMMAND / STATUS grow by four bytes: the PULSE
+ *   4  (issue 33, cues for walking) COMMAND / STATUS grow by four bytes: the PULSE
  *      PATTERN (PATTERN_ID, ON_10MS, OFF_10MS, COUNT), 18 bytes. The VEST times the pulses
  *      itself (vest_firmware_*), so USB / radio jitter and lost packets never change how long a
  *      pulse lasts or how many pulses are felt; the PC only says which pattern plays. RANGE and
  *      BUTTONS unchanged (VERSION 4, the same bytes).
+ *   5  (this one; issue 33, the body's heading) + IMU (the vest's gyro and accelerometer on the
+ *      torso, vest -> PC, 50 Hz): the torso's turns, which a head-mounted camera cannot give (the
+ *      head scans +-8 deg while the body walks straight). COMMAND / STATUS / RANGE / BUTTONS as
+ *      in version 4 (the same bytes, VERSION 5).
  *
  * Older peers (VEST_PROTOCOL_MIN_VERSION = 2):
+ *   - A version-4 VEST (pulse patterns, no IMU) is DRIVEN in version 4: it answers the bridge's
+ *     first version-5 COMMAND with a version-4 STATUS (nothing applied), and from then on the
+ *     bridge sends version-4 COMMANDs (the same bytes), which it obeys. It sends no IMU; the cue
+ *     logic then takes the body's turns from the head, as before version 5 (diagnostics WARN:
+ *     "no IMU, reflash"). Every 2 s such a bridge also sends the same state once in version 5:
+ *     a vest reflashed on a link that stayed open applies it (the same pattern: nothing
+ *     restarts) and answers in version 5; the version-4 one answers it with a STATUS and
+ *     ignores it.
  *   - An old VEST (version 2 or 3) is REFUSED by the bridge: it gets no motor-driving COMMAND at
- *     all (the bridge sends only version-4 COMMANDs, which an old vest counts and answers with a
+ *     all (the bridge sends only version-4 / 5 COMMANDs, which an old vest counts and answers with a
  *     STATUS of its own version), its motors stay off (its 500 ms watchdog ends whatever an
  *     earlier bridge left on), and the bridge reports ERROR naming the vest's version
  *     ("reflash"). The wearer feels silence, which this protocol defines as "stop, use the
@@ -29,15 +41,16 @@
  *     packet (the seed's radio link) adds, drops or stretches a pulse, i.e. says something else.
  *     Silence cannot be misread; a wrong pattern can. A reflash takes a minute
  *     (firmware/build_firmware.sh + avrdude).
- *   - An old BRIDGE (version 2 or 3) is still obeyed by this vest: its COMMAND has no pattern
- *     bytes and is rendered steady (the old meaning), answered with a STATUS in its version;
- *     RANGE / BUTTONS go out in its version when it is 3 (the layout is the same).
- *   The receivers decode versions 2..4 (so the bridge learns an old vest's version from its
+ *   - An old BRIDGE (version 2, 3 or 4) is still obeyed by this vest: a version-2 / 3 COMMAND
+ *     has no pattern bytes and is rendered steady (the old meaning), a version-4 one is as
+ *     ours; each is answered with a STATUS in its version; RANGE / BUTTONS go out in its version
+ *     when it is 3 or 4 (the layout is the same); IMU only to a version-5 bridge.
+ *   The receivers decode versions 2..5 (so the bridge learns an old vest's version from its
  *   STATUS); other versions are rejected and counted.
  *
- * COMMAND / STATUS (version 4: 18 bytes before framing; versions 2 / 3: bytes 0..9 + CRC, 14):
+ * COMMAND / STATUS (versions 4 / 5: 18 bytes before framing; versions 2 / 3: bytes 0..9 + CRC, 14):
  *
- *   byte 0    VERSION   4 (2 / 3 from and to an old bridge only)
+ *   byte 0    VERSION   5 (2 / 3 / 4 from and to an old bridge or vest only)
  *   byte 1    TYPE      0x01 = COMMAND (PC -> vest), 0x02 = STATUS (vest -> PC)
  *   byte 2    SEQ       sequence number, +1 per packet sent (wraps at 255); a STATUS echoes the
  *                       SEQ of the last COMMAND the vest accepted
@@ -51,7 +64,7 @@
  *                       most TTL_MS ms after it received the packet, then switches every motor
  *                       off by itself (capped by VEST_WATCHDOG_MS); the PC sets it from the cue's
  *                       stamps, so a cue ends on time even when the PC stalls. STATUS: 0.
- *   byte 10   PATTERN_ID  which pattern (version 4). A COMMAND whose pattern (ID, ON, OFF, COUNT)
+ *   byte 10   PATTERN_ID  which pattern (version 4 on). A COMMAND whose pattern (ID, ON, OFF, COUNT)
  *                       equals the running one CONTINUES its phase (the PC re-sends at 20 Hz and
  *                       the cue logic repeats a pattern it holds); any other starts it at 0 ms.
  *                       The phase survives a TTL / watchdog cut: the same pattern coming back
@@ -70,7 +83,7 @@
  *
  * RANGE (vest -> PC, 11 bytes before framing; one per ping, 20 Hz, median of the last 3 pings):
  *
- *   byte 0    VERSION   4 (3 to a version-3 bridge)
+ *   byte 0    VERSION   5 (3 / 4 to a version-3 / 4 bridge)
  *   byte 1    TYPE      0x03
  *   byte 2    SEQ       +1 per RANGE packet (the PC counts lost ones)
  *   byte 3    STATUS    0 = OK (RANGE_MM holds the median), 1 = NO_ECHO (fewer than 2 of the last
@@ -83,7 +96,7 @@
  * BUTTONS (vest -> PC, 12 bytes before framing; on every press event and change of HELD, and once
  * a second as a heartbeat, so a lost packet is healed by the next one):
  *
- *   byte 0    VERSION   4 (3 to a version-3 bridge)
+ *   byte 0    VERSION   5 (3 / 4 to a version-3 / 4 bridge)
  *   byte 1    TYPE      0x04
  *   byte 2    SEQ       +1 per BUTTONS packet
  *   byte 3    HELD      debounced state now: bit 0 = button A down, bit 1 = B; bits 2..7 must be 0
@@ -92,6 +105,28 @@
  *                       LONG when held VEST_LONG_PRESS_MS (reported then, while still held), SHORT
  *                       when released before; the inputs are debounced over VEST_DEBOUNCE_MS.
  *   byte 8-11 CRC       CRC-32C over bytes 0..7
+ *
+ * IMU (vest -> PC, version 5, 23 bytes before framing; every VEST_IMU_PERIOD_MS = 20 ms, to a
+ * version-5 bridge only): the MEAN of the samples read in the 20 ms before T_MS (one every
+ * VEST_IMU_SAMPLE_MS), so the PC integrates the turn exactly (mean rate x window) and nothing
+ * between the samples aliases. Axes: the sensor's, as mounted on the torso (REP-103 when it is
+ * mounted x forward, y left, z up); the PC takes the vertical from the accelerometer, so the
+ * mounting's tilt does not matter to the body's yaw rate.
+ *
+ *   byte 0    VERSION   5
+ *   byte 1    TYPE      0x05
+ *   byte 2    SEQ       +1 per IMU packet (the PC counts lost ones)
+ *   byte 3    STATUS    0 = OK, 1 = SENSOR_MISSING (no sample of the window could be read: I2C
+ *                       error or wrong WHO_AM_I: unplugged / dead sensor; or the 50 ms a woken
+ *                       sensor's gyro takes to settle); others illegal
+ *   byte 4    SAMPLES   samples averaged (1..255 when OK, 0 when missing)
+ *   byte 5-6  T_MS      uint16, low byte first: the vest's millisecond clock (low 16 bits) at the
+ *                       window's end; the window began at the previous packet's T_MS
+ *   byte 7-12 GYRO      int16 x, y, z, low byte first: mean angular rate in mrad/s (+-32.767
+ *                       rad/s, saturating); 0 when missing
+ *   byte 13-18 ACCEL    int16 x, y, z: mean specific force in mm/s^2 (+-32.767 m/s^2 = 3.3 g,
+ *                       saturating); 0 when missing
+ *   byte 19-22 CRC      CRC-32C over bytes 0..18
  *
  * Framing: COBS (Consistent Overhead Byte Stuffing). The 18 bytes are COBS-encoded (19 bytes, no
  * 0x00 inside) and sent between two 0x00 delimiters: 21 bytes on the wire (3.65 ms at 57600
@@ -126,16 +161,18 @@
 extern "C" {
 #endif
 
-#define VEST_PROTOCOL_VERSION 4u
+#define VEST_PROTOCOL_VERSION 5u
 #define VEST_PROTOCOL_MIN_VERSION 2u  /* oldest version decoded (COMMAND / STATUS only) */
 #define VEST_PATTERN_VERSION 4u       /* first version with the pattern bytes */
+#define VEST_IMU_VERSION 5u           /* first version with the IMU packet */
 #define VEST_DELIMITER 0x00u
 #define VEST_TYPE_COMMAND 0x01u
 #define VEST_TYPE_STATUS 0x02u
 #define VEST_TYPE_RANGE 0x03u    /* version 3 on */
 #define VEST_TYPE_BUTTONS 0x04u  /* version 3 on */
+#define VEST_TYPE_IMU 0x05u      /* version 5 on */
 #define VEST_CRC_SIZE 4u
-#define VEST_RAW_SIZE 18u                       /* VERSION .. CRC, before COBS (version 4) */
+#define VEST_RAW_SIZE 18u                       /* VERSION .. CRC, before COBS (versions 4, 5) */
 #define VEST_COBS_SIZE (VEST_RAW_SIZE + 1u)     /* COBS adds one byte to frames under 254 bytes */
 #define VEST_PACKET_SIZE (VEST_COBS_SIZE + 2u)  /* on the wire, with both delimiters: 21 */
 #define VEST_RAW_SIZE_V3 14u                    /* COMMAND / STATUS of versions 2 and 3 */
@@ -144,6 +181,9 @@ extern "C" {
 #define VEST_RANGE_PACKET_SIZE (VEST_RANGE_RAW_SIZE + 3u)      /* 14 on the wire */
 #define VEST_BUTTONS_RAW_SIZE 12u
 #define VEST_BUTTONS_PACKET_SIZE (VEST_BUTTONS_RAW_SIZE + 3u)  /* 15 on the wire */
+#define VEST_IMU_RAW_SIZE 23u
+#define VEST_IMU_PACKET_SIZE (VEST_IMU_RAW_SIZE + 3u)  /* 26 on the wire */
+#define VEST_MAX_PACKET_SIZE VEST_IMU_PACKET_SIZE      /* the longest packet: an output buffer's size */
 #define VEST_MAX_FRAME 32u  /* longest frame a receiver buffers; longer = garbage, dropped */
 
 /* RANGE STATUS */
@@ -167,6 +207,11 @@ extern "C" {
 #define VEST_PRESS_NONE 0
 #define VEST_PRESS_SHORT 1
 #define VEST_PRESS_LONG 2
+/* IMU */
+#define VEST_IMU_OK 0u
+#define VEST_IMU_SENSOR_MISSING 1u
+#define VEST_IMU_PERIOD_MS 20u  /* one IMU packet per 20 ms: 50 Hz, 1.3 kB/s of 5.76 at 57600 baud */
+#define VEST_IMU_SAMPLE_MS 5u   /* the sketch reads the sensor every 5 ms (4 samples a packet) */
 #define VEST_NUM_MOTORS 4u
 #define VEST_WATCHDOG_MS 500u
 
@@ -196,7 +241,7 @@ extern "C" {
 #define VEST_FRAME_VERSION 4  /* CRC fine, another protocol version */
 #define VEST_FRAME_LENGTH 5   /* our version, wrong length */
 #define VEST_FRAME_FIELD 6    /* unknown TYPE (in this VERSION) or an illegal field */
-#define VEST_FRAME_OTHER_TYPE 7  /* valid, but RANGE / BUTTONS where a COMMAND / STATUS was asked */
+#define VEST_FRAME_OTHER_TYPE 7  /* valid, but RANGE / BUTTONS / IMU where a COMMAND / STATUS was asked */
 
 /* A pulse pattern (protocol version 4, the walking cues of issue 33): the motors of a COMMAND are
  * driven in pulses the vest times itself, so USB jitter never changes what the wearer feels.
@@ -291,6 +336,17 @@ typedef struct
   uint8_t short_a, long_a, short_b, long_b;  /* press counters (wrap) */
 } vest_buttons_t;
 
+/* IMU (version 5) */
+typedef struct
+{
+  uint8_t seq;
+  uint8_t status;      /* VEST_IMU_* */
+  uint8_t samples;     /* samples averaged (0 when missing) */
+  uint16_t t_ms;       /* the vest's millis() at the window's end, low 16 bits */
+  int16_t gyro[3];     /* mean angular rate, mrad/s */
+  int16_t accel[3];    /* mean specific force, mm/s^2 */
+} vest_imu_t;
+
 /* Any valid packet. */
 typedef struct
 {
@@ -299,6 +355,7 @@ typedef struct
   vest_packet_t packet;    /* COMMAND, STATUS */
   vest_range_t range;      /* RANGE */
   vest_buttons_t buttons;  /* BUTTONS */
+  vest_imu_t imu;          /* IMU */
 } vest_message_t;
 
 /* CRC-32C (Castagnoli), reflected, init/xorout 0xFFFFFFFF. Bitwise: no table in the ATmega's
@@ -420,7 +477,7 @@ static inline void vest_encode(const vest_packet_t* p, uint8_t* out)
   vest_encode_version(p, (uint8_t)VEST_PROTOCOL_VERSION, out);
 }
 
-/* Writes VEST_RANGE_PACKET_SIZE bytes with VERSION `version` (3 or 4: the same layout). */
+/* Writes VEST_RANGE_PACKET_SIZE bytes with VERSION `version` (3, 4 or 5: the same layout). */
 static inline void vest_encode_range_version(const vest_range_t* r, uint8_t version, uint8_t* out)
 {
   uint8_t raw[VEST_RANGE_RAW_SIZE - VEST_CRC_SIZE];
@@ -440,7 +497,7 @@ static inline void vest_encode_range(const vest_range_t* r, uint8_t* out)
   vest_encode_range_version(r, (uint8_t)VEST_PROTOCOL_VERSION, out);
 }
 
-/* Writes VEST_BUTTONS_PACKET_SIZE bytes with VERSION `version` (3 or 4: the same layout). */
+/* Writes VEST_BUTTONS_PACKET_SIZE bytes with VERSION `version` (3, 4 or 5: the same layout). */
 static inline void vest_encode_buttons_version(const vest_buttons_t* b, uint8_t version, uint8_t* out)
 {
   uint8_t raw[VEST_BUTTONS_RAW_SIZE - VEST_CRC_SIZE];
@@ -459,6 +516,45 @@ static inline void vest_encode_buttons_version(const vest_buttons_t* b, uint8_t 
 static inline void vest_encode_buttons(const vest_buttons_t* b, uint8_t* out)
 {
   vest_encode_buttons_version(b, (uint8_t)VEST_PROTOCOL_VERSION, out);
+}
+
+static inline void vest_put_i16(uint8_t* at, int16_t v)
+{
+  const uint16_t u = (uint16_t)v;
+  at[0] = (uint8_t)(u & 0xFFu);
+  at[1] = (uint8_t)(u >> 8);
+}
+
+static inline int16_t vest_get_i16(const uint8_t* at)
+{
+  return (int16_t)(uint16_t)(at[0] | ((uint16_t)at[1] << 8));
+}
+
+/* Writes VEST_IMU_PACKET_SIZE bytes with VERSION `version` (5; the argument keeps the sketch's
+ * sensor senders alike). */
+static inline void vest_encode_imu_version(const vest_imu_t* u, uint8_t version, uint8_t* out)
+{
+  uint8_t raw[VEST_IMU_RAW_SIZE - VEST_CRC_SIZE];
+  uint8_t i;
+  raw[0] = version;
+  raw[1] = (uint8_t)VEST_TYPE_IMU;
+  raw[2] = u->seq;
+  raw[3] = u->status;
+  raw[4] = u->samples;
+  raw[5] = (uint8_t)(u->t_ms & 0xFFu);
+  raw[6] = (uint8_t)(u->t_ms >> 8);
+  for (i = 0; i < 3u; ++i)
+  {
+    vest_put_i16(raw + 7 + 2 * i, u->gyro[i]);
+    vest_put_i16(raw + 13 + 2 * i, u->accel[i]);
+  }
+  vest_frame(raw, (uint8_t)(VEST_IMU_RAW_SIZE - VEST_CRC_SIZE), out);
+}
+
+/* Writes VEST_IMU_PACKET_SIZE bytes; VERSION is ours. */
+static inline void vest_encode_imu(const vest_imu_t* u, uint8_t* out)
+{
+  vest_encode_imu_version(u, (uint8_t)VEST_PROTOCOL_VERSION, out);
 }
 
 /* Checks one frame (the bytes between two delimiters). Returns VEST_FRAME_OK and fills m when it
@@ -494,6 +590,8 @@ static inline int vest_decode_message(const uint8_t* frame, uint8_t len, vest_me
     want = (uint8_t)VEST_RANGE_RAW_SIZE;
   else if (raw[1] == VEST_TYPE_BUTTONS && raw[0] >= 3u)
     want = (uint8_t)VEST_BUTTONS_RAW_SIZE;
+  else if (raw[1] == VEST_TYPE_IMU && raw[0] >= VEST_IMU_VERSION)
+    want = (uint8_t)VEST_IMU_RAW_SIZE;
   else
     return VEST_FRAME_FIELD;
   if (n != (int)want)
@@ -511,6 +609,25 @@ static inline int vest_decode_message(const uint8_t* frame, uint8_t len, vest_me
         (m->range.status == VEST_RANGE_OK && m->range.echoes < 2u) ||
         (m->range.status != VEST_RANGE_OK && m->range.range_mm != 0u))
       return VEST_FRAME_FIELD;
+    return VEST_FRAME_OK;
+  }
+  if (raw[1] == VEST_TYPE_IMU)
+  {
+    m->imu.seq = raw[2];
+    m->imu.status = raw[3];
+    m->imu.samples = raw[4];
+    m->imu.t_ms = (uint16_t)(raw[5] | ((uint16_t)raw[6] << 8));
+    for (i = 0; i < 3u; ++i)
+    {
+      m->imu.gyro[i] = vest_get_i16(raw + 7 + 2 * i);
+      m->imu.accel[i] = vest_get_i16(raw + 13 + 2 * i);
+    }
+    if (m->imu.status > VEST_IMU_SENSOR_MISSING || (m->imu.status == VEST_IMU_OK && m->imu.samples == 0u))
+      return VEST_FRAME_FIELD;
+    if (m->imu.status == VEST_IMU_SENSOR_MISSING)
+      for (i = 7; i < 19u; ++i)
+        if (raw[4] != 0u || raw[i] != 0u)
+          return VEST_FRAME_FIELD;  /* a missing sensor measured nothing */
     return VEST_FRAME_OK;
   }
   if (raw[1] == VEST_TYPE_BUTTONS)
@@ -546,7 +663,7 @@ static inline int vest_decode_message(const uint8_t* frame, uint8_t len, vest_me
   return VEST_FRAME_OK;
 }
 
-/* vest_decode_message for COMMAND / STATUS only (a valid RANGE / BUTTONS: VEST_FRAME_OTHER_TYPE). */
+/* vest_decode_message for COMMAND / STATUS only (a valid RANGE / BUTTONS / IMU: VEST_FRAME_OTHER_TYPE). */
 static inline int vest_decode_frame(const uint8_t* frame, uint8_t len, vest_packet_t* p, uint8_t* version)
 {
   vest_message_t m;
@@ -640,7 +757,7 @@ static inline int vest_parser_feed_message(vest_parser_t* ps, uint8_t byte, vest
 }
 
 /* Feeds one byte. Returns 1 when it completed a valid COMMAND or STATUS (copied to *out), else 0
- * (a valid RANGE / BUTTONS is counted in packets and dropped). */
+ * (a valid RANGE / BUTTONS / IMU is counted in packets and dropped). */
 static inline int vest_parser_feed(vest_parser_t* ps, uint8_t byte, vest_packet_t* out)
 {
   vest_message_t m;
@@ -766,6 +883,64 @@ static inline int vest_button_update(vest_button_t* b, uint8_t down, uint32_t no
   return VEST_PRESS_NONE;
 }
 
+/* ---- The IMU: samples averaged over each VEST_IMU_PERIOD_MS window. ---- */
+typedef struct
+{
+  int32_t gyro_sum[3], accel_sum[3];
+  uint8_t samples;          /* read in this window (saturates at 255) */
+  uint8_t seq;              /* of the next IMU packet */
+  uint32_t window_start_ms;
+} vest_imu_acc_t;
+
+/* Saturates to int16. */
+static inline int16_t vest_sat16(int32_t v)
+{
+  return v > 32767l ? (int16_t)32767 : v < -32767l ? (int16_t)-32767 : (int16_t)v;
+}
+
+/* Mean of n samples' sum, rounded half away from zero, saturated. */
+static inline int16_t vest_mean16(int32_t sum, uint8_t n)
+{
+  const int32_t half = (int32_t)(n / 2u);
+  return vest_sat16(sum >= 0 ? (sum + half) / (int32_t)n : (sum - half) / (int32_t)n);
+}
+
+/* Adds one reading (`ok` = 0: the sensor could not be read; gyro in mrad/s, accel in mm/s^2) at
+ * now_ms. Returns 1 when the window is over (VEST_IMU_PERIOD_MS since it began) and *out holds
+ * its IMU packet (the mean of its samples; SENSOR_MISSING when none could be read); a new window
+ * begins. The reading that ends a window belongs to it. */
+static inline int vest_imu_add(vest_imu_acc_t* acc, uint8_t ok, const int16_t* gyro, const int16_t* accel,
+                               uint32_t now_ms, vest_imu_t* out)
+{
+  uint8_t i;
+  if (ok && acc->samples < 255u)
+  {
+    for (i = 0; i < 3u; ++i)
+    {
+      acc->gyro_sum[i] += gyro[i];
+      acc->accel_sum[i] += accel[i];
+    }
+    acc->samples++;
+  }
+  if ((uint32_t)(now_ms - acc->window_start_ms) < VEST_IMU_PERIOD_MS)
+    return 0;
+  memset(out, 0, sizeof(*out));
+  out->seq = acc->seq++;
+  out->t_ms = (uint16_t)(now_ms & 0xFFFFul);
+  out->samples = acc->samples;
+  out->status = acc->samples > 0u ? (uint8_t)VEST_IMU_OK : (uint8_t)VEST_IMU_SENSOR_MISSING;
+  for (i = 0; acc->samples > 0u && i < 3u; ++i)
+  {
+    out->gyro[i] = vest_mean16(acc->gyro_sum[i], acc->samples);
+    out->accel[i] = vest_mean16(acc->accel_sum[i], acc->samples);
+  }
+  for (i = 0; i < 3u; ++i)
+    acc->gyro_sum[i] = acc->accel_sum[i] = 0;
+  acc->samples = 0u;
+  acc->window_start_ms = now_ms;
+  return 1;
+}
+
 /* ---- The vest's behaviour (the firmware's loop, also run by the simulated vest). ---- */
 typedef struct
 {
@@ -790,6 +965,7 @@ typedef struct
   vest_button_t button[VEST_NUM_BUTTONS];
   vest_buttons_t buttons;        /* counters and held state, sent in BUTTONS */
   uint32_t last_buttons_ms;      /* when the last BUTTONS went out */
+  vest_imu_acc_t imu;            /* the IMU samples of the current window */
 } vest_firmware_t;
 
 static inline void vest_firmware_init(vest_firmware_t* fw, uint32_t now_ms)
@@ -798,6 +974,7 @@ static inline void vest_firmware_init(vest_firmware_t* fw, uint32_t now_ms)
   vest_parser_init(&fw->parser);
   fw->last_command_ms = now_ms;
   fw->last_buttons_ms = now_ms;
+  fw->imu.window_start_ms = now_ms;
   fw->reply_version = (uint8_t)VEST_PROTOCOL_VERSION;
 }
 
@@ -807,7 +984,7 @@ static inline int vest_firmware_peer_v3(const vest_firmware_t* fw)
   return fw->peer_version >= 3u;
 }
 
-/* VERSION of the RANGE / BUTTONS packets: the PC's (3 or ours; the layout is the same). */
+/* VERSION of the RANGE / BUTTONS / IMU packets: the PC's (3, 4 or ours; the layout is the same). */
 static inline uint8_t vest_firmware_sensor_version(const vest_firmware_t* fw)
 {
   return fw->peer_version >= VEST_PROTOCOL_VERSION ? (uint8_t)VEST_PROTOCOL_VERSION : fw->peer_version;
@@ -864,7 +1041,7 @@ static inline void vest_firmware_status(const vest_firmware_t* fw, vest_packet_t
   status->pattern = fw->pattern;
 }
 
-/* Feeds one received byte. Returns VEST_FEED_APPLIED when a valid COMMAND (version 2, 3 or 4)
+/* Feeds one received byte. Returns VEST_FEED_APPLIED when a valid COMMAND (version 2 .. 5)
  * was applied, and VEST_FEED_VERSION_REPLY when a CRC-valid frame of a version we do not speak
  * ended (counted in parser.version_mismatch; nothing applied); in both cases *status holds the
  * STATUS packet to send back, in version fw->reply_version (the COMMAND's; ours in a version
@@ -954,6 +1131,15 @@ static inline int vest_firmware_buttons(vest_firmware_t* fw, uint8_t a_down, uin
   *out = fw->buttons;
   fw->buttons.seq++;
   return 1;
+}
+
+/* One IMU reading (see vest_imu_add) at now_ms. Returns 1 when *out holds an IMU packet to send
+ * (a window is over and the PC speaks version 5; encode it in vest_firmware_sensor_version),
+ * else 0. The windows run whoever listens, so the first one sent is a whole one. */
+static inline int vest_firmware_imu(vest_firmware_t* fw, uint8_t ok, const int16_t* gyro, const int16_t* accel,
+                                    uint32_t now_ms, vest_imu_t* out)
+{
+  return vest_imu_add(&fw->imu, ok, gyro, accel, now_ms, out) && fw->peer_version >= VEST_IMU_VERSION;
 }
 
 /* TTL, watchdog and the pattern's pulses; call every loop (the pulse edges are then as exact as
