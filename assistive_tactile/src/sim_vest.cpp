@@ -125,9 +125,12 @@ void SimVest::press(unsigned button, uint32_t hold_ms, uint32_t now_ms)
 
 void SimVest::sense(uint32_t now_ms)
 {
-  // An old firmware sends sensors only to a bridge of its own version (3) that it obeyed.
-  if (master_ < 0 || old_version == 2 || (old_version == 3 && fw_.peer_version != 3))
+  // An old firmware sends sensors only to a bridge of version 3 up to its own that it obeyed (the
+  // peer version may still be ours from before old_version was set).
+  if (master_ < 0 || old_version == 2 || (old_version != 0 && (fw_.peer_version < 3 || fw_.peer_version > old_version)))
     return;
+  if (old_version == 0)
+    senseImu(now_ms);
   if (static_cast<uint32_t>(now_ms - last_ping_ms_) >= VEST_PING_PERIOD_MS || !pinged_)
   {
     pinged_ = true;
@@ -158,6 +161,35 @@ void SimVest::sense(uint32_t now_ms)
     vest_encode_buttons_version(&b, vest_firmware_sensor_version(&fw_), out);
     if (::write(master_, out, sizeof(out)) == static_cast<ssize_t>(sizeof(out)))
       ++button_packets_;
+  }
+}
+
+void SimVest::senseImu(uint32_t now_ms)
+{
+  // The sketch reads the sensor every VEST_IMU_SAMPLE_MS; here the readings missed since the last
+  // wake are taken now, each at its own time (at most a second of them: a long sleep is a gap).
+  if (!imu_started_ || static_cast<uint32_t>(now_ms - last_imu_sample_ms_) > 1000u)
+  {
+    imu_started_ = true;
+    last_imu_sample_ms_ = now_ms;
+    return;
+  }
+  int16_t gyro[3], accel[3];
+  for (unsigned i = 0; i < 3; ++i)
+  {
+    gyro[i] = vest_sat16(std::lround(imu_rate_[i] * 1e3));
+    accel[i] = vest_sat16(std::lround(imu_accel_[i] * 1e3));
+  }
+  while (static_cast<uint32_t>(now_ms - last_imu_sample_ms_) >= VEST_IMU_SAMPLE_MS)
+  {
+    last_imu_sample_ms_ += VEST_IMU_SAMPLE_MS;
+    vest_imu_t u;
+    if (!vest_firmware_imu(&fw_, imu_missing_ ? 0 : 1, gyro, accel, last_imu_sample_ms_, &u))
+      continue;
+    uint8_t out[VEST_IMU_PACKET_SIZE];
+    vest_encode_imu_version(&u, vest_firmware_sensor_version(&fw_), out);
+    if (::write(master_, out, sizeof(out)) == static_cast<ssize_t>(sizeof(out)))
+      ++imu_packets_;
   }
 }
 
@@ -224,7 +256,13 @@ int SimVest::poll(int timeout_ms, uint32_t now_ms)
   {
     // Wake for the next pulse edge / TTL / watchdog too: the firmware ticks every loop.
     now_ms = clock();
-    const uint32_t due = vest_firmware_next_change_ms(&fw_, now_ms);
+    uint32_t due = vest_firmware_next_change_ms(&fw_, now_ms);
+    // ... and for the IMU's next window while a version-5 bridge listens (packets at 50 Hz)
+    if (old_version == 0 && fw_.peer_version >= VEST_IMU_VERSION)
+    {
+      const uint32_t since = static_cast<uint32_t>(now_ms - fw_.imu.window_start_ms);
+      due = std::min(due, since >= VEST_IMU_PERIOD_MS ? 0u : VEST_IMU_PERIOD_MS - since);
+    }
     if (timeout_ms < 0 || (due != VEST_NEVER && due < static_cast<uint32_t>(timeout_ms)))
       timeout_ms = due == VEST_NEVER ? timeout_ms : static_cast<int>(due);
   }

@@ -1,17 +1,21 @@
 // sim_vest: the simulated tactile vest on a pseudo-terminal (no ROS needed).
-//   sim_vest [--link PATH] [--quiet] [--no-status] [--duration S] [--range M|none|missing] [--v2|--v3]
+//   sim_vest [--link PATH] [--quiet] [--no-status] [--duration S] [--range M|none|missing]
+//            [--imu-yaw DEG_S|missing] [--v2|--v3|--v4]
 // Prints the pty path, points PATH (default /tmp/assistive_vest) at it, and logs every change of
 // the four motor outputs, as the firmware (vest_protocol.h) would drive them, pulses included
 // (timed on this process's clock, like the firmware's millis()).
 // The forward ranger measures the range it is given (--range, or a line `range M`, `range none`
 // (no echo), `range missing` (sensor unplugged) on stdin); `press a`, `press b`, `press a long`
-// on stdin press the wearer's buttons. --v2 / --v3 play an old vest of that protocol version (no
-// pulse patterns: a version-4 bridge refuses it).
+// on stdin press the wearer's buttons. The IMU (protocol version 5) reads an upright vest
+// turning at the yaw rate it is given (--imu-yaw, or a line `imu DEG_S` / `imu missing` on stdin;
+// default 0). --v2 / --v3 play an old vest of that protocol version (no pulse patterns: the
+// bridge refuses it); --v4 one with pulse patterns and no IMU (the bridge drives it in version 4).
 #include <poll.h>
 #include <signal.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -35,6 +39,7 @@ struct Options
   bool quiet = false, status = true;
   double duration = -1.0;
   std::string range = "none";
+  std::string imu = "0";
   int old_version = 0;
 };
 
@@ -59,10 +64,15 @@ int parseOptions(int argc, char** argv, Options& o)
       o.old_version = 2;
     else if (a == "--v3")
       o.old_version = 3;
+    else if (a == "--v4")
+      o.old_version = 4;
+    else if (a == "--imu-yaw" && i + 1 < argc)
+      o.imu = argv[++i];
     else if (a == "-h" || a == "--help")
     {
-      std::printf("usage: sim_vest [--link PATH] [--quiet] [--no-status] [--duration S] [--range M|none|missing] [--v2|--v3]\n"
-                  "  stdin: `range M|none|missing`, `press a|b [long]`\n");
+      std::printf("usage: sim_vest [--link PATH] [--quiet] [--no-status] [--duration S] [--range M|none|missing]\n"
+                  "                [--imu-yaw DEG_S|missing] [--v2|--v3|--v4]\n"
+                  "  stdin: `range M|none|missing`, `press a|b [long]`, `imu DEG_S|missing`\n");
       return 0;
     }
     else if (a.rfind("__", 0) == 0 || a.rfind("_", 0) == 0)
@@ -81,6 +91,14 @@ void setRange(assistive_tactile::SimVest& vest, const std::string& what)
 {
   vest.setSensorMissing(what == "missing");
   vest.setRange(what == "none" || what == "missing" ? std::numeric_limits<double>::infinity() : std::atof(what.c_str()));
+}
+
+/// The IMU's reading: an upright vest turning at DEG_S (+ = left), or `missing` (unplugged).
+void setImu(assistive_tactile::SimVest& vest, const std::string& what)
+{
+  vest.setImuMissing(what == "missing");
+  const double rate = what == "missing" ? 0.0 : std::atof(what.c_str()) * M_PI / 180.0;
+  vest.setImu({ { 0.0, 0.0, rate } }, { { 0.0, 0.0, 9.80665 } });
 }
 
 /// Carries out the complete command lines waiting on stdin (non-blocking): range / press;
@@ -106,10 +124,12 @@ void readCommands(assistive_tactile::SimVest& vest, std::string& pending, uint32
     cmd >> verb >> arg >> kind;
     if (verb == "range")
       setRange(vest, arg);
+    else if (verb == "imu")
+      setImu(vest, arg);
     else if (verb == "press" && (arg == "a" || arg == "b"))
       vest.press(arg == "a" ? VEST_BUTTON_A : VEST_BUTTON_B, kind == "long" ? 1500u : 150u, now_ms);
     else if (!verb.empty())
-      std::fprintf(stderr, "sim_vest: unknown command '%s' (range M|none|missing, press a|b [long])\n", verb.c_str());
+      std::fprintf(stderr, "sim_vest: unknown command '%s' (range M|none|missing, press a|b [long], imu DEG_S|missing)\n", verb.c_str());
   }
 }
 
@@ -123,6 +143,9 @@ void printSummary(const assistive_tactile::SimVest& vest, uint64_t changes, int 
   if (fw.parser.version_mismatch)
     std::printf("sim_vest: %u packets of a protocol version it does not speak ignored (this vest speaks version %u)\n",
                 fw.parser.version_mismatch, old_version ? static_cast<unsigned>(old_version) : VEST_PROTOCOL_VERSION);
+  std::printf("sim_vest: sent %llu RANGE, %llu BUTTONS, %llu IMU packets\n",
+              static_cast<unsigned long long>(vest.rangePackets()), static_cast<unsigned long long>(vest.buttonPackets()),
+              static_cast<unsigned long long>(vest.imuPackets()));
   const auto on = vest.onSeconds(now_ms);
   const auto n = vest.onsets();
   static const char* names[4] = { "left shoulder (veer / turn left)", "right shoulder (veer / turn right)",
@@ -152,6 +175,7 @@ int main(int argc, char** argv)
   vest.old_version = o.old_version;
   vest.clock = nowMs;  // pulses timed on this process's clock
   setRange(vest, o.range);
+  setImu(vest, o.imu);
   std::string err;
   if (!vest.open(o.link, nowMs(), &err))
   {

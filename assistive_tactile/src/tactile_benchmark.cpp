@@ -13,7 +13,7 @@
 //   all-off      : the bridge (VestBridgeRunner, as in the nodelet) gets a few cues, the last one
 //                  stamped 0-40 ms before it arrives, then none: time from that cue's header.stamp
 //                  until the vest's outputs are all off; --off-trials trials (goal <= stale_s);
-//   framing      : streams of valid COMMAND packets (protocol version 4: duties, TTL and a random
+//   framing      : streams of valid COMMAND packets (protocol version 5, COMMAND as in 4: duties, TTL and a random
 //                  pulse pattern) get --corruptions random corruptions (byte drops, insertions,
 //                  bit flips, truncated packets, 1-4 per 16-packet stream) and go through the
 //                  vest's parser: decoded packets whose motor duties + pulse pattern were never

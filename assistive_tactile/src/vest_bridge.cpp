@@ -161,7 +161,11 @@ void VestBridge::tryOpen(double now)
   vest_parser_init(&parser_);
   stats_.vest_refused = false;  // a new port may hold a new vest
   stats_.vest_version = 0;
-  have_range_seq_ = have_buttons_ = false;
+  stats_.command_version = VEST_PROTOCOL_VERSION;
+  have_range_seq_ = have_buttons_ = have_imu_seq_ = false;
+  vest_clock_.reset();
+  last_probe_time_ = -1e300;
+  last_old_sent_ = -1e300;
   send(now);  // tell the vest the current state right away
 }
 
@@ -222,9 +226,23 @@ bool VestBridge::send(double now)
     if (duty[i] > 0)
       p.motors = static_cast<uint8_t>(p.motors | (1u << i));
   }
-  uint8_t buf[VEST_PACKET_SIZE];
-  vest_encode(&p, buf);  // always our version: an old vest drives nothing on it (refused)
-  const ssize_t n = port_.write(buf, sizeof(buf), &err);
+  // Ours, or version 4 for a version-4 vest (the same bytes); a version-2 / 3 vest drives nothing
+  // on either (refused). Driving a version-4 vest, the same state also goes out in ours every
+  // kProbeS: a vest reflashed on a link that stayed open applies it (the same pattern continues)
+  // and answers in ours; a version-4 one answers it and applies nothing.
+  constexpr double kProbeS = 2.0;
+  uint8_t buf[2 * VEST_PACKET_SIZE];
+  size_t len = vest_encode_version(&p, stats_.command_version, buf);
+  if (stats_.command_version < VEST_PROTOCOL_VERSION)
+    last_old_sent_ = now;
+  if (stats_.command_version < VEST_PROTOCOL_VERSION && now - last_probe_time_ >= kProbeS)
+  {
+    last_probe_time_ = now;
+    p.seq = static_cast<uint8_t>(p.seq + 1);
+    len += vest_encode_version(&p, static_cast<uint8_t>(VEST_PROTOCOL_VERSION), buf + len);
+    stats_.probes_sent++;
+  }
+  const ssize_t n = port_.write(buf, len, &err);
   if (n < 0)
     return linkLost(err, now);
   stats_.bytes_written += static_cast<uint64_t>(n);
@@ -238,8 +256,8 @@ bool VestBridge::send(double now)
   sent_duty_ = duty;
   if (pattern_session_ == 0)
     pattern_session_ = stats_.opens;  // this port's vest has the pattern now
-  if (static_cast<size_t>(n) < sizeof(buf))
-    pending_.assign(buf + n, buf + sizeof(buf));
+  if (static_cast<size_t>(n) < len)
+    pending_.assign(buf + n, buf + len);
   return true;
 }
 
@@ -317,13 +335,12 @@ void VestBridge::readReplies(double now)
         stats_.last_status = m.packet;
         for (unsigned k = 0; k < VEST_NUM_MOTORS; ++k)
           stats_.status_peak[k] = std::max(stats_.status_peak[k], m.packet.intensity[k]);
-        // We send only our version: a STATUS in an older one is an old vest's version reply (it
-        // cannot play patterns): refused from now on. One in ours (reflashed on a link that
-        // stayed open): driven again.
-        stats_.vest_refused = m.version < VEST_PROTOCOL_VERSION;
+        onStatusVersion(m.version, now);
       }
       else if (m.type == VEST_TYPE_RANGE)
         onRange(m.range, now);
+      else if (m.type == VEST_TYPE_IMU)
+        onImu(m.imu, now);
       else if (m.type == VEST_TYPE_BUTTONS)
         onButtons(m.buttons, now);
     }
@@ -335,6 +352,84 @@ void VestBridge::readReplies(double now)
       stats_.vest_version = parser_.peer_version;
     }
   }
+}
+
+void VestBridge::onStatusVersion(uint8_t version, double now)
+{
+  // We send version 5 or 4: a STATUS in 2 / 3 is an old vest's version reply (it cannot play
+  // patterns): refused from now on. One in ours (reflashed on a link that stayed open, or the
+  // probe's answer): driven in ours. One in 4 answers a COMMAND in ours from a version-4 vest
+  // (driven in 4, no IMU), but a vest of ours answers each COMMAND in its version too: while
+  // version-4 COMMANDs may still be on the wire (kInFlightS since the last), a STATUS in 4 says
+  // nothing (it once undid the probe's answer that came just before it).
+  constexpr double kInFlightS = 0.5;
+  stats_.vest_refused = version < VEST_PATTERN_VERSION;
+  if (stats_.vest_refused)
+    return;
+  if (version >= VEST_PROTOCOL_VERSION)
+    stats_.command_version = VEST_PROTOCOL_VERSION;
+  else if (now - last_old_sent_ > kInFlightS)
+    stats_.command_version = version;
+}
+
+double VestClock::map(uint16_t t_ms, double arrival)
+{
+  const double da = arrival - last_arrival_;
+  vest_s_ += have_ ? static_cast<uint16_t>(t_ms - last_ms_) / 1000.0 : 0.0;
+  last_ms_ = t_ms;
+  last_arrival_ = arrival;
+  const double off = arrival - vest_s_;
+  // Afresh: the first packet; a gap the 16-bit clock may have wrapped in; a vest clock ahead of
+  // ours (a restarted vest); or packets late by seconds (no link holds them that long).
+  constexpr double kWrapGuardS = 30.0, kLateS = 2.0;
+  if (!have_ || da > kWrapGuardS || off < offset_ - reset_s_ || off > offset_ + kLateS)
+  {
+    resets_ += have_ ? 1 : 0;
+    have_ = true;
+    offset_ = off;
+  }
+  else
+    offset_ = std::min(offset_ + drift_ * std::max(0.0, da), off);
+  double out = vest_s_ + offset_;
+  if (out <= last_out_)
+    out = last_out_ + 1e-6;  // (a reset may step back: the time never does)
+  last_out_ = out;
+  return out;
+}
+
+void VestBridge::onImu(const vest_imu_t& u, double now)
+{
+  stats_.imu_packets++;
+  if (have_imu_seq_)
+    stats_.imu_lost += static_cast<uint8_t>(u.seq - imu_seq_ - 1);
+  have_imu_seq_ = true;
+  imu_seq_ = u.seq;
+  stats_.last_imu_time = now;
+  stats_.last_imu_status = u.status;
+  ImuEvent e;
+  e.time = vest_clock_.map(u.t_ms, now);
+  stats_.imu_clock_resets = vest_clock_.resets();
+  e.ok = u.status == VEST_IMU_OK;
+  if (!e.ok)
+    stats_.imu_sensor_missing++;
+  for (unsigned i = 0; e.ok && i < 3; ++i)
+  {
+    e.rate[i] = u.gyro[i] * 1e-3;   // mrad/s
+    e.accel[i] = u.accel[i] * 1e-3; // mm/s^2
+  }
+  if (imu_.size() < 512)
+    imu_.push_back(e);
+}
+
+void VestBridge::takeImu(std::vector<ImuEvent>& out)
+{
+  out.swap(imu_);
+  imu_.clear();
+}
+
+bool VestBridge::imuSilent(double now) const
+{
+  return vestHasImu() && linkUp(now) && now - stats_.last_imu_time > params_.imu_timeout_s;
 }
 
 void VestBridge::onRange(const vest_range_t& r, double now)

@@ -6,6 +6,7 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
 #include <sensor_msgs/Joy.h>
 #include <sensor_msgs/Range.h>
 
@@ -54,6 +55,9 @@ private:
     // Since protocol version 3: the forward ranger and the wearer's buttons.
     pub_range_ = nh.advertise<sensor_msgs::Range>("sonar/front", 10);
     pub_buttons_ = nh.advertise<sensor_msgs::Joy>("buttons", 10);
+    // Since protocol version 5: the vest's IMU, the torso's turns for the cue logic.
+    imu_frame_ = pnh.param<std::string>("imu_frame", "vest_imu");
+    pub_imu_ = nh.advertise<sensor_msgs::Imu>("imu", 100);
 
     // SIGINT/SIGTERM to this process (manager or standalone): all-off written by the handler.
     installAllOffSignalHandlers();
@@ -154,6 +158,36 @@ private:
       m->range = static_cast<float>(e.range_m);
       pub_range_.publish(m);
     }
+    b.takeImu(imu_);
+    for (const ImuEvent& e : imu_)
+    {
+      if (!e.ok)
+        continue;  // a missing sensor measured nothing: the gap tells the cue logic to use the head
+      auto m = boost::make_shared<sensor_msgs::Imu>();
+      m->header.stamp = ros_now - ros::Duration(std::max(0.0, now - e.time));
+      m->header.frame_id = imu_frame_;
+      m->orientation_covariance[0] = -1.0;  // no orientation (REP-145); rate and accel: unknown covariance
+      m->angular_velocity.x = e.rate[0];
+      m->angular_velocity.y = e.rate[1];
+      m->angular_velocity.z = e.rate[2];
+      m->linear_acceleration.x = e.accel[0];
+      m->linear_acceleration.y = e.accel[1];
+      m->linear_acceleration.z = e.accel[2];
+      pub_imu_.publish(m);
+    }
+    if (s.imu_sensor_missing != imu_missing_)
+      NODELET_WARN_THROTTLE(10.0, "vest_bridge: the vest reports its IMU missing (not answering on I2C): the cue "
+                                  "logic takes the body's turns from the head");
+    if (b.imuSilent(now))
+      NODELET_WARN_THROTTLE(10.0, "vest_bridge: no IMU packet for over %.2f s: the cue logic takes the body's "
+                                  "turns from the head", params_.imu_timeout_s);
+    if (b.linkUp(now) && s.command_version < VEST_IMU_VERSION && !s.vest_refused)
+      NODELET_WARN_THROTTLE(30.0, "vest_bridge: the vest's firmware speaks protocol version %u: driven in it, "
+                                  "but it has no IMU (the cue logic takes the body's turns from the head). "
+                                  "Reflash firmware/vest/vest.ino for the body's heading",
+                            s.command_version);
+    imu_missing_ = s.imu_sensor_missing;
+    snap_imu_silent_ = b.imuSilent(now);
     b.takeButtons(buttons_);
     for (const ButtonEvent& e : buttons_)
     {
@@ -204,6 +238,14 @@ private:
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "ranger missing: glass is not covered");
     else if (snap_ranger_silent_)
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "ranger silent: glass is not covered");
+    else if (s.command_version < VEST_IMU_VERSION)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   "vest firmware protocol version " + std::to_string(s.command_version) +
+                       ": driven, no IMU (body turns from the head): reflash the vest");
+    else if (s.last_imu_status == VEST_IMU_SENSOR_MISSING && s.imu_packets > 0)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "vest IMU missing: body turns from the head");
+    else if (snap_imu_silent_)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "vest IMU silent: body turns from the head");
     else if (s.cue_stale)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "link up, no valid cues: motors off");
     else
@@ -212,6 +254,8 @@ private:
     stat.add("baud", params_.baud);
     stat.add("protocol version", static_cast<int>(VEST_PROTOCOL_VERSION));
     stat.add("vest protocol version", static_cast<int>(s.vest_version));
+    stat.add("commands sent in version", static_cast<int>(s.command_version));
+    stat.add("version probes sent", s.probes_sent);
     stat.add("vest refused (old firmware)", s.vest_refused);
     stat.add("cues not driven (old firmware)", s.cues_refused);
     stat.add("link up", snap_link_up_);
@@ -234,6 +278,10 @@ private:
     stat.add("ranger missing reports", s.ranges_sensor_missing);
     stat.add("ranger packets lost", s.ranges_lost);
     stat.add("ranger last reading age s", snap_range_age_ < 1e9 ? snap_range_age_ : -1.0);
+    stat.add("imu packets", s.imu_packets);
+    stat.add("imu packets lost", s.imu_lost);
+    stat.add("imu missing reports", s.imu_sensor_missing);
+    stat.add("imu clock resets", s.imu_clock_resets);
     stat.add("button packets", s.buttons_packets);
     stat.add("button presses", s.button_presses);
     stat.add("button counter resyncs", s.button_resyncs);
@@ -260,8 +308,11 @@ private:
   vest_pattern_t snap_pattern_{ 0, 0, 0, 0 };
   std::array<uint8_t, VEST_NUM_MOTORS> peak_{ { 0, 0, 0, 0 } };  ///< highest duties reported since diagnose()
   ros::Subscriber cue_sub_;
-  ros::Publisher pub_range_, pub_buttons_;
-  std::string sonar_frame_;
+  ros::Publisher pub_range_, pub_buttons_, pub_imu_;
+  std::string sonar_frame_, imu_frame_;
+  std::vector<ImuEvent> imu_;
+  uint64_t imu_missing_ = 0;
+  bool snap_imu_silent_ = false;
   std::vector<RangeEvent> ranges_;
   std::vector<ButtonEvent> buttons_;
   uint64_t out_of_limits_ = 0, sensor_missing_ = 0;

@@ -763,6 +763,200 @@ TEST(VestBridge, RunnerPulsesOnTheRealClock)
   EXPECT_LE(vest.firmware().pattern_starts, 2);  // the all-off on open (steady), the burst
 }
 
+// ---- Protocol version 5: the vest's IMU; a version-4 vest. ----
+// A version-4 vest (pulse patterns, no IMU) is driven in version 4: it answers the first
+// version-5 COMMAND with a version-4 STATUS, and from then on the same bytes go out as version 4,
+// which it obeys (pulses and all). It sends RANGE / BUTTONS, no IMU. Every 2 s the state also goes
+// out once in version 5 (the vest answers it and applies nothing); reflashed on a link that stayed
+// open, the vest answers that probe in version 5 and is driven in it, IMU and all.
+TEST(VestBridge, VersionFourVestDrivenInVersionFourWithoutImu)
+{
+  Rig rig;
+  rig.vest.old_version = 4;
+  run(rig, 0.1);  // its version-4 reply to the bridge's version-5 COMMAND
+  EXPECT_EQ(rig.bridge->stats().command_version, 4);
+  EXPECT_FALSE(rig.bridge->stats().vest_refused);
+  const uint64_t applied0 = rig.vest.commands();
+  const uint32_t start_ms = rig.ms();
+  rig.bridge->setCue(veerCue(), rig.t, CueAge());
+  std::vector<std::pair<uint32_t, uint8_t>> left;  // (ms since the cue, duty)
+  for (int i = 0; i < 300; ++i)  // 3 s, the cue logic's heartbeat at 10 Hz
+  {
+    if (i % 10 == 0)
+      rig.bridge->setCue(veerCue(), rig.t, CueAge());
+    run(rig, 0.01);
+    left.emplace_back(rig.ms() - start_ms, duty(rig.vest)[0]);
+  }
+  // The veer burst as the vest times it: on at 0-149 and 300-449 ms, then off, never replayed.
+  int on_ms = 0;
+  for (const auto& l : left)
+  {
+    if (l.first >= 20 && l.first < 140)
+    {
+      EXPECT_EQ(l.second, VestBridge::toDuty(0.7f)) << l.first;
+    }
+    on_ms += l.second > 0 ? 10 : 0;
+    if (l.first >= 470)
+    {
+      EXPECT_EQ(l.second, 0) << l.first;
+    }
+  }
+  EXPECT_NEAR(on_ms, 300, 20);
+  EXPECT_GT(rig.vest.commands(), applied0 + 50);  // 20 Hz for 3 s, in version 4
+  const LinkStats& s = rig.bridge->stats();
+  EXPECT_EQ(s.command_version, 4);
+  EXPECT_EQ(s.vest_version, 4);
+  EXPECT_FALSE(s.vest_refused);
+  EXPECT_GE(s.probes_sent, 1u);
+  EXPECT_LE(s.probes_sent, 2u);  // one per 2 s
+  EXPECT_GE(rig.vest.firmware().parser.version_mismatch, 1);  // what it saw of them
+  EXPECT_GT(s.ranges, 0u);
+  EXPECT_EQ(s.imu_packets, 0u);
+  EXPECT_FALSE(rig.bridge->vestHasImu());
+  EXPECT_FALSE(rig.bridge->imuSilent(rig.t));  // no IMU to miss
+
+  // Reflashed: within a probe's period it answers in version 5 and sends its IMU.
+  rig.vest.old_version = 0;
+  run(rig, 2.1);
+  EXPECT_EQ(rig.bridge->stats().command_version, VEST_PROTOCOL_VERSION);
+  EXPECT_EQ(rig.bridge->stats().vest_version, VEST_PROTOCOL_VERSION);
+  const uint64_t probes = rig.bridge->stats().probes_sent;
+  run(rig, 1.0);
+  EXPECT_GT(rig.bridge->stats().imu_packets, 40u);
+  EXPECT_EQ(rig.bridge->stats().probes_sent, probes);  // none while it speaks ours
+}
+
+// A vest of ours answers each COMMAND in the COMMAND's version: the probe's answer (in ours) can
+// arrive before the answer to a version-4 COMMAND the bridge sent after the probe. That older
+// answer must not put the bridge back to version 4 (it did, in the rostest, now and then).
+TEST(VestBridge, ProbeAnswerNotUndoneByAnswersStillOnTheWire)
+{
+  Rig rig;
+  rig.vest.old_version = 4;
+  run(rig, 0.1);
+  ASSERT_EQ(rig.bridge->stats().command_version, 4);
+  rig.bridge->setCue(veerCue(), rig.t, CueAge());
+  run(rig, 0.5);
+  rig.vest.old_version = 0;  // reflashed
+  const uint64_t probes = rig.bridge->stats().probes_sent;
+  for (int i = 0; i < 300 && rig.bridge->stats().probes_sent == probes; ++i)
+    rig.advance(0.01);  // the bridge alone: the vest reads nothing yet
+  ASSERT_EQ(rig.bridge->stats().probes_sent, probes + 1);
+  rig.advance(0.06);  // one more version-4 COMMAND after the probe
+  rig.pump();         // the vest answers: ..., 4, 5 (the probe), 4
+  rig.bridge->waitForInput(50);
+  rig.advance(0.01);
+  EXPECT_EQ(rig.bridge->stats().command_version, VEST_PROTOCOL_VERSION);
+  run(rig, 1.0);
+  EXPECT_EQ(rig.bridge->stats().command_version, VEST_PROTOCOL_VERSION);
+  EXPECT_EQ(rig.bridge->stats().probes_sent, probes + 1);
+  EXPECT_GT(rig.bridge->stats().imu_packets, 40u);
+  // a vest flashed back to version 4 on the open link: driven in 4 again (its answers to ours)
+  rig.vest.old_version = 4;
+  run(rig, 0.2);
+  EXPECT_EQ(rig.bridge->stats().command_version, 4);
+}
+
+// The IMU's windows: every 20 ms of the vest's clock, the mean rate and specific force in SI
+// units, on the bridge's clock at the vest's spacing; a missing sensor is reported and measures
+// nothing; a silent IMU is told.
+TEST(VestBridge, ImuWindowsOnTheVestClock)
+{
+  Rig rig;
+  rig.vest.setImu({ { 0.0, -0.25, 0.5 } }, { { 0.3, 0.0, 9.80665 } });
+  run(rig, 0.2);
+  std::vector<ImuEvent> got;
+  rig.bridge->takeImu(got);
+  const double t0 = rig.t;
+  run(rig, 2.0);
+  rig.bridge->takeImu(got);
+  ASSERT_GE(got.size(), 99u);
+  ASSERT_LE(got.size(), 101u);
+  EXPECT_TRUE(rig.bridge->vestHasImu());
+  double turn = 0.0;
+  for (size_t i = 0; i < got.size(); ++i)
+  {
+    EXPECT_TRUE(got[i].ok);
+    EXPECT_DOUBLE_EQ(got[i].rate[2], 0.5);
+    EXPECT_DOUBLE_EQ(got[i].rate[1], -0.25);
+    EXPECT_DOUBLE_EQ(got[i].accel[0], 0.3);
+    EXPECT_DOUBLE_EQ(got[i].accel[2], 9.807);
+    EXPECT_LE(got[i].time, rig.t);
+    if (i > 0)
+    {
+      EXPECT_NEAR(got[i].time - got[i - 1].time, 0.020, 0.001) << i;
+      turn += got[i].rate[2] * (got[i].time - got[i - 1].time);
+    }
+  }
+  EXPECT_NEAR(got.back().time - got.front().time, 2.0, 0.03);
+  EXPECT_NEAR(turn, 0.5 * (got.back().time - got.front().time), 1e-3);
+  EXPECT_GT(got.front().time, t0 - 0.03);
+  EXPECT_EQ(rig.bridge->stats().imu_lost, 0u);
+  EXPECT_EQ(rig.bridge->stats().imu_sensor_missing, 0u);
+  EXPECT_FALSE(rig.bridge->imuSilent(rig.t));
+  // Unplugged: SENSOR_MISSING windows, no measurement.
+  rig.vest.setImuMissing(true);
+  run(rig, 0.2);
+  rig.bridge->takeImu(got);
+  ASSERT_FALSE(got.empty());
+  EXPECT_FALSE(got.back().ok);
+  EXPECT_EQ(got.back().rate[2], 0.0);
+  EXPECT_GT(rig.bridge->stats().imu_sensor_missing, 0u);
+  EXPECT_EQ(rig.bridge->stats().last_imu_status, VEST_IMU_SENSOR_MISSING);
+  // Silent (no IMU packet for imu_timeout_s while the link is up): told.
+  rig.vest.setImuMissing(false);
+  run(rig, 0.1);
+  for (int i = 0; i < 60; ++i)
+  {
+    rig.t += 0.01;
+    rig.bridge->spinOnce(rig.t);  // the vest is not polled: no samples
+  }
+  EXPECT_TRUE(rig.bridge->linkUp(rig.t));
+  EXPECT_TRUE(rig.bridge->imuSilent(rig.t));
+}
+
+// The vest's 16-bit millisecond clock onto ours: through the link's jitter (2-12 ms of delay),
+// the windows keep the vest's spacing and sit at the smallest delay; a vest clock 0.5 % slow
+// (a ceramic resonator) is followed; the 65.536 s wrap is seamless; a restarted vest is taken
+// afresh.
+TEST(VestClock, JitterDriftWrapAndRestart)
+{
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> delay(0.002, 0.012);
+  for (const double rate : { 1.0, 0.995, 1.005 })
+  {
+    VestClock c;
+    double worst_gap = 0.0, worst_lag = 0.0, prev = -1.0;
+    const double start = 1000.0;
+    for (int k = 0; k < 20000; ++k)  // 400 s: six wraps of the 16-bit clock
+    {
+      const double truth = start + 0.02 * k;
+      const uint16_t t_ms = static_cast<uint16_t>(static_cast<uint64_t>(std::llround(60000.0 + 20.0 * k * rate)) & 0xFFFF);
+      const double got = c.map(t_ms, truth + delay(rng));
+      if (k > 50)
+      {
+        worst_gap = std::max(worst_gap, std::abs((got - prev) - 0.02 * rate));
+        worst_lag = std::max(worst_lag, std::abs(got - (truth + 0.002)));
+      }
+      prev = got;
+    }
+    // a window's length: the vest's, within 8 ms (the least-delay estimate steps down by the leak
+    // it gathered since the last fast packet; the turn, a sum over windows, keeps only the ends')
+    EXPECT_LT(worst_gap, 0.008) << rate;
+    EXPECT_LT(worst_lag, 0.010) << rate;  // on our clock within 10 ms of the truth + the least delay
+    EXPECT_EQ(c.resets(), 0u) << rate;
+  }
+  VestClock c;
+  EXPECT_DOUBLE_EQ(c.map(100, 50.0), 50.0);
+  EXPECT_NEAR(c.map(120, 50.025), 50.02, 5e-4);  // 5 ms late: the vest's spacing (+ the leak)
+  const double before = c.map(140, 50.041);
+  EXPECT_NEAR(before, 50.04, 5e-4);
+  // A restarted vest: its clock starts again near 0 (far ahead modulo 2^16): afresh.
+  const double after = c.map(3, 50.061);
+  EXPECT_EQ(c.resets(), 1u);
+  EXPECT_DOUBLE_EQ(after, 50.061);
+}
+
 TEST(VestBridge, RangerReadingsPublishedBadOnesRejected)
 {
   Rig rig;

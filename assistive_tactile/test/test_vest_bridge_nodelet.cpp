@@ -5,6 +5,7 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <nodelet/NodeletUnload.h>
 #include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
 #include <sensor_msgs/Joy.h>
 #include <sensor_msgs/Range.h>
 
@@ -271,6 +272,45 @@ void rangerAndButtons(Harness& h)
   EXPECT_TRUE(h.runUntil([] { return g_level == 0; }, 10.0)) << g_message;
 }
 
+void imuAndVersionFourVest(Harness& h)
+{
+  // The vest's IMU (protocol version 5) on /vest/imu: the window means in SI units, 50 Hz on the
+  // vest's clock, no orientation; unplugged -> WARN. A version-4 vest (no IMU) is driven in
+  // version 4 with a WARN; reflashed, back to version 5.
+  std::vector<sensor_msgs::Imu> got;
+  ros::Subscriber is = h.nh.subscribe<sensor_msgs::Imu>("/vest/imu", 200, [&](const sensor_msgs::Imu::ConstPtr& m) {
+    if (m->angular_velocity.z > 0.25)
+      got.push_back(*m);
+  });
+  h.vest.setImu({ { 0.0, 0.0, 0.5 } }, { { 0.0, 0.0, 9.80665 } });
+  ASSERT_TRUE(h.runUntil([&] { return got.size() >= 50; }, 10.0)) << got.size();
+  EXPECT_EQ(got.back().header.frame_id, "vest_imu");
+  EXPECT_DOUBLE_EQ(got.back().angular_velocity.z, 0.5);
+  EXPECT_DOUBLE_EQ(got.back().linear_acceleration.z, 9.807);
+  EXPECT_EQ(got.back().orientation_covariance[0], -1.0);
+  const double span = (got.back().header.stamp - got.front().header.stamp).toSec();
+  EXPECT_NEAR(span / (got.size() - 1), 0.020, 0.003);  // the vest's 20 ms windows
+  for (size_t i = 1; i < got.size(); ++i)
+    EXPECT_GT(got[i].header.stamp, got[i - 1].header.stamp);
+  h.vest.setImuMissing(true);
+  EXPECT_TRUE(h.runUntil([] { return g_level == diagnostic_msgs::DiagnosticStatus::WARN &&
+                                     g_message.find("IMU missing") != std::string::npos; }, 10.0)) << g_message;
+  h.vest.setImuMissing(false);
+  EXPECT_TRUE(h.runUntil([] { return g_level == 0; }, 10.0)) << g_message;
+
+  h.vest.old_version = 4;
+  h.cue = { { 0, 1.f, 0, 0 } };
+  EXPECT_TRUE(h.runUntil([&] { return h.vest.duty() == Duty{ { 0, 255, 0, 0 } }; }, 10.0));
+  EXPECT_TRUE(h.runUntil([] { return g_level == diagnostic_msgs::DiagnosticStatus::WARN &&
+                                     g_message.find("protocol version 4: driven, no IMU") != std::string::npos; },
+                         10.0)) << g_message;
+  EXPECT_EQ(g_diag["commands sent in version"], "4");
+  h.vest.old_version = 0;
+  EXPECT_TRUE(h.runUntil([] { return g_diag["commands sent in version"] == "5" && g_level == 0; }, 10.0))
+      << g_message << "; version probes sent " << g_diag["version probes sent"];
+  EXPECT_EQ(h.vest.duty(), (Duty{ { 0, 255, 0, 0 } }));
+}
+
 void unloadSwitchesOff(Harness& h)
 {
   // Unloading the nodelet from its manager switches the motors off (before the vest's watchdog).
@@ -308,6 +348,7 @@ TEST(VestBridgeNodelet, CuesStaleOffUnplugReplugGarbage)
   ASSERT_NO_FATAL_FAILURE(pulsePatterns(h));
   ASSERT_NO_FATAL_FAILURE(oldVestRefused(h));
   ASSERT_NO_FATAL_FAILURE(rangerAndButtons(h));
+  ASSERT_NO_FATAL_FAILURE(imuAndVersionFourVest(h));
   ASSERT_NO_FATAL_FAILURE(unloadSwitchesOff(h));
   h.vest.close();
 }

@@ -92,6 +92,8 @@ namespace assistive_tactile
   X(double, sonar_max_range, "sonar_max_range", 4.0, sonar_min_range, 20.0, "m", "a range above this is rejected (the vest reports no echo as its own status: published as +Inf)") \
   X(double, sonar_fov_deg, "sonar_fov_deg", 15.0, 1.0, 89.0, "deg", "the cone's full angle (`field_of_view` of `sonar/front`)") \
   X(double, sonar_timeout_s, "sonar_timeout_s", 0.5, 0.05, 60.0, "s", "no RANGE from a version-3 vest for this long -> ranger silent (ERROR)") \
+  /* the vest's IMU (IMU packets, protocol version 5): the torso's turns for the cue logic */ \
+  X(double, imu_timeout_s, "imu_timeout_s", 0.5, 0.05, 60.0, "s", "no IMU packet from a version-5 vest for this long -> IMU silent (WARN: the cue logic takes the body's turns from the head)") \
   /* without the right (CAP_SYS_NICE or an rtprio limit for the user, e.g. `@audio - rtprio 20` in */ \
   /* limits.conf) the bridge warns and runs the thread normally */ \
   X(int, realtime_priority, "realtime_priority", 10, 0, 99, "", "SCHED_FIFO priority of the housekeeping thread that sends the all-off at a cue's expiry (0 = normal scheduling)")

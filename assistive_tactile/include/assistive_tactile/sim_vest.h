@@ -51,14 +51,27 @@ public:
   /// Holds button (VEST_BUTTON_A / _B) down from now_ms for hold_ms (a long press:
   /// >= VEST_LONG_PRESS_MS), through the firmware's debouncer.
   void press(unsigned button, uint32_t hold_ms, uint32_t now_ms);
-  /// Pretends to be the firmware of an older protocol version (2 or 3; 0 = this version):
-  /// COMMANDs of that version or older are obeyed (steady: no patterns), frames of a newer
-  /// version are answered with a STATUS of that version and never applied (what the old
-  /// firmware did). A version-3 vest sends RANGE / BUTTONS to a version-3 bridge only; a
-  /// version-2 one never. (Tests: the bridge must refuse it.)
+  /// The IMU's world: what the next readings measure (rad/s and m/s^2, the sensor's axes;
+  /// default still and upright: no rate, +9.81 m/s^2 up). Read every VEST_IMU_SAMPLE_MS of the
+  /// vest's clock through the firmware's own windows; IMU packets go out once the bridge spoke
+  /// version 5.
+  void setImu(const std::array<double, 3>& rate, const std::array<double, 3>& accel)
+  {
+    imu_rate_ = rate;
+    imu_accel_ = accel;
+  }
+  /// Unplugs (true) / plugs the IMU: its reads fail -> SENSOR_MISSING packets.
+  void setImuMissing(bool missing) { imu_missing_ = missing; }
+  /// Pretends to be the firmware of an older protocol version (2, 3 or 4; 0 = this version):
+  /// COMMANDs of that version or older are obeyed (2 / 3: steady, no patterns), frames of a
+  /// newer version are answered with a STATUS of that version and never applied (what the old
+  /// firmware did). A version-3 / 4 vest sends RANGE / BUTTONS to a bridge of version 3 up to its
+  /// own only, a version-2 one never; none sends IMU. (Tests: the bridge must refuse a version-2
+  /// / 3 vest and drive a version-4 one in version 4.)
   int old_version = 0;
   uint64_t rangePackets() const { return range_packets_; }
   uint64_t buttonPackets() const { return button_packets_; }
+  uint64_t imuPackets() const { return imu_packets_; }
 
   /// Writes raw bytes towards the bridge (tests: garbage from the device).
   bool inject(const uint8_t* data, size_t len);
@@ -77,14 +90,19 @@ public:
 private:
   void reportIfChanged(uint32_t now_ms, const char* why);
   void feedOld(uint8_t byte, uint32_t now_ms, int* applied);  ///< old_version's firmware
-  void sense(uint32_t now_ms);  ///< ranger pings and buttons
+  void sense(uint32_t now_ms);  ///< ranger pings, buttons and the IMU
+  void senseImu(uint32_t now_ms);
 
   double range_m_ = std::numeric_limits<double>::infinity();
   bool sensor_missing_ = false;
   bool pinged_ = false;
   uint32_t last_ping_ms_ = 0;
   std::array<uint32_t, VEST_NUM_BUTTONS> down_from_{ { 0, 0 } }, down_until_{ { 0, 0 } };
-  uint64_t range_packets_ = 0, button_packets_ = 0;
+  uint64_t range_packets_ = 0, button_packets_ = 0, imu_packets_ = 0;
+  std::array<double, 3> imu_rate_{ { 0.0, 0.0, 0.0 } }, imu_accel_{ { 0.0, 0.0, 9.80665 } };
+  bool imu_missing_ = false;
+  bool imu_started_ = false;
+  uint32_t last_imu_sample_ms_ = 0;
 
   int master_ = -1;
   int slave_hold_ = -1;  ///< keeps the slave side open so reads never see EIO between clients

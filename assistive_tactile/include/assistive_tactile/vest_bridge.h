@@ -33,6 +33,11 @@ struct LinkStats
   uint64_t rejected_packets = 0;   ///< frames from the vest with a bad COBS / CRC / length / field
   uint64_t version_mismatches = 0; ///< CRC-valid frames of a protocol version we do not speak
   uint8_t vest_version = 0;        ///< VERSION of the vest's last CRC-valid frame (0 = none seen)
+  /// VERSION the COMMANDs go out in: ours, or 4 for a version-4 vest (the same bytes; it has no
+  /// IMU), which a STATUS of version 4 tells. Back to ours when the vest answers the version-5
+  /// probe (every 2 s while driving a version-4 vest) or the port is reopened.
+  uint8_t command_version = VEST_PROTOCOL_VERSION;
+  uint64_t probes_sent = 0;        ///< version-5 copies sent to a vest driven in version 4
   /// The vest answered in an older version (2 or 3: no pulse patterns): refused. COMMANDs stay
   /// all-off in our version (it drives nothing on them; its watchdog ends what an earlier bridge
   /// left on): the wearer feels silence = stop. Cleared when a STATUS of ours arrives (the vest
@@ -58,6 +63,13 @@ struct LinkStats
   uint64_t buttons_packets = 0;
   uint64_t button_presses = 0;     ///< short + long presses reported
   uint64_t button_resyncs = 0;     ///< counters that jumped (vest reset): taken as the new base
+  // The vest's IMU (IMU packets, protocol version 5).
+  uint64_t imu_packets = 0;        ///< IMU packets received
+  uint64_t imu_lost = 0;           ///< gaps in the IMU sequence numbers
+  uint64_t imu_sensor_missing = 0; ///< IMU packets saying the sensor could not be read
+  uint64_t imu_clock_resets = 0;   ///< the vest's clock taken afresh (a stall or jump of over 0.25 s)
+  double last_imu_time = -1e300;   ///< last IMU packet (any status)
+  uint8_t last_imu_status = VEST_IMU_OK;
   uint64_t cues_accepted = 0;      ///< cues that passed the stamp checks
   uint64_t cues_rejected = 0;      ///< cues ignored by the stamp checks (never drove a motor)
   std::string last_rejection;      ///< why the last one was ignored
@@ -113,6 +125,41 @@ struct ButtonEvent
   int short_a = 0, long_a = 0, short_b = 0, long_b = 0;  ///< presses
 };
 
+/// One IMU window (IMU packet), in SI units, on the bridge's clock (steadyNow seconds).
+struct ImuEvent
+{
+  /// When the window ended: the vest's clock (its T_MS), mapped onto ours by the earliest
+  /// arrival (serial and USB delays only ever make a packet later), so the windows' lengths
+  /// are the vest's, not the link's jitter.
+  double time = 0.0;
+  bool ok = false;                         ///< false: SENSOR_MISSING (rate and accel 0)
+  std::array<double, 3> rate{ { 0, 0, 0 } };   ///< mean angular rate over the window, rad/s, sensor axes
+  std::array<double, 3> accel{ { 0, 0, 0 } };  ///< mean specific force, m/s^2
+};
+
+/// Maps the vest's 16-bit millisecond clock (IMU T_MS) onto the bridge's: the offset is the
+/// smallest (arrival - vest time) seen, let rise by `drift_per_s` (a ceramic resonator's 0.5 %
+/// and more) so a slow vest clock is followed; a jump of more than `reset_s` (a stalled link, a
+/// restarted vest) takes the clock afresh.
+class VestClock
+{
+public:
+  explicit VestClock(double drift_per_s = 0.01, double reset_s = 0.25) : drift_(drift_per_s), reset_s_(reset_s) {}
+  /// The time (our clock) of a vest stamp t_ms that arrived at `arrival`. Never goes back.
+  double map(uint16_t t_ms, double arrival);
+  void reset() { have_ = false; }
+  uint64_t resets() const { return resets_; }
+
+private:
+  double drift_, reset_s_;
+  bool have_ = false;
+  uint16_t last_ms_ = 0;
+  double vest_s_ = 0.0;      ///< the vest's clock, unwrapped, s
+  double offset_ = 0.0;      ///< ours - the vest's
+  double last_arrival_ = 0.0, last_out_ = 0.0;
+  uint64_t resets_ = 0;
+};
+
 /// "L-sh 200  R-sh   0  L-w   0  R-w   0": motor duties as the diagnostics and the simulated vest write them.
 std::string describeDuty(const uint8_t* duty);
 /// "steady" / "#7 150 ms on 150 ms off x2" / "#9 100 ms on 100 ms off, repeating".
@@ -149,7 +196,7 @@ struct VestCue
  * pattern drives only on the port it was first written to and until its last pulse's end +
  * stale_s after this bridge first got it, then the same pattern goes out with zero duties: a
  * vest that starts it late (a reopened port, a restarted vest) never replays an old burst. A vest that answers in an older protocol
- * version (2 / 3: no patterns) is refused: all-off, LinkStats::vest_refused. All-off also on shutdown and, with installAllOffSignalHandlers(), on SIGINT/SIGTERM.
+ * version (2 / 3: no patterns) is refused: all-off, LinkStats::vest_refused; a version-4 vest is driven in version 4 (LinkStats::command_version) and has no IMU. All-off also on shutdown and, with installAllOffSignalHandlers(), on SIGINT/SIGTERM.
  * `now` arguments are seconds on a monotonic clock. Not thread-safe: call from one thread (or
  * use VestBridgeRunner).
  */
@@ -218,14 +265,22 @@ public:
   /// Ranger readings / button changes since the last call (moved out; at most 256 kept each).
   void takeRanges(std::vector<RangeEvent>& out);
   void takeButtons(std::vector<ButtonEvent>& out);
+  /// IMU windows since the last call (moved out; at most 512 kept).
+  void takeImu(std::vector<ImuEvent>& out);
   /// The vest speaks a version with the ranger and buttons (it answered in version 3).
   bool vestHasSensors() const { return stats_.vest_version >= 3; }
   /// True when the vest speaks version 3, the link is up and no RANGE came for sonar_timeout_s.
   bool rangerSilent(double now) const;
+  /// The vest speaks version 5 (it answered in it): it has an IMU.
+  bool vestHasImu() const { return stats_.vest_version >= VEST_IMU_VERSION; }
+  /// True when the vest speaks version 5, the link is up and no IMU packet came for imu_timeout_s.
+  bool imuSilent(double now) const;
 
 private:
   void onRange(const vest_range_t& r, double now);
   void onButtons(const vest_buttons_t& b, double now);
+  void onImu(const vest_imu_t& u, double now);
+  void onStatusVersion(uint8_t version, double now);
   bool send(double now);
   bool linkLost(const std::string& err, double now);  ///< counts a lost link, schedules the reopen; false
   void tryOpen(double now);
@@ -238,8 +293,12 @@ private:
   vest_parser_t parser_{};
   std::vector<RangeEvent> ranges_;
   std::vector<ButtonEvent> buttons_;
-  bool have_range_seq_ = false, have_buttons_ = false;
-  uint8_t range_seq_ = 0;
+  std::vector<ImuEvent> imu_;
+  VestClock vest_clock_;
+  bool have_range_seq_ = false, have_buttons_ = false, have_imu_seq_ = false;
+  uint8_t range_seq_ = 0, imu_seq_ = 0;
+  double last_probe_time_ = -1e300;
+  double last_old_sent_ = -1e300;  ///< when a COMMAND last went out in an older version than ours
   vest_buttons_t last_buttons_{};
   std::array<uint8_t, VEST_NUM_MOTORS> duty_{ { 0, 0, 0, 0 } };       ///< from the last valid cue
   vest_pattern_t pattern_{ 0, 0, 0, 0 };  ///< its pattern (kept, with zero duties, when it ends)

@@ -21,6 +21,7 @@ MOTOR_Z_SHOULDER = 0.18               # above the torso origin
 MOTOR_Z_WAIST = -0.22                 # below the torso origin
 MOTOR_RADIUS = 0.02
 SONAR_XYZ = (0.12, 0.0, 0.05)  # m, on the torso: chest front, above the motors' mid height
+VEST_IMU_XYZ = (0.10, 0.0, 0.05)      # on the torso: the vest's IMU, just behind the ranger
 MIN_EYE_HEIGHT = 0.8                  # the body must fit between the eyes and the floor
 OPTICAL_RPY = "-1.5707963267948966 0 -1.5707963267948966"
 
@@ -92,6 +93,10 @@ def make_urdf(baseline, eye_height):
     # glass the cameras see through); assistive_sim's linkToSonar() mirrors this mount.
     out.append(link("sonar_front", visual('<box size="%s"/>' % fmt(0.02, 0.045, 0.02), material="black")))
     out.append(joint("sonar_front_joint", "torso", "sonar_front", SONAR_XYZ))
+    # The vest's IMU (protocol version 5, /vest/imu; issue 33), x forward, y left, z up. The cue
+    # logic takes "up" from its accelerometer, so the tilt the vest is worn at does not matter.
+    out.append(link("vest_imu"))
+    out.append(joint("vest_imu_joint", "torso", "vest_imu", VEST_IMU_XYZ))
     # Ground frame: eye_height below camera_link, straight below it (not below the torso).
     out.append(link("base_footprint"))
     out.append(joint("base_footprint_joint", "torso", "base_footprint",

@@ -88,7 +88,8 @@ void checkTree(const urdf::ModelInterfaceSharedPtr& model, double baseline, doub
       {"motor_left_waist", "torso"},
       {"motor_right_waist", "torso"},
       {"base_footprint", "torso"},
-      {"sonar_front", "torso"}};
+      {"sonar_front", "torso"},
+      {"vest_imu", "torso"}};
   for (const auto& pc : parents)
   {
     urdf::LinkConstSharedPtr l = model->getLink(pc.first);
@@ -97,7 +98,7 @@ void checkTree(const urdf::ModelInterfaceSharedPtr& model, double baseline, doub
     EXPECT_EQ(l->getParent()->name, pc.second) << pc.first;
     EXPECT_EQ(l->parent_joint->type, urdf::Joint::FIXED) << pc.first;
   }
-  EXPECT_EQ(model->links_.size(), 10u);
+  EXPECT_EQ(model->links_.size(), 11u);
 
   // Optical frames: z forward (= camera_link x), x right (= -y), y down (= -z).
   for (const char* name : {"camera_left_optical_frame", "camera_right_optical_frame"})
