@@ -55,7 +55,7 @@ void usage(std::ostream& os = std::cerr)
         "                       [--timelines PREFIX] (one cue timeline PNG per trial: PREFIX<k>.png)\n"
         "                       [--causes] (a line per collision and per unfinished trial: what the wearer did, where)\n"
         "                       [--vest-gyro] (truth, vision: the vest has its own gyro, the head IMU's noise and bias;\n"
-        "                       --vest-gyro-perfect: without either, analysis)\n"
+        "                       --vest-gyro-perfect: without either; --vest-gyro-bias DEG_S: the offset's sigma, analysis)\n"
         "                       [--ros-params FILE.yaml] (vision: loaded at the root before each trial's pipeline,\n"
         "                       e.g. {cue_logic: {lost_turn_after_s: 0}, slam: {reset_fixed_rotation: false}})\n"
         "                       [--active] (vision: the reference camera, the pattern projector's emitter-on pairs\n"
@@ -675,6 +675,11 @@ int main(int argc, char** argv)
       else if (a == "--timelines") g_timelines = val();
       else if (a == "--causes") g_causes = true;
       else if (a == "--vest-gyro") opt.vest_gyro = true;
+      else if (a == "--vest-gyro-bias")  // analysis: the vest gyro's offset at power-up, sigma in deg/s
+      {
+        opt.vest_gyro = true;
+        opt.vest_gyro_errors.gyro_bias_initial = std::stod(val()) * M_PI / 180.0;
+      }
       else if (a == "--vest-gyro-perfect")  // analysis: the torso's yaw rate without noise or bias
       {
         opt.vest_gyro = true;
