@@ -162,7 +162,8 @@ void VestBridge::tryOpen(double now)
   stats_.vest_refused = false;  // a new port may hold a new vest
   stats_.vest_version = 0;
   stats_.command_version = VEST_PROTOCOL_VERSION;
-  have_range_seq_ = have_buttons_ = have_imu_seq_ = false;
+  range_seq_ = imu_seq_ = SeqGap{};
+  have_buttons_ = false;
   vest_clock_.reset();
   last_probe_time_ = -1e300;
   last_old_sent_ = -1e300;
@@ -400,10 +401,7 @@ double VestClock::map(uint16_t t_ms, double arrival)
 void VestBridge::onImu(const vest_imu_t& u, double now)
 {
   stats_.imu_packets++;
-  if (have_imu_seq_)
-    stats_.imu_lost += static_cast<uint8_t>(u.seq - imu_seq_ - 1);
-  have_imu_seq_ = true;
-  imu_seq_ = u.seq;
+  stats_.imu_lost += imu_seq_.lostBefore(u.seq);
   stats_.last_imu_time = now;
   stats_.last_imu_status = u.status;
   ImuEvent e;
@@ -435,10 +433,7 @@ bool VestBridge::imuSilent(double now) const
 void VestBridge::onRange(const vest_range_t& r, double now)
 {
   stats_.ranges++;
-  if (have_range_seq_)
-    stats_.ranges_lost += static_cast<uint8_t>(r.seq - range_seq_ - 1);
-  have_range_seq_ = true;
-  range_seq_ = r.seq;
+  stats_.ranges_lost += range_seq_.lostBefore(r.seq);
   stats_.last_range_time = now;
   stats_.last_range_status = r.status;
   double m = 0.0;

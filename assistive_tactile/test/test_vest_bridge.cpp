@@ -458,6 +458,17 @@ void run(Rig& rig, double seconds)
     rig.bridge->spinOnce(rig.t);
   }
 }
+
+/// The bridge alone for `seconds` (10 ms steps): the vest is not polled, so it sends nothing
+/// (a silent sensor while the link stays up)
+void runVestSilent(Rig& rig, double seconds)
+{
+  for (double e = 0.0; e < seconds - 1e-9; e += 0.01)
+  {
+    rig.t += 0.01;
+    rig.bridge->spinOnce(rig.t);
+  }
+}
 }  // namespace
 
 // An old vest (protocol version 2 or 3: no pulse patterns) is refused: the bridge sends it only
@@ -906,11 +917,7 @@ TEST(VestBridge, ImuWindowsOnTheVestClock)
   // Silent (no IMU packet for imu_timeout_s while the link is up): told.
   rig.vest.setImuMissing(false);
   run(rig, 0.1);
-  for (int i = 0; i < 60; ++i)
-  {
-    rig.t += 0.01;
-    rig.bridge->spinOnce(rig.t);  // the vest is not polled: no samples
-  }
+  runVestSilent(rig, 0.6);
   EXPECT_TRUE(rig.bridge->linkUp(rig.t));
   EXPECT_TRUE(rig.bridge->imuSilent(rig.t));
 }
@@ -1007,11 +1014,7 @@ TEST(VestBridge, RangerReadingsPublishedBadOnesRejected)
   EXPECT_EQ(rig.bridge->stats().rejected_packets, rejected + 1);
   for (const RangeEvent& e : got) EXPECT_NEAR(e.range_m, 1.0, 0.0011);
   // A silent ranger (no RANGE for sonar_timeout_s while the link is up): reported.
-  for (int i = 0; i < 70; ++i)
-  {
-    rig.t += 0.01;
-    rig.bridge->spinOnce(rig.t);  // the vest is not polled: no pings
-  }
+  runVestSilent(rig, 0.7);
   EXPECT_TRUE(rig.bridge->linkUp(rig.t));
   EXPECT_TRUE(rig.bridge->rangerSilent(rig.t));
 }

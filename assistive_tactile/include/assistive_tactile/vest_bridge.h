@@ -295,8 +295,22 @@ private:
   std::vector<ButtonEvent> buttons_;
   std::vector<ImuEvent> imu_;
   VestClock vest_clock_;
-  bool have_range_seq_ = false, have_buttons_ = false, have_imu_seq_ = false;
-  uint8_t range_seq_ = 0, imu_seq_ = 0;
+  /// One stream's 8-bit sequence numbers (RANGE, IMU): the packets lost before each.
+  struct SeqGap
+  {
+    bool have = false;
+    uint8_t last = 0;
+    /// the packets missing between the last number and `seq` (wrapping); 0 for the first
+    unsigned lostBefore(uint8_t seq)
+    {
+      const unsigned lost = have ? static_cast<uint8_t>(seq - last - 1) : 0u;
+      have = true;
+      last = seq;
+      return lost;
+    }
+  };
+  SeqGap range_seq_, imu_seq_;
+  bool have_buttons_ = false;
   double last_probe_time_ = -1e300;
   double last_old_sent_ = -1e300;  ///< when a COMMAND last went out in an older version than ours
   vest_buttons_t last_buttons_{};
