@@ -974,7 +974,13 @@ void CueLogic::observeHead(const NavInput& in, double now)
     {
       const double ref = walking ? in.walk_heading : in.head_yaw;
       const double tau = gyro_ ? params_.body_gyro_tau_s : walking ? params_.body_walk_tau_s : params_.body_stand_tau_s;
-      body_yaw_ = wrapAngle(body_yaw_ + std::min(1.0, dt / std::max(1e-3, tau)) * wrapAngle(ref - body_yaw_));
+      const double err = wrapAngle(ref - body_yaw_);
+      body_yaw_ = wrapAngle(body_yaw_ + std::min(1.0, dt / std::max(1e-3, tau)) * err);
+      // what the chord keeps pulling is the gyro's bias (the facing alone would stay bias x tau
+      // off: 15 deg at 3 deg/s, and an MPU-6050's offset may be 20 deg/s, far past what standing
+      // learns): its integral, critically damped (gain 1 / (4 tau^2)), settles it within about 2 tau
+      if (gyro_ && params_.body_gyro_bias_tau_s > 0.0)
+        gyro_bias_ -= err * dt / (4.0 * tau * tau);
     }
   }
   last_yaw_ = in.head_yaw;

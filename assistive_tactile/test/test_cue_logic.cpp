@@ -1014,6 +1014,35 @@ TEST(CueLogic, TheVestGyrosBiasIsLearntStandingStill)
   EXPECT_GT(turns(0.0), 0);
 }
 
+// Walking, what the walk chord keeps pulling out of the gyro's facing is its bias, and it is
+// learnt: a wearer walking straight at 1 m/s for 30 s with a vest gyro 3 deg/s off (an
+// uncalibrated MPU-6050's offset may be 20) stops on course and is asked no turn in the next 3 s.
+// Not learnt (`body_gyro_bias_tau_s` 0), the facing was about bias x `body_gyro_tau_s` (15 deg)
+// off at the stop and drifts on: a turn is asked.
+TEST(CueLogic, WalkingTheVestGyrosBiasIsLearntFromTheWalkChord)
+{
+  auto turnsAskedAtTheStop = [](double bias_tau_s) {
+    CueParams p;
+    p.body_gyro_bias_tau_s = bias_tau_s;
+    CueLogic c(p);
+    NavInput in = turn(0.0);
+    in.walking_speed = 1.0;
+    in.body_yaw_rate = 3.0 * kDeg;
+    int n = 0;
+    for (double t = 0.0; t < 33.0; t += 1.0 / 15.0)
+    {
+      if (t >= 30.0)
+        in.walking_speed = 0.0;
+      n += t >= 30.0 && fresh(c, in, t).instruction == Instruction::TURN;
+      if (t < 30.0)
+        fresh(c, in, t);
+    }
+    return n;
+  };
+  EXPECT_EQ(turnsAskedAtTheStop(3.0), 0);
+  EXPECT_GT(turnsAskedAtTheStop(0.0), 0);
+}
+
 // A veer's progress, with the vest's gyro, is the body's turn, not the walk chord's: a walker at
 // 1 m/s is asked to veer left; 0.6 s after the burst its body turns 15 deg left at 60 deg/s, and
 // the walk chord (0.4 s of positions) follows 0.2 s behind. In the first cycle after the body's

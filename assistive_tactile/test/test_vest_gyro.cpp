@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -49,4 +51,54 @@ TEST(VestGyro, NoSamplesNoRate)
   g.add(4.04, rate, Eigen::Vector3d::Zero());
   for (int i = 1; i <= 25; ++i) g.add(4.0 + 0.02 * i, rate, up);
   EXPECT_NEAR(g.take(4.5), 0.5, 0.03);
+}
+
+// The offset is captured while the vest is still: a gyro 10 deg/s off (an MPU-6050's may be 20 at
+// power-up), on a wearer standing quietly (sway and sensor noise: 0.03 m/s^2, 0.2 deg/s) for 3 s
+// at 50 Hz: taken out, the standing rate is within 0.2 deg/s of zero. Walking (the gait's 1.5 m/s^2
+// RMS at 1.8 steps a second) on a steady 5 deg/s veer is not still: no capture, the veer stays.
+TEST(VestGyro, OffsetCapturedStillNotWalking)
+{
+  const double deg = M_PI / 180.0, offset = 10.0 * deg;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n(0.0, 1.0);
+  auto still = [&](double t) {
+    return std::make_pair(Eigen::Vector3d(0.2 * deg * n(rng), 0.2 * deg * n(rng), offset + 0.2 * deg * n(rng)),
+                          Eigen::Vector3d(0.03 * n(rng), 0.03 * n(rng), 9.81 + 0.03 * n(rng)));
+    (void)t;
+  };
+  auto walking = [&](double t) {
+    return std::make_pair(Eigen::Vector3d(0.0, 0.0, offset + 5.0 * deg),
+                          Eigen::Vector3d(0.0, 0.0, 9.81 + 1.5 * std::sqrt(2.0) * std::sin(2.0 * M_PI * 1.8 * t)));
+  };
+  VestGyro walker;
+  for (int i = 0; i <= 250; ++i)
+  {
+    const auto s = walking(0.02 * i);
+    walker.add(0.02 * i, s.first, s.second);
+  }
+  walker.take(5.0);
+  for (int i = 251; i <= 300; ++i)
+  {
+    const auto s = walking(0.02 * i);
+    walker.add(0.02 * i, s.first, s.second);
+  }
+  EXPECT_EQ(walker.offsetCaptures(), 0);
+  EXPECT_NEAR(walker.take(6.0), offset + 5.0 * deg, 1e-6);  // the veer and the offset, untouched
+
+  VestGyro g;
+  for (int i = 0; i <= 150; ++i)
+  {
+    const auto s = still(0.02 * i);
+    g.add(0.02 * i, s.first, s.second);
+  }
+  EXPECT_GE(g.offsetCaptures(), 1);
+  EXPECT_NEAR(g.offset(), offset, 0.1 * deg);
+  g.take(4.0);
+  for (int i = 151; i <= 250; ++i)
+  {
+    const auto s = still(0.02 * i);
+    g.add(0.02 * i, s.first, s.second);
+  }
+  EXPECT_NEAR(g.take(5.0), 0.0, 0.2 * deg);
 }

@@ -32,7 +32,7 @@ namespace assistive_tactile
   X(double, body_walk_tau_s, "body_walk_tau_s", 0.5, 0.01, 10.0, "s", "walking, the body's facing fades to the walk chord within about this") \
   X(double, body_stand_tau_s, "body_stand_tau_s", 6.0, 0.0, 60.0, "s", "standing, the body's facing fades to the head's yaw within about this (the scan's mean; 0 = the head's yaw itself, as before)") \
   X(double, body_gyro_tau_s, "body_gyro_tau_s", 5.0, 0.01, 60.0, "s", "with the vest's gyro (`body_yaw_rate`), walking: the body's facing fades to the walk chord within about this (the gyro's bias)") \
-  X(double, body_gyro_bias_tau_s, "body_gyro_bias_tau_s", 3.0, 0.0, 60.0, "s", "with the vest's gyro: its bias is learnt within about this of standing still (not walking, the head steady, no turn for 1 s, the gyro within 2 deg/s of its bias); 0 = not learnt") \
+  X(double, body_gyro_bias_tau_s, "body_gyro_bias_tau_s", 3.0, 0.0, 60.0, "s", "with the vest's gyro: its bias is learnt within about this of standing still (not walking, the head steady, no turn for 1 s, the gyro within 2 deg/s of its bias), and walking from the walk chord's pull (gain 1 / (4 `body_gyro_tau_s`^2)); 0 = not learnt") \
   X(double, turn_timeout_s, "turn_timeout_s", 4.0, 0.5, 20.0, "s", "after a stop-and-turn buzz the next cue waits until the buzz has ended and the head is still, or this long") \
   /* Doorways and gaps (the planner's passage_*): stop before, face the middle, walk straight through */ \
   X(double, passage_align_m, "passage_align_m", 0.9, 0.0, 5.0, "m", "a walker whose straight walk would miss a passage's middle by more than the room it has is stopped (a turn buzz towards the middle) so that it stands about this far before the middle (0 = off: ordinary steering through passages)") \

@@ -192,8 +192,11 @@ void RosChain::observe(double t, const BodyState& s)
     m.header.stamp = ros::Time(d_->base + t);
     m.header.frame_id = "vest_link";
     m.orientation_covariance[0] = -1.0;
-    m.angular_velocity.z = d_->o.vest_gyro->rate(t, s.yaw);
-    m.linear_acceleration.z = 9.81;
+    const VestGyroSim::Sample v = d_->o.vest_gyro->sample(t, s);
+    m.angular_velocity.z = v.rate_z;
+    m.linear_acceleration.x = v.accel.x();
+    m.linear_acceleration.y = v.accel.y();
+    m.linear_acceleration.z = v.accel.z();
     d_->vest_imu.publish(m);
   }
 }

@@ -15,6 +15,7 @@
 
 #include <assistive_planner/planner.h>
 #include <assistive_tactile/cue_logic.h>
+#include <assistive_tactile/vest_gyro.h>
 #include <assistive_tactile/vest_protocol.h>
 #include <assistive_trials/wearer_population.h>
 
@@ -94,20 +95,25 @@ VestGyroSim::VestGyroSim(const assistive_sim::ImuParams& errors, uint32_t trial_
   bias_ = errors.gyro_bias_initial * std::normal_distribution<double>(0.0, 1.0)(rng_);
 }
 
-double VestGyroSim::rate(double t, double body_yaw)
+VestGyroSim::Sample VestGyroSim::sample(double t, const BodyState& s)
 {
   std::normal_distribution<double> n01(0.0, 1.0);
-  double r = 0.0;
+  Sample out;
+  bool stepping = s.speed > 0.05;
   if (std::isfinite(last_yaw_) && t > last_t_)
   {
     const double dt = t - last_t_;
+    const double turn = std::atan2(std::sin(s.yaw - last_yaw_), std::cos(s.yaw - last_yaw_)) / dt;
     bias_ += bias_walk_ * std::sqrt(dt) * n01(rng_);
-    r = std::atan2(std::sin(body_yaw - last_yaw_), std::cos(body_yaw - last_yaw_)) / dt + bias_ +
-        noise_density_ / std::sqrt(dt) * n01(rng_);
+    out.rate_z = turn + bias_ + noise_density_ / std::sqrt(dt) * n01(rng_);
+    stepping = stepping || std::fabs(turn) > kStepTurnRate;
   }
-  last_yaw_ = body_yaw;
+  if (stepping)
+    out.accel.z() += kGaitAccelRms * std::sqrt(2.0) * std::sin(2.0 * M_PI * kStepHz * t);
+  for (int i = 0; i < 3; ++i) out.accel[i] += kStillAccelSd * n01(rng_);
+  last_yaw_ = s.yaw;
   last_t_ = t;
-  return r;
+  return out;
 }
 
 namespace
@@ -132,6 +138,13 @@ public:
       planner_.setNextGoal({ n->x(), n->y() });
     else
       planner_.clearNextGoal();
+  }
+  void observe(double t, const BodyState& s) override
+  {
+    if (!opt_.vest_gyro)
+      return;
+    const VestGyroSim::Sample v = vest_gyro_.sample(t, s);
+    vest_imu_.add(t, Eigen::Vector3d(0.0, 0.0, v.rate_z), v.accel);
   }
   ChainCue frame(double t, const BodyState& s) override
   {
@@ -165,7 +178,7 @@ public:
     in.walking_speed = out.walking_speed;
     in.head_yaw = out.head_yaw;
     if (opt_.vest_gyro)
-      in.body_yaw_rate = vest_gyro_.rate(t, s.yaw);
+      in.body_yaw_rate = vest_imu_.take(t);  // as the cue logic nodelet takes /vest/imu
     in.free_steer = out.free_steer;
     in.x = s.xy.x();
     in.y = s.xy.y();
@@ -261,6 +274,7 @@ private:
   assistive_tactile::CueLogic cues_;
   bool trace_ = false;
   VestGyroSim vest_gyro_;
+  assistive_tactile::VestGyro vest_imu_;  ///< the samples between two frames (the nodelet's adapter)
   std::vector<Eigen::Vector2d> passages_;  ///< passage middles the planner found (world frame)
 };
 }  // namespace

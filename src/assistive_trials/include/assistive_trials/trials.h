@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
 #include <opencv2/core.hpp>
 
 #include <assistive_planner/params.h>
@@ -191,16 +192,31 @@ struct TrialOptions
   assistive_sim::GiveWayParams give_way;
 };
 
-/// The vest's own gyro as the trials simulate it (`TrialOptions::vest_gyro`): the mean yaw rate
-/// over the interval since the last call (the body's turn over its time, the gyro integrated
-/// between the calls), plus a bias drawn per trial that walks, plus white noise.
+/// The vest's own IMU as the trials simulate it (`TrialOptions::vest_gyro`), upright on the torso.
+/// Its yaw rate: the mean over the interval since the last call (the body's turn over its time,
+/// the gyro integrated between the calls), plus a bias drawn per trial that walks, plus white
+/// noise. Its specific force: gravity, and while the wearer steps (walking, or turning on the spot,
+/// which takes steps) the gait's vertical swing at the step rate (`kStepHz`, `kGaitAccelRms`), plus
+/// standing sway and the sensor's noise (`kStillAccelSd`): what tells the vest standing from stepping.
 class VestGyroSim
 {
 public:
+  /// the gait's vertical trunk acceleration, RMS (m/s^2): trunk accelerometry at the preferred pace
+  /// reads metres per s^2 (Sekine et al. 2013, J NeuroEng Rehabil 10:118, lower back); the low end
+  static constexpr double kGaitAccelRms = 1.5;
+  static constexpr double kStepHz = 1.8;        ///< steps/s (about 110 a minute, an adult's cadence)
+  static constexpr double kStillAccelSd = 0.03; ///< m/s^2 per axis: quiet standing's sway and the sensor
+  static constexpr double kStepTurnRate = 0.1;  ///< rad/s: turning faster than this on the spot is stepping
+
+  struct Sample
+  {
+    double rate_z = 0.0;               ///< rad/s about the vest's z (the vertical)
+    Eigen::Vector3d accel{ 0.0, 0.0, 9.81 };  ///< m/s^2, the vest's frame
+  };
   /// `trial_seed`: the trial's (its own stream is drawn from it)
   VestGyroSim(const assistive_sim::ImuParams& errors, uint32_t trial_seed);
-  /// rad/s; 0 at the first call (no interval yet)
-  double rate(double t, double body_yaw);
+  /// The sample at time t with the body in `s`; the rate is 0 at the first call (no interval yet)
+  Sample sample(double t, const BodyState& s);
 
 private:
   double noise_density_, bias_walk_;
