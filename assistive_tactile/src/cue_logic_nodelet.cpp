@@ -202,6 +202,11 @@ private:
                               " " + std::to_string(last_cue_.intensity[2]) + " " +
                               std::to_string(last_cue_.intensity[3]));
     stat.add("vest gyro", imu_samples_ == 0 ? "none (facing from the head)" : vest_gyro_used_ ? "in use" : "stale (facing from the head)");
+    if (imu_samples_ > 0)
+      stat.add("vest gyro offset (deg/s)", vest_gyro_.offsetCaptures() == 0
+                                               ? std::string("not captured yet (the vest still for 1 s captures it)")
+                                               : std::to_string(vest_gyro_.offset() * 180.0 / M_PI) + " (" +
+                                                     std::to_string(vest_gyro_.offsetCaptures()) + " still seconds)");
     stat.add("planner states", states_);
     stat.add("cues published", cues_);
     if (!last_source_stamp_.isZero())

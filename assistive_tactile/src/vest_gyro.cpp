@@ -28,29 +28,52 @@ void VestGyro::add(double t, const Eigen::Vector3d& rate, const Eigen::Vector3d&
   if (!(dt <= max_gap_s_))
   {
     gap_ = true;
-    win_t_ = win_r_ = win_rr_ = win_a_ = win_aa_ = 0.0;
+    part_ = Sums();
+    parts_filled_ = 0;  // (a window spans no gap)
   }
   last_sample_ = t;
 }
 
+void VestGyro::Sums::add(double rate_up, double accel_norm, double dt)
+{
+  t += dt;
+  r += rate_up * dt;
+  rr += rate_up * rate_up * dt;
+  a += accel_norm * dt;
+  aa += accel_norm * accel_norm * dt;
+}
+
+VestGyro::Sums& VestGyro::Sums::operator+=(const Sums& o)
+{
+  t += o.t;
+  r += o.r;
+  rr += o.rr;
+  a += o.a;
+  aa += o.aa;
+  return *this;
+}
+
 void VestGyro::watchStill(double rate_up, double accel_norm, double dt)
 {
-  win_t_ += dt;
-  win_r_ += rate_up * dt;
-  win_rr_ += rate_up * rate_up * dt;
-  win_a_ += accel_norm * dt;
-  win_aa_ += accel_norm * accel_norm * dt;
-  if (win_t_ < still_window_s_)
+  part_.add(rate_up, accel_norm, dt);
+  if (part_.t < still_window_s_ / kStillParts)
     return;
-  const double r = win_r_ / win_t_, a = win_a_ / win_t_;
-  const double r_sd = std::sqrt(std::max(0.0, win_rr_ / win_t_ - r * r));
-  const double a_sd = std::sqrt(std::max(0.0, win_aa_ / win_t_ - a * a));
+  parts_[size_t(next_part_)] = part_;
+  next_part_ = (next_part_ + 1) % kStillParts;
+  parts_filled_ = std::min(parts_filled_ + 1, kStillParts);
+  part_ = Sums();
+  if (parts_filled_ < kStillParts)
+    return;
+  Sums w;
+  for (const Sums& p : parts_) w += p;
+  const double r = w.r / w.t, a = w.a / w.t;
+  const double r_sd = std::sqrt(std::max(0.0, w.rr / w.t - r * r));
+  const double a_sd = std::sqrt(std::max(0.0, w.aa / w.t - a * a));
   if (a_sd < kStillAccelSd && r_sd < kStillRateSd && std::fabs(r) < kMaxOffset)
   {
     offset_ = r;
     ++captures_;
   }
-  win_t_ = win_r_ = win_rr_ = win_a_ = win_aa_ = 0.0;
 }
 
 double VestGyro::take(double now)

@@ -57,6 +57,7 @@ TEST(VestGyro, NoSamplesNoRate)
 // power-up), on a wearer standing quietly (sway and sensor noise: 0.03 m/s^2, 0.2 deg/s) for 3 s
 // at 50 Hz: taken out, the standing rate is within 0.2 deg/s of zero. Walking (the gait's 1.5 m/s^2
 // RMS at 1.8 steps a second) on a steady 5 deg/s veer is not still: no capture, the veer stays.
+// The window slides: a stop of 1.5 s anywhere in a walk gives its second.
 TEST(VestGyro, OffsetCapturedStillNotWalking)
 {
   const double deg = M_PI / 180.0, offset = 10.0 * deg;
@@ -101,4 +102,16 @@ TEST(VestGyro, OffsetCapturedStillNotWalking)
     g.add(0.02 * i, s.first, s.second);
   }
   EXPECT_NEAR(g.take(5.0), 0.0, 0.2 * deg);
+
+  // A stop of 1.5 s between two walks (1.3 s into the samples: no whole second of the stop begins
+  // on a whole second) is found.
+  VestGyro stop;
+  for (int i = 0; i <= 200; ++i)
+  {
+    const double t = 0.02 * i;
+    const auto s = t > 1.3 && t < 2.8 ? still(t) : walking(t);
+    stop.add(t, s.first, s.second);
+  }
+  EXPECT_GE(stop.offsetCaptures(), 1);
+  EXPECT_NEAR(stop.offset(), offset, 0.1 * deg);
 }

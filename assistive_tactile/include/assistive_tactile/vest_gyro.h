@@ -1,6 +1,7 @@
 #ifndef ASSISTIVE_TACTILE_VEST_GYRO_H
 #define ASSISTIVE_TACTILE_VEST_GYRO_H
 
+#include <array>
 #include <cmath>
 
 #include <Eigen/Core>
@@ -12,7 +13,8 @@ namespace assistive_tactile
 /// gives it, so the yaw rate is the gyro's rate along the measured "up" (the accelerometer's
 /// mean: gravity, the gait's swings averaged out over `up_tau_s`), not its z axis alone.
 ///
-/// Its offset is captured whenever the vest is still: over each `still_window_s` of samples, an
+/// Its offset is captured whenever the vest is still: over any `still_window_s` of samples (a window
+/// sliding by a quarter of it), an
 /// accelerometer steady within `kStillAccelSd` (no step: a gait shakes it by metres per s^2) and a
 /// yaw rate steady within `kStillRateSd` and under `kMaxOffset` (no turn on the spot, which takes
 /// steps) make the window's mean rate the offset, taken out of every rate after. An MPU-6050's
@@ -44,13 +46,24 @@ public:
   int offsetCaptures() const { return captures_; }
 
 private:
+  /// Time-weighted sums over samples: time, rate, rate^2, |accel|, |accel|^2.
+  struct Sums
+  {
+    double t = 0.0, r = 0.0, rr = 0.0, a = 0.0, aa = 0.0;
+    void add(double rate_up, double accel_norm, double dt);
+    Sums& operator+=(const Sums& o);
+  };
+  /// The window slides by a quarter: a still second is found wherever it begins.
+  static constexpr int kStillParts = 4;
+
   void watchStill(double rate_up, double accel_norm, double dt);
 
   double up_tau_s_, max_gap_s_, still_window_s_;
   double offset_ = 0.0;
   int captures_ = 0;
-  /// the current still window's sums: time, rate x time, rate^2 x time, |accel| x time, |accel|^2 x time
-  double win_t_ = 0.0, win_r_ = 0.0, win_rr_ = 0.0, win_a_ = 0.0, win_aa_ = 0.0;
+  Sums part_;                          ///< the quarter of a window being filled
+  std::array<Sums, kStillParts> parts_;  ///< the last quarters, oldest overwritten
+  int parts_filled_ = 0, next_part_ = 0;
   Eigen::Vector3d up_ = Eigen::Vector3d::Zero();
   bool have_up_ = false;
   double last_sample_ = -1e300;
