@@ -51,6 +51,19 @@ private:
     // the vest's own IMU, when it has one: the torso's turns without the head's scan (none: the
     // body's facing is estimated from the head, as before)
     imu_sub_ = nh.subscribe("vest_imu", 50, &CueLogicNodelet::imuCb, this);
+    // its offset as the last run left it, until the vest is still for a second ("": not kept;
+    // device.launch keeps it in ~/.ros, the trials and tests never: each run its own)
+    offset_file_ = pnh.param<std::string>("vest_gyro_offset_file", "");
+    double kept = 0.0;
+    std::string why;
+    if (!offset_file_.empty() && loadOffset(offset_file_, &kept, &why))
+    {
+      vest_gyro_.setOffset(kept);
+      offset_kept_ = true;
+      NODELET_INFO("cue_logic: vest gyro offset %.3f deg/s kept from %s", kept * 180.0 / M_PI, offset_file_.c_str());
+    }
+    else if (!offset_file_.empty())
+      NODELET_INFO("cue_logic: no vest gyro offset kept (%s): captured when the vest is still", why.c_str());
     updater_.reset(new diagnostic_updater::Updater(nh, pnh, getName()));
     updater_->setHardwareID("cue_logic");
     updater_->add("cue logic", this, &CueLogicNodelet::diagnose);
@@ -88,7 +101,21 @@ private:
       std::lock_guard<std::mutex> lock(mutex_);
       vest_gyro_.add(msg->header.stamp.toSec(), Eigen::Vector3d(w.x, w.y, w.z), Eigen::Vector3d(a.x, a.y, a.z));
       ++imu_samples_;
+      keepOffset();
     });
+  }
+
+  /// The captured offset into `offset_file_`, at most once a minute (the caller holds mutex_).
+  void keepOffset()
+  {
+    const ros::WallTime now = ros::WallTime::now();
+    if (offset_file_.empty() || vest_gyro_.offsetCaptures() == saved_captures_ || (now - offset_saved_).toSec() < 60.0)
+      return;
+    std::string why;
+    if (!saveOffset(offset_file_, vest_gyro_.offset(), &why))
+      NODELET_WARN_THROTTLE(600.0, "cue_logic: vest gyro offset not kept: %s", why.c_str());
+    saved_captures_ = vest_gyro_.offsetCaptures();
+    offset_saved_ = now;
   }
 
   void handleState(const assistive_msgs::NavigationState::ConstPtr& msg)
@@ -203,10 +230,12 @@ private:
                               std::to_string(last_cue_.intensity[3]));
     stat.add("vest gyro", imu_samples_ == 0 ? "none (facing from the head)" : vest_gyro_used_ ? "in use" : "stale (facing from the head)");
     if (imu_samples_ > 0)
-      stat.add("vest gyro offset (deg/s)", vest_gyro_.offsetCaptures() == 0
-                                               ? std::string("not captured yet (the vest still for 1 s captures it)")
-                                               : std::to_string(vest_gyro_.offset() * 180.0 / M_PI) + " (" +
-                                                     std::to_string(vest_gyro_.offsetCaptures()) + " still seconds)");
+    {
+      const std::string deg = std::to_string(vest_gyro_.offset() * 180.0 / M_PI);
+      stat.add("vest gyro offset (deg/s)", vest_gyro_.offsetCaptures() > 0 ? deg + " (" + std::to_string(vest_gyro_.offsetCaptures()) + " still seconds)"
+                                           : offset_kept_ ? deg + " (kept from the last run; not captured yet)"
+                                                          : std::string("not captured yet (the vest still for 1 s captures it)"));
+    }
     stat.add("planner states", states_);
     stat.add("cues published", cues_);
     if (!last_source_stamp_.isZero())
@@ -223,6 +252,10 @@ private:
   ros::Subscriber grid_sub_;
   ros::Subscriber imu_sub_;
   VestGyro vest_gyro_;
+  std::string offset_file_;  ///< where the offset is kept across runs ("": not kept)
+  bool offset_kept_ = false;
+  int saved_captures_ = 0;
+  ros::WallTime offset_saved_;
   uint64_t imu_samples_ = 0;
   bool vest_gyro_used_ = false;
   std::shared_ptr<const ObstacleGrid> grid_;  ///< the planner's latest grid

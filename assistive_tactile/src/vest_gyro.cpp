@@ -1,8 +1,13 @@
 #include "assistive_tactile/vest_gyro.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <limits>
+#include <sstream>
 
 namespace assistive_tactile
 {
@@ -85,6 +90,57 @@ double VestGyro::take(double now)
   gap_ = false;
   last_take_ = now;
   return r;
+}
+
+bool loadOffset(const std::string& path, double* offset, std::string* why)
+{
+  std::ifstream in(path);
+  if (!in)
+  {
+    *why = path + ": " + std::strerror(errno);
+    return false;
+  }
+  std::string line;
+  while (std::getline(in, line))
+  {
+    const std::string key = "offset_rad_s:";
+    if (line.compare(0, key.size(), key) != 0)
+      continue;
+    std::istringstream v(line.substr(key.size()));
+    double x = 0.0;
+    if (!(v >> x) || !std::isfinite(x) || std::fabs(x) >= VestGyro::kMaxOffset)
+    {
+      *why = path + ": not an offset within 25 deg/s: '" + line + "'";
+      return false;
+    }
+    *offset = x;
+    return true;
+  }
+  *why = path + ": no line 'offset_rad_s: X'";
+  return false;
+}
+
+bool saveOffset(const std::string& path, double offset, std::string* why)
+{
+  // written beside and renamed over: a run stopped mid-write leaves the last whole file
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    out.precision(9);
+    out << "# the vest gyro's offset about up, captured standing still (assistive_tactile cue_logic)\n"
+        << "offset_rad_s: " << offset << "\n";
+    if (!out.flush())
+    {
+      *why = tmp + ": " + std::strerror(errno);
+      return false;
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+  {
+    *why = path + ": " + std::strerror(errno);
+    return false;
+  }
+  return true;
 }
 
 }  // namespace assistive_tactile

@@ -9,9 +9,12 @@
 #include <sensor_msgs/Imu.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <functional>
 #include <string>
+
+#include "assistive_tactile/vest_gyro.h"
 
 namespace
 {
@@ -28,7 +31,8 @@ void markerCb(const visualization_msgs::MarkerArray::ConstPtr& m)
 {
   g_markers = m;
 }
-std::string g_vest_gyro;  ///< the cue logic's "vest gyro" diagnostics value
+std::string g_vest_gyro;         ///< the cue logic's "vest gyro" diagnostics value
+std::string g_vest_gyro_offset;  ///< and its "vest gyro offset (deg/s)"
 void diagCb(const diagnostic_msgs::DiagnosticArray::ConstPtr& m)
 {
   for (const auto& s : m->status)
@@ -36,6 +40,8 @@ void diagCb(const diagnostic_msgs::DiagnosticArray::ConstPtr& m)
       for (const auto& kv : s.values)
         if (kv.key == "vest gyro")
           g_vest_gyro = kv.value;
+        else if (kv.key == "vest gyro offset (deg/s)")
+          g_vest_gyro_offset = kv.value;
   for (const auto& s : m->status)
     if (s.name.find("vest link") != std::string::npos)
     {
@@ -209,6 +215,15 @@ TEST(TactileNodelets, TheVestsGyroTurnsTheFacing)
   ASSERT_TRUE(publishUntil(pub, standing, [] {
     return g_vest_gyro == "in use" && g_cue && g_cue->instruction == assistive_msgs::TactileCue::WALK_ON;
   }, 20.0)) << "vest gyro: " << g_vest_gyro << ", cue: " << (g_cue ? g_cue->reason : "none");
+  // standing still: the offset (none here) is captured, and kept in the file the launch names
+  ASSERT_TRUE(publishUntil(pub, standing, [] { return g_vest_gyro_offset.find("still seconds") != std::string::npos; }, 10.0))
+      << "vest gyro offset: " << g_vest_gyro_offset;
+  std::string kept_file, why;
+  ASSERT_TRUE(ros::param::get("/cue_logic/vest_gyro_offset_file", kept_file));
+  double kept = 1.0;
+  EXPECT_TRUE(assistive_tactile::loadOffset(kept_file, &kept, &why)) << why;
+  EXPECT_NEAR(kept, 0.0, 1e-4);
+  std::remove(kept_file.c_str());
   // 40 deg/s for 1 s (one sample a state, 10 Hz)
   int samples = 0;
   rate = 40.0 * M_PI / 180.0;

@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
 #include <random>
+#include <string>
 #include <utility>
 
 #include <Eigen/Geometry>
@@ -114,4 +118,37 @@ TEST(VestGyro, OffsetCapturedStillNotWalking)
   }
   EXPECT_GE(stop.offsetCaptures(), 1);
   EXPECT_NEAR(stop.offset(), offset, 0.1 * deg);
+}
+
+// The offset kept across runs: written and read back; no file, a file without the line, garbage
+// and an offset beyond 25 deg/s are refused with a reason, and setOffset ignores what it cannot be.
+TEST(VestGyro, OffsetKeptAcrossRuns)
+{
+  const std::string dir = ::testing::TempDir();
+  const std::string path = dir + "/vest_gyro_offset_test.yaml";
+  std::string why;
+  double x = 0.0;
+  ASSERT_TRUE(assistive_tactile::saveOffset(path, 0.1234567, &why)) << why;
+  ASSERT_TRUE(assistive_tactile::loadOffset(path, &x, &why)) << why;
+  EXPECT_NEAR(x, 0.1234567, 1e-9);
+  EXPECT_FALSE(assistive_tactile::loadOffset(dir + "/no_such_offset.yaml", &x, &why));
+  EXPECT_NE(why.find("no_such_offset"), std::string::npos);
+  for (const char* text : { "offset: 0.1\n", "offset_rad_s: fast\n", "offset_rad_s: 0.5\n", "offset_rad_s: nan\n" })
+  {
+    {
+      std::ofstream out(path, std::ios::trunc);
+      out << text;
+    }
+    x = 7.0;
+    EXPECT_FALSE(assistive_tactile::loadOffset(path, &x, &why)) << text;
+    EXPECT_EQ(x, 7.0) << text;
+  }
+  std::remove(path.c_str());
+  VestGyro g;
+  g.setOffset(0.05);
+  EXPECT_DOUBLE_EQ(g.offset(), 0.05);
+  g.setOffset(0.5);  // 29 deg/s: no MPU-6050's
+  g.setOffset(std::numeric_limits<double>::quiet_NaN());
+  EXPECT_DOUBLE_EQ(g.offset(), 0.05);
+  EXPECT_EQ(g.offsetCaptures(), 0);
 }

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cmath>
+#include <string>
 
 #include <Eigen/Core>
 
@@ -44,6 +45,13 @@ public:
   /// The offset taken out (rad/s about up) and how many still windows set it.
   double offset() const { return offset_; }
   int offsetCaptures() const { return captures_; }
+  /// Start from an offset kept from an earlier run (`loadOffset`), until a still second captures
+  /// one; ignored beyond `kMaxOffset` or not finite.
+  void setOffset(double offset)
+  {
+    if (std::isfinite(offset) && std::fabs(offset) < kMaxOffset)
+      offset_ = offset;
+  }
 
 private:
   /// Time-weighted sums over samples: time, rate, rate^2, |accel|, |accel|^2.
@@ -71,6 +79,15 @@ private:
   bool gap_ = true;         ///< a gap in the samples since the last take
   double last_take_ = -1e300;
 };
+
+/// The vest gyro's offset kept across runs, so a vest walked on before its first still second does
+/// not start from zero (an MPU-6050's offset spreads +-20 deg/s over parts and temperatures; the
+/// same part's at body temperature is likely far nearer its last value: not measured here): a file
+/// with a line `offset_rad_s: X`. false with `why`: no file, unreadable, or an
+/// offset beyond `VestGyro::kMaxOffset`.
+bool loadOffset(const std::string& path, double* offset, std::string* why);
+/// Writes it (replacing the file); false with `why`.
+bool saveOffset(const std::string& path, double offset, std::string* why);
 
 }  // namespace assistive_tactile
 
