@@ -14,13 +14,13 @@ namespace assistive_tactile
 /// gives it, so the yaw rate is the gyro's rate along the measured "up" (the accelerometer's
 /// mean: gravity, the gait's swings averaged out over `up_tau_s`), not its z axis alone.
 ///
-/// Its offset is captured whenever the vest is still: over any `still_window_s` of samples (a window
-/// sliding by a quarter of it), an
-/// accelerometer steady within `kStillAccelSd` (no step: a gait shakes it by metres per s^2) and a
-/// yaw rate steady within `kStillRateSd` and under `kMaxOffset` (no turn on the spot, which takes
-/// steps) make the window's mean rate the offset, taken out of every rate after. An MPU-6050's
-/// offset is up to +-20 deg/s at power-up (datasheet), where the cue logic learns only what is left
-/// within 2 deg/s; a 3 deg/s sigma left to it took trials on homes from 0.2 to 0.9 collisions a trial.
+/// Its offset is captured whenever the vest is still: over any `still_window_s` of samples (the
+/// window sliding by a quarter of it), an accelerometer steady within `kStillAccelSd` (no step: a
+/// gait shakes it by metres per s^2) and a yaw rate steady within `kStillRateSd` and under
+/// `kMaxOffset` (no turn on the spot, which takes steps) make the window's mean rate the offset,
+/// taken out of every rate after. An MPU-6050's offset is up to +-20 deg/s at power-up
+/// (datasheet), where the cue logic learns only what is left within 2 deg/s standing; a 3 deg/s
+/// sigma left to it took trials on homes from 0.2 to 0.9 collisions a trial.
 class VestGyro
 {
 public:
@@ -37,9 +37,9 @@ public:
   void add(double t, const Eigen::Vector3d& rate, const Eigen::Vector3d& accel);
 
   /// The mean yaw rate (rad/s, + = left) since the last take, over `now - last`: the turn the
-  /// samples carry divided by the time since the last take, less the captured offset. NaN when no sample came within
-  /// `max_gap_s` of now or the samples have gaps longer than that (no gyro: the caller falls back
-  /// to the head) or no "up" is known yet.
+  /// samples carry, less the offset, divided by the time since the last take. NaN when no sample
+  /// came within `max_gap_s` of now or the samples have gaps longer than that (no gyro: the caller
+  /// falls back to the head) or no "up" is known yet.
   double take(double now);
 
   /// The offset taken out (rad/s about up) and how many still windows set it.
@@ -83,8 +83,8 @@ private:
 /// The vest gyro's offset kept across runs, so a vest walked on before its first still second does
 /// not start from zero (an MPU-6050's offset spreads +-20 deg/s over parts and temperatures; the
 /// same part's at body temperature is likely far nearer its last value: not measured here): a file
-/// with a line `offset_rad_s: X`. false with `why`: no file, unreadable, or an
-/// offset beyond `VestGyro::kMaxOffset`.
+/// with a line `offset_rad_s: X`. false with `why`: no file, unreadable, or an offset beyond
+/// `VestGyro::kMaxOffset`.
 bool loadOffset(const std::string& path, double* offset, std::string* why);
 /// Writes it (replacing the file); false with `why`.
 bool saveOffset(const std::string& path, double offset, std::string* why);
