@@ -447,6 +447,28 @@ static inline uint8_t vest_command_packet_size(uint8_t version)
   return (uint8_t)(vest_command_raw_size(version) + 3u);
 }
 
+/* 16-bit fields, low byte first (TTL_MS, RANGE_MM, T_MS; the IMU's int16 readings). */
+static inline void vest_put_u16(uint8_t* at, uint16_t v)
+{
+  at[0] = (uint8_t)(v & 0xFFu);
+  at[1] = (uint8_t)(v >> 8);
+}
+
+static inline uint16_t vest_get_u16(const uint8_t* at)
+{
+  return (uint16_t)(at[0] | ((uint16_t)at[1] << 8));
+}
+
+static inline void vest_put_i16(uint8_t* at, int16_t v)
+{
+  vest_put_u16(at, (uint16_t)v);
+}
+
+static inline int16_t vest_get_i16(const uint8_t* at)
+{
+  return (int16_t)vest_get_u16(at);
+}
+
 /* Writes a COMMAND / STATUS (delimiter, COBS frame, delimiter) with VERSION `version` to out
  * (VEST_PACKET_SIZE bytes room) and returns the bytes written: VEST_PACKET_SIZE in version 4,
  * VEST_PACKET_SIZE_V3 in versions 2 / 3 (no pattern bytes: an old peer's COMMAND is steady). A
@@ -462,8 +484,7 @@ static inline uint8_t vest_encode_version(const vest_packet_t* p, uint8_t versio
   raw[3] = (uint8_t)(p->motors & 0x0Fu);
   for (i = 0; i < VEST_NUM_MOTORS; ++i)
     raw[4 + i] = p->intensity[i];
-  raw[8] = (uint8_t)(p->ttl_ms & 0xFFu);
-  raw[9] = (uint8_t)(p->ttl_ms >> 8);
+  vest_put_u16(raw + 8, p->ttl_ms);
   raw[10] = p->pattern.id;
   raw[11] = p->pattern.on_10ms;
   raw[12] = steady ? (uint8_t)0u : p->pattern.off_10ms;
@@ -485,8 +506,7 @@ static inline void vest_encode_range_version(const vest_range_t* r, uint8_t vers
   raw[1] = (uint8_t)VEST_TYPE_RANGE;
   raw[2] = r->seq;
   raw[3] = r->status;
-  raw[4] = (uint8_t)(r->range_mm & 0xFFu);
-  raw[5] = (uint8_t)(r->range_mm >> 8);
+  vest_put_u16(raw + 4, r->range_mm);
   raw[6] = r->echoes;
   vest_frame(raw, (uint8_t)(VEST_RANGE_RAW_SIZE - VEST_CRC_SIZE), out);
 }
@@ -518,18 +538,6 @@ static inline void vest_encode_buttons(const vest_buttons_t* b, uint8_t* out)
   vest_encode_buttons_version(b, (uint8_t)VEST_PROTOCOL_VERSION, out);
 }
 
-static inline void vest_put_i16(uint8_t* at, int16_t v)
-{
-  const uint16_t u = (uint16_t)v;
-  at[0] = (uint8_t)(u & 0xFFu);
-  at[1] = (uint8_t)(u >> 8);
-}
-
-static inline int16_t vest_get_i16(const uint8_t* at)
-{
-  return (int16_t)(uint16_t)(at[0] | ((uint16_t)at[1] << 8));
-}
-
 /* Writes VEST_IMU_PACKET_SIZE bytes with VERSION `version` (5; the argument keeps the sketch's
  * sensor senders alike). */
 static inline void vest_encode_imu_version(const vest_imu_t* u, uint8_t version, uint8_t* out)
@@ -541,8 +549,7 @@ static inline void vest_encode_imu_version(const vest_imu_t* u, uint8_t version,
   raw[2] = u->seq;
   raw[3] = u->status;
   raw[4] = u->samples;
-  raw[5] = (uint8_t)(u->t_ms & 0xFFu);
-  raw[6] = (uint8_t)(u->t_ms >> 8);
+  vest_put_u16(raw + 5, u->t_ms);
   for (i = 0; i < 3u; ++i)
   {
     vest_put_i16(raw + 7 + 2 * i, u->gyro[i]);
@@ -603,7 +610,7 @@ static inline int vest_decode_message(const uint8_t* frame, uint8_t len, vest_me
   {
     m->range.seq = raw[2];
     m->range.status = raw[3];
-    m->range.range_mm = (uint16_t)(raw[4] | ((uint16_t)raw[5] << 8));
+    m->range.range_mm = vest_get_u16(raw + 4);
     m->range.echoes = raw[6];
     if (m->range.status > VEST_RANGE_SENSOR_MISSING || m->range.echoes > 3u ||
         (m->range.status == VEST_RANGE_OK && m->range.echoes < 2u) ||
@@ -616,7 +623,7 @@ static inline int vest_decode_message(const uint8_t* frame, uint8_t len, vest_me
     m->imu.seq = raw[2];
     m->imu.status = raw[3];
     m->imu.samples = raw[4];
-    m->imu.t_ms = (uint16_t)(raw[5] | ((uint16_t)raw[6] << 8));
+    m->imu.t_ms = vest_get_u16(raw + 5);
     for (i = 0; i < 3u; ++i)
     {
       m->imu.gyro[i] = vest_get_i16(raw + 7 + 2 * i);
@@ -649,7 +656,7 @@ static inline int vest_decode_message(const uint8_t* frame, uint8_t len, vest_me
   m->packet.motors = raw[3];
   for (i = 0; i < VEST_NUM_MOTORS; ++i)
     m->packet.intensity[i] = raw[4 + i];
-  m->packet.ttl_ms = (uint16_t)(raw[8] | ((uint16_t)raw[9] << 8));
+  m->packet.ttl_ms = vest_get_u16(raw + 8);
   if (raw[0] >= VEST_PATTERN_VERSION)
   {
     /* a steady pattern carries no timing */
