@@ -108,8 +108,10 @@ private:
   /// The captured offset into `offset_file_`, at most once a minute (the caller holds mutex_).
   void keepOffset()
   {
+    if (offset_file_.empty() || vest_gyro_.offsetCaptures() == saved_captures_)
+      return;
     const ros::WallTime now = ros::WallTime::now();
-    if (offset_file_.empty() || vest_gyro_.offsetCaptures() == saved_captures_ || (now - offset_saved_).toSec() < 60.0)
+    if ((now - offset_saved_).toSec() < 60.0)
       return;
     std::string why;
     if (!saveOffset(offset_file_, vest_gyro_.offset(), &why))

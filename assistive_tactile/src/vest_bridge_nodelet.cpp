@@ -178,7 +178,8 @@ private:
     if (s.imu_sensor_missing != imu_missing_)
       NODELET_WARN_THROTTLE(10.0, "vest_bridge: the vest reports its IMU missing (not answering on I2C): the cue "
                                   "logic takes the body's turns from the head");
-    if (b.imuSilent(now))
+    snap_imu_silent_ = b.imuSilent(now);
+    if (snap_imu_silent_)
       NODELET_WARN_THROTTLE(10.0, "vest_bridge: no IMU packet for over %.2f s: the cue logic takes the body's "
                                   "turns from the head", params_.imu_timeout_s);
     if (b.linkUp(now) && s.command_version < VEST_IMU_VERSION && !s.vest_refused)
@@ -187,7 +188,6 @@ private:
                                   "Reflash firmware/vest/vest.ino for the body's heading",
                             s.command_version);
     imu_missing_ = s.imu_sensor_missing;
-    snap_imu_silent_ = b.imuSilent(now);
     b.takeButtons(buttons_);
     for (const ButtonEvent& e : buttons_)
     {

@@ -13,22 +13,23 @@ namespace assistive_tactile
 {
 void VestGyro::add(double t, const Eigen::Vector3d& rate, const Eigen::Vector3d& accel)
 {
-  if (!rate.allFinite() || !accel.allFinite() || accel.norm() < 1.0)
+  const double g = accel.norm();
+  if (!rate.allFinite() || !accel.allFinite() || g < 1.0)
     return;  // (a free fall or a broken sample says nothing about up)
   const double dt = t - last_sample_;
   if (!(dt > 0.0))
     return;  // out of order, repeated or no time: ignored
   if (!have_up_)
   {
-    up_ = accel.normalized();
+    up_ = accel / g;
     have_up_ = true;
   }
   else if (dt <= max_gap_s_)
   {
-    up_ = (up_ + std::min(1.0, dt / up_tau_s_) * (accel.normalized() - up_)).normalized();
+    up_ = (up_ + std::min(1.0, dt / up_tau_s_) * (accel / g - up_)).normalized();
     const double r = rate.dot(up_);
     turn_ += (r - offset_) * dt;  // the rate held over the interval since the last sample
-    watchStill(r, accel.norm(), dt);
+    watchStill(r, g, dt);
   }
   if (!(dt <= max_gap_s_))
   {

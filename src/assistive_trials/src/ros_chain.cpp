@@ -190,7 +190,7 @@ void RosChain::observe(double t, const BodyState& s)
     // an upright vest: its z axis is the vertical, its rate the torso's turn
     sensor_msgs::Imu m;
     m.header.stamp = ros::Time(d_->base + t);
-    m.header.frame_id = "vest_link";
+    m.header.frame_id = "vest_imu";  // as the vest bridge publishes it (the URDF's link)
     m.orientation_covariance[0] = -1.0;
     const VestGyroSim::Sample v = d_->o.vest_gyro->sample(t, s);
     m.angular_velocity.z = v.rate_z;
