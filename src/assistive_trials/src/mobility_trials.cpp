@@ -30,6 +30,7 @@
 
 #include <ros/ros.h>
 
+#include <assistive_eval/plots.h>
 #include <assistive_tactile/cue_logic.h>
 #include <assistive_trials/ros_chain.h>
 #include <assistive_trials/trials.h>
@@ -315,7 +316,9 @@ bool runWorld(const World& world, const std::string& world_arg, const TrialOptio
       std::snprintf(t, sizeof(t), "%s trial %d: speed %.2f m/s, reaction %.2f s, turn gain %.2f, %d levels%s", world.name.c_str(),
                     k, r.wearer.walk_speed, r.wearer.reaction_s, r.wearer.turn_gain, r.wearer.intensity_levels,
                     r.completed ? "" : ", NOT completed");
-      cv::imwrite(g_timelines + world.name + "_" + std::to_string(k) + ".png", timelinePlot(r, t));
+      std::string error;
+      if (!assistive_eval::writePng(g_timelines + world.name + "_" + std::to_string(k) + ".png", timelinePlot(r, t), &error))
+        std::cerr << "mobility_trials: " << error << "\n";
     }
     if (g_causes)
     {
@@ -649,7 +652,7 @@ int main(int argc, char** argv)
         else if (k == "levels") opt.fix_levels = int(x);
         else throw std::invalid_argument("--fix");
       }
-      else if (a == "--cue")  // analysis: name=value of a cue parameter (veer_step, veer_on, alert_reaction, turn_on, settle, passage, passage_align, body_stand_tau, short_walk, passage_body, stop_decel, start_accel, sweep_radius, sweep_cycle, veer_rate, turn_go_clear)
+      else if (a == "--cue")  // analysis: name=value of a cue parameter (any by its ROS name, or veer_step, veer_on, alert_reaction, turn_on, settle, passage, passage_align, body_stand_tau, short_walk, passage_body, stop_decel, start_accel, sweep_radius, sweep_cycle, veer_rate, turn_go_clear)
       {
         const auto [k, x] = keyValue(val());
         if (k == "veer_step") opt.cues.veer_step_deg = x;
@@ -668,7 +671,8 @@ int main(int argc, char** argv)
         else if (k == "sweep_cycle") opt.cues.sweep_cycle_s = x;
         else if (k == "veer_rate") opt.cues.veer_rate_deg = x;
         else if (k == "turn_go_clear") opt.cues.turn_go_clear_m = x;  // 0: every turn judged before the go (before)
-        else throw std::invalid_argument("--cue");
+        else if (!assistive_common::setFromText(opt.cues, k, std::to_string(x)))
+          throw std::invalid_argument("--cue");  // any other: the cue logic's parameter by its ROS name
       }
       else if (a == "--unsure-at") opt.unsure_at_s = std::stod(val());
       else if (a == "--unsure-for") opt.unsure_for_s = std::stod(val());
@@ -715,6 +719,12 @@ int main(int argc, char** argv)
   if (!set_mode && (!kind_arg.empty() || !keep_dir.empty() || people != 0))
   {
     std::cerr << "mobility_trials: --kind, --keep and --people go with --generated\n";
+    return 2;
+  }
+  if (!set_mode && !plot.empty() && !cv::haveImageWriter(plot))
+  {
+    // checked now, not after the trials: a run's summary is not lost to a misspelt file name
+    std::cerr << "mobility_trials: --plot " << plot << ": no image writer for that extension (FILE.png)\n";
     return 2;
   }
   if (people < 0 || people > 100)
@@ -775,7 +785,9 @@ int main(int argc, char** argv)
     const cv::Mat img = heatMap(world, res, opt.dt,
                                 world.name + ": " + label + ", " + std::to_string(trials) + " trials, " +
                                     num(S.coll / S.n, 2) + " collisions/trial");
-    const bool wrote = cv::imwrite(plot, img);
+    std::string error;
+    const bool wrote = assistive_eval::writePng(plot, img, &error);
+    if (!wrote) std::cerr << "mobility_trials: " << error << "\n";
     reportCauses(res);
     reportWorld(world, mode, label, opt.cues_enabled, trials, seed, S, plot, wrote);
     return 0;
@@ -864,7 +876,8 @@ int main(int argc, char** argv)
     const cv::Mat img = heatMap(g.world, sw.res, wo.dt,
                                 sw.name + ": " + label + ", " + std::to_string(trials) + " trials, " +
                                     num(S.collisionsPerTrial(), 2) + " collisions/trial");
-    if (!cv::imwrite(png, img)) std::cerr << "mobility_trials: could not write " << png << "\n";
+    std::string error;
+    if (!assistive_eval::writePng(png, img, &error)) std::cerr << "mobility_trials: " << error << "\n";
     std::printf("%-22s %-8s %-6.1f %-7d %-5.0f %-9.2f %-6.0f %-5.2f %-6.2f %-7s %-7.2f %-7.1f\n", sw.name.c_str(),
                 sw.kind.c_str(), sw.walk_m, trials, S.comp, S.collisionsPerTrial(), S.worst, S.kinds[0] / S.n,
                 S.kinds[3] / S.n, num(S.ppwsMean(), 1).c_str(), S.clearance(), sw.gen_s + sw.trials_s);

@@ -143,7 +143,7 @@ TEST_F(MobilityTrials, GeneratedSetOneRowAndHeatMapPerWorldMeanAndWorst)
   EXPECT_EQ(withoutTimes(lastLine(out)), withoutTimes(json));
 }
 
-TEST_F(MobilityTrials, GeneratedSetUsageErrors)
+TEST_F(MobilityTrials, UsageErrors)
 {
   const std::string exe = std::string(MOBILITY_TRIALS_EXE) + " ";
   auto code = [&](const std::string& args) {
@@ -156,6 +156,9 @@ TEST_F(MobilityTrials, GeneratedSetUsageErrors)
   EXPECT_EQ(code("--world glass --kind home"), 2);
   EXPECT_EQ(code("--world glass --people 4"), 2);
   EXPECT_EQ(code("--generated 1 --people 101"), 2);
+  EXPECT_EQ(code("--world glass --trials 1 --cue no_such_parameter=1"), 2);
+  // a heat map's name without an image extension is refused before the trials, not after them
+  EXPECT_EQ(code("--world glass --trials 1 --plot " + ::testing::TempDir() + "mobility_set_noext"), 2);
 }
 
 TEST_F(MobilityTrials, GeneratedBusySetHasItsPeople)
