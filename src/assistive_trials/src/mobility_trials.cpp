@@ -654,7 +654,16 @@ int main(int argc, char** argv)
       }
       else if (a == "--cue")  // analysis: name=value of a cue parameter (any by its ROS name, or veer_step, veer_on, alert_reaction, turn_on, settle, passage, passage_align, body_stand_tau, short_walk, passage_body, stop_decel, start_accel, sweep_radius, sweep_cycle, veer_rate, turn_go_clear)
       {
-        const auto [k, x] = keyValue(val());
+        const std::string kv = val();
+        const std::string k = kv.substr(0, kv.find('='));
+        if (kv.find('=') != std::string::npos && assistive_common::has(opt.cues, k))
+        {
+          // any cue parameter by its ROS name, from its text (a bool too)
+          if (!assistive_common::setFromText(opt.cues, k, kv.substr(kv.find('=') + 1)))
+            throw std::invalid_argument("--cue");
+          continue;
+        }
+        const double x = keyValue(kv).second;
         if (k == "veer_step") opt.cues.veer_step_deg = x;
         else if (k == "veer_on") opt.cues.veer_on_deg = x;
         else if (k == "alert_reaction") opt.cues.alert_reaction_s = x;
@@ -671,8 +680,7 @@ int main(int argc, char** argv)
         else if (k == "sweep_cycle") opt.cues.sweep_cycle_s = x;
         else if (k == "veer_rate") opt.cues.veer_rate_deg = x;
         else if (k == "turn_go_clear") opt.cues.turn_go_clear_m = x;  // 0: every turn judged before the go (before)
-        else if (!assistive_common::setFromText(opt.cues, k, std::to_string(x)))
-          throw std::invalid_argument("--cue");  // any other: the cue logic's parameter by its ROS name
+        else throw std::invalid_argument("--cue");
       }
       else if (a == "--unsure-at") opt.unsure_at_s = std::stod(val());
       else if (a == "--unsure-for") opt.unsure_for_s = std::stod(val());
