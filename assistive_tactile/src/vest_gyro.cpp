@@ -111,7 +111,8 @@ bool loadOffset(const std::string& path, double* offset, std::string* why)
     double x = 0.0;
     if (!(v >> x) || !std::isfinite(x) || std::fabs(x) >= VestGyro::kMaxOffset)
     {
-      *why = path + ": not an offset within 25 deg/s: '" + line + "'";
+      *why = path + ": not an offset within " + std::to_string(std::lround(VestGyro::kMaxOffset * 180.0 / M_PI)) +
+             " deg/s: '" + line + "'";
       return false;
     }
     *offset = x;

@@ -239,6 +239,16 @@ void stopVision(VisionContext& vc)
 /// The trials of one world (seeds 1000 seed + k). `rows`: print one row per trial on stdout;
 /// `label`: what the progress bar on stderr names. False when a vision trial could not run.
 /// --timelines PREFIX: one cue timeline per trial (PREFIX<world>_<k>.png); who the wearers were.
+/// A heat map or timeline to `path`; an error message (no exception) when it cannot be written.
+bool writePlot(const std::string& path, const cv::Mat& img)
+{
+  std::string error;
+  if (assistive_eval::writePng(path, img, &error))
+    return true;
+  std::cerr << "mobility_trials: " << error << "\n";
+  return false;
+}
+
 std::string g_timelines, g_wearers = "population";
 /// --causes: one line per collision and per unfinished trial (what the wearer did, where, why).
 bool g_causes = false;
@@ -316,9 +326,7 @@ bool runWorld(const World& world, const std::string& world_arg, const TrialOptio
       std::snprintf(t, sizeof(t), "%s trial %d: speed %.2f m/s, reaction %.2f s, turn gain %.2f, %d levels%s", world.name.c_str(),
                     k, r.wearer.walk_speed, r.wearer.reaction_s, r.wearer.turn_gain, r.wearer.intensity_levels,
                     r.completed ? "" : ", NOT completed");
-      std::string error;
-      if (!assistive_eval::writePng(g_timelines + world.name + "_" + std::to_string(k) + ".png", timelinePlot(r, t), &error))
-        std::cerr << "mobility_trials: " << error << "\n";
+      writePlot(g_timelines + world.name + "_" + std::to_string(k) + ".png", timelinePlot(r, t));
     }
     if (g_causes)
     {
@@ -655,11 +663,12 @@ int main(int argc, char** argv)
       else if (a == "--cue")  // analysis: name=value of a cue parameter (any by its ROS name, or veer_step, veer_on, alert_reaction, turn_on, settle, passage, passage_align, body_stand_tau, short_walk, passage_body, stop_decel, start_accel, sweep_radius, sweep_cycle, veer_rate, turn_go_clear)
       {
         const std::string kv = val();
-        const std::string k = kv.substr(0, kv.find('='));
-        if (kv.find('=') != std::string::npos && assistive_common::has(opt.cues, k))
+        const size_t eq = kv.find('=');
+        const std::string k = kv.substr(0, eq);
+        if (eq != std::string::npos && assistive_common::has(opt.cues, k))
         {
-          // any cue parameter by its ROS name, from its text (a bool too)
-          if (!assistive_common::setFromText(opt.cues, k, kv.substr(kv.find('=') + 1)))
+          // any cue parameter by its ROS name, parsed as its own type
+          if (!assistive_common::setFromText(opt.cues, k, kv.substr(eq + 1)))
             throw std::invalid_argument("--cue");
           continue;
         }
@@ -793,9 +802,7 @@ int main(int argc, char** argv)
     const cv::Mat img = heatMap(world, res, opt.dt,
                                 world.name + ": " + label + ", " + std::to_string(trials) + " trials, " +
                                     num(S.coll / S.n, 2) + " collisions/trial");
-    std::string error;
-    const bool wrote = assistive_eval::writePng(plot, img, &error);
-    if (!wrote) std::cerr << "mobility_trials: " << error << "\n";
+    const bool wrote = writePlot(plot, img);
     reportCauses(res);
     reportWorld(world, mode, label, opt.cues_enabled, trials, seed, S, plot, wrote);
     return 0;
@@ -884,8 +891,7 @@ int main(int argc, char** argv)
     const cv::Mat img = heatMap(g.world, sw.res, wo.dt,
                                 sw.name + ": " + label + ", " + std::to_string(trials) + " trials, " +
                                     num(S.collisionsPerTrial(), 2) + " collisions/trial");
-    std::string error;
-    if (!assistive_eval::writePng(png, img, &error)) std::cerr << "mobility_trials: " << error << "\n";
+    writePlot(png, img);
     std::printf("%-22s %-8s %-6.1f %-7d %-5.0f %-9.2f %-6.0f %-5.2f %-6.2f %-7s %-7.2f %-7.1f\n", sw.name.c_str(),
                 sw.kind.c_str(), sw.walk_m, trials, S.comp, S.collisionsPerTrial(), S.worst, S.kinds[0] / S.n,
                 S.kinds[3] / S.n, num(S.ppwsMean(), 1).c_str(), S.clearance(), sw.gen_s + sw.trials_s);
