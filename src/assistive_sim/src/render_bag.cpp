@@ -38,6 +38,7 @@ void usage(std::ostream& os = std::cerr)
   os << "usage: render_bag --world WORLD --out FILE.bag [--seed N] [--frames N] [--width W --height H]\n"
                "                  [--rate HZ] [--noise SIGMA] [--exposure-time S] [--exposure-variation X] [--imu-rate HZ]\n"
                "                  [--depth]  (also write the left ground-truth depth, /ground_truth/left/depth)\n"
+               "                  [--truth-resolution M]  the ground-truth grid's cell (default 0.2 m; the map's cell_size)\n"
                "                  [--no-sonar]  (no /sonar/front: the vest's forward ultrasonic ranger, 20 Hz)\n"
                "                  [--passive]  a passive pair only; default: the reference camera, an active pair whose\n"
                "                    pattern projector's emitter is on for a second pair half a frame after each\n"
@@ -94,6 +95,7 @@ int main(int argc, char** argv)
   ImuParams imu_p;
   UltrasonicParams sonar_p;
   bool with_sonar = true;
+  OccupancyParams truth_op;  // the truth grid written to the bag (its cell: the map's cell_size it is scored against)
   double rate = 15.0;
   bool write_depth = false, imperfect = false, exposure_given = false, passive = false;
   double lux = -1.0;
@@ -153,6 +155,7 @@ int main(int argc, char** argv)
       else if (a == "--imu-rate") imu_p.rate = std::stod(val());
       else if (a == "--depth") write_depth = true;
       else if (a == "--no-sonar") with_sonar = false;
+      else if (a == "--truth-resolution") truth_op.resolution = std::stod(val());
       else if (a == "--passive") passive = true;
       else if (a == "--lux")
       {
@@ -240,7 +243,7 @@ int main(int argc, char** argv)
     const double t0 = 100.0;  // bag stamps start here (ros::Time 0 means "unset")
 
     StereoBagWriter writer(out);
-    writer.writeOccupancy(computeOccupancy(world), t0);
+    writer.writeOccupancy(computeOccupancy(world, truth_op), t0);
     writer.writeString("/sim/camera_errors", errors_json, t0);
     RenderOutput ro;
     std::vector<assistive_msgs::MoverArray> people_truth;  // /ground_truth/people, one per frame

@@ -57,6 +57,8 @@ void usage(std::ostream& os = std::cerr)
         "                       [--causes] (a line per collision and per unfinished trial: what the wearer did, where)\n"
         "                       [--vest-gyro] (truth, vision: the vest has its own gyro, the head IMU's noise and bias;\n"
         "                       --vest-gyro-perfect: without either; --vest-gyro-bias DEG_S: the offset's sigma, analysis)\n"
+        "                       [--grid-resolution M] (truth: the perfect map's cell, 0.02-1 m; default 0.2, the\n"
+        "                       obstacle stage's cell_size; analysis: what a finer map is worth)\n"
         "                       [--ros-params FILE.yaml] (vision: loaded at the root before each trial's pipeline,\n"
         "                       e.g. {cue_logic: {lost_turn_after_s: 0}, slam: {reset_fixed_rotation: false}})\n"
         "                       [--active] (vision: the reference camera, the pattern projector's emitter-on pairs\n"
@@ -696,6 +698,11 @@ int main(int argc, char** argv)
       else if (a == "--timelines") g_timelines = val();
       else if (a == "--causes") g_causes = true;
       else if (a == "--vest-gyro") opt.vest_gyro = true;
+      else if (a == "--grid-resolution")  // analysis: the perfect map's cell in truth mode
+      {
+        opt.truth_grid_resolution = std::stod(val());
+        if (!(opt.truth_grid_resolution >= 0.02 && opt.truth_grid_resolution <= 1.0)) throw std::invalid_argument(a);
+      }
       else if (a == "--vest-gyro-bias")  // analysis: the vest gyro's offset at power-up, sigma in deg/s
       {
         opt.vest_gyro = true;

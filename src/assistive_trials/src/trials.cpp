@@ -128,6 +128,7 @@ public:
   {
     OccupancyParams op;
     op.head_above_eye = 0.12;
+    op.resolution = opt.truth_grid_resolution;
     grid_ = toPlannerGrid(computeOccupancy(world, op));
     trace_ = std::getenv("MOBILITY_TRIALS_TRACE") != nullptr;  // per-cycle state on stderr
   }

@@ -181,6 +181,9 @@ struct TrialOptions
   /// per trial that walks); all zero: a perfect gyro (analysis).
   bool vest_gyro = false;
   assistive_sim::ImuParams vest_gyro_errors;
+  /// Truth mode: the cell of the perfect map handed to the planner (m). 0.2 = the obstacle stage's
+  /// `cell_size`; finer cells place a doorway's jambs finer (analysis of what a finer map is worth).
+  double truth_grid_resolution = 0.2;
   /// A scripted UNSURE episode (the chain reports no pose) from this trial time on (NaN: none),
   /// for `unsure_for_s` seconds: truth mode only.
   double unsure_at_s = std::numeric_limits<double>::quiet_NaN();
