@@ -155,7 +155,11 @@ int main(int argc, char** argv)
       else if (a == "--imu-rate") imu_p.rate = std::stod(val());
       else if (a == "--depth") write_depth = true;
       else if (a == "--no-sonar") with_sonar = false;
-      else if (a == "--truth-resolution") truth_op.resolution = std::stod(val());
+      else if (a == "--truth-resolution")
+      {
+        truth_op.resolution = std::stod(val());
+        if (!(truth_op.resolution >= 0.02 && truth_op.resolution <= 2.0)) throw std::invalid_argument(a);  // cell_size's range
+      }
       else if (a == "--passive") passive = true;
       else if (a == "--lux")
       {

@@ -250,3 +250,24 @@ TEST(RenderBagCliErrors, HelpExitsZeroUnknownOptionGivesUsage)
   EXPECT_NE(read().find("usage: render_bag"), std::string::npos) << read();
   std::remove(log.c_str());
 }
+
+TEST(RenderBagCliTruth, TruthGridAtTheAskedCell)
+{
+  // --truth-resolution: the truth grid at the cell a map run at another cell_size is scored against
+  const std::string base = std::string(RENDER_BAG_EXE) + " --world course --frames 1 --width 96 --height 72 --seed 2";
+  const std::string a = std::string(::testing::TempDir()) + "assistive_sim_truth_a.bag";
+  const std::string b = std::string(::testing::TempDir()) + "assistive_sim_truth_b.bag";
+  ASSERT_EQ(std::system((base + " --out " + a + " > /dev/null 2>&1").c_str()), 0);
+  ASSERT_EQ(std::system((base + " --out " + b + " --truth-resolution 0.1 > /dev/null 2>&1").c_str()), 0);
+  OccupancyGrid ga, gb;
+  ASSERT_TRUE(StereoBagReader(a).readOccupancy(ga));
+  ASSERT_TRUE(StereoBagReader(b).readOccupancy(gb));
+  EXPECT_NEAR(ga.resolution, 0.2, 1e-6);  // float32 in nav_msgs/MapMetaData
+  EXPECT_NEAR(gb.resolution, 0.1, 1e-6);
+  EXPECT_NEAR(gb.width * gb.resolution, ga.width * ga.resolution, 0.2);  // the same floor, finer cells
+  EXPECT_NEAR(gb.height * gb.resolution, ga.height * ga.resolution, 0.2);
+  const int refused = std::system((base + " --out " + b + " --truth-resolution 0 > /dev/null 2>&1").c_str());
+  EXPECT_TRUE(WIFEXITED(refused) && WEXITSTATUS(refused) == 2);
+  std::remove(a.c_str());
+  std::remove(b.c_str());
+}
