@@ -590,6 +590,7 @@ int main(int argc, char** argv)
   long seed = 1, seed_base = 1001;
   int people = 0;  // --generated: people in each generated world (generate_world --people)
   TrialOptions opt;
+  bool grid_resolution_given = false;  // truth mode's alone: refused elsewhere rather than ignored
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -701,6 +702,7 @@ int main(int argc, char** argv)
       else if (a == "--grid-resolution")  // analysis: the perfect map's cell in truth mode
       {
         opt.truth_grid_resolution = std::stod(val());
+        grid_resolution_given = true;
         if (!(opt.truth_grid_resolution >= 0.02 && opt.truth_grid_resolution <= 1.0)) throw std::invalid_argument(a);
       }
       else if (a == "--vest-gyro-bias")  // analysis: the vest gyro's offset at power-up, sigma in deg/s
@@ -775,6 +777,11 @@ int main(int argc, char** argv)
   if (opt.vest_gyro && opt.mode == TrialMode::CANE)
   {
     std::cerr << "mobility_trials: --vest-gyro goes with --mode truth or vision\n";
+    return 2;
+  }
+  if (grid_resolution_given && opt.mode != TrialMode::TRUTH)
+  {
+    std::cerr << "mobility_trials: --grid-resolution goes with --mode truth (the perfect map's cell)\n";
     return 2;
   }
   const std::string label = mode + (opt.cues_enabled ? "" : " (no cues)");
