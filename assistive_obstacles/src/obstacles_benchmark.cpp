@@ -232,6 +232,36 @@ bool worldMasks(const std::string& path, const eval::OccupancyGrid& truth, doubl
   return false;
 }
 
+/// The truth at the map's cell when the bag's truth is at another: the world's solids rasterised
+/// again at `cell` (with their partial-cell and glass masks), so that a map run at any `cell_size`
+/// is scored cell for cell from one bag. Only when the world gives the bag's own truth grid (the
+/// masks were found), else the bag's truth stays and a warning says the figures mix cell sizes.
+void truthAtCell(const std::string& path, double cell, double partial_depth, eval::OccupancyGrid& truth,
+                 std::vector<uint8_t>& exclude, std::vector<uint8_t>& glass, bool have_world)
+{
+  if (std::abs(cell - truth.resolution) < 1e-6) return;  // float32 in nav_msgs/MapMetaData
+  if (!have_world)
+  {
+    std::cerr << "obstacles_benchmark: the map's cell " << cell << " m is not the bag's truth cell " << truth.resolution
+              << " m and no world gives the truth at it: cells scored by their centres across sizes\n";
+    return;
+  }
+#ifdef HAVE_ASSISTIVE_SIM
+  const assistive_sim::World w = assistive_sim::World::load(path);
+  assistive_sim::OccupancyParams op;
+  op.resolution = cell;
+  truth = assistive_sim::computeOccupancy(w, op);
+  double eye_height = NAN;
+  worldMasks(path, truth, partial_depth, exclude, glass, &eye_height);
+  std::cerr << "obstacles_benchmark: truth rasterised from " << path << " at the map's cell " << cell << " m\n";
+#else
+  (void)path;
+  (void)partial_depth;
+  (void)exclude;
+  (void)glass;
+#endif
+}
+
 const char* const kUsage =
     "usage: obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N] [--gt-depth] [--passive] [--set PARAM=VALUE ...]\n"
     "                           [--no-sonar] [--world auto|none|W.yaml] [--partial-depth M] [--mover-poses FILE]\n"
@@ -312,6 +342,14 @@ Truth readTruth(const Options& opt, eval::StereoBagReader& reader)
   const std::string world_path = t.has_truth ? worldFor(opt.world_arg, opt.bag) : "";
   t.partial_scoring = worldMasks(world_path, truth, opt.partial_depth, t.exclude_mask, t.glass_mask, &t.eye_height);
   if (t.partial_scoring) std::cerr << "obstacles_benchmark: partial cells from " << world_path << "\n";
+  // The map's cell (--set cell_size=...) before the stage's parameters are set, which need the truth's
+  // eye height (quietly: main applies the sets again and reports their errors and clamps)
+  ObstaclesParams cell_params;
+  std::string err;
+  std::vector<std::string> clamped;
+  if (t.has_truth && assistive_common::applyOverrides(cell_params, opt.overrides, &err, &clamped))
+    truthAtCell(world_path, cell_params.cell_size, opt.partial_depth, truth, t.exclude_mask, t.glass_mask,
+                t.partial_scoring);
   // Glass-pane cells of the world (their centres), for the ranger's hits on glass.
   for (size_t i = 0; i < t.glass_mask.size(); ++i)
     if (t.glass_mask[i])

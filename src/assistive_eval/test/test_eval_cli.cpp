@@ -20,8 +20,10 @@
 
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <sys/stat.h>
@@ -546,4 +548,39 @@ TEST(ImportDataset, SizeMismatchNamesTheImageAndLeavesNoPartialBag)
   EXPECT_TRUE(ok.exited && ok.code == 0) << ok.err;
   EXPECT_NE(lastLine(ok.out).find("\"frames\": 2"), std::string::npos) << ok.out;
   std::remove(bag.c_str());
+}
+
+TEST(ObstaclesBenchmarkCli, MapAtAnotherCellScoredAgainstTheWorldAtThatCell)
+{
+  // --set cell_size=0.1 on a bag whose truth is at 0.2 m: the truth is rasterised again from the
+  // world at 0.1 m, so the figures equal those against a bag rendered with its truth at 0.1 m
+  const std::string lib = exeDir() + "/..";
+  const std::string ob = lib + "/assistive_obstacles/obstacles_benchmark", rb = lib + "/assistive_sim/render_bag";
+  for (const std::string& e : {ob, rb})
+    if (!fileExists(e))
+      GTEST_SKIP() << "SKIPPED: " << e << " is not built";
+  const std::string dir = testing::TempDir() + "/cli_cell_" + std::to_string(::getpid());
+  ASSERT_EQ(::mkdir(dir.c_str(), 0755), 0);
+  const std::string render = rb + " --world course --frames 12 --seed 3 --out " + dir;
+  ASSERT_EQ(runCapture(render + "/a.bag").code, 0);
+  ASSERT_EQ(runCapture(render + "/b.bag --truth-resolution 0.1").code, 0);
+  const std::string bench = " --world course --set cell_size=0.1 --png " + dir + "/map.png";
+  const Outcome a = runCapture(ob + " " + dir + "/a.bag" + bench);
+  const Outcome b = runCapture(ob + " " + dir + "/b.bag" + bench);
+  ASSERT_EQ(a.code, 0) << a.err;
+  ASSERT_EQ(b.code, 0) << b.err;
+  EXPECT_NE(a.err.find("truth rasterised from"), std::string::npos) << a.err;
+  EXPECT_EQ(b.err.find("truth rasterised from"), std::string::npos) << b.err;  // already at the map's cell
+  std::map<std::string, double> va, vb;
+  ASSERT_TRUE(parseJsonNumbers(lastJsonLine(a.out), &va)) << a.out;
+  ASSERT_TRUE(parseJsonNumbers(lastJsonLine(b.out), &vb)) << b.out;
+  for (const char* k : {"recall_3m", "precision_3m", "free_where_obstacle_cells", "coverage_3m", "fp_adjacent_3m"})
+    EXPECT_EQ(va.at(k), vb.at(k)) << k;
+  EXPECT_GT(va.at("coverage_3m"), 0.0);  // something was scored
+  // without a world to rasterise from, the bag's own truth stays and a warning says so
+  const Outcome c = runCapture(ob + " " + dir + "/a.bag --world none --set cell_size=0.1 --png " + dir + "/map.png");
+  ASSERT_EQ(c.code, 0) << c.err;
+  EXPECT_NE(c.err.find("no world gives the truth at it"), std::string::npos) << c.err;
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
 }
