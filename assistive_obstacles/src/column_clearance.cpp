@@ -44,12 +44,13 @@ ColumnClearance::ColumnClearance(const ObstaclesParams& p, const StereoModel& m,
   k_sigma_ = fb_ > 0.f ? static_cast<float>(2.0 * p.disparity_sigma) / fb_ : 0.f;
   min_z_ = static_cast<float>(p.min_depth);
   max_z_ = static_cast<float>(p.max_depth);
+  block_depth_ = static_cast<float>(p.column_block_depth);
 }
 
-uint8_t ColumnClearance::clearBits(float x, float y) const
+ColumnClearance::Bits ColumnClearance::bits(float x, float y) const
 {
-  uint8_t bits = 0;
-  if (disp_.empty() || disp_.type() != CV_32F || !(fb_ > 0.f)) return 0;
+  Bits b;
+  if (disp_.empty() || disp_.type() != CV_32F || !(fb_ > 0.f)) return b;
   for (size_t i = 0; i < z_.size(); ++i)
   {
     const Eigen::Vector3f pc = T_cam_world_ * Eigen::Vector3f(x, y, z_[i]);
@@ -61,9 +62,13 @@ uint8_t ColumnClearance::clearBits(float x, float y) const
     const float d = disp_.at<float>(iv, iu);
     if (!(d > 0.f)) continue;
     const float z = fb_ * sx_ / d;
-    if (z > pc.z() + std::max(margin_, k_sigma_ * pc.z() * pc.z())) bits |= static_cast<uint8_t>(1u << i);
+    const float tol = std::max(margin_, k_sigma_ * pc.z() * pc.z());
+    if (z > pc.z() + tol)
+      b.clear |= static_cast<uint8_t>(1u << i);
+    else if (z < pc.z() - tol && z >= pc.z() - block_depth_)
+      b.blocked |= static_cast<uint8_t>(1u << i);
   }
-  return bits;
+  return b;
 }
 
 }  // namespace assistive_obstacles

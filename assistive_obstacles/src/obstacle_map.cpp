@@ -223,11 +223,19 @@ void ObstacleMap::voteCells(const Eigen::Isometry3f& T_world_cam, const StereoMo
       FrameLabel lab = labels_[c];
       // An obstacle label at any range (even one too far to vote) withdraws the clearance of the
       // bands its points are in.
+      // A band hidden just in front while this frame labels the cell's floor is withdrawn too:
+      // something overhangs the seen floor (a shelf's front face hides the space above the floor
+      // behind it, and no point of the shelf falls in the cells under it).
       if (params_.column_bands > 0)
-        temporal_.observeColumn(gx, gy, columns ? columns->clearBits(x, y) : all_bands,
-                                lab == FrameLabel::OBSTACLE && !mls_.filled()[c]
-                                    ? columnOccupiedBits(params_, feet, elevation_.heights(c), elevation_.count(c))
-                                    : 0);
+      {
+        const ColumnClearance::Bits seen = columns ? columns->bits(x, y) : ColumnClearance::Bits{all_bands, 0};
+        const bool floor_seen = lab == FrameLabel::FREE || lab == FrameLabel::STEP;
+        temporal_.observeColumn(gx, gy, seen.clear,
+                                (lab == FrameLabel::OBSTACLE && !mls_.filled()[c]
+                                     ? columnOccupiedBits(params_, feet, elevation_.heights(c), elevation_.count(c))
+                                     : 0) |
+                                    (floor_seen ? seen.blocked : 0));
+      }
       // Dropout / glass: a mapped obstacle seen "through" or without depth keeps its label.
       const bool dropout = check_depth && temporal_.code(gx, gy) == CELL_OBSTACLE && lab != FrameLabel::OBSTACLE &&
                            depthMissesColumn(x, y, feet, T_cam_world, *camera, *disparity, params_, tol);

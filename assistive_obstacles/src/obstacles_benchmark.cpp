@@ -1055,7 +1055,9 @@ void ObstaclesRun::classifyFalsePositives(const eval::OccupancyGrid& est)
       const int8_t e = est.data[static_cast<size_t>(ey) * est.width + ex];
       if (g != 0)
       {
-        if (e == 0) ++fp_cells[{cx, cy}][2];  // false negative (OBST_FPMAP only)
+        // false negative (OBST_FPMAP only), as scored: a partly covered cell is not one
+        const bool partial = t_.partial_scoring && t_.exclude_mask[static_cast<size_t>(cy) * truth.width + cx];
+        if (e == 0 && !partial) ++fp_cells[{cx, cy}][2];
         continue;
       }
       if (e != 50 && e != 100) continue;

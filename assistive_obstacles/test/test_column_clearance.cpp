@@ -143,3 +143,56 @@ TEST(ColumnClearance, ShelfAtHeadHeightIsNotFreedByTheFloorUnderIt)
   for (int i = 0; i < 10; ++i) seed.update(synthetic::toCamera(floor, near), near, &m, &disp);
   EXPECT_EQ(code(seed), CELL_FREE);
 }
+
+TEST(ColumnClearance, BandsHiddenJustInFrontAreBlocked)
+{
+  // The cell's centre 3.1 m ahead; tolerance max(margin 0.05, 2 sigma_Z = 0.096 m).
+  ObstaclesParams p;
+  const StereoModel m;
+  const Eigen::Isometry3f T = synthetic::cameraAt(0, 0, 1.6);
+  // A surface at 2.9 m: 0.2 m in front of every band, within column_block_depth (0.5): blocked, not clear.
+  const ColumnClearance::Bits near = ColumnClearance(p, m, flatDisparity(2.9f), T, 0.f).bits(3.1f, 0.f);
+  EXPECT_EQ(near.clear, 0);
+  EXPECT_EQ(near.blocked, 31);
+  // 3.05 m: within the tolerance, neither; 2.4 m: hidden from farther than 0.5 m in front, neither.
+  EXPECT_EQ(ColumnClearance(p, m, flatDisparity(3.05f), T, 0.f).bits(3.1f, 0.f).blocked, 0);
+  EXPECT_EQ(ColumnClearance(p, m, flatDisparity(2.4f), T, 0.f).bits(3.1f, 0.f).blocked, 0);
+  // Beyond: clear, not blocked.
+  const ColumnClearance::Bits far = ColumnClearance(p, m, flatDisparity(10.f), T, 0.f).bits(3.1f, 0.f);
+  EXPECT_EQ(far.clear, 31);
+  EXPECT_EQ(far.blocked, 0);
+  p.column_block_depth = 0.0;  // rule off
+  EXPECT_EQ(ColumnClearance(p, m, flatDisparity(2.9f), T, 0.f).bits(3.1f, 0.f).blocked, 0);
+}
+
+TEST(ColumnClearance, FloorUnderAShelfsFrontFaceIsNotFreed)
+{
+  // A 0.2 m cell at x 2.0-2.2 behind a shelf's front face at x = 2.0 (1.4-1.8 m high): the camera
+  // sees the floor under the shelf, and every band in view over the cell ends on the face 0.1 m in
+  // front of the cell's centre (the depth image: 2.0 m everywhere; the shelf's own points fall in
+  // the cell in front). The floor's free votes do not count: the cell stays unknown. With the rule
+  // off (column_block_depth 0) the presumed-clear bands let the floor free it. A floor seen with
+  // depth beyond the bands frees it either way.
+  const StereoModel m;
+  synthetic::Points floor;
+  synthetic::patch(floor, 0.4, 3.0, -0.6, 0.6, 0.0);
+  const Eigen::Isometry3f T = synthetic::cameraAt(0, 0, 1.6);
+  const cv::Mat face = flatDisparity(2.0f), open = flatDisparity(10.f);
+  GridData g;
+  auto code = [&g](const ObstacleMap& map) {
+    map.grid(g);
+    const int ix = static_cast<int>(std::floor((2.1 - g.origin_x) / g.resolution));
+    const int iy = static_cast<int>(std::floor((0.0 - g.origin_y) / g.resolution));
+    return g.data[iy * g.width + ix];
+  };
+  ObstaclesParams p;
+  ObstacleMap map(p);
+  for (int i = 0; i < 10; ++i) map.update(synthetic::toCamera(floor, T), T, &m, &face);
+  EXPECT_EQ(code(map), CELL_UNKNOWN);
+  for (int i = 0; i < 10; ++i) map.update(synthetic::toCamera(floor, T), T, &m, &open);
+  EXPECT_EQ(code(map), CELL_FREE);  // seen clear: the shelf is gone
+  p.column_block_depth = 0.0;
+  ObstacleMap off(p);
+  for (int i = 0; i < 10; ++i) off.update(synthetic::toCamera(floor, T), T, &m, &face);
+  EXPECT_EQ(code(off), CELL_FREE);
+}

@@ -6,7 +6,9 @@
 // A band is tested at one height above the feet on the cell's centre: it is seen clear when the
 // pixel it projects to has depth BEYOND it (the ray passed through), by at least
 // max(column_clear_margin, 2 sigma_Z). Out of view, no depth, or depth at / in front of it: not
-// clear this frame. ROS-free.
+// clear this frame. A band whose depth ends just in front of it (within column_block_depth) is
+// blocked: where the floor below it is seen in the same frame, something overhangs that floor
+// (vertical things hide floor and band alike, their edges being vertical). ROS-free.
 #include <cstdint>
 #include <vector>
 
@@ -39,14 +41,21 @@ public:
   ColumnClearance(const ObstaclesParams& p, const StereoModel& m, const cv::Mat& disp,
                   const Eigen::Isometry3f& T_world_cam, float feet_z);
   /// Bit i set when band i of the column at (x, y) was seen clear this frame.
-  uint8_t clearBits(float x, float y) const;
+  uint8_t clearBits(float x, float y) const { return bits(x, y).clear; }
+  struct Bits
+  {
+    uint8_t clear = 0;    ///< the band's pixel has depth beyond it
+    uint8_t blocked = 0;  ///< ... in front of it, by more than the clear margin and at most column_block_depth
+  };
+  /// Both: a band neither clear nor blocked was out of view, without depth, or hidden from afar.
+  Bits bits(float x, float y) const;
 
 private:
   const StereoModel& m_;
   const cv::Mat& disp_;
   Eigen::Isometry3f T_cam_world_;
   std::vector<float> z_;  ///< world heights of the bands
-  float sx_, sy_, fb_, margin_, k_sigma_, min_z_, max_z_;
+  float sx_, sy_, fb_, margin_, k_sigma_, min_z_, max_z_, block_depth_;
 };
 
 }  // namespace assistive_obstacles
