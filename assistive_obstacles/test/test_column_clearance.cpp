@@ -18,6 +18,16 @@ namespace
 // The default rig (640x480, fx 500, B 0.12 m) and its matcher-scale (0.5) disparity of a
 // fronto-parallel depth `z` everywhere: d = fx * 0.5 * B / z.
 cv::Mat flatDisparity(float z) { return cv::Mat(240, 320, CV_32F, cv::Scalar(500.f * 0.5f * 0.12f / z)); }
+
+/// The map's code of the cell holding (x, y).
+int8_t cellCode(const ObstacleMap& map, double x, double y)
+{
+  GridData g;
+  map.grid(g);
+  const int ix = static_cast<int>(std::floor((x - g.origin_x) / g.resolution));
+  const int iy = static_cast<int>(std::floor((y - g.origin_y) / g.resolution));
+  return g.data[iy * g.width + ix];
+}
 }  // namespace
 
 TEST(ColumnClearance, BandHeightsEvenlySpacedBelowTheEye)
@@ -123,13 +133,7 @@ TEST(ColumnClearance, ShelfAtHeadHeightIsNotFreedByTheFloorUnderIt)
   const Eigen::Isometry3f far = synthetic::cameraAt(-2, 0, 1.6);
   const cv::Mat disp = flatDisparity(10.f);
   EXPECT_EQ(ColumnClearance(p, m, disp, near, 0.f).clearBits(1.1f, 0.f), 15);  // all but 1.75 m in view
-  GridData g;
-  auto code = [&g](const ObstacleMap& map) {
-    map.grid(g);
-    const int ix = static_cast<int>(std::floor((1.1 - g.origin_x) / g.resolution));
-    const int iy = static_cast<int>(std::floor((0.0 - g.origin_y) / g.resolution));
-    return g.data[iy * g.width + ix];
-  };
+  auto code = [](const ObstacleMap& map) { return cellCode(map, 1.1, 0.0); };
   ObstacleMap map(p);
   map.update(synthetic::toCamera(shelf, far), far, &m, &disp);
   EXPECT_EQ(code(map), CELL_UNKNOWN);
@@ -178,13 +182,7 @@ TEST(ColumnClearance, FloorUnderAShelfsFrontFaceIsNotFreed)
   synthetic::patch(floor, 0.4, 3.0, -0.6, 0.6, 0.0);
   const Eigen::Isometry3f T = synthetic::cameraAt(0, 0, 1.6);
   const cv::Mat face = flatDisparity(2.0f), open = flatDisparity(10.f);
-  GridData g;
-  auto code = [&g](const ObstacleMap& map) {
-    map.grid(g);
-    const int ix = static_cast<int>(std::floor((2.1 - g.origin_x) / g.resolution));
-    const int iy = static_cast<int>(std::floor((0.0 - g.origin_y) / g.resolution));
-    return g.data[iy * g.width + ix];
-  };
+  auto code = [](const ObstacleMap& map) { return cellCode(map, 2.1, 0.0); };
   ObstaclesParams p;
   ObstacleMap map(p);
   for (int i = 0; i < 10; ++i) map.update(synthetic::toCamera(floor, T), T, &m, &face);
