@@ -187,6 +187,22 @@ std::string worldFor(const std::string& arg, const std::string& bag)
   return "";
 }
 
+#ifdef HAVE_ASSISTIVE_SIM
+/// Partial-cell (exclude) and glass masks of the world's truth grid at `op`'s cell.
+void masksFromWorld(const assistive_sim::World& w, const assistive_sim::OccupancyParams& op, double partial_depth,
+                    std::vector<uint8_t>& exclude, std::vector<uint8_t>& glass)
+{
+  const std::vector<uint8_t> f = assistive_sim::computeOccupancyDetail(w, op, partial_depth);
+  exclude.resize(f.size());
+  glass.resize(f.size());
+  for (size_t i = 0; i < f.size(); ++i)
+  {
+    exclude[i] = (f[i] & (assistive_sim::DETAIL_PARTIAL | assistive_sim::DETAIL_NEAR)) ? 1 : 0;
+    glass[i] = (f[i] & assistive_sim::DETAIL_GLASS) ? 1 : 0;
+  }
+}
+#endif
+
 /// Partial-cell (exclude) and glass masks of the truth grid from the world's solids; false (masks
 /// empty) when there is no world or its grid does not match the bag's truth.
 bool worldMasks(const std::string& path, const eval::OccupancyGrid& truth, double partial_depth,
@@ -210,14 +226,7 @@ bool worldMasks(const std::string& path, const eval::OccupancyGrid& truth, doubl
       std::cerr << "obstacles_benchmark: world " << path << " does not give the bag's truth grid: partial cells not scored apart\n";
       return false;
     }
-    const std::vector<uint8_t> f = assistive_sim::computeOccupancyDetail(w, op, partial_depth);
-    exclude.resize(f.size());
-    glass.resize(f.size());
-    for (size_t i = 0; i < f.size(); ++i)
-    {
-      exclude[i] = (f[i] & (assistive_sim::DETAIL_PARTIAL | assistive_sim::DETAIL_NEAR)) ? 1 : 0;
-      glass[i] = (f[i] & assistive_sim::DETAIL_GLASS) ? 1 : 0;
-    }
+    masksFromWorld(w, op, partial_depth, exclude, glass);
     return true;
   }
   catch (const std::exception& e)
@@ -251,8 +260,7 @@ void truthAtCell(const std::string& path, double cell, double partial_depth, eva
   assistive_sim::OccupancyParams op;
   op.resolution = cell;
   truth = assistive_sim::computeOccupancy(w, op);
-  double eye_height = NAN;
-  worldMasks(path, truth, partial_depth, exclude, glass, &eye_height);
+  masksFromWorld(w, op, partial_depth, exclude, glass);
   std::cerr << "obstacles_benchmark: truth rasterised from " << path << " at the map's cell " << cell << " m\n";
 #else
   (void)path;
