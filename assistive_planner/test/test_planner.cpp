@@ -340,6 +340,28 @@ TEST(Planner, ExplicitGoalOverridesWaypoint)
   EXPECT_LT(o2.waypoint.x, -4.7);
 }
 
+// A goal beyond a wall whose only gap (one cell, 0.2 m) is narrower than the body: the free cell
+// nearest the goal lies beyond the gap, where no path goes. The wearer is sent as near the goal as
+// the body can get (in front of the wall) instead of standing on "no path" for good.
+TEST(Planner, AGoalBehindAGapTooNarrowForTheBodyIsApproachedAsNearAsTheBodyCanGet)
+{
+  Planner pl;
+  Grid g = makeGrid(-5, -5);
+  fillRect(g, 2.0, -5.0, 2.2, -0.01, CELL_OBSTACLE);  // a wall across the window at x = 2.0-2.2 m ...
+  fillRect(g, 2.0, 0.21, 2.2, 5.0, CELL_OBSTACLE);    // ... with a gap of one cell at y = 0.0-0.2 m
+  int gx, gy;
+  ASSERT_TRUE(g.worldToCell(2.1, 0.1, gx, gy));
+  ASSERT_EQ(g.at(gx, gy), CELL_FREE);
+  pl.setGoal({ 20.0, 0.1 });
+  const PlanOutput o = pl.update(g, { 0.1, 0.1 }, 0.0);
+  ASSERT_EQ(o.status, PlanStatus::OK) << o.message;
+  EXPECT_TRUE(o.explicit_goal);
+  EXPECT_LT(o.waypoint.x, 2.0);  // in front of the wall ...
+  EXPECT_GT(o.waypoint.x, 1.0);  // ... as near it as the body's clearance allows
+  for (const auto& q : o.path)
+    EXPECT_LT(q.x, 2.0);
+}
+
 TEST(Planner, ClearanceCostKeepsPathOffWalls)
 {
   Grid g = makeGrid(-5, -5);
