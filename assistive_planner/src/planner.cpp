@@ -93,20 +93,22 @@ void nearestReachableFree(const Grid& grid, const Point2& wearer, const Point2& 
 }
 
 /// The free cell nearest `goal` among those the body can reach from (sx, sy) by the search's own
-/// moves (cost-grid weights, no corner cutting); false when none lies nearer the goal than the
-/// start by half a cell (the wearer is then as near as it can get).
-bool nearestBodyReachableFree(const Grid& grid, const CostGrid& costs, int sx, int sy, const Point2& goal, int& gx,
-                              int& gy)
+/// moves (cost-grid weights, no corner cutting), at least `min_gain` from the start and that much
+/// nearer the goal; false when there is none (the wearer is as near as it can get: a target a
+/// step away would only turn it on the spot, to and fro as the map's edge moves with its view).
+bool nearestBodyReachableFree(const Grid& grid, const CostGrid& costs, int sx, int sy, const Point2& goal,
+                              double min_gain, int& gx, int& gy)
 {
   const std::vector<double> reach = dijkstraCostToGoal(costs, sx, sy);  // symmetric edges: from the start
-  const int start = grid.index(sx, sy);
-  double best = std::hypot(grid.cellX(sx) - goal.x, grid.cellY(sy) - goal.y) - 0.5 * grid.resolution;
+  const double x0 = grid.cellX(sx), y0 = grid.cellY(sy);
+  double best = std::hypot(x0 - goal.x, y0 - goal.y) - min_gain;
   bool found = false;
   for (int y = 0; y < grid.height; ++y)
     for (int x = 0; x < grid.width; ++x)
     {
       const int u = grid.index(x, y);
-      if (u == start || reach[size_t(u)] == COST_INF || grid.at(x, y) != CELL_FREE)
+      if (reach[size_t(u)] == COST_INF || grid.at(x, y) != CELL_FREE ||
+          std::hypot(grid.cellX(x) - x0, grid.cellY(y) - y0) < min_gain)
         continue;
       const double d = std::hypot(grid.cellX(x) - goal.x, grid.cellY(y) - goal.y);
       if (d < best)
@@ -878,7 +880,7 @@ bool Planner::searchPath(const Grid& grid, int wx, int wy, int& gx, int& gy, Pla
   dstar_.setGoal(gx, gy);
   dstar_.setStart(sx, sy);
   bool ok = dstar_.plan();
-  if (!ok && has_goal_ && nearestBodyReachableFree(grid, dstar_.costs(), sx, sy, goal_, gx, gy))
+  if (!ok && has_goal_ && nearestBodyReachableFree(grid, dstar_.costs(), sx, sy, goal_, p_.reached_distance, gx, gy))
   {
     // The free cell nearest the goal was found by a flood that ignores the body (through a gap
     // in a wall narrower than the body, a wall's unseen corner): no path to it ever came, and the

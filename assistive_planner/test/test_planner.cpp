@@ -342,7 +342,8 @@ TEST(Planner, ExplicitGoalOverridesWaypoint)
 
 // A goal beyond a wall whose only gap (one cell, 0.2 m) is narrower than the body: the free cell
 // nearest the goal lies beyond the gap, where no path goes. The wearer is sent as near the goal as
-// the body can get (in front of the wall) instead of standing on "no path" for good.
+// the body can get (in front of the wall) instead of standing on "no path" for good; once there,
+// it is told "no path" (no target a step away).
 TEST(Planner, AGoalBehindAGapTooNarrowForTheBodyIsApproachedAsNearAsTheBodyCanGet)
 {
   Planner pl;
@@ -360,6 +361,11 @@ TEST(Planner, AGoalBehindAGapTooNarrowForTheBodyIsApproachedAsNearAsTheBodyCanGe
   EXPECT_GT(o.waypoint.x, 1.0);  // ... as near it as the body's clearance allows
   for (const auto& q : o.path)
     EXPECT_LT(q.x, 2.0);
+  // already there (a step from the wall): no target a step away, "no path" as before
+  Planner there;
+  there.setGoal({ 20.0, 0.1 });
+  const PlanOutput ot = there.update(g, o.waypoint, 0.0);
+  EXPECT_EQ(ot.status, PlanStatus::NO_PATH) << ot.message << " waypoint " << ot.waypoint.x;
 }
 
 TEST(Planner, ClearanceCostKeepsPathOffWalls)
