@@ -872,10 +872,18 @@ bool Planner::searchPath(const Grid& grid, int wx, int wy, int& gx, int& gy, Pla
                            : std::hypot(grid.cellX(x) - out.wearer.x, grid.cellY(y) - out.wearer.y) +
                                  (isUnknownCode(grid.at(x, y)) ? 100.0 : 0.0);
     });
+  // the waypoint reported is the cell planned to: the cue logic's "waypoint near, walk on" reads its distance
+  auto planTo = [&](int x, int y) {
+    out.waypoint = { grid.cellX(x), grid.cellY(y) };
+    out.waypoint_distance = std::hypot(out.waypoint.x - out.wearer.x, out.waypoint.y - out.wearer.y);
+  };
   if (blocked(gx, gy))  // a target within the body's radius of an obstacle: the nearest cell the body fits in
+  {
     nearestCellBy(grid, gx, gy, [&](int x, int y, int dx, int dy) {
       return blocked(x, y) || isUnknownCode(grid.at(x, y)) ? skip : std::hypot(double(dx), double(dy));
     });
+    planTo(gx, gy);
+  }
   dstar_.resetExpansions();
   dstar_.setGoal(gx, gy);
   dstar_.setStart(sx, sy);
@@ -888,8 +896,7 @@ bool Planner::searchPath(const Grid& grid, int wx, int wy, int& gx, int& gy, Pla
     // near the goal as the body can; the map ahead is seen again on the way.
     dstar_.setGoal(gx, gy);
     ok = dstar_.plan();
-    out.waypoint = { grid.cellX(gx), grid.cellY(gy) };
-    out.waypoint_distance = std::hypot(out.waypoint.x - out.wearer.x, out.waypoint.y - out.wearer.y);
+    planTo(gx, gy);
   }
   out.expansions = dstar_.expansions();
   if (!ok)

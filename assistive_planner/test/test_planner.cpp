@@ -368,6 +368,22 @@ TEST(Planner, AGoalBehindAGapTooNarrowForTheBodyIsApproachedAsNearAsTheBodyCanGe
   EXPECT_EQ(ot.status, PlanStatus::NO_PATH) << ot.message << " waypoint " << ot.waypoint.x;
 }
 
+TEST(Planner, AGoalWithinTheBodysRadiusOfAWallReportsTheCellPlannedTo)
+{
+  // The goal's cell (centre y = 0.5) is free but 0.2 m from the wall's first cell (centre 0.7),
+  // inside the body's radius plus half a cell (0.35 m): the path ends at the nearest cell the body
+  // fits in (y = 0.3), and the waypoint and its distance say that cell, not the goal's.
+  Planner pl;
+  Grid g = makeGrid(-5, -5);
+  fillRect(g, -5, 0.6, 5, 5, CELL_OBSTACLE);
+  pl.setGoal({ 3.1, 0.5 });
+  const PlanOutput o = pl.update(g, { 0.1, 0.1 }, 0.0);
+  ASSERT_EQ(o.status, PlanStatus::OK) << o.message;
+  EXPECT_NEAR(o.waypoint.x, 3.1, 1e-6);
+  EXPECT_NEAR(o.waypoint.y, 0.3, 1e-6);
+  EXPECT_NEAR(o.waypoint_distance, std::hypot(3.0, 0.2), 1e-6);
+}
+
 TEST(Planner, ClearanceCostKeepsPathOffWalls)
 {
   Grid g = makeGrid(-5, -5);
