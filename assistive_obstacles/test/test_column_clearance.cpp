@@ -154,6 +154,7 @@ TEST(ColumnClearance, BandsHiddenJustInFrontAreBlocked)
   ObstaclesParams p;
   const StereoModel m;
   const Eigen::Isometry3f T = synthetic::cameraAt(0, 0, 1.6);
+  p.column_block_depth = 0.5;  // the rule on (off by default)
   // A surface at 2.9 m: 0.2 m in front of every band, within column_block_depth (0.5): blocked, not clear.
   const ColumnClearance::Bits near = ColumnClearance(p, m, flatDisparity(2.9f), T, 0.f).bits(3.1f, 0.f);
   EXPECT_EQ(near.clear, 0);
@@ -184,6 +185,7 @@ TEST(ColumnClearance, FloorUnderAShelfsFrontFaceIsNotFreed)
   const cv::Mat face = flatDisparity(2.0f), open = flatDisparity(10.f);
   auto code = [](const ObstacleMap& map) { return cellCode(map, 2.1, 0.0); };
   ObstaclesParams p;
+  p.column_block_depth = 0.5;  // the rule on (off by default)
   ObstacleMap map(p);
   for (int i = 0; i < 10; ++i) map.update(synthetic::toCamera(floor, T), T, &m, &face);
   EXPECT_EQ(code(map), CELL_UNKNOWN);

@@ -93,7 +93,7 @@ namespace assistive_obstacles
   X(double, column_clear_margin, "column_clear_margin", 0.05, 0.0, 1.0, "m", "a band is seen clear when the depth at its pixel lies beyond it by more than this (and than 2 sigma_Z)") \
   /* a vertical thing (wall, jamb, person) hides a cell's floor and its bands alike; a band hidden */ \
   /* just in front while the floor below is seen has something overhanging that floor (issue 36) */ \
-  X(double, column_block_depth, "column_block_depth", 0.5, 0.0, 3.0, "m", "a band whose pixel's depth ends in front of it by more than the clear margin but at most this much, in a frame that labels the cell's floor free or step, is withdrawn: a shelf, sign or branch overhangs the seen floor (0 disables)") \
+  X(double, column_block_depth, "column_block_depth", 0.0, 0.0, 3.0, "m", "a band whose pixel's depth ends in front of it by more than the clear margin but at most this much, in a frame that labels the cell's floor free or step, is withdrawn: a shelf, sign or branch overhangs the seen floor (0, the default, disables it: vision trials did no better with 0.5)") \
   /* --- dropout / glass policy --- */ \
   X(double, dropout_max_range, "dropout_max_range", 4.0, 0.0, 50.0, "m", "obstacle cells in view this close but without depth are reported") \
   /* 0 locks the cell (a false obstacle in front of the floor could then never be cleared), 1 */ \
