@@ -365,6 +365,7 @@ struct Summary
   double n = 0, coll = 0, worst = 0, comp = 0, ppws = 0, nppws = 0, clear = 0, tmean = 0;
   std::array<double, size_t(ObstacleKind::NUM_KINDS)> kinds{};
   std::array<double, 5> modes{};
+  std::array<double, 7> unsure_status{};  ///< UNSURE cycles per planner status (TrialResult::unsure_by_status)
   std::vector<double> lat;
   long missed = 0;
   double people_closest = 0;
@@ -398,6 +399,7 @@ struct Summary
       clear += r.mean_clearance_m;
       for (size_t i = 0; i < kinds.size(); ++i) kinds[i] += r.collisions[i];
       for (size_t i = 0; i < modes.size(); ++i) modes[i] += r.cue_modes[i];
+      for (size_t i = 0; i < unsure_status.size(); ++i) unsure_status[i] += r.unsure_by_status[i];
       lat.insert(lat.end(), r.latency_ms.begin(), r.latency_ms.end());
       missed += r.missed_cues;
       people_closest += r.min_person_clearance_m;
@@ -441,6 +443,18 @@ struct Summary
 };
 
 /// Where the wearer's time went and what the vest asked of it (issue 33: why a trial was slow).
+/// What the unsure cues stood for (the planner's status behind them), in % of all cycles: a lost
+/// pose is the VO's or SLAM's, the rest the map's or the planner's.
+void reportUnsure(const Summary& S)
+{
+  const double cycles = S.cycles();
+  if (!(cycles > 0) || S.modes[4] <= 0) return;
+  const auto pct = [&](size_t i) { return 100 * S.unsure_status[i] / cycles; };
+  std::printf("    unsure for         no pose %.1f %%, no map %.1f %%, in unknown space %.1f %%, no path %.1f %%, "
+              "no waypoint %.1f %%, other %.1f %%\n",
+              pct(1), pct(2), pct(3), pct(4), pct(5), pct(0) + pct(6));
+}
+
 void reportTime(const Summary& S)
 {
   using assistive_tactile::Instruction;
@@ -491,6 +505,7 @@ void reportWorld(const World& world, const std::string& mode, const std::string&
     std::printf("  cues                 idle %.0f %%, guidance %.0f %%, proximity %.0f %%, alert %.0f %%, unsure %.0f %%\n",
                 100 * S.modes[0] / cycles, 100 * S.modes[1] / cycles, 100 * S.modes[2] / cycles, 100 * S.modes[3] / cycles,
                 100 * S.modes[4] / cycles);
+  reportUnsure(S);
   reportTime(S);
   const double lat_med = S.latency(0.5), lat_p99 = S.latency(0.99);
   if (S.lat.empty())
@@ -968,6 +983,7 @@ int main(int argc, char** argv)
     std::printf("  cues                 idle %.0f %%, guidance %.0f %%, proximity %.0f %%, alert %.0f %%, unsure %.0f %%\n",
                 100 * A.modes[0] / cycles, 100 * A.modes[1] / cycles, 100 * A.modes[2] / cycles, 100 * A.modes[3] / cycles,
                 100 * A.modes[4] / cycles);
+  reportUnsure(A);
   reportTime(A);
   std::printf("  wall time            %.1f s: generation %.1f s, trials %.1f s\n", wall_s, gen_total, trials_total);
   std::printf("  heat maps            %s_<world>.png\n", prefix.c_str());

@@ -340,6 +340,7 @@ ChainCue RosChain::frame(double t, const BodyState& s)
       const assistive_msgs::TactileCue& q = d.last_cue;
       for (size_t i = 0; i < 4; ++i) out.motors[i] = q.intensity[i];
       out.mode = int(q.mode);
+      out.planner_status = d.state_stamp >= 0 ? int(d.last_state.status) : -1;
       out.pattern_id = q.pattern_id;
       out.pulse_on_ms = q.pulse_on_ms;
       out.pulse_off_ms = q.pulse_off_ms;

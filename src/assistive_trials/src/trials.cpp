@@ -222,6 +222,7 @@ public:
     ChainCue c;
     c.motors = cue.intensity;
     c.mode = int(cue.mode);
+    c.planner_status = int(in.status);
     c.pattern_id = cue.pattern.id;
     c.pulse_on_ms = 10 * cue.pattern.on_10ms;
     c.pulse_off_ms = 10 * cue.pattern.off_10ms;
@@ -484,6 +485,8 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
         if (cue.received)
         {
           ++r.cue_modes[size_t(std::min(4, std::max(0, cue.mode)))];
+          if (cue.mode == 4)
+            ++r.unsure_by_status[size_t(cue.planner_status >= 0 && cue.planner_status < 6 ? cue.planner_status : 6)];
           // the vest restarts a pattern when any of its bytes changes (vest_protocol.h, version 4)
           if (cue.pattern_id != playing.pattern_id || cue.pulse_on_ms != playing.pulse_on_ms ||
               cue.pulse_off_ms != playing.pulse_off_ms || cue.pulse_count != playing.pulse_count)

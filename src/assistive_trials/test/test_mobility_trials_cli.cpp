@@ -3,6 +3,7 @@
 // with the cue stage removed from the chain (--no-cues) the same wearer collides, so this test
 // fails when the cues stop reaching the wearer. A few seconds, no roscore. `--generated` scores a
 // generated set: one row and one heat map per world, the set's mean and worst in the JSON line.
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -205,4 +206,17 @@ TEST_F(MobilityTrials, AnUnsureEpisodeStopsTheWearerWithinItsReaction)
   const double walked = key(r, "unsure_walked_m_max");
   EXPECT_GT(walked, 0.3) << r;  // it was walking when the episode began
   EXPECT_LE(walked, 1.05) << r;
+  // its unsure cues are put down to the lost pose, none to the map (truth mode has no map gaps)
+  std::ifstream log(::testing::TempDir() + "mobility_unsure.txt");
+  std::string line, why;
+  while (std::getline(log, line))
+    if (line.find("unsure for") != std::string::npos) why = line;
+  double no_pose = -1, no_map = -1, unknown = -1;
+  ASSERT_EQ(std::sscanf(why.c_str(), " unsure for no pose %lf %%, no map %lf %%, in unknown space %lf", &no_pose, &no_map,
+                        &unknown),
+            3)
+      << why;
+  EXPECT_GT(no_pose, 0.0) << why;
+  EXPECT_EQ(no_map, 0.0) << why;
+  EXPECT_EQ(unknown, 0.0) << why;
 }

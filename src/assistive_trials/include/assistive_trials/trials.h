@@ -39,6 +39,9 @@ struct ChainCue
   int instruction = 0;      ///< assistive_tactile::Instruction
   int level = 0;
   int mode = 4;             ///< assistive_common::CueMode (4 = UNSURE)
+  /// The planner's status behind it (assistive_common::NavStatus; -1: the chain has none yet), so
+  /// an unsure cue is told from a lost pose or an unmapped map.
+  int planner_status = -1;
   bool received = true;     ///< false: no cue came for this frame (the vest keeps what it had)
   double latency_ms = -1.0; ///< camera image stamp -> cue (or serial write), wall ms; < 0 = not measured
   /// The planner's steering heading behind it (rad; NaN when the chain does not know it), for the
@@ -247,6 +250,8 @@ struct TrialResult
   double min_clearance_m = 0.0;
   double min_person_clearance_m = 0.0;  ///< body surface to the nearest person's, over the walk (+inf: no people)
   std::array<int, 5> cue_modes{};  ///< planner/cue cycles per CueMode (IDLE .. UNSURE)
+  /// The UNSURE ones per planner status (NavStatus OK .. NO_WAYPOINT, then none known).
+  std::array<int, 7> unsure_by_status{};
   /// Where the wearer's time went (truth and vision modes): seconds per VestWearer::Action
   /// (walk, turn on the spot, side-step, feel around, stand, veer), summing to `time_s`.
   std::array<double, 6> action_s{};
