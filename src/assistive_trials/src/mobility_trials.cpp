@@ -442,7 +442,6 @@ struct Summary
   }
 };
 
-/// Where the wearer's time went and what the vest asked of it (issue 33: why a trial was slow).
 /// What the unsure cues stood for (the planner's status behind them), in % of all cycles: a lost
 /// pose is the VO's or SLAM's, the rest the map's or the planner's.
 void reportUnsure(const Summary& S)
@@ -455,6 +454,7 @@ void reportUnsure(const Summary& S)
               pct(1), pct(2), pct(3), pct(4), pct(5), pct(0) + pct(6));
 }
 
+/// Where the wearer's time went and what the vest asked of it (issue 33: why a trial was slow).
 void reportTime(const Summary& S)
 {
   using assistive_tactile::Instruction;

@@ -486,7 +486,12 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
         {
           ++r.cue_modes[size_t(std::min(4, std::max(0, cue.mode)))];
           if (cue.mode == 4)
-            ++r.unsure_by_status[size_t(cue.planner_status >= 0 && cue.planner_status < 6 ? cue.planner_status : 6)];
+          {
+            // the last slot: no status known (-1) or one out of range
+            const size_t last = r.unsure_by_status.size() - 1;
+            const size_t st = cue.planner_status < 0 ? last : std::min(last, size_t(cue.planner_status));
+            ++r.unsure_by_status[st];
+          }
           // the vest restarts a pattern when any of its bytes changes (vest_protocol.h, version 4)
           if (cue.pattern_id != playing.pattern_id || cue.pulse_on_ms != playing.pulse_on_ms ||
               cue.pulse_off_ms != playing.pulse_off_ms || cue.pulse_count != playing.pulse_count)

@@ -207,12 +207,12 @@ TEST_F(MobilityTrials, AnUnsureEpisodeStopsTheWearerWithinItsReaction)
   EXPECT_GT(walked, 0.3) << r;  // it was walking when the episode began
   EXPECT_LE(walked, 1.05) << r;
   // its unsure cues are put down to the lost pose, none to the map (truth mode has no map gaps)
-  std::ifstream log(::testing::TempDir() + "mobility_unsure.txt");
-  std::string line, why;
-  while (std::getline(log, line))
-    if (line.find("unsure for") != std::string::npos) why = line;
+  const std::string log = assistive_eval::readTextFile(::testing::TempDir() + "mobility_unsure.txt");
+  const size_t at = log.rfind("unsure for");
+  ASSERT_NE(at, std::string::npos) << log;
+  const std::string why = log.substr(at, log.find('\n', at) - at);
   double no_pose = -1, no_map = -1, unknown = -1;
-  ASSERT_EQ(std::sscanf(why.c_str(), " unsure for no pose %lf %%, no map %lf %%, in unknown space %lf", &no_pose, &no_map,
+  ASSERT_EQ(std::sscanf(why.c_str(), "unsure for no pose %lf %%, no map %lf %%, in unknown space %lf", &no_pose, &no_map,
                         &unknown),
             3)
       << why;
