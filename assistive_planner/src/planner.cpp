@@ -646,6 +646,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
     return out;
   recordWalkedFloor(input, wearer);
   vouchForBlindZone(wearer, out.head_yaw, t, out);
+  blockHeldUnseenFloor(wearer);
   out.grid = std::make_shared<const Grid>(work_);
   const Grid& grid = work_;
   syncCosts(grid, out);
@@ -714,12 +715,14 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
         judgeFreeSpace(grid, wearer, out.head_yaw, p_, out, ahead_unknown);
       if (!turn_first || (ahead_unknown && out.free_ahead < p_.unknown_ahead_m))
       {
+        holdUnseenFloorAhead(grid, t, turn_first ? out.head_yaw : out.steer_heading, out);
         unmappedAhead(out);
         return out;
       }
     }
   }
   ever_planned_ = true;
+  unseen_since_ = -1.0;
   out.status = PlanStatus::OK;
   out.message = out.path_through_unknown ? "path crosses unmapped cells (no known free path)"
                 : isObstacleCode(here)   ? "the wearer's cell is an obstacle: path from the nearest free cell"
@@ -740,6 +743,52 @@ void Planner::recordWalkedFloor(const Grid& input, const Point2& wearer)
   }
   work_ = input;
   markWalkedFloor(work_, walked_, p_.footprint_radius_m);
+}
+
+void Planner::blockHeldUnseenFloor(const Point2& wearer)
+{
+  // Held floor is an obstacle while unmapped and near (planned around, and what lies ahead ends at
+  // it): once the wearer is as far from it as the camera's nearest floor, facing it shows it.
+  const double reach = std::max(p_.blind_zone_m, p_.unknown_ahead_m);
+  auto dropped = [&](const Point2& q) {
+    int x, y;
+    if (std::hypot(q.x - wearer.x, q.y - wearer.y) >= reach || !work_.worldToCell(q.x, q.y, x, y) ||
+        !isUnknownCode(work_.at(x, y)))
+      return true;
+    work_.data[size_t(work_.index(x, y))] = CELL_OBSTACLE;
+    return false;
+  };
+  unseen_.erase(std::remove_if(unseen_.begin(), unseen_.end(), dropped), unseen_.end());
+}
+
+void Planner::holdUnseenFloorAhead(const Grid& grid, double t, double judged_yaw, PlanOutput& out)
+{
+  // A standing wearer never sees the unmapped floor just ahead (below the camera's view, or behind
+  // what it stopped at): told UNSURE it stood there for good (vision trial on `plaza`, 65 s beside
+  // a sign). After unseen_hold_s that floor is planned around, over known floor if there is a way.
+  if (!(p_.unseen_hold_s > 0.0) || !std::isfinite(t))
+    return;
+  if (unseen_since_ < 0.0 || t < unseen_since_)
+    unseen_since_ = t;
+  if (t - unseen_since_ < p_.unseen_hold_s)
+    return;
+  auto hold = [&](const Point2& q) {
+    int x, y;
+    if (std::hypot(q.x - out.wearer.x, q.y - out.wearer.y) > p_.unknown_ahead_m || !grid.worldToCell(q.x, q.y, x, y) ||
+        !isUnknownCode(grid.at(x, y)))
+      return;
+    const Point2 c{ grid.cellX(x), grid.cellY(y) };
+    for (const Point2& u : unseen_)
+      if (std::hypot(u.x - c.x, u.y - c.y) < 0.5 * grid.resolution)
+        return;
+    unseen_.push_back(c);
+  };
+  // the path's cells and the ray the status was judged on
+  for (size_t i = 1; i < out.path.size(); ++i)
+    hold(out.path[i]);
+  const double step = 0.5 * grid.resolution;
+  for (double d = step; d <= p_.unknown_ahead_m; d += step)
+    hold({ out.wearer.x + d * std::cos(judged_yaw), out.wearer.y + d * std::sin(judged_yaw) });
 }
 
 void Planner::vouchForBlindZone(const Point2& wearer, double facing, double t, PlanOutput& out)

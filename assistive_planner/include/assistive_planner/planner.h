@@ -187,6 +187,7 @@ private:
   // The steps of update(), in order; a bool step returns false when it has set the status.
   void recordWalkedFloor(const Grid& input, const Point2& wearer);  // walked_, work_
   void vouchForBlindZone(const Point2& wearer, double facing, double t, PlanOutput& out);  // work_
+  void blockHeldUnseenFloor(const Point2& wearer);  // work_ (unseen_ dropped once mapped or far)
   void measureWalk(const Point2& wearer, double t, PlanOutput& out);  // walking_speed, walk_heading
   bool chooseTarget(const Grid& grid, const Point2& wearer, double heading, bool motion_changed, PlanOutput& out,
                     int& gx, int& gy);
@@ -195,6 +196,8 @@ private:
   void extendPastGoal(const Grid& grid, int gx, int gy, PlanOutput& out) const;  // steer_path to next_
   void placeSteeringPoint(const Grid& grid, bool walking, PlanOutput& out) const;
   void markPassage(const Grid& grid, PlanOutput& out) const;  // passage_* (findPassage)
+  // a standing wearer's IN_UNKNOWN: the unmapped floor on its path and judged ray -> unseen_
+  void holdUnseenFloorAhead(const Grid& grid, double t, double judged_yaw, PlanOutput& out);
 
   PlannerParams p_;
   DStarLite dstar_;
@@ -210,6 +213,9 @@ private:
   bool has_next_ = false;
   Point2 next_;
   std::vector<Point2> walked_;  // the wearer's positions, >= 0.05 m apart
+  // floor planned around as blocked: unmapped, just ahead of a standing wearer who could not see it
+  std::vector<Point2> unseen_;
+  double unseen_since_ = -1.0;  // a standing wearer's IN_UNKNOWN on unmapped floor ahead began (< 0: none)
   std::vector<std::pair<double, Point2>> recent_;  // (t, position) over the last walk_window_s
   Grid work_;                   // the input grid with the walked floor marked
   cv::Mat obstacle_dist_;       // work_'s obstacle distance field (cells), this cycle's
