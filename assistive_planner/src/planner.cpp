@@ -761,6 +761,11 @@ void Planner::blockHeldUnseenFloor(const Point2& wearer)
   unseen_.erase(std::remove_if(unseen_.begin(), unseen_.end(), dropped), unseen_.end());
 }
 
+namespace
+{
+constexpr double kUnseenGapS = 0.5;  // longer between two such cycles: not the same standstill
+}  // namespace
+
 void Planner::holdUnseenFloorAhead(const Grid& grid, double t, double judged_yaw, PlanOutput& out)
 {
   // A standing wearer never sees the unmapped floor just ahead (below the camera's view, or behind
@@ -768,8 +773,10 @@ void Planner::holdUnseenFloorAhead(const Grid& grid, double t, double judged_yaw
   // a sign). After unseen_hold_s that floor is planned around, over known floor if there is a way.
   if (!(p_.unseen_hold_s > 0.0) || !std::isfinite(t))
     return;
-  if (unseen_since_ < 0.0 || t < unseen_since_)
+  // (a cycle with another status between, such as a lost pose, starts the wait afresh)
+  if (unseen_since_ < 0.0 || t < unseen_last_ || t - unseen_last_ > kUnseenGapS)
     unseen_since_ = t;
+  unseen_last_ = t;
   if (t - unseen_since_ < p_.unseen_hold_s)
     return;
   auto hold = [&](const Point2& q) {

@@ -249,6 +249,15 @@ TEST(BlindZone, UnseenFloorBesideAStandingWearerIsPlannedRoundAfterAWhile)
   ASSERT_TRUE(o.grid);
   ASSERT_TRUE(o.grid->worldToCell(1.5, 4.1, x, y));
   EXPECT_EQ(o.grid->at(x, y), CELL_UNKNOWN);
+  // a lost pose between (2 s): the wait starts afresh, whatever stood before it
+  Planner r(p);
+  r.setGoal({ 3.5, 4.1 });
+  for (double s = 10.0; s < 12.0; s += 0.1)
+    ASSERT_EQ(r.update(g, w, 0.0, s).status, PlanStatus::IN_UNKNOWN);
+  for (double s = 12.0; s < 14.0; s += 0.1)
+    ASSERT_EQ(r.update(g, { std::nan(""), 4.1 }, 0.0, s).status, PlanStatus::NO_POSE);
+  for (double s = 14.0; s < 14.0 + p.unseen_hold_s - 0.1; s += 0.1)
+    ASSERT_EQ(r.update(g, w, 0.0, s).status, PlanStatus::IN_UNKNOWN) << "at " << s;
   // switched off: IN_UNKNOWN for good
   PlannerParams off;
   off.unseen_hold_s = 0.0;

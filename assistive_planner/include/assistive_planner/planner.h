@@ -216,6 +216,7 @@ private:
   // floor planned around as blocked: unmapped, just ahead of a standing wearer who could not see it
   std::vector<Point2> unseen_;
   double unseen_since_ = -1.0;  // a standing wearer's IN_UNKNOWN on unmapped floor ahead began (< 0: none)
+  double unseen_last_ = -1.0;   // its last cycle
   std::vector<std::pair<double, Point2>> recent_;  // (t, position) over the last walk_window_s
   Grid work_;                   // the input grid with the walked floor marked
   cv::Mat obstacle_dist_;       // work_'s obstacle distance field (cells), this cycle's
