@@ -501,6 +501,7 @@ class SlamNodelet : public nodelet::Nodelet
     s.add("VO losses", st.vo_losses);
     s.add("found again after a VO loss", st.reset_relocalisations);
     s.add("relocalisations given up", st.reset_gave_up);
+    s.add("VO losses bridged on the held pose", st.reset_bridged);
     s.add("worker ms (last keyframe)", st.worker_ms_last);
     s.add("loop closer ms (last keyframe)", st.loop_ms_last);
     s.add("ms per frame", ms_frame_);

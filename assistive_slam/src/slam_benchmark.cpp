@@ -905,7 +905,7 @@ void printReset(const Options& opt, const SlamRun& run, const SlamStats& st)
   std::cout << "forced VO loss: frames " << opt.reset_at << "-" << back - 1
             << (opt.reset_grey ? " grey (the VO " : " the VO fail-safe's output (")
             << (r.vo_untrusted ? "untrusted" : "coasted through, trusted") << "); SLAM: " << st.vo_losses
-            << " VO losses, " << st.reset_relocalisations << " found again, " << st.reset_gave_up << " given up, "
+            << " VO losses, " << st.reset_relocalisations << " found again, " << st.reset_gave_up << " given up, " << st.reset_bridged << " bridged, "
             << st.relocalisation_queries << " queries; unplaced on " << r.unplaced_frames << " frames; ";
   if (r.placed_frame < 0)
   {
@@ -926,6 +926,7 @@ void addResetKeys(const Options& opt, const SlamRun& run, const SlamStats& st, e
   js.add("vo_losses", st.vo_losses)
       .add("reset_relocalisations", st.reset_relocalisations)
       .add("reset_gave_up", st.reset_gave_up)
+      .add("reset_bridged", st.reset_bridged)
       .add("reset_at_frame", on ? std::to_string(opt.reset_at) : "null")
       .add("reset_frames", on ? std::to_string(opt.reset_frames) : "null")
       .add("reset_mode", on ? (opt.reset_grey ? "\"grey\"" : "\"fail_safe\"") : "null")

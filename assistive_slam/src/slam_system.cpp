@@ -105,8 +105,23 @@ bool SlamSystem::takeFrame(const SlamFrame& f, Job& job)
 {
   if (loss_.untrusted)
   {
-    // The first trusted frame after the loss: always a query, carrying the anchor.
     loss_.untrusted = false;
+    if (!loss_.relocalising && p_.reset_max_speed * (f.stamp - loss_.last_trusted_stamp) <= p_.reset_bridge_m)
+    {
+      // So short that the unseen walk is within reset_bridge: the held pose places the wearer again as
+      // well as a relocalisation would, and a search at a bare wall (where such losses happen)
+      // may never end (vision corridor: 52 s unplaced after a 0.2 s loss). Only a placed wearer
+      // (not during a search, nor after a load or a search given up).
+      std::lock_guard<std::mutex> l(mm_);
+      if (localised_)
+      {
+        vo_lost_ = false;
+        stats_.localised = true;
+        ++stats_.reset_bridged;
+        return policy_.take(f.T_odom_cam, f.vo_replenished);
+      }
+    }
+    // The first trusted frame after the loss: always a query, carrying the anchor.
     loss_.relocalising = true;
     job.reset = true;
     job.T_odom_last_trusted = loss_.last_trusted;

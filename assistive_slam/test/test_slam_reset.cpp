@@ -70,34 +70,36 @@ Eigen::Isometry3d yawed(double x, double yaw_deg)
 
 /// The wearer's true camera pose: along the wall at 0.75 m/s; unseen (the loss) slower and
 /// turning 8 deg; then on at 0.75 m/s.
-Eigen::Isometry3d truth(int i)
+Eigen::Isometry3d truth(int i, int loss_frames = kLossFrames)
 {
+  const int back = kLossStart + loss_frames;
   if (i < kLossStart)
     return yawed(0.05 * i, 0.0);
   const double x_loss = 0.05 * (kLossStart - 1);
-  if (i < kReturn)
+  if (i < back)
   {
     const int k = i - kLossStart + 1;
-    return yawed(x_loss + 0.03 * k, 8.0 * k / kLossFrames);
+    return yawed(x_loss + 0.03 * k, 8.0 * k / loss_frames);
   }
-  return yawed(x_loss + 0.03 * kLossFrames + 0.05 * (i - kReturn + 1), 8.0);
+  return yawed(x_loss + 0.03 * loss_frames + 0.05 * (i - back + 1), 8.0);
 }
 
 /// The VO as assistive_vo's fail-safe runs it: the truth before the loss; while untrusted the
 /// position held and the rotation from the gyro (which errs by 1 deg over the loss); from the
 /// return on it goes on from there: the unseen walk is missing from odom.
-Eigen::Isometry3d voPose(int i)
+Eigen::Isometry3d voPose(int i, int loss_frames = kLossFrames)
 {
+  const int back = kLossStart + loss_frames;
   if (i < kLossStart)
-    return truth(i);
-  if (i < kReturn)
+    return truth(i, loss_frames);
+  if (i < back)
   {
-    Eigen::Isometry3d T = truth(i) * yawed(0.0, 1.0 * (i - kLossStart + 1) / kLossFrames);
-    T.translation() = truth(kLossStart - 1).translation();
+    Eigen::Isometry3d T = truth(i, loss_frames) * yawed(0.0, 1.0 * (i - kLossStart + 1) / loss_frames);
+    T.translation() = truth(kLossStart - 1, loss_frames).translation();
     return T;
   }
-  const Eigen::Isometry3d T_off = voPose(kReturn - 1) * truth(kReturn - 1).inverse();
-  return T_off * truth(i);
+  const Eigen::Isometry3d T_off = voPose(back - 1, loss_frames) * truth(back - 1, loss_frames).inverse();
+  return T_off * truth(i, loss_frames);
 }
 
 struct Frame
@@ -106,17 +108,18 @@ struct Frame
   Eigen::Isometry3d truth;
 };
 
-Frame frame(int i, bool elsewhere = false)
+Frame frame(int i, bool elsewhere = false, int loss_frames = kLossFrames)
 {
+  const int back = kLossStart + loss_frames;
   Frame fr;
-  fr.truth = truth(i);
+  fr.truth = truth(i, loss_frames);
   fr.f.stamp = i / 15.0;
-  fr.f.T_odom_cam = voPose(i);
+  fr.f.T_odom_cam = voPose(i, loss_frames);
   fr.f.vo_replenished = true;
-  fr.f.pose_trusted = i < kLossStart || i >= kReturn;
+  fr.f.pose_trusted = i < kLossStart || i >= back;
   if (fr.f.pose_trusted)
   {
-    const bool other = elsewhere && i >= kReturn;
+    const bool other = elsewhere && i >= back;
     fr.f.left = render(fr.truth, other);
     Eigen::Isometry3d right = fr.truth;
     right.translation() += fr.truth.linear() * Eigen::Vector3d(camera().baseline, 0.0, 0.0);
@@ -289,4 +292,77 @@ TEST(SlamReset, NotFoundAgainMappingResumesUnplaced)
   std::string err;
   EXPECT_FALSE(s.tagPlace("door", reset_test::frame(reset_test::kFrames - 1).f.T_odom_cam, 99, nullptr, &err));
   EXPECT_NE(err.find("not localised"), std::string::npos);
+}
+
+namespace reset_test
+{
+/// A loss of `loss_frames` frames before a wall the map never saw (no query can verify): what
+/// the wearer's placement does from the frame the texture returns.
+struct ShortLoss
+{
+  bool unplaced_in_loss = true, placed_all_after = true;
+  PoseError worst_after{0, 0};
+  bool tagged_after = false;
+  SlamStats stats;
+};
+
+ShortLoss runShortLoss(int loss_frames, double bridge_m)
+{
+  SlamParams p;
+  p.loop_closure = false;
+  p.reset_bridge_m = bridge_m;
+  SlamSystem s(p, camera(), false);
+  ShortLoss r;
+  const int back = kLossStart + loss_frames;
+  for (int i = 0; i < back + 20; ++i)
+  {
+    const Frame fr = frame(i, true, loss_frames);
+    s.addFrame(fr.f);
+    if (!fr.f.pose_trusted)
+      r.unplaced_in_loss = r.unplaced_in_loss && !s.localised();
+    if (i < back)
+      continue;
+    r.placed_all_after = r.placed_all_after && s.localised();
+    if (s.localised())
+    {
+      const PoseError e = poseError(s.mapToOdom() * fr.f.T_odom_cam, fr.truth);
+      r.worst_after = {std::max(r.worst_after.m, e.m), std::max(r.worst_after.deg, e.deg)};
+    }
+  }
+  r.tagged_after = s.tagPlace("door", frame(back + 19, true, loss_frames).f.T_odom_cam, 99, nullptr, nullptr);
+  r.stats = s.stats();
+  return r;
+}
+}  // namespace reset_test
+
+// A loss so short that the wearer can have walked at most reset_bridge unseen (3 frames: 4/15 s
+// from the last trusted frame to the next, 0.4 m at reset_max_speed) is bridged: placed again on
+// the VO's held pose from the first trusted frame, off by the unseen walk alone (0.09 m, and the
+// gyro's 1 deg), although the wall seen then is one the map never saw (a search would never end).
+// Two frames longer (6/15 s, 0.6 m) is searched, and the wearer stays unplaced there; so is the
+// short loss with reset_bridge 0.
+TEST(SlamReset, AShortLossIsBridgedOnTheHeldPose)
+{
+  const reset_test::ShortLoss r = reset_test::runShortLoss(3, 0.5);
+  std::cout << "bridged: " << r.worst_after.m << " m " << r.worst_after.deg << " deg off the truth\n";
+  EXPECT_TRUE(r.unplaced_in_loss) << "unplaced while the VO is untrusted";
+  EXPECT_TRUE(r.placed_all_after) << "placed again from the first trusted frame";
+  EXPECT_LE(r.worst_after.m, 0.12);
+  EXPECT_GE(r.worst_after.m, 0.08) << "the unseen walk (0.09 m) is not recovered: no search ran";
+  EXPECT_LE(r.worst_after.deg, 1.5);
+  EXPECT_TRUE(r.tagged_after);
+  EXPECT_EQ(r.stats.reset_bridged, 1);
+  EXPECT_EQ(r.stats.vo_losses, 0);
+  EXPECT_EQ(r.stats.relocalisation_queries, 0);
+
+  const reset_test::ShortLoss longer = reset_test::runShortLoss(5, 0.5);
+  EXPECT_EQ(longer.stats.reset_bridged, 0);
+  EXPECT_EQ(longer.stats.vo_losses, 1);
+  EXPECT_FALSE(longer.placed_all_after);
+  EXPECT_FALSE(longer.tagged_after);
+
+  const reset_test::ShortLoss off = reset_test::runShortLoss(3, 0.0);
+  EXPECT_EQ(off.stats.reset_bridged, 0);
+  EXPECT_EQ(off.stats.vo_losses, 1);
+  EXPECT_FALSE(off.placed_all_after);
 }

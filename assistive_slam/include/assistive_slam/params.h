@@ -65,6 +65,7 @@ namespace assistive_slam
   X(double, loop_sigma_deg, "loop_sigma_deg", 0.5, 1e-3, 90.0, "deg", "rotation noise of a verified closure") \
   /* --- after a VO loss (issue 34): an untrusted VO pose (held while the wearer moved) unplaces the wearer until found again --- */ \
   X(bool, reset_relocalisation, "reset_relocalisation", true, {}, {}, "", "after a VO loss keyframes are queries until one is verified against the map (and the next agrees); false: the map goes on from the VO's held pose") \
+  X(double, reset_bridge_m, "reset_bridge", 0.5, 0.0, 10.0, "m", "a loss so short that the wearer can have walked at most this unseen (reset_max_speed x the time from the last trusted frame to the next trusted one) is bridged: from that frame the wearer is placed on the VO's held pose (map -> odom as before the loss), no search; 0.5 m, the planner's reached_distance (0: every loss is searched)") \
   X(double, reset_search_radius_m, "reset_search_radius", 2.0, 0.1, 100.0, "m", "keyframes this close to the last trusted pose (+ reset_max_speed x the time since it) are verified first ...") \
   X(double, reset_max_speed, "reset_max_speed", 1.5, 0.0, 10.0, "m/s", "... the speed the wearer may have walked at unseen") \
   X(double, reset_max_backward_m, "reset_max_backward", 0.75, 0.0, 100.0, "m", "a relocalised pose farther than this behind the last trusted pose, along the wearer's level view direction, is refused (people walk where they look)") \

@@ -90,6 +90,7 @@ struct SlamStats
   int vo_losses = 0;                  ///< untrusted VO stretches after the first keyframe (issue 34)
   int reset_relocalisations = 0;      ///< ... after which the wearer was found again in the map
   int reset_gave_up = 0;              ///< ... after which mapping resumed unplaced (reset_relocalisation_timeout)
+  int reset_bridged = 0;              ///< ... so short that the wearer stayed placed on the VO's held pose (reset_bridge)
   bool relocalising_after_reset = false;  ///< keyframes are queries against the map before the loss
 };
 
