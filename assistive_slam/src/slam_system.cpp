@@ -73,6 +73,9 @@ bool SlamSystem::addFrame(const SlamFrame& f)
   const bool take = takeFrame(f, job);
   loss_.last_trusted = f.T_odom_cam;
   loss_.last_trusted_stamp = f.stamp;
+  loss_.recent.emplace_back(f.stamp, f.T_odom_cam.translation());
+  while (loss_.recent.size() > 1 && loss_.recent.front().first < f.stamp - kSpeedSpanS)
+    loss_.recent.pop_front();
   if (!take)
     return false;
   loss_.mapped = true;
@@ -96,9 +99,28 @@ void SlamSystem::noteUntrusted()
   if (!p_.reset_relocalisation || !loss_.mapped || loss_.untrusted)
     return;
   loss_.untrusted = true;
+  // the walking speed when the loss began: over the trusted frames of the last kSpeedSpanS (one
+  // frame's step is mostly the pose's noise)
+  loss_.speed_at_loss = -1.0;
+  if (loss_.recent.size() >= 2 && loss_.recent.back().first - loss_.recent.front().first >= 0.2)
+    loss_.speed_at_loss = (loss_.recent.back().second - loss_.recent.front().second).norm() /
+                          (loss_.recent.back().first - loss_.recent.front().first);
+  loss_.recent.clear();
   std::lock_guard<std::mutex> l(mm_);
   vo_lost_ = true;  // unplaced at once (the worker takes the loss up with the next keyframe)
   stats_.localised = false;
+}
+
+double SlamSystem::unseenReach(double tau, double v0) const
+{
+  const double vmax = p_.reset_max_speed, a = p_.reset_max_accel;
+  tau = std::max(0.0, tau);
+  if (!(v0 >= 0.0) || v0 >= vmax)
+    return vmax * tau;
+  const double t1 = (vmax - v0) / a;  // when it would reach reset_max_speed
+  if (tau <= t1)
+    return v0 * tau + 0.5 * a * tau * tau;
+  return 0.5 * (v0 + vmax) * t1 + vmax * (tau - t1);
 }
 
 bool SlamSystem::takeFrame(const SlamFrame& f, Job& job)
@@ -106,7 +128,7 @@ bool SlamSystem::takeFrame(const SlamFrame& f, Job& job)
   if (loss_.untrusted)
   {
     loss_.untrusted = false;
-    if (!loss_.relocalising && p_.reset_max_speed * (f.stamp - loss_.last_trusted_stamp) <= p_.reset_bridge_m)
+    if (!loss_.relocalising && unseenReach(f.stamp - loss_.last_trusted_stamp, loss_.speed_at_loss) <= p_.reset_bridge_m)
     {
       // So short that the unseen walk is within reset_bridge: the held pose places the wearer again as
       // well as a relocalisation would, and a search at a bare wall (where such losses happen)

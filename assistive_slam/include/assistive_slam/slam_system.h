@@ -309,7 +309,15 @@ private:
     bool relocalising = false;  ///< a reset job was queued; the worker has not placed the wearer yet
     Eigen::Isometry3d last_trusted = Eigen::Isometry3d::Identity();  ///< VO pose of the last trusted frame
     double last_trusted_stamp = 0;
+    /// The trusted frames of the last kSpeedSpanS (stamp, camera position in odom), for the speed
+    /// the wearer walked at when the loss began (`speed_at_loss`; < 0: unknown).
+    std::deque<std::pair<double, Eigen::Vector3d>> recent;
+    double speed_at_loss = -1.0;
   };
+  static constexpr double kSpeedSpanS = 0.5;
+  /// How far the wearer can have walked unseen in `tau` s from `v0` m/s (< 0: unknown, taken as
+  /// reset_max_speed): speeding up at reset_max_accel, never beyond reset_max_speed.
+  double unseenReach(double tau, double v0) const;
   FrameLoss loss_;
   bool vo_lost_ = false;  ///< under mm_: set by the frame thread on a loss, cleared when the worker takes it up
   int resets_queued_ = 0, resets_begun_ = 0;  ///< under mm_: reset jobs queued / taken up by the worker
