@@ -647,6 +647,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   recordWalkedFloor(input, wearer);
   vouchForBlindZone(wearer, out.head_yaw, t, out);
   blockHeldUnseenFloor(wearer);
+  out.unseen_held_cells = static_cast<int>(unseen_.size());
   out.grid = std::make_shared<const Grid>(work_);
   const Grid& grid = work_;
   syncCosts(grid, out);
@@ -727,6 +728,8 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   out.message = out.path_through_unknown ? "path crosses unmapped cells (no known free path)"
                 : isObstacleCode(here)   ? "the wearer's cell is an obstacle: path from the nearest free cell"
                                          : "ok";
+  if (out.unseen_held_cells > 0)
+    out.message += "; " + std::to_string(out.unseen_held_cells) + " cells of unseen floor held as obstacles";
   return out;
 }
 

@@ -236,6 +236,8 @@ TEST(BlindZone, UnseenFloorBesideAStandingWearerIsPlannedRoundAfterAWhile)
     o = pl.update(g, w, 0.0, t);
   ASSERT_EQ(o.status, PlanStatus::OK) << o.message;
   EXPECT_LT(t, 10.0 + p.unseen_hold_s + 2.0) << "held within 2 s of the hold";
+  EXPECT_GT(o.unseen_held_cells, 0);
+  EXPECT_NE(o.message.find("cells of unseen floor held as obstacles"), std::string::npos) << o.message;
   EXPECT_GT(o.steer_heading, 45.0 * kDeg) << "the way round goes up, to the far gap";
   EXPECT_LT(o.free_ahead, 0.5) << "what it faces ends at the held floor";
   ASSERT_TRUE(o.grid);

@@ -69,6 +69,8 @@ struct PlanOutput
   /// were when the ranger could not vouch (empty otherwise).
   int vouched_cells = 0;
   std::string vouch_note;
+  /// Unseen floor beside a standing wearer held as obstacles (`unseen_hold_s`): cells held now.
+  int unseen_held_cells = 0;
   /// The grid this cycle planned on (the input with the walked floor and the vouched blind zone
   /// marked; null before a usable grid): the cue logic sweeps the body's predicted walk over it
   /// (the nodelet publishes it as `planner/grid`, nav_msgs/OccupancyGrid).
