@@ -128,21 +128,12 @@ bool SlamSystem::takeFrame(const SlamFrame& f, Job& job)
   if (loss_.untrusted)
   {
     loss_.untrusted = false;
-    if (!loss_.relocalising && unseenReach(f.stamp - loss_.last_trusted_stamp, loss_.speed_at_loss) <= p_.reset_bridge_m)
-    {
-      // So short that the unseen walk is within reset_bridge: the held pose places the wearer again as
-      // well as a relocalisation would, and a search at a bare wall (where such losses happen)
-      // may never end (vision corridor: 52 s unplaced after a 0.2 s loss). Only a placed wearer
-      // (not during a search, nor after a load or a search given up).
-      std::lock_guard<std::mutex> l(mm_);
-      if (localised_)
-      {
-        vo_lost_ = false;
-        stats_.localised = true;
-        ++stats_.reset_bridged;
-        return policy_.take(f.T_odom_cam, f.vo_replenished);
-      }
-    }
+    // So short that the unseen walk is within reset_bridge: the held pose places the wearer nearly
+    // as well as a relocalisation, and a search at a bare wall (where such losses happen) may never
+    // end (vision corridor: 52 s unplaced after a 0.2 s loss). Only for a placed wearer (not during
+    // a search: beginReset keeps that one as it was).
+    job.bridgeable = !loss_.relocalising && p_.reset_bridge_m > 0.0 &&
+                     unseenReach(f.stamp - loss_.last_trusted_stamp, loss_.speed_at_loss) <= p_.reset_bridge_m;
     // The first trusted frame after the loss: always a query, carrying the anchor.
     loss_.relocalising = true;
     job.reset = true;
@@ -990,6 +981,8 @@ void SlamSystem::beginReset(const Job& job)
   reset_.T_map_odom = T_map_odom_;
   reset_.T_map_anchor = T_map_odom_ * job.T_odom_last_trusted;
   reset_.stamp = job.last_trusted_stamp;
+  reset_.bridgeable = job.bridgeable;
+  reset_.first_query_stamp = job.frame.stamp;
   localised_ = false;
   stats_.localised = false;
   stats_.relocalising_after_reset = true;
@@ -1046,6 +1039,11 @@ bool SlamSystem::relocaliseAfterReset(const KeyframePtr& kf)
   {
     giveUpRelocalisation();
     return true;  // mapped (unplaced)
+  }
+  if (reset_.bridgeable && kf->stamp - reset_.first_query_stamp >= p_.reset_bridge_after_s)
+  {
+    bridgeLoss();
+    return true;  // mapped (placed on the held pose)
   }
   if (kf->descriptors.empty())
     return false;
@@ -1150,6 +1148,20 @@ Eigen::Isometry3d SlamSystem::refineOnLocalMap(const std::vector<std::pair<const
       angleDeg(d) > 5.0)
     return r.T_a_b;  // a failed adjustment: the P3P pose
   return pb.poses[qi];
+}
+
+void SlamSystem::bridgeLoss()
+{
+  std::lock_guard<std::mutex> l(mm_);
+  T_map_odom_ = reset_.T_map_odom;
+  reset_ = ResetSearch();
+  localised_ = true;
+  session_start_ = true;
+  link_session_ = false;  // no verified link: the odometry across the loss is all there is
+  reloc_run_.clear();
+  ++stats_.reset_bridged;
+  stats_.localised = !vo_lost_;
+  stats_.relocalising_after_reset = false;
 }
 
 void SlamSystem::giveUpRelocalisation()

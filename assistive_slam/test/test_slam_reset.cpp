@@ -296,17 +296,19 @@ TEST(SlamReset, NotFoundAgainMappingResumesUnplaced)
 
 namespace reset_test
 {
-/// A loss of `loss_frames` frames before a wall the map never saw (no query can verify): what
-/// the wearer's placement does from the frame the texture returns.
+/// A loss of `loss_frames` frames, then the same wall or (`elsewhere`) one the map never saw: when
+/// the wearer is placed again from the frame the texture returns, and how well.
 struct ShortLoss
 {
-  bool unplaced_in_loss = true, placed_all_after = true;
+  bool unplaced_in_loss = true;
+  int placed_frame = -1;           ///< frames after the return (-1: not placed again)
+  bool stayed_placed = true;       ///< from then on
   PoseError worst_after{0, 0};
   bool tagged_after = false;
   SlamStats stats;
 };
 
-ShortLoss runShortLoss(int loss_frames, double bridge_m)
+ShortLoss runShortLoss(int loss_frames, bool elsewhere, double bridge_m = SlamParams().reset_bridge_m)
 {
   SlamParams p;
   p.loop_closure = false;
@@ -316,55 +318,67 @@ ShortLoss runShortLoss(int loss_frames, double bridge_m)
   const int back = kLossStart + loss_frames;
   for (int i = 0; i < back + 20; ++i)
   {
-    const Frame fr = frame(i, true, loss_frames);
+    const Frame fr = frame(i, elsewhere, loss_frames);
     s.addFrame(fr.f);
     if (!fr.f.pose_trusted)
       r.unplaced_in_loss = r.unplaced_in_loss && !s.localised();
     if (i < back)
       continue;
-    r.placed_all_after = r.placed_all_after && s.localised();
-    if (s.localised())
-    {
-      const PoseError e = poseError(s.mapToOdom() * fr.f.T_odom_cam, fr.truth);
-      r.worst_after = {std::max(r.worst_after.m, e.m), std::max(r.worst_after.deg, e.deg)};
-    }
+    if (r.placed_frame < 0 && s.localised())
+      r.placed_frame = i - back;
+    if (r.placed_frame < 0)
+      continue;
+    r.stayed_placed = r.stayed_placed && s.localised();
+    const PoseError e = poseError(s.mapToOdom() * fr.f.T_odom_cam, fr.truth);
+    r.worst_after = {std::max(r.worst_after.m, e.m), std::max(r.worst_after.deg, e.deg)};
   }
-  r.tagged_after = s.tagPlace("door", frame(back + 19, true, loss_frames).f.T_odom_cam, 99, nullptr, nullptr);
+  r.tagged_after = s.tagPlace("door", frame(back + 19, elsewhere, loss_frames).f.T_odom_cam, 99, nullptr, nullptr);
   r.stats = s.stats();
   return r;
 }
 }  // namespace reset_test
 
-// A loss so short that the wearer can have walked at most reset_bridge unseen is bridged: placed
-// again on the VO's held pose from the first trusted frame, off by the unseen walk alone and the
-// gyro's 1 deg, although the wall seen then is one the map never saw (a search would never end).
+// A loss so short that the wearer can have walked at most reset_bridge unseen is bridged when the
+// search does not place the wearer within reset_bridge_after: placed on the VO's held pose, off by
+// the unseen walk and the gyro's 1 deg, before a wall the map never saw (a search would never end).
 // The wearer walked at 0.75 m/s when the loss began: in 5 lost frames (6/15 s from the last trusted
 // frame to the next) it can have walked 0.3 m + 0.16 m speeding up at reset_max_accel, within
 // 0.5 m (at reset_max_speed all along, 0.6 m: the speed it walked at counts); it walked 0.15 m.
-// Eight lost frames (0.6 s: up to 0.81 m) are searched, and the wearer stays unplaced there; so
-// is the short loss with reset_bridge 0.
-TEST(SlamReset, AShortLossIsBridgedOnTheHeldPose)
+// Before the wall it saw before the loss, the search finds it first, better (the test above: within
+// 0.1 m). Eight lost frames (0.6 s: up to 0.81 m) are only searched, and the wearer stays unplaced
+// before the new wall; so is the short loss with reset_bridge 0.
+TEST(SlamReset, AShortLossIsBridgedOnTheHeldPoseWhenNotFoundSoon)
 {
-  const reset_test::ShortLoss r = reset_test::runShortLoss(5, 0.5);
-  std::cout << "bridged: " << r.worst_after.m << " m " << r.worst_after.deg << " deg off the truth\n";
+  const double after_frames = SlamParams().reset_bridge_after_s * 15.0;
+  const reset_test::ShortLoss r = reset_test::runShortLoss(5, true);
+  std::cout << "bridged on frame " << r.placed_frame << " after the return: " << r.worst_after.m << " m "
+            << r.worst_after.deg << " deg off the truth\n";
   EXPECT_TRUE(r.unplaced_in_loss) << "unplaced while the VO is untrusted";
-  EXPECT_TRUE(r.placed_all_after) << "placed again from the first trusted frame";
+  ASSERT_GE(r.placed_frame, 0) << "never placed again";
+  EXPECT_GE(r.placed_frame, after_frames - 1) << "searched first";
+  EXPECT_LE(r.placed_frame, after_frames + 1);
+  EXPECT_TRUE(r.stayed_placed);
   EXPECT_LE(r.worst_after.m, 0.18);
-  EXPECT_GE(r.worst_after.m, 0.14) << "the unseen walk (0.15 m) is not recovered: no search ran";
+  EXPECT_GE(r.worst_after.m, 0.14) << "the unseen walk (0.15 m) is not recovered: nothing was found";
   EXPECT_LE(r.worst_after.deg, 1.5);
   EXPECT_TRUE(r.tagged_after);
   EXPECT_EQ(r.stats.reset_bridged, 1);
-  EXPECT_EQ(r.stats.vo_losses, 0);
-  EXPECT_EQ(r.stats.relocalisation_queries, 0);
+  EXPECT_EQ(r.stats.reset_relocalisations, 0);
+  EXPECT_EQ(r.stats.vo_losses, 1);
+  EXPECT_FALSE(r.stats.relocalising_after_reset);
 
-  const reset_test::ShortLoss longer = reset_test::runShortLoss(8, 0.5);
+  const reset_test::ShortLoss seen = reset_test::runShortLoss(5, false);
+  EXPECT_EQ(seen.stats.reset_relocalisations, 1) << "the search places it first where it can";
+  EXPECT_EQ(seen.stats.reset_bridged, 0);
+  EXPECT_LT(seen.placed_frame, after_frames - 1);
+  EXPECT_LE(seen.worst_after.m, 0.1);
+
+  const reset_test::ShortLoss longer = reset_test::runShortLoss(8, true);
   EXPECT_EQ(longer.stats.reset_bridged, 0);
-  EXPECT_EQ(longer.stats.vo_losses, 1);
-  EXPECT_FALSE(longer.placed_all_after);
+  EXPECT_LT(longer.placed_frame, 0);
   EXPECT_FALSE(longer.tagged_after);
 
-  const reset_test::ShortLoss off = reset_test::runShortLoss(5, 0.0);
+  const reset_test::ShortLoss off = reset_test::runShortLoss(5, true, 0.0);
   EXPECT_EQ(off.stats.reset_bridged, 0);
-  EXPECT_EQ(off.stats.vo_losses, 1);
-  EXPECT_FALSE(off.placed_all_after);
+  EXPECT_LT(off.placed_frame, 0);
 }

@@ -90,7 +90,7 @@ struct SlamStats
   int vo_losses = 0;                  ///< untrusted VO stretches after the first keyframe (issue 34)
   int reset_relocalisations = 0;      ///< ... after which the wearer was found again in the map
   int reset_gave_up = 0;              ///< ... after which mapping resumed unplaced (reset_relocalisation_timeout)
-  int reset_bridged = 0;              ///< ... so short that the wearer stayed placed on the VO's held pose (reset_bridge)
+  int reset_bridged = 0;              ///< ... so short (reset_bridge), and not found within reset_bridge_after, that the wearer was placed on the VO's held pose
   bool relocalising_after_reset = false;  ///< keyframes are queries against the map before the loss
 };
 
@@ -164,9 +164,15 @@ private:
     bool reset = false;
     Eigen::Isometry3d T_odom_last_trusted = Eigen::Isometry3d::Identity();
     double last_trusted_stamp = 0;
+    /// The loss was short enough to be bridged (reset_bridge) if the search does not place the
+    /// wearer within reset_bridge_after.
+    bool bridgeable = false;
   };
   /// Frame thread: an untrusted VO frame (a loss once the map exists).
   void noteUntrusted();
+  /// Worker: the search has not placed the wearer within reset_bridge_after of a bridgeable loss:
+  /// placed on the VO's held pose (the old map -> odom), a new submap weakly linked, as after giving up.
+  void bridgeLoss();
   /// Frame thread: whether a trusted frame is a keyframe (a relocalisation query while the worker
   /// looks for the wearer after a loss), and the reset flag of the first frame after a loss.
   bool takeFrame(const SlamFrame& f, Job& job);
@@ -330,6 +336,8 @@ private:
     Eigen::Isometry3d T_map_anchor = Eigen::Isometry3d::Identity();  ///< the last trusted pose in map
     Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();    ///< map -> odom before the loss
     double stamp = 0;                                                ///< of the last trusted frame
+    bool bridgeable = false;        ///< placed on the held pose after reset_bridge_after (Job::bridgeable)
+    double first_query_stamp = 0;   ///< the first trusted frame after the loss
   };
   ResetSearch reset_;
   bool link_session_ = true;  ///< the next session start has a verified link (false: given up)
