@@ -38,10 +38,12 @@ void diagCb(const diagnostic_msgs::DiagnosticArray::ConstPtr& m)
   for (const auto& s : m->status)
     if (s.name.find("cue logic") != std::string::npos)
       for (const auto& kv : s.values)
+      {
         if (kv.key == "vest gyro")
           g_vest_gyro = kv.value;
         else if (kv.key == "vest gyro offset (deg/s)")
           g_vest_gyro_offset = kv.value;
+      }
   for (const auto& s : m->status)
     if (s.name.find("vest link") != std::string::npos)
     {

@@ -36,6 +36,12 @@ std::string run(const std::string& args, const std::string& tag)
   EXPECT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 0) << cmd;
   return lastLine(log);
 }
+}  // namespace
+
+// (A named namespace: the tests derive from the fixture, and in the unity build this file is
+// included, where a base with internal linkage draws -Wsubobject-linkage.)
+namespace mobility_trials_cli_test
+{
 /// A passing test leaves nothing in the temporary folder: the files the CLI wrote there under
 /// this file's names (logs, heat maps per world) go; a failing one keeps them to look at. (Only
 /// these names: test_mobility_vision writes its own mobility_vision_* files there meanwhile.)
@@ -56,7 +62,8 @@ protected:
     }
   }
 };
-}  // namespace
+}  // namespace mobility_trials_cli_test
+using mobility_trials_cli_test::MobilityTrials;
 
 TEST_F(MobilityTrials, CuesKeepTheWearerClearAndWithoutThemItCollides)
 {
