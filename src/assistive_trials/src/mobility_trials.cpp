@@ -63,6 +63,8 @@ void usage(std::ostream& os = std::cerr)
         "                       e.g. {cue_logic: {lost_turn_after_s: 0}, slam: {reset_fixed_rotation: false}})\n"
         "                       [--active] (vision: the reference camera, the pattern projector's emitter-on pairs\n"
         "                       mapped; issue 35)\n"
+        "                       [--record DIR] (vision: each trial's sensor input, truth and chain output to\n"
+        "                       DIR/<world>_trial<k>.bag, to replay it offline; about 9 MB per simulated second)\n"
         "                       [--lead-from-reaction oracle] (analysis: steer_lead_s = the wearer's true\n"
         "                       reaction + 0.15 s, never to make the guidance look good)\n"
         "  --wearer: each trial's wearer drawn from the population (default; docs/wearer_population.md) or the\n"
@@ -199,6 +201,7 @@ struct VisionContext
   pid_t core = -1;
   std::string log_dir;
   std::string ros_params;  ///< a YAML loaded at the root before each trial's pipeline (--ros-params)
+  std::string record_dir;  ///< each trial's chain recorded to DIR/<world>_trial<k>.bag (--record)
   bool active = false;     ///< the reference camera with its pattern projector (--active)
 };
 
@@ -297,6 +300,8 @@ bool runWorld(const World& world, const std::string& world_arg, const TrialOptio
         args.push_back("params:=" + vc.ros_params);
       if (vc.active)
         args.push_back("active:=true");
+      if (!vc.record_dir.empty())
+        args.push_back("record:=" + vc.record_dir + "/" + world.name + "_trial" + std::to_string(k) + ".bag");
       const pid_t launch = spawn(args, log);
       ros::NodeHandle nh;
       RosChain chain(nh, world, ro);
@@ -599,7 +604,7 @@ std::vector<std::string> splitComma(const std::string& s)
 
 int main(int argc, char** argv)
 {
-  std::string world_arg, mode = "truth", plot, kind_arg, keep_dir, ros_params;
+  std::string world_arg, mode = "truth", plot, kind_arg, keep_dir, ros_params, record_dir;
   bool active = false;
   int trials = 20, generated = 0;
   long seed = 1, seed_base = 1001;
@@ -639,6 +644,7 @@ int main(int argc, char** argv)
       else if (a == "--chord-min") opt.planner.heading_chord_min = std::stod(val());
       else if (a == "--timeout-factor") opt.timeout_factor = std::stod(val());
       else if (a == "--active") active = true;
+      else if (a == "--record") record_dir = val();
       else if (a == "--ros-params")
       {
         char* full = realpath(val().c_str(), nullptr);
@@ -794,6 +800,23 @@ int main(int argc, char** argv)
     std::cerr << "mobility_trials: --vest-gyro goes with --mode truth or vision\n";
     return 2;
   }
+  if (!record_dir.empty())
+  {
+    if (opt.mode != TrialMode::VISION)
+    {
+      std::cerr << "mobility_trials: --record goes with --mode vision (the chain's topics)\n";
+      return 2;
+    }
+    mkdir(record_dir.c_str(), 0755);
+    char* full = realpath(record_dir.c_str(), nullptr);
+    if (!full)
+    {
+      std::cerr << "mobility_trials: --record: cannot create " << record_dir << "\n";
+      return 2;
+    }
+    record_dir = full;  // roslaunch runs the recorder in its own folder
+    std::free(full);
+  }
   if (grid_resolution_given && opt.mode != TrialMode::TRUTH)
   {
     std::cerr << "mobility_trials: --grid-resolution goes with --mode truth (the perfect map's cell)\n";
@@ -821,6 +844,7 @@ int main(int argc, char** argv)
     // vision: a private roscore for the run, a fresh pipeline (roslaunch) for each trial
     VisionContext vc;
     vc.ros_params = ros_params;
+    vc.record_dir = record_dir;
     vc.active = active;
     if (opt.mode == TrialMode::VISION && !startVision(vc)) return 1;
     const bool ok = runWorld(world, world_arg, opt, trials, seed, vc, true, "", res);
@@ -863,6 +887,7 @@ int main(int argc, char** argv)
     mkdir(dir.c_str(), 0755);
   VisionContext vc;
   vc.ros_params = ros_params;
+  vc.record_dir = record_dir;
   vc.active = active;
   if (opt.mode == TrialMode::VISION && !startVision(vc)) return 1;
   std::printf("%-22s %-8s %-6s %-7s %-5s %-9s %-6s %-5s %-6s %-7s %-7s %-7s\n", "world", "kind", "walk_m", "trials",

@@ -168,6 +168,7 @@ TEST_F(MobilityTrials, UsageErrors)
   EXPECT_EQ(code("--world glass --trials 1 --grid-resolution 0"), 2);  // the perfect map's cell: 0.02-1 m
   EXPECT_EQ(code("--world glass --trials 1 --grid-resolution 5"), 2);
   EXPECT_EQ(code("--world glass --trials 1 --mode cane --grid-resolution 0.1"), 2);  // truth mode's alone
+  EXPECT_EQ(code("--world glass --trials 1 --record " + ::testing::TempDir() + "mobility_set_rec"), 2);  // vision's alone
   // a heat map's name without an image extension is refused before the trials, not after them
   EXPECT_EQ(code("--world glass --trials 1 --plot " + ::testing::TempDir() + "mobility_set_noext"), 2);
 }
