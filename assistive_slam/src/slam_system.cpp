@@ -1150,18 +1150,25 @@ Eigen::Isometry3d SlamSystem::refineOnLocalMap(const std::vector<std::pair<const
   return pb.poses[qi];
 }
 
+void SlamSystem::mapOnFromHeldPose()
+{
+  // (under mm_) the map goes on from map -> odom before the loss: a new submap, no verified link
+  // (the odometry across the loss is all there is)
+  T_map_odom_ = reset_.T_map_odom;
+  session_start_ = true;
+  link_session_ = false;
+  reloc_run_.clear();
+  stats_.relocalising_after_reset = false;
+}
+
 void SlamSystem::bridgeLoss()
 {
   std::lock_guard<std::mutex> l(mm_);
-  T_map_odom_ = reset_.T_map_odom;
+  mapOnFromHeldPose();
   reset_ = ResetSearch();
   localised_ = true;
-  session_start_ = true;
-  link_session_ = false;  // no verified link: the odometry across the loss is all there is
-  reloc_run_.clear();
   ++stats_.reset_bridged;
   stats_.localised = !vo_lost_;
-  stats_.relocalising_after_reset = false;
 }
 
 void SlamSystem::giveUpRelocalisation()
@@ -1171,12 +1178,8 @@ void SlamSystem::giveUpRelocalisation()
   std::lock_guard<std::mutex> l(mm_);
   reset_.gave_up = true;
   reset_.first_submap = static_cast<uint32_t>(submaps_.size());
-  T_map_odom_ = reset_.T_map_odom;
-  session_start_ = true;
-  link_session_ = false;
-  reloc_run_.clear();
+  mapOnFromHeldPose();
   ++stats_.reset_gave_up;
-  stats_.relocalising_after_reset = false;
 }
 
 bool SlamSystem::loadMap(const MapData& m, std::string* err)

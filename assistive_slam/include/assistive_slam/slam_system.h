@@ -173,6 +173,9 @@ private:
   /// Worker: the search has not placed the wearer within reset_bridge_after of a bridgeable loss:
   /// placed on the VO's held pose (the old map -> odom), a new submap weakly linked, as after giving up.
   void bridgeLoss();
+  /// Worker, under mm_: after a search that gave up or a bridge, the map goes on from the VO's held
+  /// pose (the old map -> odom) in a new submap without a verified link.
+  void mapOnFromHeldPose();
   /// Frame thread: whether a trusted frame is a keyframe (a relocalisation query while the worker
   /// looks for the wearer after a loss), and the reset flag of the first frame after a loss.
   bool takeFrame(const SlamFrame& f, Job& job);
