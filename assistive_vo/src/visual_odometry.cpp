@@ -30,10 +30,12 @@ Eigen::Isometry3d linkPose(const Eigen::Isometry3d& T_x_optical)
 }
 /// The speed a standing hold may start from: the IMU-coasted velocity while coasting, else the
 /// last frame's motion over its interval (0 before any).
-double knownSpeed(const InertialCoaster& coast, const Eigen::Isometry3d& T_prev_cur, double dt)
+double knownSpeed(const InertialCoaster& coast, const Eigen::Isometry3d& T_prev_cur, double dt, const Eigen::Vector3d* v_imu)
 {
   if (coast.coasting())
     return coast.velocity().norm();
+  if (v_imu)
+    return v_imu->norm();
   return dt > 1e-6 ? T_prev_cur.translation().norm() / dt : 0.0;
 }
 
@@ -152,7 +154,7 @@ void VisualOdometry::reset()
   gravity_.clear();
   coast_.clear();
   standing_.clear();
-  standing_now_ = false;
+  standing_now_ = v_imu_valid_ = false;
   standing_holds_ = standing_frames_ = 0;
   gaps_bridged_ = 0;
   untrusted_ = true;
@@ -208,6 +210,8 @@ bool VisualOdometry::stopSeen(const FrameContext& fc, const Eigen::Vector3d& f_o
     speed = coast_.velocity().norm();
     sigma = std::sqrt(std::max(0.0, coast_.velocityVariance(coast_.coastTime())));
   }
+  else if (imuSpeed())
+    speed = imuSpeed()->norm();  // the last tracked frame's velocity, carried on by the accelerometer
   else if (last_state_ == TrackingState::TRACKING && last_dt_ > 1e-6)
     speed = last_T_prev_cur_.translation().norm() / last_dt_;  // measured on the last frame (not a lost frame's guess)
   else
@@ -673,11 +677,13 @@ void VisualOdometry::detectStanding(FrameContext& fc)
   if (!(p_.standing_detection && fc.have_imu && !fc.gap && fc.imu.dt > 1e-6))
   {
     standing_.clear();
-    standing_now_ = false;
+    standing_now_ = v_imu_valid_ = false;
     return;
   }
   const Eigen::Matrix3d R_odom_link = linkPose(T_odom_o0_ * T_w_cur_).linear();
   const Eigen::Vector3d f_odom = R_odom_link * fc.imu.dv / fc.imu.dt;
+  // carried on to this frame (a tracked frame replaces it with its own measure: accept())
+  v_imu_ += (f_odom - Eigen::Vector3d(0.0, 0.0, coastOptions(p_).gravity)) * fc.imu.dt;
   standing_.add(fc.stamp, fc.imu.dt, f_odom);
   if (!standing_.quiet())
   {
@@ -704,7 +710,7 @@ void VisualOdometry::detectStanding(FrameContext& fc)
   // No gait. A walk at constant speed without a bob would look the same (the accelerometer cannot
   // see a constant velocity), so a hold starts only at a speed known to be low: the IMU-coasted
   // velocity, or the last tracked frame's.
-  const double speed = knownSpeed(coast_, last_T_prev_cur_, last_dt_);
+  const double speed = knownSpeed(coast_, last_T_prev_cur_, last_dt_, imuSpeed());
   fc.standing = standing_now_ || speed <= p_.standing_max_speed;
 }
 
@@ -772,6 +778,7 @@ void VisualOdometry::markBridgeable(FrameContext& fc)
 
 void VisualOdometry::standingOverGap(FrameContext& fc)
 {
+  v_imu_valid_ = false;  // the gap's one interval: no frame velocity to carry on
   // One interval over the whole gap: its mean specific force hides any gait, so it is no sample
   // of the test (the window restarts after it). The stand goes on through the gap when the test
   // was quiet up to it (at a low speed, as detectStanding asks) and the velocity change over the
@@ -780,7 +787,7 @@ void VisualOdometry::standingOverGap(FrameContext& fc)
   standing_.clear();
   if (!(p_.standing_detection && (standing_now_ || quiet_before)))
     return;
-  const double speed = knownSpeed(coast_, last_T_prev_cur_, last_dt_);
+  const double speed = knownSpeed(coast_, last_T_prev_cur_, last_dt_, imuSpeed());
   const Eigen::Matrix3d R_odom_link = linkPose(T_odom_o0_ * T_w_cur_).linear();
   const Eigen::Vector3d dv = R_odom_link * fc.imu.dv - Eigen::Vector3d(0, 0, coastOptions(p_).gravity * fc.imu.dt);
   fc.standing = (standing_now_ || speed <= p_.standing_max_speed) && dv.norm() <= p_.standing_max_speed;
@@ -1099,6 +1106,10 @@ void VisualOdometry::accept(const MotionEstimate& m, FrameStats& st)
   T_w_cur_ = keyframes_.current().T_w_kf * m.T_kf_cur;
   keyframes_.setPrevious(m.T_kf_cur);
   last_T_prev_cur_ = m.T_prev_cur;
+  // the velocity over the frame, in odom axes (the optical frame's origin is camera_link's)
+  const Eigen::Matrix3d R_odom_prev = (T_odom_o0_ * T_w_cur_).linear() * m.T_prev_cur.linear().transpose();
+  v_imu_valid_ = last_dt_ > 1e-6;
+  v_imu_ = v_imu_valid_ ? Eigen::Vector3d(R_odom_prev * m.T_prev_cur.translation() / last_dt_) : Eigen::Vector3d::Zero();
   // BA covariance is of the current frame relative to the keyframe (current-frame axes).
   cov_rel_ = m.br.ok ? m.br.covariance : Eigen::Matrix<double, 6, 6>::Identity() * 1e-2;
   cov_cur_ = keyframes_.current().covariance + rotateCov(cov_rel_, m.T_kf_cur.linear());

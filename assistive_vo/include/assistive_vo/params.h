@@ -109,6 +109,7 @@ namespace assistive_vo
   X(double, standing_max_accel_sigma, "standing_max_accel_sigma", 0.25, 0.01, 5.0, "m/s^2", "standing: rms deviation of the specific force (odom axes, per-frame means) from its window mean at most this ...") \
   X(double, standing_max_speed, "standing_max_speed", 0.25, 0.0, 5.0, "m/s", "... and the speed when the hold starts (last tracked or IMU-coasted) at most this") \
   X(bool, standing_on_stop, "standing_on_stop", true, {}, {}, "", "a stop seen on the IMU (speed + its 1-sigma within standing_max_speed, no acceleration on the frame) starts the hold before the gait test's window has cleared the deceleration; it goes on while the samples since show no gait") \
+  X(bool, standing_speed_imu, "standing_speed_imu", true, {}, {}, "", "without an IMU coast (too few tracked frames to fit one), the speed a hold may start from is the last tracked frame's velocity carried on by the accelerometer since (else that frame's speed as measured)") \
   X(double, standing_position_sigma, "standing_position_sigma", 0.03, 0.0, 1.0, "m", "position 1-sigma (per axis) added once when a hold starts") \
   X(double, standing_pivot_forward, "standing_pivot_forward", 0.09, -0.5, 0.5, "m", "the camera sits this far in front of the pivot the head turns about (the neck; camera_link x) ...") \
   X(double, standing_pivot_up, "standing_pivot_up", 0.1, -0.5, 0.5, "m", "... and this far above it (camera_link z): a held frame keeps the pivot still") \

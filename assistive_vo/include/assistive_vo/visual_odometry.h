@@ -240,6 +240,8 @@ private:
   /// 1-sigma within standing_max_speed and no acceleration over this frame (`f_odom`: its specific
   /// force, odom axes): the hold may start before the gait test's window clears the deceleration.
   bool stopSeen(const FrameContext& fc, const Eigen::Vector3d& f_odom) const;
+  /// v_imu_ when standing_speed_imu uses it, else null
+  const Eigen::Vector3d* imuSpeed() const { return p_.standing_speed_imu && v_imu_valid_ ? &v_imu_ : nullptr; }
   /// Mean absolute difference of the left image to the previous one (every 4th pixel); -1 when
   /// there is no previous image of the same size. Keeps this image for the next frame.
   double imageChange(const cv::Mat& left);
@@ -285,6 +287,10 @@ private:
   void estimateDisparityOffset(const MotionEstimate& m);
   StandingDetector standing_;
   bool standing_now_ = false;       ///< lost frames hold the position (since the hold started)
+  /// camera_link's velocity (odom): the last tracked frame's, carried on by the accelerometer over
+  /// the frames since (standing_speed_imu: the speed a hold may start from without a coast)
+  Eigen::Vector3d v_imu_ = Eigen::Vector3d::Zero();
+  bool v_imu_valid_ = false;
   bool standing_held_ = false;      ///< this frame was held standing
   Eigen::Vector3d standing_pivot_ = Eigen::Vector3d::Zero();  ///< odom, the still neck
   double standing_t0_ = 0.0, standing_rot_var_ = 0.0;
