@@ -823,6 +823,11 @@ int main(int argc, char** argv)
     return 2;
   }
   const std::string label = mode + (opt.cues_enabled ? "" : " (no cues)");
+  // vision: one private roscore for the run (started below), a fresh pipeline (roslaunch) per trial
+  VisionContext vc;
+  vc.ros_params = ros_params;
+  vc.record_dir = record_dir;
+  vc.active = active;
 
   if (!set_mode)
   {
@@ -841,11 +846,6 @@ int main(int argc, char** argv)
     std::vector<TrialResult> res;
     std::printf("%-5s %-7s %-9s %-8s %-8s %-6s %-5s %-8s %-6s %-7s %-7s %-9s\n", "trial", "seed", "completed", "time_s",
                 "guide_s", "ppws", "coll", "wall/ovh", "glass", "furn", "people", "clear_m");
-    // vision: a private roscore for the run, a fresh pipeline (roslaunch) for each trial
-    VisionContext vc;
-    vc.ros_params = ros_params;
-    vc.record_dir = record_dir;
-    vc.active = active;
     if (opt.mode == TrialMode::VISION && !startVision(vc)) return 1;
     const bool ok = runWorld(world, world_arg, opt, trials, seed, vc, true, "", res);
     stopVision(vc);
@@ -885,10 +885,6 @@ int main(int argc, char** argv)
   }
   else
     mkdir(dir.c_str(), 0755);
-  VisionContext vc;
-  vc.ros_params = ros_params;
-  vc.record_dir = record_dir;
-  vc.active = active;
   if (opt.mode == TrialMode::VISION && !startVision(vc)) return 1;
   std::printf("%-22s %-8s %-6s %-7s %-5s %-9s %-6s %-5s %-6s %-7s %-7s %-7s\n", "world", "kind", "walk_m", "trials",
               "done", "coll/tr", "worst", "wall", "furn", "ppws", "clear_m", "time_s");
