@@ -320,7 +320,8 @@ private:
   /// Times, tracking state and recovery of one processed frame.
   void countFrame(const ev::StereoFrame& f, const VoOutput& o, const ev::Stopwatch& timer);
   /// --verbose: the frame's stage counts on stderr; and the VO's message of the frame.
-  void logFrame(const ev::StereoFrame& f, const VoOutput& o, bool usable) const;
+  void logFrame(const ev::StereoFrame& f, const VoOutput& o, bool usable);
+  bool logged_trusted_ = true, logged_held_ = false;  ///< logFrame: the trust and hold it last printed
   /// A frame with a pose and its truth: the trajectories, the gyro and the peer (and --dump's row).
   void keepPose(const StereoCamera& cam, const ev::StereoFrame& f, const FrontEndStep& step);
   /// --dump: one row per frame.
@@ -442,7 +443,7 @@ void BagRun::countOnSpot(const ev::StereoFrame& f, const VoOutput& o)
   neck_ = neck;
 }
 
-void BagRun::logFrame(const ev::StereoFrame& f, const VoOutput& o, bool usable) const
+void BagRun::logFrame(const ev::StereoFrame& f, const VoOutput& o, bool usable)
 {
   if (opt_.verbose)
     std::cerr << "frame " << frames << " " << toString(o.state) << " klt " << o.stats.klt_tracked << " epipolar "
@@ -457,6 +458,13 @@ void BagRun::logFrame(const ev::StereoFrame& f, const VoOutput& o, bool usable) 
   if (!o.message.empty())
     std::cerr << "frame " << frames << " t=" << std::fixed << std::setprecision(3) << f.stamp << " "
               << toString(o.state) << ": " << o.message << "\n";
+  // where trust is lost or a standing hold begins or ends, and why: the frames to look at in a loss
+  if (o.pose_trusted != logged_trusted_ || vo.holdingStill() != logged_held_)
+    std::cerr << "frame " << frames << " t=" << std::fixed << std::setprecision(3) << f.stamp << " "
+              << (o.pose_trusted ? "trusted" : "untrusted: " + o.untrusted_reason)
+              << (vo.holdingStill() ? ", held standing" : "") << "\n";
+  logged_trusted_ = o.pose_trusted;
+  logged_held_ = vo.holdingStill();
 }
 
 void BagRun::keepPose(const StereoCamera& cam, const ev::StereoFrame& f, const FrontEndStep& step)
