@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include <cv_bridge/cv_bridge.h>
+#include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Odometry.h>
@@ -265,7 +266,8 @@ StereoBagReader::StereoBagReader(const std::string& path, const StereoBagTopics&
   // One pass over the small topics: camera infos, IMU and ground truth.
   std::map<int64_t, sensor_msgs::CameraInfo> left_infos, right_infos;
   rosbag::View small(impl_->bag, rosbag::TopicQuery({topics_.left_info, topics_.right_info,
-                                                     topics_.imu, topics_.gt_odom}));
+                                                     topics_.imu, topics_.gt_odom, topics_.gt_pose}));
+  std::vector<std::pair<double, Eigen::Isometry3d>> sim_gt;  // gt_pose: used when there is no gt_odom
   for (const rosbag::MessageInstance& m : small)
   {
     if (m.getTopic() == topics_.left_info || m.getTopic() == topics_.right_info)
@@ -292,6 +294,26 @@ StereoBagReader::StereoBagReader(const std::string& path, const StereoBagTopics&
       const Eigen::Vector3d v_child(od->twist.twist.linear.x, od->twist.twist.linear.y,
                                     od->twist.twist.linear.z);
       gt_vel_.push_back(T.linear() * v_child);
+    }
+    else if (m.getTopic() == topics_.gt_pose)
+    {
+      auto ps = m.instantiate<geometry_msgs::PoseStamped>();
+      if (!ps) continue;
+      Eigen::Isometry3d T;
+      tf2::fromMsg(ps->pose, T);
+      sim_gt.emplace_back(ps->header.stamp.toSec(), T);
+    }
+  }
+  if (gt_.empty() && !sim_gt.empty())
+  {
+    std::stable_sort(sim_gt.begin(), sim_gt.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    gt_ = sim_gt;
+    for (size_t i = 0; i < gt_.size(); ++i)
+    {
+      const size_t a = i > 0 ? i - 1 : i, b = i + 1 < gt_.size() ? i + 1 : i;
+      const double dt = gt_[b].first - gt_[a].first;
+      gt_vel_.push_back(dt > 1e-9 ? Eigen::Vector3d((gt_[b].second.translation() - gt_[a].second.translation()) / dt)
+                                  : Eigen::Vector3d::Zero());
     }
   }
   std::stable_sort(imu_.begin(), imu_.end(),

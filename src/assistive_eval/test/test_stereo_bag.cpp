@@ -7,8 +7,10 @@
 #include <functional>
 #include <utility>
 
+#include <geometry_msgs/PoseStamped.h>
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
@@ -100,6 +102,50 @@ TEST(StereoBag, RoundTrip)
   r.rewind();
   ASSERT_TRUE(r.next(f));
   EXPECT_EQ(f.left.at<uint8_t>(0, 0), 0);
+  std::remove(path.c_str());
+}
+
+TEST(StereoBag, AClosedLoopTrialsCameraPoseIsTheTruthWhenThereIsNoOdometry)
+{
+  // mobility_trials --record: the truth is the renderer's /sim/camera_pose (left optical frame in
+  // gt_world, one per frame), not /ground_truth/odom
+  const std::string path = std::string(::testing::TempDir()) + "assistive_sim_test_sim_pose.bag";
+  {
+    StereoBagWriter w(path);
+    for (int i = 0; i < 5; ++i)
+    {
+      StereoFrame f = makeFrame(i);
+      f.has_gt_pose = false;
+      w.writeFrame(f);
+    }
+  }
+  {
+    rosbag::Bag b(path, rosbag::bagmode::Append);
+    for (int i = 4; i >= 0; --i)  // out of order: the reader sorts
+    {
+      geometry_msgs::PoseStamped p;
+      p.header.stamp = ros::Time(makeFrame(i).stamp);
+      p.header.frame_id = "gt_world";
+      p.pose = tf2::toMsg(makeFrame(i).gt_pose);
+      b.write("/sim/camera_pose", p.header.stamp, p);
+    }
+  }
+  StereoBagReader r(path);
+  EXPECT_TRUE(r.hasGroundTruth());
+  StereoFrame f;
+  int n = 0;
+  while (r.next(f))
+  {
+    ASSERT_TRUE(f.has_gt_pose) << "frame " << n;
+    EXPECT_TRUE(f.gt_pose.isApprox(makeFrame(n).gt_pose, 1e-6));
+    // velocity: central differences (one-sided at the ends)
+    const int a = std::max(0, n - 1), b = std::min(4, n + 1);
+    const Eigen::Vector3d v = (makeFrame(b).gt_pose.translation() - makeFrame(a).gt_pose.translation()) /
+                              (makeFrame(b).stamp - makeFrame(a).stamp);
+    EXPECT_LT((f.gt_velocity - v).norm(), 1e-3) << "frame " << n;
+    ++n;
+  }
+  EXPECT_EQ(n, 5);
   std::remove(path.c_str());
 }
 

@@ -31,6 +31,10 @@ struct StereoBagTopics
   std::string right_info = "/stereo/right/camera_info";
   std::string imu = "/imu/data";
   std::string gt_odom = "/ground_truth/odom";
+  /// The closed-loop trials' truth (`mobility_trials --record`): geometry_msgs/PoseStamped of the left
+  /// optical frame in gt_world, one per rendered frame; read when the bag has no gt_odom (velocity by
+  /// central differences).
+  std::string gt_pose = "/sim/camera_pose";
   std::string gt_occupancy = "/ground_truth/occupancy";
   std::string gt_depth = "/ground_truth/left/depth";  ///< optional, 32FC1 (m)
   std::string tf = "/tf";
