@@ -10,11 +10,11 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
-#include <tf2_eigen/tf2_eigen.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
+#include <tf2_eigen/tf2_eigen.h>
 
 using namespace assistive_eval;
 
