@@ -20,6 +20,18 @@ float quantileSe(const float* h, int a, int b, int j, double q)
   if (hi <= lo) return 0.f;
   return static_cast<float>(std::sqrt(q * (1.0 - q) * n) * (h[hi] - h[lo]) / (hi - lo));
 }
+
+/// How much a cell's standard error grows because its heights are not independent: one match of the
+/// disparity matcher (a block_size^2 block at its scale) gives its error to every point of its block,
+/// so n heights taken every point_stride pixels hold about n (point_stride / block_size)^2 independent
+/// ones. Counted as independent, a plain floor's matching noise (heights spread by centimetres
+/// from cell to cell) read as steps a few centimetres high (a generated corridor: 83,000 false step
+/// cells, none with the renderer's true depth).
+float matchCorrelation(const ObstaclesParams& p)
+{
+  if (!p.step_se_per_block) return 1.f;
+  return std::max(1.f, static_cast<float>(p.block_size | 1) / static_cast<float>(std::max(1, p.point_stride)));
+}
 }  // namespace
 
 void MlsClassifier::intervals(const float* h, int n, std::vector<HeightInterval>& out) const
@@ -29,6 +41,7 @@ void MlsClassifier::intervals(const float* h, int n, std::vector<HeightInterval>
   const float G = static_cast<float>(params_.gap_height);
   const double trim = std::clamp(params_.thickness_trim, 0.0, 0.45);
   const double gq = std::clamp(params_.ground_quantile, 0.0, 1.0);
+  const float se_scale = matchCorrelation(params_);
   int cur_a = -1, cur_b = -1;  // index range [a, b) of the interval being built
   auto flush = [&]() {
     if (cur_a < 0) return;
@@ -40,8 +53,8 @@ void MlsClassifier::intervals(const float* h, int n, std::vector<HeightInterval>
     const int jm = cur_a + cnt / 2, jg = cur_a + static_cast<int>(std::lround(gq * (cnt - 1)));
     iv.median = h[jm];
     iv.ground = h[jg];
-    iv.median_se = quantileSe(h, cur_a, cur_b, jm, 0.5);
-    iv.ground_se = quantileSe(h, cur_a, cur_b, jg, gq);
+    iv.median_se = quantileSe(h, cur_a, cur_b, jm, 0.5) * se_scale;
+    iv.ground_se = quantileSe(h, cur_a, cur_b, jg, gq) * se_scale;
     iv.points = cnt;
     out.push_back(iv);
     cur_a = cur_b = -1;

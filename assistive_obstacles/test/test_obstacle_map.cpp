@@ -66,9 +66,20 @@ TEST(ObstacleMap, DoorwayWithFloorAndLintelInOneCellIsFree)
   EXPECT_EQ(codeAt(m, 1.7, 0.1), CELL_FREE);
 }
 
+namespace
+{
+/// Hand-built points are independent (each its own error, or none), not a matcher's blocks.
+ObstaclesParams independentPoints()
+{
+  ObstaclesParams p;
+  p.step_se_per_block = false;
+  return p;
+}
+}  // namespace
+
 TEST(ObstacleMap, StepIsItsOwnClassHighLedgeIsObstacle)
 {
-  ObstacleMap m;
+  ObstacleMap m(independentPoints());
   Points w;
   synthetic::patch(w, 0.6, 2.1, -1.0, 1.0, 0.0);
   synthetic::patch(w, 2.1, 3.6, -1.0, 1.0, 0.15);  // a 15 cm curb at x = 2.1
@@ -310,13 +321,13 @@ TEST(ObstacleMap, CellHoldingTheCurbEdgeTakesTheCurbHeight)
   synthetic::patch(w, 0.6, 2.13, -1.0, 1.0, 0.0, 10);
   synthetic::patch(w, 2.13, 3.6, -1.0, 1.0, 0.15, 10);  // curb edge 13 cm into cell [2.0, 2.2)
   synthetic::wallX(w, 2.13, -1.0, 1.0, 0.0, 0.15);
-  ObstacleMap m;
+  ObstacleMap m(independentPoints());
   run(m, w);
   EXPECT_EQ(codeAt(m, 1.9, 0.1), CELL_STEP);
   EXPECT_EQ(codeAt(m, 2.1, 0.1), CELL_STEP);
   EXPECT_EQ(codeAt(m, 2.3, 0.1), CELL_FREE);
   EXPECT_EQ(codeAt(m, 1.7, 0.1), CELL_FREE);
-  ObstaclesParams p;
+  ObstaclesParams p = independentPoints();
   p.ground_quantile = 0.5;
   ObstacleMap m2(p);
   run(m2, w);
@@ -344,7 +355,7 @@ TEST(ObstacleMap, FloorNoiseIsNoStepACurbInItIs)
       for (int i = 0; i < 12; ++i)
         noisy.emplace_back(static_cast<float>(cx + 0.2 * U(rng)), static_cast<float>(cy + 0.2 * U(rng)),
                            static_cast<float>(0.14 * U(rng) - 0.07));
-  ObstaclesParams p;
+  ObstaclesParams p = independentPoints();
   ASSERT_GT(p.step_sigmas, 0.0);
   int n = 0, n_old = 0;
   steps(p, noisy, n);

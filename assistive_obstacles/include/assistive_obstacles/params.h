@@ -46,6 +46,7 @@ namespace assistive_obstacles
   X(double, step_height, "step_height", 0.2, 0.01, 1.0, "m", "T: thicker intervals are vertical (obstacle); also max climbable height difference") \
   X(double, min_step, "min_step", 0.065, 0.0, step_height, "m", "a traversable cell whose neighbour differs by more is a step/curb") \
   X(double, step_sigmas, "step_sigmas", 2.0, 0.0, 10.0, "", "a neighbour's ground differing by more than min_step makes a step only when the difference exceeds min_step by this many standard errors of the two grounds (from their heights' density about the ground quantile); in between the cell takes no vote (0: any difference over min_step)") \
+  X(bool, step_se_per_block, "step_se_per_block", true, {}, {}, "", "the heights of one matching block (block_size^2 pixels at the matcher's scale) share its error: a ground's standard error counts n (point_stride / block_size)^2 independent heights (false: all n, as for points that are independent)") \
   X(double, head_clearance, "head_clearance", 0.3, 0.0, 3.0, "m", "above the camera: higher points cannot touch the wearer") \
   X(double, camera_height, "camera_height", 1.6, 0.0, 3.0, "m", "camera above the wearer's feet (feet level = camera z - this): the nodelet takes it from the URDF (`footprint_frame`), this value only without one") \
   X(double, max_surface_rise, "max_surface_rise", 0.45, 0.0, 5.0, "m", "walkable surfaces lie at most this far above the feet ...") \
