@@ -82,7 +82,7 @@ TEST(MlsClassifier, StepIsHorizontalTallBoxIsVertical)
 TEST(MlsClassifier, GroundErrorCountsTheMatchersBlocksNotItsPixels)
 {
   ObstaclesParams p;
-  ASSERT_TRUE(p.step_se_per_block);
+  p.step_se_per_block = true;
   ASSERT_EQ(p.point_stride, 1);
   const int block = p.block_size | 1, cell = 10, cells = 30;  // 10 x 10 pixels a cell
   // the matcher's height error: white noise averaged over its block, 3 cm
