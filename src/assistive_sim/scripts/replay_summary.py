@@ -48,10 +48,11 @@ def write_png(path, width, height, rows):
         f.write(chunk(b"IEND", b""))
 
 
-def world_overlay(world, truth, vo, fit_s=30.0):
-    """The world's walls, elements, true walk and places in the VO's frame: (segments, points)
-    lists of (points, colour). The fit: the 2-D rotation and translation that take the true walk
-    onto the VO's over their first fit_s seconds (matched by time)."""
+def world_overlay(world, truth, vo, walked, fit_s=30.0):
+    """The world's walls, elements, true walk (`walked`: the truth's (x, y) up to the shown time)
+    and places in the VO's frame: (segments, points) lists of (points, colour). The fit: the 2-D
+    rotation and translation that take the true walk onto the VO's over their first fit_s seconds
+    (matched by time, over the whole bag whatever time is shown)."""
     pairs, j = [], 0
     for t, q in vo:
         if t - vo[0][0] > fit_s:
@@ -92,7 +93,7 @@ def world_overlay(world, truth, vo, fit_s=30.0):
             ring = [(e["center"][0] + r * math.cos(k * math.pi / 8), e["center"][1] + r * math.sin(k * math.pi / 8))
                     for k in range(17)]
             segments.append(([to_map(*p) for p in ring], (140, 0, 255)))
-    points.append(([to_map(*p) for _, p in truth], (0, 110, 255), 0))
+    points.append(([to_map(*p) for p in walked], (0, 110, 255), 0))
     points.append(([to_map(*p) for p in world.get("trajectory", {}).get("waypoints", [])], (0, 200, 200), 3))
     return segments, points
 
@@ -147,7 +148,7 @@ def main():
     status = {s: 0 for s in STATUS.values()}
     latencies = []
     trajectory, last_grid, last_path = [], None, []
-    vo_timed, truth = [], []  # (t, (x, y)) for --world
+    vo_timed, truth, walked = [], [], []  # (t, (x, y)) for --world's fit; (x, y) up to --at
     with rosbag.Bag(args.bag) as bag:
         t0 = bag.get_start_time()
         for topic, msg, t in bag.read_messages(topics=TOPICS):
@@ -160,6 +161,8 @@ def main():
                     trajectory.append((p.x, p.y))
             elif topic == "/sim/camera_pose":
                 truth.append((t.to_sec(), (msg.pose.position.x, msg.pose.position.y)))
+                if shown:
+                    walked.append(truth[-1][1])
             elif topic == "/obstacles/traversability":
                 counts["maps"] += 1
                 if shown:
@@ -199,8 +202,7 @@ def main():
                   file=sys.stderr)
         else:
             with open(args.world) as f:
-                segments, points = world_overlay(yaml.safe_load(f), [p for p in truth if args.at is None or
-                                                                     p[0] - t0 <= args.at] or truth, vo_timed)
+                segments, points = world_overlay(yaml.safe_load(f), truth, vo_timed, walked)
     if last_grid is not None:
         render_map(png, last_grid, trajectory, last_path, segments=segments, points=points)
         print(f"  map picture     {png}")
