@@ -9,14 +9,34 @@ void InertialCoaster::clear()
   f_.clear();
   coasting_ = false;
   tau_ = 0.0;
+  prior_ = false;
 }
 
 void InertialCoaster::addTracked(double stamp, const Eigen::Isometry3d& T_odom_link, const ImuDelta* d)
 {
   const bool bridged = coasting_ && tau_ <= o_.max_bridge_s + 1e-9;
-  if ((coasting_ && !bridged) || !d || f_.empty() || stamp <= f_.back().t ||
-      stamp - f_.back().t > o_.max_frame_gap_s)
+  const bool joined = d && !f_.empty() && stamp > f_.back().t && stamp - f_.back().t <= o_.max_frame_gap_s;
+  if ((coasting_ && !bridged) || !joined)
+  {
+    // A long coast ends: its velocity, carried over this interval, starts the new window.
+    const bool carry = o_.carry_velocity && coasting_ && joined;
+    Eigen::Vector3d v_here = Eigen::Vector3d::Zero();
+    double var_here = 0.0;
+    if (carry)
+    {
+      const double h = d->dt;
+      v_here = v_ + (Eigen::Vector3d(0, 0, -o_.gravity) + b_) * h + f_.back().R * (d->dv - h * ba_);
+      var_here = velocityVariance(tau_ + h);
+    }
     clear();
+    if (carry && v_here.allFinite() && std::isfinite(var_here) && var_here > 0.0)
+    {
+      prior_ = true;
+      prior_t_ = stamp;
+      prior_v_ = v_here;
+      prior_var_ = var_here;
+    }
+  }
   coasting_ = false;
   tau_ = 0.0;
   f_.push_back(Frame{stamp, T_odom_link.translation(), T_odom_link.linear(), d ? *d : ImuDelta(), true});
@@ -29,10 +49,14 @@ bool InertialCoaster::available() const
 {
   if (coasting_)
     return true;
+  if (f_.empty() || !f_.back().measured)
+    return false;
+  if (hasPrior())
+    return true;
   int measured = 0;
   for (const Frame& f : f_)
     measured += f.measured;
-  return measured >= 3 && !f_.empty() && f_.back().measured && f_.back().t - f_.front().t >= o_.min_window_s;
+  return measured >= 3 && f_.back().t - f_.front().t >= o_.min_window_s;
 }
 
 bool InertialCoaster::fit()
@@ -83,6 +107,11 @@ bool InertialCoaster::fit()
     }
     for (int i = 6; i < 12; ++i)  // priors b, ba ~ N(0, sigma_b^2)
       N(i, i) += 1.0 / (o_.accel_error_sigma * o_.accel_error_sigma);
+    if (hasPrior())  // v0 ~ N(the ended coast's velocity, its variance)
+    {
+      N.block<3, 3>(3, 3) += Eigen::Matrix3d::Identity() / prior_var_;
+      r.segment<3>(3) += prior_v_ / prior_var_;
+    }
     cov_ = N.inverse();
     if (!cov_.allFinite())
       return false;

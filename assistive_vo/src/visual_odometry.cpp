@@ -46,6 +46,7 @@ InertialCoaster::Options coastOptions(const VoParams& p)
   o.accel_noise_density = p.accel_noise_density;
   o.accel_error_sigma = p.accel_error_sigma;
   o.gyro_noise_density = p.gyro_noise_density;
+  o.carry_velocity = p.imu_coast_carry;
   return o;
 }
 StandingDetector::Options standingOptions(const VoParams& p)

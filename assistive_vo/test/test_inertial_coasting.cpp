@@ -186,3 +186,60 @@ TEST(InertialCoasting, FitsTheAccelerometerBias)
   EXPECT_FALSE(s.available());
   EXPECT_FALSE(s.start());
 }
+
+TEST(InertialCoasting, AfterALongCoastTwoTrackedFramesCoastAgainOnItsVelocity)
+{
+  // A plain wall coming into view: tracked 0.2-1.0 s, lost 0.6 s (IMU coast), tracked for two
+  // frames, lost again for 0.6 s into the stop. Without the first coast's velocity the two frames
+  // could not fit one (min_window_s); with it the second coast carries the walk as the first did.
+  const Walk w;
+  const ImuBuffer b = w.imu(5.0, 200.0);
+  const double h = 1.0 / 15.0;
+  auto pose = [&](double s) {
+    Eigen::Isometry3d P = Eigen::Isometry3d::Identity();
+    P.linear() = w.rotation(s);
+    P.translation() = w.position(s);
+    return P;
+  };
+  auto delta = [&](double t) {
+    ImuDelta d;
+    Eigen::Quaterniond dR;
+    EXPECT_TRUE(b.integrate(t, t + h, dR, d.dv, d.dp));
+    d.dt = h;
+    return d;
+  };
+  InertialCoaster c;
+  double t = 0.2;
+  c.addTracked(t, pose(t), nullptr);
+  for (; t + h <= 1.0 + 1e-9; t += h)
+  {
+    const ImuDelta d = delta(t);
+    c.addTracked(t + h, pose(t + h), &d);
+  }
+  ASSERT_TRUE(c.start());
+  for (int k = 0; k < 9; ++k, t += h)  // 0.6 s coasted: beyond max_bridge_s, the window restarts
+    c.step(w.rotation(t), delta(t));
+  for (int k = 0; k < 2; ++k, t += h)
+  {
+    const ImuDelta d = delta(t);
+    c.addTracked(t + h, pose(t + h), &d);
+  }
+  ASSERT_FALSE(c.coasting());
+  EXPECT_TRUE(c.available());
+  ASSERT_TRUE(c.start());
+  EXPECT_LT((c.velocity() - w.velocity(t)).norm(), 0.02) << c.velocity().transpose();
+  Eigen::Vector3d p = pose(t).translation();
+  for (int k = 0; k < 9; ++k, t += h)  // into the stop (from 2.0 s)
+    p += c.step(w.rotation(t), delta(t));
+  const double sigma = std::sqrt(c.positionVariance(c.coastTime()));
+  EXPECT_LT((p - w.position(t)).norm(), 0.01) << (p - w.position(t)).transpose();
+  EXPECT_LT((p - w.position(t)).norm(), 3.0 * sigma);
+  EXPECT_LT(sigma, 0.15);  // within the VO's imu_coast_max_sigma: still trusted
+
+  // the same two frames after a gap without a coast (no IMU over it) have no velocity to start from
+  InertialCoaster d;
+  d.addTracked(1.0, pose(1.0), nullptr);
+  const ImuDelta d1 = delta(1.0);
+  d.addTracked(1.0 + h, pose(1.0 + h), &d1);
+  EXPECT_FALSE(d.available());
+}

@@ -1476,7 +1476,9 @@ TEST(Stop, AStopWithoutACoastIsSeenFromTheLastFramesVelocity)
   // standing_speed_imu the last frame's velocity is carried on by the accelerometer and the stop is
   // seen: held, trusted, within a few cm. Walking at 1.0 m/s without a bob (the trials' head IMU),
   // braking at 1.24 m/s^2 from t = 2 (standing from 2.81), plain frames in [2.0, 2.4) and from
-  // 2.65: the last tracked frame (2.6) measures 0.3 m/s over its interval.
+  // 2.65: the last tracked frame (2.6) measures 0.3 m/s over its interval. The first loss's coast
+  // velocity carried into the next window (imu_coast_carry) also lets the second loss coast into
+  // the stop: either alone holds it, without both it is untrusted.
   VoParams p;
   const auto pose = walkStopTurn(1.0, 1.24, 0.0, 0.0);
   const auto blind = [](double t) { return (t >= 2.0 - 1e-9 && t < 2.4 - 1e-9) || t >= 2.65; };
@@ -1489,14 +1491,24 @@ TEST(Stop, AStopWithoutACoastIsSeenFromTheLastFramesVelocity)
   }
   EXPECT_LT(max_err, 0.1);
   EXPECT_GE(on.holds, 1);
-  p.standing_speed_imu = false;
-  const StopRun off = StopRun::run(p, pose, blind, 5.0);
-  int off_untrusted = 0;
-  for (const VoOutput& o : off.out)
-    off_untrusted += !o.pose_trusted;
-  std::cout << "a stop without a coast: max error " << max_err * 1000 << " mm (standing_speed_imu off: "
-            << off_untrusted << " untrusted)\n";
-  EXPECT_GT(off_untrusted, 0);
+  auto untrustedWith = [&](bool speed_imu, bool carry) {
+    VoParams q = p;
+    q.standing_speed_imu = speed_imu;
+    q.imu_coast_carry = carry;
+    const StopRun r = StopRun::run(q, pose, blind, 5.0);
+    int n = 0;
+    for (const VoOutput& o : r.out)
+      n += !o.pose_trusted;
+    return n;
+  };
+  const int only_speed = untrustedWith(true, false), only_carry = untrustedWith(false, true),
+            neither = untrustedWith(false, false);
+  std::cout << "a stop without a coast: max error " << max_err * 1000 << " mm; untrusted frames with only "
+            << "standing_speed_imu " << only_speed << ", only imu_coast_carry " << only_carry << ", neither "
+            << neither << "\n";
+  EXPECT_EQ(only_speed, 0);
+  EXPECT_EQ(only_carry, 0);
+  EXPECT_GT(neither, 0);
 }
 
 TEST(Stop, WalkingOnWhileBlindIsNotHeld)

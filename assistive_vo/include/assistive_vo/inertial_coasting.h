@@ -52,6 +52,8 @@ public:
     double velocity_error_floor = 0.005;
     /// Acceleration the fit cannot follow (a walk that stops or starts, a turn on the spot), m/s^2.
     double accel_model_sigma = 0.1;
+    /// A long coast's velocity starts the next window (addTracked).
+    bool carry_velocity = true;
   };
   InertialCoaster() = default;
   explicit InertialCoaster(const Options& o) : o_(o) {}
@@ -61,9 +63,13 @@ public:
   /// A tracked frame: camera_link in odom, and the IMU over the interval since the previous frame
   /// (null: none, the window restarts here). Ends a coast: after a short one (<= max_bridge_s:
   /// a single failed frame, a re-initialisation) the window goes on, the coasted frames carrying
-  /// the IMU chain but no position measurement; after a longer one it restarts.
+  /// the IMU chain but no position measurement; after a longer one it restarts here, with the
+  /// coast's velocity (carried over the interval, its variance) as a prior on the new window's
+  /// first velocity: a few tracked frames between losses (a plain wall coming into view) can
+  /// coast again instead of waiting for min_window_s.
   void addTracked(double stamp, const Eigen::Isometry3d& T_odom_link, const ImuDelta* d);
-  /// The window is long enough to coast (or a coast is running).
+  /// The window is long enough to coast, or it starts where a coast ended (the velocity prior) and
+  /// holds at least one tracked frame, or a coast is running.
   bool available() const;
   /// Starts a coast at the last tracked frame (fits velocity and b); false when not available().
   bool start();
@@ -94,7 +100,13 @@ private:
     bool measured = true;  ///< a tracked frame (false: coasted, IMU chain only)
   };
   bool fit();
+  /// The velocity prior (addTracked after a long coast) holds while the window still starts at
+  /// the frame it was set for.
+  bool hasPrior() const { return prior_ && !f_.empty() && f_.front().t == prior_t_; }
   Options o_;
+  bool prior_ = false;
+  double prior_t_ = 0.0, prior_var_ = 0.0;  ///< the window's first frame; per-axis variance, m^2/s^2
+  Eigen::Vector3d prior_v_ = Eigen::Vector3d::Zero();
   std::deque<Frame> f_;
   bool coasting_ = false;
   Eigen::Vector3d v_ = Eigen::Vector3d::Zero(), b_ = Eigen::Vector3d::Zero(), ba_ = Eigen::Vector3d::Zero();

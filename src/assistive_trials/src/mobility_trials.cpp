@@ -600,6 +600,17 @@ std::vector<std::string> splitComma(const std::string& s)
     if (!item.empty()) out.push_back(item);
   return out;
 }
+/// Creates `dir` if missing and replaces it by its absolute path; false when it cannot be made.
+bool makeAbsoluteDir(std::string& dir)
+{
+  mkdir(dir.c_str(), 0755);
+  char* full = realpath(dir.c_str(), nullptr);
+  if (!full)
+    return false;
+  dir = full;
+  std::free(full);
+  return true;
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -807,15 +818,25 @@ int main(int argc, char** argv)
       std::cerr << "mobility_trials: --record goes with --mode vision (the chain's topics)\n";
       return 2;
     }
-    mkdir(record_dir.c_str(), 0755);
-    char* full = realpath(record_dir.c_str(), nullptr);
-    if (!full)
+    if (!makeAbsoluteDir(record_dir))  // roslaunch runs the recorder in its own folder
     {
       std::cerr << "mobility_trials: --record: cannot create " << record_dir << "\n";
       return 2;
     }
-    record_dir = full;  // roslaunch runs the recorder in its own folder
-    std::free(full);
+  }
+  // The renderer nodelet loads the world in roslaunch's folder (~/.ros), not ours.
+  if (!keep_dir.empty() && !makeAbsoluteDir(keep_dir))
+  {
+    std::cerr << "mobility_trials: --keep: cannot create " << keep_dir << "\n";
+    return 2;
+  }
+  if (!world_arg.empty())
+  {
+    if (char* full = realpath(world_arg.c_str(), nullptr))  // a world file (else a shipped world's name)
+    {
+      world_arg = full;
+      std::free(full);
+    }
   }
   if (grid_resolution_given && opt.mode != TrialMode::TRUTH)
   {
@@ -883,8 +904,6 @@ int main(int argc, char** argv)
     }
     dir = tmpl;
   }
-  else
-    mkdir(dir.c_str(), 0755);
   if (opt.mode == TrialMode::VISION && !startVision(vc)) return 1;
   std::printf("%-22s %-8s %-6s %-7s %-5s %-9s %-6s %-5s %-6s %-7s %-7s %-7s\n", "world", "kind", "walk_m", "trials",
               "done", "coll/tr", "worst", "wall", "furn", "ppws", "clear_m", "time_s");
