@@ -142,6 +142,13 @@ bool InertialCoaster::fit()
   R_end_ = f_.back().R;
   const double sv = o_.velocity_error_floor + o_.velocity_error_frac * v_.norm();
   v_model_var_ = sv * sv;
+  if (hasPrior())
+  {
+    // The VO's correlated velocity error enters as far as its frames, not the carried prior (whose
+    // variance has it already), set the velocity: the share of the information they add.
+    const double post = cov_.block<3, 3>(3, 3).trace() / 3.0;
+    v_model_var_ *= std::clamp(1.0 - post / prior_var_, 0.0, 1.0);
+  }
   return v_.allFinite() && b_.allFinite() && ba_.allFinite();
 }
 

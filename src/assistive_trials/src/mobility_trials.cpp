@@ -307,9 +307,17 @@ bool runWorld(const World& world, const std::string& world_arg, const TrialOptio
       RosChain chain(nh, world, ro);
       // the pipeline is up when the cue logic publishes and the renderer listens for poses
       const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-      while (std::chrono::steady_clock::now() < until &&
-             !(topicPublished("/tactile/cue") && topicPublished("/planner/state") && topicPublished("/stereo/left/image_rect")))
+      auto up = [] {
+        return topicPublished("/tactile/cue") && topicPublished("/planner/state") && topicPublished("/stereo/left/image_rect");
+      };
+      while (std::chrono::steady_clock::now() < until && !up())
         std::this_thread::sleep_for(std::chrono::milliseconds(250));
+      if (!up())  // e.g. the renderer could not load the world: no trial to score
+      {
+        std::cerr << "mobility_trials: the vision pipeline did not come up within 120 s (log: " << log << ")\n";
+        stopChild(launch);
+        return false;
+      }
       std::this_thread::sleep_for(std::chrono::seconds(3));  // subscriptions connect, nodelets finish loading
       ros::spinOnce();
       try
