@@ -232,7 +232,15 @@ double CueLogic::stopReach(double v, double tau) const
 {
   constexpr double kPacePrior = 1.4;  // m/s: the fast end of preferred walking speeds (0.9-1.4)
   const double pace = have_pace_ ? pace_est_ : kPacePrior;
-  const bool told_to_walk = current_.instruction == Instruction::WALK_ON || current_.instruction == Instruction::VEER;
+  // A go timed to stop short of the obstacle (shortWalk; judged on the next guidance cycle) is no
+  // walk on while the wearer still stands: its timed stop bounds it. Counted as one, the go's own
+  // reach alerted the standing wearer on the next cycle, the stop made it a standing wearer
+  // again, the go came back: stop and go in turn every cycle, the wearer standing for good 1.55 m
+  // before an obstacle (traced, vision trial gen_lobby_2101 trial 1 of seed 21). Once it walks,
+  // its speeding up counts again (the alert's margin over the timed stop's estimates).
+  const bool timed_go_standing = (go_at_ > go_handled_ || short_stop_at_ >= 0.0) && v < params_.walking_speed_mps;
+  const bool told_to_walk =
+      (current_.instruction == Instruction::WALK_ON || current_.instruction == Instruction::VEER) && !timed_go_standing;
   const double a = told_to_walk && v < pace ? startAccelEstimate() : 0.0;
   const double t_up = a > 0.0 ? std::min(tau, (pace - v) / a) : 0.0;
   const double v1 = v + a * t_up;

@@ -2115,3 +2115,31 @@ TEST(CueLogic, BoxedInAndStandingIsTurnedTowardsTheWayOn)
   CueLogic w;
   EXPECT_EQ(fresh(w, walking, 0.0).mode, CueMode::ALERT);
 }
+
+TEST(CueLogic, AGoTimedToStopShortIsNotStoppedByItsOwnWalk)
+{
+  // A slow wearer (reaction 1.5 s) standing 1.55 m before an obstacle, no room to either side,
+  // the path's next waypoint 1.08 m on: the go gets a stop timed to land short of the obstacle
+  // (shortWalk). Counting the go as a walk on, its own reach (1.09 m) alerted on the next cycle,
+  // the stop left a standing wearer, the go came back: stop and go in turn on every cycle, and
+  // the wearer stood there for good (vision trial gen_lobby_2101 trial 1 of seed 21, traced).
+  CueParams p;
+  p.alert_reaction_s = 1.5;
+  for (double ahead : { 1.2, 1.4, 1.55, 1.7, 1.9 })
+  {
+    CueLogic c(p);
+    NavInput in = standing(turn(0.0));
+    in.free_ahead = ahead;
+    in.free_left = 0.25;
+    in.free_right = 0.15;
+    in.waypoint_distance = 1.08;
+    std::vector<Instruction> seen;
+    for (double t = 0.0; t < 1.4; t += 1.0 / 15.0)  // it has not reacted yet: still standing
+      seen.push_back(fresh(c, in, t).instruction);
+    int changes = 0;
+    for (size_t i = 1; i < seen.size(); ++i)
+      changes += seen[i] != seen[i - 1];
+    EXPECT_EQ(seen.front(), Instruction::WALK_ON) << ahead << " m free";
+    EXPECT_LE(changes, 1) << ahead << " m free: the cue changed " << changes << " times in 1.4 s";
+  }
+}
