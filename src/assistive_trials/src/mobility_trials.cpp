@@ -608,15 +608,24 @@ std::vector<std::string> splitComma(const std::string& s)
     if (!item.empty()) out.push_back(item);
   return out;
 }
+/// The absolute path of an existing file or folder ("" when there is none).
+std::string absolutePath(const std::string& path)
+{
+  char* full = realpath(path.c_str(), nullptr);
+  if (!full)
+    return "";
+  std::string out(full);
+  std::free(full);
+  return out;
+}
 /// Creates `dir` if missing and replaces it by its absolute path; false when it cannot be made.
 bool makeAbsoluteDir(std::string& dir)
 {
   mkdir(dir.c_str(), 0755);
-  char* full = realpath(dir.c_str(), nullptr);
-  if (!full)
+  const std::string full = absolutePath(dir);
+  if (full.empty())
     return false;
   dir = full;
-  std::free(full);
   return true;
 }
 }  // namespace
@@ -666,11 +675,9 @@ int main(int argc, char** argv)
       else if (a == "--record") record_dir = val();
       else if (a == "--ros-params")
       {
-        char* full = realpath(val().c_str(), nullptr);
-        if (!full)
+        ros_params = absolutePath(val());
+        if (ros_params.empty())
           throw std::invalid_argument("--ros-params: no such file");
-        ros_params = full;
-        std::free(full);
       }
       else if (a == "--wearer")
       {
@@ -838,14 +845,8 @@ int main(int argc, char** argv)
     std::cerr << "mobility_trials: --keep: cannot create " << keep_dir << "\n";
     return 2;
   }
-  if (!world_arg.empty())
-  {
-    if (char* full = realpath(world_arg.c_str(), nullptr))  // a world file (else a shipped world's name)
-    {
-      world_arg = full;
-      std::free(full);
-    }
-  }
+  if (const std::string full = absolutePath(world_arg); !world_arg.empty() && !full.empty())
+    world_arg = full;  // a world file (else a shipped world's name)
   if (grid_resolution_given && opt.mode != TrialMode::TRUTH)
   {
     std::cerr << "mobility_trials: --grid-resolution goes with --mode truth (the perfect map's cell)\n";
