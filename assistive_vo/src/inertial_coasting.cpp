@@ -160,6 +160,8 @@ bool InertialCoaster::start()
     return false;
   coasting_ = true;
   tau_ = 0.0;
+  const Eigen::Vector3d vh(v_.x(), v_.y(), 0.0);
+  walk_dir_ = vh.norm() > 0.2 ? Eigen::Vector3d(vh.normalized()) : Eigen::Vector3d::Zero();
   return true;
 }
 
@@ -193,6 +195,14 @@ double InertialCoaster::positionVariance(double tau) const
   const double tilt = g2 * (qg * t5 / 20.0 + sb2 * t5 * tau / 36.0) * 2.0 / 3.0;
   const double am = 0.5 * o_.accel_model_sigma * t2;
   return (J * cov_ * J.transpose()).trace() / 3.0 + q * t2 * tau / 3.0 + v_model_var_ * t2 + tilt + am * am;
+}
+
+void InertialCoaster::positionVarianceSplit(double tau, double& iso, double& along) const
+{
+  const double am = 0.5 * o_.accel_model_sigma * tau * tau;
+  const double per_axis = v_model_var_ * tau * tau + am * am;
+  iso = positionVariance(tau) - per_axis;
+  along = 3.0 * per_axis;
 }
 
 double InertialCoaster::velocityVariance(double tau) const

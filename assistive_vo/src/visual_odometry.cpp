@@ -49,6 +49,13 @@ InertialCoaster::Options coastOptions(const VoParams& p)
   o.carry_velocity = p.imu_coast_carry;
   return o;
 }
+RangeAid::Options rangeAidOptions(const VoParams& p)
+{
+  RangeAid::Options o;
+  o.sigma_m = p.range_aid_sigma_m;
+  o.model_rel = p.range_aid_model_rel;
+  return o;
+}
 StandingDetector::Options standingOptions(const VoParams& p)
 {
   StandingDetector::Options o;
@@ -79,7 +86,8 @@ const char* toString(TrackingState s)
 
 VisualOdometry::VisualOdometry(const VoParams& p, const StereoCamera& cam)
   : p_(p), cam_(cam), tracker_(p, cam), keyframes_(p, cam), estimator_(p, cam), refiner_(p, cam), checks_(p),
-    bias_(p), gravity_(gravityOptions(p)), coast_(coastOptions(p)), standing_(standingOptions(p))
+    bias_(p), gravity_(gravityOptions(p)), coast_(coastOptions(p)), standing_(standingOptions(p)),
+    range_aid_(rangeAidOptions(p))
 {
 }
 
@@ -88,6 +96,7 @@ void VisualOdometry::setParams(const VoParams& p)
   p_ = p;
   gravity_.setOptions(gravityOptions(p));
   coast_.setOptions(coastOptions(p));
+  range_aid_.setOptions(rangeAidOptions(p));
   standing_.setOptions(standingOptions(p));
   tracker_.setParams(p);
   keyframes_.setParams(p);
@@ -190,8 +199,8 @@ bool VisualOdometry::mayCoast(double stamp, const FrameContext& fc, std::string&
   {
     if (since > p_.imu_coast_max_s + 1e-6)
       why = "lost for longer than imu_coast_max_s";
-    else if (coast_.coasting() &&
-             coast_.positionVariance(since) > p_.imu_coast_max_sigma_m * p_.imu_coast_max_sigma_m)
+    else if (coast_.coasting() && (range_aided_ ? range_gate_var_ : coast_.positionVariance(since)) >
+                                      p_.imu_coast_max_sigma_m * p_.imu_coast_max_sigma_m)
       why = "IMU-coasted position 1-sigma beyond imu_coast_max_sigma";
     return why.empty();
   }
@@ -638,7 +647,11 @@ const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)
     // IMU coasting: translation from the preintegrated accelerometer and the velocity fitted at
     // the last tracked frame; the rotation stays the bias-corrected gyro's (T_pred).
     const Eigen::Isometry3d T_odom_opt = T_odom_o0_ * T_w_cur_;
-    const Eigen::Vector3d dpos = coast_.step(T_odom_opt.linear() * R_link_optical().transpose(), fc.imu);
+    const Eigen::Matrix3d R_odom_link = T_odom_opt.linear() * R_link_optical().transpose();
+    if (!was_coasting)
+      range_aid_.resetAnchor();
+    Eigen::Vector3d dpos = coast_.step(R_odom_link, fc.imu);
+    const double var = aidCoast(fc.stamp, R_odom_link, dpos);
     if (!(coast_.velocity().norm() <= p_.max_speed_mps))
     {
       // a coasted speed no wearer reaches (an accelerometer spike, a bad fit): no guess, untrusted
@@ -649,9 +662,9 @@ const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)
       return T;
     }
     T.translation() = T_odom_opt.linear().transpose() * dpos;
-    // the covariance grows by what the coast adds (isotropic in position: the same in any axes)
-    // (and the rotation by the gyro's, over the whole coast: its bias error grows the angle linearly)
-    const double var = coast_.positionVariance(coast_.coastTime());
+    // the covariance grows by what the coast adds (isotropic in position: the same in any axes;
+    // with the ranger's aid its worst axis) (and the rotation by the gyro's, over the whole coast:
+    // its bias error grows the angle linearly)
     const double rvar = bias_.rotationVariance(coast_.coastTime());
     cov_cur_.topLeftCorner<3, 3>() += Eigen::Matrix3d::Identity() * std::max(0.0, var - coast_var_);
     cov_cur_.bottomRightCorner<3, 3>() += Eigen::Matrix3d::Identity() * std::max(0.0, rvar - coast_rot_var_);
@@ -664,6 +677,29 @@ const Eigen::Isometry3d& VisualOdometry::lostMotion(FrameContext& fc)
   if (!fc.standing)
     standing_now_ = false;  // gait back (or no IMU): the coast rules, from the last held frame
   return T;
+}
+
+double VisualOdometry::aidCoast(double stamp, const Eigen::Matrix3d& R_odom_link, Eigen::Vector3d& dpos)
+{
+  range_aided_ = false;
+  if (!(p_.range_aided_coast && have_range_axis_))
+    return coast_.positionVariance(coast_.coastTime());
+  const RangeAid::Step a = range_aid_.step(stamp, R_odom_link * range_axis_link_, dpos, coast_);
+  if (!a.aided)
+    return coast_.positionVariance(coast_.coastTime());
+  dpos += a.dpos;
+  coast_.correctVelocity(a.dv);
+  range_aided_ = true;
+  range_gate_var_ = a.gate_var;
+  ++range_aided_frames_;
+  return a.gate_var;
+}
+
+void VisualOdometry::addRange(double stamp, double range, const Eigen::Vector3d& axis_link)
+{
+  range_aid_.addRange(stamp, range);
+  range_axis_link_ = axis_link.normalized();
+  have_range_axis_ = range_axis_link_.allFinite();
 }
 
 void VisualOdometry::detectStanding(FrameContext& fc)

@@ -342,6 +342,11 @@ private:
 bool BagRun::run(ev::StereoBagReader& reader)
 {
   ev::StereoFrame f;
+  // The vest's forward ranger (range_aided_coast), as the nodelet feeds it: the wearer's URDF
+  // mounts sonar_front on camera_link without rotation, so its axis is camera_link's x.
+  std::vector<ev::RangeSample> ranges;
+  reader.readRanges(ranges);
+  size_t next_range = 0;
   while ((opt_.max_frames < 0 || frames < opt_.max_frames) && ev::nextFrameOrExit(reader, f, "vo_benchmark", opt_.bag))
   {
     const StereoCamera cam = StereoCamera::from(f.calib);
@@ -349,6 +354,12 @@ bool BagRun::run(ev::StereoBagReader& reader)
       peer.init(cam);
     for (const auto& s : f.imu)
       fe_.addImu(s.stamp, s.gyro, s.accel);
+    for (; next_range < ranges.size() && ranges[next_range].stamp <= f.stamp; ++next_range)
+    {
+      const ev::RangeSample& r = ranges[next_range];
+      if (std::isfinite(r.range) && r.range >= r.min_range && r.range <= r.max_range)
+        fe_.addRange(r.stamp, r.range, Eigen::Vector3d::UnitX());
+    }
     if (first_stamp_ < 0)
       first_stamp_ = f.stamp;
     const double t_rel = f.stamp - first_stamp_;
@@ -530,6 +541,8 @@ void printRun(const Options& opt, const BagRun& run)
   std::cout << "resets " << run.vo.resets() << ", frames not tracking " << run.lost << ", longest non-tracking run "
             << run.max_bad_run << " frames; usable frames needed to track again (recovery_frames_max) "
             << run.recovery.maxUsableInRun() << ", unusable frames " << run.unusable << "\n";
+  std::cout << "coasted frames corrected by the ranger " << run.vo.rangeAidedFrames() << ", untrusted frames "
+            << run.vo.failSafe().untrusted_frames << "\n";
 }
 
 /// --bias-known's first pass: the VO once over the bag (no peer, dump or plot) for the truth and

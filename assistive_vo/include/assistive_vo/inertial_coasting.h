@@ -89,6 +89,16 @@ public:
   double velocityVariance(double tau) const;
   /// Coasting time so far.
   double coastTime() const { return tau_; }
+  /// positionVariance(tau) split by direction (RangeAid): `iso` per axis from the fit, the
+  /// accelerometer's noise and the tilt; `along` the whole variance of the VO's correlated velocity
+  /// error (its scale: the tracked path too long or too short) and of the acceleration the fit
+  /// cannot follow (a stop or a start), both along the walk: positionVariance = iso + along / 3.
+  void positionVarianceSplit(double tau, double& iso, double& along) const;
+  /// The horizontal direction of the walk when the coast started (odom, unit; zero when slower than
+  /// 0.2 m/s): the axis of `along`.
+  const Eigen::Vector3d& walkDirection() const { return walk_dir_; }
+  /// Moves the coasted velocity by `dv` (odom, m/s): a measurement of it (RangeAid's range rate).
+  void correctVelocity(const Eigen::Vector3d& dv) { v_ += dv; }
 
 private:
   struct Frame
@@ -115,6 +125,7 @@ private:
   Eigen::Matrix<double, 3, 12> J_vend_ = Eigen::Matrix<double, 3, 12>::Zero();  ///< d v_end / d (c, v0, b, ba)
   Eigen::Matrix3d R_end_ = Eigen::Matrix3d::Identity();  ///< orientation at the last tracked frame
   double v_model_var_ = 0.0;  ///< velocity variance of the VO's correlated error (per axis), at the fit
+  Eigen::Vector3d walk_dir_ = Eigen::Vector3d::Zero();  ///< see walkDirection()
   double tau_ = 0.0;
 };
 }  // namespace assistive_vo

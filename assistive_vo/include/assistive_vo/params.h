@@ -100,6 +100,12 @@ namespace assistive_vo
   X(double, imu_coast_max_s, "imu_coast_max", 2.5, 0.0, 10.0, "s", "an IMU-coasted pose stays trusted at most this long after the last tracked frame ...") \
   X(double, imu_coast_max_sigma_m, "imu_coast_max_sigma", 0.15, 0.0, 10.0, "m", "... and while its position 1-sigma (per axis) stays within this") \
   X(double, imu_coast_window_s, "imu_coast_window", 1.5, 0.2, 10.0, "s", "tracked frames the velocity and the accelerometer error are fitted over") \
+  /* The vest's forward ranger aids a coast (range_aid.h): the range's change and rate measure the */ \
+  /* walk along its axis (a plain wall the camera cannot see is what it hears best); the trust rule */ \
+  /* then reads the coasted position's variance on its worst axis after that correction. */ \
+  X(bool, range_aided_coast, "range_aided_coast", true, {}, {}, "", "the forward ranger's range (addRange) corrects an IMU coast along its axis") \
+  X(double, range_aid_sigma_m, "range_aid_sigma", 0.02, 0.001, 1.0, "m", "a range's noise (the ranger's)") \
+  X(double, range_aid_model_rel, "range_aid_model_rel", 0.08, 0.0, 1.0, "", "error of reading the range's change (rate) as the walk (speed) along the axis, a fraction of it") \
   X(bool, imu_coast_carry, "imu_coast_carry", true, {}, {}, "", "a coast's velocity (with its variance) starts the next window: a few tracked frames between losses can coast again (vision failing on and off at a plain wall) instead of waiting for a full window") \
   /* Standing still known from the IMU (standing_detector.h): no gait in the accelerometer over */ \
   /* standing_window, at a speed known to be low when vision was lost. A lost frame then holds the */ \

@@ -9,6 +9,7 @@
 #include "assistive_vo/frame_stats.h"
 #include "assistive_vo/gravity_alignment.h"
 #include "assistive_vo/gyro_bias_estimator.h"
+#include "assistive_vo/range_aid.h"
 #include "assistive_vo/inertial_coasting.h"
 #include "assistive_vo/keyframe_manager.h"
 #include "assistive_vo/motion_estimator.h"
@@ -114,6 +115,12 @@ public:
   cv::Mat drawOverlay(const cv::Mat& left) const;
   int resets() const { return resets_; }
   const FailSafeCounters& failSafe() const { return checks_.counters(); }
+  /// One reading of the forward ranger (range_aided_coast): `range` in m, finite and within the
+  /// ranger's limits, at `stamp` (s, the images' clock, stamp order); `axis_link` its axis in
+  /// camera_link (the URDF's sonar_front x axis). Readings up to a frame's stamp are added before it.
+  void addRange(double stamp, double range, const Eigen::Vector3d& axis_link);
+  /// Coasted frames whose position the ranger corrected so far.
+  int rangeAidedFrames() const { return range_aided_frames_; }
   /// Current gyro bias estimate (camera_link axes, rad/s).
   const Eigen::Vector3d& gyroBias() const { return bias_.bias(); }
   /// Holds the gyro bias at a known value (camera_link, rad/s) instead of estimating it online
@@ -298,6 +305,15 @@ private:
   int gaps_bridged_ = 0;
   std::string coast_why_;     ///< this frame: why a lost frame may not coast (mayCoast, lostMotion)
   bool imu_coasted_ = false;  ///< this frame's pose was coasted on the IMU (covariance already grown)
+  /// The ranger's aid to a coast (range_aided_coast): corrects this coasted frame's `dpos` (odom)
+  /// along the ranger's axis; returns the position variance the trust rule and the covariance use.
+  double aidCoast(double stamp, const Eigen::Matrix3d& R_odom_link, Eigen::Vector3d& dpos);
+  RangeAid range_aid_;
+  Eigen::Vector3d range_axis_link_ = Eigen::Vector3d::UnitX();
+  bool have_range_axis_ = false;
+  bool range_aided_ = false;     ///< the last coasted frame was corrected by the ranger
+  double range_gate_var_ = 0.0;  ///< ... and its position variance on the worst axis
+  int range_aided_frames_ = 0;
   double coast_var_ = 0.0;    ///< position variance the coast has added so far (per axis)
   double coast_rot_var_ = 0.0;  ///< rotation variance the coast has added so far (per axis)
   double trusted_stamp_ = 0.0;  ///< stamp of the last trusted pose (held while untrusted)

@@ -61,6 +61,8 @@ public:
   /// One IMU sample (camera_link axes, stamp order; an older one starts a new timeline). Samples up
   /// to a frame's stamp must be added before the frame.
   void addImu(double stamp, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel);
+  /// One reading of the forward ranger (VisualOdometry::addRange): added before the frames after it.
+  void addRange(double stamp, double range, const Eigen::Vector3d& axis_link) { vo_.addRange(stamp, range, axis_link); }
   /// One stereo pair (mono8, rectified) with its calibration; a changed calibration re-initialises
   /// tracking (the pose chain is kept).
   FrontEndStep process(const StereoCamera& cam, const cv::Mat& left, const cv::Mat& right, double stamp);
