@@ -14,8 +14,12 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
+#include <sensor_msgs/Range.h>
 #include <sensor_msgs/image_encodings.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
 #include <assistive_common/callback_guard.h>
 #include <assistive_common/ros_params.h>
 #include <assistive_common/wearer.h>
@@ -69,6 +73,13 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     }
     if (p_.use_imu)
       imu_sub_ = nh.subscribe("imu/data", 400, &StereoOdometryNodelet::imuCb, this);
+    if (p_.use_imu && p_.range_aided_coast)
+    {
+      // the ranger's axis comes from tf (the URDF's sonar_front)
+      tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+      tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);
+      range_sub_ = nh.subscribe("sonar/front", 20, &StereoOdometryNodelet::rangeCb, this);
+    }
 
     diag_.setHardwareID("stereo_visual_odometry");
     diag_.add("status", this, &StereoOdometryNodelet::diagStatus);
@@ -129,6 +140,35 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     ++n_imu_;
     if (pend_l_ && fe_->imu().latest() >= pend_l_->header.stamp.toSec() - 1e-4)
       flushPending();  // the frame waiting for its IMU interval has it now
+  }
+
+  void rangeCb(const sensor_msgs::RangeConstPtr& m)
+  {
+    assistive_common::guarded(getName(), "ranger reading", [&] { range(m); });
+  }
+
+  /// A forward ranger's reading (range_aided_coast): no echo (+inf, out of its limits) measures nothing.
+  void range(const sensor_msgs::RangeConstPtr& m)
+  {
+    if (!(std::isfinite(m->range) && m->range >= m->min_range && m->range <= m->max_range))
+      return;
+    if (range_frame_ != m->header.frame_id)
+    {
+      try
+      {
+        const Eigen::Isometry3d T = tf2::transformToEigen(
+            tf_buffer_->lookupTransform(node_.base_frame, m->header.frame_id, ros::Time(0)));
+        range_axis_ = T.linear() * Eigen::Vector3d::UnitX();
+        range_frame_ = m->header.frame_id;
+      }
+      catch (const tf2::TransformException& e)
+      {
+        NODELET_WARN_THROTTLE(10.0, "ranger frame '%s' not on tf (%s): its readings do not aid the IMU coast",
+                              m->header.frame_id.c_str(), e.what());
+        return;
+      }
+    }
+    fe_->addRange(m->header.stamp.toSec(), m->range, range_axis_);
   }
 
   /// With the IMU flowing but not yet up to this frame's stamp (the samples behind the images:
@@ -424,7 +464,11 @@ class StereoOdometryNodelet : public nodelet::Nodelet
   message_filters::Subscriber<Info> left_info_sub_, right_info_sub_;
   std::shared_ptr<message_filters::Synchronizer<ExactPolicy>> exact_;
   std::shared_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_;
-  ros::Subscriber imu_sub_;
+  ros::Subscriber imu_sub_, range_sub_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::string range_frame_;  ///< the ranger's frame whose axis range_axis_ holds (camera_link axes)
+  Eigen::Vector3d range_axis_ = Eigen::Vector3d::UnitX();
   ros::Publisher odom_pub_, feat_pub_;
   tf2_ros::TransformBroadcaster tf_;
   diagnostic_updater::Updater diag_;

@@ -96,6 +96,17 @@ RangeAid::Step RangeAid::step(double stamp, const Eigen::Vector3d& axis_odom, co
     return out;
   }
   d_ += u_a_.dot(dpos.head<2>());
+  // the range's rate is the speed along the axis: an echo that does not close as the IMU says the
+  // wearer walks (a person walking ahead, something stepping into the beam) measures no walk
+  const double v_u = u_a_.dot(coast.velocity().head<2>());
+  const double Vv = coast.velocityVariance(tau);
+  const double Rv = rate_var + std::pow(o_.model_rel * rate, 2);
+  const double nu_v = -rate - v_u;
+  if (nu_v * nu_v > o_.gate_sigmas * o_.gate_sigmas * (Vv + Rv))
+  {
+    anchored_ = false;
+    return out;
+  }
   // the range's change measures the walk along the axis since the anchor
   const double d_m = r_a_ - r;
   const double R = r_a_var_ + r_var + std::pow(o_.model_rel * d_m, 2);
@@ -116,13 +127,7 @@ RangeAid::Step RangeAid::step(double stamp, const Eigen::Vector3d& axis_odom, co
   double iso = 0, along = 0;
   coast.positionVarianceSplit(tau, iso, along);
   out.gate_var = std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(post).eigenvalues().maxCoeff(), iso);
-  // the range's rate measures the velocity along the axis
-  const double v_u = u_a_.dot(coast.velocity().head<2>());
-  const double Vv = coast.velocityVariance(tau);
-  const double Rv = rate_var + std::pow(o_.model_rel * rate, 2);
-  const double nu_v = -rate - v_u;
-  if (nu_v * nu_v <= o_.gate_sigmas * o_.gate_sigmas * (Vv + Rv))
-    out.dv.head<2>() = u_a_ * (Vv / (Vv + Rv) * nu_v);
+  out.dv.head<2>() = u_a_ * (Vv / (Vv + Rv) * nu_v);
   out.aided = true;
   return out;
 }
