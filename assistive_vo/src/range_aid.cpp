@@ -17,21 +17,26 @@ void RangeAid::addRange(double stamp, double range)
 void RangeAid::clear()
 {
   ranges_.clear();
+  track_.clear();
   anchored_ = false;
+  dv_total_.setZero();
+  dp_total_.setZero();
 }
 
 bool RangeAid::rangeAt(double stamp, double& r, double& r_var, double& rate, double& rate_var) const
 {
   double st = 0, sr = 0;
   int n = 0;
-  for (const auto& [t, x] : ranges_)
-    if (t <= stamp + 1e-6 && t >= stamp - o_.rate_window_s)
+  const std::pair<double, double>* last = nullptr;
+  for (const auto& x : ranges_)
+    if (x.first <= stamp + 1e-6 && x.first >= stamp - o_.rate_window_s)
     {
-      st += t;
-      sr += x;
+      st += x.first;
+      sr += x.second;
       ++n;
+      last = &x;
     }
-  if (n < o_.rate_min_ranges)
+  if (n < o_.rate_min_ranges || stamp - last->first > o_.max_range_age_s)
     return false;
   const double mt = st / n, mr = sr / n;
   double stt = 0, str = 0;
@@ -52,9 +57,12 @@ bool RangeAid::rangeAt(double stamp, double& r, double& r_var, double& rate, dou
   if (rms > o_.max_fit_rms_m)
     return false;  // more than one surface in the window (an edge, a person passing)
   const double s2 = std::max(rms * rms, o_.sigma_m * o_.sigma_m);
-  r = mr + rate * (stamp - mt);
-  r_var = s2 / n + s2 * (stamp - mt) * (stamp - mt) / stt;
+  // the slope is the window's mean rate (at its mean time: a walk slowing to a stop is 0.3 m/s
+  // slower by the frame); the range at the frame is the newest reading carried over the few ms since
+  const double age = stamp - last->first;
   rate_var = s2 / stt;
+  r = last->second + rate * age;
+  r_var = o_.sigma_m * o_.sigma_m + rate_var * age * age;
   return true;
 }
 
@@ -78,13 +86,36 @@ RangeAid::Step RangeAid::step(double stamp, const Eigen::Vector3d& axis_odom, co
   const double tau = coast.coastTime();
   out.gate_var = coast.positionVariance(tau);
   const Eigen::Vector2d ax = axis_odom.head<2>();
-  double r = 0, r_var = 0, rate = 0, rate_var = 0;
-  if (ax.norm() < 0.7 || !rangeAt(stamp, r, r_var, rate, rate_var))
+  if (ax.norm() < 0.7)
   {
-    anchored_ = false;  // looking down or up steeply, or no surface: the next range anchors anew
+    anchored_ = false;  // looking down or up steeply: the next range anchors anew
     return out;
   }
   const Eigen::Vector2d u = ax.normalized();
+  // the axis and the coasted velocity over the rate window (the head's turn adds to the range's
+  // rate; the rate is the window's mean)
+  if (!track_.empty() && (stamp - track_.back().t > 0.2 || stamp <= track_.back().t))
+    track_.clear();
+  track_.push_back(Sample{stamp, u, coast.velocity().head<2>()});
+  while (track_.size() > 2 && track_[1].t <= stamp - o_.rate_window_s)
+    track_.pop_front();
+  double r = 0, r_var = 0, rate = 0, rate_var = 0;
+  if (!rangeAt(stamp, r, r_var, rate, rate_var))
+  {
+    anchored_ = false;  // no surface: the next range anchors anew
+    return out;
+  }
+  // the range along a pitched axis (the head looks down at the floor ahead): to an upright surface
+  // it is the horizontal distance over the axis's horizontal share (20 deg of pitch: 6 % longer, and
+  // so is its rate)
+  const double level = ax.norm();
+  r *= level;
+  rate *= level;
+  r_var *= level * level;
+  rate_var *= level * level;
+  const double span = stamp - track_.front().t;
+  const double turn_rate = span > 1e-3 ? std::acos(std::clamp(u.dot(track_.front().axis), -1.0, 1.0)) / span : 0.0;
+  const double tan_inc = std::tan(o_.max_incidence_deg * M_PI / 180.0);
   if (!anchored_ || u.dot(u_a_) < std::cos(o_.max_axis_change_deg * M_PI / 180.0))
   {
     anchored_ = true;
@@ -93,14 +124,20 @@ RangeAid::Step RangeAid::step(double stamp, const Eigen::Vector3d& axis_odom, co
     u_a_ = u;
     tau_a_ = tau;
     d_ = 0.0;
+    dp_total_.setZero();
     return out;
   }
-  d_ += u_a_.dot(dpos.head<2>());
+  d_ += u_a_.dot(dpos.head<2>());  // the coast's own walk along the axis since the anchor
   // the range's rate is the speed along the axis: an echo that does not close as the IMU says the
   // wearer walks (a person walking ahead, something stepping into the beam) measures no walk
-  const double v_u = u_a_.dot(coast.velocity().head<2>());
+  Eigen::Vector2d v_mean = Eigen::Vector2d::Zero();
+  for (const Sample& k : track_)
+    v_mean += k.v / static_cast<double>(track_.size());
+  // against the coast's own velocity, without what the ranger already corrected: each frame's
+  // rate is one measurement of the same offset, not another one to add up
+  const double v_u = u_a_.dot(v_mean - dv_total_);
   const double Vv = coast.velocityVariance(tau);
-  const double Rv = rate_var + std::pow(o_.model_rel * rate, 2);
+  const double Rv = rate_var + std::pow(o_.model_rel * rate, 2) + std::pow(r * tan_inc * turn_rate, 2);
   const double nu_v = -rate - v_u;
   if (nu_v * nu_v > o_.gate_sigmas * o_.gate_sigmas * (Vv + Rv))
   {
@@ -109,7 +146,8 @@ RangeAid::Step RangeAid::step(double stamp, const Eigen::Vector3d& axis_odom, co
   }
   // the range's change measures the walk along the axis since the anchor
   const double d_m = r_a_ - r;
-  const double R = r_a_var_ + r_var + std::pow(o_.model_rel * d_m, 2);
+  const double turned = std::acos(std::clamp(u.dot(u_a_), -1.0, 1.0));
+  const double R = r_a_var_ + r_var + std::pow(o_.model_rel * d_m, 2) + std::pow(r * tan_inc * turned, 2);
   const Eigen::Matrix2d P = covariance(coast, tau);
   const Eigen::Matrix2d dP = P - covariance(coast, tau_a_);
   const Eigen::Vector2d Pu = dP * u_a_;
@@ -120,14 +158,21 @@ RangeAid::Step RangeAid::step(double stamp, const Eigen::Vector3d& axis_odom, co
     anchored_ = false;  // another surface, or the model does not hold: no correction
     return out;
   }
-  const Eigen::Vector2d dp = Pu * (nu / S);
-  out.dpos.head<2>() = dp;
-  d_ += u_a_.dot(dp);
+  // the correction since the anchor as one update of the coast's own walk with this range: each
+  // frame's range measures the same walk again with much the same error (the surface's angle, the
+  // head's turn), so the corrections do not add up
+  const Eigen::Vector2d dp_total = Pu * (nu / S);
+  out.dpos.head<2>() = dp_total - dp_total_;
+  dp_total_ = dp_total;
   const Eigen::Matrix2d post = P - Pu * Pu.transpose() / S;
   double iso = 0, along = 0;
   coast.positionVarianceSplit(tau, iso, along);
   out.gate_var = std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(post).eigenvalues().maxCoeff(), iso);
-  out.dv.head<2>() = u_a_ * (Vv / (Vv + Rv) * nu_v);
+  // the rate against the coast's mean velocity over the same window: their difference is the
+  // coast's velocity error (a constant offset over the window), taken out of the velocity now
+  const Eigen::Vector2d dv_total = u_a_ * (Vv / (Vv + Rv) * nu_v);
+  out.dv.head<2>() = dv_total - dv_total_;
+  dv_total_ = dv_total;
   out.aided = true;
   return out;
 }

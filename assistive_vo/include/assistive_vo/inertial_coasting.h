@@ -97,7 +97,7 @@ public:
   /// The horizontal direction of the walk when the coast started (odom, unit; zero when slower than
   /// 0.2 m/s): the axis of `along`.
   const Eigen::Vector3d& walkDirection() const { return walk_dir_; }
-  /// Moves the coasted velocity by `dv` (odom, m/s): a measurement of it (RangeAid's range rate).
+  /// Moves the coasted velocity by `dv` (odom, m/s): a measurement of it (RangeAid).
   void correctVelocity(const Eigen::Vector3d& dv) { v_ += dv; }
 
 private:
