@@ -167,7 +167,10 @@ RangeAid::Step RangeAid::step(double stamp, const Eigen::Vector3d& axis_odom, co
   const Eigen::Matrix2d post = P - Pu * Pu.transpose() / S;
   double iso = 0, along = 0;
   coast.positionVarianceSplit(tau, iso, along);
-  out.gate_var = std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(post).eigenvalues().maxCoeff(), iso);
+  // the worst axis after the update, never above the unaided rule's (the aid only adds information;
+  // a walk across the axis keeps its error on the axis the ranger does not see)
+  out.gate_var = std::min(out.gate_var,
+                          std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(post).eigenvalues().maxCoeff(), iso));
   // the rate against the coast's mean velocity over the same window: their difference is the
   // coast's velocity error (a constant offset over the window), taken out of the velocity now
   const Eigen::Vector2d dv_total = u_a_ * (Vv / (Vv + Rv) * nu_v);
