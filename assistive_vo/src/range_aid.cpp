@@ -36,7 +36,7 @@ bool RangeAid::rangeAt(double stamp, double& r, double& r_var, double& rate, dou
       ++n;
       last = &x;
     }
-  if (n < o_.rate_min_ranges || stamp - last->first > o_.max_range_age_s)
+  if (n < std::max(2, o_.rate_min_ranges) || stamp - last->first > o_.max_range_age_s)
     return false;
   const double mt = st / n, mr = sr / n;
   double stt = 0, str = 0;

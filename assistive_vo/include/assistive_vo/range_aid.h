@@ -80,7 +80,7 @@ private:
     Eigen::Vector2d axis, v;  ///< the axis (unit) and the coasted velocity (odom) at a frame
   };
   std::deque<Sample> track_;  ///< the last frames within the rate window
-  double d_ = 0.0;  ///< the coast's own displacement along u_a_ since the anchor (no correction in it)
+  double d_ = 0.0;  ///< the coast's displacement along u_a_ since the anchor, without the position corrections
   Eigen::Vector2d dp_total_ = Eigen::Vector2d::Zero();  ///< position corrected since the anchor
   Eigen::Vector2d dv_total_ = Eigen::Vector2d::Zero();  ///< velocity corrected so far in this coast
 };
