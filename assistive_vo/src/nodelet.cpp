@@ -147,11 +147,9 @@ class StereoOdometryNodelet : public nodelet::Nodelet
     assistive_common::guarded(getName(), "ranger reading", [&] { range(m); });
   }
 
-  /// A forward ranger's reading (range_aided_coast): no echo (+inf, out of its limits) measures nothing.
+  /// A forward ranger's reading (range_aided_coast), its axis from tf.
   void range(const sensor_msgs::RangeConstPtr& m)
   {
-    if (!(std::isfinite(m->range) && m->range >= m->min_range && m->range <= m->max_range))
-      return;
     if (range_frame_ != m->header.frame_id)
     {
       try
@@ -168,7 +166,7 @@ class StereoOdometryNodelet : public nodelet::Nodelet
         return;
       }
     }
-    fe_->addRange(m->header.stamp.toSec(), m->range, range_axis_);
+    fe_->addRange(m->header.stamp.toSec(), m->range, m->min_range, m->max_range, range_axis_);
   }
 
   /// With the IMU flowing but not yet up to this frame's stamp (the samples behind the images:

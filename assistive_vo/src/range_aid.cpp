@@ -1,6 +1,7 @@
 #include "assistive_vo/range_aid.h"
 #include <algorithm>
 #include <cmath>
+#include <vector>
 #include <Eigen/Eigenvalues>
 
 namespace assistive_vo
@@ -25,51 +26,50 @@ void RangeAid::clear()
 
 bool RangeAid::rangeAt(double stamp, double& r, double& r_var, double& rate, double& rate_var) const
 {
-  double st = 0, sr = 0;
-  int n = 0;
-  const std::pair<double, double>* last = nullptr;
+  std::vector<std::pair<double, double>> w;  // the readings in the window
   for (const auto& x : ranges_)
     if (x.first <= stamp + 1e-6 && x.first >= stamp - o_.rate_window_s)
-    {
-      st += x.first;
-      sr += x.second;
-      ++n;
-      last = &x;
-    }
-  if (n < std::max(2, o_.rate_min_ranges) || stamp - last->first > o_.max_range_age_s)
+      w.push_back(x);
+  const int n = static_cast<int>(w.size());
+  if (n < std::max(2, o_.rate_min_ranges) || stamp - w.back().first > o_.max_range_age_s)
     return false;
-  const double mt = st / n, mr = sr / n;
+  double mt = 0, mr = 0;
+  for (const auto& [t, x] : w)
+  {
+    mt += t / n;
+    mr += x / n;
+  }
   double stt = 0, str = 0;
-  for (const auto& [t, x] : ranges_)
-    if (t <= stamp + 1e-6 && t >= stamp - o_.rate_window_s)
-    {
-      stt += (t - mt) * (t - mt);
-      str += (t - mt) * (x - mr);
-    }
+  for (const auto& [t, x] : w)
+  {
+    stt += (t - mt) * (t - mt);
+    str += (t - mt) * (x - mr);
+  }
   if (stt < 1e-6)
     return false;
   rate = str / stt;
   double ss = 0;
-  for (const auto& [t, x] : ranges_)
-    if (t <= stamp + 1e-6 && t >= stamp - o_.rate_window_s)
-      ss += std::pow(x - mr - rate * (t - mt), 2);
+  for (const auto& [t, x] : w)
+    ss += std::pow(x - mr - rate * (t - mt), 2);
   const double rms = std::sqrt(ss / std::max(1, n - 2));
   if (rms > o_.max_fit_rms_m)
     return false;  // more than one surface in the window (an edge, a person passing)
   const double s2 = std::max(rms * rms, o_.sigma_m * o_.sigma_m);
   // the slope is the window's mean rate (at its mean time: a walk slowing to a stop is 0.3 m/s
   // slower by the frame); the range at the frame is the newest reading carried over the few ms since
-  const double age = stamp - last->first;
+  const double age = stamp - w.back().first;
   rate_var = s2 / stt;
-  r = last->second + rate * age;
+  r = w.back().second + rate * age;
   r_var = o_.sigma_m * o_.sigma_m + rate_var * age * age;
   return true;
 }
 
-Eigen::Matrix2d RangeAid::covariance(const InertialCoaster& c, double tau) const
+Eigen::Matrix2d RangeAid::covariance(const InertialCoaster& c, double tau, double* iso_out) const
 {
   double iso = 0, along = 0;
   c.positionVarianceSplit(tau, iso, along);
+  if (iso_out)
+    *iso_out = iso;
   const Eigen::Vector2d m = c.walkDirection().head<2>();
   Eigen::Matrix2d P = Eigen::Matrix2d::Identity() * iso;
   if (m.norm() > 0.5)
@@ -148,7 +148,8 @@ RangeAid::Step RangeAid::step(double stamp, const Eigen::Vector3d& axis_odom, co
   const double d_m = r_a_ - r;
   const double turned = std::acos(std::clamp(u.dot(u_a_), -1.0, 1.0));
   const double R = r_a_var_ + r_var + std::pow(o_.model_rel * d_m, 2) + std::pow(r * tan_inc * turned, 2);
-  const Eigen::Matrix2d P = covariance(coast, tau);
+  double iso = 0;
+  const Eigen::Matrix2d P = covariance(coast, tau, &iso);
   const Eigen::Matrix2d dP = P - covariance(coast, tau_a_);
   const Eigen::Vector2d Pu = dP * u_a_;
   const double S = u_a_.dot(Pu) + R;
@@ -165,8 +166,6 @@ RangeAid::Step RangeAid::step(double stamp, const Eigen::Vector3d& axis_odom, co
   out.dpos.head<2>() = dp_total - dp_total_;
   dp_total_ = dp_total;
   const Eigen::Matrix2d post = P - Pu * Pu.transpose() / S;
-  double iso = 0, along = 0;
-  coast.positionVarianceSplit(tau, iso, along);
   // the worst axis after the update, never above the unaided rule's (the aid only adds information;
   // a walk across the axis keeps its error on the axis the ranger does not see)
   out.gate_var = std::min(out.gate_var,

@@ -686,7 +686,7 @@ double VisualOdometry::aidCoast(double stamp, const Eigen::Matrix3d& R_odom_link
     return coast_.positionVariance(coast_.coastTime());
   const RangeAid::Step a = range_aid_.step(stamp, R_odom_link * range_axis_link_, dpos, coast_);
   if (!a.aided)
-    return coast_.positionVariance(coast_.coastTime());
+    return a.gate_var;  // the unaided rule's
   dpos += a.dpos;
   coast_.correctVelocity(a.dv);
   range_aided_ = true;

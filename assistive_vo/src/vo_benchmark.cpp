@@ -357,8 +357,7 @@ bool BagRun::run(ev::StereoBagReader& reader)
     for (; next_range < ranges.size() && ranges[next_range].stamp <= f.stamp; ++next_range)
     {
       const ev::RangeSample& r = ranges[next_range];
-      if (std::isfinite(r.range) && r.range >= r.min_range && r.range <= r.max_range)
-        fe_.addRange(r.stamp, r.range, Eigen::Vector3d::UnitX());
+      fe_.addRange(r.stamp, r.range, r.min_range, r.max_range, Eigen::Vector3d::UnitX());
     }
     if (first_stamp_ < 0)
       first_stamp_ = f.stamp;

@@ -66,8 +66,9 @@ private:
   /// The range at `stamp` (the newest reading carried on the rate) and the rate (the line fitted to
   /// the window: its mean over it), with their variances; false without a line.
   bool rangeAt(double stamp, double& r, double& r_var, double& rate, double& rate_var) const;
-  /// The coast's horizontal position covariance (odom x, y) after `tau` s.
-  Eigen::Matrix2d covariance(const InertialCoaster& c, double tau) const;
+  /// The coast's horizontal position covariance (odom x, y) after `tau` s; `iso_out`: its isotropic
+  /// part per axis (InertialCoaster::positionVarianceSplit).
+  Eigen::Matrix2d covariance(const InertialCoaster& c, double tau, double* iso_out = nullptr) const;
 
   Options o_;
   std::deque<std::pair<double, double>> ranges_;

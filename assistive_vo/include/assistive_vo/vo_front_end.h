@@ -4,6 +4,7 @@
 // gravity hint and the call into VisualOdometry. The nodelet converts messages and calls it;
 // vo_benchmark and slam_benchmark call it on a bag's frames, so what they measure is what runs
 // on the device.
+#include <cmath>
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 #include "assistive_vo/imu_buffer.h"
@@ -61,8 +62,13 @@ public:
   /// One IMU sample (camera_link axes, stamp order; an older one starts a new timeline). Samples up
   /// to a frame's stamp must be added before the frame.
   void addImu(double stamp, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel);
-  /// One reading of the forward ranger (VisualOdometry::addRange): added before the frames after it.
-  void addRange(double stamp, double range, const Eigen::Vector3d& axis_link) { vo_.addRange(stamp, range, axis_link); }
+  /// One reading of the forward ranger (VisualOdometry::addRange), added before the frames after it,
+  /// with the ranger's limits (sensor_msgs/Range): no echo (+inf, or outside them) measures nothing.
+  void addRange(double stamp, double range, double min_range, double max_range, const Eigen::Vector3d& axis_link)
+  {
+    if (std::isfinite(range) && range >= min_range && range <= max_range)
+      vo_.addRange(stamp, range, axis_link);
+  }
   /// One stereo pair (mono8, rectified) with its calibration; a changed calibration re-initialises
   /// tracking (the pose chain is kept).
   FrontEndStep process(const StereoCamera& cam, const cv::Mat& left, const cv::Mat& right, double stamp);
