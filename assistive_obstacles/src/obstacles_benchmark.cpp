@@ -37,6 +37,7 @@
 #include <assistive_eval/map_score.h>
 #include <assistive_eval/plots.h>
 #include <assistive_eval/stereo_bag.h>
+#include <assistive_description/stereo_self_calibration.h>
 
 #include <assistive_common/crossing_predictor.h>
 #include <assistive_obstacles/frame_processor.h>
@@ -273,12 +274,15 @@ void truthAtCell(const std::string& path, double cell, double partial_depth, eva
 const char* const kUsage =
     "usage: obstacles_benchmark FILE.bag [--frames N] [--png OUT.png] [--skip N] [--gt-depth] [--passive] [--set PARAM=VALUE ...]\n"
     "                           [--no-sonar] [--world auto|none|W.yaml] [--partial-depth M] [--mover-poses FILE]\n"
+    "                           [--self-calibrate]\n"
     "       obstacles_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect]\n"
     "                           [--keep DIR] [--png DIR] [other options as above]\n"
     "  Runs the obstacle stage on a stereo bag with ground truth; last stdout line: JSON.\n"
     "  A bag with an active camera's emitter-on pairs (/stereo/projected) is mapped from those, unless --passive.\n"
     "  A set (several bags, or worlds seeds 1..N made by generate_world and render_bag): per-bag rows,\n"
-    "  mean and worst of each figure (worst bag named); JSON keys <key>_mean, <key>_worst, <key>_worst_bag.\n";
+    "  mean and worst of each figure (worst bag named); JSON keys <key>_mean, <key>_worst, <key>_worst_bag.\n"
+    "  --self-calibrate: the right images corrected by the camera driver's online estimate of the right\n"
+    "  camera's rotation (issue 36), as the device does; the estimate and the bag's truth are printed.\n";
 
 /// The command line of a one-bag run.
 struct Options
@@ -293,6 +297,7 @@ struct Options
   eval::CommandLine::Sets overrides;  // --set name=value (tuning; the figures of record use the defaults)
   std::string png;
   bool no_sonar = false;           // --no-sonar: leave the bag's /sonar/front out
+  bool self_calibrate = false;     // --self-calibrate: the driver's right-camera rotation estimate applied
   std::string world_arg = "auto";  // --world: partial-cell and glass scoring from the world's solids
   double partial_depth = 0.05;     // --partial-depth: m an obstacle may reach into a cell and leave it unscored
   // --mover-poses: the scene flow's ego-motion from these poses (vo_benchmark --dump rows: the VO's
@@ -306,6 +311,7 @@ struct Options
         .flag("--gt-depth", &gt_depth)
         .flag("--passive", &passive)
         .flag("--no-sonar", &no_sonar)
+        .flag("--self-calibrate", &self_calibrate)
         .count("--frames", &max_frames, 0)
         .count("--skip", &skip, 0)
         .text("--png", &png)
@@ -1368,11 +1374,33 @@ int main(int argc, char** argv)
     mover_poses = readMoverPoses(opt.mover_poses_path);
     if (mover_poses.empty()) return cl.usageError("no pose rows in " + opt.mover_poses_path);
   }
+  // One estimate for both of an active camera's streams (the same two cameras), fed by the pairs mapped.
+  std::shared_ptr<assistive_description::StereoSelfCalibration> self_cal;
+  auto selfCalibrate = [&self_cal](eval::StereoBagReader& r, bool estimate) {
+    r.setFrameFilter([self_cal, estimate](eval::StereoFrame& f) {
+      self_cal->correctAndEstimate(f.left, f.right, {f.calib.fx, f.calib.fy, f.calib.cx, f.calib.cy}, estimate);
+    });
+  };
+  if (opt.self_calibrate)
+  {
+    self_cal = std::make_shared<assistive_description::StereoSelfCalibration>();
+    selfCalibrate(*reader, true);
+  }
   ObstaclesRun run(opt, params, truth, ranger, std::move(mover_poses), *reader);
   if (opt.projected && params.movers)
-    run.setTrackReader(eval::openStereoBag("obstacles_benchmark", bag, topics));
+  {
+    auto track_reader = eval::openStereoBag("obstacles_benchmark", bag, topics);
+    if (track_reader && self_cal)
+      selfCalibrate(*track_reader, false);
+    run.setTrackReader(std::move(track_reader));
+  }
   if (!run.run())
     return 1;
+  if (self_cal)
+  {
+    const cv::Vec3d a = self_cal->applied() * (180.0 / M_PI);
+    std::cout << self_cal->describe() << eval::rightRotationAgainstTruth(eval::readBagString(bag), a.val) << "\n";
+  }
   run.plotMap();
   run.printReport();
   std::cout << run.jsonLine().str() << std::endl;

@@ -35,6 +35,7 @@
 #include <assistive_eval/plots.h>
 #include <assistive_eval/recovery.h>
 #include <assistive_eval/stereo_bag.h>
+#include <assistive_description/stereo_self_calibration.h>
 #include "assistive_vo/frames.h"
 #include "assistive_vo/vo_front_end.h"
 
@@ -124,20 +125,22 @@ struct Peer
 const char* const kUsage =
     "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--peer-max-translation M]\n"
     "                    [--verbose] [--dump FILE] [--set name=value ...] [--blackout START:DURATION]\n"
-    "                    [--drop START:DURATION] [--bias-known]\n"
+    "                    [--drop START:DURATION] [--bias-known] [--self-calibrate]\n"
     "       vo_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect] [--keep DIR]\n"
     "                    [--plot DIR] [other options as above]\n"
     "  Runs the visual odometry on a stereo bag (README \"Topics of a stereo bag\"); last stdout line: JSON.\n"
     "  A set (several bags, or worlds seeds 1..N made by generate_world and render_bag): per-bag rows,\n"
     "  mean and worst of each figure (worst bag named); JSON keys <key>_mean, <key>_worst, <key>_worst_bag.\n"
     "  --bias-known: a first pass fits the gyro's bias to the truth (as the gyro floor does), the run\n"
-    "  holds it instead of estimating it online: what the online estimate costs (issue 34).\n";
+    "  holds it instead of estimating it online: what the online estimate costs (issue 34).\n"
+    "  --self-calibrate: the right image corrected by the camera driver's online estimate of the right\n"
+    "  camera's rotation (issue 36), as the device does; the estimate and the bag's truth are printed.\n";
 
 /// The command line of a one-bag run.
 struct Options
 {
   std::string bag, plot, dump, blackout, drop;
-  bool peer_on = true, imu_on = true, verbose = false, bias_known = false;
+  bool peer_on = true, imu_on = true, verbose = false, bias_known = false, self_calibrate = false;
   double peer_max_t = 0.15;
   ev::CommandLine::Sets overrides;
   long max_frames = -1;
@@ -151,6 +154,7 @@ struct Options
         .flag("--no-imu", &imu_on, false)
         .flag("--verbose", &verbose)
         .flag("--bias-known", &bias_known)
+        .flag("--self-calibrate", &self_calibrate)
         .text("--plot", &plot)
         .count("--frames", &max_frames, 0L)
         .number("--peer-max-translation", &peer_max_t)
@@ -787,9 +791,23 @@ int main(int argc, char** argv)
     std::cout << "gyro bias known (fitted to the truth by a first pass, camera_link): " << std::setprecision(4)
               << (b * 180.0 / M_PI).transpose() << " deg/s\n";
   }
+  // --self-calibrate: the driver's correction of the right camera's rotation on the bag's pairs
+  std::shared_ptr<assistive_description::StereoSelfCalibration> self_cal;
+  if (opt.self_calibrate)
+  {
+    self_cal = std::make_shared<assistive_description::StereoSelfCalibration>();
+    reader->setFrameFilter([self_cal](ev::StereoFrame& f) {
+      self_cal->correctAndEstimate(f.left, f.right, {f.calib.fx, f.calib.fy, f.calib.cx, f.calib.cy}, true);
+    });
+  }
   BagRun run(opt, fe);
   if (!run.run(*reader))
     return 1;
+  if (self_cal)
+  {
+    const cv::Vec3d a = self_cal->applied() * (180.0 / M_PI);
+    std::cout << self_cal->describe() << ev::rightRotationAgainstTruth(ev::readBagString(opt.bag), a.val) << "\n";
+  }
 
   // ---- report ----
   printRun(opt, run);

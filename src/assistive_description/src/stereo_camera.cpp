@@ -42,6 +42,39 @@ StereoCamera::StereoCamera(std::unique_ptr<FrameSource> source, const StereoCame
                            std::unique_ptr<EmitterControl> emitter)
   : source_(std::move(source)), params_(params), emitter_(std::move(emitter)), stamper_(params.time_offset)
 {
+  if (params_.self_calibration)
+  {
+    StereoSelfCalibration::Options o;
+    o.every_n_frames = params_.self_calibration_every;
+    self_cal_ = std::make_unique<StereoSelfCalibration>(o);
+  }
+}
+
+bool StereoCamera::rebuildRight(const cv::Vec3d& w)
+{
+  CameraCalibration c = right_loaded_;
+  c.R = StereoSelfCalibration::correctionRotation(w) * c.R;
+  Rectifier r;
+  if (!r.configure(c))
+    return false;
+  right_ = r;
+  right_correction_ = w;
+  return true;
+}
+
+void StereoCamera::restoreSelfCalibration(const cv::Vec3d& w)
+{
+  if (!self_cal_ || !calibrated())
+    return;
+  self_cal_->setApplied(w);
+  rebuildRight(w);
+}
+
+bool StereoCamera::takeSelfCalibrationChange()
+{
+  const bool changed = self_cal_changed_;
+  self_cal_changed_ = false;
+  return changed;
 }
 
 bool StereoCamera::setCalibration(const CameraCalibration& left, const CameraCalibration& right,
@@ -76,7 +109,27 @@ bool StereoCamera::setCalibration(const CameraCalibration& left, const CameraCal
   }
   left_ = l;
   right_ = r;
+  // A new calibration (a checkerboard's) replaces whatever was learnt against the old one.
+  if (right != right_loaded_ && self_cal_)
+  {
+    self_cal_->reset();
+    self_cal_->setApplied(cv::Vec3d::all(0));
+  }
+  right_loaded_ = right;
+  right_correction_ = cv::Vec3d::all(0);
   return true;
+}
+
+void StereoCamera::selfCalibrate(const StereoOutput& out)
+{
+  if (!self_cal_)
+    return;
+  const CameraCalibration& rc = right_.rectifiedCalibration();
+  const RectifiedModel model{rc.P(0, 0), rc.P(1, 1), rc.P(0, 2), rc.P(1, 2)};
+  self_cal_->addFrame(out.left_rect, out.right_rect, model);
+  // A new correction goes into the right maps from the next frame on.
+  if (self_cal_->applied() != right_correction_ && rebuildRight(self_cal_->applied()))
+    self_cal_changed_ = true;
 }
 
 GrabStatus StereoCamera::grab(double now, StereoOutput& out)
@@ -148,6 +201,7 @@ GrabStatus StereoCamera::grab(double now, StereoOutput& out)
   else
   {
     out.rectified = true;
+    selfCalibrate(out);
   }
   return GrabStatus::OK;
 }

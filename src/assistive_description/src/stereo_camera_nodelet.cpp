@@ -16,6 +16,8 @@
 #include <sensor_msgs/image_encodings.h>
 
 #include <atomic>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -93,6 +95,7 @@ private:
     const CameraCalibration l = fromMsg(left_info_->getCameraInfo());
     const CameraCalibration r = fromMsg(right_info_->getCameraInfo());
     if (have_calib_ && l == left_calib_ && r == right_calib_) return;
+    const bool first = !have_calib_;
     have_calib_ = true;
     left_calib_ = l;
     right_calib_ = r;
@@ -103,6 +106,12 @@ private:
       NODELET_INFO("stereo_camera: calibration %dx%d per eye, baseline %.4f m; rectification "
                    "maps built", l.width, l.height, r.baseline());
       for (const std::string& w : warnings) NODELET_WARN("stereo_camera: %s", w.c_str());
+      // The kept correction belongs to the calibration loaded at start; a new one (set_camera_info)
+      // starts from nothing, and what was kept is cleared.
+      if (first)
+        restoreSelfCalibration();
+      else if (camera_->selfCalibration())
+        keepSelfCalibration();
       std::lock_guard<std::mutex> lock(mutex_);
       calib_status_ = "calibrated";
     }
@@ -113,6 +122,49 @@ private:
       std::lock_guard<std::mutex> lock(mutex_);
       calib_status_ = "not usable: " + err;
     }
+  }
+
+  /// The self-calibration's file: the parameter, else $ROS_HOME (~/.ros) per right camera name.
+  std::string selfCalibrationPath() const
+  {
+    if (params_.self_calibration_file == "none") return std::string();
+    if (!params_.self_calibration_file.empty()) return params_.self_calibration_file;
+    const char* ros_home = std::getenv("ROS_HOME");
+    const char* home = std::getenv("HOME");
+    const std::string dir = ros_home ? ros_home : std::string(home ? home : ".") + "/.ros";
+    return dir + "/self_calibration_" + params_.right_camera_name + ".yaml";
+  }
+
+  /// A correction kept from an earlier run of this rig starts the maps (the estimate goes on).
+  void restoreSelfCalibration()
+  {
+    const std::string path = selfCalibrationPath();
+    if (!params_.self_calibration || path.empty()) return;
+    cv::Vec3d w;
+    std::string err;
+    if (!loadSelfCalibration(path, params_.right_camera_name, w, &err))
+    {
+      NODELET_INFO("stereo_camera: self-calibration starts from the calibration as given (%s)", err.c_str());
+      return;
+    }
+    camera_->restoreSelfCalibration(w);
+    const cv::Vec3d d = w * (180.0 / M_PI);
+    NODELET_INFO("stereo_camera: self-calibration: right camera turned %.4f / %.4f / %.4f deg (pitch / yaw / roll) "
+                 "kept from an earlier run (%s)", d[0], d[1], d[2], path.c_str());
+  }
+
+  /// After a new correction went into the maps: say so and keep it.
+  void keepSelfCalibration()
+  {
+    const StereoSelfCalibration* cal = camera_->selfCalibration();
+    const cv::Vec3d d = cal->applied() * (180.0 / M_PI), sd = cal->rotationSigma() * (180.0 / M_PI);
+    NODELET_INFO("stereo_camera: self-calibration: right camera turned %.4f / %.4f / %.4f deg (pitch / yaw / roll, "
+                 "sigma %.4f / %.4f / %.4f) over %d frames: undone in the right rectification",
+                 d[0], d[1], d[2], sd[0], sd[1], sd[2], cal->frameSolutions());
+    const std::string path = selfCalibrationPath();
+    std::string err;
+    if (!path.empty() && !saveSelfCalibration(path, params_.right_camera_name, *cal, &err))
+      NODELET_WARN("stereo_camera: self-calibration not kept: %s", err.c_str());
   }
 
   void captureLoop()
@@ -130,8 +182,11 @@ private:
   {
     updateCalibration();
     const GrabStatus status = camera_->grab(monotonicNow(), out);
+    if (camera_->takeSelfCalibrationChange()) keepSelfCalibration();
     {
       std::lock_guard<std::mutex> lock(mutex_);
+      if (const StereoSelfCalibration* cal = camera_->selfCalibration())
+        self_cal_ = *cal;
       status_ = status;
       open_ = camera_->isOpen();
       frames_ = camera_->frames();
@@ -222,6 +277,23 @@ private:
     stat.add("frames", frames_);
     stat.add("measured rate (Hz)", rate_);
     stat.add("requested rate (Hz)", params_.fps);
+    if (params_.self_calibration)
+    {
+      const cv::Vec3d w = self_cal_.rotation() * (180.0 / M_PI), sw = self_cal_.rotationSigma() * (180.0 / M_PI);
+      const cv::Vec3d a = self_cal_.applied() * (180.0 / M_PI);
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "%.4f / %.4f / %.4f (sigma %.4f / %.4f / %.4f)", w[0], w[1], w[2], sw[0], sw[1],
+                    sw[2]);
+      stat.add("self-calibration estimate, right camera pitch / yaw / roll (deg)",
+               self_cal_.valid() ? std::string(buf) : "gathering (" + std::to_string(self_cal_.frameSolutions()) + " frames)");
+      std::snprintf(buf, sizeof buf, "%.4f / %.4f / %.4f", a[0], a[1], a[2]);
+      stat.add("self-calibration applied (deg)", buf);
+      stat.add("self-calibration status", self_cal_.status().empty() ? "applied" : self_cal_.status());
+      // An estimate too large to be a worn rig's drift: the rig was knocked or the calibration is wrong.
+      if (self_cal_.status().find("beyond") != std::string::npos)
+        stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN,
+                          "self-calibration: " + self_cal_.status() + " (recalibrate the rig)");
+    }
     if (params_.emitter == "alternate")
     {
       stat.add("emitter", camera_->emitterError().empty() ? "alternating" : camera_->emitterError());
@@ -250,6 +322,7 @@ private:
   double rate_ = 0.0;
   std::string source_name_;
   std::string last_error_, calib_status_ = "not loaded yet";
+  StereoSelfCalibration self_cal_;  // a copy of the camera's, for diagnostics
   std::atomic<bool> running_{false};
   std::thread thread_;
 };

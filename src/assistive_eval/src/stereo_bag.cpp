@@ -407,6 +407,8 @@ bool StereoBagReader::next(StereoFrame& f)
                                std::to_string(f.calib.width) + "x" + std::to_string(f.calib.height));
     f.calib.width = f.left.cols;
     f.calib.height = f.left.rows;
+    if (filter_)
+      filter_(f);
 
     // Ground truth at the same stamp (within 1 ms).
     f.has_gt_pose = false;
@@ -500,6 +502,38 @@ bool nextFrameOrExit(StereoBagReader& reader, StereoFrame& frame, const std::str
     std::cerr << program << ": " << path << ": " << e.what() << "\n";
     std::exit(1);
   }
+}
+
+std::string readBagString(const std::string& path, const std::string& topic)
+{
+  std::string out;
+  try
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Read);
+    rosbag::View v(bag, rosbag::TopicQuery(topic));
+    for (const rosbag::MessageInstance& m : v)
+      if (auto msg = m.instantiate<std_msgs::String>())
+        out = msg->data;
+  }
+  catch (const std::exception&)
+  {
+    return std::string();
+  }
+  return out;
+}
+
+std::string rightRotationAgainstTruth(const std::string& camera_errors_json, const double applied_deg[3])
+{
+  const size_t key = camera_errors_json.find("\"right_rotation_deg\"");
+  const size_t open = key == std::string::npos ? key : camera_errors_json.find('[', key);
+  double t[3];
+  if (open == std::string::npos ||
+      std::sscanf(camera_errors_json.c_str() + open, "[%lf, %lf, %lf]", &t[0], &t[1], &t[2]) != 3)
+    return std::string();
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "; truth %.4f / %.4f / %.4f, error of the applied %.4f / %.4f / %.4f", t[0], t[1],
+                t[2], applied_deg[0] - t[0], applied_deg[1] - t[1], applied_deg[2] - t[2]);
+  return buf;
 }
 
 }  // namespace assistive_eval

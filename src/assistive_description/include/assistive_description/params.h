@@ -36,7 +36,12 @@ namespace assistive_description
   /* baseline, not a calibration of your camera. */ \
   X(std::string, left_camera_info_url, "left_camera_info_url", "", {}, {}, "", "calibration file (camera_info_manager URL, e.g. package://...)") \
   X(std::string, right_camera_info_url, "right_camera_info_url", "", {}, {}, "", "calibration file of the right eye") \
-  X(double, synthetic_disparity, "synthetic_disparity", 16.0, 0.0, width / 4.0, "px", "disparity between the halves of `device:=synthetic`")
+  X(double, synthetic_disparity, "synthetic_disparity", 16.0, 0.0, width / 4.0, "px", "disparity between the halves of `device:=synthetic`") \
+  /* Online self-calibration (issue 36): the right camera's small rotation against the rectified */ \
+  /* rig, from matched features' vertical offsets, folded into the right rectification map. */ \
+  X(bool, self_calibration, "self_calibration", true, {}, {}, "", "estimate the right camera's rotation online and undo it in the rectification (README: self-calibration); a perfect rig is left untouched") \
+  X(int, self_calibration_every, "self_calibration_every", 5, 1, 1000, "frames", "one pair in this many feeds the estimate (about 3 ms each)") \
+  X(std::string, self_calibration_file, "self_calibration_file", "", {}, {}, "", "where the correction is kept across runs (YAML); empty: `$ROS_HOME/self_calibration_<right_camera_name>.yaml`; `none`: not kept")
 // clang-format on
 
 struct StereoCameraParams

@@ -5,6 +5,7 @@
 #include <assistive_description/frame_source.h>
 #include <assistive_description/params.h>
 #include <assistive_description/rectifier.h>
+#include <assistive_description/stereo_self_calibration.h>
 #include <memory>
 #include <string>
 #include <vector>
@@ -67,6 +68,13 @@ public:
   bool calibrated() const { return left_.configured() && right_.configured(); }
   const Rectifier& leftRectifier() const { return left_; }
   const Rectifier& rightRectifier() const { return right_; }
+  /// The online estimate of the right camera's rotation (null when `self_calibration` is off).
+  const StereoSelfCalibration* selfCalibration() const { return self_cal_.get(); }
+  /// Start from a correction kept from an earlier run (rad about the left optical x, y, z); the
+  /// right maps are rebuilt with it. Ignored when self-calibration is off or not calibrated.
+  void restoreSelfCalibration(const cv::Vec3d& w);
+  /// True once after grab() changed the correction in the right maps (for the nodelet to keep it).
+  bool takeSelfCalibrationChange();
 
   /// One step of the capture loop. `now` is a monotonic time in seconds, used only for the
   /// retry timer. On OK, `out` holds the pair; when the calibration does not fit the frame,
@@ -94,6 +102,12 @@ private:
   std::string emitter_error_;
   EmitterPhase phase_;
   Rectifier left_, right_;
+  CameraCalibration right_loaded_;        // the right calibration as given, before any correction
+  std::unique_ptr<StereoSelfCalibration> self_cal_;
+  cv::Vec3d right_correction_ = cv::Vec3d::all(0);  // folded into right_'s maps
+  bool self_cal_changed_ = false;
+  bool rebuildRight(const cv::Vec3d& w);
+  void selfCalibrate(const StereoOutput& out);
   FrameStamper stamper_;
   double next_retry_ = -1e300;
   unsigned long long frames_ = 0;

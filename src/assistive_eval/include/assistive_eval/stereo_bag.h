@@ -7,6 +7,7 @@
 //   while (reader.next(f)) { ... f.left, f.right, f.calib, f.gt_pose, f.imu ... }
 //   assistive_eval::OccupancyGrid truth;
 //   if (reader.readOccupancy(truth)) { ... }
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -154,6 +155,10 @@ public:
   const std::vector<ImuSample>& imuSamples() const { return imu_; }
   /// All ground-truth poses (stamp, pose of the left optical frame in gt_world).
   const std::vector<std::pair<double, Eigen::Isometry3d>>& groundTruth() const { return gt_; }
+  /// Called on every frame before next() returns it: what the device's camera driver does to a
+  /// pair before the stages see it (the benchmarks' `--self-calibrate`: the driver's correction of
+  /// the right camera's rotation, issue 36).
+  void setFrameFilter(std::function<void(StereoFrame&)> filter) { filter_ = std::move(filter); }
 
 private:
   struct Impl;
@@ -165,6 +170,7 @@ private:
   std::vector<Eigen::Vector3d> gt_vel_;
   std::vector<std::pair<double, StereoCalib>> calibs_;
   size_t imu_next_ = 0;
+  std::function<void(StereoFrame&)> filter_;
   bool has_depth_ = false;
   bool first_ = true;
 };
@@ -173,6 +179,13 @@ private:
 /// <why>" on stderr (the CLI then exits with status 1).
 std::unique_ptr<StereoBagReader> openStereoBag(const std::string& program, const std::string& path,
                                                const StereoBagTopics& topics = {});
+/// The last std_msgs/String on `topic` in the bag at `path` (render_bag's `/sim/camera_errors`:
+/// the rig's true errors as one JSON object); empty when there is none.
+std::string readBagString(const std::string& path, const std::string& topic = "/sim/camera_errors");
+/// For the benchmarks' `--self-calibrate`: "; truth ..., error of the applied ..." (deg, pitch /
+/// yaw / roll) against the right camera's rotation in `camera_errors_json` (render_bag's
+/// `/sim/camera_errors`); empty when it does not give one.
+std::string rightRotationAgainstTruth(const std::string& camera_errors_json, const double applied_deg[3]);
 /// reader.next(frame) for the benchmark CLIs: a malformed image (encoding, size) prints
 /// "<program>: <path>: <why>" on stderr and exits with status 1 (a clear error, not an abort).
 bool nextFrameOrExit(StereoBagReader& reader, StereoFrame& frame, const std::string& program,
