@@ -95,8 +95,12 @@ TEST(StereoCameraCalibrate, SetCameraInfoEnablesRectification)
   EXPECT_NE(left.find("camera_name: left"), std::string::npos) << left;
   EXPECT_NE(right.find("camera_name: right"), std::string::npos) << right;
   EXPECT_NE(right.find("-40"), std::string::npos) << right;
+  // A new calibration clears what the self-calibration kept against the old one.
+  const std::string kept = readFile(dir + "/self_calibration_right.yaml");
+  EXPECT_NE(kept.find("rotation_deg: [ 0., 0., 0. ]"), std::string::npos) << kept;
   std::remove((dir + "/left.yaml").c_str());
   std::remove((dir + "/right.yaml").c_str());
+  std::remove((dir + "/self_calibration_right.yaml").c_str());
   std::remove(dir.c_str());
 }
 }  // namespace stereo_camera_calibrate_test
