@@ -791,12 +791,25 @@ int main(int argc, char** argv)
     std::cout << "gyro bias known (fitted to the truth by a first pass, camera_link): " << std::setprecision(4)
               << (b * 180.0 / M_PI).transpose() << " deg/s\n";
   }
-  // --self-calibrate: the driver's correction of the right camera's rotation on the bag's pairs
+  // --self-calibrate: the driver's correction of the right camera's rotation on the bag's pairs.
+  // The driver sees an active camera's emitter-on pairs too (their dots are features on pale
+  // walls): those up to each frame feed the estimate first, as they would have on the device.
   std::shared_ptr<assistive_description::StereoSelfCalibration> self_cal;
+  std::shared_ptr<ev::StereoBagReader> dots;
   if (opt.self_calibrate)
   {
     self_cal = std::make_shared<assistive_description::StereoSelfCalibration>();
-    reader->setFrameFilter([self_cal](ev::StereoFrame& f) {
+    const ev::StereoBagTopics topics;
+    if (ev::bagHasTopic(opt.bag, topics.projected_left_image))
+      dots = ev::openStereoBag("vo_benchmark", opt.bag, topics.projected());
+    auto dot_frame = std::make_shared<ev::StereoFrame>();
+    auto have_dot = std::make_shared<bool>(dots && dots->next(*dot_frame));
+    reader->setFrameFilter([self_cal, dots, dot_frame, have_dot](ev::StereoFrame& f) {
+      for (; *have_dot && dot_frame->stamp < f.stamp; *have_dot = dots->next(*dot_frame))
+      {
+        const ev::StereoCalib& c = dot_frame->calib;
+        self_cal->correctAndEstimate(dot_frame->left, dot_frame->right, {c.fx, c.fy, c.cx, c.cy}, true);
+      }
       self_cal->correctAndEstimate(f.left, f.right, {f.calib.fx, f.calib.fy, f.calib.cx, f.calib.cy}, true);
     });
   }
