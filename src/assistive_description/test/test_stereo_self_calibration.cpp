@@ -99,6 +99,23 @@ cv::Mat selfCalRender(const cv::Mat& tex, double bx, const cv::Matx33d& R)
     }
   return img;
 }
+
+// The pitched-and-rolled rig of the image tests: the left image, the ideal right one and the one
+// the rotated right camera sees.
+struct SelfCalScene
+{
+  cv::Mat left, right_ideal, right;
+};
+
+SelfCalScene selfCalScene(unsigned seed)
+{
+  std::mt19937 rng(seed);
+  const cv::Mat tex = selfCalTexture(rng);
+  cv::Matx33d R;
+  cv::Rodrigues(cv::Vec3d(0.15 * kSelfCalDeg, 0.0, -0.10 * kSelfCalDeg), R);
+  return {selfCalRender(tex, 0.0, cv::Matx33d::eye()), selfCalRender(tex, kSelfCalBaseline, cv::Matx33d::eye()),
+          selfCalRender(tex, kSelfCalBaseline, R)};
+}
 }  // namespace
 
 // Pitch 0.08, yaw -0.06, roll 0.1 deg and residual distortion 0.003, features at 0.05 px noise:
@@ -172,14 +189,8 @@ TEST(StereoSelfCalibration, MismatchesAreGatedOut)
 // 0.02 deg, and the corrected right image equals the ideal one within interpolation.
 TEST(StereoSelfCalibration, ImagesOfARotatedRightCameraAreCorrected)
 {
-  std::mt19937 rng(1);
-  const cv::Mat tex = selfCalTexture(rng);
-  const cv::Vec3d w(0.15 * kSelfCalDeg, 0.0, -0.10 * kSelfCalDeg);
-  cv::Matx33d R;
-  cv::Rodrigues(w, R);
-  const cv::Mat left = selfCalRender(tex, 0.0, cv::Matx33d::eye());
-  const cv::Mat right_ideal = selfCalRender(tex, kSelfCalBaseline, cv::Matx33d::eye());
-  const cv::Mat right = selfCalRender(tex, kSelfCalBaseline, R);
+  const SelfCalScene scene = selfCalScene(1);
+  const cv::Mat &left = scene.left, &right_ideal = scene.right_ideal, &right = scene.right;
   StereoSelfCalibration::Options o;
   o.every_n_frames = 1;
   o.min_frames = 3;
@@ -258,15 +269,10 @@ CameraCalibration selfCalCalibration(double tx)
 // change reported, to be kept), and the right images it publishes come out nearer the ideal rig's.
 TEST(StereoSelfCalibration, TheDriverUndoesTheRotationInItsRightMap)
 {
-  std::mt19937 rng(4);
-  const cv::Mat tex = selfCalTexture(rng);
-  const cv::Vec3d w(0.15 * kSelfCalDeg, 0.0, -0.10 * kSelfCalDeg);
-  cv::Matx33d R;
-  cv::Rodrigues(w, R);
-  const cv::Mat left = selfCalRender(tex, 0.0, cv::Matx33d::eye());
-  const cv::Mat right_ideal = selfCalRender(tex, kSelfCalBaseline, cv::Matx33d::eye());
+  const SelfCalScene scene = selfCalScene(4);
+  const cv::Mat& right_ideal = scene.right_ideal;
   auto source = std::make_unique<SelfCalPairSource>();
-  cv::hconcat(left, selfCalRender(tex, kSelfCalBaseline, R), source->frame);
+  cv::hconcat(scene.left, scene.right, source->frame);
   StereoCameraParams p;
   p.width = 1280;
   p.height = 480;
