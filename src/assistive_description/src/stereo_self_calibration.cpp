@@ -281,13 +281,15 @@ void StereoSelfCalibration::consider(const RectifiedModel& model, const cv::Size
     status_ = buf;
     return;
   }
-  // Axis by axis: a change is taken only beyond `significance` times the estimate's sigma and
-  // the model's own floor on that axis (what rigs without any rotation read).
+  // Axis by axis: a change is taken only beyond `significance` times the estimate's sigma, and
+  // while an axis is uncorrected also beyond the model's own floor there (what rigs without any
+  // rotation read: whether there is a rotation at all). Once corrected, the axis follows its
+  // estimate, which goes on improving: an early correction is not kept for the floor's sake.
   cv::Vec3d candidate = applied_;
   double z_max = 0;
   for (int k = 0; k < 3; ++k)
   {
-    const double floor = o_.sigma_floor_deg[k] * kDeg;
+    const double floor = applied_[k] == 0.0 ? o_.sigma_floor_deg[k] * kDeg : 0.0;
     const double z = std::abs(est[k] - applied_[k]) / std::max(std::hypot(sig[k], floor), 1e-12);
     z_max = std::max(z_max, z);
     if (z >= o_.significance)

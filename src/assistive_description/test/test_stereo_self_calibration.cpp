@@ -166,6 +166,24 @@ TEST(StereoSelfCalibration, TheEstimateStaysAbsoluteOnceACorrectionIsApplied)
     EXPECT_NEAR(cal.applied()[k] / kSelfCalDeg, w[k] / kSelfCalDeg, 0.005) << "axis " << k;
 }
 
+// An early estimate off by 0.03 deg of yaw (a first correction taken from a few poor frames) is not
+// kept once better frames come: a corrected axis follows its estimate (the floor gates only
+// whether an axis is corrected at all).
+TEST(StereoSelfCalibration, AnEarlyCorrectionFollowsTheBetterEstimate)
+{
+  std::mt19937 rng(13);
+  const cv::Vec3d w(0.06 * kSelfCalDeg, 0.08 * kSelfCalDeg, -0.05 * kSelfCalDeg);
+  const cv::Vec3d early_error(0.0, 0.03 * kSelfCalDeg, 0.0);
+  StereoSelfCalibration cal;
+  for (int f = 0; f < 20; ++f)
+    cal.addObservations(selfCalFrame(w + early_error - cal.applied(), 0.0, 0.05, rng), selfCalModel(),
+                        cv::Size(640, 480));
+  EXPECT_NEAR(cal.applied()[1] / kSelfCalDeg, 0.11, 0.005) << cal.status();
+  for (int f = 0; f < 150; ++f)
+    cal.addObservations(selfCalFrame(w - cal.applied(), 0.0, 0.05, rng), selfCalModel(), cv::Size(640, 480));
+  EXPECT_NEAR(cal.applied()[1] / kSelfCalDeg, 0.08, 0.006) << cal.status();
+}
+
 // Mismatches (a fifth of the features 0.5-3 px off) do not move the estimate.
 TEST(StereoSelfCalibration, MismatchesAreGatedOut)
 {

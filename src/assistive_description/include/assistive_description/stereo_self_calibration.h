@@ -13,10 +13,11 @@
 // w_x and w_z directly and w_y (the disparity offset, f w_y px, which scales every far depth)
 // through the image's corners. Each used frame gives one robust least-squares solution; the frames'
 // solutions are averaged with a forgetting window and their scatter gives the uncertainty (the
-// features of one frame share their errors, the frames much less). A correction is applied only
-// when the estimate differs from the one applied by more than `significance` sigma and moves some
-// pixel by at least `min_shift_px`: a perfect rig stays untouched. The yaw, seen only through the
-// image's corners, also reads a lens's residual distortion: it has a floor of its own.
+// features of one frame share their errors, the frames much less). An axis's correction changes
+// only when the estimate differs from it by more than `significance` sigma (before its first
+// correction, with a floor per axis: the yaw, seen only through the image's corners, also reads a
+// lens's residual distortion) and some pixel moves by at least `min_shift_px`: a perfect rig
+// stays untouched.
 //
 //   StereoSelfCalibration cal;
 //   cal.addFrame(left, right, model);          // every frame; it uses every `every_n_frames`-th
@@ -52,9 +53,10 @@ public:
     int min_frames = 20;             ///< frame solutions before a correction is considered
     int window_frames = 200;         ///< forgetting window of the frame solutions (used frames)
     double significance = 3.0;       ///< sigma a change must exceed on an axis to be taken
-    /// The model's floor per axis (deg, pitch / yaw / roll), added to the estimate's sigma: rigs
-    /// with no rotation but a lens's residual distortion (k1, k2) read yaws up to 0.017 deg
-    /// (generated worlds 8101-8104, `render_bag --imperfect` without the rotation).
+    /// The model's floor per axis (deg, pitch / yaw / roll), added to the estimate's sigma while
+    /// the axis is uncorrected: rigs with no rotation but a lens's residual distortion (k1, k2)
+    /// read yaws up to 0.017 deg (generated worlds 8101-8104, `render_bag --imperfect` without
+    /// the rotation).
     cv::Vec3d sigma_floor_deg = cv::Vec3d(0.002, 0.01, 0.002);
     double min_shift_px = 0.1;       ///< and it must move some pixel at least this much
     double max_rotation_deg = 1.0;   ///< larger estimates are reported, never applied
