@@ -337,8 +337,8 @@ std::string StereoSelfCalibration::describe() const
   char buf[320];
   std::snprintf(buf, sizeof buf,
                 "self-calibration: right camera pitch / yaw / roll %.4f / %.4f / %.4f deg (sigma %.4f / %.4f / %.4f) "
-                "over %d frame solutions, applied %.4f / %.4f / %.4f",
-                w[0], w[1], w[2], s[0], s[1], s[2], frames_, a[0], a[1], a[2]);
+                "and k1 %.4f (sigma %.4f) over %d frame solutions, applied %.4f / %.4f / %.4f",
+                w[0], w[1], w[2], s[0], s[1], s[2], k1(), k1Sigma(), frames_, a[0], a[1], a[2]);
   std::string line = buf;
   if (!status_.empty())
     line += "; last: " + status_;

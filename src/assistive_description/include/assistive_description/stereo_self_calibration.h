@@ -21,7 +21,7 @@
 //
 //   StereoSelfCalibration cal;
 //   cal.addFrame(left, right, model);          // every frame; it uses every `every_n_frames`-th
-//   cal.correctRight(right, right_corrected);  // the right image as the rectified rig would see it
+//   cal.correctRight(right, right_corrected, model);  // the right image as the rectified rig would see it
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -104,8 +104,8 @@ public:
   /// What the driver does to a pair that was rectified without the correction (a bag's): `right`
   /// replaced by its corrected copy, then, when `estimate`, the pair fed to addFrame.
   void correctAndEstimate(const cv::Mat& left, cv::Mat& right, const RectifiedModel& model, bool estimate);
-  /// One line: the estimate (deg, pitch / yaw / roll, with its sigma), the frames, what is applied
-  /// and why the last estimate was not.
+  /// One line: the estimate (deg, pitch / yaw / roll, with its sigma; the residual distortion k1),
+  /// the frames, what is applied and why the last estimate was not.
   std::string describe() const;
   /// Homography from a corrected pixel to the pixel of the image as it arrives (for cv::remap or
   /// cv::warpPerspective with WARP_INVERSE_MAP): K R(w)^T K^-1.
