@@ -122,7 +122,7 @@ bool StereoCamera::setCalibration(const CameraCalibration& left, const CameraCal
 
 void StereoCamera::selfCalibrate(const StereoOutput& out)
 {
-  if (!self_cal_)
+  if (!self_cal_ || !out.rectified)
     return;
   const CameraCalibration& rc = right_.rectifiedCalibration();
   const RectifiedModel model{rc.P(0, 0), rc.P(1, 1), rc.P(0, 2), rc.P(1, 2)};
@@ -201,7 +201,6 @@ GrabStatus StereoCamera::grab(double now, StereoOutput& out)
   else
   {
     out.rectified = true;
-    selfCalibrate(out);
   }
   return GrabStatus::OK;
 }

@@ -182,7 +182,6 @@ private:
   {
     updateCalibration();
     const GrabStatus status = camera_->grab(monotonicNow(), out);
-    if (camera_->takeSelfCalibrationChange()) keepSelfCalibration();
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (const StereoSelfCalibration* cal = camera_->selfCalibration())
@@ -198,6 +197,8 @@ private:
     {
       case GrabStatus::OK:
         publish(out);
+        camera_->selfCalibrate(out);  // after publishing: not in the images' latency
+        if (camera_->takeSelfCalibrationChange()) keepSelfCalibration();
         break;
       case GrabStatus::WAITING_TO_RETRY:
         std::this_thread::sleep_for(std::chrono::milliseconds(50));

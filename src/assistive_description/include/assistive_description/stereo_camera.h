@@ -73,7 +73,11 @@ public:
   /// Start from a correction kept from an earlier run (rad about the left optical x, y, z); the
   /// right maps are rebuilt with it. Ignored when self-calibration is off or not calibrated.
   void restoreSelfCalibration(const cv::Vec3d& w);
-  /// True once after grab() changed the correction in the right maps (for the nodelet to keep it).
+  /// Feeds a rectified pair from grab() to the self-calibration (after it was published: the
+  /// estimate's few milliseconds stay out of the images' latency); a new correction goes into the
+  /// right maps for the next frame. Nothing when `self_calibration` is off or `out` is not rectified.
+  void selfCalibrate(const StereoOutput& out);
+  /// True once after selfCalibrate() changed the correction in the right maps (to keep it).
   bool takeSelfCalibrationChange();
 
   /// One step of the capture loop. `now` is a monotonic time in seconds, used only for the
@@ -107,7 +111,6 @@ private:
   cv::Vec3d right_correction_ = cv::Vec3d::all(0);  // folded into right_'s maps
   bool self_cal_changed_ = false;
   bool rebuildRight(const cv::Vec3d& w);
-  void selfCalibrate(const StereoOutput& out);
   FrameStamper stamper_;
   double next_retry_ = -1e300;
   unsigned long long frames_ = 0;
