@@ -252,20 +252,22 @@ bool StereoSelfCalibration::addFrame(const cv::Mat& left, const cv::Mat& right, 
   return addObservations(match(left, right, model), model, left.size());
 }
 
-cv::Vec3d StereoSelfCalibration::rotationSigma() const
+double StereoSelfCalibration::meanSigma(int k) const
 {
   if (n_eff_ <= 1.0)
-    return cv::Vec3d::all(std::numeric_limits<double>::infinity());
+    return std::numeric_limits<double>::infinity();
   // Variance of one frame's solution (scatter / weights), times the weighted mean's factor.
-  const double f = w2_ / (n_eff_ * n_eff_) / n_eff_;
-  return cv::Vec3d(std::sqrt(scatter_(0, 0) * f), std::sqrt(scatter_(1, 1) * f), std::sqrt(scatter_(2, 2) * f));
+  return std::sqrt(scatter_(k, k) * w2_ / (n_eff_ * n_eff_) / n_eff_);
+}
+
+cv::Vec3d StereoSelfCalibration::rotationSigma() const
+{
+  return cv::Vec3d(meanSigma(0), meanSigma(1), meanSigma(2));
 }
 
 double StereoSelfCalibration::k1Sigma() const
 {
-  if (n_eff_ <= 1.0)
-    return std::numeric_limits<double>::infinity();
-  return std::sqrt(scatter_(3, 3) * w2_ / (n_eff_ * n_eff_) / n_eff_);
+  return meanSigma(3);
 }
 
 void StereoSelfCalibration::consider(const RectifiedModel& model, const cv::Size& size)

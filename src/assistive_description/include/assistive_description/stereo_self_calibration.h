@@ -119,6 +119,8 @@ public:
 
 private:
   bool solveFrame(const std::vector<Observation>& obs, double fy, cv::Vec4d& w) const;
+  /// 1-sigma of the averaged solution's component k (0-2 the rotation, 3 k1); inf before two.
+  double meanSigma(int k) const;
   void consider(const RectifiedModel& model, const cv::Size& size);
 
   Options o_;
