@@ -95,6 +95,9 @@ void FeatureTracker::trackPoints(const cv::Mat& left, const Eigen::Isometry3d& T
       ++st.aligned;
     }
   }
+  // the rolling shutter's rotation undone already for the epipolar filter (no disparity yet)
+  for (auto& t : points_)
+    undoRollingShutter(t.cur, -1.f, t.cur_geo, t.cur_geo_disp);
   st.klt_tracked = static_cast<int>(points_.size());
   st.ms_klt = msSince(t0);
 }
@@ -109,7 +112,7 @@ void FeatureTracker::filterEpipolar(FrameStats& st)
     for (size_t i = 0; i < points_.size(); ++i)
     {
       a[i] = cv::Point2f(static_cast<float>(points_[i].kf_obs.u), static_cast<float>(points_[i].kf_obs.v));
-      c[i] = points_[i].cur;
+      c[i] = points_[i].cur_geo;
       flow += cv::norm(a[i] - c[i]);
     }
     flow /= static_cast<double>(points_.size());
@@ -149,8 +152,20 @@ void FeatureTracker::matchStereo(const cv::Mat& left, const cv::Mat& right, Fram
     pts[i] = points_[i].cur;
   const std::vector<float> d = stereo_.match(left, right, pts, maxDisparity(p_, cam_));
   for (size_t i = 0; i < points_.size(); ++i)
-    points_[i].cur_disp = d[i];
+  {
+    PointTrack& t = points_[i];
+    t.cur_disp = d[i];
+    undoRollingShutter(t.cur, t.cur_disp, t.cur_geo, t.cur_geo_disp);
+  }
   st.ms_stereo = msSince(t0);
+}
+
+void FeatureTracker::undoRollingShutter(const cv::Point2f& c, float d, cv::Point2f& geo, float& geo_disp) const
+{
+  double u = c.x, v = c.y, dd = d;
+  rs_.undo(u, v, dd);
+  geo = cv::Point2f(static_cast<float>(u), static_cast<float>(v));
+  geo_disp = d > 0 && dd > 0 ? static_cast<float>(dd) : d;
 }
 
 void FeatureTracker::startLines(const cv::Mat& left, const cv::Mat& right)

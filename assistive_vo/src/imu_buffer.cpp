@@ -1,5 +1,6 @@
 #include "assistive_vo/imu_buffer.h"
 #include <algorithm>
+#include <cmath>
 
 namespace assistive_vo
 {
@@ -81,6 +82,22 @@ bool ImuBuffer::integrate(double t0, double t1, Eigen::Quaterniond& R, Eigen::Ve
   if (t < t1)
     step(t1);
   R = q.normalized();
+  return true;
+}
+
+bool ImuBuffer::meanRate(double t, double window, Eigen::Vector3d& w) const
+{
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (const Sample& s : s_)
+    if (std::abs(s.t - t) <= 0.5 * window + 1e-9)
+    {
+      sum += s.w;
+      ++n;
+    }
+  if (n == 0)
+    return false;
+  w = sum / n;
   return true;
 }
 

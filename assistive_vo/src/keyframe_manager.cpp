@@ -41,10 +41,13 @@ void KeyframeManager::start(const cv::Mat& left, const cv::Mat& right, bool from
       if (tr.cur_disp <= 0)
         continue;
       PointTrack n;
-      n.X_kf = cam_.triangulate(tr.cur.x, tr.cur.y, tr.cur_disp);
-      n.kf_obs = StereoObservation{tr.cur.x, tr.cur.y, tr.cur.x - tr.cur_disp};
+      const cv::Point2f& g = tr.cur_geo;
+      n.X_kf = cam_.triangulate(g.x, g.y, tr.cur_geo_disp);
+      n.kf_obs = StereoObservation{g.x, g.y, g.x - tr.cur_geo_disp};
       n.prev = n.cur = tr.cur;
       n.cur_disp = tr.cur_disp;
+      n.cur_geo = g;
+      n.cur_geo_disp = tr.cur_geo_disp;
       if (p_.keyframe_alignment)
         n.patch = KeyframePatch::extract(left, tr.cur, p_.alignment_half_window, p_.alignment_min_eigen_ratio);
       kept.push_back(n);
@@ -71,12 +74,14 @@ void KeyframeManager::start(const cv::Mat& left, const cv::Mat& right, bool from
   {
     if (disp[i] <= 0)
       continue;
-    const Eigen::Vector3d X = cam_.triangulate(fresh[i].x, fresh[i].y, disp[i]);
+    PointTrack n;
+    tracker.undoRollingShutter(fresh[i], disp[i], n.cur_geo, n.cur_geo_disp);
+    const cv::Point2f& g = n.cur_geo;
+    const Eigen::Vector3d X = cam_.triangulate(g.x, g.y, n.cur_geo_disp);
     if (X.z() > max_depth || X.z() < p_.min_depth_m)
       continue;
-    PointTrack n;
     n.X_kf = X;
-    n.kf_obs = StereoObservation{fresh[i].x, fresh[i].y, fresh[i].x - disp[i]};
+    n.kf_obs = StereoObservation{g.x, g.y, g.x - n.cur_geo_disp};
     n.prev = n.cur = fresh[i];
     n.cur_disp = disp[i];
     if (p_.keyframe_alignment)

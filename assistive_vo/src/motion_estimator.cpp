@@ -79,7 +79,7 @@ bool MotionEstimator::estimatePoints(const Eigen::Isometry3d& T_kf_pred, const F
   for (size_t i = 0; i < tracks.size(); ++i)
   {
     X[i] = tracks[i].X_kf;
-    x[i] = Eigen::Vector2d(tracks[i].cur.x, tracks[i].cur.y);
+    x[i] = Eigen::Vector2d(tracks[i].cur_geo.x, tracks[i].cur_geo.y);
   }
   RansacOptions ro;
   ro.probability = p_.ransac_probability;
@@ -118,13 +118,13 @@ bool MotionEstimator::estimatePointsLines(FeatureTracker& tracker, FrameStats& s
   for (size_t i = 0; i < tracks.size(); ++i)
   {
     const PointTrack& t = tracks[i];
-    if (t.cur_disp <= 0 || t.kf_obs.ur < 0 || edge_like[i])
+    if (t.cur_geo_disp <= 0 || t.kf_obs.ur < 0 || edge_like[i])
       continue;
     PointQuad q;
     q.x[0] = norm(t.kf_obs.u, t.kf_obs.v);
     q.x[1] = norm(t.kf_obs.ur, t.kf_obs.v);
-    q.x[2] = norm(t.cur.x, t.cur.y);
-    q.x[3] = norm(t.cur.x - t.cur_disp, t.cur.y);
+    q.x[2] = norm(t.cur_geo.x, t.cur_geo.y);
+    q.x[3] = norm(t.cur_geo.x - t.cur_geo_disp, t.cur_geo.y);
     pq.push_back(q);
     pq_track.push_back(static_cast<int>(i));
   }
@@ -172,10 +172,10 @@ bool MotionEstimator::estimatePointsLines(FeatureTracker& tracker, FrameStats& s
     for (size_t i = 0; i < tracks.size(); ++i)
     {
       const PointTrack& t = tracks[i];
-      if ((t.cur_disp > 0 && t.kf_obs.ur >= 0) || edge_like[i])
+      if ((t.cur_geo_disp > 0 && t.kf_obs.ur >= 0) || edge_like[i])
         continue;
       const Eigen::Vector3d Xc = T_cur_kf * t.X_kf;
-      if (Xc.z() > 0.05 && (cam_.projectLeft(Xc) - Eigen::Vector2d(t.cur.x, t.cur.y)).norm() < ro.threshold_px)
+      if (Xc.z() > 0.05 && (cam_.projectLeft(Xc) - Eigen::Vector2d(t.cur_geo.x, t.cur_geo.y)).norm() < ro.threshold_px)
         is_in[i] = 1;
     }
     for (size_t i = 0; i < tracks.size(); ++i)

@@ -25,7 +25,7 @@ void MotionRefiner::refine(const FeatureTracker& tracker, const MotionPrior& pri
     const PointTrack& t = tracks[static_cast<size_t>(i)];
     m.X_in.push_back(t.X_kf);
     oref.push_back(t.kf_obs);
-    ocur.push_back(StereoObservation{t.cur.x, t.cur.y, t.cur_disp > 0 ? t.cur.x - t.cur_disp : -1.0});
+    ocur.push_back(StereoObservation{t.cur_geo.x, t.cur_geo.y, t.cur_geo_disp > 0 ? t.cur_geo.x - t.cur_geo_disp : -1.0});
   }
   if (m.with_lines)
     refinePointsLines(tracker, prior, ocur, m);

@@ -134,6 +134,13 @@ void VisualOdometry::setGravityHint(const Eigen::Vector3d& up_link)
   hints_seen_ = hints_seen_ || have_up_hint_;
 }
 
+void VisualOdometry::setGyroRateAtStamp(const Eigen::Vector3d& rate_link)
+{
+  have_rate_at_stamp_ = rate_link.allFinite();
+  if (have_rate_at_stamp_)
+    rate_at_stamp_link_ = rate_link;
+}
+
 void VisualOdometry::levelByGravity(const Eigen::Vector3d& up_link)
 {
   const Eigen::Isometry3d T_odom_link = linkPose(T_odom_o0_ * T_w_cur_);
@@ -400,10 +407,10 @@ void VisualOdometry::estimateDisparityOffset(const MotionEstimate& m)
   for (const int k : m.rr.inliers)
   {
     const PointTrack& t = tracker_.points()[static_cast<size_t>(k)];
-    if (t.cur_disp <= 0 || t.kf_obs.ur < 0)
+    if (t.cur_geo_disp <= 0 || t.kf_obs.ur < 0)
       continue;
     kf.push_back({t.kf_obs.u, t.kf_obs.v, t.kf_obs.u - t.kf_obs.ur});
-    cur.push_back({t.cur.x, t.cur.y, t.cur_disp});
+    cur.push_back({t.cur_geo.x, t.cur_geo.y, t.cur_geo_disp});
   }
   disp_offset_.add(cam_, kf, cur, m.T_kf_cur.linear().transpose(), m.T_kf_cur.translation().norm());
   double delta = 0;
@@ -516,6 +523,8 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
   fc.stamp = stamp;
   const bool have_up_hint = have_up_hint_;  // setGravityHint() holds for this frame only
   have_up_hint_ = false;
+  const bool have_rate_at_stamp = have_rate_at_stamp_;  // setGyroRateAtStamp() too
+  have_rate_at_stamp_ = false;
   auto finish = [&](VoOutput o) {
     applyTrust(o, stamp, fc.coast_ok, fc.force_untrusted);
     o.stats.ms_total = msSince(t_start);
@@ -533,6 +542,8 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
     startPose(stamp);
   checkTiming(fc);
   predictMotion(gyro_link, fc, st);
+  fc.have_rate_at_stamp = have_rate_at_stamp;
+  setRollingShutter(fc);
   if (fc.have_gyro && dv_link && dp_link && p_.imu_coasting && dv_link->allFinite() && dp_link->allFinite())
   {
     fc.have_imu = true;
@@ -970,6 +981,30 @@ void VisualOdometry::predictMotion(const Eigen::Quaterniond* gyro_link, FrameCon
     fc.T_pred.translation().setZero();
 }
 
+void VisualOdometry::setRollingShutter(const FrameContext& fc)
+{
+  if (p_.rolling_shutter_readout_s <= 0)
+  {
+    tracker_.setRollingShutter(RollingShutter());
+    return;
+  }
+  const Eigen::Matrix3d R_lo = R_link_optical();
+  Eigen::Vector3d omega = Eigen::Vector3d::Zero(), velocity = Eigen::Vector3d::Zero();
+  const bool last_known = !fc.first && !fc.gap && last_dt_ > 1e-6;
+  if (fc.have_rate_at_stamp && p_.use_imu)
+    omega = R_lo.transpose() * (rate_at_stamp_link_ - bias_.bias());
+  else if (fc.have_gyro)
+    omega = gyro_rate_opt_;
+  else if (last_known)
+  {
+    const Eigen::AngleAxisd aa(last_T_prev_cur_.linear());
+    omega = aa.angle() * aa.axis() / last_dt_;
+  }
+  if (last_known)
+    velocity = last_T_prev_cur_.translation() / last_dt_;
+  tracker_.setRollingShutter(RollingShutter(cam_, p_.rolling_shutter_readout_s, omega, velocity));
+}
+
 void VisualOdometry::levelAfterGap(bool have_up_hint, FrameContext& fc)
 {
   if (fc.gap && !fc.have_gyro && hints_seen_ && p_.use_imu)
@@ -1058,9 +1093,9 @@ void VisualOdometry::measureStereoConsistency(const MotionEstimate& m, FrameStat
   {
     const PointTrack& t = tracker_.points()[static_cast<size_t>(m.rr.inliers[k])];
     const Eigen::Vector3d Xc = T_cur_kf * m.X_in[k];
-    matched += t.cur_disp > 0;
-    if (t.cur_disp > 0 && Xc.z() > 0.1)
-      res.push_back(std::abs(t.cur_disp - cam_.fx * cam_.baseline / Xc.z()));
+    matched += t.cur_geo_disp > 0;
+    if (t.cur_geo_disp > 0 && Xc.z() > 0.1)
+      res.push_back(std::abs(t.cur_geo_disp - cam_.fx * cam_.baseline / Xc.z()));
   }
   st.stereo_matched_ratio = m.rr.inliers.empty() ? -1.0 : matched / static_cast<double>(m.rr.inliers.size());
   if (res.size() >= 5)

@@ -125,7 +125,7 @@ struct Peer
 const char* const kUsage =
     "usage: vo_benchmark FILE.bag [--plot OUT.png] [--no-peer] [--no-imu] [--frames N] [--peer-max-translation M]\n"
     "                    [--verbose] [--dump FILE] [--set name=value ...] [--blackout START:DURATION]\n"
-    "                    [--drop START:DURATION] [--bias-known] [--self-calibrate]\n"
+    "                    [--drop START:DURATION] [--bias-known] [--self-calibrate] [--rolling-shutter S|auto]\n"
     "       vo_benchmark BAG BAG... | --generated N [--kinds office,lobby,...] [--frames F] [--imperfect] [--keep DIR]\n"
     "                    [--plot DIR] [other options as above]\n"
     "  Runs the visual odometry on a stereo bag (README \"Topics of a stereo bag\"); last stdout line: JSON.\n"
@@ -134,12 +134,14 @@ const char* const kUsage =
     "  --bias-known: a first pass fits the gyro's bias to the truth (as the gyro floor does), the run\n"
     "  holds it instead of estimating it online: what the online estimate costs (issue 34).\n"
     "  --self-calibrate: the right image corrected by the camera driver's online estimate of the right\n"
-    "  camera's rotation (issue 36), as the device does; the estimate and the bag's truth are printed.\n";
+    "  camera's rotation (issue 36), as the device does; the estimate and the bag's truth are printed.\n"
+    "  --rolling-shutter S: the camera's readout time (s; --set rolling_shutter_readout=S); auto: the\n"
+    "  readout render_bag recorded in the bag (/sim/camera_errors), as the sensor's data sheet gives it.\n";
 
 /// The command line of a one-bag run.
 struct Options
 {
-  std::string bag, plot, dump, blackout, drop;
+  std::string bag, plot, dump, blackout, drop, rolling_shutter;
   bool peer_on = true, imu_on = true, verbose = false, bias_known = false, self_calibrate = false;
   double peer_max_t = 0.15;
   ev::CommandLine::Sets overrides;
@@ -161,6 +163,7 @@ struct Options
         .text("--dump", &dump)
         .text("--blackout", &blackout)
         .text("--drop", &drop)
+        .text("--rolling-shutter", &rolling_shutter)
         .sets(&overrides);
   }
   /// --blackout and --drop START:DURATION into bo_start, bo_len / drop_start, drop_len; false (with
@@ -179,6 +182,34 @@ struct Options
     return true;
   }
 };
+
+/// --rolling-shutter S|auto into params.rolling_shutter_readout_s; false (with the message) when
+/// malformed. A bag without a recorded readout (real data): auto leaves the parameter.
+bool applyRollingShutter(const Options& opt, VoParams& params)
+{
+  if (opt.rolling_shutter.empty())
+    return true;
+  double s = -1;
+  if (opt.rolling_shutter == "auto")
+  {
+    s = ev::rollingShutterReadout(ev::readBagString(opt.bag));
+    if (s < 0)
+    {
+      std::cout << "rolling shutter: the bag records no readout; rolling_shutter_readout "
+                << params.rolling_shutter_readout_s << " s kept\n";
+      return true;
+    }
+  }
+  else if (std::sscanf(opt.rolling_shutter.c_str(), "%lf", &s) != 1 || s < 0 || s > 0.1)
+  {
+    std::cerr << "vo_benchmark: --rolling-shutter wants a readout in [0, 0.1] s or auto, got " << opt.rolling_shutter
+              << "\n";
+    return false;
+  }
+  params.rolling_shutter_readout_s = s;
+  std::cout << "rolling shutter: readout " << s * 1e3 << " ms\n";
+  return true;
+}
 
 /// The set run (several bags or --generated): this program once per bag, per-bag rows, mean and worst.
 int runSet(const ev::CommandLine& cl, int argc, char** argv, const ev::SetOptions& set_options, const Options& opt)
@@ -774,6 +805,8 @@ int main(int argc, char** argv)
   VoParams params;
   params.use_imu = opt.imu_on;
   if (!ev::applySets(cl, opt.overrides, params))  // --set: the node's parameter names (params.h table)
+    return 2;
+  if (!applyRollingShutter(opt, params))
     return 2;
   // The device's driving loop (vo_front_end.h, as the nodelet runs it): start-up rule, IMU
   // integrals, gravity hint. A bag without an IMU: no wait.

@@ -52,6 +52,12 @@ FrontEndStep VoFrontEnd::process(const StereoCamera& cam, const cv::Mat& left, c
     s.gravity_hint = true;
     s.up_hint = up;
   }
+  // The rolling shutter's rows span stamp +- readout / 2: the gyro's mean rate over that window
+  // (as far as the buffer reaches; its last sample held beyond).
+  Eigen::Vector3d rate;
+  const double readout = vo_.params().rolling_shutter_readout_s;
+  if (use_imu && readout > 0 && imu_.meanRate(stamp, std::max(readout, kMinRateWindowS), rate))
+    vo_.setGyroRateAtStamp(rate);
   s.out = vo_.process(left, right, stamp, s.have_gyro ? &s.gyro : nullptr, s.have_gyro ? &s.dv : nullptr,
                       s.have_gyro ? &s.dp : nullptr);
   s.processed = true;

@@ -81,13 +81,22 @@ struct PlaneWorld
 
   cv::Mat render(const StereoCamera& cam, const Eigen::Isometry3d& T_w_c, bool right) const
   {
+    return renderRows(cam, [&T_w_c](int) { return T_w_c; }, right);
+  }
+
+  /// A rolling shutter: image row v seen from the pose `pose_of_row(v)` (the pose at its exposure).
+  template <class PoseOfRow>
+  cv::Mat renderRows(const StereoCamera& cam, const PoseOfRow& pose_of_row, bool right) const
+  {
     cv::Mat mx_w(cam.height, cam.width, CV_32F), my_w(cam.height, cam.width, CV_32F);
     cv::Mat mx_f(cam.height, cam.width, CV_32F), my_f(cam.height, cam.width, CV_32F);
     cv::Mat use_wall(cam.height, cam.width, CV_8U);
-    const Eigen::Matrix3d R = T_w_c.linear();
-    const Eigen::Vector3d o = T_w_c * Eigen::Vector3d(right ? cam.baseline : 0.0, 0, 0);
     const double half = wall_tex.cols * res / 2;
     for (int v = 0; v < cam.height; ++v)
+    {
+      const Eigen::Isometry3d T_w_c = pose_of_row(v);
+      const Eigen::Matrix3d R = T_w_c.linear();
+      const Eigen::Vector3d o = T_w_c * Eigen::Vector3d(right ? cam.baseline : 0.0, 0, 0);
       for (int u = 0; u < cam.width; ++u)
       {
         const Eigen::Vector3d d = R * Eigen::Vector3d((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, 1.0);
@@ -103,6 +112,7 @@ struct PlaneWorld
         mx_f.at<float>(v, u) = static_cast<float>((p.x() + half) / res);
         my_f.at<float>(v, u) = static_cast<float>((p.z() + 2.0) / res);
       }
+    }
     cv::Mat a, b;
     cv::remap(wall_tex, a, mx_w, my_w, cv::INTER_LINEAR, cv::BORDER_REFLECT);
     cv::remap(floor_tex, b, mx_f, my_f, cv::INTER_LINEAR, cv::BORDER_REFLECT);

@@ -39,3 +39,16 @@ TEST(ImuBuffer, LinearRateAndBagLoop)
   ASSERT_TRUE(b.meanAccel(2.0, 5.0, a));
   EXPECT_TRUE(a.allFinite());
 }
+
+TEST(ImuBuffer, MeanRateOverAWindowAroundAStamp)
+{
+  ImuBuffer b;
+  for (int i = 0; i <= 100; ++i)  // 200 Hz, rate rising 1 rad/s^2 about y
+    b.add(i * 0.005, Eigen::Vector3d(0.0, i * 0.005, 0.0), Eigen::Vector3d::Zero());
+  Eigen::Vector3d w;
+  ASSERT_TRUE(b.meanRate(0.3, 0.03, w));  // samples 0.285 .. 0.315
+  EXPECT_NEAR(w.y(), 0.3, 1e-9);
+  ASSERT_TRUE(b.meanRate(0.5, 0.03, w));  // only the half before the newest sample
+  EXPECT_NEAR(w.y(), 0.4925, 1e-9);
+  EXPECT_FALSE(b.meanRate(0.7, 0.03, w));
+}

@@ -16,6 +16,7 @@
 #include "assistive_vo/p3p_ransac.h"
 #include "assistive_vo/params.h"
 #include "assistive_vo/patch_alignment.h"
+#include "assistive_vo/rolling_shutter.h"
 #include "assistive_vo/sparse_stereo.h"
 #include "assistive_vo/stereo_camera.h"
 
@@ -39,8 +40,12 @@ struct PointTrack
 {
   Eigen::Vector3d X_kf;       ///< 3D point in the keyframe's optical frame
   StereoObservation kf_obs;   ///< its stereo observation in the keyframe
-  cv::Point2f prev, cur;
+  cv::Point2f prev, cur;       ///< in the images (KLT, the patches, the stereo match)
   float cur_disp = -1.f;
+  /// `cur` and `cur_disp` with the rolling shutter undone (RollingShutter; the same for a global
+  /// shutter): what the geometry uses.
+  cv::Point2f cur_geo;
+  float cur_geo_disp = -1.f;
   bool inlier = true;
   std::shared_ptr<const KeyframePatch> patch;  ///< keyframe appearance (null: KLT only)
   Eigen::Matrix2f warp = Eigen::Matrix2f::Identity();  ///< keyframe patch axes in the current image
@@ -87,7 +92,12 @@ public:
   void trackPoints(const cv::Mat& left, const Eigen::Isometry3d& T_kf_pred, FrameStats& st);
   /// RANSAC on the epipolar constraint keyframe -> current: drops tracks off the epipolar lines.
   void filterEpipolar(FrameStats& st);
-  /// Stereo disparity of the tracked points in the current pair.
+  /// The current frame's rolling shutter (a global shutter by default).
+  void setRollingShutter(const RollingShutter& rs) { rs_ = rs; }
+  const RollingShutter& rollingShutter() const { return rs_; }
+  /// `cur_geo` / `cur_geo_disp` of an observation (u, v) with disparity d in the current frame.
+  void undoRollingShutter(const cv::Point2f& c, float d, cv::Point2f& geo, float& geo_disp) const;
+  /// Stereo disparity of the tracked points in the current pair (and their `cur_geo`).
   void matchStereo(const cv::Mat& left, const cv::Mat& right, FrameStats& st);
   /// Line tracks: KLT along the segments from the previous left and right images.
   void trackLines(const cv::Mat& right, FrameStats& st);
@@ -119,6 +129,7 @@ private:
   VoParams p_;
   StereoCamera cam_;
   SparseStereo stereo_;
+  RollingShutter rs_;
   bool pointline_ = false;  ///< motion_solver is pointline
   std::vector<cv::Mat> prev_pyr_, cur_pyr_;
   std::vector<PointTrack> points_;

@@ -31,6 +31,9 @@ public:
   /// bias turns the accelerometer by < 1e-3 rad, which is neglected.
   bool integrate(double t0, double t1, Eigen::Quaterniond& R, Eigen::Vector3d& dv, Eigen::Vector3d& dp,
                  double slack = 0.02) const;
+  /// Mean gyro reading (rad/s, as measured) over the samples in [t - window / 2, t + window / 2];
+  /// false without any there.
+  bool meanRate(double t, double window, Eigen::Vector3d& w) const;
   /// Mean accelerometer reading over the samples up to `t` (at most `window` s back);
   /// false without samples. `span` (optional): the time those samples cover.
   bool meanAccel(double t, double window, Eigen::Vector3d& a, double* span = nullptr) const;

@@ -156,6 +156,10 @@ namespace assistive_vo
   X(double, gyro_bias_sigma, "gyro_bias_sigma", 5.0e-3, 1e-6, 1.0, "rad/s", "initial gyro bias uncertainty (bias estimated online)") \
   X(double, gyro_bias_walk, "gyro_bias_walk", 2.0e-5, 0.0, 1e-1, "rad/s^2/sqrt(Hz)", "gyro bias random walk") \
   X(double, gyro_time_sigma_s, "gyro_time_sigma", 0.0, 0.0, 0.1, "s", "uncertainty of the gyro's timing against the images: the rotation prior (and the bias update) over a keyframe span is off by the rate change since the keyframe times the offset") \
+  /* Rolling shutter (rolling_shutter.h): each observation moved to the stamp by the gyro's rate there */ \
+  /* (the last frame's vision rate without a gyro) and the last frame's velocity. 0 for a global */ \
+  /* shutter (the D4xx's infrared pair); a 640x480 CMOS video sensor reads out in 10-33 ms. */ \
+  X(double, rolling_shutter_readout_s, "rolling_shutter_readout", 0.0, 0.0, 0.1, "s", "time from the first image row's exposure to the last's (0: global shutter)") \
   X(double, vo_rotation_sigma, "vo_rotation_sigma", 3.0e-4, 1e-6, 1.0, "rad", "floor on the vision rotation error (bias update)") \
   /* Gravity keeps the odom frame level (gravity_alignment.h). */ \
   X(double, gravity_time_constant_s, "gravity_time_constant", 120.0, 0.0, 3600.0, "s", "keeps odom level: the tilt against gravity measured over each window is corrected by window / time constant (0 = off: odom keeps the start's gravity and its tilt drifts with the gyro bias)") \

@@ -83,6 +83,10 @@ public:
   /// stays untrusted until the next hint levels it (yaw and position kept; at most
   /// kLevelWaitS), instead of carrying the old tilt, which would make the floor a slope.
   void setGravityHint(const Eigen::Vector3d& up_link);
+  /// The gyro's rate (camera_link, rad/s, as measured: the bias is taken out here) around the next
+  /// frame's stamp, for its rolling shutter (rolling_shutter_readout); without it the mean rate
+  /// since the previous frame. Holds for the next process() only.
+  void setGyroRateAtStamp(const Eigen::Vector3d& rate_link);
   static constexpr double kLevelWaitS = 1.0;
   /// Forgets everything, including the pose (next frame is the new origin).
   void reset();
@@ -145,6 +149,7 @@ private:
     bool bridge_within = false;  ///< ... within the coast rules: trusted like lost frames if vision fails on it
     std::string gap_why;          ///< the gap's reason (checkTiming), should it be the plain gap after all
     bool have_gyro = false;
+    bool have_rate_at_stamp = false;  ///< setGyroRateAtStamp() before this frame
     Eigen::Matrix3d R_gyro_opt = Eigen::Matrix3d::Identity();  ///< bias-corrected gyro, prev -> cur, optical axes
     Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();  ///< predicted motion prev -> cur, optical
     bool coast_ok = false;        ///< a lost frame may still coast (mayCoast)
@@ -200,6 +205,9 @@ private:
   void checkTiming(FrameContext& fc);
   /// Predicted motion prev -> cur (constant velocity, gyro rotation) and the bias-corrected gyro.
   void predictMotion(const Eigen::Quaterniond* gyro_link, FrameContext& fc, FrameStats& st);
+  /// The frame's rolling shutter for the tracker: the gyro's rate at the stamp (or the mean since
+  /// the previous frame, or the last frame's vision rate without a gyro) and the last frame's velocity.
+  void setRollingShutter(const FrameContext& fc);
   /// Tilt over a gap the gyro does not cover is unknown: level by the accelerometer's next hint
   /// (`have_up_hint`: this frame's setGravityHint()), untrusted until then (at most kLevelWaitS).
   void levelAfterGap(bool have_up_hint, FrameContext& fc);
@@ -280,6 +288,8 @@ private:
   Eigen::Isometry3d T_w_cur_ = Eigen::Isometry3d::Identity();  ///< w = first optical frame
   Eigen::Isometry3d last_T_prev_cur_ = Eigen::Isometry3d::Identity();
   Eigen::Vector3d gyro_rate_opt_ = Eigen::Vector3d::Zero();  ///< this frame's gyro rate (bias-corrected, optical, rad/s)
+  Eigen::Vector3d rate_at_stamp_link_ = Eigen::Vector3d::Zero();  ///< setGyroRateAtStamp(), for one frame
+  bool have_rate_at_stamp_ = false;
   double last_dt_ = 0.0;
   Eigen::Matrix<double, 6, 6> cov_cur_ = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 6, 6> cov_rel_ = Eigen::Matrix<double, 6, 6>::Identity();

@@ -57,6 +57,8 @@ public:
   /// span at least kHintMinSpanS (a step's accelerations average out) and its norm is gravity's
   /// (kHintMinAccel, kHintMaxAccel) m/s^2.
   static constexpr double kHintWindowS = 0.5, kHintMinSpanS = 0.3, kHintMinAccel = 5.0, kHintMaxAccel = 15.0;
+  /// The gyro's rate for a rolling shutter: its mean over the readout, at least this window.
+  static constexpr double kMinRateWindowS = 0.01;
 
   explicit VoFrontEnd(const VoParams& p = VoParams(), const Options& o = Options());
   /// One IMU sample (camera_link axes, stamp order; an older one starts a new timeline). Samples up

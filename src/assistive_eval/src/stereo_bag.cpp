@@ -536,4 +536,14 @@ std::string rightRotationAgainstTruth(const std::string& camera_errors_json, con
   return buf;
 }
 
+double rollingShutterReadout(const std::string& camera_errors_json)
+{
+  const size_t key = camera_errors_json.find("\"rolling_shutter_ms\"");
+  double ms = 0;
+  if (key == std::string::npos || std::sscanf(camera_errors_json.c_str() + key, "\"rolling_shutter_ms\": %lf", &ms) != 1 ||
+      !(ms >= 0))
+    return -1.0;
+  return ms * 1e-3;
+}
+
 }  // namespace assistive_eval

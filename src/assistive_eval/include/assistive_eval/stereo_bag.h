@@ -186,6 +186,9 @@ std::string readBagString(const std::string& path, const std::string& topic = "/
 /// yaw / roll) against the right camera's rotation in `camera_errors_json` (render_bag's
 /// `/sim/camera_errors`); empty when it does not give one.
 std::string rightRotationAgainstTruth(const std::string& camera_errors_json, const double applied_deg[3]);
+/// The rolling shutter's readout (s) in `camera_errors_json` (render_bag's `/sim/camera_errors`:
+/// the sensor's, as a data sheet gives it; 0 for a global shutter); -1 when it does not give one.
+double rollingShutterReadout(const std::string& camera_errors_json);
 /// reader.next(frame) for the benchmark CLIs: a malformed image (encoding, size) prints
 /// "<program>: <path>: <why>" on stderr and exits with status 1 (a clear error, not an abort).
 bool nextFrameOrExit(StereoBagReader& reader, StereoFrame& frame, const std::string& program,
