@@ -63,6 +63,17 @@ inline bool evalObs(const StereoCamera& cam, const Eigen::Vector3d& p, const Ste
     out.J[2][0] = cam.fx * iz; out.J[2][1] = 0; out.J[2][2] = -cam.fx * (p.x() - cam.baseline) * iz2;
     out.rows = 3;
   }
+  if (o.sigma_scale != 1.0)
+  {
+    // whitened: a residual in units of this observation's own pixel sigma
+    const double w = 1.0 / o.sigma_scale;
+    for (int a = 0; a < out.rows; ++a)
+    {
+      out.r[a] *= w;
+      for (int c = 0; c < 3; ++c)
+        out.J[a][c] *= w;
+    }
+  }
   return true;
 }
 

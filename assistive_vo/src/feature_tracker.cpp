@@ -11,7 +11,17 @@ namespace assistive_vo
 using internal::Clock;
 using internal::msSince;
 
-FeatureTracker::FeatureTracker(const VoParams& p, const StereoCamera& cam) : p_(p), cam_(cam), stereo_(p)
+namespace
+{
+VoParams coarseStereoParams(VoParams p)
+{
+  p.stereo_half_window = p.coarse_half_window;
+  return p;
+}
+}  // namespace
+
+FeatureTracker::FeatureTracker(const VoParams& p, const StereoCamera& cam)
+  : p_(p), cam_(cam), stereo_(p), coarse_stereo_(coarseStereoParams(p))
 {
   pointline_ = usesPointLine(p);
 }
@@ -20,7 +30,31 @@ void FeatureTracker::setParams(const VoParams& p)
 {
   p_ = p;
   stereo_.setParams(p);
+  coarse_stereo_.setParams(coarseStereoParams(p));
   pointline_ = usesPointLine(p);
+}
+
+const cv::Mat& FeatureTracker::smoothedLeft(const cv::Mat& left)
+{
+  if (smooth_frame_ != frame_index_ || smooth_left_.size() != left.size())
+  {
+    cv::GaussianBlur(left, smooth_left_, cv::Size(), p_.coarse_sigma_px);
+    smooth_frame_ = frame_index_;
+  }
+  return smooth_left_;
+}
+
+std::vector<float> FeatureTracker::matchCoarse(const cv::Mat& left, const cv::Mat& right,
+                                               const std::vector<cv::Point2f>& pts)
+{
+  smoothedLeft(left);
+  if (smooth_right_frame_ != frame_index_ || smooth_right_.size() != right.size())
+  {
+    cv::GaussianBlur(right, smooth_right_, cv::Size(), p_.coarse_sigma_px);
+    smooth_right_frame_ = frame_index_;
+  }
+  coarse_stereo_.setOffset(stereo_.offset());
+  return coarse_stereo_.match(smooth_left_, smooth_right_, pts, maxDisparity(p_, cam_));
 }
 
 void FeatureTracker::reset()
@@ -147,14 +181,15 @@ void FeatureTracker::filterEpipolar(FrameStats& st)
 void FeatureTracker::matchStereo(const cv::Mat& left, const cv::Mat& right, FrameStats& st)
 {
   const auto t0 = Clock::now();
-  std::vector<cv::Point2f> pts(points_.size());
-  for (size_t i = 0; i < points_.size(); ++i)
-    pts[i] = points_[i].cur;
-  const std::vector<float> d = stereo_.match(left, right, pts, maxDisparity(p_, cam_));
-  for (size_t i = 0; i < points_.size(); ++i)
+  std::vector<cv::Point2f> fine, coarse;
+  for (const PointTrack& t : points_)
+    (t.coarse ? coarse : fine).push_back(t.cur);
+  const std::vector<float> d = stereo_.match(left, right, fine, maxDisparity(p_, cam_));
+  const std::vector<float> dc = coarse.empty() ? std::vector<float>() : matchCoarse(left, right, coarse);
+  size_t i_fine = 0, i_coarse = 0;
+  for (PointTrack& t : points_)
   {
-    PointTrack& t = points_[i];
-    t.cur_disp = d[i];
+    t.cur_disp = t.coarse ? dc[i_coarse++] : d[i_fine++];
     undoRollingShutter(t.cur, t.cur_disp, t.cur_geo, t.cur_geo_disp);
   }
   st.ms_stereo = msSince(t0);

@@ -1,6 +1,7 @@
 #include "assistive_vo/keyframe_manager.h"
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include "cpu_clock.h"
 
 namespace assistive_vo
@@ -43,12 +44,13 @@ void KeyframeManager::start(const cv::Mat& left, const cv::Mat& right, bool from
       PointTrack n;
       const cv::Point2f& g = tr.cur_geo;
       n.X_kf = cam_.triangulate(g.x, g.y, tr.cur_geo_disp);
-      n.kf_obs = StereoObservation{g.x, g.y, g.x - tr.cur_geo_disp};
+      n.kf_obs = StereoObservation{g.x, g.y, g.x - tr.cur_geo_disp, tr.coarse ? p_.coarse_sigma_scale : 1.0};
       n.prev = n.cur = tr.cur;
       n.cur_disp = tr.cur_disp;
       n.cur_geo = g;
       n.cur_geo_disp = tr.cur_geo_disp;
-      if (p_.keyframe_alignment)
+      n.coarse = tr.coarse;
+      if (p_.keyframe_alignment && !tr.coarse)
         n.patch = KeyframePatch::extract(left, tr.cur, p_.alignment_half_window, p_.alignment_min_eigen_ratio);
       kept.push_back(n);
       existing.push_back(tr.cur);
@@ -75,20 +77,15 @@ void KeyframeManager::start(const cv::Mat& left, const cv::Mat& right, bool from
     if (disp[i] <= 0)
       continue;
     PointTrack n;
-    tracker.undoRollingShutter(fresh[i], disp[i], n.cur_geo, n.cur_geo_disp);
-    const cv::Point2f& g = n.cur_geo;
-    const Eigen::Vector3d X = cam_.triangulate(g.x, g.y, n.cur_geo_disp);
-    if (X.z() > max_depth || X.z() < p_.min_depth_m)
+    if (!newTrack(tracker, fresh[i], disp[i], max_depth, 1.0, n))
       continue;
-    n.X_kf = X;
-    n.kf_obs = StereoObservation{g.x, g.y, g.x - n.cur_geo_disp};
-    n.prev = n.cur = fresh[i];
-    n.cur_disp = disp[i];
     if (p_.keyframe_alignment)
       n.patch = KeyframePatch::extract(left, fresh[i], p_.alignment_half_window, p_.alignment_min_eigen_ratio);
     kept.push_back(n);
     ++added;
   }
+  if (static_cast<double>(kept.size()) < p_.coarse_min_ratio * p_.target_features)
+    added += addCoarseCorners(left, right, tracker, max_depth, kept, st);
   tracker.points().swap(kept);
   kf_.tracks_started = static_cast<int>(tracker.points().size());
   kf_.cells_started = tracker.occupiedCells();
@@ -107,6 +104,60 @@ void KeyframeManager::start(const cv::Mat& left, const cv::Mat& right, bool from
   // or more: 4 rows of the trifocal system against a point's 3).
   valid_ = kf_.tracks_started + static_cast<int>(tracker.lines().size()) >= std::max(4, p_.min_inliers);
   st.ms_detect += msSince(t0);
+}
+
+bool KeyframeManager::newTrack(const FeatureTracker& tracker, const cv::Point2f& corner, float disp, double max_depth,
+                               double sigma_scale, PointTrack& n) const
+{
+  tracker.undoRollingShutter(corner, disp, n.cur_geo, n.cur_geo_disp);
+  const cv::Point2f& g = n.cur_geo;
+  const Eigen::Vector3d X = cam_.triangulate(g.x, g.y, n.cur_geo_disp);
+  if (X.z() > max_depth || X.z() < p_.min_depth_m)
+    return false;
+  n.X_kf = X;
+  n.kf_obs = StereoObservation{g.x, g.y, g.x - n.cur_geo_disp, sigma_scale};
+  n.prev = n.cur = corner;
+  n.cur_disp = disp;
+  return true;
+}
+
+int KeyframeManager::addCoarseCorners(const cv::Mat& left, const cv::Mat& right, FeatureTracker& tracker,
+                                      double max_depth, std::vector<PointTrack>& kept, FrameStats& st)
+{
+  const cv::Mat& smooth = tracker.smoothedLeft(left);
+  // Shi-Tomasi on the smoothed image, over a window as wide as the smoothing (the blobs' corners),
+  // away from the border and from the corners kept
+  const int border = std::max(p_.border_px, p_.coarse_half_window + 2);
+  const double spacing = 2.0 * p_.min_feature_distance_px;
+  cv::Mat mask = cv::Mat::zeros(smooth.size(), CV_8U);
+  if (smooth.cols <= 2 * border || smooth.rows <= 2 * border)
+    return 0;
+  mask(cv::Rect(border, border, smooth.cols - 2 * border, smooth.rows - 2 * border)).setTo(255);
+  for (const PointTrack& t : kept)
+    cv::circle(mask, t.cur, static_cast<int>(spacing), 0, -1);
+  const int wanted = p_.target_features - static_cast<int>(kept.size());
+  std::vector<cv::Point2f> corners;
+  const int block = 2 * static_cast<int>(std::lround(2 * p_.coarse_sigma_px)) + 1;
+  cv::goodFeaturesToTrack(smooth, corners, std::max(1, wanted), 0.005, spacing, mask, block);
+  st.detected += static_cast<int>(corners.size());
+  const std::vector<float> disp = tracker.matchCoarse(left, right, corners);
+  std::vector<PointTrack> coarse;
+  for (size_t i = 0; i < corners.size(); ++i)
+  {
+    if (disp[i] <= 0)
+      continue;
+    PointTrack n;
+    if (!newTrack(tracker, corners[i], disp[i], max_depth, p_.coarse_sigma_scale, n))
+      continue;
+    n.coarse = true;
+    coarse.push_back(n);
+  }
+  // a trickle of them tracks badly (on a wall with no texture at all the VO rather coasts)
+  if (static_cast<int>(coarse.size()) < p_.coarse_min_corners)
+    return 0;
+  kept.insert(kept.end(), coarse.begin(), coarse.end());
+  st.coarse_features = static_cast<int>(coarse.size());
+  return st.coarse_features;
 }
 
 bool KeyframeManager::needed(const Eigen::Isometry3d& T_kf_cur, const FeatureTracker& tracker) const

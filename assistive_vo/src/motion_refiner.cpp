@@ -25,7 +25,8 @@ void MotionRefiner::refine(const FeatureTracker& tracker, const MotionPrior& pri
     const PointTrack& t = tracks[static_cast<size_t>(i)];
     m.X_in.push_back(t.X_kf);
     oref.push_back(t.kf_obs);
-    ocur.push_back(StereoObservation{t.cur_geo.x, t.cur_geo.y, t.cur_geo_disp > 0 ? t.cur_geo.x - t.cur_geo_disp : -1.0});
+    ocur.push_back(StereoObservation{t.cur_geo.x, t.cur_geo.y, t.cur_geo_disp > 0 ? t.cur_geo.x - t.cur_geo_disp : -1.0,
+                                     t.coarse ? p_.coarse_sigma_scale : 1.0});
   }
   if (m.with_lines)
     refinePointsLines(tracker, prior, ocur, m);

@@ -497,7 +497,9 @@ void BagRun::logFrame(const ev::StereoFrame& f, const VoOutput& o, bool usable)
               << (usable ? "" : " (unusable)") << " step_m " << (est.empty() ? 0.0 : (est.back().pose.translation() - o.T_odom_optical.translation()).norm())
               << " gt_step_m " << (gt.empty() || !f.has_gt_pose ? 0.0 : (gt.back().pose.translation() - f.gt_pose.translation()).norm())
               << (o.stats.keyframe ? " | keyframe: detected " + std::to_string(o.stats.detected) +
-                                         " with_depth " + std::to_string(o.stats.new_features)
+                                         " with_depth " + std::to_string(o.stats.new_features) +
+                                         (o.stats.coarse_features ? " coarse " + std::to_string(o.stats.coarse_features)
+                                                                  : std::string())
                                    : std::string())
               << "\n";
   if (!o.message.empty())

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <cstdio>
 #include <Eigen/Eigenvalues>
 #include "assistive_vo/bundle_adjustment.h"
 #include "synthetic.h"
@@ -94,6 +95,41 @@ TEST(BundleAdjustment, ImprovesPerturbedSolutionUnderNoise)
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(C);
   EXPECT_GT(es.eigenvalues().minCoeff(), 0.0);
   EXPECT_LT(es.eigenvalues().maxCoeff(), 1e-3);
+}
+
+TEST(BundleAdjustment, NoisyObservationsWeighedByTheirSigma)
+{
+  // Half the points seen 3 px noisy (coarse corners), half 0.2 px: told their sigma, the noisy
+  // half no longer pulls the motion off; the cost counts them in their own sigma.
+  const StereoCamera cam = test::makeCamera();
+  const Eigen::Isometry3d T = test::makePose(-0.02, 0.08, 0.0, -0.2, 0.0, 0.4);
+  Problem fine = makeProblem(cam, T, 0.2, 21), noisy = makeProblem(cam, T, 3.0, 22);
+  Problem p = fine;
+  p.X_init.insert(p.X_init.end(), noisy.X_init.begin(), noisy.X_init.end());
+  p.ref.insert(p.ref.end(), noisy.ref.begin(), noisy.ref.end());
+  p.cur.insert(p.cur.end(), noisy.cur.begin(), noisy.cur.end());
+  Problem weighed = p;
+  for (size_t i = fine.ref.size(); i < p.ref.size(); ++i)
+    weighed.ref[i].sigma_scale = weighed.cur[i].sigma_scale = 15.0;
+  TwoFrameBundleAdjuster ba;
+  TwoFrameBundleAdjuster::Options o;
+  o.huber_px = 1e6;  // plain least squares: the weights alone
+  Vec3List X1 = p.X_init, X2 = weighed.X_init;
+  const BundleAdjustmentResult equal = ba.optimize(cam, T, X1, p.ref, p.cur, o);
+  const BundleAdjustmentResult told = ba.optimize(cam, T, X2, weighed.ref, weighed.cur, o);
+  ASSERT_TRUE(equal.ok && told.ok);
+  const double e_equal = (equal.T_ref_cur.translation() - T.translation()).norm();
+  const double e_told = (told.T_ref_cur.translation() - T.translation()).norm();
+  std::printf("noisy half weighed equal: %.2f mm off; told its sigma: %.2f mm\n", 1e3 * e_equal, 1e3 * e_told);
+  EXPECT_LT(e_told, 0.5 * e_equal);
+  // one observation at sigma_scale s costs 1/s^2 of its residual squared
+  std::vector<StereoObservation> r1{p.ref[0]}, c1{p.cur[0]}, r2 = r1, c2 = c1;
+  c1[0].u += 0.5;
+  c2[0].u += 0.5;
+  r2[0].sigma_scale = c2[0].sigma_scale = 2.0;
+  const Vec3List X0{p.X_init[0]};
+  EXPECT_NEAR(TwoFrameBundleAdjuster::cost(cam, T, X0, r2, c2, 1e6),
+              0.25 * TwoFrameBundleAdjuster::cost(cam, T, X0, r1, c1, 1e6), 1e-12);
 }
 
 TEST(BundleAdjustment, MotionOnlyWithoutRightObservations)

@@ -11,6 +11,7 @@ namespace assistive_vo
 struct StereoObservation
 {
   double u = 0, v = 0, ur = -1;
+  double sigma_scale = 1.0;  ///< its pixel noise in units of Options::pixel_sigma_px
 };
 
 struct BundleAdjustmentResult

@@ -46,6 +46,7 @@ struct PointTrack
   /// shutter): what the geometry uses.
   cv::Point2f cur_geo;
   float cur_geo_disp = -1.f;
+  bool coarse = false;  ///< a coarse corner (coarse_min_ratio): no patch, stereo on the smoothed pair
   bool inlier = true;
   std::shared_ptr<const KeyframePatch> patch;  ///< keyframe appearance (null: KLT only)
   Eigen::Matrix2f warp = Eigen::Matrix2f::Identity();  ///< keyframe patch axes in the current image
@@ -97,6 +98,10 @@ public:
   const RollingShutter& rollingShutter() const { return rs_; }
   /// `cur_geo` / `cur_geo_disp` of an observation (u, v) with disparity d in the current frame.
   void undoRollingShutter(const cv::Point2f& c, float d, cv::Point2f& geo, float& geo_disp) const;
+  /// The current left image smoothed by coarse_sigma (built once a frame, on first use).
+  const cv::Mat& smoothedLeft(const cv::Mat& left);
+  /// Disparities of coarse corners: the wide window on the smoothed pair (negative: no match).
+  std::vector<float> matchCoarse(const cv::Mat& left, const cv::Mat& right, const std::vector<cv::Point2f>& pts);
   /// Stereo disparity of the tracked points in the current pair (and their `cur_geo`).
   void matchStereo(const cv::Mat& left, const cv::Mat& right, FrameStats& st);
   /// Line tracks: KLT along the segments from the previous left and right images.
@@ -129,6 +134,9 @@ private:
   VoParams p_;
   StereoCamera cam_;
   SparseStereo stereo_;
+  SparseStereo coarse_stereo_;  ///< coarse_half_window
+  cv::Mat smooth_left_, smooth_right_;
+  unsigned long smooth_frame_ = ~0ul, smooth_right_frame_ = ~0ul;  ///< frame_index_ of each
   RollingShutter rs_;
   bool pointline_ = false;  ///< motion_solver is pointline
   std::vector<cv::Mat> prev_pyr_, cur_pyr_;

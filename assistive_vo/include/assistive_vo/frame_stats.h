@@ -14,6 +14,7 @@ struct FrameStats
   // by the epipolar RANSAC (new_features = detected corners with stereo depth, inliers = P3P)
   int detected = 0, klt_tracked = 0, epipolar_kept = 0;
   int aligned = 0;  ///< tracks refined against their keyframe patch
+  int coarse_features = 0;  ///< coarse corners with stereo depth a keyframe added (coarse_min_ratio)
   // motion_solver pointline: stereo line segments tracked since the keyframe with a stereo
   // match in this frame, and the RANSAC's line inliers among them
   int lines = 0, line_inliers = 0;

@@ -66,6 +66,15 @@ public:
   void addGyro(bool have_gyro, const Eigen::Matrix3d& R_gyro_opt);
 
 private:
+  /// A keyframe track of a new corner with disparity `disp` (its pixel noise `sigma_scale` x
+  /// pixel_sigma); false when its depth is out of range.
+  bool newTrack(const FeatureTracker& tracker, const cv::Point2f& corner, float disp, double max_depth,
+                double sigma_scale, PointTrack& n) const;
+  /// Coarse corners (coarse_min_ratio) of the smoothed pair with stereo depth up to `max_depth`,
+  /// appended to `kept` up to target_features; how many.
+  int addCoarseCorners(const cv::Mat& left, const cv::Mat& right, FeatureTracker& tracker, double max_depth,
+                       std::vector<PointTrack>& kept, FrameStats& st);
+
   VoParams p_;
   StereoCamera cam_;
   FeatureDetector detector_;

@@ -30,6 +30,16 @@ namespace assistive_vo
   X(int, max_disparity_px, "max_disparity", 128, 8, 512, "px", "stereo search range") \
   X(double, stereo_max_mean_sad, "stereo_max_mean_sad", 18.0, 0.0, 255.0, "intensity", "mean absolute difference per pixel of a stereo match at most this") \
   X(double, stereo_uniqueness, "stereo_uniqueness", 0.85, 0.0, 1.0, "", "best cost < uniqueness x second best (outside +-1)") \
+  /* Smooth texture (cloudy paint seen up close: its blobs tens of pixels wide) gives FAST and the */ \
+  /* 9x9 window nothing: a generated corridor's wall at 1-2 m, 2 stereo corners of 150. A keyframe */ \
+  /* short of stereo corners can add corners of the left image smoothed by coarse_sigma, matched */ \
+  /* on the smoothed pair with a wider window, tracked by KLT, weighed as noisier. Off by default: */ \
+  /* fewer resets, but no less drift on worlds nobody tuned on (README "Coarse corners"). */ \
+  X(double, coarse_min_ratio, "coarse_min_ratio", 0.0, 0.0, 1.0, "", "a keyframe with fewer stereo corners than ratio x target_features adds coarse corners (0 = never)") \
+  X(int, coarse_min_corners, "coarse_min_corners", 36, 0, 2000, "", "coarse corners are added only this many or more with stereo depth") \
+  X(double, coarse_sigma_px, "coarse_sigma", 3.0, 0.5, 10.0, "px", "Gaussian smoothing of the coarse corners' pair") \
+  X(double, coarse_sigma_scale, "coarse_sigma_scale", 3.0, 1.0, 100.0, "", "their pixel noise in the bundle adjustment, x pixel_sigma") \
+  X(int, coarse_half_window, "coarse_half_window", 12, 2, 15, "px", "their SAD window half size on the smoothed pair") \
   X(double, min_depth_m, "min_depth", 0.2, 0.01, 100.0, "m", "nearest feature depth") \
   X(double, max_depth_m, "max_depth", 30.0, min_depth_m, 1000.0, "m", "farthest feature depth ...") \
   X(double, min_triangulation_disparity_px, "min_triangulation_disparity", 5.0, 0.0, 512.0, "px", "... or farther while the disparity stays above this") \
