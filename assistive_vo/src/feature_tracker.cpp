@@ -34,11 +34,21 @@ void FeatureTracker::setParams(const VoParams& p)
   pointline_ = usesPointLine(p);
 }
 
+namespace
+{
+/// Half resolution, then smoothed: coarse_sigma (full-resolution pixels) in all.
+void halfSmoothed(const cv::Mat& img, double sigma_full_px, cv::Mat& out)
+{
+  cv::pyrDown(img, out);
+  cv::GaussianBlur(out, out, cv::Size(), std::max(0.5, 0.5 * sigma_full_px));
+}
+}  // namespace
+
 const cv::Mat& FeatureTracker::smoothedLeft(const cv::Mat& left)
 {
-  if (smooth_frame_ != frame_index_ || smooth_left_.size() != left.size())
+  if (smooth_frame_ != frame_index_ || smooth_left_.empty())
   {
-    cv::GaussianBlur(left, smooth_left_, cv::Size(), p_.coarse_sigma_px);
+    halfSmoothed(left, p_.coarse_sigma_px, smooth_left_);
     smooth_frame_ = frame_index_;
   }
   return smooth_left_;
@@ -48,13 +58,21 @@ std::vector<float> FeatureTracker::matchCoarse(const cv::Mat& left, const cv::Ma
                                                const std::vector<cv::Point2f>& pts)
 {
   smoothedLeft(left);
-  if (smooth_right_frame_ != frame_index_ || smooth_right_.size() != right.size())
+  if (smooth_right_frame_ != frame_index_ || smooth_right_.empty())
   {
-    cv::GaussianBlur(right, smooth_right_, cv::Size(), p_.coarse_sigma_px);
+    halfSmoothed(right, p_.coarse_sigma_px, smooth_right_);
     smooth_right_frame_ = frame_index_;
   }
-  coarse_stereo_.setOffset(stereo_.offset());
-  return coarse_stereo_.match(smooth_left_, smooth_right_, pts, maxDisparity(p_, cam_));
+  // at half resolution (pyrDown: half-resolution pixel i is centred on full-resolution 2i)
+  std::vector<cv::Point2f> half(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i)
+    half[i] = 0.5f * pts[i];
+  coarse_stereo_.setOffset(0.5 * stereo_.offset());
+  std::vector<float> d = coarse_stereo_.match(smooth_left_, smooth_right_, half, 0.5 * maxDisparity(p_, cam_));
+  for (float& x : d)
+    if (x > 0)
+      x *= 2.f;
+  return d;
 }
 
 void FeatureTracker::reset()

@@ -124,21 +124,23 @@ bool KeyframeManager::newTrack(const FeatureTracker& tracker, const cv::Point2f&
 int KeyframeManager::addCoarseCorners(const cv::Mat& left, const cv::Mat& right, FeatureTracker& tracker,
                                       double max_depth, std::vector<PointTrack>& kept, FrameStats& st)
 {
-  const cv::Mat& smooth = tracker.smoothedLeft(left);
+  const cv::Mat& smooth = tracker.smoothedLeft(left);  // half resolution
   // Shi-Tomasi on the smoothed image, over a window as wide as the smoothing (the blobs' corners),
   // away from the border and from the corners kept
-  const int border = std::max(p_.border_px, p_.coarse_half_window + 2);
-  const double spacing = 2.0 * p_.min_feature_distance_px;
-  cv::Mat mask = cv::Mat::zeros(smooth.size(), CV_8U);
+  const int border = std::max(p_.border_px / 2, p_.coarse_half_window + 2);
   if (smooth.cols <= 2 * border || smooth.rows <= 2 * border)
     return 0;
+  const double spacing = p_.min_feature_distance_px;  // twice the corners' spacing at full resolution
+  cv::Mat mask = cv::Mat::zeros(smooth.size(), CV_8U);
   mask(cv::Rect(border, border, smooth.cols - 2 * border, smooth.rows - 2 * border)).setTo(255);
   for (const PointTrack& t : kept)
-    cv::circle(mask, t.cur, static_cast<int>(spacing), 0, -1);
+    cv::circle(mask, 0.5f * t.cur, static_cast<int>(spacing), 0, -1);
   const int wanted = p_.target_features - static_cast<int>(kept.size());
   std::vector<cv::Point2f> corners;
-  const int block = 2 * static_cast<int>(std::lround(2 * p_.coarse_sigma_px)) + 1;
+  const int block = 2 * static_cast<int>(std::lround(p_.coarse_sigma_px)) + 1;
   cv::goodFeaturesToTrack(smooth, corners, std::max(1, wanted), 0.005, spacing, mask, block);
+  for (cv::Point2f& c : corners)
+    c *= 2.f;
   st.detected += static_cast<int>(corners.size());
   const std::vector<float> disp = tracker.matchCoarse(left, right, corners);
   std::vector<PointTrack> coarse;

@@ -1815,10 +1815,9 @@ TEST(CoarseCorners, ACloudyWallUpCloseIsTracked)
   // Blobs of 10 cm (50 px at 1 m): FAST finds corners, the 9x9 stereo window almost no match
   // (a generated corridor's wall, README "Coarse corners"). Without the coarse corners the VO
   // keeps losing the wall; with them it tracks it through.
-  VoParams on;
-  on.coarse_min_ratio = 0.5;
-  ASSERT_EQ(VoParams().coarse_min_ratio, 0.0);  // off by default (README "Coarse corners")
-  const CoarseRun without = walkAlongCloudyWall(VoParams(), 20.0), with = walkAlongCloudyWall(on, 20.0);
+  VoParams off;
+  off.coarse_min_ratio = 0.0;
+  const CoarseRun without = walkAlongCloudyWall(off, 20.0), with = walkAlongCloudyWall(VoParams(), 20.0);
   std::printf("cloudy wall over %.2f m: without coarse corners %.3f m off, %d resets; with them %.3f m off, %d resets, "
               "%d coarse corners added\n",
               with.path_m, without.position_error_m, without.resets, with.position_error_m, with.resets,
@@ -1828,5 +1827,7 @@ TEST(CoarseCorners, ACloudyWallUpCloseIsTracked)
   EXPECT_EQ(with.resets, 0);
   EXPECT_EQ(with.not_tracking, 0);
   EXPECT_GT(with.coarse_added, 0);
-  EXPECT_LT(with.position_error_m, 0.05 * with.path_m);
+  // half resolution costs precision (the full-resolution match was 0.033 m off): within 10 %
+  EXPECT_LT(with.position_error_m, 0.1 * with.path_m);
+  EXPECT_LT(with.position_error_m, 0.5 * without.position_error_m);
 }

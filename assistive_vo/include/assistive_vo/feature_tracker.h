@@ -98,9 +98,11 @@ public:
   const RollingShutter& rollingShutter() const { return rs_; }
   /// `cur_geo` / `cur_geo_disp` of an observation (u, v) with disparity d in the current frame.
   void undoRollingShutter(const cv::Point2f& c, float d, cv::Point2f& geo, float& geo_disp) const;
-  /// The current left image smoothed by coarse_sigma (built once a frame, on first use).
+  /// The current left image at half resolution smoothed by coarse_sigma (built once a frame, on
+  /// first use).
   const cv::Mat& smoothedLeft(const cv::Mat& left);
-  /// Disparities of coarse corners: the wide window on the smoothed pair (negative: no match).
+  /// Disparities of coarse corners (full resolution): matched on the half-resolution smoothed pair
+  /// (negative: no match).
   std::vector<float> matchCoarse(const cv::Mat& left, const cv::Mat& right, const std::vector<cv::Point2f>& pts);
   /// Stereo disparity of the tracked points in the current pair (and their `cur_geo`).
   void matchStereo(const cv::Mat& left, const cv::Mat& right, FrameStats& st);

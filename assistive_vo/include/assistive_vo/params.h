@@ -32,14 +32,13 @@ namespace assistive_vo
   X(double, stereo_uniqueness, "stereo_uniqueness", 0.85, 0.0, 1.0, "", "best cost < uniqueness x second best (outside +-1)") \
   /* Smooth texture (cloudy paint seen up close: its blobs tens of pixels wide) gives FAST and the */ \
   /* 9x9 window nothing: a generated corridor's wall at 1-2 m, 2 stereo corners of 150. A keyframe */ \
-  /* short of stereo corners can add corners of the left image smoothed by coarse_sigma, matched */ \
-  /* on the smoothed pair with a wider window, tracked by KLT, weighed as noisier. Off by default: */ \
-  /* fewer resets, but no less drift on worlds nobody tuned on (README "Coarse corners"). */ \
-  X(double, coarse_min_ratio, "coarse_min_ratio", 0.0, 0.0, 1.0, "", "a keyframe with fewer stereo corners than ratio x target_features adds coarse corners (0 = never)") \
+  /* short of stereo corners adds corners of the left image halved and smoothed by coarse_sigma, */ \
+  /* matched on that pair, tracked by KLT, weighed as noisier (README "Coarse corners"). */ \
+  X(double, coarse_min_ratio, "coarse_min_ratio", 0.5, 0.0, 1.0, "", "a keyframe with fewer stereo corners than ratio x target_features adds coarse corners (0 = never)") \
   X(int, coarse_min_corners, "coarse_min_corners", 36, 0, 2000, "", "coarse corners are added only this many or more with stereo depth") \
-  X(double, coarse_sigma_px, "coarse_sigma", 3.0, 0.5, 10.0, "px", "Gaussian smoothing of the coarse corners' pair") \
+  X(double, coarse_sigma_px, "coarse_sigma", 3.0, 1.0, 10.0, "px", "Gaussian smoothing of the coarse corners' pair (at half resolution)") \
   X(double, coarse_sigma_scale, "coarse_sigma_scale", 3.0, 1.0, 100.0, "", "their pixel noise in the bundle adjustment, x pixel_sigma") \
-  X(int, coarse_half_window, "coarse_half_window", 12, 2, 15, "px", "their SAD window half size on the smoothed pair") \
+  X(int, coarse_half_window, "coarse_half_window", 8, 2, 15, "px", "their SAD window half size on the half-resolution smoothed pair") \
   X(double, min_depth_m, "min_depth", 0.2, 0.01, 100.0, "m", "nearest feature depth") \
   X(double, max_depth_m, "max_depth", 30.0, min_depth_m, 1000.0, "m", "farthest feature depth ...") \
   X(double, min_triangulation_disparity_px, "min_triangulation_disparity", 5.0, 0.0, 512.0, "px", "... or farther while the disparity stays above this") \
