@@ -1815,9 +1815,10 @@ TEST(CoarseCorners, ACloudyWallUpCloseIsTracked)
   // Blobs of 10 cm (50 px at 1 m): FAST finds corners, the 9x9 stereo window almost no match
   // (a generated corridor's wall, README "Coarse corners"). Without the coarse corners the VO
   // keeps losing the wall; with them it tracks it through.
-  VoParams off;
-  off.coarse_min_ratio = 0.0;
-  const CoarseRun without = walkAlongCloudyWall(off, 20.0), with = walkAlongCloudyWall(VoParams(), 20.0);
+  VoParams on;
+  on.coarse_min_ratio = 0.5;
+  ASSERT_EQ(VoParams().coarse_min_ratio, 0.0);  // off by default (README "Coarse corners")
+  const CoarseRun without = walkAlongCloudyWall(VoParams(), 20.0), with = walkAlongCloudyWall(on, 20.0);
   std::printf("cloudy wall over %.2f m: without coarse corners %.3f m off, %d resets; with them %.3f m off, %d resets, "
               "%d coarse corners added\n",
               with.path_m, without.position_error_m, without.resets, with.position_error_m, with.resets,

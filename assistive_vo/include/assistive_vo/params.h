@@ -33,8 +33,9 @@ namespace assistive_vo
   /* Smooth texture (cloudy paint seen up close: its blobs tens of pixels wide) gives FAST and the */ \
   /* 9x9 window nothing: a generated corridor's wall at 1-2 m, 2 stereo corners of 150. A keyframe */ \
   /* short of stereo corners adds corners of the left image halved and smoothed by coarse_sigma, */ \
-  /* matched on that pair, tracked by KLT, weighed as noisier (README "Coarse corners"). */ \
-  X(double, coarse_min_ratio, "coarse_min_ratio", 0.5, 0.0, 1.0, "", "a keyframe with fewer stereo corners than ratio x target_features adds coarse corners (0 = never)") \
+  /* matched on that pair, tracked by KLT, weighed as noisier. Off by default: fewer VO losses and */ \
+  /* fewer unsure cues in the vision trials, but more drift where corners are enough (README "Coarse corners"). */ \
+  X(double, coarse_min_ratio, "coarse_min_ratio", 0.0, 0.0, 1.0, "", "a keyframe with fewer stereo corners than ratio x target_features adds coarse corners (0 = never)") \
   X(int, coarse_min_corners, "coarse_min_corners", 36, 0, 2000, "", "coarse corners are added only this many or more with stereo depth") \
   X(double, coarse_sigma_px, "coarse_sigma", 3.0, 1.0, 10.0, "px", "Gaussian smoothing of the coarse corners' pair (at half resolution)") \
   X(double, coarse_sigma_scale, "coarse_sigma_scale", 3.0, 1.0, 100.0, "", "their pixel noise in the bundle adjustment, x pixel_sigma") \
