@@ -36,21 +36,22 @@ void FeatureTracker::setParams(const VoParams& p)
 
 namespace
 {
-/// Half resolution, then smoothed: coarse_sigma (full-resolution pixels) in all.
-void halfSmoothed(const cv::Mat& img, double sigma_full_px, cv::Mat& out)
+/// `img` at half resolution, then smoothed (coarse_sigma in full-resolution pixels in all), into
+/// `out` once per frame (`built`: the frame_index_ it holds).
+void halfSmoothedOnce(const cv::Mat& img, double sigma_full_px, unsigned long frame, cv::Mat& out,
+                      unsigned long& built)
 {
+  if (built == frame && !out.empty())
+    return;
   cv::pyrDown(img, out);
   cv::GaussianBlur(out, out, cv::Size(), std::max(0.5, 0.5 * sigma_full_px));
+  built = frame;
 }
 }  // namespace
 
 const cv::Mat& FeatureTracker::smoothedLeft(const cv::Mat& left)
 {
-  if (smooth_frame_ != frame_index_ || smooth_left_.empty())
-  {
-    halfSmoothed(left, p_.coarse_sigma_px, smooth_left_);
-    smooth_frame_ = frame_index_;
-  }
+  halfSmoothedOnce(left, p_.coarse_sigma_px, frame_index_, smooth_left_, smooth_frame_);
   return smooth_left_;
 }
 
@@ -58,11 +59,7 @@ std::vector<float> FeatureTracker::matchCoarse(const cv::Mat& left, const cv::Ma
                                                const std::vector<cv::Point2f>& pts)
 {
   smoothedLeft(left);
-  if (smooth_right_frame_ != frame_index_ || smooth_right_.empty())
-  {
-    halfSmoothed(right, p_.coarse_sigma_px, smooth_right_);
-    smooth_right_frame_ = frame_index_;
-  }
+  halfSmoothedOnce(right, p_.coarse_sigma_px, frame_index_, smooth_right_, smooth_right_frame_);
   // at half resolution (pyrDown: half-resolution pixel i is centred on full-resolution 2i)
   std::vector<cv::Point2f> half(pts.size());
   for (size_t i = 0; i < pts.size(); ++i)

@@ -44,7 +44,7 @@ void KeyframeManager::start(const cv::Mat& left, const cv::Mat& right, bool from
       PointTrack n;
       const cv::Point2f& g = tr.cur_geo;
       n.X_kf = cam_.triangulate(g.x, g.y, tr.cur_geo_disp);
-      n.kf_obs = StereoObservation{g.x, g.y, g.x - tr.cur_geo_disp, tr.coarse ? p_.coarse_sigma_scale : 1.0};
+      n.kf_obs = StereoObservation{g.x, g.y, g.x - tr.cur_geo_disp, tr.kf_obs.sigma_scale};
       n.prev = n.cur = tr.cur;
       n.cur_disp = tr.cur_disp;
       n.cur_geo = g;

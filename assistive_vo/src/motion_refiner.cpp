@@ -26,7 +26,7 @@ void MotionRefiner::refine(const FeatureTracker& tracker, const MotionPrior& pri
     m.X_in.push_back(t.X_kf);
     oref.push_back(t.kf_obs);
     ocur.push_back(StereoObservation{t.cur_geo.x, t.cur_geo.y, t.cur_geo_disp > 0 ? t.cur_geo.x - t.cur_geo_disp : -1.0,
-                                     t.coarse ? p_.coarse_sigma_scale : 1.0});
+                                     t.kf_obs.sigma_scale});
   }
   if (m.with_lines)
     refinePointsLines(tracker, prior, ocur, m);
