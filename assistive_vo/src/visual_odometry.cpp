@@ -601,7 +601,7 @@ VoOutput VisualOdometry::process(const cv::Mat& left_raw, const cv::Mat& right_r
   gaps_bridged_ += fc.bridged && !fc.bridge_within;  // tracked across on the coast's prediction alone
   if (keyframes_.needed(m.T_kf_cur, tracker_))
   {
-    updateGyroBias(m);
+    updateGyroBias(m, stamp);
     startKeyframe(left, right, true, st);
   }
   if (p_.estimate_disparity_offset)
@@ -1187,13 +1187,17 @@ void VisualOdometry::accept(const MotionEstimate& m, FrameStats& st)
   cov_cur_ = keyframes_.current().covariance + rotateCov(cov_rel_, m.T_kf_cur.linear());
 }
 
-void VisualOdometry::updateGyroBias(const MotionEstimate& m)
+void VisualOdometry::updateGyroBias(const MotionEstimate& m, double stamp)
 {
-  // Vision rotation over the keyframe span vs the integrated gyro; only over spans long enough
-  // for the bias to show.
-  if (keyframes_.current().gyro_since && m.br.ok && m.dt_kf > 0.3)
-    bias_.update(m.R_vision, keyframes_.current().R_gyro, m.dt_kf,
-                 m.cov_vision.bottomRightCorner<3, 3>().trace() / 3 + m.gyro_timing_var);
+  // Vision rotation over the keyframe span vs the integrated gyro; short spans in a row chained
+  // until long enough for the bias to show.
+  const VoKeyframe& kf = keyframes_.current();
+  const double vision_rot_var = m.cov_vision.bottomRightCorner<3, 3>().trace() / 3 + m.gyro_timing_var;
+  if (kf.gyro_since && m.br.ok)
+    bias_.addSpan(m.R_vision, kf.R_gyro, m.dt_kf, vision_rot_var, kf.stamp == bias_span_end_stamp_);
+  else
+    bias_.breakChain();
+  bias_span_end_stamp_ = stamp;
 }
 
 void VisualOdometry::levelWithGravity(double stamp, const Eigen::Vector3d* dv_link)

@@ -34,6 +34,20 @@ public:
   void update(const Eigen::Matrix3d& R_vision_opt, const Eigen::Matrix3d& R_gyro_opt, double span_s,
               double vision_rot_var);
 
+  /// One keyframe span, as update() takes it, for spans of any length: a span over
+  /// gyro_bias_min_span is one update; a shorter one is chained with the short spans that follow
+  /// it (rotations composed, variances added) until the chain lasts that long, then the chain is
+  /// one update (a long span drops the chain before it); a chain of three spans
+  /// or more counts only while the estimate is less sure than gyro_bias_chain_sigma, with that
+  /// sigma added (gyro_bias_chain_spans false: short spans are dropped). `continues`: this span
+  /// starts where the last one given ended (no loss, no restart between); else the chain so far is
+  /// dropped. Why: in a plain room keyframes come every 1-3 frames, no single span lasts long enough
+  /// for the bias to show, and without the chain the estimate never moves (issue 34).
+  void addSpan(const Eigen::Matrix3d& R_vision_opt, const Eigen::Matrix3d& R_gyro_opt, double span_s,
+               double vision_rot_var, bool continues);
+  /// Drops a chain of short spans (a loss: the next span does not continue it).
+  void breakChain() { chain_spans_ = 0; }
+
   /// Bias estimate (camera_link axes, rad/s) and its variance (< 0: not initialised).
   const Eigen::Vector3d& bias() const { return bias_link_; }
   double variance() const { return var_; }
@@ -45,5 +59,10 @@ private:
   bool fixed_ = false;
   Eigen::Vector3d fixed_bias_ = Eigen::Vector3d::Zero();
   double fixed_var_ = 0.0;
+  // short spans chained (addSpan): keyframe of the chain's start -> the last span's end
+  Eigen::Matrix3d chain_R_vision_ = Eigen::Matrix3d::Identity(), chain_R_gyro_ = Eigen::Matrix3d::Identity();
+  static constexpr int kSpansOfASystematicChain = 3;
+  double chain_s_ = 0.0, chain_var_ = 0.0;
+  int chain_spans_ = 0;  ///< 0: no chain
 };
 }  // namespace assistive_vo

@@ -263,8 +263,8 @@ private:
   bool imageUsable(const cv::Mat& img, std::string& why) const;
 
   // ---- gyro bias, gravity ----
-  /// Gyro bias from the keyframe span that ends here (before a new keyframe).
-  void updateGyroBias(const MotionEstimate& m);
+  /// Gyro bias from the keyframe span that ends here at `stamp` (before a new keyframe).
+  void updateGyroBias(const MotionEstimate& m, double stamp);
   /// Keeps the odom frame level (about the current position: no jump).
   void levelWithGravity(double stamp, const Eigen::Vector3d* dv_link);
 
@@ -276,6 +276,7 @@ private:
   MotionRefiner refiner_;
   PlausibilityMonitor checks_;
   GyroBiasEstimator bias_;
+  double bias_span_end_stamp_ = -1.0;  ///< where the last span given to bias_ ended (the keyframe it started)
 
   bool have_pose_ = false;       ///< T_w_cur_ is meaningful
   Eigen::Isometry3d T_odom_o0_ = Eigen::Isometry3d::Identity();  ///< first optical frame in odom
