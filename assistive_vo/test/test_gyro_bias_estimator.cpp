@@ -109,6 +109,7 @@ TEST(GyroBiasEstimator, KeyframesOnEveryFrameTeachTheBiasThroughTheirChain)
   // A plain room: a new keyframe every frame (1/15 s), no single span long enough (0.3 s).
   const Eigen::Vector3d w(0.0, 0.0, 0.5), b(0.002, -0.003, 0.004);
   VoParams p;
+  p.gyro_bias_chain_spans = true;
   GyroBiasEstimator chained(p);
   p.gyro_bias_chain_spans = false;
   GyroBiasEstimator dropped(p);
@@ -123,7 +124,8 @@ TEST(GyroBiasEstimator, KeyframesOnEveryFrameTeachTheBiasThroughTheirChain)
   EXPECT_EQ(dropped.bias(), Eigen::Vector3d::Zero());  // the control: short spans alone teach nothing
   EXPECT_LT((chained.bias() - b).norm(), 0.1 * b.norm());
   // a loss between spans breaks the chain: four spans of 1/15 s in two halves never update
-  GyroBiasEstimator broken;
+  p.gyro_bias_chain_spans = true;
+  GyroBiasEstimator broken(p);
   broken.initialise();
   for (int k = 0; k < 4; ++k)
   {
@@ -150,6 +152,7 @@ TEST(GyroBiasEstimator, ALongSpanIsOneUpdateWithoutTheShortOnesBeforeIt)
   EXPECT_LT((e.bias() - b).norm(), 0.1 * b.norm());  // (a turn's rotation and the bias do not commute)
   // the control: chained with the bad span, the update is pulled 0.01 rad / 1 s off
   VoParams p;
+  p.gyro_bias_chain_spans = true;
   p.gyro_bias_min_span_s = 1.0;  // both spans short: one chain of 1 s
   GyroBiasEstimator chained(p);
   chained.initialise();
@@ -161,6 +164,7 @@ TEST(GyroBiasEstimator, ALongSpanIsOneUpdateWithoutTheShortOnesBeforeIt)
 TEST(GyroBiasEstimator, ALongChainCannotPullAnEstimateSurerThanItsSystematicError)
 {
   VoParams p;
+  p.gyro_bias_chain_spans = true;
   const Eigen::Vector3d w(0.0, 0.0, 0.5), b(0.002, -0.003, 0.004);
   // long spans measure the bias well (sigma well under gyro_bias_chain_sigma)
   GyroBiasEstimator e(p);

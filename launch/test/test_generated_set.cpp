@@ -11,10 +11,7 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <iterator>
-#include <sstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -30,16 +27,10 @@ namespace
 // 0.915 / 0.891, VO drift null (office: 0.46 m walked) / 0.20 / 0.89 %, max jump <= 2.7 mm,
 // ATE <= 4.0 mm. No more obstacle cells reported free than that code; recall and precision with
 // margin; VO drift at the targets (mean 1 %, worst 2 %), jumps and ATE with margin.
-// Drift in % is judged on walks of at least DRIFT_MIN_PATH_M: the lobby (seed 3) turns on the spot
-// for 130 of its 150 frames and walks 1.27 m, so its 1 m segments are a handful and its figure
-// moved 1.1-3.3 % under +-30 % changes of one bias parameter (1.75 % with the bias known), while
-// its ATE stayed 8-15 mm; there the ATE and the rotational drift over the gyro floor are the guard:
-// 20x fails an online bias that never moves on it (23x before session 52's chained spans; 7x with
-// them, 7-16x under the same parameter changes).
 constexpr double FREE_WHERE_OBSTACLE_MAX = 3;
 constexpr double RECALL_3M_WORST_MIN = 0.85, RECALL_3M_MEAN_MIN = 0.90, PRECISION_3M_WORST_MIN = 0.75;
 constexpr double DRIFT_PCT_WORST_MAX = 2.0, DRIFT_PCT_MEAN_MAX = 1.0, MAX_JUMP_M_WORST_MAX = 0.05,
-                 ATE_RMSE_M_WORST_MAX = 0.03, DRIFT_MIN_PATH_M = 2.0, ROT_DRIFT_OVER_FLOOR_WORST_MAX = 20.0;
+                 ATE_RMSE_M_WORST_MAX = 0.03;
 
 std::string libDir()
 {
@@ -58,24 +49,6 @@ double at(const std::map<std::string, double>& v, const std::string& k)
 {
   const auto it = v.find(k);
   return it == v.end() ? NAN : it->second;
-}
-/// One bag's row of a set run's table (`bag` and the header's columns; "null" and "-" as NaN).
-std::map<std::string, double> bagRow(const std::string& out, const std::string& bag)
-{
-  std::map<std::string, double> row;
-  std::istringstream lines(out);
-  std::vector<std::string> header;
-  for (std::string line; std::getline(lines, line);)
-  {
-    std::istringstream words(line);
-    std::vector<std::string> w{std::istream_iterator<std::string>(words), std::istream_iterator<std::string>()};
-    if (!w.empty() && w[0] == "bag")
-      header = w;
-    else if (!header.empty() && w.size() == header.size() && w[0] == bag)
-      for (size_t i = 1; i < w.size(); ++i)
-        row[header[i]] = (w[i] == "null" || w[i] == "-") ? NAN : std::atof(w[i].c_str());
-  }
-  return row;
 }
 }  // namespace
 
@@ -112,21 +85,8 @@ TEST(GeneratedSet, ThreeSmallWorldsScoreWithinBounds)
   std::printf("%s", out.c_str());
   ASSERT_EQ(at(v, "bags"), 3) << out;
   EXPECT_EQ(at(v, "bags_failed"), 0) << out;
-  double drift_sum = 0.0;
-  int walks = 0;
-  for (const std::string bag : {"gen1", "gen2", "gen3"})
-  {
-    const auto row = bagRow(out, bag);
-    ASSERT_FALSE(row.empty()) << bag << " missing from the table\n" << out;
-    if (!(at(row, "path_length_m") >= DRIFT_MIN_PATH_M))
-      continue;
-    EXPECT_LE(at(row, "drift_pct"), DRIFT_PCT_WORST_MAX) << bag << "\n" << out;
-    drift_sum += at(row, "drift_pct");
-    ++walks;
-  }
-  ASSERT_GE(walks, 1) << "no walk of " << DRIFT_MIN_PATH_M << " m\n" << out;
-  EXPECT_LE(drift_sum / walks, DRIFT_PCT_MEAN_MAX) << out;
-  EXPECT_LE(at(v, "rot_drift_over_gyro_floor_worst"), ROT_DRIFT_OVER_FLOOR_WORST_MAX) << out;
+  EXPECT_LE(at(v, "drift_pct_worst"), DRIFT_PCT_WORST_MAX) << out;
+  EXPECT_LE(at(v, "drift_pct_mean"), DRIFT_PCT_MEAN_MAX) << out;
   EXPECT_LE(at(v, "max_jump_m_worst"), MAX_JUMP_M_WORST_MAX) << out;
   EXPECT_LE(at(v, "ate_rmse_m_worst"), ATE_RMSE_M_WORST_MAX) << out;
   std::error_code ec;

@@ -171,7 +171,7 @@ namespace assistive_vo
   /* shutter (the D4xx's infrared pair); a 640x480 CMOS video sensor reads out in 10-33 ms. */ \
   X(double, rolling_shutter_readout_s, "rolling_shutter_readout", 0.0, 0.0, 0.1, "s", "time from the first image row's exposure to the last's (0: global shutter)") \
   X(double, gyro_bias_min_span_s, "gyro_bias_min_span", 0.3, 0.0, 10.0, "s", "shortest time over which vision's rotation teaches the gyro bias") \
-  X(bool, gyro_bias_chain_spans, "gyro_bias_chain_spans", true, {}, {}, "", "keyframe spans shorter than gyro_bias_min_span in a row are chained until they last that long (false: dropped)") \
+  X(bool, gyro_bias_chain_spans, "gyro_bias_chain_spans", false, {}, {}, "", "keyframe spans shorter than gyro_bias_min_span in a row are chained until they last that long (false: dropped)") \
   X(double, gyro_bias_chain_sigma, "gyro_bias_chain_sigma", 8.7e-4, 0.0, 1.0, "rad/s", "systematic error of a chain of three or more short spans: such a chain teaches the bias only while the estimate's sigma is above this, with this added") \
   X(double, vo_rotation_sigma, "vo_rotation_sigma", 3.0e-4, 1e-6, 1.0, "rad", "floor on the vision rotation error (bias update)") \
   /* Gravity keeps the odom frame level (gravity_alignment.h). */ \
