@@ -1189,8 +1189,8 @@ void VisualOdometry::accept(const MotionEstimate& m, FrameStats& st)
 
 void VisualOdometry::updateGyroBias(const MotionEstimate& m, double stamp)
 {
-  // Vision rotation over the keyframe span vs the integrated gyro; short spans in a row chained
-  // until long enough for the bias to show.
+  // Vision rotation over the keyframe span vs the integrated gyro; a short span is dropped, or,
+  // with gyro_bias_chain_spans, chained with the short spans after it (GyroBiasEstimator::addSpan).
   const VoKeyframe& kf = keyframes_.current();
   const double vision_rot_var = m.cov_vision.bottomRightCorner<3, 3>().trace() / 3 + m.gyro_timing_var;
   if (kf.gyro_since && m.br.ok)
