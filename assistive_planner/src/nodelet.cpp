@@ -433,6 +433,7 @@ private:
     st.add("blind_zone_vouched_cells", o.vouched_cells);
     st.add("blind_zone_note", o.vouch_note);
     st.add("unseen_floor_cells_held", o.unseen_held_cells);
+    st.add("step_cells_crossed", o.crossed_step_cells);
     st.add("movers", o.crossing.movers);
     st.add("movers_fresh", o.crossing.movers_fresh);
     st.add("movers_age_s", have_movers_ ? monitor_.gridStamp() - movers_stamp_ : -1.0);

@@ -647,7 +647,9 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
   recordWalkedFloor(input, wearer);
   vouchForBlindZone(wearer, out.head_yaw, t, out);
   blockHeldUnseenFloor(wearer);
+  freeCrossedSteps(wearer);
   out.unseen_held_cells = static_cast<int>(unseen_.size());
+  out.crossed_step_cells = static_cast<int>(crossed_.size());
   out.grid = std::make_shared<const Grid>(work_);
   const Grid& grid = work_;
   syncCosts(grid, out);
@@ -702,6 +704,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
     // A standing wearer will be sent along the steering heading: what lies ahead is judged there
     // (its motion vector may still point at the wall it stopped in front of).
     judgeFreeSpace(grid, wearer, out.steer_heading, p_, out, ahead_unknown);
+    double judged_yaw = out.steer_heading;
     if (ahead_unknown && out.free_ahead < p_.unknown_ahead_m)
     {
       // (standing: judged along the way it will be sent, not the way it faces.) A way outside the
@@ -713,7 +716,10 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
           p_.blind_zone_m > 0.0 &&
           std::fabs(wrapAngle(out.steer_heading - out.head_yaw)) > p_.blind_zone_half_angle_deg * M_PI / 180.0;
       if (turn_first)
+      {
+        judged_yaw = out.head_yaw;
         judgeFreeSpace(grid, wearer, out.head_yaw, p_, out, ahead_unknown);
+      }
       if (!turn_first || (ahead_unknown && out.free_ahead < p_.unknown_ahead_m))
       {
         holdUnseenFloorAhead(grid, t, turn_first ? out.head_yaw : out.steer_heading, out);
@@ -721,6 +727,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
         return out;
       }
     }
+    crossStepAhead(grid, t, judged_yaw, out);
   }
   ever_planned_ = true;
   unseen_since_ = -1.0;
@@ -730,6 +737,8 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
                                          : "ok";
   if (out.unseen_held_cells > 0)
     out.message += "; " + std::to_string(out.unseen_held_cells) + " cells of unseen floor held as obstacles";
+  if (out.crossed_step_cells > 0)
+    out.message += "; " + std::to_string(out.crossed_step_cells) + " step cells crossed after a stop";
   return out;
 }
 
@@ -799,6 +808,69 @@ void Planner::holdUnseenFloorAhead(const Grid& grid, double t, double judged_yaw
   const double step = 0.5 * grid.resolution;
   for (double d = step; d <= p_.unknown_ahead_m; d += step)
     hold({ out.wearer.x + d * std::cos(judged_yaw), out.wearer.y + d * std::sin(judged_yaw) });
+}
+
+void Planner::freeCrossedSteps(const Point2& wearer)
+{
+  // A step the wearer was stopped at and then sent over no longer ends what lies ahead (its cost
+  // stays in the plan's weights only where it is not crossed); an obstacle mapped there stays one.
+  const double reach = p_.step_cross_m + 1.0;
+  auto dropped = [&](const Point2& q) {
+    if (std::hypot(q.x - wearer.x, q.y - wearer.y) > reach)
+      return true;
+    int x, y;
+    if (work_.worldToCell(q.x, q.y, x, y) && work_.at(x, y) == CELL_STEP)
+      work_.data[size_t(work_.index(x, y))] = CELL_FREE;
+    return false;
+  };
+  crossed_.erase(std::remove_if(crossed_.begin(), crossed_.end(), dropped), crossed_.end());
+}
+
+void Planner::crossStepAhead(const Grid& grid, double t, double judged_yaw, PlanOutput& out)
+{
+  // A step or curb is floor the wearer can climb (obstacles/README: a level change of at most
+  // step_height between walkable neighbours). The stop before it is the warning; a wearer standing
+  // there is sent over it after step_stand_s, and its cane finds the edge. Held for good, a plain
+  // floor's phantom steps (stereo noise) stood wearers there until the trial's end.
+  if (!(p_.step_stand_s > 0.0) || !std::isfinite(t) || !(out.free_ahead < p_.step_cross_m))
+  {
+    step_since_ = -1.0;
+    return;
+  }
+  Grid stepless = grid;
+  for (int8_t& c : stepless.data)
+    if (c == CELL_STEP)
+      c = CELL_FREE;
+  bool unknown = false;
+  const double without =
+      freeStrip(stepless, out.wearer, judged_yaw, p_.free_ray_max, p_.body_half_width, unknown);
+  if (!(without > out.free_ahead + 0.5 * grid.resolution))
+  {
+    step_since_ = -1.0;  // an obstacle or unmapped floor ends the way, not a step
+    return;
+  }
+  if (step_since_ < 0.0 || t < step_last_ || t - step_last_ > kUnseenGapS)
+    step_since_ = t;
+  step_last_ = t;
+  if (t - step_since_ < p_.step_stand_s)
+    return;
+  const double c = std::cos(judged_yaw), s = std::sin(judged_yaw);
+  for (int y = 0; y < grid.height; ++y)
+    for (int x = 0; x < grid.width; ++x)
+    {
+      if (grid.at(x, y) != CELL_STEP)
+        continue;
+      const Point2 q{ grid.cellX(x), grid.cellY(y) };
+      const double dx = q.x - out.wearer.x, dy = q.y - out.wearer.y;
+      if (std::hypot(dx, dy) > p_.step_cross_m || dx * c + dy * s <= 0.0)
+        continue;  // only what lies ahead, within reach
+      if (std::none_of(crossed_.begin(), crossed_.end(), [&](const Point2& u) {
+            return std::hypot(u.x - q.x, u.y - q.y) < 0.5 * grid.resolution;
+          }))
+        crossed_.push_back(q);
+    }
+  step_since_ = -1.0;
+  out.crossed_step_cells = static_cast<int>(crossed_.size());
 }
 
 void Planner::vouchForBlindZone(const Point2& wearer, double facing, double t, PlanOutput& out)

@@ -505,3 +505,63 @@ TEST(Planner, WalkedFloorIsTheFootprintAndTheTrailNeverAhead)
   EXPECT_FALSE(o.path.empty());
   EXPECT_EQ(Planner(off).update(near, { 1.1, 1.1 }, 0.0).status, PlanStatus::IN_UNKNOWN);
 }
+
+// A curb across the way (step cells: floor the wearer can climb) ends what lies ahead, so a walker
+// is stopped before it; standing there, the wearer is sent over it after step_stand_s (held for
+// good, phantom steps of a plain floor's stereo stood wearers there until the trial's end). An
+// obstacle in their place holds the stop; crossed cells are dropped once the wearer is far, and a
+// crossed cell the map makes an obstacle ends the way again.
+TEST(Planner, AStandingWearerIsSentOverAStepItWasStoppedAt)
+{
+  Grid g = makeGrid(0.0, 0.0, 40);
+  fillRect(g, 1.45, 0.0, 1.75, 8.0, CELL_STEP);  // the curb: cells x 1.4-1.8 (centres 1.5, 1.7)
+  const Point2 w{ 1.1, 4.1 };
+  const PlannerParams p;
+  ASSERT_GT(p.step_stand_s, 0.0);
+  Planner pl(p);
+  pl.setGoal({ 3.5, 4.1 });
+  PlanOutput o;
+  double t = 10.0;
+  for (; t < 10.0 + p.step_stand_s - 0.15; t += 0.1)
+  {
+    o = pl.update(g, w, 0.0, t);
+    ASSERT_EQ(o.status, PlanStatus::OK) << o.message;
+    ASSERT_NEAR(o.free_ahead, 0.3, 0.06) << "at " << t << ": the curb ends the way ahead";
+    ASSERT_EQ(o.crossed_step_cells, 0);
+  }
+  for (int i = 0; i < 5; ++i, t += 0.1)
+    o = pl.update(g, w, 0.0, t);
+  EXPECT_GT(o.crossed_step_cells, 0);
+  EXPECT_GT(o.free_ahead, 2.0) << "sent over the curb";
+  EXPECT_NE(o.message.find("step cells crossed after a stop"), std::string::npos) << o.message;
+  ASSERT_TRUE(o.grid);
+  int x, y;
+  ASSERT_TRUE(o.grid->worldToCell(1.5, 4.1, x, y));
+  EXPECT_EQ(o.grid->at(x, y), CELL_FREE);
+  ASSERT_TRUE(o.grid->worldToCell(1.5, 1.3, x, y));
+  EXPECT_EQ(o.grid->at(x, y), CELL_STEP) << "beyond step_cross_m the curb stays";
+
+  // the map makes a crossed cell an obstacle: it stays one
+  Grid solid = g;
+  fillRect(solid, 1.45, 3.9, 1.55, 4.3, CELL_OBSTACLE);
+  o = pl.update(solid, w, 0.0, t);
+  ASSERT_TRUE(o.grid);
+  ASSERT_TRUE(o.grid->worldToCell(1.5, 4.1, x, y));
+  EXPECT_EQ(o.grid->at(x, y), CELL_OBSTACLE);
+  // far away the crossed cells are dropped; back at the curb it stops the wearer again
+  o = pl.update(g, { 1.1, 7.7 }, 0.0, t + 3.0);
+  o = pl.update(g, { 1.1, 1.2 }, 0.0, t + 6.0);
+  EXPECT_EQ(o.crossed_step_cells, 0);
+  o = pl.update(g, w, 0.0, t + 9.0);
+  EXPECT_NEAR(o.free_ahead, 0.3, 0.06);
+
+  // control: a walker nearing the curb (0.3 m/s) is never sent over it: it is stopped first
+  Planner q(p);
+  q.setGoal({ 3.5, 4.1 });
+  for (double s = 0.0; s < 3.0; s += 0.1)
+  {
+    o = q.update(g, { 0.1 + 0.3 * s, 4.1 }, 0.0, 10.0 + s);
+    ASSERT_EQ(o.crossed_step_cells, 0) << "at " << s;
+  }
+  EXPECT_LT(o.free_ahead, 0.6);
+}

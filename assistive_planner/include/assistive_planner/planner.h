@@ -71,6 +71,8 @@ struct PlanOutput
   std::string vouch_note;
   /// Unseen floor beside a standing wearer held as obstacles (`unseen_hold_s`): cells held now.
   int unseen_held_cells = 0;
+  /// Step cells a standing wearer was sent over (`step_stand_s`): free in `grid` for what lies ahead.
+  int crossed_step_cells = 0;
   /// The grid this cycle planned on (the input with the walked floor and the vouched blind zone
   /// marked; null before a usable grid): the cue logic sweeps the body's predicted walk over it
   /// (the nodelet publishes it as `planner/grid`, nav_msgs/OccupancyGrid).
@@ -200,6 +202,9 @@ private:
   void markPassage(const Grid& grid, PlanOutput& out) const;  // passage_* (findPassage)
   // a standing wearer's IN_UNKNOWN: the unmapped floor on its path and judged ray -> unseen_
   void holdUnseenFloorAhead(const Grid& grid, double t, double judged_yaw, PlanOutput& out);
+  void freeCrossedSteps(const Point2& wearer);  // work_ (crossed_ dropped once far)
+  // a standing wearer held by a step just ahead along `judged_yaw` -> crossed_ (after step_stand_s)
+  void crossStepAhead(const Grid& grid, double t, double judged_yaw, PlanOutput& out);
 
   PlannerParams p_;
   DStarLite dstar_;
@@ -219,6 +224,9 @@ private:
   std::vector<Point2> unseen_;
   double unseen_since_ = -1.0;  // a standing wearer's IN_UNKNOWN on unmapped floor ahead began (< 0: none)
   double unseen_last_ = -1.0;   // its last cycle
+  std::vector<Point2> crossed_;  // step cells (centres) a standing wearer was sent over
+  double step_since_ = -1.0;     // a standing wearer held by a step ahead since (< 0: none)
+  double step_last_ = -1.0;      // its last cycle
   std::vector<std::pair<double, Point2>> recent_;  // (t, position) over the last walk_window_s
   Grid work_;                   // the input grid with the walked floor marked
   cv::Mat obstacle_dist_;       // work_'s obstacle distance field (cells), this cycle's
