@@ -730,7 +730,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
     crossStepAhead(grid, t, judged_yaw, out);
   }
   ever_planned_ = true;
-  unseen_since_ = -1.0;
+  unseen_clock_.reset();
   out.status = PlanStatus::OK;
   out.message = out.path_through_unknown ? "path crosses unmapped cells (no known free path)"
                 : isObstacleCode(here)   ? "the wearer's cell is an obstacle: path from the nearest free cell"
@@ -773,10 +773,14 @@ void Planner::blockHeldUnseenFloor(const Point2& wearer)
   unseen_.erase(std::remove_if(unseen_.begin(), unseen_.end(), dropped), unseen_.end());
 }
 
-namespace
+double Planner::StandstillClock::lasted(double t)
 {
-constexpr double kUnseenGapS = 0.5;  // longer between two such cycles: not the same standstill
-}  // namespace
+  constexpr double kGapS = 0.5;  // longer between two such cycles: not the same standstill
+  if (since < 0.0 || t < last || t - last > kGapS)
+    since = t;
+  last = t;
+  return t - since;
+}
 
 void Planner::holdUnseenFloorAhead(const Grid& grid, double t, double judged_yaw, PlanOutput& out)
 {
@@ -786,10 +790,7 @@ void Planner::holdUnseenFloorAhead(const Grid& grid, double t, double judged_yaw
   if (!(p_.unseen_hold_s > 0.0) || !std::isfinite(t))
     return;
   // (a cycle with another status between, such as a lost pose, starts the wait afresh)
-  if (unseen_since_ < 0.0 || t < unseen_last_ || t - unseen_last_ > kUnseenGapS)
-    unseen_since_ = t;
-  unseen_last_ = t;
-  if (t - unseen_since_ < p_.unseen_hold_s)
+  if (unseen_clock_.lasted(t) < p_.unseen_hold_s)
     return;
   auto hold = [&](const Point2& q) {
     int x, y;
@@ -834,7 +835,7 @@ void Planner::crossStepAhead(const Grid& grid, double t, double judged_yaw, Plan
   // floor's phantom steps (stereo noise) stood wearers there until the trial's end.
   if (!(p_.step_stand_s > 0.0) || !std::isfinite(t) || !(out.free_ahead < p_.step_cross_m))
   {
-    step_since_ = -1.0;
+    step_clock_.reset();
     return;
   }
   Grid stepless = grid;
@@ -846,13 +847,10 @@ void Planner::crossStepAhead(const Grid& grid, double t, double judged_yaw, Plan
       freeStrip(stepless, out.wearer, judged_yaw, p_.free_ray_max, p_.body_half_width, unknown);
   if (!(without > out.free_ahead + 0.5 * grid.resolution))
   {
-    step_since_ = -1.0;  // an obstacle or unmapped floor ends the way, not a step
+    step_clock_.reset();  // an obstacle or unmapped floor ends the way, not a step
     return;
   }
-  if (step_since_ < 0.0 || t < step_last_ || t - step_last_ > kUnseenGapS)
-    step_since_ = t;
-  step_last_ = t;
-  if (t - step_since_ < p_.step_stand_s)
+  if (step_clock_.lasted(t) < p_.step_stand_s)
     return;
   const double c = std::cos(judged_yaw), s = std::sin(judged_yaw);
   for (int y = 0; y < grid.height; ++y)
@@ -869,7 +867,7 @@ void Planner::crossStepAhead(const Grid& grid, double t, double judged_yaw, Plan
           }))
         crossed_.push_back(q);
     }
-  step_since_ = -1.0;
+  step_clock_.reset();
   out.crossed_step_cells = static_cast<int>(crossed_.size());
 }
 

@@ -222,11 +222,17 @@ private:
   std::vector<Point2> walked_;  // the wearer's positions, >= 0.05 m apart
   // floor planned around as blocked: unmapped, just ahead of a standing wearer who could not see it
   std::vector<Point2> unseen_;
-  double unseen_since_ = -1.0;  // a standing wearer's IN_UNKNOWN on unmapped floor ahead began (< 0: none)
-  double unseen_last_ = -1.0;   // its last cycle
-  std::vector<Point2> crossed_;  // step cells (centres) a standing wearer was sent over
-  double step_since_ = -1.0;     // a standing wearer held by a step ahead since (< 0: none)
-  double step_last_ = -1.0;      // its last cycle
+  /// How long one standstill has lasted: its cycles at most 0.5 s apart (a longer gap, such as a
+  /// cycle with another status between, or time going back starts a new one).
+  struct StandstillClock
+  {
+    double since = -1.0, last = -1.0;  // since < 0: none under way
+    double lasted(double t);           // counts cycle t in
+    void reset() { since = -1.0; }
+  };
+  StandstillClock unseen_clock_;  // a standing wearer's IN_UNKNOWN on unmapped floor ahead
+  std::vector<Point2> crossed_;   // step cells (centres) a standing wearer was sent over
+  StandstillClock step_clock_;    // a standing wearer held by a step ahead
   std::vector<std::pair<double, Point2>> recent_;  // (t, position) over the last walk_window_s
   Grid work_;                   // the input grid with the walked floor marked
   cv::Mat obstacle_dist_;       // work_'s obstacle distance field (cells), this cycle's
