@@ -722,7 +722,7 @@ PlanOutput Planner::update(const Grid& input, const Point2& wearer, double head_
       }
       if (!turn_first || (ahead_unknown && out.free_ahead < p_.unknown_ahead_m))
       {
-        holdUnseenFloorAhead(grid, t, turn_first ? out.head_yaw : out.steer_heading, out);
+        holdUnseenFloorAhead(grid, t, judged_yaw, out);
         unmappedAhead(out);
         return out;
       }

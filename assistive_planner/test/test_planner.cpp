@@ -13,6 +13,7 @@ namespace
 {
 Grid makeGrid(double ox, double oy, int n = 50) { return planner_test::freeGrid(ox, oy, n); }
 using planner_test::fillRect;
+using planner_test::plannedCell;
 }  // namespace
 
 // A doorway of 0.8 m of free cells in a wall across the path, the path 0.2 m off its middle:
@@ -534,20 +535,14 @@ TEST(Planner, AStandingWearerIsSentOverAStepItWasStoppedAt)
   EXPECT_GT(o.crossed_step_cells, 0);
   EXPECT_GT(o.free_ahead, 2.0) << "sent over the curb";
   EXPECT_NE(o.message.find("step cells crossed after a stop"), std::string::npos) << o.message;
-  ASSERT_TRUE(o.grid);
-  int x, y;
-  ASSERT_TRUE(o.grid->worldToCell(1.5, 4.1, x, y));
-  EXPECT_EQ(o.grid->at(x, y), CELL_FREE);
-  ASSERT_TRUE(o.grid->worldToCell(1.5, 1.3, x, y));
-  EXPECT_EQ(o.grid->at(x, y), CELL_STEP) << "beyond step_cross_m the curb stays";
+  EXPECT_EQ(plannedCell(o, 1.5, 4.1), CELL_FREE);
+  EXPECT_EQ(plannedCell(o, 1.5, 1.3), CELL_STEP) << "beyond step_cross_m the curb stays";
 
   // the map makes a crossed cell an obstacle: it stays one
   Grid solid = g;
   fillRect(solid, 1.45, 3.9, 1.55, 4.3, CELL_OBSTACLE);
   o = pl.update(solid, w, 0.0, t);
-  ASSERT_TRUE(o.grid);
-  ASSERT_TRUE(o.grid->worldToCell(1.5, 4.1, x, y));
-  EXPECT_EQ(o.grid->at(x, y), CELL_OBSTACLE);
+  EXPECT_EQ(plannedCell(o, 1.5, 4.1), CELL_OBSTACLE);
   // far away the crossed cells are dropped; back at the curb it stops the wearer again
   o = pl.update(g, { 1.1, 7.7 }, 0.0, t + 3.0);
   o = pl.update(g, { 1.1, 1.2 }, 0.0, t + 6.0);
