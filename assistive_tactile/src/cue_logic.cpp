@@ -29,6 +29,13 @@ constexpr double kRateSampleMinS = 0.3;
 constexpr double kTurnGoGapS = 0.2;
 /// After such a turn is judged, the wearer is starting to walk for this long (s): no stand turn.
 constexpr double kTurnGoStartS = 1.0;
+/// With the vest's gyro, a turn seen under way is over once the torso's raw rate has stayed under
+/// `body_turn_rate_deg` this long (s): two camera frames, and a hesitation shorter than this.
+constexpr double kTurnOverQuietS = 0.15;
+/// The population's fastest reaction to a torso vibration (s; assistive_trials/docs/wearer_population.md).
+constexpr double kFastestReactionS = 0.3;
+/// A camera frame, and a little more (s): when a motion was last seen, to that much.
+constexpr double kFrameS = 0.1;
 /// A stop-and-turn this shortly (s) before a loss of the pose is undone by the first look-elsewhere
 /// turn: the VO's coast (at most 2.5 s) and the walk it began.
 constexpr double kLostTurnBackS = 8.0;
@@ -611,7 +618,12 @@ Cue CueLogic::decideOk(const NavInput& in, double now)
   // with the way on well to a side is turned towards it on the spot, which sweeps a round body
   // into nothing; the stop alone held it there for good (traced, plaza trial 13 of seed 11:
   // 0.15 m before a planter, 0.05 m free to either side, 150 s on "obstacle ahead: stop").
-  const bool boxed_turn = standing && c.mode == CueMode::ALERT && !alert_outside_stop &&
+  // So is one told to step aside (an obstacle within `proximity_m`, room to a side): stepped left
+  // and right before a wall with the way on through a doorway 76 deg to its right (the steering
+  // ray met the jamb, so it was no steering away), it stood there until the timeout (traced,
+  // gen_home_3015 trial 4 of seed 11: 40 s of "step left", "stop", "step right").
+  const bool boxed_turn = (standing || !walksForward(in)) &&
+                          ((c.mode == CueMode::ALERT && !alert_outside_stop) || c.mode == CueMode::PROXIMITY) &&
                           in.waypoint_distance >= params_.guidance_min_waypoint_m &&
                           std::fabs(wrapAngle(in.steer_heading - facing(in))) * kRadToDeg > params_.stand_turn_deg;
   // (a turn on the spot under way is not interrupted by a side-step: it turns the wearer away)
@@ -962,7 +974,10 @@ void CueLogic::observeHead(const NavInput& in, double now)
       body_yaw_ = wrapAngle(body_yaw_ + (in.body_yaw_rate - gyro_bias_) * dt);
       body_rate_ += std::min(1.0, dt / 0.25) * (rate - body_rate_);  // smoothed as the head's
       if (std::fabs(rate) * kRadToDeg > params_.body_turn_rate_deg)
+      {
         body_turned_at_ = now;
+        body_turned_sign_ = rate > 0.0 ? 1.0 : -1.0;
+      }
     }
     else if (std::fabs(dh) / dt * kRadToDeg > params_.body_turn_rate_deg)
     {
@@ -1077,7 +1092,17 @@ bool CueLogic::holdTurn(const NavInput& in, double now, Cue& out)
     short_stop_at_ = shortWalkStopAt(std::numeric_limits<double>::infinity(), turn_go_room_ - 0.1);
     return true;
   }
-  if (now < buzz_end + wait + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s))
+  // (the vest's gyro sees the torso stop at once: the smoothed rate took 0.5 s to fall from a turn's
+  // 90 deg/s under 10, and the margin for a reaction learnt short another 0.3 s; with the head's
+  // rate, which scans, both are kept)
+  // (seen in the raw rate, its way, still turning the fastest reaction after the buzz ended, as the
+  // turn this buzz asks for does: the smoothed rate still carried a turn just ended, the vest's
+  // first samples read fast before its bias is learnt, and a wearer who carried out a piece of an
+  // earlier buzz cut short by a stop paused 0.7 s, and was judged done before this turn began:
+  // traced, gen_office_4030 trial 3 of seed 12)
+  const bool over = gyro_ && body_turned_sign_ == sign && body_turned_at_ >= buzz_end + kFastestReactionS - kFrameS &&
+                    now - body_turned_at_ >= kTurnOverQuietS;
+  if (!over && (now < buzz_end + wait + 0.3 || (!steadied && now - busy_since_ < p.turn_timeout_s)))
     return hold(CueMode::GUIDANCE, "turning (%.0f deg to go, head %.0f deg/s)", left, turnRate());
   // its turning rate: the angle turned over the time it turned (the buzz less the moment to
   // tell it from a veer); the smoothed peak rate underestimates short turns (the next buzz

@@ -2143,3 +2143,82 @@ TEST(CueLogic, AGoTimedToStopShortIsNotStoppedByItsOwnWalk)
     EXPECT_LE(changes, 1) << ahead << " m free: the cue changed " << changes << " times in 1.4 s";
   }
 }
+
+// A wearer standing 0.70 m before a wall, room to its left (0.95 m) and right (0.50 m), with the
+// way on through a doorway 76 deg to its right (the steering ray meets the jamb 0.8 m on, so it is
+// no steering away) is turned towards the way on, standing or while a side-step still carries it
+// sideways (0.26 m/s, its walk chord 90 deg off the facing). Side-stepped instead, it stepped left
+// and right before the wall until the timeout (traced, gen_home_3015 trial 4 of seed 11). Facing
+// the way on it is stepped aside as before, and a walker is not turned by it.
+TEST(CueLogic, StandingBeforeAWallWithTheWayOnToASideIsTurnedNotSideStepped)
+{
+  NavInput in = standing(turn(-76.0, 28.0 * kDeg));
+  in.free_ahead = 0.70;
+  in.free_left = 0.95;
+  in.free_right = 0.50;
+  in.free_steer = 0.8;
+  in.waypoint_distance = 2.5;
+  CueLogic c;
+  const Cue k = fresh(c, in, 0.0);
+  ASSERT_EQ(k.instruction, Instruction::TURN) << k.reason;
+  EXPECT_GT(k.intensity[RIGHT_SHOULDER], 0.f) << k.reason;
+  NavInput sidestepping = in;
+  sidestepping.walking_speed = 0.26;
+  sidestepping.walk_heading = in.head_yaw + 90.0 * kDeg;
+  CueLogic s;
+  EXPECT_EQ(fresh(s, sidestepping, 0.0).instruction, Instruction::TURN);
+  NavInput facing_it = in;
+  facing_it.steer_heading = facing_it.path_heading = in.head_yaw - 10.0 * kDeg;
+  CueLogic f;
+  const Cue step = fresh(f, facing_it, 0.0);
+  EXPECT_EQ(step.mode, CueMode::PROXIMITY) << step.reason;
+  EXPECT_EQ(step.instruction, Instruction::SIDESTEP) << step.reason;
+  NavInput walking = in;
+  walking.walking_speed = 1.0;
+  CueLogic w;
+  EXPECT_NE(fresh(w, walking, 0.0).instruction, Instruction::TURN);
+}
+
+// With the vest's gyro a turn on the spot is judged as soon as the torso has stopped: a standing
+// wearer is asked to turn 40 deg right; a reaction (0.6 s) after the buzz began its body turns at
+// 90 deg/s, and stops a reaction after the buzz ended. The next cue is judged within 0.25 s of that
+// stop (the raw rate quiet for 0.15 s, two frames); from the head's smoothed rate alone (no vest
+// gyro) 0.35 s or more later. A fast sample while the buzz still plays (the vest's first samples,
+// its bias not yet learnt; a piece of an earlier turn) does not end the wait: the turn is to come.
+TEST(CueLogic, WithTheVestGyroATurnIsJudgedOnceTheTorsoStops)
+{
+  constexpr double kDt = 1.0 / 15.0;
+  auto judgedAfterStop = [&](bool gyro, bool early_spike) {
+    CueLogic c;
+    double yaw = 0.3, asked_at = -1.0, buzz_s = 0.0, stop_at = -1.0;
+    for (double t = 0.0; t < 6.0; t += kDt)
+    {
+      const double prev = yaw;
+      if (asked_at >= 0.0 && t >= asked_at + 0.6 && t < asked_at + buzz_s + 0.6)
+        yaw -= 90.0 * kDeg * kDt;
+      if (asked_at >= 0.0 && stop_at < 0.0 && t >= asked_at + buzz_s + 0.6)
+        stop_at = t;
+      NavInput in = standing(turn(0.0, yaw));
+      in.steer_heading = in.path_heading = 0.3 - 40.0 * kDeg;
+      if (gyro)
+        in.body_yaw_rate = (yaw - prev) / kDt;
+      if (gyro && early_spike && asked_at >= 0.0 && t < asked_at + 0.2)
+        in.body_yaw_rate = -20.0 * kDeg;
+      const Cue k = fresh(c, in, t);
+      if (asked_at < 0.0 && k.instruction == Instruction::TURN)
+      {
+        asked_at = t;
+        buzz_s = 0.01 * k.pattern.on_10ms;
+        continue;
+      }
+      if (asked_at >= 0.0 && k.reason.rfind("turning (", 0) != 0)
+        return stop_at < 0.0 ? -1.0 : t - stop_at;  // < 0: judged before the torso stopped
+    }
+    return 99.0;
+  };
+  const double with_gyro = judgedAfterStop(true, false);
+  EXPECT_GE(with_gyro, 0.0);
+  EXPECT_LE(with_gyro, 0.25);
+  EXPECT_GE(judgedAfterStop(false, false), 0.35);
+  EXPECT_GE(judgedAfterStop(true, true), 0.0);
+}

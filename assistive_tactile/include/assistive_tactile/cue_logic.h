@@ -424,6 +424,7 @@ private:
   double go_handled_ = -1e300;     ///< the go whose short walk was judged
   double short_stop_at_ = -1.0;    ///< a timed stop after that go is due then (< 0: none)
   double body_turned_at_ = -1e300;  ///< the head last turned fast (a turn or veer of the body)
+  double body_turned_sign_ = 0.0;   ///< its way then (+1 left), the vest's gyro only
   /// The current loss began then (the first fresh `NO_POSE`; it lasts until the planner guides
   /// again; < 0: none), the look-elsewhere turns asked in it, and when the last one's buzz ends.
   double no_pose_since_ = -1.0;
