@@ -618,12 +618,7 @@ Cue CueLogic::decideOk(const NavInput& in, double now)
   // with the way on well to a side is turned towards it on the spot, which sweeps a round body
   // into nothing; the stop alone held it there for good (traced, plaza trial 13 of seed 11:
   // 0.15 m before a planter, 0.05 m free to either side, 150 s on "obstacle ahead: stop").
-  // So is one told to step aside (an obstacle within `proximity_m`, room to a side): stepped left
-  // and right before a wall with the way on through a doorway 76 deg to its right (the steering
-  // ray met the jamb, so it was no steering away), it stood there until the timeout (traced,
-  // gen_home_3015 trial 4 of seed 11: 40 s of "step left", "stop", "step right").
-  const bool boxed_turn = (standing || !walksForward(in)) &&
-                          ((c.mode == CueMode::ALERT && !alert_outside_stop) || c.mode == CueMode::PROXIMITY) &&
+  const bool boxed_turn = standing && c.mode == CueMode::ALERT && !alert_outside_stop &&
                           in.waypoint_distance >= params_.guidance_min_waypoint_m &&
                           std::fabs(wrapAngle(in.steer_heading - facing(in))) * kRadToDeg > params_.stand_turn_deg;
   // (a turn on the spot under way is not interrupted by a side-step: it turns the wearer away)
