@@ -1,5 +1,5 @@
 // mobility_trials: a simulated wearer walks a world's course closed loop (issue 19, seed 5.4-5.5).
-//   rosrun assistive_trials mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S]
+//   rosrun assistive_trials mobility_trials --world W [--trials N] [--mode truth|cane|vision|floor] [--seed S]
 //       [--plot FILE.png] [--no-cues] [--reaction S] [--turn-rate DEG_S]
 //   rosrun assistive_trials mobility_trials --generated N [--kind K[,K...]] [--seed-base B] [--keep DIR] [...]
 // Prints one row per trial (per world for a generated set), a summary table, and as the last line
@@ -43,7 +43,9 @@ namespace
 {
 void usage(std::ostream& os = std::cerr)
 {
-  os << "usage: mobility_trials --world W [--trials N] [--mode truth|cane|vision] [--seed S] [--plot FILE.png]\n"
+  os << "usage: mobility_trials --world W [--trials N] [--mode truth|cane|vision|floor] [--seed S] [--plot FILE.png]\n"
+        "       (--mode floor: no cues, the fastest each trial's wearer could walk the guide's path if every cue came\n"
+        "       at the best moment; a PPWS no guidance can pass, issue 33)\n"
         "       mobility_trials --generated N [--kind K[,K...]] [--seed-base B] [--keep DIR] [the same options]\n"
         "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--turn-on DEG]\n"
         "                       [--people N] (--generated: N people in each world whose walks cross the wearer's,\n"
@@ -487,6 +489,26 @@ void reportTime(const Summary& S)
               S.begunPerTrial(Instruction::WALK_ON));
 }
 
+/// Mode floor: what the floor's time beyond the guide's is made of, per trial (issue 33).
+void reportFloor(const std::vector<TrialResult>& res)
+{
+  double start = 0, turns = 0, guide = 0, corners = 0, stride = 0, n = 0;
+  for (const TrialResult& r : res)
+    if (r.completed)
+    {
+      start += r.floor.start_s;
+      turns += r.floor.turns_s;
+      guide += r.guide_time_s;
+      corners += r.floor.corners;
+      stride += r.floor.in_stride;
+      ++n;
+    }
+  if (n == 0) return;
+  std::printf("  floor / trial        guide %.1f s + first go %.1f s + turns on the spot %.1f s; %.1f corners over 15 deg, "
+              "%.1f of them veered in stride\n",
+              guide / n, start / n, turns / n, corners / n, stride / n);
+}
+
 /// One world's report: the summary table and the JSON line of SPEC.md (issue 19).
 void reportWorld(const World& world, const std::string& mode, const std::string& label, bool cues, int trials, long seed,
                  const Summary& S, const std::string& plot, bool wrote)
@@ -816,9 +838,10 @@ int main(int argc, char** argv)
   if (mode == "truth") opt.mode = TrialMode::TRUTH;
   else if (mode == "cane") opt.mode = TrialMode::CANE;
   else if (mode == "vision") opt.mode = TrialMode::VISION;
+  else if (mode == "floor") opt.mode = TrialMode::FLOOR;
   else
   {
-    std::cerr << "mobility_trials: --mode must be truth, cane or vision\n";
+    std::cerr << "mobility_trials: --mode must be truth, cane, vision or floor\n";
     return 2;
   }
   if (opt.vest_gyro && opt.mode == TrialMode::CANE)
@@ -886,6 +909,7 @@ int main(int argc, char** argv)
                                 world.name + ": " + label + ", " + std::to_string(trials) + " trials, " +
                                     num(S.coll / S.n, 2) + " collisions/trial");
     const bool wrote = writePlot(plot, img);
+    if (opt.mode == TrialMode::FLOOR) reportFloor(res);
     reportCauses(res);
     reportWorld(world, mode, label, opt.cues_enabled, trials, seed, S, plot, wrote);
     return 0;
@@ -1036,6 +1060,7 @@ int main(int argc, char** argv)
   reportTime(A);
   std::printf("  wall time            %.1f s: generation %.1f s, trials %.1f s\n", wall_s, gen_total, trials_total);
   std::printf("  heat maps            %s_<world>.png\n", prefix.c_str());
+  if (opt.mode == TrialMode::FLOOR) reportFloor(all);
   reportCauses(all);
   std::printf("{\"world\": \"generated\", \"kind\": %s, \"worlds\": %d, \"worlds_failed\": %d, \"seed_base\": %ld, "
               "\"mode\": \"%s\", \"cues\": %s, \"trials\": %d, \"trials_per_world\": %d, "

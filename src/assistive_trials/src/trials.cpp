@@ -390,6 +390,16 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   if (r.guide_time_s > 0.0)
     r.guide_time_s = std::max(0.5 * r.guide_time_s, r.guide_time_s - opt.goal_radius_m / wp.walk_speed);
   const double timeout = opt.timeout_factor * std::max(r.guide_time_s, 5.0) + 20.0;
+  if (opt.mode == TrialMode::FLOOR)
+  {
+    // the same start, route and wearer as the trial; the same last metre left unwalked
+    const WalkFloor f = wearerFloor(world, wp, r.start, route);
+    r.completed = f.time_s > 0.0;
+    r.time_s = r.completed ? r.guide_time_s + f.start_s + f.turns_s : 0.0;
+    r.ppws_pct = r.completed ? 100.0 * r.guide_time_s / r.time_s : 0.0;
+    r.floor = f;
+    return r;
+  }
 
   const bool vest = opt.mode != TrialMode::CANE;
   std::unique_ptr<TruthChain> truth;

@@ -443,4 +443,98 @@ double sightedGuideTime(const World& world, const WearerParams& p, const Eigen::
   return len <= ramp_len ? std::sqrt(2.0 * len / p.accel) : ramp + (len - ramp_len) / p.walk_speed;
 }
 
+namespace
+{
+/// Time lost against cruising at v by a turn of `angle` (rad) on the spot begun at v: braking while
+/// the buzz turns the body, the tick, then speeding up again (the way walked meanwhile counts).
+double brakingTurnLoss(const WearerParams& p, double angle)
+{
+  const double v = p.walk_speed, dec = p.stopDecel();
+  const double t_brake = std::fabs(angle) / (p.turn_rate_deg * DEG) + p.min_pulse_s;
+  const double v1 = std::max(0.0, v - dec * t_brake);
+  const double t_stop = std::min(t_brake, v / dec);
+  const double d_brake = v * t_stop - 0.5 * dec * t_stop * t_stop;
+  const double t_up = (v - v1) / p.accel;
+  const double d_up = v1 * t_up + 0.5 * p.accel * t_up * t_up;
+  return t_brake + t_up - (d_brake + d_up) / v;
+}
+
+/// Time lost against cruising at v by braking to `vb` (a stop, then the tick at vb) and speeding up
+/// again.
+double brakeLoss(const WearerParams& p, double vb)
+{
+  const double v = p.walk_speed, t = (v - vb) / p.stopDecel() + (v - vb) / p.accel;
+  return t * (v - vb) / (2.0 * v);
+}
+
+/// True when a veer at radius R (speed / veer rate) turns the corner `b` between legs a->b
+/// and b->c with the body clear: the arc tangent to both legs, pushed out along the bisector to
+/// pass through b (the guide's path touches the obstacle the corner turns round).
+bool veerFits(const BodyCollider& body, double R, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+              const Eigen::Vector2d& c)
+{
+  const Eigen::Vector2d u = (b - a).normalized(), w = (c - b).normalized();
+  const double turn = std::atan2(u.x() * w.y() - u.y() * w.x(), u.dot(w));  // + = left
+  const double half = 0.5 * std::fabs(turn);
+  const double tangent = R * std::tan(half);
+  // the walk never gets room for the arc when a leg is shorter than its tangent
+  if (tangent > (b - a).norm() || tangent > (c - b).norm()) return false;
+  const Eigen::Vector2d inward = (w - u).normalized();  // towards the arc's centre
+  const Eigen::Vector2d push = -inward * R * (1.0 / std::cos(half) - 1.0);
+  const Eigen::Vector2d normal = turn > 0.0 ? Eigen::Vector2d(-u.y(), u.x()) : Eigen::Vector2d(u.y(), -u.x());
+  const Eigen::Vector2d centre = b - u * tangent + normal * R + push;
+  const double a0 = std::atan2(-normal.y(), -normal.x());
+  const int n = std::max(2, int(std::ceil(R * std::fabs(turn) / 0.05)));
+  for (int k = 0; k <= n; ++k)
+  {
+    const double ang = a0 + turn * double(k) / n;
+    if (body.clearance(centre + R * Eigen::Vector2d(std::cos(ang), std::sin(ang))) < 0.0) return false;
+  }
+  return true;
+}
+}  // namespace
+
+WalkFloor wearerFloor(const World& world, const WearerParams& p, const BodyState& start,
+                      const std::vector<Eigen::Vector2d>& route)
+{
+  WalkFloor f;
+  std::vector<Eigen::Vector2d> path;
+  f.guide_time_s = sightedGuideTime(world, p, start.xy, route, &path);
+  if (f.guide_time_s < 0.0) return f;
+  BodyCollider body(world, p.body_radius, p.eye_height + 0.12);
+  // drop repeated points (a route's place on the path's last point)
+  std::vector<Eigen::Vector2d> pts;
+  for (const Eigen::Vector2d& q : path)
+    if (pts.empty() || (q - pts.back()).norm() > 1e-6) pts.push_back(q);
+  f.start_s = p.reaction_s + p.min_pulse_s;
+  if (pts.size() >= 2)
+  {
+    const Eigen::Vector2d d = pts[1] - pts[0];
+    const double off = std::fabs(std::remainder(std::atan2(d.y(), d.x()) - start.yaw, 2.0 * M_PI));
+    if (off > 20.0 * DEG) f.start_s += 0.25 + off / (p.turn_rate_deg * DEG);
+  }
+  for (size_t i = 1; i + 1 < pts.size(); ++i)
+  {
+    const Eigen::Vector2d u = pts[i] - pts[i - 1], w = pts[i + 1] - pts[i];
+    const double turn = std::atan2(u.x() * w.y() - u.y() * w.x(), u.dot(w));
+    // a bend a veer's smallest ask covers is walked whatever room it has (the guide's 0.1 m cells
+    // leave such bends where its path curves)
+    if (std::fabs(turn) <= 15.0 * DEG) continue;
+    ++f.corners;
+    // veered at cruise speed, or braked to a speed whose arc fits first (a stop, the tick at that
+    // speed and the veer), or turned on the spot while braking: the cheapest
+    double loss = brakingTurnLoss(p, turn);
+    for (double vb = p.walk_speed; vb > 0.1; vb -= 0.05)
+      if (veerFits(body, vb / (p.veer_rate_deg * DEG), pts[i - 1], pts[i], pts[i + 1]))
+      {
+        if (vb == p.walk_speed) ++f.in_stride;
+        loss = std::min(loss, brakeLoss(p, vb));
+        break;
+      }
+    f.turns_s += loss;
+  }
+  f.time_s = f.guide_time_s + f.start_s + f.turns_s;
+  return f;
+}
+
 }  // namespace assistive_trials

@@ -167,6 +167,48 @@ TEST(SightedGuide, TimeOfAStraightAndOfADetourWalk)
     for (double f = 0; f <= 1.0; f += 0.02) EXPECT_GE(body.clearance(path[i - 1] + f * (path[i] - path[i - 1])), 0.0);
 }
 
+TEST(WalkFloor, AStraightWalkCostsTheFirstGoAndATurnToItsLeg)
+{
+  WearerParams p;
+  const World empty = room("");
+  BodyState facing;
+  facing.xy = { 0.5, 0.0 };
+  const WalkFloor f = wearerFloor(empty, p, facing, { { 8.5, 0.0 } });
+  EXPECT_NEAR(f.guide_time_s, sightedGuideTime(empty, p, facing.xy, { { 8.5, 0.0 } }), 1e-9);
+  EXPECT_NEAR(f.start_s, p.reaction_s + p.min_pulse_s, 1e-9);  // the go felt, the tick's pulse
+  EXPECT_EQ(f.corners, 0);
+  EXPECT_NEAR(f.time_s, f.guide_time_s + f.start_s, 1e-9);
+  BodyState across = facing;
+  across.yaw = 90.0 * DEG;  // the first leg to its right: a turn on the spot first
+  const WalkFloor g = wearerFloor(empty, p, across, { { 8.5, 0.0 } });
+  EXPECT_NEAR(g.start_s, p.reaction_s + p.min_pulse_s + 0.25 + 90.0 / p.turn_rate_deg, 1e-6);
+}
+
+TEST(WalkFloor, ACornerInTheOpenIsVeeredInStrideAndInACorridorAfterBraking)
+{
+  WearerParams p;
+  BodyState start;
+  start.xy = { 0.5, 0.0 };
+  // a left corner at (5, 0), a place of the route: in the open the cruise arc (radius
+  // 1.1 / 60 deg/s = 1.05 m) pushed out through the corner has room
+  const std::vector<Eigen::Vector2d> route{ { 5.0, 0.0 }, { 5.0, 1.8 } };
+  const WalkFloor open = wearerFloor(room(""), p, start, route);
+  EXPECT_EQ(open.corners, 1);
+  EXPECT_EQ(open.in_stride, 1);
+  EXPECT_NEAR(open.turns_s, 0.0, 1e-9);
+  // an L-shaped corridor whose outer walls lie 0.5 m beyond the legs: that arc leaves its legs
+  // 0.31 m outside them, the body (0.25 m) does not fit; braking to a tighter arc costs a few
+  // tenths of a second, less than a turn on the spot (about 1.4 s for 90 deg)
+  const World corridor = room("  - {type: wall, from: [-1, -0.575], to: [5.575, -0.575], height: 2.5}\n"
+                              "  - {type: wall, from: [5.575, -0.575], to: [5.575, 2], height: 2.5}\n");
+  const WalkFloor tight = wearerFloor(corridor, p, start, route);
+  EXPECT_EQ(tight.corners, 1);
+  EXPECT_EQ(tight.in_stride, 0);
+  EXPECT_GT(tight.turns_s, 0.05);
+  EXPECT_LT(tight.turns_s, 0.8);
+  EXPECT_NEAR(tight.time_s, tight.guide_time_s + tight.start_s + tight.turns_s, 1e-9);
+}
+
 TEST(Trials, TruthModeGoesRoundABoxWithoutCollisionAndWithoutCuesHitsIt)
 {
   const World w = room("  - {type: box, center: [4.5, 0.0], size: [0.8, 1.2, 1.0]}\n");

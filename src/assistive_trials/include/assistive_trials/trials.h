@@ -26,7 +26,8 @@ enum class TrialMode
 {
   TRUTH,  ///< ground-truth occupancy -> planner core -> cue logic core -> vest wearer
   CANE,   ///< cane-only walker
-  VISION  ///< renderer -> the whole pipeline (ROS, one nodelet manager) -> vest wearer (a CueChain)
+  VISION, ///< renderer -> the whole pipeline (ROS, one nodelet manager) -> vest wearer (a CueChain)
+  FLOOR   ///< no cues: the fastest the drawn wearer's body walks the guide's path (wearerFloor)
 };
 
 /// What the chain told the vest for one camera frame.
@@ -239,6 +240,7 @@ struct TrialResult
   bool completed = false;
   double time_s = 0.0;        ///< to completion (or the timeout)
   double guide_time_s = 0.0;  ///< sighted guide from the same start
+  WalkFloor floor;            ///< mode FLOOR: what the time is made of
   bool people_give_way = false;  ///< the world's people stepped aside for the wearer
   int give_way_episodes = 0;  ///< times a person began to step aside for the wearer
   /// The trial's people as they walked (their give-way tracks; empty when they kept their scripts).

@@ -171,4 +171,28 @@ private:
 double sightedGuideTime(const assistive_sim::World& world, const WearerParams& p, const Eigen::Vector2d& start,
                         const std::vector<Eigen::Vector2d>& route, std::vector<Eigen::Vector2d>* path = nullptr);
 
+/// What the fastest walk this wearer's body allows costs beyond the sighted guide's (issue 33).
+struct WalkFloor
+{
+  double time_s = -1.0;       ///< the floor's time (s); negative: no path
+  double guide_time_s = -1.0; ///< the guide's (sightedGuideTime)
+  double start_s = 0.0;       ///< the first go's reaction, the tick and a turn on the spot to the first leg
+  double turns_s = 0.0;       ///< the corners' braking (for a veer that fits, or a turn on the spot)
+  int corners = 0;            ///< corners of the guide's path turned by more than 15 deg
+  int in_stride = 0;          ///< of them, veered in stride
+};
+
+/// The floor of any cue policy (an oracle that knows this wearer and times every cue perfectly):
+/// the guide's path walked by the wearer's body as `VestWearer` moves it. The first go costs a
+/// reaction and a tick (and a turn on the spot, 0.25 s to tell the buzz plus the angle at
+/// `turn_rate_deg`, when the first leg lies over 20 deg off the start's facing); a corner over
+/// 15 deg is veered at `veer_rate_deg`, in stride when that arc at cruise speed, pushed out to pass
+/// through the corner, keeps the body clear, else after braking (a stop, then the tick) to the
+/// fastest speed whose arc fits; or turned on the spot while braking (stopDecel), the tick and the
+/// start again (`accel`), whichever loses less. Optimistic: no veering noise, no turn error, the
+/// arc's entry and exit and the braking turn's overshoot not checked against the walls; bends under
+/// 15 deg cost nothing.
+WalkFloor wearerFloor(const assistive_sim::World& world, const WearerParams& p, const BodyState& start,
+                      const std::vector<Eigen::Vector2d>& route);
+
 }  // namespace assistive_trials
