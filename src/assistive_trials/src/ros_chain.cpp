@@ -48,6 +48,8 @@ struct RosChain::Impl
   std::mutex m;
   // newest per stamp (sim time, ns) of what came back
   int64_t cue_stamp = -1, state_stamp = -1, image_stamp = -1;
+  std::chrono::steady_clock::time_point last_answer = std::chrono::steady_clock::now();
+  bool stopped = false;  ///< nothing came back for stopped_after_s (wall)
   assistive_msgs::TactileCue last_cue;
   assistive_msgs::NavigationState last_state;  // for the trace: what the cue logic was given
   std::chrono::steady_clock::time_point cue_wall, image_wall, sent_wall;
@@ -158,6 +160,7 @@ void RosChain::reset(const BodyState& start)
   d_->base = d_->first_frame && frames_ == 0 ? d_->o.start_time : d_->last_sent + 5.0;
   d_->first_frame = true;
   d_->goal_pending = d_->goal_known = false;
+  d_->last_answer = std::chrono::steady_clock::now();  // (the wall time between trials is no silence)
   if (d_->o.kind == VISION)
   {
     // The pipeline's map starts at the first camera pose (the VO's origin): goals in the world go
@@ -254,9 +257,16 @@ void RosChain::setGoal(const Eigen::Vector2d& goal)
   d_->goal_pending = d_->goal_known = true;
 }
 
+bool RosChain::stopped() const
+{
+  return d_->stopped;
+}
+
 ChainCue RosChain::frame(double t, const BodyState& s)
 {
   Impl& d = *d_;
+  if (d.stopped)
+    return ChainCue{};
   const ros::Time stamp(d.base + t);
   const int64_t ns = int64_t(stamp.toNSec());
   d.last_sent = d.base + t;
@@ -336,6 +346,7 @@ ChainCue RosChain::frame(double t, const BodyState& s)
     std::unique_lock<std::mutex> l(d.m);
     if (d.cue_stamp >= ns)
     {
+      d.last_answer = Clock::now();
       out.received = d.cue_stamp == ns;
       const assistive_msgs::TactileCue& q = d.last_cue;
       for (size_t i = 0; i < 4; ++i) out.motors[i] = q.intensity[i];
@@ -370,17 +381,25 @@ ChainCue RosChain::frame(double t, const BodyState& s)
     {
       // the frame is rendered: the pipeline gets 2 s (wall) for it, whatever it decides
       image_seen = true;
+      d.last_answer = Clock::now();
       deadline = std::min(deadline, d.image_wall + secs(2.0));
     }
     if (!grace_set && d.state_stamp >= ns)
     {
       grace_set = true;
+      d.last_answer = Clock::now();
       // no cue stage in the chain (nobody publishes /tactile/cue): nothing will come
       if (d.cue_sub.getNumPublishers() == 0) return out;
       deadline = std::min(deadline, Clock::now() + secs(d.o.grace_s));
     }
     l.unlock();
     std::this_thread::sleep_for(std::chrono::microseconds(500));
+  }
+  if (Clock::now() - d.last_answer > secs(d.o.stopped_after_s))
+  {
+    d.stopped = true;
+    ROS_ERROR("mobility chain: no cue, image or planner state for %.0f s of wall time: the pipeline has stopped",
+              d.o.stopped_after_s);
   }
   return out;
 }

@@ -492,6 +492,9 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
       {
         next_plan += period;
         const ChainCue cue = chain->frame(t, s);
+        if (chain->stopped())
+          throw std::runtime_error("the chain stopped answering at t = " + std::to_string(t) +
+                                   " s (no cue, image or planner state for minutes of wall time: the pipeline died?)");
         if (cue.received)
         {
           ++r.cue_modes[size_t(std::min(4, std::max(0, cue.mode)))];

@@ -5,11 +5,14 @@
 //   expect: safe      -> no collision and the course completed (cue stage in the chain)
 //   expect: collision -> at least one collision (cues:=false: the cue stage is not loaded; this
 //                        proves the `safe` test fails when the cue stage is removed)
+//   expect: stopped   -> (pipeline:=false: nothing answers) runTrial throws within seconds, the chain
+//                        stopped (a vision pipeline that died once left a trial crawling for hours)
 //   expect: movers    -> (a world with people, issue 22) every frame's /obstacles/movers came, in the
 //                        grid's frame, each person exactly where personAt puts them at the frame's
 //                        trial time (the planner of this branch does not avoid them: no collision check)
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <sys/stat.h>
 
 #include <gtest/gtest.h>
@@ -54,6 +57,20 @@ TEST(MobilityChain, WearerOnTheCuesOfTheChain)
   ro.kind = RosChain::TRUTH_GRID;
   ro.eye_height = world.trajectory.eye_height;
   ro.wait_s = 5.0;
+  if (expect == "stopped")
+  {
+    ro.wait_s = 0.2;
+    ro.stopped_after_s = 1.0;
+    RosChain silent(nh, world, ro);
+    const ros::WallTime t0 = ros::WallTime::now();
+    EXPECT_THROW(runTrial(world, opt, 1, 0, &silent), std::runtime_error);
+    EXPECT_TRUE(silent.stopped());
+    const double wall = (ros::WallTime::now() - t0).toSec();
+    std::printf("mobility_chain: nothing answered, the trial ended after %.1f s of wall time, %ld frames\n", wall,
+                silent.framesSent());
+    EXPECT_LT(wall, 10.0);  // (a frame waits wait_s; the chain gives up after stopped_after_s)
+    return;
+  }
   RosChain chain(nh, world, ro);
   // The truth people on /obstacles/movers: stamp (trial time = stamp - start_time) -> message.
   std::vector<assistive_msgs::MoverArray> movers;

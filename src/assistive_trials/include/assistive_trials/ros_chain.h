@@ -39,6 +39,10 @@ public:
     double wait_s = 10.0;     ///< wall s to wait for a frame's cue before giving up on it
     double grace_s = 1.0;     ///< wall s to wait for the cue once the frame's planner state came (none: at once
                               ///< when nobody publishes /tactile/cue)
+    /// wall s without a cue, a rendered image or a planner state from any frame: the pipeline has
+    /// stopped (its nodelet manager died, its bonds broke under load); frame() then returns at once
+    /// and stopped() says so (before, each frame waited wait_s: a trial crawled for hours)
+    double stopped_after_s = 120.0;
     double start_time = 100.0;///< simulated clock at t = 0 of the first trial
     std::string frame = "odom";    ///< TRUTH_GRID: the planner's world frame
     std::string goal_frame = "map";   ///< VISION: the goals' frame: SLAM's map, which starts as the VO's
@@ -61,6 +65,7 @@ public:
   void setPeople(const assistive_sim::World& world) override;
   ChainCue frame(double t, const BodyState& s) override;
   void observe(double t, const BodyState& s) override;
+  bool stopped() const override;
 
   /// Whether a /tactile/cue publisher exists (the cue stage is in the chain).
   bool cueStageConnected() const;

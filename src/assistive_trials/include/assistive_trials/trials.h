@@ -136,6 +136,9 @@ public:
     (void)t;
     (void)s;
   }
+  /// True once the chain has stopped answering (a vision pipeline whose nodelet manager died): the
+  /// trial cannot go on, and runTrial throws rather than walk on without cues for hours.
+  virtual bool stopped() const { return false; }
   /// Distance from `xy` to the nearest doorway or gap middle the planner has found so far in this
   /// trial (+inf: none, or the chain does not know).
   virtual double passageDistance(const Eigen::Vector2d& xy) const
