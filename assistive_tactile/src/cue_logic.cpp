@@ -133,6 +133,8 @@ void CueLogic::reset()
   edge_steps_ = 0;
   turn_go_ = false;
   turn_go_start_until_ = -1e300;
+  side_steps_.clear();
+  dither_steer_until_ = -1e300;
   clearCrossing();
 }
 
@@ -622,8 +624,12 @@ Cue CueLogic::decideOk(const NavInput& in, double now)
                           in.waypoint_distance >= params_.guidance_min_waypoint_m &&
                           std::fabs(wrapAngle(in.steer_heading - facing(in))) * kRadToDeg > params_.stand_turn_deg;
   // (a turn on the spot under way is not interrupted by a side-step: it turns the wearer away)
+  // (nor one whose side-steps have gone left and right in turn, getting it no nearer: traced,
+  // gen_home_3015 trial 4 of seed 11, 40 s stepping before a wall with the way on 76 deg right
+  // through a doorway, where the steering ray meets the jamb and `steering_away` stays false)
+  const bool dither = c.mode == CueMode::PROXIMITY && standing && sideStepsDither(in, now);
   if (((c.mode == CueMode::PROXIMITY || alert_outside_stop) && steering_away) || (standing && alert_outside_stop) ||
-      boxed_turn ||
+      boxed_turn || dither ||
       (c.mode == CueMode::PROXIMITY && busy_ && busy_turn_))
   {
     waist_side_ = 0;
@@ -636,8 +642,53 @@ Cue CueLogic::decideOk(const NavInput& in, double now)
     busy_ = false;  // an obstacle cue ends a veer or turn being executed
     c = shapeSteady(c, now);
   }
+  noteSideStep(c, in, now);
   last_mode_ = c.mode;  // the obstacle / guidance hysteresis runs under the crossing cue
   return overlayCrossing(in, c, now);
+}
+
+void CueLogic::noteSideStep(const Cue& c, const NavInput& in, double now)
+{
+  if (c.mode != CueMode::PROXIMITY || c.instruction != Instruction::SIDESTEP)
+    return;
+  const int side = c.intensity[LEFT_WAIST] > 0.f ? +1 : -1;
+  // a side-step goes on while it is asked: a new one is a change of side or one begun after a pause
+  if (side_steps_.empty() || side_steps_.back().side != side || now - side_steps_.back().t > 1.0)
+    side_steps_.push_back({ now, side, in.waypoint_distance });
+  else
+    side_steps_.back().t = now;
+}
+
+bool CueLogic::sideStepsDither(const NavInput& in, double now)
+{
+  // A fifth side-step about to begin after four within 20 s, both ways, and the waypoint no nearer
+  // by 0.5 m: the obstacle cues are holding the wearer in place (each side-step opens the other
+  // side's room). The guidance then turns it towards the way on for 6 s (its walk is swept and
+  // timed as ever).
+  constexpr double kWindowS = 20.0, kHoldS = 6.0, kProgressM = 0.5;
+  constexpr size_t kSteps = 4;
+  if (now < dither_steer_until_)
+    return true;
+  const bool begins = side_steps_.empty() || side_steps_.back().side != waist_side_ || now - side_steps_.back().t > 1.0;
+  if (!begins)
+    return false;
+  while (!side_steps_.empty() && now - side_steps_.front().t > kWindowS)
+    side_steps_.pop_front();
+  if (side_steps_.size() < kSteps)
+    return false;
+  bool left = false, right = false;
+  double nearest = side_steps_.front().waypoint_distance;
+  for (const SideStepBegun& b : side_steps_)
+  {
+    left |= b.side > 0;
+    right |= b.side < 0;
+    nearest = std::min(nearest, b.waypoint_distance);
+  }
+  if (!(left && right) || side_steps_.front().waypoint_distance - std::min(nearest, in.waypoint_distance) > kProgressM)
+    return false;
+  side_steps_.clear();
+  dither_steer_until_ = now + kHoldS;
+  return true;
 }
 
 Cue CueLogic::overlayCrossing(const NavInput& in, const Cue& base, double now)

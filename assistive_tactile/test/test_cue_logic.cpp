@@ -2116,6 +2116,47 @@ TEST(CueLogic, BoxedInAndStandingIsTurnedTowardsTheWayOn)
   EXPECT_EQ(fresh(w, walking, 0.0).mode, CueMode::ALERT);
 }
 
+// A wearer standing 0.8 m before a wall, the way on 70 deg to its right but the steering ray
+// meeting a jamb (free along it 0.7 m: no "steering away"), each side-step opening the other side's
+// room: it stepped left and right there for 40 s (traced, gen_home_3015 trial 4 of seed 11). After
+// four side-steps within 20 s, both ways, with the waypoint no nearer, it is turned towards the way
+// on instead; a wearer whose side-steps bring it nearer keeps stepping.
+TEST(CueLogic, SideStepsLeftAndRightWithoutProgressGiveWayToATurn)
+{
+  for (bool progress : { false, true })
+  {
+    NavInput in = standing(turn(-70.0));
+    in.free_ahead = 0.8;
+    in.free_steer = 0.7;
+    CueLogic c;
+    int steps = 0, turns = 0;
+    double t = 0.0;
+    for (int k = 0; k < 6; ++k)
+    {
+      // the room left and right changes over after each step (the other side now freer)
+      in.free_left = k % 2 == 0 ? 1.0 : 0.6;
+      in.free_right = k % 2 == 0 ? 0.6 : 1.0;
+      if (progress) in.waypoint_distance = 3.0 - 0.3 * k;
+      Cue q;
+      for (int i = 0; i < 20; ++i, t += 0.1)  // two seconds on this side
+        q = fresh(c, in, t);
+      steps += q.instruction == Instruction::SIDESTEP;
+      turns += q.instruction == Instruction::TURN;
+      if (q.instruction == Instruction::TURN) EXPECT_GT(q.intensity[RIGHT_SHOULDER], 0.f) << q.reason;
+    }
+    if (progress)
+    {
+      EXPECT_EQ(steps, 6);
+      EXPECT_EQ(turns, 0);
+    }
+    else
+    {
+      EXPECT_EQ(steps, 4);  // the fifth is a turn
+      EXPECT_GE(turns, 1);
+    }
+  }
+}
+
 TEST(CueLogic, AGoTimedToStopShortIsNotStoppedByItsOwnWalk)
 {
   // A slow wearer (reaction 1.5 s) standing 1.55 m before an obstacle, no room to either side,

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <limits>
 #include <memory>
 #include <string>
@@ -318,6 +319,21 @@ private:
   CueParams params_;
   CueMode last_mode_ = CueMode::UNSURE;
   int waist_side_ = 0;  ///< +1 left waist, -1 right, 0 none
+  /// The side-steps begun lately (time, side, the waypoint's distance then), and until when a
+  /// standing wearer stepping left and right in turn is steered instead (sideStepsDither).
+  struct SideStepBegun
+  {
+    double t;
+    int side;
+    double waypoint_distance;
+  };
+  std::deque<SideStepBegun> side_steps_;
+  double dither_steer_until_ = -1e300;
+  /// A standing wearer's side-steps have gone left and right in turn without bringing it nearer its
+  /// waypoint: true while it is steered (turned towards the way on) instead.
+  bool sideStepsDither(const NavInput& in, double now);
+  /// Notes a side-step cue `c` given now (its side, when it began).
+  void noteSideStep(const Cue& c, const NavInput& in, double now);
   // the crossing cue being held
   CrossingAdvice cross_ = CrossingAdvice::NONE;
   double cross_since_ = 0.0;      ///< when the held advice (this side / stop) was raised
