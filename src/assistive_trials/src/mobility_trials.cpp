@@ -45,7 +45,7 @@ void usage(std::ostream& os = std::cerr)
 {
   os << "usage: mobility_trials --world W [--trials N] [--mode truth|cane|vision|floor] [--seed S] [--plot FILE.png]\n"
         "       (--mode floor: no cues, the fastest each trial's wearer could walk the guide's path if every cue came\n"
-        "       at the best moment; a PPWS no guidance can pass, issue 33)\n"
+        "       at the best moment: an optimistic estimate of the PPWS no guidance passes, issue 33)\n"
         "       mobility_trials --generated N [--kind K[,K...]] [--seed-base B] [--keep DIR] [the same options]\n"
         "                       [--no-cues] [--reaction S] [--turn-rate DEG_S] [--turn-on DEG]\n"
         "                       [--people N] (--generated: N people in each world whose walks cross the wearer's,\n"
