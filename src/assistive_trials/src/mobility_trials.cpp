@@ -504,8 +504,8 @@ void reportFloor(const std::vector<TrialResult>& res)
       ++n;
     }
   if (n == 0) return;
-  std::printf("  floor / trial        guide %.1f s + first go %.1f s + turns on the spot %.1f s; %.1f corners over 15 deg, "
-              "%.1f of them veered in stride\n",
+  std::printf("  floor / trial        guide %.1f s + first go %.1f s + corners %.1f s (braking for a veer or a turn on the "
+              "spot); %.1f corners over 15 deg, %.1f of them veered in stride\n",
               guide / n, start / n, turns / n, corners / n, stride / n);
 }
 

@@ -494,7 +494,8 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
         const ChainCue cue = chain->frame(t, s);
         if (chain->stopped())
           throw std::runtime_error("the chain stopped answering at t = " + std::to_string(t) +
-                                   " s (no cue, image or planner state for minutes of wall time: the pipeline died?)");
+                                   " s (no cue, rendered image or planner state for the chain's stopped_after_s of wall time: the "
+                                   "pipeline died?)");
         if (cue.received)
         {
           ++r.cue_modes[size_t(std::min(4, std::max(0, cue.mode)))];
