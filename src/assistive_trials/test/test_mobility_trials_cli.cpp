@@ -151,6 +151,21 @@ TEST_F(MobilityTrials, GeneratedSetOneRowAndHeatMapPerWorldMeanAndWorst)
   EXPECT_EQ(withoutTimes(lastLine(out)), withoutTimes(json));
 }
 
+// --mode floor (issue 33): the same trials walked with every cue at the best moment; on glass (a
+// straight corridor: no corner) the floor is the guide's walk plus the first go (89-97 % of the
+// guide's pace), above what the guidance reaches on the same wearers, and no collision.
+TEST_F(MobilityTrials, TheFloorIsAboveTheGuidanceOnTheSameTrials)
+{
+  const std::string floor = run("--world glass --trials 3 --seed 7 --mode floor", "set_floor");
+  ASSERT_NE(floor.find("\"mode\": \"floor\""), std::string::npos) << floor;
+  EXPECT_EQ(key(floor, "completion_rate"), 1.0) << floor;
+  EXPECT_EQ(key(floor, "collisions_per_trial"), 0.0) << floor;
+  EXPECT_GT(key(floor, "ppws_pct"), 85.0) << floor;
+  EXPECT_LT(key(floor, "ppws_pct"), 100.0) << floor;  // the first go's reaction is never free
+  const std::string truth = run("--world glass --trials 3 --seed 7 --mode truth", "set_floor_truth");
+  EXPECT_LT(key(truth, "ppws_pct"), key(floor, "ppws_pct")) << truth;
+}
+
 TEST_F(MobilityTrials, UsageErrors)
 {
   const std::string exe = std::string(MOBILITY_TRIALS_EXE) + " ";
@@ -159,6 +174,7 @@ TEST_F(MobilityTrials, UsageErrors)
     return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
   };
   EXPECT_EQ(code("--generated 2 --world glass"), 2);
+  EXPECT_EQ(code("--world glass --mode guess"), 2);
   EXPECT_EQ(code("--generated 2 --kind castle"), 2);
   EXPECT_EQ(code("--generated -1"), 2);
   EXPECT_EQ(code("--world glass --kind home"), 2);
