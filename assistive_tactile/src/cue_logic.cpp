@@ -652,11 +652,16 @@ void CueLogic::noteSideStep(const Cue& c, const NavInput& in, double now)
   if (c.mode != CueMode::PROXIMITY || c.instruction != Instruction::SIDESTEP)
     return;
   const int side = c.intensity[LEFT_WAIST] > 0.f ? +1 : -1;
-  // a side-step goes on while it is asked: a new one is a change of side or one begun after a pause
-  if (side_steps_.empty() || side_steps_.back().side != side || now - side_steps_.back().t > 1.0)
+  if (sideStepBegins(side, now))
     side_steps_.push_back({ now, side, in.waypoint_distance });
   else
     side_steps_.back().t = now;
+}
+
+bool CueLogic::sideStepBegins(int side, double now) const
+{
+  // a side-step goes on while it is asked: a new one is a change of side or one begun after a pause
+  return side_steps_.empty() || side_steps_.back().side != side || now - side_steps_.back().t > 1.0;
 }
 
 bool CueLogic::sideStepsDither(const NavInput& in, double now)
@@ -669,8 +674,7 @@ bool CueLogic::sideStepsDither(const NavInput& in, double now)
   constexpr size_t kSteps = 4;
   if (now < dither_steer_until_)
     return true;
-  const bool begins = side_steps_.empty() || side_steps_.back().side != waist_side_ || now - side_steps_.back().t > 1.0;
-  if (!begins)
+  if (!sideStepBegins(waist_side_, now))
     return false;
   while (!side_steps_.empty() && now - side_steps_.front().t > kWindowS)
     side_steps_.pop_front();

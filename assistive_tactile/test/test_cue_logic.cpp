@@ -2142,7 +2142,10 @@ TEST(CueLogic, SideStepsLeftAndRightWithoutProgressGiveWayToATurn)
         q = fresh(c, in, t);
       steps += q.instruction == Instruction::SIDESTEP;
       turns += q.instruction == Instruction::TURN;
-      if (q.instruction == Instruction::TURN) EXPECT_GT(q.intensity[RIGHT_SHOULDER], 0.f) << q.reason;
+      if (q.instruction == Instruction::TURN)
+      {
+        EXPECT_GT(q.intensity[RIGHT_SHOULDER], 0.f) << q.reason;
+      }
     }
     if (progress)
     {

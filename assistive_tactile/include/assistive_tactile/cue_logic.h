@@ -332,6 +332,8 @@ private:
   /// A standing wearer's side-steps have gone left and right in turn without bringing it nearer its
   /// waypoint: true while it is steered (turned towards the way on) instead.
   bool sideStepsDither(const NavInput& in, double now);
+  /// A side-step to `side` (+1 left, -1 right) asked now is a new one, not the last one going on.
+  bool sideStepBegins(int side, double now) const;
   /// Notes a side-step cue `c` given now (its side, when it began).
   void noteSideStep(const Cue& c, const NavInput& in, double now);
   // the crossing cue being held
