@@ -386,14 +386,16 @@ TrialResult runTrial(const World& world, const TrialOptions& opt, uint32_t seed,
   if (route.empty()) route.push_back(r.start.xy + Eigen::Vector2d(cos(r.start.yaw), sin(r.start.yaw)) * 5.0);
   // The trial ends within goal_radius of the exit: so does the guide's walk (its last metre is
   // not walked, at cruise speed).
-  r.guide_time_s = sightedGuideTime(world, wp, r.start.xy, route);
+  // (mode FLOOR: the floor walks the guide's path, whose time it gives too)
+  const bool floor = opt.mode == TrialMode::FLOOR;
+  const WalkFloor f = floor ? wearerFloor(world, wp, r.start, route) : WalkFloor();
+  r.guide_time_s = floor ? f.guide_time_s : sightedGuideTime(world, wp, r.start.xy, route);
   if (r.guide_time_s > 0.0)
     r.guide_time_s = std::max(0.5 * r.guide_time_s, r.guide_time_s - opt.goal_radius_m / wp.walk_speed);
   const double timeout = opt.timeout_factor * std::max(r.guide_time_s, 5.0) + 20.0;
-  if (opt.mode == TrialMode::FLOOR)
+  if (floor)
   {
     // the same start, route and wearer as the trial; the same last metre left unwalked
-    const WalkFloor f = wearerFloor(world, wp, r.start, route);
     r.completed = f.time_s > 0.0;
     r.time_s = r.completed ? r.guide_time_s + f.start_s + f.turns_s : 0.0;
     r.ppws_pct = r.completed ? 100.0 * r.guide_time_s / r.time_s : 0.0;
