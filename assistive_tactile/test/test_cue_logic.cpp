@@ -1199,6 +1199,10 @@ struct GaitWalker
   double reaction, accel, decel, pace, wall;
   double x = 0.0, v = 0.0;
   bool go = false;
+  /// On its first stop, once slowed to half its pace, it walks on for this long (as a walk-on tick
+  /// sent before the stop and felt after it would send it), then stops again (0: never).
+  double resume_s = 0.0;
+  double resume_until = -1.0;
   std::vector<std::pair<double, Instruction>> felt;  // (when it acts, what)
   std::vector<std::pair<double, double>> track;      // (t, x)
   NavInput input(double t) const
@@ -1221,6 +1225,13 @@ struct GaitWalker
     for (const auto& [when, ins] : felt)
       if (when <= t + 1e-9)
         go = ins == Instruction::WALK_ON;
+    if (!go && resume_s > 0.0 && v > 0.0 && v <= 0.5 * pace)
+    {
+      resume_until = t + resume_s;
+      resume_s = 0.0;
+    }
+    if (t < resume_until)
+      go = true;
     v = go ? std::min(pace, v + accel * dt) : std::max(0.0, v - decel * dt);
     x += v * dt;
     track.emplace_back(t + dt, x);
@@ -1285,6 +1296,33 @@ TEST(CueLogic, LearnsTheWearersStartAndStop)
   ASSERT_TRUE(std::isfinite(go));
   ASSERT_TRUE(std::isfinite(stop));
   EXPECT_NEAR(stop - go, 1.733, 0.15);
+}
+
+// A stop whose fall is broken by a walk on (a tick sent before the stop, felt after it) is no
+// sample of the wearer's stop: the wearer above, whose first stop halves its speed, walks on for
+// 0.6 s and then stops, is stopped on its second walk where the same wearer with an unbroken first
+// stop is (its stop, 1 m/s^2, learnt from the fall after the walk on). Before, the broken fall was read as a 0.3 m/s^2 stop
+// (clamped to 0.5): the second stop came over 0.5 m earlier, and the predictive stop halted
+// walkers on clear corridors every few metres (traced, gen_home_3012).
+TEST(CueLogic, AStopBrokenByAWalkOnIsNoSampleOfTheWearersStop)
+{
+  // (alert_m 1.2 m: the walk on does not reach the wall, where a stop is no sample)
+  CueParams p;
+  p.alert_m = 1.2;
+  CueLogic plain(p), broken(p);
+  GaitWalker a{ 0.8, 0.5, 1.0, 1.0, 9.0 }, b{ 0.8, 0.5, 1.0, 1.0, 9.0 };
+  b.resume_s = 0.6;
+  walk(plain, a, 0.0, 14.0);
+  walk(broken, b, 0.0, 14.0);
+  ASSERT_EQ(b.resume_s, 0.0) << "the second walker walked on during its first stop";
+  a.wall = a.x + 9.0;
+  b.wall = b.x + 9.0;
+  const auto second_a = walk(plain, a, 14.0, 14.0);
+  const auto second_b = walk(broken, b, 14.0, 14.0);
+  ASSERT_TRUE(std::isfinite(second_a.first));
+  ASSERT_TRUE(std::isfinite(second_b.first));
+  EXPECT_NEAR(second_b.first, second_a.first, 0.1);
+  EXPECT_GT(b.wall - b.x, 0.15);
 }
 
 TEST(CueLogic, WrapAngle)

@@ -399,6 +399,7 @@ private:
   bool have_accel_ = false, have_decel_ = false;
   double stop_v0_ = -1.0;      ///< the stop on all four being timed: the speed it began at (0: no sample; < 0: none)
   double stop_hi_t_ = -1.0;    ///< when its speed fell through the stop's high mark (< 0: not yet)
+  double stop_low_v_ = 0.0;    ///< the lowest speed since then (a rise beyond it: the fall was broken)
   /// The wearer's pace (m/s): its walking speed once steady for a second (kept across resets);
   /// 1.4 m/s, the fast end of preferred speeds, until then.
   double pace_est_ = 0.0;
