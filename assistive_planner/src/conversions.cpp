@@ -75,6 +75,8 @@ assistive_msgs::NavigationState toMsg(const PlanOutput& out, const std_msgs::Hea
   s.crossing_id = warn ? uint32_t(std::max(0, c.id)) : 0u;
   s.crossing_time = warn ? float(c.time) : 0.0f;
   s.crossing_distance = warn ? float(c.distance) : 0.0f;
+  for (const Point2& q : pathAhead(out))
+    s.path_ahead.push_back(toPoint(q));
   return s;
 }
 

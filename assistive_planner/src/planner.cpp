@@ -146,6 +146,23 @@ bool bodyFitsAlong(const Grid& grid, const std::vector<double>& w, const Point2&
 
 Planner::Planner(const PlannerParams& p) : p_(p), motion_(p), waypoints_(p), crossing_(p) {}
 
+std::vector<Point2> pathAhead(const PlanOutput& out, double max_m)
+{
+  std::vector<Point2> ahead;
+  if (out.status != PlanStatus::OK)
+    return ahead;
+  double run = 0.0;
+  for (const Point2& q : out.steer_path)
+  {
+    if (!ahead.empty())
+      run += std::hypot(q.x - ahead.back().x, q.y - ahead.back().y);
+    ahead.push_back(q);
+    if (run >= max_m)
+      break;
+  }
+  return ahead;
+}
+
 int markWalkedFloor(Grid& grid, const std::vector<Point2>& walked, double radius)
 {
   if (grid.empty() || !(radius > 0.0))

@@ -110,7 +110,15 @@ TEST(Conversions, NavigationStateFieldsAndNoNaN)
   ASSERT_EQ(pm.points.size(), 2u);
   EXPECT_NEAR(pm.points[0].x, 2.5 - 0.6 * std::cos(1.2), 1e-9);
   EXPECT_NEAR(pm.points[1].y, -0.5 + 0.6 * std::sin(1.2), 1e-9);
+  // the steering path's first 8 m, for the corners taken walking (none unless OK)
+  EXPECT_TRUE(d.path_ahead.empty());
+  o.steer_path = { { 1, 2 }, { 4, 2 }, { 4, 8 }, { 4, 12 } };  // 3 + 6 m: the third point ends it
+  const auto pa = toMsg(o, h, ros::Time(9.5)).path_ahead;
+  ASSERT_EQ(pa.size(), 3u);
+  EXPECT_DOUBLE_EQ(pa[1].x, 4.0);
+  EXPECT_DOUBLE_EQ(pa[2].y, 8.0);
   o.status = PlanStatus::NO_PATH;
+  EXPECT_TRUE(toMsg(o, h, ros::Time(9.5)).path_ahead.empty());
   EXPECT_FLOAT_EQ(toMsg(o, h, ros::Time(9.5)).passage_distance, -1.0f);
   o.status = PlanStatus::OK;
   // status values match the message constants

@@ -62,6 +62,9 @@ NavInput fromMsg(const assistive_msgs::NavigationState& msg)
   in.passage_axis = msg.passage_axis;
   in.x = msg.wearer.x;  // in the state's frame (the planner's grid's)
   in.y = msg.wearer.y;
+  for (const geometry_msgs::Point& q : msg.path_ahead)
+    if (std::isfinite(q.x) && std::isfinite(q.y))
+      in.path.push_back({ q.x, q.y });
   // an advice code this build does not know is no advice (the status still decides the rest)
   in.crossing = msg.crossing <= static_cast<uint8_t>(CrossingAdvice::STOP) ? static_cast<CrossingAdvice>(msg.crossing) :
                                                                             CrossingAdvice::NONE;

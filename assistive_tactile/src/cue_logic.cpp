@@ -128,6 +128,8 @@ void CueLogic::reset()
   door_ = Door();
   prev_door_ = Door();
   stage_walk_ = false;
+  corner_veer_ = false;
+  corner_rest_ = 0.0;
   centre_at_ = -1e300;
   edge_step_at_ = -1e300;
   edge_steps_ = 0;
@@ -860,7 +862,8 @@ WalkModel CueLogic::committedWalk(const NavInput& in, double now, double stop_in
   if (busy_ && !busy_turn_)
   {
     const double sign = busy_angle_ > 0.0 ? 1.0 : -1.0;
-    const double asked = std::fabs(busy_angle_) * veer_gain_est_;
+    // (a corner veer's second pair, still to come, is part of the walk)
+    const double asked = (std::fabs(busy_angle_) + (corner_veer_ ? std::fabs(corner_rest_) : 0.0)) * veer_gain_est_;
     if (!veer_seen_)
     {
       m.turn_start_s = std::max(0.0, busy_since_ + 0.15 + tau - now);
@@ -1345,6 +1348,112 @@ bool CueLogic::stepClearOfEdge(const NavInput& in, double now, Cue& out)
                       fmt(side > 0 ? "standing %.2f m beside an edge: step left" :
                                      "standing %.2f m beside an edge: step right",
                           near));
+  return true;
+}
+
+bool CueLogic::cornerVeer(const NavInput& in, double now, bool walking, Cue& out)
+{
+  // The floor of any guidance (trials README) takes a home's corners walking; here the wearer
+  // walked to the free floor's end, stopped, turned on the spot and started again, paying its
+  // reaction twice at every corner. The veer round it is asked so that the arc begins where the
+  // corner needs it (a reaction and the first pulse after the ask), when its walk sweeps clear.
+  const CueParams& p = params_;
+  if (!(p.corner_veer_deg > 0.0))
+    return false;
+  const double step = p.veer_step_deg / kRadToDeg;
+  if (corner_veer_)
+  {
+    if (!busy_ || busy_turn_ || !walking)
+    {
+      corner_veer_ = false;  // carried out, or something else came first
+      corner_rest_ = 0.0;
+      return false;
+    }
+    if (corner_rest_ == 0.0 || now - burst_at_ < kVeerChainGapS)
+      return false;  // holdVeer watches it
+    const int side = corner_rest_ > 0.0 ? +1 : -1;
+    const int level = veerLevel(std::fabs(corner_rest_) * kRadToDeg, p.veer_step_deg, 1.0);
+    corner_rest_ = std::fabs(corner_rest_) > level * step + 1e-9 ? corner_rest_ - side * level * step : 0.0;
+    chain_next_ = true;
+    const auto drive = beginShoulderCue(in, now, side, level, side * level * step, false);
+    out = startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now,
+                       fmt(side > 0 ? "round the corner: veer left %.0f deg more" :
+                                      "round the corner: veer right %.0f deg more",
+                           level * p.veer_step_deg));
+    return true;
+  }
+  if (!walking || busy_ || in.path.empty() || !sweepReady(in))
+    return false;
+  const PathCorner c = nextCorner(in.path, in.x, in.y, 0.15, 8.0);
+  if (!c.found)
+    return false;
+  const double yaw = facing(in);
+  const double turn = wrapAngle(c.heading_out - yaw);
+  // (a corner whose leg out is short is one of a chicane round an obstacle: pure pursuit's
+  // steering point cuts across both, where a veer round each swung the wearer out and back)
+  if (std::fabs(turn) * kRadToDeg < p.corner_veer_deg || std::fabs(turn) * kRadToDeg > 90.0 || c.leg_out < 1.2)
+    return false;
+  // the walk's line meets the path's leg out of the corner this far ahead (the wearer walks beside
+  // the path as often as on it: an arc tangent to both ends on the leg out)
+  const double ahead =
+      ((c.x - in.x) * std::sin(c.heading_out) - (c.y - in.y) * std::cos(c.heading_out)) / std::sin(turn);
+  if (!(ahead > 0.0) || (in.passage_distance >= 0.0 && in.passage_distance < ahead + 1.0))
+    return false;  // a doorway at or before the corner: the doorway routine squares up to it
+  // the walk until the veer acts (speeding up towards its pace while told to walk; 1.1 m/s, the
+  // population's typical pace, until its own is learnt), and the arc's tangent length: it begins
+  // R tan(turn / 2) before the corner, R = speed / veer rate
+  constexpr double kTypicalPace = 1.1;
+  const double tau = reactionEstimate() + 0.15;
+  const double v = std::max(0.0, in.walking_speed);
+  const bool told_to_walk = current_.instruction == Instruction::WALK_ON || current_.instruction == Instruction::VEER;
+  const double pace = std::max(v, have_pace_ ? pace_est_ : kTypicalPace);
+  const double a = told_to_walk ? startAccelEstimate() : 0.0;
+  const double t_up = a > 0.0 ? std::min(tau, (pace - v) / a) : 0.0;
+  const double v_arc = v + a * t_up;
+  const double reach = 0.5 * (v + v_arc) * t_up + v_arc * (tau - t_up);
+  const double rate = p.veer_rate_deg / kRadToDeg;
+  const double tangent = v_arc / rate * std::tan(0.5 * std::fabs(turn));
+  const double slack = ahead - tangent - reach;
+  if (slack < -0.3 || slack > 3.0)
+    return false;  // too late for the arc (stopped and turned as before), or not near yet
+  // due on the last cycle before the arc would begin too late (a cycle is 1/15 s); else asked
+  // `ask_in` s from now, after the walk on to it
+  const bool due = slack <= v * 0.1;
+  const double ask_in = due ? 0.0 : slack / std::max(0.3, v_arc);
+  // the walk on, the arc and the leg out as far as it runs before the next corner (that one is
+  // judged then), stopped by a stop asked then
+  WalkModel m = committedWalk(in, now, ask_in + tau + std::fabs(turn) / rate);
+  m.turn_start_s = ask_in + tau;
+  m.turn = turn;
+  m.turn_rate = rate;
+  m.stop_at_s = std::min(m.stop_at_s, m.turn_start_s + std::fabs(turn) / rate +
+                                          std::max(0.0, c.leg_out - 0.5) / std::max(0.3, v_arc));
+  m.horizon_s = m.stop_at_s + v_arc / std::max(0.1, m.decel) + 0.5;
+  // (the nominal walk: judged again on every cycle, and the wearer's strays are the next cycle's
+  // start; the spread of a walk left to itself, sweep_spread_m, allowed no corner in a hall)
+  m.spread_per_m = 0.0;
+  if (sweep(in, m).hit)
+    return false;  // the arc at this speed does not fit: stopped and turned as before
+  if (!due)
+  {
+    // the walk goes on straight to it (a slight veer asked now would be carried out on top of the
+    // corner's), neither stopped at the free floor's end nor by the straight walk's sweep
+    short_stop_at_ = -1.0;
+    out = walkOn(fmt("a corner %.2f m ahead: walk on to it", ahead), now, false);
+    return true;
+  }
+  const double asked = turn / veer_gain_est_;
+  const int side = asked > 0.0 ? +1 : -1;
+  const int level = veerLevel(std::fabs(asked) * kRadToDeg, p.veer_step_deg, 1.0);
+  corner_rest_ = std::fabs(asked) > level * step + 0.5 * step ? asked - side * level * step : 0.0;
+  corner_veer_ = true;
+  chain_next_ = false;
+  short_stop_at_ = -1.0;  // the walk goes on round the corner, not to the free floor's end
+  const auto drive = beginShoulderCue(in, now, side, level, side * level * step, false);
+  char why[160];
+  std::snprintf(why, sizeof(why), "a corner of %.0f deg %.2f m ahead: veer %s %.0f deg (the arc from %.2f m before it)",
+                turn * kRadToDeg, ahead, side > 0 ? "left" : "right", level * p.veer_step_deg, tangent);
+  out = startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now, why);
   return true;
 }
 
@@ -1855,6 +1964,8 @@ Cue CueLogic::decideGuidance(const NavInput& in, double now)
   chain_next_ = false;
   Cue held;
   if (busy_ && busy_turn_ && holdTurn(in, now, held))
+    return held;
+  if (cornerVeer(in, now, walking, held))
     return held;
   if (busy_ && holdVeer(in, now, err, walking, held, superseding))
     return held;

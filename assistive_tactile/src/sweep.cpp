@@ -91,4 +91,98 @@ SweepResult sweepWalk(const ObstacleGrid& g, double x, double y, double yaw, con
   return r;
 }
 
+namespace
+{
+/// Douglas-Peucker: marks in `keep` the points of pts[i0..i1] the simplified polyline keeps.
+void simplify(const std::vector<GroundPoint>& pts, size_t i0, size_t i1, double tol, std::vector<bool>& keep)
+{
+  if (i1 <= i0 + 1)
+    return;
+  const double ax = pts[i0][0], ay = pts[i0][1], dx = pts[i1][0] - ax, dy = pts[i1][1] - ay;
+  const double len = std::hypot(dx, dy);
+  double worst = -1.0;
+  size_t at = i0;
+  for (size_t i = i0 + 1; i < i1; ++i)
+  {
+    const double px = pts[i][0] - ax, py = pts[i][1] - ay;
+    const double d = len > 1e-9 ? std::fabs(px * dy - py * dx) / len : std::hypot(px, py);
+    if (d > worst)
+    {
+      worst = d;
+      at = i;
+    }
+  }
+  if (worst <= tol)
+    return;
+  keep[at] = true;
+  simplify(pts, i0, at, tol, keep);
+  simplify(pts, at, i1, tol, keep);
+}
+}  // namespace
+
+PathCorner nextCorner(const std::vector<GroundPoint>& path, double x, double y, double tolerance, double max_m,
+                      double merge_m, double search_m)
+{
+  PathCorner c;
+  if (path.size() < 2)
+    return c;
+  // the nearest point within the path's first stretch (a path folding back must not jump ahead)
+  size_t near = 0;
+  double best = 1e300, along = 0.0;
+  for (size_t i = 0; i < path.size(); ++i)
+  {
+    if (i > 0)
+      along += std::hypot(path[i][0] - path[i - 1][0], path[i][1] - path[i - 1][1]);
+    if (along > search_m)
+      break;
+    const double d = std::hypot(path[i][0] - x, path[i][1] - y);
+    if (d < best)
+    {
+      best = d;
+      near = i;
+    }
+  }
+  std::vector<GroundPoint> pts{ { x, y } };
+  double run = 0.0;
+  for (size_t i = near + 1; i < path.size() && run < max_m; ++i)
+  {
+    run += std::hypot(path[i][0] - pts.back()[0], path[i][1] - pts.back()[1]);
+    pts.push_back(path[i]);
+  }
+  if (pts.size() < 3)
+    return c;
+  std::vector<bool> keep(pts.size(), false);
+  keep.front() = keep.back() = true;
+  simplify(pts, 0, pts.size() - 1, tolerance, keep);
+  std::vector<size_t> idx;
+  for (size_t i = 0; i < pts.size(); ++i)
+    if (keep[i])
+      idx.push_back(i);
+  if (idx.size() < 3)
+    return c;
+  const GroundPoint &a = pts[idx[0]], &b = pts[idx[1]];
+  // corners joined by a leg shorter than `merge_m` are one (a turn into a side hall the path
+  // rounds in two): where the leg in and the last leg out meet
+  size_t k = 1;
+  while (k + 2 < idx.size() && std::hypot(pts[idx[k + 1]][0] - pts[idx[k]][0], pts[idx[k + 1]][1] - pts[idx[k]][1]) < merge_m)
+    ++k;
+  const GroundPoint &o = pts[idx[k]], &n = pts[idx[k + 1]];
+  c.found = true;
+  c.heading_in = std::atan2(b[1] - a[1], b[0] - a[0]);
+  c.heading_out = std::atan2(n[1] - o[1], n[0] - o[0]);
+  c.leg_out = std::hypot(n[0] - o[0], n[1] - o[1]);
+  const double ux = std::cos(c.heading_in), uy = std::sin(c.heading_in);
+  const double wx = std::cos(c.heading_out), wy = std::sin(c.heading_out);
+  const double cross = ux * wy - uy * wx;
+  c.x = b[0];
+  c.y = b[1];
+  if (k > 1 && std::fabs(cross) > 0.2)
+  {
+    const double t = ((o[0] - a[0]) * wy - (o[1] - a[1]) * wx) / cross;
+    c.x = a[0] + t * ux;
+    c.y = a[1] + t * uy;
+  }
+  return c;
+}
+
 }  // namespace assistive_tactile

@@ -112,6 +112,18 @@ TEST(Conversions, NavigationState)
   EXPECT_DOUBLE_EQ(in.passage_x, 2.5);
   EXPECT_DOUBLE_EQ(in.passage_y, -0.5);
   EXPECT_FLOAT_EQ(float(in.passage_axis), 1.2f);
+  EXPECT_TRUE(in.path.empty());
+  geometry_msgs::Point q;
+  q.x = 1.0;
+  q.y = 2.0;
+  s.path_ahead = { q, q };
+  s.path_ahead[1].x = 4.0;
+  s.path_ahead.push_back(q);
+  s.path_ahead[2].y = std::nan("");  // a point that is no point is left out
+  in = fromMsg(s);
+  ASSERT_EQ(in.path.size(), 2u);
+  EXPECT_DOUBLE_EQ(in.path[1][0], 4.0);
+  EXPECT_DOUBLE_EQ(in.path[1][1], 2.0);
   EXPECT_EQ(in.status, NavStatus::OK);
   EXPECT_FLOAT_EQ(in.heading, 0.5f);
   EXPECT_FLOAT_EQ(in.path_heading, 1.0f);

@@ -1367,6 +1367,131 @@ NavInput walkerAt(double x, double y, double v, double dev_deg = 0.0)
 }
 }  // namespace
 
+TEST(Sweep, NextCornerOfAPath)
+{
+  // an L: 3 m along x, then along y
+  const std::vector<GroundPoint> ell{ { 0.0, 0.0 }, { 1.0, 0.0 }, { 2.0, 0.0 }, { 3.0, 0.0 }, { 3.0, 1.5 }, { 3.0, 3.0 } };
+  PathCorner c = nextCorner(ell, 0.0, 0.1, 0.15, 8.0);
+  ASSERT_TRUE(c.found);
+  EXPECT_NEAR(c.x, 3.0, 1e-9);
+  EXPECT_NEAR(c.y, 0.0, 1e-9);
+  EXPECT_NEAR(c.heading_out, M_PI / 2, 1e-9);
+  EXPECT_NEAR(c.leg_out, 3.0, 1e-9);
+  // seen from 1.2 m on: the same corner (the path from its nearest point on)
+  c = nextCorner(ell, 1.2, 0.0, 0.15, 8.0);
+  ASSERT_TRUE(c.found);
+  EXPECT_NEAR(c.x, 3.0, 1e-9);
+  // cut off before the corner: none; past the corner: none (straight on)
+  EXPECT_FALSE(nextCorner(ell, 0.0, 0.0, 0.15, 2.5).found);
+  EXPECT_FALSE(nextCorner(ell, 3.0, 0.5, 0.15, 8.0).found);
+  // rounded by a 0.42 m diagonal: one corner of 90 deg where the legs in and out meet, (3.3, 0)
+  const std::vector<GroundPoint> cut{ { 0.0, 0.0 }, { 3.0, 0.0 }, { 3.3, 0.3 }, { 3.3, 3.0 } };
+  c = nextCorner(cut, 0.0, 0.0, 0.15, 8.0);
+  ASSERT_TRUE(c.found);
+  EXPECT_NEAR(c.x, 3.3, 1e-9);
+  EXPECT_NEAR(c.y, 0.0, 1e-9);
+  EXPECT_NEAR(c.heading_out, M_PI / 2, 1e-9);
+  EXPECT_NEAR(c.leg_out, 2.7, 1e-9);
+  // the same diagonal 0.71 m long is a corner of its own (45 deg)
+  const std::vector<GroundPoint> bevel{ { 0.0, 0.0 }, { 3.0, 0.0 }, { 3.5, 0.5 }, { 3.5, 3.0 } };
+  c = nextCorner(bevel, 0.0, 0.0, 0.15, 8.0);
+  ASSERT_TRUE(c.found);
+  EXPECT_NEAR(c.x, 3.0, 1e-9);
+  EXPECT_NEAR(c.heading_out, M_PI / 4, 1e-9);
+}
+
+namespace
+{
+/// Open floor from x, y = -2.1 to 7.9 m (0.2 m cells), with a wall (one column of cells, centres
+/// at x = `wall_x`) across it when `wall_x` is finite.
+std::shared_ptr<ObstacleGrid> openGrid(double wall_x = std::nan(""))
+{
+  auto g = std::make_shared<ObstacleGrid>();
+  g->origin_x = g->origin_y = -2.1;
+  g->resolution = 0.2;
+  g->width = g->height = 50;
+  g->data.assign(size_t(50 * 50), 0);
+  for (int ix = 0; ix < 50 && std::isfinite(wall_x); ++ix)
+    if (std::fabs(g->cellX(ix) - wall_x) < 0.1)
+      for (int iy = 0; iy < 50; ++iy)
+        g->data[size_t(g->index(ix, iy))] = 100;
+  return g;
+}
+
+/// A walker along y = 0 at 1 m/s towards a left turn of the path at (4, 0) (then along +y), on
+/// `grid`, from x = 0 for `seconds`: the cues and where it was at each.
+std::vector<std::pair<double, Cue>> walkToCorner(std::shared_ptr<ObstacleGrid> grid, double seconds)
+{
+  CueParams p;
+  p.corner_veer_deg = 20.0;  // (off by default)
+  CueLogic c(p);
+  std::vector<std::pair<double, Cue>> out;
+  const double dt = 1.0 / 15.0;
+  for (double t = 0.0; t < seconds; t += dt)
+  {
+    NavInput in = turn(0.0, 0.0);
+    in.walking_speed = 1.0;
+    in.x = t * 1.0;
+    in.grid = grid;
+    in.path = { { in.x, 0.0 }, { 4.0, 0.0 }, { 4.0, 4.0 } };
+    out.emplace_back(in.x, fresh(c, in, t));
+  }
+  return out;
+}
+}  // namespace
+
+// Issue 33, a corner taken walking: a walker nearing a left turn of 90 deg is asked to veer round
+// it in stride, when the arc at its speed must begin a reaction and a pulse later. Its pace is
+// learnt after a second of steady walking, 1 m/s: radius v / 60 deg/s = 0.955 m, so the arc
+// begins 0.955 m before the corner; the reaction not yet learnt, 0.6 s, and the pulse, 0.15 s:
+// 0.75 m of walk before it: the veer is asked at x = 4 - 0.955 - 0.75 = 2.295 m or up to 0.1 m
+// (a cycle and a half) before, 45 deg (level 3) to the left, and the other 45 deg as a second
+// pair 0.95 s later (felt apart). The walk on to it is neither steered nor stopped before.
+TEST(CueLogic, ACornerIsVeeredRoundInStride)
+{
+  const auto cues = walkToCorner(openGrid(), 3.5);
+  double first_x = std::nan(""), second_x = std::nan("");
+  for (const auto& [x, c] : cues)
+  {
+    if (std::isnan(first_x) && c.instruction != Instruction::VEER)
+      ASSERT_EQ(c.instruction, Instruction::WALK_ON) << "x " << x << ": " << c.reason;
+    if (c.instruction == Instruction::VEER && std::isnan(first_x))
+    {
+      first_x = x;
+      EXPECT_EQ(c.level, 3) << c.reason;
+      EXPECT_GT(c.intensity[LEFT_SHOULDER], 0.f);
+      EXPECT_NE(c.reason.find("a corner of 90 deg"), std::string::npos) << c.reason;
+    }
+    else if (c.instruction == Instruction::VEER && std::isfinite(first_x) && std::isnan(second_x) &&
+             c.reason.find("round the corner") != std::string::npos)
+    {
+      second_x = x;
+      EXPECT_EQ(c.level, 3) << c.reason;
+    }
+  }
+  ASSERT_TRUE(std::isfinite(first_x));
+  EXPECT_GT(first_x, 2.295 - 0.1 - 1e-6);
+  EXPECT_LE(first_x, 2.295 + 1e-6);
+  ASSERT_TRUE(std::isfinite(second_x));
+  EXPECT_NEAR(second_x - first_x, 0.95, 0.07);
+}
+
+// ... and where the arc does not fit (a wall 0.2 m beyond the corner: the arc's end would bring
+// the body's centre within 0.2 m of it), no corner veer: stopped before the wall as before.
+TEST(CueLogic, ACornerWhoseArcDoesNotFitIsStoppedAtAsBefore)
+{
+  const auto cues = walkToCorner(openGrid(4.2), 3.5);
+  bool stopped = false;
+  for (const auto& [x, c] : cues)
+  {
+    EXPECT_EQ(c.reason.find("corner"), std::string::npos) << "x " << x << ": " << c.reason;
+    stopped = stopped || c.instruction == Instruction::STOP;
+    if (stopped)
+      break;
+  }
+  EXPECT_TRUE(stopped);
+}
+
 TEST(Sweep, ClearanceIsToTheObstacleCellsCentres)
 {
   const auto g = doorwayGrid();

@@ -101,6 +101,10 @@ struct Passage
 /// of `walked` become free (obstacles and steps stay). Returns the number of cells changed.
 int markWalkedFloor(Grid& grid, const std::vector<Point2>& walked, double radius);
 
+/// The steering path's first `max_m` metres (NavigationState `path_ahead`; the cue logic takes its
+/// corners walking): empty unless the status is OK.
+std::vector<Point2> pathAhead(const PlanOutput& out, double max_m = 8.0);
+
 /// The planning stage without ROS: grid + wearer pose in, waypoint, D* Lite path and free distances out.
 class Planner
 {

@@ -73,6 +73,9 @@ struct NavInput
   /// The grid the planner planned on (its `planner/grid`), for the body's predicted sweep; null:
   /// none (the cue logic then judges the way ahead on the planner's rays alone, as before).
   std::shared_ptr<const ObstacleGrid> grid;
+  /// The path the wearer is steered along, from about where it stands on (the state's
+  /// `path_ahead`, in the frame of `grid`; empty: not known, no corner is taken walking).
+  std::vector<GroundPoint> path;
   /// Time of the camera image behind the state (source_stamp), on the clock of `now`;
   /// NaN = unknown (zero stamp): such a state is never guided on.
   double source_time = std::numeric_limits<double>::quiet_NaN();
@@ -185,6 +188,13 @@ private:
   /// A veer being carried out: true (and the held cue) until it was seen and steadied, overshot,
   /// or timed out; `superseding` when a corner asks for more at once.
   bool holdVeer(const NavInput& in, double now, double err, bool walking, Cue& out, bool& superseding);
+  /// A walker nearing a corner of the path (`NavInput::path`) of `corner_veer_deg` to 90 deg, its
+  /// leg out 1.2 m or more, no passage before it: the veer round it asked when the arc at its speed
+  /// (`veer_rate_deg`) must begin a reaction and a pulse later, if that walk (the arc ending on the
+  /// leg out) sweeps the body clear; over 45 deg the rest follows as a second pair as soon as it
+  /// can be felt apart. Up to 1.5 m of walk before that, the walk on to it (no slight veer, no
+  /// short walk's stop). True and the cue.
+  bool cornerVeer(const NavInput& in, double now, bool walking, Cue& out);
   /// A doorway or gap ahead (the planner's passage_*): walk straight through when the walk passes
   /// its middle within the room, else stop and face the middle (closed loop on the head's yaw).
   /// False: no passage near, ordinary steering.
@@ -377,6 +387,10 @@ private:
   /// same shoulder is felt as part of the same pair, so the next burst begins 0.85 s after the
   /// last began at the earliest (0.95: two 20 Hz cycles' margin).
   static constexpr double kVeerChainGapS = 0.95;
+  /// A corner veer (cornerVeer) is being carried out, and what it still has to ask (rad, asked,
+  /// + = left) in its next pair.
+  bool corner_veer_ = false;
+  double corner_rest_ = 0.0;
   /// The wearer's veers: turned / asked (learnt from the veers it carried out, the drift taken
   /// out; kept across resets: it is the wearer's). Each ask picks the level whose veer, at this
   /// gain, comes closest to the error.

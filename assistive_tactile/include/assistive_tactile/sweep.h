@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -67,5 +68,29 @@ struct SweepResult
  */
 SweepResult sweepWalk(const ObstacleGrid& g, double x, double y, double yaw, const WalkModel& m, double radius,
                       double dt = 0.05);
+
+/// A point on the ground (x, y), in the frame of the grid.
+using GroundPoint = std::array<double, 2>;
+
+/// The next corner of the path ahead (issue 33: a corner taken walking).
+struct PathCorner
+{
+  bool found = false;
+  double x = 0.0, y = 0.0;   ///< where the path turns
+  double heading_in = 0.0;   ///< the path's direction before it: from the start point to it (rad)
+  double heading_out = 0.0;  ///< and after it (rad)
+  double leg_out = 0.0;      ///< m the path runs on straight after it (to its next corner or its end)
+};
+
+/**
+ * The first corner of `path` seen from (x, y): the path from its point nearest (x, y) (searched
+ * within its first `search_m` m) on, with (x, y) put first, cut after `max_m` m and simplified
+ * (Douglas-Peucker: no point of the path further than `tolerance` m from the simplified one); the
+ * simplified path's second point when it has a third. Corners joined by a leg shorter than
+ * `merge_m` count as one, where the leg in and the last leg out meet. Not found: the path runs
+ * straight on.
+ */
+PathCorner nextCorner(const std::vector<GroundPoint>& path, double x, double y, double tolerance, double max_m,
+                      double merge_m = 0.6, double search_m = 3.0);
 
 }  // namespace assistive_tactile

@@ -184,6 +184,7 @@ public:
     in.x = s.xy.x();
     in.y = s.xy.y();
     in.grid = out.grid;  // the planner's grid (planner/grid over ROS)
+    for (const auto& q : assistive_planner::pathAhead(out)) in.path.push_back({ q.x, q.y });  // (path_ahead over ROS)
     const bool passage = out.status == assistive_planner::PlanStatus::OK && out.passage_distance >= 0.0;
     in.passage_distance = passage ? out.passage_distance : -1.0;  // as the state message carries it
     in.passage_heading = passage ? out.passage_heading : 0.0;
