@@ -1454,7 +1454,9 @@ TEST(CueLogic, ACornerIsVeeredRoundInStride)
   for (const auto& [x, c] : cues)
   {
     if (std::isnan(first_x) && c.instruction != Instruction::VEER)
+    {
       ASSERT_EQ(c.instruction, Instruction::WALK_ON) << "x " << x << ": " << c.reason;
+    }
     if (c.instruction == Instruction::VEER && std::isnan(first_x))
     {
       first_x = x;
