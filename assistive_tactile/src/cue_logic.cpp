@@ -1437,7 +1437,7 @@ bool CueLogic::cornerVeer(const NavInput& in, double now, bool walking, Cue& out
   if (!due)
   {
     // the walk goes on straight to it (a slight veer asked now would be carried out on top of the
-    // corner's), neither stopped at the free floor's end nor by the straight walk's sweep
+    // corner's), not stopped at the free floor's end (the predictive stop still watches it)
     short_stop_at_ = -1.0;
     out = walkOn(fmt("a corner %.2f m ahead: walk on to it", ahead), now, false);
     return true;

@@ -192,7 +192,7 @@ private:
   /// leg out 1.2 m or more, no passage before it: the veer round it asked when the arc at its speed
   /// (`veer_rate_deg`) must begin a reaction and a pulse later, if that walk (the arc ending on the
   /// leg out) sweeps the body clear; over 45 deg the rest follows as a second pair as soon as it
-  /// can be felt apart. Up to 1.5 m of walk before that, the walk on to it (no slight veer, no
+  /// can be felt apart. Up to 3 m of walk before that, the walk on to it (no slight veer, no
   /// short walk's stop). True and the cue.
   bool cornerVeer(const NavInput& in, double now, bool walking, Cue& out);
   /// A doorway or gap ahead (the planner's passage_*): walk straight through when the walk passes
