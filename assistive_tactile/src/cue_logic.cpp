@@ -239,6 +239,18 @@ void CueLogic::observeStart(const NavInput& in, double now)
   }
 }
 
+namespace
+{
+/// Metres walked over `tau` s from `v` m/s, speeding up at `a` m/s^2 (0: not at all) towards
+/// `pace`; `v_end` the speed reached then.
+double walkSpeedingUp(double v, double a, double pace, double tau, double& v_end)
+{
+  const double t_up = a > 0.0 && v < pace ? std::min(tau, (pace - v) / a) : 0.0;
+  v_end = v + a * t_up;
+  return 0.5 * (v + v_end) * t_up + v_end * (tau - t_up);
+}
+}  // namespace
+
 double CueLogic::stopReach(double v, double tau) const
 {
   constexpr double kPacePrior = 1.4;  // m/s: the fast end of preferred walking speeds (0.9-1.4)
@@ -252,10 +264,9 @@ double CueLogic::stopReach(double v, double tau) const
   const bool timed_go_standing = (go_at_ > go_handled_ || short_stop_at_ >= 0.0) && v < params_.walking_speed_mps;
   const bool told_to_walk =
       (current_.instruction == Instruction::WALK_ON || current_.instruction == Instruction::VEER) && !timed_go_standing;
-  const double a = told_to_walk && v < pace ? startAccelEstimate() : 0.0;
-  const double t_up = a > 0.0 ? std::min(tau, (pace - v) / a) : 0.0;
-  const double v1 = v + a * t_up;
-  return 0.5 * (v + v1) * t_up + v1 * (tau - t_up) + v1 * v1 / (2.0 * stopDecelEstimate());
+  double v1 = v;
+  const double walked = walkSpeedingUp(v, told_to_walk ? startAccelEstimate() : 0.0, pace, tau, v1);
+  return walked + v1 * v1 / (2.0 * stopDecelEstimate());
 }
 
 void CueLogic::observePace(const NavInput& in, double now)
@@ -1375,11 +1386,9 @@ bool CueLogic::cornerVeer(const NavInput& in, double now, bool walking, Cue& out
     const int level = veerLevel(std::fabs(corner_rest_) * kRadToDeg, p.veer_step_deg, 1.0);
     corner_rest_ = std::fabs(corner_rest_) > level * step + 1e-9 ? corner_rest_ - side * level * step : 0.0;
     chain_next_ = true;
-    const auto drive = beginShoulderCue(in, now, side, level, side * level * step, false);
-    out = startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now,
-                       fmt(side > 0 ? "round the corner: veer left %.0f deg more" :
-                                      "round the corner: veer right %.0f deg more",
-                           level * p.veer_step_deg));
+    out = veerPair(in, now, side, level,
+                   fmt(side > 0 ? "round the corner: veer left %.0f deg more" : "round the corner: veer right %.0f deg more",
+                       level * p.veer_step_deg));
     return true;
   }
   if (!walking || busy_ || in.path.empty() || !sweepReady(in))
@@ -1407,10 +1416,8 @@ bool CueLogic::cornerVeer(const NavInput& in, double now, bool walking, Cue& out
   const double v = std::max(0.0, in.walking_speed);
   const bool told_to_walk = current_.instruction == Instruction::WALK_ON || current_.instruction == Instruction::VEER;
   const double pace = std::max(v, have_pace_ ? pace_est_ : kTypicalPace);
-  const double a = told_to_walk ? startAccelEstimate() : 0.0;
-  const double t_up = a > 0.0 ? std::min(tau, (pace - v) / a) : 0.0;
-  const double v_arc = v + a * t_up;
-  const double reach = 0.5 * (v + v_arc) * t_up + v_arc * (tau - t_up);
+  double v_arc = v;
+  const double reach = walkSpeedingUp(v, told_to_walk ? startAccelEstimate() : 0.0, pace, tau, v_arc);
   const double rate = p.veer_rate_deg / kRadToDeg;
   const double tangent = v_arc / rate * std::tan(0.5 * std::fabs(turn));
   const double slack = ahead - tangent - reach;
@@ -1449,12 +1456,18 @@ bool CueLogic::cornerVeer(const NavInput& in, double now, bool walking, Cue& out
   corner_veer_ = true;
   chain_next_ = false;
   short_stop_at_ = -1.0;  // the walk goes on round the corner, not to the free floor's end
-  const auto drive = beginShoulderCue(in, now, side, level, side * level * step, false);
   char why[160];
   std::snprintf(why, sizeof(why), "a corner of %.0f deg %.2f m ahead: veer %s %.0f deg (the arc from %.2f m before it)",
                 turn * kRadToDeg, ahead, side > 0 ? "left" : "right", level * p.veer_step_deg, tangent);
-  out = startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now, why);
+  out = veerPair(in, now, side, level, why);
   return true;
+}
+
+Cue CueLogic::veerPair(const NavInput& in, double now, int side, int level, std::string reason)
+{
+  // one shoulder, two short pulses (0.15 s on, 0.15 s off); the veer asked is watched from here
+  const auto drive = beginShoulderCue(in, now, side, level, side * level * params_.veer_step_deg / kRadToDeg, false);
+  return startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now, std::move(reason));
 }
 
 Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, bool walking)
@@ -1520,15 +1533,13 @@ Cue CueLogic::askSteer(const NavInput& in, double now, double err, double ask, b
     return c;
   }
   const int side = ask > 0.0 ? +1 : -1;
-  const auto drive = beginShoulderCue(in, now, side, level, side * level * step / kRadToDeg, false);
   const char* dir = side > 0 ? "left" : "right";
   char buf[160];
-  // veer while walking: two short pulses (0.15 s on, 0.15 s off)
   std::snprintf(buf, sizeof(buf),
                 "veer %s %.0f deg (level %d, %.0f deg off, %.0f expected; "
                 "drift %.1f deg/m, gain %.2f, reaction %.2f s)",
                 dir, level * step, level, a, a_ask, drift_per_m_ * kRadToDeg, veer_gain_est_, reactionEstimate());
-  return startPattern(CueMode::GUIDANCE, Instruction::VEER, level, drive, 15, 15, 2, now, buf);
+  return veerPair(in, now, side, level, buf);
 }
 
 std::array<float, NUM_MOTORS> CueLogic::beginShoulderCue(const NavInput& in, double now, int side, int level,

@@ -247,6 +247,9 @@ private:
   /// A standing wearer a hand's breadth beside an edge side-steps away before the go (`go_side_m`).
   bool stepClearOfEdge(const NavInput& in, double now, Cue& out);
   Cue askSteer(const NavInput& in, double now, double err, double ask, bool walking);
+  /// A veer burst: two short pulses on one shoulder (`side` +1 left) at `level`, asking level x
+  /// `veer_step_deg`; the veer is watched from now on (a chain's when `chain_next_`).
+  Cue veerPair(const NavInput& in, double now, int side, int level, std::string reason);
   /// A new pattern on the given motors (a new pattern id).
   Cue startPattern(CueMode mode, Instruction ins, int level, std::array<float, NUM_MOTORS> drive, uint8_t on_10ms,
                    uint8_t off_10ms, uint8_t count, double now, std::string reason);
